@@ -1,0 +1,118 @@
+//! Typed errors for the library.
+//!
+//! Every variant that comes from a file carries the path and, where it makes sense, the line, the
+//! dataset or the record that was wrong, so that the one line the binary prints tells a user which
+//! file to look at and what was expected there.
+
+use std::path::PathBuf;
+
+/// The library's result type.
+pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+/// Everything that can go wrong in `contactmap`.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// An operating-system error while reading or writing a file.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The underlying error.
+        #[source]
+        source: std::io::Error,
+    },
+
+    /// A file whose content does not follow its format.
+    #[error("{path}: {message}")]
+    Format {
+        /// The file.
+        path: PathBuf,
+        /// What was found and what was expected, including the dataset or record where it applies.
+        message: String,
+    },
+
+    /// A text file with a bad line.
+    #[error("{path}:{line}: {message}")]
+    Parse {
+        /// The file ("-" for standard input).
+        path: PathBuf,
+        /// 1-based line number.
+        line: u64,
+        /// What was found and what was expected.
+        message: String,
+    },
+
+    /// An error reported by libhdf5.
+    #[error("{path}: HDF5 {context}: {message}")]
+    Hdf5 {
+        /// The file.
+        path: PathBuf,
+        /// What we were doing (the dataset or attribute).
+        context: String,
+        /// libhdf5's message.
+        message: String,
+    },
+
+    /// A region string that cannot be parsed or names something the matrix does not have.
+    #[error("region '{region}': {message}")]
+    Region {
+        /// The region as the user wrote it.
+        region: String,
+        /// What is wrong with it.
+        message: String,
+    },
+
+    /// Inconsistent input given to a library function (bad parameters, bins out of range...).
+    #[error("{0}")]
+    Invalid(String),
+}
+
+impl Error {
+    /// An I/O error on `path`.
+    pub fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
+        Error::Io {
+            path: path.into(),
+            source,
+        }
+    }
+
+    /// A format error in `path`.
+    pub fn format(path: impl Into<PathBuf>, message: impl Into<String>) -> Self {
+        Error::Format {
+            path: path.into(),
+            message: message.into(),
+        }
+    }
+
+    /// A parse error at `line` (1-based) of `path`.
+    pub fn parse(path: impl Into<PathBuf>, line: u64, message: impl Into<String>) -> Self {
+        Error::Parse {
+            path: path.into(),
+            line,
+            message: message.into(),
+        }
+    }
+
+    /// A libhdf5 error while doing `context` in `path`.
+    pub fn hdf5(path: impl Into<PathBuf>, context: impl Into<String>, err: hdf5::Error) -> Self {
+        Error::Hdf5 {
+            path: path.into(),
+            context: context.into(),
+            message: err.to_string(),
+        }
+    }
+
+    /// A region error.
+    pub fn region(region: impl Into<String>, message: impl Into<String>) -> Self {
+        Error::Region {
+            region: region.into(),
+            message: message.into(),
+        }
+    }
+
+    /// True when the error is a closed output pipe (`contactmap dump ... | head`), which the
+    /// binary treats as success.
+    pub fn is_broken_pipe(&self) -> bool {
+        matches!(self, Error::Io { source, .. } if source.kind() == std::io::ErrorKind::BrokenPipe)
+    }
+}

@@ -1,0 +1,510 @@
+//! Chromosomes, bin tables and genomic regions.
+//!
+//! Coordinates are 0-based and half-open, as in cooler and BED: a bin `start..end` covers the bases
+//! `start, start + 1, ..., end - 1`. Bins are identified by their index in the genome-wide bin table,
+//! chromosome after chromosome in the order of the chromosome table.
+//!
+//! Regions are written as cooler and bioframe write them: `chr2L`, `chr2L:1,000,000-2,000,000`,
+//! `chr2L:1000000-2000000`, and `chr2L:1.5M-2M` (suffixes `k`, `kb`, `M`, `Mb`, `G`, `Gb`). A region
+//! selects every bin that overlaps it, as `cooler dump --range` does.
+
+use std::ops::Range;
+
+use crate::error::{Error, Result};
+
+/// A chromosome (or contig / scaffold): its name and length.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Chrom {
+    /// Name as in the file ("chr2L", "1", "chrM" ...).
+    pub name: String,
+    /// Length in base pairs.
+    pub length_bp: u64,
+}
+
+impl Chrom {
+    /// A chromosome named `name` of `length_bp` base pairs.
+    pub fn new(name: impl Into<String>, length_bp: u64) -> Self {
+        Chrom {
+            name: name.into(),
+            length_bp,
+        }
+    }
+}
+
+/// One bin of the table: chromosome index and half-open coordinates.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Bin {
+    /// Index of the chromosome in the chromosome table.
+    pub chrom_id: usize,
+    /// 0-based start (inclusive).
+    pub start: u64,
+    /// End (exclusive).
+    pub end: u64,
+}
+
+/// The genome-wide bin table: chromosomes cut into fixed-size or variable-size bins.
+///
+/// Bins are sorted by chromosome (in chromosome-table order), then by start; they tile each
+/// chromosome without gaps or overlaps. Fixed bins are `bin_size_bp` long except the last of each
+/// chromosome, which ends at the chromosome's end.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct BinTable {
+    chroms: Vec<Chrom>,
+    bin_size_bp: Option<u64>,
+    /// First bin of each chromosome; `chrom_offsets[n_chroms] == n_bins`.
+    chrom_offsets: Vec<usize>,
+    /// Starts of every bin (used for variable bins; for fixed bins, computed on the fly).
+    starts: Vec<u64>,
+    ends: Vec<u64>,
+}
+
+impl BinTable {
+    /// Chromosomes cut into bins of `bin_size_bp` base pairs.
+    pub fn fixed(chroms: Vec<Chrom>, bin_size_bp: u64) -> Result<Self> {
+        if bin_size_bp == 0 {
+            return Err(Error::Invalid("bin size must be positive".into()));
+        }
+        check_chrom_names(&chroms)?;
+        let mut chrom_offsets = Vec::with_capacity(chroms.len() + 1);
+        let mut n = 0usize;
+        for chrom in &chroms {
+            chrom_offsets.push(n);
+            n += chrom.length_bp.div_ceil(bin_size_bp) as usize;
+        }
+        chrom_offsets.push(n);
+        Ok(BinTable {
+            chroms,
+            bin_size_bp: Some(bin_size_bp),
+            chrom_offsets,
+            starts: Vec::new(),
+            ends: Vec::new(),
+        })
+    }
+
+    /// A table of variable-size bins given as `(chrom_id, start, end)` in genome order.
+    ///
+    /// The bins must tile each chromosome: the first starts at 0, each starts where the previous
+    /// ended and the last ends at the chromosome's length.
+    pub fn variable(chroms: Vec<Chrom>, bins: &[Bin]) -> Result<Self> {
+        check_chrom_names(&chroms)?;
+        let mut chrom_offsets = vec![0usize; chroms.len() + 1];
+        let mut starts = Vec::with_capacity(bins.len());
+        let mut ends = Vec::with_capacity(bins.len());
+        let mut previous: Option<Bin> = None;
+        for (index, bin) in bins.iter().enumerate() {
+            if bin.chrom_id >= chroms.len() {
+                return Err(Error::Invalid(format!(
+                    "bin {index}: chromosome index {} out of range (there are {} chromosomes)",
+                    bin.chrom_id,
+                    chroms.len()
+                )));
+            }
+            let expected_start = match previous {
+                Some(p) if p.chrom_id == bin.chrom_id => p.end,
+                Some(p) if p.chrom_id > bin.chrom_id => {
+                    return Err(Error::Invalid(format!(
+                        "bin {index}: bins are not sorted by chromosome"
+                    )))
+                }
+                _ => 0,
+            };
+            if bin.start != expected_start || bin.end <= bin.start {
+                return Err(Error::Invalid(format!(
+                    "bin {index} ({}:{}-{}): bins must tile the chromosome (expected a bin starting at {expected_start})",
+                    chroms[bin.chrom_id].name, bin.start, bin.end
+                )));
+            }
+            if bin.end > chroms[bin.chrom_id].length_bp {
+                return Err(Error::Invalid(format!(
+                    "bin {index} ({}:{}-{}) ends past the chromosome's length {}",
+                    chroms[bin.chrom_id].name,
+                    bin.start,
+                    bin.end,
+                    chroms[bin.chrom_id].length_bp
+                )));
+            }
+            for offset in chrom_offsets
+                .iter_mut()
+                .take(chroms.len() + 1)
+                .skip(bin.chrom_id + 1)
+            {
+                *offset = index + 1;
+            }
+            starts.push(bin.start);
+            ends.push(bin.end);
+            previous = Some(*bin);
+        }
+        Ok(BinTable {
+            chroms,
+            bin_size_bp: None,
+            chrom_offsets,
+            starts,
+            ends,
+        })
+    }
+
+    /// Build a table from explicit bins, detecting whether they are fixed-size.
+    ///
+    /// Readers use this: if every bin but the last of each chromosome has the same size and the
+    /// table equals `BinTable::fixed` with that size, the result is a fixed table.
+    pub fn from_bins(chroms: Vec<Chrom>, bins: &[Bin]) -> Result<Self> {
+        let variable = BinTable::variable(chroms, bins)?;
+        if let Some(first) = bins.first() {
+            let size = first.end - first.start;
+            let fixed = BinTable::fixed(variable.chroms.clone(), size)?;
+            if fixed.n_bins() == bins.len()
+                && (0..bins.len()).all(|i| fixed.bin(i) == bins[i])
+            {
+                return Ok(fixed);
+            }
+        }
+        Ok(variable)
+    }
+
+    /// The chromosome table.
+    pub fn chroms(&self) -> &[Chrom] {
+        &self.chroms
+    }
+
+    /// Number of chromosomes.
+    pub fn n_chroms(&self) -> usize {
+        self.chroms.len()
+    }
+
+    /// Number of bins genome-wide.
+    pub fn n_bins(&self) -> usize {
+        *self.chrom_offsets.last().unwrap_or(&0)
+    }
+
+    /// The bin size for fixed tables, `None` for variable ones.
+    pub fn bin_size_bp(&self) -> Option<u64> {
+        self.bin_size_bp
+    }
+
+    /// Index of the chromosome called `name`.
+    pub fn chrom_id(&self, name: &str) -> Option<usize> {
+        self.chroms.iter().position(|c| c.name == name)
+    }
+
+    /// First bin of each chromosome, plus the total number of bins at the end (cooler's
+    /// `indexes/chrom_offset`).
+    pub fn chrom_offsets(&self) -> &[usize] {
+        &self.chrom_offsets
+    }
+
+    /// The bins of chromosome `chrom_id`.
+    pub fn chrom_bins(&self, chrom_id: usize) -> Range<usize> {
+        self.chrom_offsets[chrom_id]..self.chrom_offsets[chrom_id + 1]
+    }
+
+    /// The chromosome of bin `bin_id`.
+    pub fn chrom_of(&self, bin_id: usize) -> usize {
+        // partition_point gives the first chromosome whose offset is > bin_id.
+        self.chrom_offsets.partition_point(|&o| o <= bin_id) - 1
+    }
+
+    /// Bin `bin_id` (panics when out of range; check against `n_bins` first).
+    pub fn bin(&self, bin_id: usize) -> Bin {
+        let chrom_id = self.chrom_of(bin_id);
+        match self.bin_size_bp {
+            Some(size) => {
+                let local = (bin_id - self.chrom_offsets[chrom_id]) as u64;
+                let start = local * size;
+                Bin {
+                    chrom_id,
+                    start,
+                    end: (start + size).min(self.chroms[chrom_id].length_bp),
+                }
+            }
+            None => Bin {
+                chrom_id,
+                start: self.starts[bin_id],
+                end: self.ends[bin_id],
+            },
+        }
+    }
+
+    /// Iterator over all bins in order.
+    pub fn iter(&self) -> impl Iterator<Item = Bin> + '_ {
+        (0..self.chroms.len()).flat_map(move |chrom_id| {
+            self.chrom_bins(chrom_id).map(move |bin_id| match self.bin_size_bp {
+                Some(size) => {
+                    let start = (bin_id - self.chrom_offsets[chrom_id]) as u64 * size;
+                    Bin {
+                        chrom_id,
+                        start,
+                        end: (start + size).min(self.chroms[chrom_id].length_bp),
+                    }
+                }
+                None => Bin {
+                    chrom_id,
+                    start: self.starts[bin_id],
+                    end: self.ends[bin_id],
+                },
+            })
+        })
+    }
+
+    /// The bin of chromosome `chrom_id` that contains position `pos_bp` (clamped to the last bin).
+    pub fn bin_at(&self, chrom_id: usize, pos_bp: u64) -> usize {
+        let range = self.chrom_bins(chrom_id);
+        if range.is_empty() {
+            return range.start;
+        }
+        match self.bin_size_bp {
+            Some(size) => (range.start + (pos_bp / size) as usize).min(range.end - 1),
+            None => {
+                let ends = &self.ends[range.clone()];
+                (range.start + ends.partition_point(|&e| e <= pos_bp)).min(range.end - 1)
+            }
+        }
+    }
+
+    /// The bins overlapping `region`, as a half-open range of bin ids.
+    pub fn region_bins(&self, region: &Region) -> Result<Range<usize>> {
+        let chrom_id = self.chrom_id(&region.chrom).ok_or_else(|| {
+            let names: Vec<&str> = self.chroms.iter().take(8).map(|c| c.name.as_str()).collect();
+            let more = if self.chroms.len() > 8 { ", ..." } else { "" };
+            Error::region(
+                region.to_string(),
+                format!(
+                    "no chromosome '{}' in this matrix (it has {}{more})",
+                    region.chrom,
+                    names.join(", ")
+                ),
+            )
+        })?;
+        let length = self.chroms[chrom_id].length_bp;
+        let start = region.start.unwrap_or(0);
+        let end = region.end.unwrap_or(length);
+        if end > length {
+            return Err(Error::region(
+                region.to_string(),
+                format!("end {end} is past the length of {} ({length})", region.chrom),
+            ));
+        }
+        if start >= end {
+            let range = self.chrom_bins(chrom_id);
+            if start == end && range.is_empty() {
+                return Ok(range);
+            }
+            return Err(Error::region(
+                region.to_string(),
+                format!("start {start} is not before end {end}"),
+            ));
+        }
+        let lo = self.bin_at(chrom_id, start);
+        let hi = self.bin_at(chrom_id, end - 1) + 1;
+        Ok(lo..hi)
+    }
+
+    /// Parse `text` as a region and return its bins.
+    pub fn parse_region_bins(&self, text: &str) -> Result<Range<usize>> {
+        self.region_bins(&Region::parse(text)?)
+    }
+
+    /// Coarsen a fixed table to `factor` times its bin size.
+    pub fn coarsen(&self, factor: u64) -> Result<BinTable> {
+        match self.bin_size_bp {
+            Some(size) if factor > 0 => BinTable::fixed(self.chroms.clone(), size * factor),
+            _ => Err(Error::Invalid(
+                "only fixed-size bin tables can be coarsened".into(),
+            )),
+        }
+    }
+}
+
+fn check_chrom_names(chroms: &[Chrom]) -> Result<()> {
+    let mut seen = std::collections::HashSet::new();
+    for chrom in chroms {
+        if chrom.name.is_empty() {
+            return Err(Error::Invalid("empty chromosome name".into()));
+        }
+        if !seen.insert(chrom.name.as_str()) {
+            return Err(Error::Invalid(format!(
+                "chromosome '{}' appears twice in the chromosome table",
+                chrom.name
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// A genomic region: a whole chromosome or an interval on it.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Region {
+    /// Chromosome name.
+    pub chrom: String,
+    /// 0-based start; `None` for the chromosome's start.
+    pub start: Option<u64>,
+    /// Exclusive end; `None` for the chromosome's end.
+    pub end: Option<u64>,
+}
+
+impl Region {
+    /// Parse `chrom`, `chrom:start-end` or `chrom:start` (to the chromosome's end).
+    ///
+    /// Numbers may contain thousands separators (`,` or `_`) and a unit suffix (`k`, `kb`, `M`,
+    /// `Mb`, `G`, `Gb`, case-insensitive). A chromosome name that itself contains ':' can be given
+    /// whole (with no coordinates) and is kept as it is when the part after the last ':' is not a
+    /// coordinate range.
+    pub fn parse(text: &str) -> Result<Region> {
+        let text_trim = text.trim();
+        if text_trim.is_empty() {
+            return Err(Error::region(text, "empty region"));
+        }
+        let Some((chrom, coords)) = text_trim.rsplit_once(':') else {
+            return Ok(Region {
+                chrom: text_trim.to_string(),
+                start: None,
+                end: None,
+            });
+        };
+        if chrom.is_empty() {
+            return Err(Error::region(text, "missing chromosome name before ':'"));
+        }
+        let looks_numeric = coords
+            .chars()
+            .next()
+            .is_some_and(|c| c.is_ascii_digit() || c == '-');
+        if !looks_numeric {
+            return Ok(Region {
+                chrom: text_trim.to_string(),
+                start: None,
+                end: None,
+            });
+        }
+        let (start_text, end_text) = match coords.split_once('-') {
+            Some((s, e)) => (s, Some(e)),
+            None => (coords, None),
+        };
+        let start = parse_bp(start_text).map_err(|m| Error::region(text, m))?;
+        let end = match end_text {
+            Some(e) => Some(parse_bp(e).map_err(|m| Error::region(text, m))?),
+            None => None,
+        };
+        if let Some(end) = end {
+            if end <= start {
+                return Err(Error::region(
+                    text,
+                    format!("start {start} is not before end {end}"),
+                ));
+            }
+        }
+        Ok(Region {
+            chrom: chrom.to_string(),
+            start: Some(start),
+            end,
+        })
+    }
+}
+
+impl std::fmt::Display for Region {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match (self.start, self.end) {
+            (None, None) => write!(f, "{}", self.chrom),
+            (Some(s), None) => write!(f, "{}:{s}", self.chrom),
+            (s, Some(e)) => write!(f, "{}:{}-{e}", self.chrom, s.unwrap_or(0)),
+        }
+    }
+}
+
+/// Parse a base-pair position such as `1,000,000`, `1_000_000`, `1.5M`, `200kb`.
+fn parse_bp(text: &str) -> std::result::Result<u64, String> {
+    let cleaned: String = text
+        .trim()
+        .chars()
+        .filter(|&c| c != ',' && c != '_')
+        .collect();
+    let lower = cleaned.to_ascii_lowercase();
+    let (number, multiplier) = [("gb", 1e9), ("mb", 1e6), ("kb", 1e3), ("bp", 1.0), ("g", 1e9), ("m", 1e6), ("k", 1e3)]
+        .iter()
+        .find_map(|(suffix, m)| lower.strip_suffix(suffix).map(|n| (n, *m)))
+        .unwrap_or((lower.as_str(), 1.0));
+    if number.is_empty() {
+        return Err(format!("'{text}' is not a position"));
+    }
+    if multiplier == 1.0 {
+        return number
+            .parse::<u64>()
+            .map_err(|_| format!("'{text}' is not a position (expected a whole number of base pairs)"));
+    }
+    let value: f64 = number
+        .parse()
+        .map_err(|_| format!("'{text}' is not a position"))?;
+    let bp = value * multiplier;
+    if !(bp >= 0.0 && bp.fract() == 0.0 && bp < 9.0e18) {
+        return Err(format!("'{text}' is not a whole number of base pairs"));
+    }
+    Ok(bp as u64)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn table() -> BinTable {
+        BinTable::fixed(vec![Chrom::new("chr1", 1050), Chrom::new("chr2", 300)], 100).unwrap()
+    }
+
+    #[test]
+    fn fixed_bins_tile_each_chromosome() {
+        let t = table();
+        assert_eq!(t.n_bins(), 11 + 3);
+        assert_eq!(t.chrom_offsets(), &[0, 11, 14]);
+        assert_eq!(t.bin(10), Bin { chrom_id: 0, start: 1000, end: 1050 });
+        assert_eq!(t.bin(11), Bin { chrom_id: 1, start: 0, end: 100 });
+        let all: Vec<Bin> = t.iter().collect();
+        assert_eq!(all.len(), t.n_bins());
+        for (i, b) in all.iter().enumerate() {
+            assert_eq!(*b, t.bin(i));
+        }
+    }
+
+    #[test]
+    fn regions_select_overlapping_bins() {
+        let t = table();
+        assert_eq!(t.parse_region_bins("chr1").unwrap(), 0..11);
+        assert_eq!(t.parse_region_bins("chr1:150-250").unwrap(), 1..3);
+        assert_eq!(t.parse_region_bins("chr1:100-200").unwrap(), 1..2);
+        assert_eq!(t.parse_region_bins("chr2:0-300").unwrap(), 11..14);
+        assert_eq!(t.parse_region_bins("chr1:1,000-1,050").unwrap(), 10..11);
+        assert!(t.parse_region_bins("chr3").is_err());
+        assert!(t.parse_region_bins("chr2:0-301").is_err());
+        assert!(t.parse_region_bins("chr2:200-100").is_err());
+    }
+
+    #[test]
+    fn positions_accept_separators_and_units() {
+        assert_eq!(parse_bp("1,000,000").unwrap(), 1_000_000);
+        assert_eq!(parse_bp("1.5M").unwrap(), 1_500_000);
+        assert_eq!(parse_bp("200kb").unwrap(), 200_000);
+        assert!(parse_bp("abc").is_err());
+        assert!(parse_bp("1.5").is_err());
+        let r = Region::parse("chr2L:1,000,000-2,000,000").unwrap();
+        assert_eq!((r.start, r.end), (Some(1_000_000), Some(2_000_000)));
+        assert_eq!(Region::parse("contig:alt").unwrap().chrom, "contig:alt");
+    }
+
+    #[test]
+    fn variable_bins_are_checked_and_fixed_ones_detected() {
+        let chroms = vec![Chrom::new("a", 10), Chrom::new("b", 5)];
+        let bins = [
+            Bin { chrom_id: 0, start: 0, end: 4 },
+            Bin { chrom_id: 0, start: 4, end: 10 },
+            Bin { chrom_id: 1, start: 0, end: 5 },
+        ];
+        let t = BinTable::from_bins(chroms.clone(), &bins).unwrap();
+        assert_eq!(t.bin_size_bp(), None);
+        assert_eq!(t.bin_at(0, 5), 1);
+        assert_eq!(t.chrom_of(2), 1);
+        let gap = [Bin { chrom_id: 0, start: 1, end: 10 }];
+        assert!(BinTable::variable(chroms.clone(), &gap).is_err());
+        let fixed = [
+            Bin { chrom_id: 0, start: 0, end: 5 },
+            Bin { chrom_id: 0, start: 5, end: 10 },
+            Bin { chrom_id: 1, start: 0, end: 5 },
+        ];
+        assert_eq!(BinTable::from_bins(chroms, &fixed).unwrap().bin_size_bp(), Some(5));
+    }
+}

@@ -1,0 +1,1 @@
+//! cooler reader/writer. Being written.
