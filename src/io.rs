@@ -136,6 +136,9 @@ pub struct OpenOptions {
     pub chrom_sizes: Option<PathBuf>,
     /// Bin table BED (`chrom start end`), for COO and dense tables.
     pub bins_bed: Option<PathBuf>,
+    /// 1-based columns of chrom1, pos1, chrom2, pos2 in a pairs file (default: from the
+    /// `#columns:` header, else the 4DN layout 2, 3, 4, 5).
+    pub pairs_columns: Option<[usize; 4]>,
 }
 
 /// Open any supported matrix: `.cool`, `.mcool::/resolutions/N`, `.hic[::/resolutions/N]`, or a
