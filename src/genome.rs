@@ -117,10 +117,7 @@ impl BinTable {
             if bin.end > chroms[bin.chrom_id].length_bp {
                 return Err(Error::Invalid(format!(
                     "bin {index} ({}:{}-{}) ends past the chromosome's length {}",
-                    chroms[bin.chrom_id].name,
-                    bin.start,
-                    bin.end,
-                    chroms[bin.chrom_id].length_bp
+                    chroms[bin.chrom_id].name, bin.start, bin.end, chroms[bin.chrom_id].length_bp
                 )));
             }
             for offset in chrom_offsets
@@ -152,9 +149,7 @@ impl BinTable {
         if let Some(first) = bins.first() {
             let size = first.end - first.start;
             let fixed = BinTable::fixed(variable.chroms.clone(), size)?;
-            if fixed.n_bins() == bins.len()
-                && (0..bins.len()).all(|i| fixed.bin(i) == bins[i])
-            {
+            if fixed.n_bins() == bins.len() && (0..bins.len()).all(|i| fixed.bin(i) == bins[i]) {
                 return Ok(fixed);
             }
         }
@@ -227,21 +222,22 @@ impl BinTable {
     /// Iterator over all bins in order.
     pub fn iter(&self) -> impl Iterator<Item = Bin> + '_ {
         (0..self.chroms.len()).flat_map(move |chrom_id| {
-            self.chrom_bins(chrom_id).map(move |bin_id| match self.bin_size_bp {
-                Some(size) => {
-                    let start = (bin_id - self.chrom_offsets[chrom_id]) as u64 * size;
-                    Bin {
-                        chrom_id,
-                        start,
-                        end: (start + size).min(self.chroms[chrom_id].length_bp),
+            self.chrom_bins(chrom_id)
+                .map(move |bin_id| match self.bin_size_bp {
+                    Some(size) => {
+                        let start = (bin_id - self.chrom_offsets[chrom_id]) as u64 * size;
+                        Bin {
+                            chrom_id,
+                            start,
+                            end: (start + size).min(self.chroms[chrom_id].length_bp),
+                        }
                     }
-                }
-                None => Bin {
-                    chrom_id,
-                    start: self.starts[bin_id],
-                    end: self.ends[bin_id],
-                },
-            })
+                    None => Bin {
+                        chrom_id,
+                        start: self.starts[bin_id],
+                        end: self.ends[bin_id],
+                    },
+                })
         })
     }
 
@@ -263,7 +259,12 @@ impl BinTable {
     /// The bins overlapping `region`, as a half-open range of bin ids.
     pub fn region_bins(&self, region: &Region) -> Result<Range<usize>> {
         let chrom_id = self.chrom_id(&region.chrom).ok_or_else(|| {
-            let names: Vec<&str> = self.chroms.iter().take(8).map(|c| c.name.as_str()).collect();
+            let names: Vec<&str> = self
+                .chroms
+                .iter()
+                .take(8)
+                .map(|c| c.name.as_str())
+                .collect();
             let more = if self.chroms.len() > 8 { ", ..." } else { "" };
             Error::region(
                 region.to_string(),
@@ -280,7 +281,10 @@ impl BinTable {
         if end > length {
             return Err(Error::region(
                 region.to_string(),
-                format!("end {end} is past the length of {} ({length})", region.chrom),
+                format!(
+                    "end {end} is past the length of {} ({length})",
+                    region.chrom
+                ),
             ));
         }
         if start >= end {
@@ -417,17 +421,25 @@ fn parse_bp(text: &str) -> std::result::Result<u64, String> {
         .filter(|&c| c != ',' && c != '_')
         .collect();
     let lower = cleaned.to_ascii_lowercase();
-    let (number, multiplier) = [("gb", 1e9), ("mb", 1e6), ("kb", 1e3), ("bp", 1.0), ("g", 1e9), ("m", 1e6), ("k", 1e3)]
-        .iter()
-        .find_map(|(suffix, m)| lower.strip_suffix(suffix).map(|n| (n, *m)))
-        .unwrap_or((lower.as_str(), 1.0));
+    let (number, multiplier) = [
+        ("gb", 1e9),
+        ("mb", 1e6),
+        ("kb", 1e3),
+        ("bp", 1.0),
+        ("g", 1e9),
+        ("m", 1e6),
+        ("k", 1e3),
+    ]
+    .iter()
+    .find_map(|(suffix, m)| lower.strip_suffix(suffix).map(|n| (n, *m)))
+    .unwrap_or((lower.as_str(), 1.0));
     if number.is_empty() {
         return Err(format!("'{text}' is not a position"));
     }
     if multiplier == 1.0 {
-        return number
-            .parse::<u64>()
-            .map_err(|_| format!("'{text}' is not a position (expected a whole number of base pairs)"));
+        return number.parse::<u64>().map_err(|_| {
+            format!("'{text}' is not a position (expected a whole number of base pairs)")
+        });
     }
     let value: f64 = number
         .parse()
@@ -452,8 +464,22 @@ mod tests {
         let t = table();
         assert_eq!(t.n_bins(), 11 + 3);
         assert_eq!(t.chrom_offsets(), &[0, 11, 14]);
-        assert_eq!(t.bin(10), Bin { chrom_id: 0, start: 1000, end: 1050 });
-        assert_eq!(t.bin(11), Bin { chrom_id: 1, start: 0, end: 100 });
+        assert_eq!(
+            t.bin(10),
+            Bin {
+                chrom_id: 0,
+                start: 1000,
+                end: 1050
+            }
+        );
+        assert_eq!(
+            t.bin(11),
+            Bin {
+                chrom_id: 1,
+                start: 0,
+                end: 100
+            }
+        );
         let all: Vec<Bin> = t.iter().collect();
         assert_eq!(all.len(), t.n_bins());
         for (i, b) in all.iter().enumerate() {
@@ -490,21 +516,52 @@ mod tests {
     fn variable_bins_are_checked_and_fixed_ones_detected() {
         let chroms = vec![Chrom::new("a", 10), Chrom::new("b", 5)];
         let bins = [
-            Bin { chrom_id: 0, start: 0, end: 4 },
-            Bin { chrom_id: 0, start: 4, end: 10 },
-            Bin { chrom_id: 1, start: 0, end: 5 },
+            Bin {
+                chrom_id: 0,
+                start: 0,
+                end: 4,
+            },
+            Bin {
+                chrom_id: 0,
+                start: 4,
+                end: 10,
+            },
+            Bin {
+                chrom_id: 1,
+                start: 0,
+                end: 5,
+            },
         ];
         let t = BinTable::from_bins(chroms.clone(), &bins).unwrap();
         assert_eq!(t.bin_size_bp(), None);
         assert_eq!(t.bin_at(0, 5), 1);
         assert_eq!(t.chrom_of(2), 1);
-        let gap = [Bin { chrom_id: 0, start: 1, end: 10 }];
+        let gap = [Bin {
+            chrom_id: 0,
+            start: 1,
+            end: 10,
+        }];
         assert!(BinTable::variable(chroms.clone(), &gap).is_err());
         let fixed = [
-            Bin { chrom_id: 0, start: 0, end: 5 },
-            Bin { chrom_id: 0, start: 5, end: 10 },
-            Bin { chrom_id: 1, start: 0, end: 5 },
+            Bin {
+                chrom_id: 0,
+                start: 0,
+                end: 5,
+            },
+            Bin {
+                chrom_id: 0,
+                start: 5,
+                end: 10,
+            },
+            Bin {
+                chrom_id: 1,
+                start: 0,
+                end: 5,
+            },
         ];
-        assert_eq!(BinTable::from_bins(chroms, &fixed).unwrap().bin_size_bp(), Some(5));
+        assert_eq!(
+            BinTable::from_bins(chroms, &fixed).unwrap().bin_size_bp(),
+            Some(5)
+        );
     }
 }

@@ -146,7 +146,7 @@ pub struct OpenOptions {
 pub fn open_matrix(uri: &str, options: &OpenOptions) -> Result<Box<dyn MatrixReader>> {
     let (path, group) = split_uri(uri);
     match detect_kind(path)? {
-        FileKind::Hdf5 => Err(Error::format(path, "todo")),
+        FileKind::Hdf5 => Ok(Box::new(cool::CoolReader::open(uri)?)),
         FileKind::Hic => {
             let resolution = match group {
                 None => None,
@@ -217,13 +217,18 @@ impl MatrixReader for InMemory {
     }
 
     fn weight_names(&self) -> Vec<String> {
-        self.matrix.weights().iter().map(|w| w.name.clone()).collect()
+        self.matrix
+            .weights()
+            .iter()
+            .map(|w| w.name.clone())
+            .collect()
     }
 
     fn weights(&self, name: &str) -> Result<Weights> {
-        self.matrix.weight(name).cloned().ok_or_else(|| {
-            Error::format(&self.source, format!("no weight column '{name}'"))
-        })
+        self.matrix
+            .weight(name)
+            .cloned()
+            .ok_or_else(|| Error::format(&self.source, format!("no weight column '{name}'")))
     }
 
     fn info(&self) -> MatrixInfo {

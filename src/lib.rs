@@ -26,6 +26,7 @@
 //! # Ok::<(), contactmap::Error>(())
 //! ```
 
+pub mod cli;
 pub mod error;
 pub mod genome;
 pub mod io;

@@ -1,1 +1,31 @@
-fn main() {}
+//! The `contactmap` command-line tool: a thin layer over the library.
+//!
+//! Exit codes: 0 on success (including a closed output pipe, as in `contactmap dump ... | head`),
+//! 2 on bad input or any other error, with one line on standard error naming the file and the
+//! problem.
+
+use std::process::ExitCode;
+
+use clap::Parser;
+
+fn main() -> ExitCode {
+    let cli = contactmap::cli::Cli::parse();
+    match contactmap::cli::run(cli) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(error) if error.is_broken_pipe() => ExitCode::SUCCESS,
+        Err(error) => {
+            let mut message = error.to_string();
+            let mut source = std::error::Error::source(&error);
+            while let Some(cause) = source {
+                let text = cause.to_string();
+                if !message.contains(&text) {
+                    message.push_str(": ");
+                    message.push_str(&text);
+                }
+                source = cause.source();
+            }
+            eprintln!("contactmap: error: {message}");
+            ExitCode::from(2)
+        }
+    }
+}

@@ -113,7 +113,13 @@ impl Weights {
             name: name.into(),
             values: divisive
                 .iter()
-                .map(|&v| if v.is_finite() && v > 0.0 { 1.0 / v } else { f64::NAN })
+                .map(|&v| {
+                    if v.is_finite() && v > 0.0 {
+                        1.0 / v
+                    } else {
+                        f64::NAN
+                    }
+                })
                 .collect(),
             provenance: Some(provenance),
         }
@@ -166,7 +172,11 @@ impl ContactMatrix {
 
     /// The stored count at `(bin1, bin2)` in either triangle (0 when absent).
     pub fn get(&self, bin1: usize, bin2: usize) -> f64 {
-        let (i, j) = if bin1 <= bin2 { (bin1, bin2) } else { (bin2, bin1) };
+        let (i, j) = if bin1 <= bin2 {
+            (bin1, bin2)
+        } else {
+            (bin2, bin1)
+        };
         let (cols, counts) = self.row(i);
         match cols.binary_search(&(j as u32)) {
             Ok(k) => counts[k],
@@ -250,7 +260,13 @@ mod tests {
     fn small() -> ContactMatrix {
         let bins = BinTable::fixed(vec![Chrom::new("a", 30), Chrom::new("b", 20)], 10).unwrap();
         let mut b = MatrixBuilder::new(bins, CountType::Integer);
-        for &(i, j, c) in &[(0, 0, 1.0), (0, 2, 2.0), (2, 0, 3.0), (1, 4, 4.0), (4, 4, 5.0)] {
+        for &(i, j, c) in &[
+            (0, 0, 1.0),
+            (0, 2, 2.0),
+            (2, 0, 3.0),
+            (1, 4, 4.0),
+            (4, 4, 5.0),
+        ] {
             b.push(i, j, c).unwrap();
         }
         b.build()

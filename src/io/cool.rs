@@ -1,1 +1,698 @@
-//! cooler reader/writer. Being written.
+//! cooler `.cool` / `.mcool` files (HDF5): reader and writer.
+//!
+//! Layout (cooler schema, format versions 1 to 3): a cooler group holds `chroms/{name,length}`,
+//! `bins/{chrom,start,end,<weight columns>}`, `pixels/{bin1_id,bin2_id,count}` sorted by
+//! `(bin1_id, bin2_id)`, and `indexes/{chrom_offset,bin1_offset}`; its attributes describe it
+//! (`format`, `format-version`, `bin-type`, `bin-size`, `storage-mode`, `nbins`, `nnz`, ...). A
+//! multi-resolution `.mcool` holds one cooler per group `/resolutions/<bin size>`. URIs name the
+//! group after `::`, as cooler does: `file.mcool::/resolutions/10000`, `file.cool::/some/group`.
+//!
+//! The reader accepts old files without a `format` attribute, `format-version` stored as a string,
+//! 32- or 64-bit ids and offsets, integer or float counts, and `bins/chrom` stored as an HDF5 enum
+//! or as plain integers. Pixel columns are decoded in parallel ([`chunks`]); a query streams blocks
+//! of at most [`BLOCK_PIXELS`] pixels, so memory stays bounded on any file size.
+//!
+//! Weights are handed out multiplicative (cooler's convention). A column is divisive in the file
+//! when its `divisive_weights` attribute says so; without the attribute, columns named `KR`, `VC`
+//! and `VC_SQRT` are divisive (cooler's own rule, for 4DN / hic2cool files), and so is `SCALE` in a
+//! file written by hic2cool (Juicer's SCALE is divisive; cooler would misread it as multiplicative).
+//! Divisive columns are inverted on read, and `info` says so. The writer stores `KR`, `VC` and
+//! `VC_SQRT` divisive (with `divisive_weights = true`) so that cooler, which divides by those columns
+//! whatever the attribute says, balances them correctly; other columns are stored multiplicative.
+//!
+//! The writer produces format-version 3 files as cooler 0.11 writes them (same dataset names,
+//! types, shuffle + deflate level 6 compression and root attributes); `bins/chrom` is stored as
+//! `int32` with an `enum_path` attribute pointing to `/chroms/name`, a layout cooler reads
+//! natively. Output goes to a temporary file renamed into place when complete.
+
+pub mod chunks;
+mod writer;
+
+use std::fs::File;
+use std::ops::Range;
+use std::path::Path;
+
+use hdf5::types::{TypeDescriptor, VarLenAscii, VarLenUnicode};
+
+use crate::error::{Error, Result};
+use crate::genome::{Bin, BinTable, Chrom};
+use crate::io::{MatrixInfo, MatrixReader};
+use crate::matrix::{CountType, PixelBlock, Weights};
+use chunks::Column;
+pub use writer::{write_cool, write_mcool, CoolWriteOptions};
+
+/// Maximum number of pixels in one streamed block.
+pub const BLOCK_PIXELS: usize = 1 << 20;
+
+/// Weight columns that cooler itself reads as divisive, by name (`cooler.api._4DN_DIVISIVE_WEIGHTS`).
+pub const DIVISIVE_BY_NAME: [&str; 3] = ["KR", "VC", "VC_SQRT"];
+
+/// Juicer's SCALE vector: divisive when hic2cool wrote it, although cooler reads it as multiplicative.
+const HIC2COOL_SCALE: &str = "SCALE";
+
+/// An open cooler (one resolution).
+#[derive(Debug)]
+pub struct CoolReader {
+    uri: String,
+    path: String,
+    group: hdf5::Group,
+    raw: File,
+    bins: BinTable,
+    bin1_offsets: Vec<u64>,
+    attributes: Vec<(String, serde_json::Value)>,
+    format_version: i64,
+    weight_columns: Vec<String>,
+    bin1: Column,
+    bin2: Column,
+    count: Column,
+}
+
+/// What a URI without a group points to in an HDF5 file.
+#[derive(Debug)]
+pub enum HdfContent {
+    /// A single cooler at the root.
+    Cooler,
+    /// A multi-resolution file with these resolutions (ascending).
+    Multires(Vec<u64>),
+}
+
+/// Inspect the root of an HDF5 file: a cooler, or an .mcool with its resolutions.
+pub fn inspect(path: &str) -> Result<HdfContent> {
+    let file = open_file(path)?;
+    if file.link_exists("resolutions") {
+        let group = file
+            .group("resolutions")
+            .map_err(|e| Error::hdf5(path, "opening /resolutions", e))?;
+        Ok(HdfContent::Multires(list_resolutions(path, &group)?))
+    } else {
+        Ok(HdfContent::Cooler)
+    }
+}
+
+fn list_resolutions(path: &str, group: &hdf5::Group) -> Result<Vec<u64>> {
+    let names = group
+        .member_names()
+        .map_err(|e| Error::hdf5(path, "listing /resolutions", e))?;
+    let mut resolutions: Vec<u64> = names.iter().filter_map(|n| n.parse().ok()).collect();
+    resolutions.sort_unstable();
+    Ok(resolutions)
+}
+
+fn open_file(path: &str) -> Result<hdf5::File> {
+    if let Err(e) = std::fs::metadata(path) {
+        return Err(Error::io(path, e));
+    }
+    hdf5::File::open(path).map_err(|e| {
+        Error::format(
+            path,
+            format!("not a readable HDF5 file (truncated or corrupt?): {e}"),
+        )
+    })
+}
+
+fn resolutions_text(resolutions: &[u64]) -> String {
+    resolutions
+        .iter()
+        .map(|r| r.to_string())
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+impl CoolReader {
+    /// Open the cooler at `uri` (`file.cool`, `file.mcool::/resolutions/N`, `file.cool::/group`).
+    pub fn open(uri: &str) -> Result<CoolReader> {
+        let (path, group_path) = crate::io::split_uri(uri);
+        let file = open_file(path)?;
+        let group = match group_path {
+            None | Some("") | Some("/") => {
+                if file.link_exists("resolutions") {
+                    let resolutions = file
+                        .group("resolutions")
+                        .map_err(|e| Error::hdf5(path, "opening /resolutions", e))
+                        .and_then(|g| list_resolutions(path, &g))?;
+                    return Err(Error::format(
+                        path,
+                        format!(
+                            "this is a multi-resolution .mcool file: choose a resolution with {path}::/resolutions/N (available: {})",
+                            resolutions_text(&resolutions)
+                        ),
+                    ));
+                }
+                file.as_group()
+                    .map_err(|e| Error::hdf5(path, "opening the root group", e))?
+            }
+            Some(g) => {
+                let trimmed = g.trim_start_matches('/');
+                if !file.link_exists(trimmed) || file.group(trimmed).is_err() {
+                    let mut message = format!("no group '{g}' in this file");
+                    if let Ok(res) = file.group("resolutions") {
+                        let resolutions = list_resolutions(path, &res)?;
+                        message = format!(
+                            "no resolution group '{g}' in this file (available: {})",
+                            resolutions_text(&resolutions)
+                        );
+                    }
+                    return Err(Error::format(path, message));
+                }
+                file.group(trimmed)
+                    .map_err(|e| Error::hdf5(path, format!("opening group {g}"), e))?
+            }
+        };
+        for needed in ["chroms", "bins", "pixels", "indexes"] {
+            if !group.link_exists(needed) {
+                return Err(Error::format(
+                    path,
+                    format!(
+                        "group '{}' is not a cooler: it has no '{needed}' group",
+                        group_path.unwrap_or("/")
+                    ),
+                ));
+            }
+        }
+        let attributes = read_attributes(path, &group);
+        let format_version = attributes
+            .iter()
+            .find(|(k, _)| k == "format-version")
+            .and_then(|(_, v)| match v {
+                serde_json::Value::Number(n) => n.as_i64(),
+                serde_json::Value::String(s) => s.trim().parse().ok(),
+                _ => None,
+            })
+            .unwrap_or(1);
+        if !(1..=3).contains(&format_version) {
+            return Err(Error::format(
+                path,
+                format!(
+                    "cooler format-version {format_version} is not supported (expected 1, 2 or 3)"
+                ),
+            ));
+        }
+        let chroms = read_chroms(path, &group)?;
+        let (bins, weight_columns) = read_bins(path, &group, chroms)?;
+        let bin1_offsets = read_int_column(path, &group, "indexes/bin1_offset")?;
+        if bin1_offsets.len() != bins.n_bins() + 1 {
+            return Err(Error::format(
+                path,
+                format!(
+                    "indexes/bin1_offset has {} entries; expected {} (number of bins + 1)",
+                    bin1_offsets.len(),
+                    bins.n_bins() + 1
+                ),
+            ));
+        }
+        let bin1 = Column::open(&group, "pixels/bin1_id", path)?;
+        let bin2 = Column::open(&group, "pixels/bin2_id", path)?;
+        let count = Column::open(&group, "pixels/count", path)?;
+        let nnz = count.len();
+        if bin1.len() != nnz || bin2.len() != nnz {
+            return Err(Error::format(
+                path,
+                format!(
+                    "pixel columns differ in length (bin1_id {}, bin2_id {}, count {})",
+                    bin1.len(),
+                    bin2.len(),
+                    nnz
+                ),
+            ));
+        }
+        let monotone = bin1_offsets.windows(2).all(|w| w[0] <= w[1]);
+        if !monotone
+            || bin1_offsets.first() != Some(&0)
+            || bin1_offsets.last() != Some(&(nnz as i64))
+        {
+            return Err(Error::format(
+                path,
+                format!("indexes/bin1_offset is not a valid index of the {nnz} pixels"),
+            ));
+        }
+        Ok(CoolReader {
+            uri: uri.to_string(),
+            path: path.to_string(),
+            raw: chunks::open_raw(Path::new(path))?,
+            group,
+            bins,
+            bin1_offsets: bin1_offsets.into_iter().map(|o| o as u64).collect(),
+            attributes,
+            format_version,
+            weight_columns,
+            bin1,
+            bin2,
+            count,
+        })
+    }
+
+    /// The cooler format version (1 to 3; 1 when the attribute is missing).
+    pub fn format_version(&self) -> i64 {
+        self.format_version
+    }
+
+    /// The root attributes of the cooler group.
+    pub fn attributes(&self) -> &[(String, serde_json::Value)] {
+        &self.attributes
+    }
+
+    /// True when every pixel column is read by the parallel chunk reader.
+    pub fn reads_in_parallel(&self) -> bool {
+        self.bin1.is_direct() && self.bin2.is_direct() && self.count.is_direct()
+    }
+
+    fn attribute_str(&self, name: &str) -> Option<&str> {
+        self.attributes
+            .iter()
+            .find(|(k, _)| k == name)
+            .and_then(|(_, v)| v.as_str())
+    }
+
+    /// True when weight column `name` holds divisive values that must be inverted: the column's
+    /// `divisive_weights` attribute when present; else cooler's rule (KR, VC and VC_SQRT are
+    /// divisive by name); else SCALE written by hic2cool (Juicer's SCALE vector is divisive).
+    fn is_divisive(&self, name: &str, dataset: &hdf5::Dataset) -> bool {
+        if let Ok(attr) = dataset.attr("divisive_weights") {
+            if let Ok(value) = attr.read_scalar::<bool>() {
+                return value;
+            }
+            if let Ok(value) = attr.read_scalar::<i64>() {
+                return value != 0;
+            }
+        }
+        let by_hic2cool = self
+            .attribute_str("generated-by")
+            .is_some_and(|g| g.starts_with("hic2cool"));
+        DIVISIVE_BY_NAME.contains(&name) || (by_hic2cool && name == HIC2COOL_SCALE)
+    }
+
+    /// Read pixels `lo..hi` of the pixel table.
+    fn read_block(&self, lo: usize, hi: usize) -> Result<PixelBlock> {
+        let ((bin1, bin2), count) = rayon::join(
+            || {
+                rayon::join(
+                    || self.bin1.read::<i64>(&self.raw, lo, hi),
+                    || self.bin2.read::<i64>(&self.raw, lo, hi),
+                )
+            },
+            || self.count.read::<f64>(&self.raw, lo, hi),
+        );
+        let (bin1, bin2, count) = (bin1?, bin2?, count?);
+        let n_bins = self.bins.n_bins() as i64;
+        let bad = bin1
+            .iter()
+            .zip(&bin2)
+            .position(|(&i, &j)| i < 0 || j < 0 || i >= n_bins || j >= n_bins || i > j);
+        if let Some(k) = bad {
+            return Err(Error::format(
+                &self.path,
+                format!(
+                    "pixel {}: (bin1_id {}, bin2_id {}) is out of range for {} bins or below the diagonal",
+                    lo + k,
+                    bin1[k],
+                    bin2[k],
+                    n_bins
+                ),
+            ));
+        }
+        Ok(PixelBlock {
+            bin1: bin1.into_iter().map(|v| v as u64).collect(),
+            bin2: bin2.into_iter().map(|v| v as u64).collect(),
+            count,
+        })
+    }
+}
+
+impl MatrixReader for CoolReader {
+    fn source(&self) -> &str {
+        &self.uri
+    }
+
+    fn bins(&self) -> &BinTable {
+        &self.bins
+    }
+
+    fn count_type(&self) -> CountType {
+        if self.count.is_float() {
+            CountType::Float
+        } else {
+            CountType::Integer
+        }
+    }
+
+    fn weight_names(&self) -> Vec<String> {
+        self.weight_columns.clone()
+    }
+
+    fn weights(&self, name: &str) -> Result<Weights> {
+        if !self.weight_columns.iter().any(|c| c == name) {
+            return Err(Error::format(
+                &self.uri,
+                format!(
+                    "no weight column '{name}' in the bin table (available: {})",
+                    if self.weight_columns.is_empty() {
+                        "none".to_string()
+                    } else {
+                        self.weight_columns.join(", ")
+                    }
+                ),
+            ));
+        }
+        let dataset_path = format!("bins/{name}");
+        let dataset = self
+            .group
+            .dataset(&dataset_path)
+            .map_err(|e| Error::hdf5(&self.path, format!("opening {dataset_path}"), e))?;
+        let values = dataset
+            .read_raw::<f64>()
+            .map_err(|e| Error::hdf5(&self.path, format!("reading {dataset_path}"), e))?;
+        if values.len() != self.bins.n_bins() {
+            return Err(Error::format(
+                &self.path,
+                format!(
+                    "{dataset_path} has {} values for {} bins",
+                    values.len(),
+                    self.bins.n_bins()
+                ),
+            ));
+        }
+        if self.is_divisive(name, &dataset) {
+            Ok(Weights::from_divisive(
+                name,
+                &values,
+                format!("bins/{name} is divisive (Juicer convention); inverted to multiplicative on read"),
+            ))
+        } else {
+            Ok(Weights {
+                name: name.to_string(),
+                values,
+                provenance: None,
+            })
+        }
+    }
+
+    fn info(&self) -> MatrixInfo {
+        let mut notes = Vec::new();
+        for name in &self.weight_columns {
+            if let Ok(dataset) = self.group.dataset(&format!("bins/{name}")) {
+                if self.is_divisive(name, &dataset) {
+                    notes.push(format!(
+                        "weight column '{name}' is divisive in the file (Juicer / hic2cool); contactmap inverts it to cooler's multiplicative convention"
+                    ));
+                }
+            }
+        }
+        if !self.attributes.iter().any(|(k, _)| k == "format") {
+            notes.push("old cooler without a 'format' attribute".to_string());
+        }
+        MatrixInfo {
+            format: format!("cool (format-version {})", self.format_version),
+            attributes: self.attributes.clone(),
+            resolutions: self.bins.bin_size_bp().into_iter().collect(),
+            notes,
+        }
+    }
+
+    fn read_pixels(
+        &self,
+        rows: Range<usize>,
+        cols: Range<usize>,
+        sink: &mut dyn FnMut(&PixelBlock) -> Result<()>,
+    ) -> Result<()> {
+        let n_bins = self.bins.n_bins();
+        let rows = rows.start.min(n_bins)..rows.end.min(n_bins);
+        if rows.is_empty() || cols.is_empty() {
+            return Ok(());
+        }
+        let lo = self.bin1_offsets[rows.start] as usize;
+        let hi = self.bin1_offsets[rows.end] as usize;
+        let whole_rows = cols.start == 0 && cols.end >= n_bins;
+        let cols64 = cols.start as u64..cols.end as u64;
+        let mut start = lo;
+        // Read the next block while the sink consumes the current one.
+        let mut current = if start < hi {
+            Some(self.read_block(start, (start + BLOCK_PIXELS).min(hi))?)
+        } else {
+            None
+        };
+        while let Some(mut block) = current.take() {
+            start += block.len();
+            let end = (start + BLOCK_PIXELS).min(hi);
+            let (next, consumed) = std::thread::scope(|scope| {
+                let reader = scope.spawn(|| {
+                    (start < hi)
+                        .then(|| self.read_block(start, end))
+                        .transpose()
+                });
+                if !whole_rows {
+                    block.retain_cols(&cols64);
+                }
+                let consumed = if block.is_empty() {
+                    Ok(())
+                } else {
+                    sink(&block)
+                };
+                let next = reader.join().unwrap_or_else(|_| {
+                    Err(Error::Invalid("the pixel reading thread panicked".into()))
+                });
+                (next, consumed)
+            });
+            consumed?;
+            current = next?;
+        }
+        Ok(())
+    }
+
+    fn totals(&self) -> Result<(u64, f64)> {
+        let nnz = self.count.len();
+        let mut sum = 0.0;
+        let mut lo = 0;
+        while lo < nnz {
+            let hi = (lo + 4 * BLOCK_PIXELS).min(nnz);
+            sum += self
+                .count
+                .read::<f64>(&self.raw, lo, hi)?
+                .iter()
+                .sum::<f64>();
+            lo = hi;
+        }
+        Ok((nnz as u64, sum))
+    }
+}
+
+fn read_int_column(path: &str, group: &hdf5::Group, name: &str) -> Result<Vec<i64>> {
+    let dataset = group
+        .dataset(name)
+        .map_err(|e| Error::format(path, format!("missing dataset {name}: {e}")))?;
+    dataset
+        .read_raw::<i64>()
+        .map_err(|e| Error::hdf5(path, format!("reading {name}"), e))
+}
+
+fn read_chroms(path: &str, group: &hdf5::Group) -> Result<Vec<Chrom>> {
+    let names_dataset = group
+        .dataset("chroms/name")
+        .map_err(|e| Error::format(path, format!("missing dataset chroms/name: {e}")))?;
+    let names = read_strings(path, &names_dataset, "chroms/name")?;
+    let lengths = read_int_column(path, group, "chroms/length")?;
+    if names.len() != lengths.len() {
+        return Err(Error::format(
+            path,
+            format!(
+                "chroms/name has {} entries but chroms/length has {}",
+                names.len(),
+                lengths.len()
+            ),
+        ));
+    }
+    names
+        .into_iter()
+        .zip(lengths)
+        .map(|(name, length)| {
+            if length < 0 {
+                Err(Error::format(
+                    path,
+                    format!("chroms/length: chromosome {name} has negative length {length}"),
+                ))
+            } else {
+                Ok(Chrom::new(name, length as u64))
+            }
+        })
+        .collect()
+}
+
+fn read_strings(path: &str, dataset: &hdf5::Dataset, name: &str) -> Result<Vec<String>> {
+    let descriptor = dataset
+        .dtype()
+        .and_then(|t| t.to_descriptor())
+        .map_err(|e| Error::hdf5(path, format!("reading the type of {name}"), e))?;
+    let err = |e| Error::hdf5(path, format!("reading {name}"), e);
+    let strings: Vec<String> = match descriptor {
+        TypeDescriptor::VarLenUnicode => dataset
+            .read_raw::<VarLenUnicode>()
+            .map_err(err)?
+            .iter()
+            .map(|s| s.as_str().to_string())
+            .collect(),
+        TypeDescriptor::VarLenAscii => dataset
+            .read_raw::<VarLenAscii>()
+            .map_err(err)?
+            .iter()
+            .map(|s| s.as_str().to_string())
+            .collect(),
+        TypeDescriptor::FixedAscii(_) | TypeDescriptor::FixedUnicode(_) => dataset
+            .read_raw::<hdf5::types::FixedAscii<1024>>()
+            .or_else(|_| {
+                dataset
+                    .read_raw::<hdf5::types::FixedUnicode<1024>>()
+                    .map(|v| {
+                        v.iter()
+                            .map(|s| {
+                                hdf5::types::FixedAscii::from_ascii(s.as_bytes())
+                                    .unwrap_or_default()
+                            })
+                            .collect()
+                    })
+            })
+            .map_err(err)?
+            .iter()
+            .map(|s| s.as_str().trim_end_matches('\0').to_string())
+            .collect(),
+        other => {
+            return Err(Error::format(
+                path,
+                format!("{name} has type {other:?}; expected strings"),
+            ))
+        }
+    };
+    Ok(strings)
+}
+
+/// Columns of `bins/` that are not weights.
+const BIN_COORDINATE_COLUMNS: [&str; 3] = ["chrom", "start", "end"];
+
+fn read_bins(
+    path: &str,
+    group: &hdf5::Group,
+    chroms: Vec<Chrom>,
+) -> Result<(BinTable, Vec<String>)> {
+    let chrom_ids = read_int_column(path, group, "bins/chrom")?;
+    let starts = read_int_column(path, group, "bins/start")?;
+    let ends = read_int_column(path, group, "bins/end")?;
+    if chrom_ids.len() != starts.len() || starts.len() != ends.len() {
+        return Err(Error::format(
+            path,
+            format!(
+                "bins/chrom, bins/start and bins/end differ in length ({}, {}, {})",
+                chrom_ids.len(),
+                starts.len(),
+                ends.len()
+            ),
+        ));
+    }
+    let mut bins = Vec::with_capacity(starts.len());
+    for k in 0..starts.len() {
+        let (c, s, e) = (chrom_ids[k], starts[k], ends[k]);
+        if c < 0 || c as usize >= chroms.len() || s < 0 || e < s {
+            return Err(Error::format(
+                path,
+                format!(
+                    "bins row {k}: chrom {c}, start {s}, end {e} is not a valid bin ({} chromosomes)",
+                    chroms.len()
+                ),
+            ));
+        }
+        bins.push(Bin {
+            chrom_id: c as usize,
+            start: s as u64,
+            end: e as u64,
+        });
+    }
+    let table = BinTable::from_bins(chroms, &bins)
+        .map_err(|e| Error::format(path, format!("bins table: {e}")))?;
+    let mut weights = Vec::new();
+    let bins_group = group
+        .group("bins")
+        .map_err(|e| Error::hdf5(path, "opening bins", e))?;
+    let members = bins_group
+        .member_names()
+        .map_err(|e| Error::hdf5(path, "listing bins", e))?;
+    for name in members {
+        if BIN_COORDINATE_COLUMNS.contains(&name.as_str()) {
+            continue;
+        }
+        let is_float = bins_group
+            .dataset(&name)
+            .and_then(|d| d.dtype())
+            .map(|t| matches!(t.to_descriptor(), Ok(TypeDescriptor::Float(_))))
+            .unwrap_or(false);
+        if is_float {
+            weights.push(name);
+        }
+    }
+    // h5py (and so cooler) lists columns by name; libhdf5 may iterate in another order.
+    weights.sort();
+    Ok((table, weights))
+}
+
+/// Read every attribute of `location` as JSON (numbers, strings, booleans, arrays); attributes of
+/// other types are shown as a type description.
+fn read_attributes(path: &str, location: &hdf5::Group) -> Vec<(String, serde_json::Value)> {
+    let _ = path;
+    let Ok(names) = location.attr_names() else {
+        return Vec::new();
+    };
+    names
+        .into_iter()
+        .filter_map(|name| {
+            let attr = location.attr(&name).ok()?;
+            Some((name, attribute_value(&attr)))
+        })
+        .collect()
+}
+
+fn attribute_value(attr: &hdf5::Attribute) -> serde_json::Value {
+    use serde_json::Value;
+    let Ok(descriptor) = attr.dtype().and_then(|t| t.to_descriptor()) else {
+        return Value::Null;
+    };
+    let scalar = attr.shape().iter().product::<usize>() <= 1;
+    let float = |v: f64| serde_json::Number::from_f64(v).map_or(Value::Null, Value::Number);
+    match descriptor {
+        TypeDescriptor::Integer(_) | TypeDescriptor::Unsigned(_) if scalar => attr
+            .read_raw::<i64>()
+            .ok()
+            .and_then(|v| v.first().copied())
+            .map_or(Value::Null, Value::from),
+        TypeDescriptor::Integer(_) | TypeDescriptor::Unsigned(_) => attr
+            .read_raw::<i64>()
+            .map_or(Value::Null, Value::from),
+        TypeDescriptor::Float(_) if scalar => attr
+            .read_raw::<f64>()
+            .ok()
+            .and_then(|v| v.first().copied())
+            .map_or(Value::Null, float),
+        TypeDescriptor::Float(_) => attr.read_raw::<f64>().map_or(Value::Null, |v| {
+            Value::Array(v.into_iter().map(float).collect())
+        }),
+        TypeDescriptor::Boolean => attr
+            .read_raw::<bool>()
+            .ok()
+            .and_then(|v| v.first().copied())
+            .map_or(Value::Null, Value::Bool),
+        TypeDescriptor::VarLenUnicode => attr
+            .read_raw::<VarLenUnicode>()
+            .ok()
+            .and_then(|v| v.first().map(|s| Value::from(s.as_str())))
+            .unwrap_or(Value::Null),
+        TypeDescriptor::VarLenAscii => attr
+            .read_raw::<VarLenAscii>()
+            .ok()
+            .and_then(|v| v.first().map(|s| Value::from(s.as_str())))
+            .unwrap_or(Value::Null),
+        TypeDescriptor::FixedAscii(_) | TypeDescriptor::FixedUnicode(_) => attr
+            .read_raw::<hdf5::types::FixedAscii<4096>>()
+            .ok()
+            .and_then(|v| {
+                v.first()
+                    .map(|s| Value::from(s.as_str().trim_end_matches('\0')))
+            })
+            .unwrap_or(Value::Null),
+        other => Value::from(format!("<{other:?}>")),
+    }
+}

@@ -22,6 +22,13 @@ impl HicReader {
     }
 }
 
+impl HicReader {
+    /// The base-pair resolutions of the file at `path`.
+    pub fn list_resolutions(path: &Path) -> Result<Vec<u64>> {
+        Err(Error::format(path, ".hic reading is not available yet"))
+    }
+}
+
 impl MatrixReader for HicReader {
     fn source(&self) -> &str {
         &self.source
@@ -36,7 +43,10 @@ impl MatrixReader for HicReader {
         Vec::new()
     }
     fn weights(&self, name: &str) -> Result<Weights> {
-        Err(Error::format(&self.source, format!("no weight column '{name}'")))
+        Err(Error::format(
+            &self.source,
+            format!("no weight column '{name}'"),
+        ))
     }
     fn info(&self) -> MatrixInfo {
         MatrixInfo::default()

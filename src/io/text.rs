@@ -21,3 +21,15 @@ pub enum TextFormat {
 pub fn read_matrix(path: &str, _options: &OpenOptions) -> Result<ContactMatrix> {
     Err(Error::format(path, "text reading is not available yet"))
 }
+
+/// Write a matrix as text.
+pub fn write_text(
+    reader: &dyn crate::io::MatrixReader,
+    path: &str,
+    _format: TextFormat,
+) -> Result<()> {
+    Err(Error::format(
+        path,
+        format!("{}: text writing is not available yet", reader.source()),
+    ))
+}

@@ -50,7 +50,11 @@ impl MatrixBuilder {
                 "pixel ({bin1}, {bin2}) has a non-finite count {count}"
             )));
         }
-        let (i, j) = if bin1 <= bin2 { (bin1, bin2) } else { (bin2, bin1) };
+        let (i, j) = if bin1 <= bin2 {
+            (bin1, bin2)
+        } else {
+            (bin2, bin1)
+        };
         self.triplets.push((i as u32, j as u32, count));
         Ok(())
     }

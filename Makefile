@@ -1,0 +1,43 @@
+# contactmap: the two set-up commands are `make demo` and `make test`.
+SHELL := /bin/bash
+CARGO ?= cargo
+
+# libhdf5 is compiled from source (hdf5-metno, feature "static"): it needs cmake.
+CMAKE_DIR := $(shell scripts/ensure-cmake.sh)
+ifneq ($(CMAKE_DIR),)
+export PATH := $(CMAKE_DIR):$(PATH)
+endif
+
+BIN := target/release/contactmap
+
+.PHONY: all build demo test lint check-peers bench clean
+
+all: build
+
+build:
+	$(CARGO) build --release
+
+## make demo: build, then run the pipeline on the real example data shipped in data/
+demo: build
+	CONTACTMAP=$(BIN) scripts/demo.sh
+
+## make test: formatting, lints, docs and the whole test suite (what CI runs)
+test: lint
+	$(CARGO) test --all-targets
+	$(CARGO) test --doc
+	RUSTDOCFLAGS="-D warnings" $(CARGO) doc --no-deps --quiet
+
+lint:
+	$(CARGO) fmt --all -- --check
+	$(CARGO) clippy --all-targets -- -D warnings
+
+## make check-peers: open every file we write with cooler 0.11 (needs a venv: see docs/peers.md)
+check-peers: build
+	scripts/check_peers.sh
+
+## make bench: side-by-side timings against the peer tools (see docs/performance.md)
+bench: build
+	scripts/bench_peers.sh
+
+clean:
+	$(CARGO) clean

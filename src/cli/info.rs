@@ -1,0 +1,229 @@
+//! `contactmap info`: describe a matrix file.
+
+use std::path::PathBuf;
+
+use clap::Args;
+use serde_json::{json, Map, Value};
+
+use crate::cli::output::Output;
+use crate::cli::InputArgs;
+use crate::error::Result;
+use crate::io::cool::{self, HdfContent};
+use crate::io::{self, FileKind, MatrixReader};
+
+/// Arguments of `contactmap info`.
+#[derive(Debug, Args)]
+#[command(after_long_help = "\
+Examples:
+  contactmap info data/hic_test_file.hic
+  contactmap info data/cooler_test_file.mcool            # lists every resolution
+  contactmap info data/cooler_test_file.mcool::/resolutions/100000 --json
+
+The JSON output holds the file's own attributes under the names cooler uses (so `cooler info`
+consumers keep working), with nbins, nchroms, nnz and sum computed from the data.")]
+pub struct InfoArgs {
+    /// Matrix URI: file.cool, file.mcool[::/resolutions/N], file.hic[::/resolutions/N], text table.
+    pub uri: String,
+    /// Print JSON instead of text.
+    #[arg(long)]
+    pub json: bool,
+    /// Write to this file instead of standard output.
+    #[arg(short, long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+    /// Options for text inputs.
+    #[command(flatten)]
+    pub input: InputArgs,
+}
+
+/// Run `contactmap info`.
+pub fn run(args: &InfoArgs) -> Result<()> {
+    let options = args.input.to_options()?;
+    let (path, group) = io::split_uri(&args.uri);
+    let report = match (io::detect_kind(path)?, group) {
+        (FileKind::Hdf5, None) => match cool::inspect(path)? {
+            HdfContent::Multires(resolutions) => multires_report(path, &resolutions, "mcool")?,
+            HdfContent::Cooler => matrix_report(io::open_matrix(&args.uri, &options)?.as_ref())?,
+        },
+        (FileKind::Hic, None) => {
+            let resolutions = io::hic::HicReader::list_resolutions(std::path::Path::new(path))?;
+            if resolutions.len() == 1 {
+                matrix_report(io::open_matrix(&args.uri, &options)?.as_ref())?
+            } else {
+                multires_report(path, &resolutions, "hic")?
+            }
+        }
+        _ => matrix_report(io::open_matrix(&args.uri, &options)?.as_ref())?,
+    };
+    let mut out = Output::open(args.out.as_deref())?;
+    let text = if args.json {
+        let mut text = serde_json::to_string_pretty(&report).unwrap_or_default();
+        text.push('\n');
+        text
+    } else {
+        render_text(&report)
+    };
+    out.write_all(text.as_bytes())?;
+    out.finish()
+}
+
+/// Summary of a multi-resolution file: each resolution's bins, nnz and sum.
+fn multires_report(path: &str, resolutions: &[u64], kind: &str) -> Result<Value> {
+    let mut levels = Vec::new();
+    for &r in resolutions {
+        let uri = format!("{path}::/resolutions/{r}");
+        let reader = io::open_matrix(&uri, &io::OpenOptions::default())?;
+        let (nnz, sum) = reader.totals()?;
+        levels.push(json!({
+            "uri": uri,
+            "bin-size": r,
+            "nbins": reader.bins().n_bins(),
+            "nnz": nnz,
+            "sum": number(sum),
+            "weights": reader.weight_names(),
+        }));
+    }
+    Ok(json!({
+        "uri": path,
+        "file-format": if kind == "mcool" { "mcool (multi-resolution cooler)" } else { "hic (multi-resolution)" },
+        "resolutions": resolutions,
+        "levels": levels,
+    }))
+}
+
+/// Report of one matrix: its attributes, then the figures computed from the data.
+fn matrix_report(reader: &dyn MatrixReader) -> Result<Value> {
+    let info = reader.info();
+    let bins = reader.bins();
+    let (nnz, sum) = reader.totals()?;
+    let mut map = Map::new();
+    map.insert("uri".into(), Value::from(reader.source()));
+    map.insert("file-format".into(), Value::from(info.format.clone()));
+    for (key, value) in &info.attributes {
+        map.insert(key.clone(), value.clone());
+    }
+    match bins.bin_size_bp() {
+        Some(size) => {
+            map.insert("bin-type".into(), Value::from("fixed"));
+            map.insert("bin-size".into(), Value::from(size));
+        }
+        None => {
+            map.insert("bin-type".into(), Value::from("variable"));
+        }
+    }
+    map.insert("nbins".into(), Value::from(bins.n_bins()));
+    map.insert("nchroms".into(), Value::from(bins.n_chroms()));
+    map.insert("nnz".into(), Value::from(nnz));
+    map.insert("sum".into(), number(sum));
+    map.insert(
+        "count-type".into(),
+        Value::from(match reader.count_type() {
+            crate::matrix::CountType::Integer => "integer",
+            crate::matrix::CountType::Float => "float",
+        }),
+    );
+    map.insert("weights".into(), Value::from(reader.weight_names()));
+    if !info.resolutions.is_empty() {
+        map.insert("resolutions".into(), Value::from(info.resolutions.clone()));
+    }
+    map.insert(
+        "chromosomes".into(),
+        Value::Array(
+            bins.chroms()
+                .iter()
+                .map(|c| json!({"name": c.name, "length": c.length_bp}))
+                .collect(),
+        ),
+    );
+    if !info.notes.is_empty() {
+        map.insert("notes".into(), Value::from(info.notes.clone()));
+    }
+    Ok(Value::Object(map))
+}
+
+/// An integer-valued sum as a JSON integer, otherwise a float.
+fn number(value: f64) -> Value {
+    if value.fract() == 0.0 && value.abs() < 9.0e15 {
+        Value::from(value as i64)
+    } else {
+        serde_json::Number::from_f64(value).map_or(Value::Null, Value::Number)
+    }
+}
+
+fn render_text(report: &Value) -> String {
+    let mut lines = Vec::new();
+    let get = |key: &str| report.get(key).cloned().unwrap_or(Value::Null);
+    let plain = |v: &Value| match v {
+        Value::String(s) => s.clone(),
+        Value::Null => "-".into(),
+        other => other.to_string(),
+    };
+    lines.push(format!("uri            {}", plain(&get("uri"))));
+    lines.push(format!("format         {}", plain(&get("file-format"))));
+    if let Some(levels) = report.get("levels").and_then(|l| l.as_array()) {
+        lines.push(format!("resolutions    {}", levels.len()));
+        lines.push("  bin-size        nbins            nnz                sum  weights".into());
+        for level in levels {
+            lines.push(format!(
+                "  {:>8} {:>12} {:>14} {:>18}  {}",
+                plain(&level["bin-size"]),
+                plain(&level["nbins"]),
+                plain(&level["nnz"]),
+                plain(&level["sum"]),
+                level["weights"]
+                    .as_array()
+                    .map(|w| w.iter().map(&plain).collect::<Vec<_>>().join(","))
+                    .unwrap_or_default()
+            ));
+        }
+        return lines.join("\n") + "\n";
+    }
+    for key in [
+        "genome-assembly",
+        "bin-type",
+        "bin-size",
+        "nbins",
+        "nchroms",
+        "nnz",
+        "sum",
+        "count-type",
+    ] {
+        if let Some(v) = report.get(key) {
+            lines.push(format!("{key:<14} {}", plain(v)));
+        }
+    }
+    if let Some(weights) = report.get("weights").and_then(|w| w.as_array()) {
+        let names: Vec<String> = weights.iter().map(&plain).collect();
+        lines.push(format!(
+            "{:<14} {}",
+            "weights",
+            if names.is_empty() {
+                "none".to_string()
+            } else {
+                names.join(", ")
+            }
+        ));
+    }
+    if let Some(resolutions) = report.get("resolutions").and_then(|r| r.as_array()) {
+        let list: Vec<String> = resolutions.iter().map(&plain).collect();
+        lines.push(format!("{:<14} {}", "resolutions", list.join(", ")));
+    }
+    if let Some(chroms) = report.get("chromosomes").and_then(|c| c.as_array()) {
+        let shown: Vec<String> = chroms
+            .iter()
+            .take(12)
+            .map(|c| format!("{}:{}", plain(&c["name"]), plain(&c["length"])))
+            .collect();
+        let more = if chroms.len() > 12 {
+            format!(" ... ({} more)", chroms.len() - 12)
+        } else {
+            String::new()
+        };
+        lines.push(format!("{:<14} {}{more}", "chromosomes", shown.join(" ")));
+    }
+    if let Some(notes) = report.get("notes").and_then(|n| n.as_array()) {
+        for note in notes {
+            lines.push(format!("{:<14} {}", "note", plain(note)));
+        }
+    }
+    lines.join("\n") + "\n"
+}

@@ -1,0 +1,594 @@
+//! Writing `.cool` and `.mcool` files (cooler format-version 3).
+
+use std::path::{Path, PathBuf};
+
+use hdf5::types::{FixedAscii, VarLenUnicode};
+
+use crate::error::{Error, Result};
+use crate::genome::BinTable;
+use crate::io::MatrixReader;
+use crate::matrix::{CountType, PixelBlock, Weights};
+
+/// Elements per HDF5 chunk of the pixel columns (128 KiB of `int64` before compression).
+const PIXEL_CHUNK: usize = 16_384;
+
+/// deflate level cooler uses.
+const DEFLATE_LEVEL: u8 = 6;
+
+/// Options for the cooler writer.
+#[derive(Clone, Debug, Default)]
+pub struct CoolWriteOptions {
+    /// `genome-assembly` attribute (cooler writes "unknown" when not known).
+    pub assembly: Option<String>,
+    /// Copy these weight columns from the input (all of them when `None`); only at the input's
+    /// own resolution (coarsened levels carry no weights, as with `cooler zoomify`).
+    pub weight_columns: Option<Vec<String>>,
+}
+
+/// Write `reader`'s matrix to a single-resolution `.cool` at `path`.
+///
+/// The file is written to a temporary name beside `path` and renamed when complete.
+pub fn write_cool(
+    reader: &dyn MatrixReader,
+    path: &Path,
+    options: &CoolWriteOptions,
+) -> Result<()> {
+    with_temporary(path, |tmp| {
+        let file = hdf5::File::create(tmp).map_err(|e| Error::hdf5(tmp, "creating the file", e))?;
+        let root = file
+            .as_group()
+            .map_err(|e| Error::hdf5(tmp, "opening the root group", e))?;
+        let mut writer = GroupWriter::create(tmp, &root, reader.bins(), reader.count_type())?;
+        let n = reader.bins().n_bins();
+        reader.read_pixels(0..n, 0..n, &mut |block| writer.append(block))?;
+        let weights = selected_weights(reader, options)?;
+        writer.finish(&weights, options)?;
+        file.close()
+            .map_err(|e| Error::hdf5(tmp, "closing the file", e))
+    })
+}
+
+/// Write `reader`'s matrix to a multi-resolution `.mcool` at `path`, one cooler per resolution in
+/// `resolutions` under `/resolutions/<bin size>`. Each resolution must be a multiple of the input's
+/// bin size; the coarser levels are made by summing pixels (as `cooler zoomify`), in one pass over
+/// the input.
+pub fn write_mcool(
+    reader: &dyn MatrixReader,
+    path: &Path,
+    resolutions: &[u64],
+    options: &CoolWriteOptions,
+) -> Result<()> {
+    let base_bins = reader.bins();
+    let Some(base) = base_bins.bin_size_bp() else {
+        return Err(Error::Invalid(format!(
+            "{}: .mcool needs fixed-size bins; this matrix has variable bins",
+            reader.source()
+        )));
+    };
+    let mut resolutions = resolutions.to_vec();
+    resolutions.sort_unstable();
+    resolutions.dedup();
+    if resolutions.is_empty() {
+        resolutions.push(base);
+    }
+    for &r in &resolutions {
+        if r % base != 0 {
+            return Err(Error::Invalid(format!(
+                "resolution {r} is not a multiple of the input's bin size {base}"
+            )));
+        }
+    }
+    with_temporary(path, |tmp| {
+        let file = hdf5::File::create(tmp).map_err(|e| Error::hdf5(tmp, "creating the file", e))?;
+        write_str_attr(tmp, &file, "format", "HDF5::MCOOL")?;
+        write_int_attr(tmp, &file, "format-version", 2)?;
+        write_str_attr(tmp, &file, "bin-type", "fixed")?;
+        let group = file
+            .create_group("resolutions")
+            .map_err(|e| Error::hdf5(tmp, "creating /resolutions", e))?;
+        let mut levels = Vec::with_capacity(resolutions.len());
+        for &r in &resolutions {
+            let level_group = group
+                .create_group(&r.to_string())
+                .map_err(|e| Error::hdf5(tmp, format!("creating /resolutions/{r}"), e))?;
+            let bins = base_bins.coarsen(r / base)?;
+            let coarsener = Coarsener::new(base_bins, &bins);
+            let writer = GroupWriter::create(tmp, &level_group, &bins, reader.count_type())?;
+            levels.push((r, coarsener, writer));
+        }
+        let n = base_bins.n_bins();
+        reader.read_pixels(0..n, 0..n, &mut |block| {
+            for (r, coarsener, writer) in levels.iter_mut() {
+                if *r == base {
+                    writer.append(block)?;
+                } else {
+                    coarsener.push(block, writer)?;
+                }
+            }
+            Ok(())
+        })?;
+        let weights = selected_weights(reader, options)?;
+        for (r, mut coarsener, mut writer) in levels {
+            if r == base {
+                writer.finish(&weights, options)?;
+            } else {
+                coarsener.flush(&mut writer)?;
+                writer.finish(&[], options)?;
+            }
+        }
+        file.close()
+            .map_err(|e| Error::hdf5(tmp, "closing the file", e))
+    })
+}
+
+fn selected_weights(reader: &dyn MatrixReader, options: &CoolWriteOptions) -> Result<Vec<Weights>> {
+    let names = match &options.weight_columns {
+        Some(names) => names.clone(),
+        None => reader.weight_names(),
+    };
+    names.iter().map(|name| reader.weights(name)).collect()
+}
+
+/// Run `write` on a temporary path beside `path`, then rename it to `path`; remove it on error.
+fn with_temporary(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
+    let file_name = path
+        .file_name()
+        .ok_or_else(|| Error::Invalid(format!("{}: not a file path", path.display())))?;
+    let mut tmp_name = std::ffi::OsString::from(".");
+    tmp_name.push(file_name);
+    tmp_name.push(format!(".contactmap-{}.tmp", std::process::id()));
+    let tmp: PathBuf = path.with_file_name(tmp_name);
+    match write(&tmp) {
+        Ok(()) => std::fs::rename(&tmp, path).map_err(|e| Error::io(path, e)),
+        Err(e) => {
+            let _ = std::fs::remove_file(&tmp);
+            Err(e)
+        }
+    }
+}
+
+/// Maps pixels of a fine fixed bin table to a coarser one, summing them row by row.
+struct Coarsener {
+    /// Coarse bin of every fine bin.
+    coarse_of: Vec<u64>,
+    /// Coarse row being accumulated and its `(bin2, count)` entries.
+    row: Option<u64>,
+    entries: Vec<(u64, f64)>,
+}
+
+impl Coarsener {
+    fn new(fine: &BinTable, coarse: &BinTable) -> Self {
+        let coarse_of = fine
+            .iter()
+            .map(|bin| coarse.bin_at(bin.chrom_id, bin.start) as u64)
+            .collect();
+        Coarsener {
+            coarse_of,
+            row: None,
+            entries: Vec::new(),
+        }
+    }
+
+    /// Add fine pixels (sorted by fine bin1, hence by coarse bin1).
+    fn push(&mut self, block: &PixelBlock, writer: &mut GroupWriter) -> Result<()> {
+        for k in 0..block.len() {
+            let i = self.coarse_of[block.bin1[k] as usize];
+            let j = self.coarse_of[block.bin2[k] as usize];
+            if self.row != Some(i) {
+                self.flush(writer)?;
+                self.row = Some(i);
+            }
+            self.entries.push((j, block.count[k]));
+        }
+        Ok(())
+    }
+
+    /// Emit the accumulated row, summed and sorted.
+    fn flush(&mut self, writer: &mut GroupWriter) -> Result<()> {
+        let Some(row) = self.row.take() else {
+            return Ok(());
+        };
+        self.entries.sort_unstable_by_key(|&(j, _)| j);
+        let mut block = PixelBlock::with_capacity(self.entries.len());
+        for &(j, c) in &self.entries {
+            if block.bin2.last() == Some(&j) {
+                *block.count.last_mut().expect("a pixel") += c;
+            } else {
+                block.push(row, j, c);
+            }
+        }
+        self.entries.clear();
+        writer.append(&block)
+    }
+}
+
+/// Writes one cooler group, streaming pixel blocks into resizable chunked datasets.
+struct GroupWriter {
+    path: PathBuf,
+    group: hdf5::Group,
+    bins: BinTable,
+    count_type: CountType,
+    bin1: hdf5::Dataset,
+    bin2: hdf5::Dataset,
+    count: hdf5::Dataset,
+    n_pixels: usize,
+    row_counts: Vec<u64>,
+    sum: f64,
+    last: Option<(u64, u64)>,
+}
+
+impl GroupWriter {
+    fn create(
+        path: &Path,
+        group: &hdf5::Group,
+        bins: &BinTable,
+        count_type: CountType,
+    ) -> Result<Self> {
+        let err = |what: &str| {
+            let what = what.to_string();
+            move |e| Error::hdf5(path, what, e)
+        };
+        let pixels = group
+            .create_group("pixels")
+            .map_err(err("creating pixels"))?;
+        let column = |name: &str, int: bool| {
+            let builder = pixels.new_dataset_builder();
+            let builder = if int {
+                builder.empty::<i64>()
+            } else {
+                builder.empty::<f64>()
+            };
+            builder
+                .shape(0..)
+                .chunk(PIXEL_CHUNK)
+                .shuffle()
+                .deflate(DEFLATE_LEVEL)
+                .create(name)
+                .map_err(err(&format!("creating pixels/{name}")))
+        };
+        let bin1 = column("bin1_id", true)?;
+        let bin2 = column("bin2_id", true)?;
+        let count = match count_type {
+            CountType::Integer => pixels
+                .new_dataset_builder()
+                .empty::<i32>()
+                .shape(0..)
+                .chunk(PIXEL_CHUNK)
+                .shuffle()
+                .deflate(DEFLATE_LEVEL)
+                .create("count")
+                .map_err(err("creating pixels/count"))?,
+            CountType::Float => column("count", false)?,
+        };
+        Ok(GroupWriter {
+            path: path.to_path_buf(),
+            group: group.clone(),
+            bins: bins.clone(),
+            count_type,
+            bin1,
+            bin2,
+            count,
+            n_pixels: 0,
+            row_counts: vec![0; bins.n_bins()],
+            sum: 0.0,
+            last: None,
+        })
+    }
+
+    fn hdf5_err(&self, what: &str) -> impl FnOnce(hdf5::Error) -> Error + '_ {
+        let what = what.to_string();
+        move |e| Error::hdf5(&self.path, what, e)
+    }
+
+    /// Append sorted pixels.
+    fn append(&mut self, block: &PixelBlock) -> Result<()> {
+        if block.is_empty() {
+            return Ok(());
+        }
+        let n_bins = self.bins.n_bins() as u64;
+        for k in 0..block.len() {
+            let key = (block.bin1[k], block.bin2[k]);
+            if key.0 > key.1 || key.1 >= n_bins {
+                return Err(Error::Invalid(format!(
+                    "pixel ({}, {}) is below the diagonal or out of range ({n_bins} bins)",
+                    key.0, key.1
+                )));
+            }
+            if self.last.is_some_and(|last| last >= key) {
+                return Err(Error::Invalid(format!(
+                    "pixels are not sorted by (bin1, bin2) or are duplicated at ({}, {})",
+                    key.0, key.1
+                )));
+            }
+            self.last = Some(key);
+            self.row_counts[key.0 as usize] += 1;
+        }
+        let lo = self.n_pixels;
+        let hi = lo + block.len();
+        for dataset in [&self.bin1, &self.bin2, &self.count] {
+            dataset
+                .resize(hi)
+                .map_err(self.hdf5_err("resizing pixel columns"))?;
+        }
+        let bin1: Vec<i64> = block.bin1.iter().map(|&b| b as i64).collect();
+        let bin2: Vec<i64> = block.bin2.iter().map(|&b| b as i64).collect();
+        self.bin1
+            .write_slice(&bin1, lo..hi)
+            .map_err(self.hdf5_err("writing pixels/bin1_id"))?;
+        self.bin2
+            .write_slice(&bin2, lo..hi)
+            .map_err(self.hdf5_err("writing pixels/bin2_id"))?;
+        match self.count_type {
+            CountType::Integer => {
+                let mut counts = Vec::with_capacity(block.len());
+                for (k, &c) in block.count.iter().enumerate() {
+                    if c.fract() != 0.0 || c < i32::MIN as f64 || c > i32::MAX as f64 {
+                        return Err(Error::Invalid(format!(
+                            "pixel ({}, {}): count {c} does not fit cooler's int32 count column",
+                            block.bin1[k], block.bin2[k]
+                        )));
+                    }
+                    counts.push(c as i32);
+                }
+                self.count
+                    .write_slice(&counts, lo..hi)
+                    .map_err(self.hdf5_err("writing pixels/count"))?;
+            }
+            CountType::Float => self
+                .count
+                .write_slice(&block.count, lo..hi)
+                .map_err(self.hdf5_err("writing pixels/count"))?,
+        }
+        self.sum += block.count.iter().sum::<f64>();
+        self.n_pixels = hi;
+        Ok(())
+    }
+
+    /// Write chroms, bins (with `weights`), indexes and attributes.
+    fn finish(self, weights: &[Weights], options: &CoolWriteOptions) -> Result<()> {
+        let path = self.path.as_path();
+        let group = &self.group;
+        let err = |what: &str| {
+            let what = what.to_string();
+            move |e| Error::hdf5(path, what, e)
+        };
+        let bins = &self.bins;
+        // chroms
+        let chroms = group
+            .create_group("chroms")
+            .map_err(err("creating chroms"))?;
+        let names: Vec<&str> = bins.chroms().iter().map(|c| c.name.as_str()).collect();
+        write_fixed_strings(path, &chroms, "name", &names)?;
+        let lengths = bins
+            .chroms()
+            .iter()
+            .map(|c| {
+                i32::try_from(c.length_bp).map_err(|_| {
+                    Error::Invalid(format!(
+                        "chromosome {} is too long for cooler's int32 lengths",
+                        c.name
+                    ))
+                })
+            })
+            .collect::<Result<Vec<i32>>>()?;
+        write_column(path, &chroms, "length", &lengths)?;
+        // bins
+        let bins_group = group.create_group("bins").map_err(err("creating bins"))?;
+        let (mut chrom_ids, mut starts, mut ends) = (Vec::new(), Vec::new(), Vec::new());
+        for bin in bins.iter() {
+            chrom_ids.push(bin.chrom_id as i32);
+            starts.push(bin.start as i32);
+            ends.push(bin.end as i32);
+        }
+        let chrom_dataset = write_column(path, &bins_group, "chrom", &chrom_ids)?;
+        write_str_attr(path, &chrom_dataset, "enum_path", "/chroms/name")?;
+        write_column(path, &bins_group, "start", &starts)?;
+        write_column(path, &bins_group, "end", &ends)?;
+        for w in weights {
+            if w.values.len() != bins.n_bins() {
+                return Err(Error::Invalid(format!(
+                    "weight column '{}' has {} values for {} bins",
+                    w.name,
+                    w.values.len(),
+                    bins.n_bins()
+                )));
+            }
+            // cooler divides by KR / VC / VC_SQRT whatever their attributes say: store those divisive.
+            let divisive = super::DIVISIVE_BY_NAME.contains(&w.name.as_str());
+            let dataset = if divisive {
+                let inverted: Vec<f64> = w
+                    .values
+                    .iter()
+                    .map(|&v| if v.is_finite() && v > 0.0 { 1.0 / v } else { f64::NAN })
+                    .collect();
+                write_column(path, &bins_group, &w.name, &inverted)?
+            } else {
+                write_column(path, &bins_group, &w.name, &w.values)?
+            };
+            dataset
+                .new_attr::<bool>()
+                .create("divisive_weights")
+                .and_then(|a| a.write_scalar(&divisive))
+                .map_err(|e| Error::hdf5(path, format!("writing bins/{}.divisive_weights", w.name), e))?;
+        }
+        // indexes
+        let indexes = group
+            .create_group("indexes")
+            .map_err(err("creating indexes"))?;
+        let chrom_offsets: Vec<i64> = bins.chrom_offsets().iter().map(|&o| o as i64).collect();
+        write_column(path, &indexes, "chrom_offset", &chrom_offsets)?;
+        let mut bin1_offsets = Vec::with_capacity(bins.n_bins() + 1);
+        let mut total = 0i64;
+        bin1_offsets.push(0);
+        for &n in &self.row_counts {
+            total += n as i64;
+            bin1_offsets.push(total);
+        }
+        write_column(path, &indexes, "bin1_offset", &bin1_offsets)?;
+        // attributes, as cooler 0.11 writes them
+        write_str_attr(path, group, "format", "HDF5::Cooler")?;
+        write_int_attr(path, group, "format-version", 3)?;
+        write_str_attr(
+            path,
+            group,
+            "format-url",
+            "https://github.com/open2c/cooler",
+        )?;
+        write_str_attr(
+            path,
+            group,
+            "generated-by",
+            concat!("contactmap-", env!("CARGO_PKG_VERSION")),
+        )?;
+        write_str_attr(path, group, "creation-date", &iso_timestamp_now())?;
+        write_str_attr(
+            path,
+            group,
+            "genome-assembly",
+            options.assembly.as_deref().unwrap_or("unknown"),
+        )?;
+        write_str_attr(path, group, "metadata", "{}")?;
+        match bins.bin_size_bp() {
+            Some(size) => {
+                write_str_attr(path, group, "bin-type", "fixed")?;
+                write_int_attr(path, group, "bin-size", size as i64)?;
+            }
+            None => {
+                write_str_attr(path, group, "bin-type", "variable")?;
+                write_str_attr(path, group, "bin-size", "null")?;
+            }
+        }
+        write_str_attr(path, group, "storage-mode", "symmetric-upper")?;
+        write_int_attr(path, group, "nbins", bins.n_bins() as i64)?;
+        write_int_attr(path, group, "nchroms", bins.n_chroms() as i64)?;
+        write_int_attr(path, group, "nnz", self.n_pixels as i64)?;
+        match self.count_type {
+            CountType::Integer => write_int_attr(path, group, "sum", self.sum as i64)?,
+            CountType::Float => {
+                let attr = group
+                    .new_attr::<f64>()
+                    .create("sum")
+                    .map_err(err("creating attribute sum"))?;
+                attr.write_scalar(&self.sum)
+                    .map_err(err("writing attribute sum"))?;
+            }
+        }
+        Ok(())
+    }
+}
+
+fn write_column<T: hdf5::H5Type>(
+    path: &Path,
+    group: &hdf5::Group,
+    name: &str,
+    values: &[T],
+) -> Result<hdf5::Dataset> {
+    let builder = group.new_dataset_builder().with_data(values);
+    let builder = if values.is_empty() {
+        builder
+    } else {
+        builder
+            .chunk(values.len().min(1 << 16))
+            .shuffle()
+            .deflate(DEFLATE_LEVEL)
+    };
+    builder
+        .create(name)
+        .map_err(|e| Error::hdf5(path, format!("writing {name}"), e))
+}
+
+fn write_fixed_strings(
+    path: &Path,
+    group: &hdf5::Group,
+    name: &str,
+    values: &[&str],
+) -> Result<()> {
+    let longest = values.iter().map(|s| s.len()).max().unwrap_or(1);
+    if longest > 255 || !values.iter().all(|s| s.is_ascii()) {
+        return Err(Error::Invalid(format!(
+            "chromosome names must be ASCII and at most 255 bytes long (found '{}')",
+            values
+                .iter()
+                .find(|s| s.len() > 255 || !s.is_ascii())
+                .unwrap_or(&"")
+        )));
+    }
+    macro_rules! write_as {
+        ($n:literal) => {{
+            let fixed = values
+                .iter()
+                .map(|s| FixedAscii::<$n>::from_ascii(s.as_bytes()))
+                .collect::<std::result::Result<Vec<_>, _>>()
+                .map_err(|e| Error::Invalid(format!("chromosome name: {e}")))?;
+            write_column(path, group, name, &fixed).map(|_| ())
+        }};
+    }
+    match longest {
+        0..=32 => write_as!(32),
+        33..=64 => write_as!(64),
+        65..=128 => write_as!(128),
+        _ => write_as!(255),
+    }
+}
+
+fn write_str_attr(path: &Path, location: &hdf5::Location, name: &str, value: &str) -> Result<()> {
+    let value: VarLenUnicode = value
+        .parse()
+        .map_err(|e| Error::Invalid(format!("attribute {name}: {e}")))?;
+    location
+        .new_attr::<VarLenUnicode>()
+        .create(name)
+        .and_then(|a| a.write_scalar(&value))
+        .map_err(|e| Error::hdf5(path, format!("writing attribute {name}"), e))
+}
+
+fn write_int_attr(path: &Path, location: &hdf5::Location, name: &str, value: i64) -> Result<()> {
+    location
+        .new_attr::<i64>()
+        .create(name)
+        .and_then(|a| a.write_scalar(&value))
+        .map_err(|e| Error::hdf5(path, format!("writing attribute {name}"), e))
+}
+
+/// The current UTC time as `YYYY-MM-DDTHH:MM:SS.ffffff` (the form cooler writes).
+fn iso_timestamp_now() -> String {
+    let now = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .unwrap_or_default();
+    let seconds = now.as_secs() as i64;
+    let (days, rem) = (seconds.div_euclid(86_400), seconds.rem_euclid(86_400));
+    let (year, month, day) = civil_from_days(days);
+    format!(
+        "{year:04}-{month:02}-{day:02}T{:02}:{:02}:{:02}.{:06}",
+        rem / 3600,
+        rem % 3600 / 60,
+        rem % 60,
+        now.subsec_micros()
+    )
+}
+
+/// Gregorian date of a day count since 1970-01-01 (Howard Hinnant's algorithm).
+fn civil_from_days(days: i64) -> (i64, u32, u32) {
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z.rem_euclid(146_097);
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let day = (doy - (153 * mp + 2) / 5 + 1) as u32;
+    let month = if mp < 10 { mp + 3 } else { mp - 9 } as u32;
+    let year = yoe + era * 400 + i64::from(month <= 2);
+    (year, month, day)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn civil_dates_match_known_days() {
+        assert_eq!(civil_from_days(0), (1970, 1, 1));
+        assert_eq!(civil_from_days(11_016), (2000, 2, 29));
+        assert_eq!(civil_from_days(20_778), (2026, 11, 21));
+    }
+}
