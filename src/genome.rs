@@ -258,6 +258,17 @@ impl BinTable {
 
     /// The bins overlapping `region`, as a half-open range of bin ids.
     pub fn region_bins(&self, region: &Region) -> Result<Range<usize>> {
+        if self.chrom_id(&region.chrom).is_none() {
+            // "chr1:xyz-100" was kept whole as a name; if "chr1" exists, the coordinates are bad.
+            if let Some((prefix, coords)) = region.chrom.rsplit_once(':') {
+                if self.chrom_id(prefix).is_some() {
+                    return Err(Error::region(
+                        region.to_string(),
+                        format!("'{coords}' is not a position range (expected start-end, e.g. 1,000,000-2,000,000)"),
+                    ));
+                }
+            }
+        }
         let chrom_id = self.chrom_id(&region.chrom).ok_or_else(|| {
             let names: Vec<&str> = self
                 .chroms

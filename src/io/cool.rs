@@ -659,9 +659,9 @@ fn attribute_value(attr: &hdf5::Attribute) -> serde_json::Value {
             .ok()
             .and_then(|v| v.first().copied())
             .map_or(Value::Null, Value::from),
-        TypeDescriptor::Integer(_) | TypeDescriptor::Unsigned(_) => attr
-            .read_raw::<i64>()
-            .map_or(Value::Null, Value::from),
+        TypeDescriptor::Integer(_) | TypeDescriptor::Unsigned(_) => {
+            attr.read_raw::<i64>().map_or(Value::Null, Value::from)
+        }
         TypeDescriptor::Float(_) if scalar => attr
             .read_raw::<f64>()
             .ok()

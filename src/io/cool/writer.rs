@@ -399,7 +399,13 @@ impl GroupWriter {
                 let inverted: Vec<f64> = w
                     .values
                     .iter()
-                    .map(|&v| if v.is_finite() && v > 0.0 { 1.0 / v } else { f64::NAN })
+                    .map(|&v| {
+                        if v.is_finite() && v > 0.0 {
+                            1.0 / v
+                        } else {
+                            f64::NAN
+                        }
+                    })
                     .collect();
                 write_column(path, &bins_group, &w.name, &inverted)?
             } else {
@@ -409,7 +415,9 @@ impl GroupWriter {
                 .new_attr::<bool>()
                 .create("divisive_weights")
                 .and_then(|a| a.write_scalar(&divisive))
-                .map_err(|e| Error::hdf5(path, format!("writing bins/{}.divisive_weights", w.name), e))?;
+                .map_err(|e| {
+                    Error::hdf5(path, format!("writing bins/{}.divisive_weights", w.name), e)
+                })?;
         }
         // indexes
         let indexes = group

@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# The contactmap pipeline on the real example data in data/ (run by `make demo`).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+cm="${CONTACTMAP:-target/release/contactmap}"
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+step() { printf '\n\033[1m== %s\033[0m\n$ %s\n' "$1" "${*:2}"; "${@:2}"; }
+
+mcool=data/cooler_test_file.mcool
+hic=data/hic_test_file.hic
+
+step "Inspect a multi-resolution cooler (Drosophila dm6, 4DN)" "$cm" info "$mcool"
+step "Inspect one resolution" "$cm" info "$mcool::/resolutions/100000"
+if [ -f "$hic" ]; then
+  step "Inspect the same data as a Juicer .hic v9" "$cm" info "$hic"
+  step "Convert .hic -> .cool" "$cm" convert "$hic" "$work/from_hic.cool"
+  "$cm" dump "$work/from_hic.cool" > "$work/a.tsv"
+  "$cm" dump "$mcool::/resolutions/100000" > "$work/b.tsv"
+  if cmp -s "$work/a.tsv" "$work/b.tsv"; then
+    echo "   .hic and .mcool hold identical pixels ($(wc -l < "$work/a.tsv") pixels)"
+  else
+    echo "   .hic and .mcool pixels DIFFER" >&2; exit 1
+  fi
+fi
+step "Dump a region, balanced with cooler's ICE weights, with coordinates" \
+  "$cm" dump "$mcool::/resolutions/100000" -r chr2L:1,000,000-1,300,000 --join --balanced -H
+step "Build a multi-resolution file (sums pixels into coarser bins)" \
+  "$cm" convert "$mcool::/resolutions/100000" "$work/zoom.mcool" --resolutions 100000N
+"$cm" info "$work/zoom.mcool"
+if [ -f data/hg19.GM12878-MboI.pairs.subsample.sorted.txt.gz ]; then
+  "$cm" dump -t chroms data/hg19.GM12878-MboI.matrix.2000kb.cool > "$work/hg19.sizes"
+  step "Bin read pairs into a 2 Mb cooler" "$cm" convert data/hg19.GM12878-MboI.pairs.subsample.sorted.txt.gz \
+    "$work/pairs.cool" --format pairs --bin-size 2000000 --chrom-sizes "$work/hg19.sizes" --pairs-columns 1,2,4,5
+  "$cm" info "$work/pairs.cool"
+fi
+printf '\nDemo finished.\n'

@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# Rebuild data/reference/* with the peer tools (cooler 0.11, hictkpy 1.4).
+# Needs a venv with them:  python3 -m venv .venv && .venv/bin/pip install cooler cooltools hictkpy
+# Usage: scripts/make_references.sh [VENV_DIR]   (default .venv)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+venv="${1:-.venv}"
+cooler="$venv/bin/cooler"
+python="$venv/bin/python"
+ref=data/reference
+mkdir -p "$ref"
+dm6=data/cooler_test_file.mcool::/resolutions/100000
+
+"$cooler" dump --join --header -b -r chr2L:1,000,000-3,000,000 -r2 chr2L:2,000,000-5,000,000 "$dm6" \
+  > "$ref/dm6_100kb.chr2L_box.balanced.join.tsv"
+"$cooler" dump -r chrX -r2 chrY "$dm6" > "$ref/dm6_100kb.chrX_chrY.tsv"
+"$cooler" dump -t bins --header data/CN.mm9.10000kb.cool > "$ref/CN.mm9.10000kb.bins.tsv"
+"$cooler" dump --header data/cooler_variable_bins_test_file.cool > "$ref/variable_bins.pixels.tsv"
+"$cooler" dump -t bins data/cooler_variable_bins_test_file.cool > "$ref/variable_bins.bins.tsv"
+"$cooler" dump --join data/toy.symm.upper.2.mcool::/resolutions/4 > "$ref/toy_4.join.tsv"
+
+# nbins, nnz and the sum of counts of every matrix in data/, as cooler and hictkpy compute them.
+"$python" - > "$ref/totals.tsv" <<'PY'
+import glob, cooler, hictkpy
+print("uri\tnbins\tnnz\tsum")
+for path in sorted(glob.glob("data/*.cool")) + sorted(glob.glob("data/*.mcool")):
+    uris = [path] if path.endswith(".cool") else [f"{path}::{g}" for g in cooler.fileops.list_coolers(path)]
+    for uri in uris:
+        c = cooler.Cooler(uri)
+        counts = c.pixels()["count"][:]
+        print(f"{uri}\t{c.info['nbins']}\t{len(counts)}\t{counts.sum()}")
+for path in sorted(glob.glob("data/*.hic")):
+    for res in hictkpy.MultiResFile(path).resolutions():
+        f = hictkpy.File(path, int(res))
+        df = f.fetch().to_df()
+        print(f"{path}::/resolutions/{res}\t{f.nbins()}\t{len(df)}\t{int(df['count'].sum())}")
+PY
+echo "references written to $ref"

@@ -1,0 +1,74 @@
+//! Integration tests: the `contactmap` binary run on the real fixtures in `data/`, compared with
+//! reference outputs of the peer tools (`data/reference/`, made by `scripts/make_references.sh`).
+
+#[path = "cli/convert.rs"]
+mod convert;
+#[path = "cli/dump.rs"]
+mod dump;
+#[path = "cli/errors.rs"]
+mod errors;
+#[path = "cli/info.rs"]
+mod info;
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+/// Path of a fixture under `data/`.
+pub fn data(name: &str) -> String {
+    let path: PathBuf = [env!("CARGO_MANIFEST_DIR"), "data", name].iter().collect();
+    path.to_string_lossy().into_owned()
+}
+
+/// Run the binary with `args`.
+pub fn run(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_contactmap"))
+        .args(args)
+        .output()
+        .expect("the contactmap binary runs")
+}
+
+/// Run and require success; return stdout.
+pub fn run_ok(args: &[&str]) -> String {
+    let out = run(args);
+    assert!(
+        out.status.success(),
+        "contactmap {args:?} failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout).expect("utf-8 output")
+}
+
+/// Run and require exit code 2 with exactly one error line; return it.
+pub fn run_err(args: &[&str]) -> String {
+    let out = run(args);
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert_eq!(
+        out.status.code(),
+        Some(2),
+        "contactmap {args:?} should fail with exit code 2; stderr: {stderr}"
+    );
+    assert!(out.stdout.is_empty() || !stderr.is_empty());
+    let lines: Vec<&str> = stderr.lines().collect();
+    assert_eq!(lines.len(), 1, "expected one error line, got: {stderr}");
+    assert!(lines[0].starts_with("contactmap: error: "), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    lines[0].to_string()
+}
+
+/// The reference totals table: uri -> (nbins, nnz, sum).
+pub fn reference_totals() -> Vec<(String, u64, u64, f64)> {
+    std::fs::read_to_string(data("reference/totals.tsv"))
+        .expect("data/reference/totals.tsv")
+        .lines()
+        .skip(1)
+        .map(|line| {
+            let f: Vec<&str> = line.split('\t').collect();
+            (
+                f[0].to_string(),
+                f[1].parse().unwrap(),
+                f[2].parse().unwrap(),
+                f[3].parse().unwrap(),
+            )
+        })
+        .collect()
+}

@@ -1,0 +1,82 @@
+//! `contactmap convert`: round trips and coarsening against independent references.
+
+use crate::{data, run_ok};
+
+#[test]
+fn cool_to_cool_round_trips_pixels_bins_and_weights() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("copy.cool");
+    let out = out.to_str().unwrap();
+    let uri = data("cooler_test_file.mcool::/resolutions/100000");
+    run_ok(&["convert", &uri, out]);
+    assert_eq!(run_ok(&["dump", out]), run_ok(&["dump", &uri]));
+    assert_eq!(
+        run_ok(&["dump", "-t", "bins", "--float-format", ".17g", out]),
+        run_ok(&["dump", "-t", "bins", "--float-format", ".17g", &uri])
+    );
+    assert_eq!(
+        run_ok(&["dump", "-t", "chroms", out]),
+        run_ok(&["dump", "-t", "chroms", &uri])
+    );
+}
+
+#[test]
+fn coarsened_level_equals_juicers_own_1mb_level() {
+    // hic2cool copied Juicer's 1 Mb matrix, binned from the raw contacts: summing our 100 kb pixels
+    // into 1 Mb bins must give exactly the same pixels.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("zoom.mcool");
+    let out = out.to_str().unwrap();
+    let base = data("cooler_test_file.mcool::/resolutions/100000");
+    run_ok(&["convert", &base, out, "--resolutions", "100000,1000000"]);
+    assert_eq!(
+        run_ok(&["dump", &format!("{out}::/resolutions/1000000")]),
+        run_ok(&[
+            "dump",
+            &data("cooler_test_file.mcool::/resolutions/1000000")
+        ])
+    );
+    assert_eq!(
+        run_ok(&["dump", &format!("{out}::/resolutions/100000")]),
+        run_ok(&["dump", &base])
+    );
+}
+
+#[test]
+fn zoomified_levels_equal_cooler_zoomify() {
+    // toy.symm.upper.2.mcool was made by cooler zoomify from its 2 bp level.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("toy.mcool");
+    let out = out.to_str().unwrap();
+    let toy = data("toy.symm.upper.2.mcool");
+    run_ok(&[
+        "convert",
+        &format!("{toy}::/resolutions/2"),
+        out,
+        "--resolutions",
+        "2B",
+    ]);
+    for r in [2, 4, 8, 16, 32] {
+        assert_eq!(
+            run_ok(&["dump", "--join", &format!("{out}::/resolutions/{r}")]),
+            run_ok(&["dump", "--join", &format!("{toy}::/resolutions/{r}")]),
+            "resolution {r}"
+        );
+    }
+}
+
+#[test]
+fn variable_bins_round_trip_through_cool() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("variable.cool");
+    let out = out.to_str().unwrap();
+    let src = data("cooler_variable_bins_test_file.cool");
+    run_ok(&["convert", &src, out]);
+    assert_eq!(
+        run_ok(&["dump", "--join", out]),
+        run_ok(&["dump", "--join", &src])
+    );
+    let info: serde_json::Value = serde_json::from_str(&run_ok(&["info", "--json", out])).unwrap();
+    assert_eq!(info["bin-type"], "variable");
+    assert_eq!(info["format-version"], 3);
+}

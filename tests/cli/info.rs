@@ -1,0 +1,52 @@
+//! `contactmap info` against the totals computed by cooler and hictkpy.
+
+use crate::{data, reference_totals, run_ok};
+
+#[test]
+fn info_matches_cooler_and_hictkpy_totals() {
+    let totals = reference_totals();
+    assert!(totals.len() >= 9, "reference table is incomplete");
+    for (uri, nbins, nnz, sum) in totals {
+        let uri = uri.replacen("data/", &data(""), 1);
+        let json: serde_json::Value =
+            serde_json::from_str(&run_ok(&["info", "--json", &uri])).expect("valid JSON");
+        assert_eq!(json["nbins"], nbins, "{uri}");
+        assert_eq!(json["nnz"], nnz, "{uri}");
+        assert_eq!(json["sum"].as_f64().unwrap(), sum, "{uri}");
+    }
+}
+
+#[test]
+fn info_lists_the_resolutions_of_an_mcool() {
+    let text = run_ok(&["info", &data("toy.symm.upper.2.mcool")]);
+    assert!(text.contains("resolutions    5"), "{text}");
+    for r in ["2", "4", "8", "16", "32"] {
+        assert!(
+            text.lines().any(|l| l.split_whitespace().next() == Some(r)),
+            "{text}"
+        );
+    }
+}
+
+#[test]
+fn info_reports_old_and_string_versioned_coolers() {
+    // format-version stored as the string "2", variable-size bins.
+    let json: serde_json::Value = serde_json::from_str(&run_ok(&[
+        "info",
+        "--json",
+        &data("cooler_variable_bins_test_file.cool"),
+    ]))
+    .unwrap();
+    assert_eq!(json["file-format"], "cool (format-version 2)");
+    assert_eq!(json["bin-type"], "variable");
+}
+
+#[test]
+fn info_says_divisive_weights_are_inverted() {
+    let text = run_ok(&["info", &data("cooler_test_file.mcool::/resolutions/100000")]);
+    assert!(text.contains("weight column 'KR' is divisive"), "{text}");
+    assert!(
+        !text.contains("weight column 'weight' is divisive"),
+        "{text}"
+    );
+}
