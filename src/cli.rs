@@ -88,8 +88,11 @@ pub struct InputArgs {
     pub bins_bed: Option<PathBuf>,
     /// 1-based columns of chrom1,pos1,chrom2,pos2 in a pairs file (e.g. 1,2,4,5); default from
     /// the `#columns:` header, else the 4DN layout 2,3,4,5.
-    #[arg(long, value_name = "C1,P1,C2,P2", value_delimiter = ',', num_args = 4)]
+    #[arg(long, value_name = "C1,P1,C2,P2", value_delimiter = ',')]
     pub pairs_columns: Option<Vec<usize>>,
+    /// Pairs positions are 0-based (default: 1-based, as the 4DN spec and `cooler cload pairs`).
+    #[arg(long)]
+    pub zero_based: bool,
 }
 
 impl InputArgs {
@@ -115,6 +118,7 @@ impl InputArgs {
             chrom_sizes: self.chrom_sizes.clone(),
             bins_bed: self.bins_bed.clone(),
             pairs_columns,
+            pairs_zero_based: self.zero_based,
         })
     }
 }

@@ -139,6 +139,9 @@ pub struct OpenOptions {
     /// 1-based columns of chrom1, pos1, chrom2, pos2 in a pairs file (default: from the
     /// `#columns:` header, else the 4DN layout 2, 3, 4, 5).
     pub pairs_columns: Option<[usize; 4]>,
+    /// Pairs positions are 0-based (cooler `cload pairs --zero-based`); default 1-based, as the
+    /// 4DN pairs specification and cooler's default.
+    pub pairs_zero_based: bool,
 }
 
 /// Open any supported matrix: `.cool`, `.mcool::/resolutions/N`, `.hic[::/resolutions/N]`, or a

@@ -15,7 +15,7 @@ use crate::io::{self, FileKind};
 pub enum OutputFormat {
     /// single-resolution cooler (format-version 3)
     Cool,
-    /// multi-resolution cooler (/resolutions/<bin size> groups)
+    /// multi-resolution cooler (one group per resolution under /resolutions)
     Mcool,
     /// chrom1 start1 end1 chrom2 start2 end2 count (cooler dump --join)
     Bg2,
