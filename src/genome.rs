@@ -142,14 +142,15 @@ impl BinTable {
 
     /// Build a table from explicit bins, detecting whether they are fixed-size.
     ///
-    /// Readers use this: if every bin but the last of each chromosome has the same size and the
-    /// table equals `BinTable::fixed` with that size, the result is a fixed table.
-    pub fn from_bins(chroms: Vec<Chrom>, bins: &[Bin]) -> Result<Self> {
+    /// Readers use this: the candidate size is `bin_size_hint` (a file's own bin-size attribute)
+    /// or else the largest bin; if the bins equal `BinTable::fixed` with that size, the result is
+    /// a fixed table, otherwise a variable one.
+    pub fn from_bins(chroms: Vec<Chrom>, bins: &[Bin], bin_size_hint: Option<u64>) -> Result<Self> {
         let variable = BinTable::variable(chroms, bins)?;
-        if let Some(first) = bins.first() {
-            let size = first.end - first.start;
+        let largest = bins.iter().map(|b| b.end - b.start).max();
+        if let Some(size) = bin_size_hint.filter(|&s| s > 0).or(largest) {
             let fixed = BinTable::fixed(variable.chroms.clone(), size)?;
-            if fixed.n_bins() == bins.len() && (0..bins.len()).all(|i| fixed.bin(i) == bins[i]) {
+            if fixed.n_bins() == bins.len() && fixed.iter().zip(bins).all(|(a, b)| a == *b) {
                 return Ok(fixed);
             }
         }
@@ -543,7 +544,7 @@ mod tests {
                 end: 5,
             },
         ];
-        let t = BinTable::from_bins(chroms.clone(), &bins).unwrap();
+        let t = BinTable::from_bins(chroms.clone(), &bins, None).unwrap();
         assert_eq!(t.bin_size_bp(), None);
         assert_eq!(t.bin_at(0, 5), 1);
         assert_eq!(t.chrom_of(2), 1);
@@ -571,8 +572,25 @@ mod tests {
             },
         ];
         assert_eq!(
-            BinTable::from_bins(chroms, &fixed).unwrap().bin_size_bp(),
+            BinTable::from_bins(chroms.clone(), &fixed, None)
+                .unwrap()
+                .bin_size_bp(),
             Some(5)
         );
+        // A chromosome shorter than one bin: the hint (the file's bin-size) decides.
+        let short = [
+            Bin {
+                chrom_id: 0,
+                start: 0,
+                end: 10,
+            },
+            Bin {
+                chrom_id: 1,
+                start: 0,
+                end: 5,
+            },
+        ];
+        let table = BinTable::from_bins(chroms, &short, Some(20)).unwrap();
+        assert_eq!(table.bin_size_bp(), Some(20));
     }
 }

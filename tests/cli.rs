@@ -9,6 +9,10 @@ mod dump;
 mod errors;
 #[path = "cli/info.rs"]
 mod info;
+#[path = "cli/roundtrip.rs"]
+mod roundtrip;
+#[path = "cli/text.rs"]
+mod text;
 
 use std::path::PathBuf;
 use std::process::{Command, Output};

@@ -102,12 +102,21 @@ fn open_file(path: &str) -> Result<hdf5::File> {
     if let Err(e) = std::fs::metadata(path) {
         return Err(Error::io(path, e));
     }
-    hdf5::File::open(path).map_err(|e| {
+    file_builder().open(path).map_err(|e| {
         Error::format(
             path,
             format!("not a readable HDF5 file (truncated or corrupt?): {e}"),
         )
     })
+}
+
+/// HDF5 file options: no file locking. We only read whole files or write fresh temporary ones,
+/// locking fails on many network file systems, and a lock would be held by any child process
+/// that inherits libhdf5's descriptor (libhdf5 does not open files close-on-exec).
+pub(crate) fn file_builder() -> hdf5::FileBuilder {
+    let mut builder = hdf5::File::with_options();
+    builder.fapl().file_locking(false);
+    builder
 }
 
 fn resolutions_text(resolutions: &[u64]) -> String {
@@ -188,7 +197,11 @@ impl CoolReader {
             ));
         }
         let chroms = read_chroms(path, &group)?;
-        let (bins, weight_columns) = read_bins(path, &group, chroms)?;
+        let bin_size_hint = attributes
+            .iter()
+            .find(|(k, _)| k == "bin-size")
+            .and_then(|(_, v)| v.as_u64());
+        let (bins, weight_columns) = read_bins(path, &group, chroms, bin_size_hint)?;
         let bin1_offsets = read_int_column(path, &group, "indexes/bin1_offset")?;
         if bin1_offsets.len() != bins.n_bins() + 1 {
             return Err(Error::format(
@@ -570,6 +583,7 @@ fn read_bins(
     path: &str,
     group: &hdf5::Group,
     chroms: Vec<Chrom>,
+    bin_size_hint: Option<u64>,
 ) -> Result<(BinTable, Vec<String>)> {
     let chrom_ids = read_int_column(path, group, "bins/chrom")?;
     let starts = read_int_column(path, group, "bins/start")?;
@@ -603,7 +617,7 @@ fn read_bins(
             end: e as u64,
         });
     }
-    let table = BinTable::from_bins(chroms, &bins)
+    let table = BinTable::from_bins(chroms, &bins, bin_size_hint)
         .map_err(|e| Error::format(path, format!("bins table: {e}")))?;
     let mut weights = Vec::new();
     let bins_group = group

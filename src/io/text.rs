@@ -273,7 +273,7 @@ pub fn read_bins_bed(path: &Path) -> Result<BinTable> {
             "no bin in the bins BED file (expected 'chrom start end' lines)",
         ));
     }
-    BinTable::from_bins(chroms, &bins).map_err(|e| Error::format(path, e.to_string()))
+    BinTable::from_bins(chroms, &bins, None).map_err(|e| Error::format(path, e.to_string()))
 }
 
 /// Write the matrix of `reader` to `path` (`-` for standard output; a name ending in `.gz` is
@@ -2238,7 +2238,7 @@ mod tests {
                     end: *length,
                 });
             }
-            BinTable::from_bins(chroms(&lengths), &bins).unwrap()
+            BinTable::from_bins(chroms(&lengths), &bins, None).unwrap()
         });
         prop_oneof![fixed, variable]
     }

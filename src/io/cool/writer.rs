@@ -34,7 +34,9 @@ pub fn write_cool(
     options: &CoolWriteOptions,
 ) -> Result<()> {
     with_temporary(path, |tmp| {
-        let file = hdf5::File::create(tmp).map_err(|e| Error::hdf5(tmp, "creating the file", e))?;
+        let file = super::file_builder()
+            .create(tmp)
+            .map_err(|e| Error::hdf5(tmp, "creating the file", e))?;
         let root = file
             .as_group()
             .map_err(|e| Error::hdf5(tmp, "opening the root group", e))?;
@@ -79,7 +81,9 @@ pub fn write_mcool(
         }
     }
     with_temporary(path, |tmp| {
-        let file = hdf5::File::create(tmp).map_err(|e| Error::hdf5(tmp, "creating the file", e))?;
+        let file = super::file_builder()
+            .create(tmp)
+            .map_err(|e| Error::hdf5(tmp, "creating the file", e))?;
         write_str_attr(tmp, &file, "format", "HDF5::MCOOL")?;
         write_int_attr(tmp, &file, "format-version", 2)?;
         write_str_attr(tmp, &file, "bin-type", "fixed")?;

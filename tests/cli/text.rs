@@ -1,0 +1,117 @@
+//! Text and pairs inputs through the binary: stdin, gzip, bad lines.
+
+use std::io::Write;
+use std::process::{Command, Stdio};
+
+use crate::{data, run_err, run_ok};
+
+#[test]
+fn bg2_from_stdin_equals_the_cooler() {
+    let bed = data("hg19.bins.2000kb.bed.gz");
+    let mut text = Vec::new();
+    use std::io::Read;
+    flate2::read::MultiGzDecoder::new(
+        std::fs::File::open(data("hg19.GM12878-MboI.matrix.2000kb.bg2.gz")).unwrap(),
+    )
+    .read_to_end(&mut text)
+    .unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_contactmap"))
+        .args(["dump", "-", "--format", "bg2", "--bins", &bed])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut stdin = child.stdin.take().unwrap();
+    let writer = std::thread::spawn(move || stdin.write_all(&text));
+    let out = child.wait_with_output().unwrap();
+    writer.join().unwrap().unwrap();
+    assert!(out.status.success());
+    assert_eq!(
+        String::from_utf8(out.stdout).unwrap(),
+        run_ok(&["dump", &data("hg19.GM12878-MboI.matrix.2000kb.cool")])
+    );
+}
+
+#[test]
+fn pairs_binned_like_cooler_cload() {
+    // cooler cload pairs -c1 1 -p1 2 -c2 4 -p2 5 hg19.sizes:2000000 pairs.txt.gz out.cool gives
+    // exactly the 2 Mb cooler of the same library (see src/io/text.rs tests).
+    let dir = tempfile::tempdir().unwrap();
+    let sizes = dir.path().join("hg19.sizes");
+    std::fs::write(
+        &sizes,
+        run_ok(&[
+            "dump",
+            "-t",
+            "chroms",
+            &data("hg19.GM12878-MboI.matrix.2000kb.cool"),
+        ]),
+    )
+    .unwrap();
+    let out = dir.path().join("pairs.cool");
+    run_ok(&[
+        "convert",
+        &data("hg19.GM12878-MboI.pairs.subsample.sorted.txt.gz"),
+        out.to_str().unwrap(),
+        "--format",
+        "pairs",
+        "--bin-size",
+        "2000000",
+        "--chrom-sizes",
+        sizes.to_str().unwrap(),
+        "--pairs-columns",
+        "1,2,4,5",
+    ]);
+    assert_eq!(
+        run_ok(&["dump", out.to_str().unwrap()]),
+        run_ok(&["dump", &data("hg19.GM12878-MboI.matrix.2000kb.cool")])
+    );
+}
+
+#[test]
+fn bad_text_line_names_file_and_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let table = dir.path().join("bad.bg2");
+    std::fs::write(
+        &table,
+        "chr1\t0\t2000000\tchr1\t0\t2000000\t5\nchr1\t0\t2000000\tchr1\t2000000\n",
+    )
+    .unwrap();
+    let line = run_err(&[
+        "dump",
+        table.to_str().unwrap(),
+        "--bins",
+        &data("hg19.bins.2000kb.bed.gz"),
+    ]);
+    assert!(line.contains(&format!("{}:2:", table.display())), "{line}");
+    assert!(line.contains("expected 7"), "{line}");
+}
+
+#[test]
+fn bin_out_of_range_is_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let table = dir.path().join("bad.coo");
+    std::fs::write(&table, "0\t1\t3\n5\t99999\t1\n").unwrap();
+    let line = run_err(&[
+        "info",
+        table.to_str().unwrap(),
+        "--bins",
+        &data("hg19.bins.2000kb.bed.gz"),
+    ]);
+    assert!(line.contains(&format!("{}:2:", table.display())), "{line}");
+    assert!(line.contains("99999") && line.contains("1561"), "{line}");
+}
+
+#[test]
+fn text_without_a_bin_table_says_what_to_pass() {
+    let line = run_err(&[
+        "info",
+        &data("hg19.GM12878-MboI.matrix.2000kb.bg2.gz"),
+        "--format",
+        "bg2",
+    ]);
+    assert!(
+        line.contains("--bins") && line.contains("--chrom-sizes"),
+        "{line}"
+    );
+}
