@@ -11,6 +11,9 @@ ref=data/reference
 mkdir -p "$ref"
 dm6=data/cooler_test_file.mcool::/resolutions/100000
 
+# A small multi-resolution .hic v9 written by hictk (an independent .hic writer) from a real cooler.
+"$python" benches/cool_to_hic.py data/CN.mm9.10000kb.cool data/CN.mm9.multires.hic 10000000,20000000,50000000
+
 "$cooler" dump --join --header -b -r chr2L:1,000,000-3,000,000 -r2 chr2L:2,000,000-5,000,000 "$dm6" \
   > "$ref/dm6_100kb.chr2L_box.balanced.join.tsv"
 "$cooler" dump -r chrX -r2 chrY "$dm6" > "$ref/dm6_100kb.chrX_chrY.tsv"
@@ -18,6 +21,12 @@ dm6=data/cooler_test_file.mcool::/resolutions/100000
 "$cooler" dump --header data/cooler_variable_bins_test_file.cool > "$ref/variable_bins.pixels.tsv"
 "$cooler" dump -t bins data/cooler_variable_bins_test_file.cool > "$ref/variable_bins.bins.tsv"
 "$cooler" dump --join data/toy.symm.upper.2.mcool::/resolutions/4 > "$ref/toy_4.join.tsv"
+"$python" - > "$ref/CN.mm9.multires.hic.20000000.chr1_chr2.tsv" <<'PY'
+import hictkpy
+df = hictkpy.File("data/CN.mm9.multires.hic", 20000000).fetch("chr1", "chr2", join=True).to_df()
+for row in df.itertuples(index=False):
+    print(*row, sep="\t")
+PY
 
 # nbins, nnz and the sum of counts of every matrix in data/, as cooler and hictkpy compute them.
 "$python" - > "$ref/totals.tsv" <<'PY'

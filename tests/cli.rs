@@ -7,6 +7,8 @@ mod convert;
 mod dump;
 #[path = "cli/errors.rs"]
 mod errors;
+#[path = "cli/hic.rs"]
+mod hic;
 #[path = "cli/info.rs"]
 mod info;
 #[path = "cli/roundtrip.rs"]

@@ -91,8 +91,11 @@ pub fn run(args: &ConvertArgs) -> Result<()> {
                 .info()
                 .attributes
                 .iter()
-                .find(|(k, _)| k == "genome-assembly" || k == "genome")
-                .and_then(|(_, v)| v.as_str().map(str::to_string))
+                .find(|(k, _)| k == "genome-assembly" || k == "genome_id")
+                .and_then(|(_, v)| v.as_str())
+                // a .hic genome id may be a chrom.sizes path rather than an assembly name
+                .filter(|id| !id.contains('/') && !id.is_empty())
+                .map(str::to_string)
         }),
         weight_columns: None,
     };
