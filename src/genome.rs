@@ -222,24 +222,7 @@ impl BinTable {
 
     /// Iterator over all bins in order.
     pub fn iter(&self) -> impl Iterator<Item = Bin> + '_ {
-        (0..self.chroms.len()).flat_map(move |chrom_id| {
-            self.chrom_bins(chrom_id)
-                .map(move |bin_id| match self.bin_size_bp {
-                    Some(size) => {
-                        let start = (bin_id - self.chrom_offsets[chrom_id]) as u64 * size;
-                        Bin {
-                            chrom_id,
-                            start,
-                            end: (start + size).min(self.chroms[chrom_id].length_bp),
-                        }
-                    }
-                    None => Bin {
-                        chrom_id,
-                        start: self.starts[bin_id],
-                        end: self.ends[bin_id],
-                    },
-                })
-        })
+        (0..self.n_bins()).map(|bin_id| self.bin(bin_id))
     }
 
     /// The bin of chromosome `chrom_id` that contains position `pos_bp` (clamped to the last bin).

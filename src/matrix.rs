@@ -111,19 +111,38 @@ impl Weights {
     pub fn from_divisive(name: impl Into<String>, divisive: &[f64], provenance: String) -> Self {
         Weights {
             name: name.into(),
-            values: divisive
-                .iter()
-                .map(|&v| {
-                    if v.is_finite() && v > 0.0 {
-                        1.0 / v
-                    } else {
-                        f64::NAN
-                    }
-                })
-                .collect(),
+            values: divisive.iter().map(|&v| invert_weight(v)).collect(),
             provenance: Some(provenance),
         }
     }
+}
+
+/// Convert one weight between the divisive and multiplicative conventions: `1 / w`, with zero,
+/// negative and non-finite weights (masked bins) becoming `NaN`.
+pub fn invert_weight(weight: f64) -> f64 {
+    if weight.is_finite() && weight > 0.0 {
+        1.0 / weight
+    } else {
+        f64::NAN
+    }
+}
+
+/// Add `weights` to `columns`, replacing a column of the same name; its length must be `n_bins`.
+pub(crate) fn insert_weights(
+    columns: &mut Vec<Weights>,
+    n_bins: usize,
+    weights: Weights,
+) -> Result<()> {
+    if weights.values.len() != n_bins {
+        return Err(Error::Invalid(format!(
+            "weight column '{}' has {} values for {n_bins} bins",
+            weights.name,
+            weights.values.len()
+        )));
+    }
+    columns.retain(|w| w.name != weights.name);
+    columns.push(weights);
+    Ok(())
 }
 
 /// A symmetric contact matrix held in memory: bins, upper-triangle pixels in CSR, weights.
@@ -196,17 +215,7 @@ impl ContactMatrix {
 
     /// Add or replace a weight column (its length must equal the number of bins).
     pub fn set_weights(&mut self, weights: Weights) -> Result<()> {
-        if weights.values.len() != self.bins.n_bins() {
-            return Err(Error::Invalid(format!(
-                "weight column '{}' has {} values for {} bins",
-                weights.name,
-                weights.values.len(),
-                self.bins.n_bins()
-            )));
-        }
-        self.weights.retain(|w| w.name != weights.name);
-        self.weights.push(weights);
-        Ok(())
+        insert_weights(&mut self.weights, self.bins.n_bins(), weights)
     }
 
     /// The stored pixels with `bin1` in `rows` and `bin2` in `cols` (upper triangle only, as

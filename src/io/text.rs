@@ -559,6 +559,17 @@ impl<'a> Fields<'a> {
     }
 }
 
+/// The first `N` fields of `line` and how many there were (at most `N`).
+fn first_fields<const N: usize>(line: &[u8]) -> ([&[u8]; N], usize) {
+    let mut columns: [&[u8]; N] = [&[]; N];
+    let mut n_columns = 0;
+    for field in Fields::new(line).take(N) {
+        columns[n_columns] = field;
+        n_columns += 1;
+    }
+    (columns, n_columns)
+}
+
 impl<'a> Iterator for Fields<'a> {
     type Item = &'a [u8];
 
@@ -810,12 +821,7 @@ fn read_bg2(lines: &mut LineReader, bins: BinTable) -> Result<ContactMatrix> {
         if line.is_empty() || line[0] == b'#' {
             continue;
         }
-        let mut columns: [&[u8]; 7] = [&[]; 7];
-        let mut n_columns = 0;
-        for field in Fields::new(line).take(7) {
-            columns[n_columns] = field;
-            n_columns += 1;
-        }
+        let (columns, n_columns) = first_fields::<7>(line);
         if n_columns < 7 {
             return Err(lines.error(format!(
                 "expected 7 columns (chrom1 start1 end1 chrom2 start2 end2 count), found \
@@ -850,12 +856,7 @@ fn read_coo(lines: &mut LineReader, bins: BinTable) -> Result<ContactMatrix> {
         if line.is_empty() || line[0] == b'#' {
             continue;
         }
-        let mut columns: [&[u8]; 3] = [&[]; 3];
-        let mut n_columns = 0;
-        for field in Fields::new(line).take(3) {
-            columns[n_columns] = field;
-            n_columns += 1;
-        }
+        let (columns, n_columns) = first_fields::<3>(line);
         if n_columns < 3 {
             return Err(lines.error(format!(
                 "expected 3 columns (bin1_id bin2_id count), found {n_columns}"

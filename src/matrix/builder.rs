@@ -61,17 +61,7 @@ impl MatrixBuilder {
 
     /// Attach a weight column (one value per bin).
     pub fn add_weights(&mut self, weights: Weights) -> Result<()> {
-        if weights.values.len() != self.bins.n_bins() {
-            return Err(Error::Invalid(format!(
-                "weight column '{}' has {} values for {} bins",
-                weights.name,
-                weights.values.len(),
-                self.bins.n_bins()
-            )));
-        }
-        self.weights.retain(|w| w.name != weights.name);
-        self.weights.push(weights);
-        Ok(())
+        crate::matrix::insert_weights(&mut self.weights, self.bins.n_bins(), weights)
     }
 
     /// Number of triplets pushed so far (before duplicates are summed).

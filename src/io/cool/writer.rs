@@ -7,7 +7,7 @@ use hdf5::types::{FixedAscii, VarLenUnicode};
 use crate::error::{Error, Result};
 use crate::genome::BinTable;
 use crate::io::MatrixReader;
-use crate::matrix::{CountType, PixelBlock, Weights};
+use crate::matrix::{invert_weight, CountType, PixelBlock, Weights};
 
 /// Elements per HDF5 chunk of the pixel columns (128 KiB of `int64` before compression).
 const PIXEL_CHUNK: usize = 16_384;
@@ -400,17 +400,7 @@ impl GroupWriter {
             // cooler divides by KR / VC / VC_SQRT whatever their attributes say: store those divisive.
             let divisive = super::DIVISIVE_BY_NAME.contains(&w.name.as_str());
             let dataset = if divisive {
-                let inverted: Vec<f64> = w
-                    .values
-                    .iter()
-                    .map(|&v| {
-                        if v.is_finite() && v > 0.0 {
-                            1.0 / v
-                        } else {
-                            f64::NAN
-                        }
-                    })
-                    .collect();
+                let inverted: Vec<f64> = w.values.iter().map(|&v| invert_weight(v)).collect();
                 write_column(path, &bins_group, &w.name, &inverted)?
             } else {
                 write_column(path, &bins_group, &w.name, &w.values)?
