@@ -5,6 +5,7 @@ pub mod convert;
 pub mod dump;
 pub mod info;
 pub mod output;
+pub mod progress;
 
 use std::path::PathBuf;
 

@@ -4,11 +4,12 @@ use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
 
+use crate::cli::progress::WithProgress;
 use crate::cli::InputArgs;
 use crate::error::{Error, Result};
 use crate::io::cool::{write_cool, write_mcool, CoolWriteOptions};
 use crate::io::text::{self, TextFormat};
-use crate::io::{self, FileKind};
+use crate::io::{self, FileKind, MatrixReader};
 
 /// Output formats.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -84,7 +85,8 @@ pub fn run(args: &ConvertArgs) -> Result<()> {
             ".cool and .mcool outputs need a file path, not '-'".into(),
         ));
     }
-    let reader = io::open_matrix(&args.input, &args.input_args.to_options()?)?;
+    let opened = io::open_matrix(&args.input, &args.input_args.to_options()?)?;
+    let reader = WithProgress::new(opened.as_ref(), "converting")?;
     let options = CoolWriteOptions {
         assembly: args.assembly.clone().or_else(|| {
             reader
@@ -100,7 +102,7 @@ pub fn run(args: &ConvertArgs) -> Result<()> {
         weight_columns: None,
     };
     match format {
-        OutputFormat::Cool => write_cool(reader.as_ref(), &args.output, &options),
+        OutputFormat::Cool => write_cool(&reader, &args.output, &options),
         OutputFormat::Mcool => {
             let base = reader.bins().bin_size_bp().ok_or_else(|| {
                 Error::Invalid(format!(
@@ -116,16 +118,12 @@ pub fn run(args: &ConvertArgs) -> Result<()> {
                 .max()
                 .unwrap_or(base);
             let resolutions = parse_resolutions(&args.resolutions, base, longest)?;
-            write_mcool(reader.as_ref(), &args.output, &resolutions, &options)
+            write_mcool(&reader, &args.output, &resolutions, &options)
         }
-        OutputFormat::Bg2 => {
-            text::write_text(reader.as_ref(), &path_text(&args.output), TextFormat::Bg2)
-        }
-        OutputFormat::Coo => {
-            text::write_text(reader.as_ref(), &path_text(&args.output), TextFormat::Coo)
-        }
+        OutputFormat::Bg2 => text::write_text(&reader, &path_text(&args.output), TextFormat::Bg2),
+        OutputFormat::Coo => text::write_text(&reader, &path_text(&args.output), TextFormat::Coo),
         OutputFormat::Dense => {
-            text::write_text(reader.as_ref(), &path_text(&args.output), TextFormat::Dense)
+            text::write_text(&reader, &path_text(&args.output), TextFormat::Dense)
         }
     }
 }

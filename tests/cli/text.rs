@@ -115,3 +115,49 @@ fn text_without_a_bin_table_says_what_to_pass() {
         "{line}"
     );
 }
+
+#[test]
+fn truncated_gzip_text_fails_cleanly() {
+    let dir = tempfile::tempdir().unwrap();
+    let sizes = dir.path().join("hg19.sizes");
+    std::fs::write(
+        &sizes,
+        run_ok(&[
+            "dump",
+            "-t",
+            "chroms",
+            &data("hg19.GM12878-MboI.matrix.2000kb.cool"),
+        ]),
+    )
+    .unwrap();
+    let bed = data("hg19.bins.2000kb.bed.gz");
+    let cases: [(&str, Vec<&str>); 2] = [
+        (
+            "hg19.GM12878-MboI.matrix.2000kb.bg2.gz",
+            vec!["--format", "bg2", "--bins", &bed],
+        ),
+        (
+            "hg19.GM12878-MboI.pairs.subsample.sorted.txt.gz",
+            vec![
+                "--format",
+                "pairs",
+                "--bin-size",
+                "2000000",
+                "--chrom-sizes",
+                sizes.to_str().unwrap(),
+                "--pairs-columns",
+                "1,2,4,5",
+            ],
+        ),
+    ];
+    for (name, options) in cases {
+        let bytes = std::fs::read(data(name)).unwrap();
+        for keep in [5, 100, bytes.len() / 2, bytes.len() - 10] {
+            let path = dir.path().join(format!("cut-{keep}-{name}"));
+            std::fs::write(&path, &bytes[..keep]).unwrap();
+            let path = path.to_str().unwrap();
+            let line = run_err(&[&["info", path][..], &options[..]].concat());
+            assert!(line.contains(path), "{line}");
+        }
+    }
+}
