@@ -32,22 +32,25 @@ fn bg2_from_stdin_equals_the_cooler() {
     );
 }
 
+/// A chrom.sizes file for hg19, from the 2 Mb cooler's chromosome table.
+fn hg19_sizes(dir: &std::path::Path) -> std::path::PathBuf {
+    let sizes = dir.join("hg19.sizes");
+    let table = run_ok(&[
+        "dump",
+        "-t",
+        "chroms",
+        &data("hg19.GM12878-MboI.matrix.2000kb.cool"),
+    ]);
+    std::fs::write(&sizes, table).unwrap();
+    sizes
+}
+
 #[test]
 fn pairs_binned_like_cooler_cload() {
     // cooler cload pairs -c1 1 -p1 2 -c2 4 -p2 5 hg19.sizes:2000000 pairs.txt.gz out.cool gives
     // exactly the 2 Mb cooler of the same library (see src/io/text.rs tests).
     let dir = tempfile::tempdir().unwrap();
-    let sizes = dir.path().join("hg19.sizes");
-    std::fs::write(
-        &sizes,
-        run_ok(&[
-            "dump",
-            "-t",
-            "chroms",
-            &data("hg19.GM12878-MboI.matrix.2000kb.cool"),
-        ]),
-    )
-    .unwrap();
+    let sizes = hg19_sizes(dir.path());
     let out = dir.path().join("pairs.cool");
     run_ok(&[
         "convert",
@@ -119,17 +122,7 @@ fn text_without_a_bin_table_says_what_to_pass() {
 #[test]
 fn truncated_gzip_text_fails_cleanly() {
     let dir = tempfile::tempdir().unwrap();
-    let sizes = dir.path().join("hg19.sizes");
-    std::fs::write(
-        &sizes,
-        run_ok(&[
-            "dump",
-            "-t",
-            "chroms",
-            &data("hg19.GM12878-MboI.matrix.2000kb.cool"),
-        ]),
-    )
-    .unwrap();
+    let sizes = hg19_sizes(dir.path());
     let bed = data("hg19.bins.2000kb.bed.gz");
     let cases: [(&str, Vec<&str>); 2] = [
         (
