@@ -1,8 +1,10 @@
 //! Command-line interface: argument structs (clap derive) and one module per subcommand, each with
 //! one `run` function that parses, checks, calls the library and writes the result.
 
+pub mod balance;
 pub mod convert;
 pub mod dump;
+pub mod expected;
 pub mod info;
 pub mod output;
 pub mod progress;
@@ -36,6 +38,11 @@ pub enum Command {
     Dump(dump::DumpArgs),
     /// Convert between formats: .hic / .cool / text / pairs -> .cool, .mcool or text.
     Convert(convert::ConvertArgs),
+    /// Balance a matrix (ICE as cooler, VC, VC_SQRT, KR): weights to a TSV or stored with --store.
+    Balance(balance::BalanceArgs),
+    /// Distance-decay expected P(s) as cooltools expected-cis / expected-trans, log-binned P(s),
+    /// power-law exponents.
+    Expected(expected::ExpectedArgs),
 }
 
 /// Run a parsed command line.
@@ -44,6 +51,8 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Info(args) => info::run(&args),
         Command::Dump(args) => dump::run(&args),
         Command::Convert(args) => convert::run(&args),
+        Command::Balance(args) => balance::run(&args),
+        Command::Expected(args) => expected::run(&args),
     }
 }
 

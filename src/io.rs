@@ -22,6 +22,7 @@ use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
 use crate::genome::BinTable;
+use crate::matrix::pixels::{PixelSlice, PixelSource, Pixels, BYTES_PER_PIXEL};
 use crate::matrix::{ContactMatrix, CountType, PixelBlock, Weights};
 
 /// Descriptive metadata of an open matrix, for `contactmap info`.
@@ -285,4 +286,206 @@ pub fn load_matrix(reader: &dyn MatrixReader) -> Result<ContactMatrix> {
         builder.add_weights(reader.weights(&name)?)?;
     }
     Ok(builder.build())
+}
+
+/// The pixels of a matrix for the numerical algorithms: copied into memory when they fit the
+/// budget, otherwise streamed from the file on every pass.
+pub enum LoadedPixels<'a> {
+    /// A compact in-memory copy.
+    Memory(Pixels),
+    /// Passes stream the file.
+    Streamed(StreamedPixels<'a>),
+}
+
+/// Load `reader`'s pixels into memory if `nnz * 16 bytes <= max_memory_bytes`, else stream them.
+pub fn load_pixels(reader: &dyn MatrixReader, max_memory_bytes: u64) -> Result<LoadedPixels<'_>> {
+    let (nnz, _) = reader.totals()?;
+    if nnz.saturating_mul(BYTES_PER_PIXEL) > max_memory_bytes {
+        return Ok(LoadedPixels::Streamed(StreamedPixels { reader }));
+    }
+    let mut pixels =
+        Pixels::with_capacity(reader.bins().clone(), reader.count_type(), nnz as usize)?;
+    let n = reader.bins().n_bins();
+    reader.read_pixels(0..n, 0..n, &mut |block| {
+        pixels
+            .extend(block)
+            .map_err(|e| Error::format(reader.source(), e.to_string()))
+    })?;
+    Ok(LoadedPixels::Memory(pixels))
+}
+
+impl PixelSource for LoadedPixels<'_> {
+    fn bins(&self) -> &BinTable {
+        match self {
+            LoadedPixels::Memory(p) => p.bins(),
+            LoadedPixels::Streamed(s) => s.bins(),
+        }
+    }
+
+    fn count_type(&self) -> CountType {
+        match self {
+            LoadedPixels::Memory(p) => p.count_type(),
+            LoadedPixels::Streamed(s) => s.count_type(),
+        }
+    }
+
+    fn pass<T, I, F, R>(&self, init: I, fold: F, reduce: R) -> Result<T>
+    where
+        T: Send,
+        I: Fn() -> T + Sync,
+        F: Fn(T, PixelSlice<'_>) -> T + Sync,
+        R: Fn(T, T) -> T + Sync,
+    {
+        match self {
+            LoadedPixels::Memory(p) => p.pass(init, fold, reduce),
+            LoadedPixels::Streamed(s) => s.pass(init, fold, reduce),
+        }
+    }
+}
+
+/// A matrix file whose pixels are streamed from disk on every pass (bounded memory).
+pub struct StreamedPixels<'a> {
+    reader: &'a dyn MatrixReader,
+}
+
+impl<'a> StreamedPixels<'a> {
+    /// Stream `reader` on every pass.
+    pub fn new(reader: &'a dyn MatrixReader) -> Self {
+        StreamedPixels { reader }
+    }
+}
+
+impl PixelSource for StreamedPixels<'_> {
+    fn bins(&self) -> &BinTable {
+        self.reader.bins()
+    }
+
+    fn count_type(&self) -> CountType {
+        self.reader.count_type()
+    }
+
+    fn pass<T, I, F, R>(&self, init: I, fold: F, reduce: R) -> Result<T>
+    where
+        T: Send,
+        I: Fn() -> T + Sync,
+        F: Fn(T, PixelSlice<'_>) -> T + Sync,
+        R: Fn(T, T) -> T + Sync,
+    {
+        let n = self.reader.bins().n_bins();
+        let mut total = Some(init());
+        let (mut bin1, mut bin2) = (Vec::new(), Vec::new());
+        self.reader.read_pixels(0..n, 0..n, &mut |block| {
+            bin1.clear();
+            bin2.clear();
+            bin1.extend(block.bin1.iter().map(|&b| b as u32));
+            bin2.extend(block.bin2.iter().map(|&b| b as u32));
+            let slice = PixelSlice {
+                bin1: &bin1,
+                bin2: &bin2,
+                count: &block.count,
+            };
+            let part = slice.fold(&init, &fold, &reduce);
+            total = total.take().map(|t| reduce(t, part));
+            Ok(())
+        })?;
+        Ok(total.unwrap_or_else(&init))
+    }
+}
+
+/// Parse a memory size such as `8G`, `512M`, `2GiB`, `1000000` (bytes).
+pub fn parse_memory_size(text: &str) -> Result<u64> {
+    let lower = text.trim().to_ascii_lowercase();
+    let digits_end = lower
+        .find(|c: char| !(c.is_ascii_digit() || c == '.'))
+        .unwrap_or(lower.len());
+    let (number, unit) = lower.split_at(digits_end);
+    let multiplier: u64 = match unit.trim() {
+        "" | "b" => 1,
+        "k" | "kb" | "kib" => 1 << 10,
+        "m" | "mb" | "mib" => 1 << 20,
+        "g" | "gb" | "gib" => 1 << 30,
+        "t" | "tb" | "tib" => 1 << 40,
+        _ => {
+            return Err(Error::Invalid(format!(
+                "'{text}' is not a memory size (expected e.g. 8G, 512M)"
+            )))
+        }
+    };
+    let value: f64 = number.parse().map_err(|_| {
+        Error::Invalid(format!(
+            "'{text}' is not a memory size (expected e.g. 8G, 512M)"
+        ))
+    })?;
+    Ok((value * multiplier as f64) as u64)
+}
+
+/// The default memory budget for in-memory pixel copies: half of the machine's memory
+/// (`/proc/meminfo`), or 4 GiB where that cannot be read.
+pub fn default_memory_budget() -> u64 {
+    std::fs::read_to_string("/proc/meminfo")
+        .ok()
+        .and_then(|text| {
+            text.lines()
+                .find(|l| l.starts_with("MemTotal:"))
+                .and_then(|l| l.split_whitespace().nth(1))
+                .and_then(|kb| kb.parse::<u64>().ok())
+        })
+        .map(|kb| kb * 1024 / 2)
+        .unwrap_or(4 << 30)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::genome::Chrom;
+    use crate::matrix::MatrixBuilder;
+
+    #[test]
+    fn streamed_and_in_memory_passes_agree() {
+        let bins = BinTable::fixed(vec![Chrom::new("a", 3000), Chrom::new("b", 2000)], 10).unwrap();
+        let mut builder = MatrixBuilder::new(bins, CountType::Integer);
+        for i in 0..500u64 {
+            for j in (i..500).step_by(3) {
+                builder.push(i, j, ((i * 7 + j) % 11) as f64).unwrap();
+            }
+        }
+        let reader = InMemory::new("test".into(), builder.build());
+        let pass = |p: &LoadedPixels| {
+            p.pass(
+                || vec![0.0; 500],
+                |mut acc, s| {
+                    for (i, j, c) in s.iter() {
+                        acc[i] += c;
+                        if i != j {
+                            acc[j] += c;
+                        }
+                    }
+                    acc
+                },
+                |mut a, b| {
+                    a.iter_mut().zip(b).for_each(|(x, y)| *x += y);
+                    a
+                },
+            )
+        };
+        let memory = load_pixels(&reader, u64::MAX).unwrap();
+        let streamed = load_pixels(&reader, 0).unwrap();
+        assert!(matches!(memory, LoadedPixels::Memory(_)));
+        assert!(matches!(streamed, LoadedPixels::Streamed(_)));
+        let a = pass(&memory).unwrap();
+        let b = pass(&streamed).unwrap();
+        assert_eq!(a, b);
+        assert_eq!(
+            a.iter().sum::<f64>(),
+            2.0 * reader.matrix().sum() - (0..500).map(|i| reader.matrix().get(i, i)).sum::<f64>()
+        );
+    }
+
+    #[test]
+    fn memory_sizes_parse() {
+        assert_eq!(parse_memory_size("8G").unwrap(), 8 << 30);
+        assert_eq!(parse_memory_size("512m").unwrap(), 512 << 20);
+        assert_eq!(parse_memory_size("1.5GiB").unwrap(), 3 << 29);
+        assert!(parse_memory_size("lots").is_err());
+    }
 }

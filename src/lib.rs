@@ -7,7 +7,8 @@
 //!   held in memory;
 //! - the core types: [`genome::BinTable`] (chromosomes cut into bins), [`matrix::ContactMatrix`]
 //!   (upper-triangle sparse matrix with weight columns) and [`matrix::PixelBlock`];
-//! - algorithms take core types and return core types or plain tables; they never open files.
+//! - algorithms take core types and return core types or plain tables; they never open files:
+//!   [`balance`] (ICE, VC, KR), [`expected`] (P(s), power laws).
 //!
 //! Coordinates are 0-based and half-open; weights are multiplicative (cooler's convention).
 //!
@@ -26,8 +27,10 @@
 //! # Ok::<(), contactmap::Error>(())
 //! ```
 
+pub mod balance;
 pub mod cli;
 pub mod error;
+pub mod expected;
 pub mod genome;
 pub mod io;
 pub mod matrix;

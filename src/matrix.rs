@@ -9,6 +9,7 @@
 //! `(bin1, bin2)`, so that a whole-genome 10 kb map can be dumped or converted with bounded memory.
 
 pub mod builder;
+pub mod pixels;
 
 use std::ops::Range;
 
@@ -17,6 +18,7 @@ use ndarray::Array2;
 use crate::error::{Error, Result};
 use crate::genome::BinTable;
 pub use builder::MatrixBuilder;
+pub use pixels::{PixelSlice, PixelSource, Pixels};
 
 /// How counts are stored: integers (raw read counts) or floating point (already normalised).
 ///

@@ -1,12 +1,16 @@
 //! Integration tests: the `contactmap` binary run on the real fixtures in `data/`, compared with
 //! reference outputs of the peer tools (`data/reference/`, made by `scripts/make_references.sh`).
 
+#[path = "cli/balance.rs"]
+mod balance;
 #[path = "cli/convert.rs"]
 mod convert;
 #[path = "cli/dump.rs"]
 mod dump;
 #[path = "cli/errors.rs"]
 mod errors;
+#[path = "cli/expected.rs"]
+mod expected;
 #[path = "cli/hic.rs"]
 mod hic;
 #[path = "cli/info.rs"]

@@ -26,6 +26,7 @@
 //! natively. Output goes to a temporary file renamed into place when complete.
 
 pub mod chunks;
+pub mod store;
 mod writer;
 
 use std::fs::File;

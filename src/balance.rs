@@ -1,0 +1,1 @@
+//! Matrix balancing (ICE, VC, VC_SQRT, KR). Being written.

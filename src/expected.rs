@@ -1,0 +1,1 @@
+//! Distance-decay expected and power-law fits. Being written.

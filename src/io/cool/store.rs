@@ -1,0 +1,1 @@
+//! Storing a weight column into an existing cooler. Being written.

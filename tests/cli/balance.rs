@@ -1,0 +1,1 @@
+//! `contactmap balance` against the peer tools' reference outputs.

@@ -1,0 +1,1 @@
+//! `contactmap expected` against the peer tools' reference outputs.
