@@ -14,6 +14,7 @@
 
 pub mod cool;
 pub mod hic;
+pub mod tables;
 pub mod text;
 
 use std::io::Read;

@@ -34,6 +34,7 @@ pub mod expected;
 pub mod genome;
 pub mod io;
 pub mod matrix;
+pub mod normalize;
 
 pub use error::{Error, Result};
 pub use genome::{Bin, BinTable, Chrom, Region};
