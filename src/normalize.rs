@@ -295,10 +295,10 @@ mod tests {
                 sums[(out.bin2[k] - out.bin1[k]) as usize] += out.count[k];
             }
         }
-        for d in 0..6 {
+        for (d, sum) in sums.iter().enumerate() {
             if curves[0].expected[d] > 0.0 {
                 assert!(
-                    (sums[d] / curves[0].n_valid[d] - 1.0).abs() < 1e-12,
+                    (sum / curves[0].n_valid[d] - 1.0).abs() < 1e-12,
                     "diagonal {d}"
                 );
             }
@@ -315,12 +315,8 @@ mod tests {
         let out = normalizer.apply(&all).unwrap();
         // Over all valid pixels of diagonal d (absent ones have z = -E/SD): mean 0, variance 1.
         let deviations = normalizer.deviations.clone().unwrap();
-        for d in 1..4 {
-            let (e, sd, n) = (
-                curves[0].expected[d],
-                deviations[0][d],
-                curves[0].n_valid[d],
-            );
+        for (d, &sd) in deviations[0].iter().enumerate().take(4).skip(1) {
+            let (e, n) = (curves[0].expected[d], curves[0].n_valid[d]);
             let present: Vec<f64> = (0..out.len())
                 .filter(|&k| {
                     out.bin1[k] < 6 && out.bin2[k] < 6 && (out.bin2[k] - out.bin1[k]) as usize == d
