@@ -12,7 +12,7 @@ mkdir -p "$ref"
 dm6=data/cooler_test_file.mcool::/resolutions/100000
 
 # A small multi-resolution .hic v9 written by hictk (an independent .hic writer) from a real cooler.
-"$python" benches/cool_to_hic.py data/CN.mm9.10000kb.cool data/CN.mm9.multires.hic 10000000,20000000,50000000
+[ -f data/CN.mm9.multires.hic ] || "$python" benches/cool_to_hic.py data/CN.mm9.10000kb.cool data/CN.mm9.multires.hic 10000000,20000000,50000000
 
 "$cooler" dump --join --header -b -r chr2L:1,000,000-3,000,000 -r2 chr2L:2,000,000-5,000,000 "$dm6" \
   > "$ref/dm6_100kb.chr2L_box.balanced.join.tsv"
@@ -26,6 +26,23 @@ import hictkpy
 df = hictkpy.File("data/CN.mm9.multires.hic", 20000000).fetch("chr1", "chr2", join=True).to_df()
 for row in df.itertuples(index=False):
     print(*row, sep="\t")
+PY
+
+# observed/expected of the cis pixels by cooltools 0.7.1 (sandbox obs_over_exp, unsmoothed
+# balanced.avg, ignore_diags=2), rows with a finite value: bin1_id bin2_id oe
+"$python" - > "$ref/CN.mm9.10000kb.cis_oe.tsv" <<'PY'
+import warnings; warnings.filterwarnings("ignore")
+import bioframe, cooler, numpy as np
+from cooltools.sandbox.obs_over_exp_cooler import expected_full, obs_over_exp
+clr = cooler.Cooler("data/CN.mm9.10000kb.cool")
+view = bioframe.make_viewframe(clr.chromsizes)
+exp = expected_full(clr, view_df=view, clr_weight_name="weight", ignore_diags=2, nproc=1)
+bins = clr.bins()[:]
+bins["r"] = bins["chrom"].map({n: i for i, n in enumerate(view["name"])})
+oe = obs_over_exp(clr.pixels()[:], bins, exp, clr_weight_name="weight")
+oe = oe[(oe["chrom1"] == oe["chrom2"]) & np.isfinite(oe["oe"])]
+for b1, b2, v in zip(oe["bin1_id"], oe["bin2_id"], oe["oe"]):
+    print(f"{b1}\t{b2}\t{v!r}")
 PY
 
 # nbins, nnz and the sum of counts of every matrix in data/, as cooler and hictkpy compute them.

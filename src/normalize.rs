@@ -12,10 +12,11 @@
 //! `E[r][d]` is the expected value of diagonal `d` in region `r` as `cooltools expected-cis` defines
 //! it (`balanced.avg` or `count.avg`: the diagonal's sum over its number of valid pixels, zeros
 //! included), and `SD[r][d]` the standard deviation over the same valid pixels, zeros included:
-//! `sqrt(sum(o^2) / n_valid - E^2)`. As in cooltools' `obs_over_exp`, only stored (non-zero) pixels
-//! are written, trans pixels and pixels outside the regions are dropped, and so are pixels whose
-//! value is not finite (masked bins, diagonals whose expected is NaN or zero — the ignored
-//! diagonals among them).
+//! `sqrt(sum(o^2) / n_valid - E^2)`. Only stored (non-zero) pixels are written, and pixels whose
+//! value is not finite are dropped (masked bins, diagonals whose expected is NaN or zero — the
+//! ignored diagonals among them). For cis pixels the `oe` values are those of cooltools'
+//! `sandbox.obs_over_exp_cooler.obs_over_exp` (unsmoothed `balanced.avg`); unlike it, trans pixels
+//! and pixels outside the regions are dropped rather than divided by a trans expected.
 
 use std::ops::Range;
 

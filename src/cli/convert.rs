@@ -132,7 +132,8 @@ fn path_text(path: &Path) -> String {
     path.to_string_lossy().into_owned()
 }
 
-fn format_from_extension(path: &Path) -> Result<OutputFormat> {
+/// The output format named by the extension of `path` (a `.gz` suffix aside).
+pub fn format_from_extension(path: &Path) -> Result<OutputFormat> {
     let name = path.to_string_lossy().to_ascii_lowercase();
     let name = name.strip_suffix(".gz").unwrap_or(&name);
     let format = if name.ends_with(".mcool") {
