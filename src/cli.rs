@@ -6,6 +6,7 @@ pub mod convert;
 pub mod dump;
 pub mod expected;
 pub mod info;
+pub mod normalize;
 pub mod output;
 pub mod progress;
 
@@ -43,6 +44,8 @@ pub enum Command {
     /// Distance-decay expected P(s) as cooltools expected-cis / expected-trans, log-binned P(s),
     /// power-law exponents.
     Expected(expected::ExpectedArgs),
+    /// Observed / expected maps (o/e, log2 o/e, z-score) as a .cool or a text table.
+    Normalize(normalize::NormalizeArgs),
 }
 
 /// Run a parsed command line.
@@ -53,6 +56,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Convert(args) => convert::run(&args),
         Command::Balance(args) => balance::run(&args),
         Command::Expected(args) => expected::run(&args),
+        Command::Normalize(args) => normalize::run(&args),
     }
 }
 

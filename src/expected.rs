@@ -1,1 +1,1094 @@
-//! Distance-decay expected and power-law fits. Being written.
+//! Distance-decay expected P(s): per-diagonal cis expected and block trans expected exactly as
+//! cooltools computes them, log-binned P(s) with its local slope, and power-law fits.
+//!
+//! # Cis expected ([`expected_cis`])
+//!
+//! As `cooltools.expected_cis` 0.7.1 (`intra_only=True`). For every region of a [`View`] (whole
+//! chromosomes by default) and every diagonal `dist = bin2 - bin1` in `0..n_bins(region)`:
+//!
+//! | column | value |
+//! |---|---|
+//! | `dist`, `dist_bp` | the diagonal, and `dist * bin_size` |
+//! | `n_total` | pixels on the diagonal: `n_bins - dist` |
+//! | `n_valid` | pixels whose two bins have a non-NaN weight (`n_total` for raw counts) |
+//! | `count.sum` | sum of the raw counts (balanced mode: of valid pixels only) |
+//! | `balanced.sum` | sum of `count * w1 * w2` (balanced mode) |
+//! | `count.avg` | `count.sum / n_total` (also in balanced mode, as cooltools) |
+//! | `balanced.avg` | `balanced.sum / n_valid` |
+//! | `*.avg.smoothed` | Gaussian smoothing over log10(dist) per region ([`smooth::log_smooth`], sigma 0.1) of the sums and pixel counts, then their ratio |
+//! | `*.avg.smoothed.agg` | the same on the sums and pixel counts added over all regions |
+//! | `contact_frequency` | a copy of the last ("most processed") column |
+//!
+//! The sums of the first `ignore_diags` diagonals (default 2) are NaN (and count as 0 in the
+//! smoothing, whose pixel counts still include them — cooltools' behaviour, kept so the smoothed
+//! columns agree). The pixel counts smoothed are `n_total` for raw counts, `n_valid` for balanced.
+//! Only pixels whose two bins fall in the same region count; with a BED view, a bin shared by two
+//! book-ended regions counts in both regions' `n_total` but its pixels go to the later region, as
+//! in cooltools.
+//!
+//! # Trans expected ([`expected_trans`])
+//!
+//! As `cooltools.expected_trans`: for every pair of regions on different chromosomes (in view
+//! order), `n_valid = (bins1 - masked1) * (bins2 - masked2)`, the sums of valid pixels, and both
+//! averages over `n_valid`.
+//!
+//! # Method and performance
+//!
+//! One parallel pass over the pixels ([`PixelSource::pass`]): every slice of pixels accumulates
+//! into a per-thread scratch array indexed by `(region, diagonal)` and hands on only the entries it
+//! touched; partial results are added entry by entry in slice order, so the sums do not depend on
+//! the number of threads. Streaming a .cool file gives bit-identical sums to an in-memory copy
+//! (its blocks are whole numbers of slices); other streamed sources cut slices elsewhere, which
+//! changes real-valued sums only by rounding (integer counts stay exact). Per-bin region ids (masked bins already excluded) make the per-pixel work two lookups
+//! and two additions. `n_valid` comes from the weight mask alone: the number of pairs of good bins
+//! at each distance, an autocorrelation computed exactly from the sparser of the good / masked
+//! sets (pairwise differences, or 64-bit words and popcounts when that set is dense), in
+//! `O(min(m^2, n^2 / 64))` for `m` such bins in a region of `n` bins.
+//!
+//! Log-binned P(s) and slopes are in [`logbin`], power-law fits in [`powerlaw`].
+//!
+//! # References
+//!
+//! Lieberman-Aiden et al., Science 2009 (P(s) ~ s^-1 in human Hi-C, the fractal globule); Mirny,
+//! Chromosome Res. 2011 and Fudenberg & Mirny 2012 (P(s) exponents of polymer models); Open2C,
+//! cooltools (PLoS Comput. Biol. 2024), `cooltools/api/expected.py`.
+
+pub mod logbin;
+pub mod powerlaw;
+pub mod smooth;
+pub mod view;
+
+use std::sync::Mutex;
+
+use rayon::prelude::*;
+
+use crate::error::{Error, Result};
+use crate::matrix::{PixelSlice, PixelSource};
+use crate::normalize::DiagonalCurve;
+pub use view::{RegionSpec, View, ViewRegion};
+
+/// Parameters of [`expected_cis`], with the defaults of `cooltools.expected_cis`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CisParams {
+    /// Diagonals `0..ignore_diags` get NaN sums (default 2).
+    pub ignore_diags: usize,
+    /// Add the `*.avg.smoothed` column (default true).
+    pub smooth: bool,
+    /// Add the `*.avg.smoothed.agg` column, smoothed over all regions together (default true;
+    /// needs `smooth`).
+    pub aggregate_smoothed: bool,
+    /// Standard deviation of the smoothing kernel in log10(distance) (default 0.1).
+    pub smooth_sigma_log10: f64,
+}
+
+impl Default for CisParams {
+    fn default() -> Self {
+        CisParams {
+            ignore_diags: 2,
+            smooth: true,
+            aggregate_smoothed: true,
+            smooth_sigma_log10: 0.1,
+        }
+    }
+}
+
+/// Width of the smoothing window, in kernel sigmas (cooltools' `window_sigma`).
+pub const SMOOTH_WINDOW_SIGMAS: f64 = 5.0;
+/// Kernel evaluations per sigma before interpolation (cooltools' `points_per_sigma`).
+pub const SMOOTH_POINTS_PER_SIGMA: usize = 10;
+
+/// A column of an expected table, for writers.
+#[derive(Clone, Copy, Debug)]
+pub enum Column<'a> {
+    /// Whole numbers.
+    Integer(&'a [u64]),
+    /// Real numbers (NaN for missing).
+    Real(&'a [f64]),
+}
+
+/// The cis expected table: one row per (region, diagonal), regions in view order.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CisExpected {
+    /// The bin size in bp.
+    pub bin_size_bp: u64,
+    /// Names of the regions (`region1` = `region2` of each row).
+    pub region_names: Vec<String>,
+    /// Index into `region_names` of each row.
+    pub region: Vec<u32>,
+    /// Diagonal (distance in bins).
+    pub dist: Vec<u64>,
+    /// Distance in bp: `dist * bin_size`.
+    pub dist_bp: Vec<u64>,
+    /// Pixels on the diagonal.
+    pub n_total: Vec<u64>,
+    /// Pixels on the diagonal whose two bins are not masked.
+    pub n_valid: Vec<u64>,
+    /// Sum of raw counts (of valid pixels in balanced mode); NaN for ignored diagonals.
+    pub count_sum: Vec<f64>,
+    /// Sum of balanced values (balanced mode only).
+    pub balanced_sum: Option<Vec<f64>>,
+    /// `count_sum / n_total`.
+    pub count_avg: Vec<f64>,
+    /// `balanced_sum / n_valid` (balanced mode only).
+    pub balanced_avg: Option<Vec<f64>>,
+    /// Per-region log-smoothed average (`balanced.avg.smoothed` or `count.avg.smoothed`).
+    pub avg_smoothed: Option<Vec<f64>>,
+    /// Log-smoothed average over all regions (`*.avg.smoothed.agg`).
+    pub avg_smoothed_agg: Option<Vec<f64>>,
+}
+
+impl CisExpected {
+    /// Number of rows.
+    pub fn n_rows(&self) -> usize {
+        self.dist.len()
+    }
+
+    /// True for balanced tables.
+    pub fn is_balanced(&self) -> bool {
+        self.balanced_sum.is_some()
+    }
+
+    /// `balanced` or `count`: the prefix of the averaged columns.
+    pub fn prefix(&self) -> &'static str {
+        if self.is_balanced() {
+            "balanced"
+        } else {
+            "count"
+        }
+    }
+
+    /// The name of the region of `row`.
+    pub fn region_name(&self, row: usize) -> &str {
+        &self.region_names[self.region[row] as usize]
+    }
+
+    /// The average that P(s) analyses use: `balanced.avg`, else `count.avg`.
+    pub fn average(&self) -> &[f64] {
+        self.balanced_avg.as_deref().unwrap_or(&self.count_avg)
+    }
+
+    /// The summed values behind [`Self::average`]: `balanced.sum`, else `count.sum`.
+    pub fn summary(&self) -> &[f64] {
+        self.balanced_sum.as_deref().unwrap_or(&self.count_sum)
+    }
+
+    /// The "most processed" values, cooltools' `contact_frequency`: the last of the average,
+    /// smoothed and aggregated-smoothed columns present.
+    pub fn contact_frequency(&self) -> &[f64] {
+        self.avg_smoothed_agg
+            .as_deref()
+            .or(self.avg_smoothed.as_deref())
+            .unwrap_or_else(|| self.average())
+    }
+
+    /// The columns after `region1` and `region2`, named and ordered as cooltools writes them.
+    pub fn columns(&self) -> Vec<(String, Column<'_>)> {
+        let prefix = self.prefix();
+        let mut columns = vec![
+            ("dist".to_string(), Column::Integer(&self.dist)),
+            ("dist_bp".to_string(), Column::Integer(&self.dist_bp)),
+            (
+                "contact_frequency".to_string(),
+                Column::Real(self.contact_frequency()),
+            ),
+            ("n_total".to_string(), Column::Integer(&self.n_total)),
+            ("n_valid".to_string(), Column::Integer(&self.n_valid)),
+            ("count.sum".to_string(), Column::Real(&self.count_sum)),
+        ];
+        if let Some(sum) = &self.balanced_sum {
+            columns.push(("balanced.sum".to_string(), Column::Real(sum)));
+        }
+        columns.push(("count.avg".to_string(), Column::Real(&self.count_avg)));
+        if let Some(avg) = &self.balanced_avg {
+            columns.push(("balanced.avg".to_string(), Column::Real(avg)));
+        }
+        if let Some(smoothed) = &self.avg_smoothed {
+            columns.push((format!("{prefix}.avg.smoothed"), Column::Real(smoothed)));
+        }
+        if let Some(agg) = &self.avg_smoothed_agg {
+            columns.push((format!("{prefix}.avg.smoothed.agg"), Column::Real(agg)));
+        }
+        columns
+    }
+}
+
+/// The trans expected table: one row per pair of regions on different chromosomes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TransExpected {
+    /// First region of each pair.
+    pub region1: Vec<String>,
+    /// Second region of each pair (later in the view).
+    pub region2: Vec<String>,
+    /// Pixels of the block whose two bins are not masked.
+    pub n_valid: Vec<u64>,
+    /// Sum of raw counts of valid pixels.
+    pub count_sum: Vec<f64>,
+    /// Sum of balanced values (balanced mode only).
+    pub balanced_sum: Option<Vec<f64>>,
+    /// `count_sum / n_valid`.
+    pub count_avg: Vec<f64>,
+    /// `balanced_sum / n_valid` (balanced mode only).
+    pub balanced_avg: Option<Vec<f64>>,
+}
+
+impl TransExpected {
+    /// Number of rows.
+    pub fn n_rows(&self) -> usize {
+        self.n_valid.len()
+    }
+
+    /// The columns after `region1` and `region2`, as cooltools writes them.
+    pub fn columns(&self) -> Vec<(String, Column<'_>)> {
+        let mut columns = vec![
+            ("n_valid".to_string(), Column::Integer(&self.n_valid)),
+            ("count.sum".to_string(), Column::Real(&self.count_sum)),
+        ];
+        if let Some(sum) = &self.balanced_sum {
+            columns.push(("balanced.sum".to_string(), Column::Real(sum)));
+        }
+        columns.push(("count.avg".to_string(), Column::Real(&self.count_avg)));
+        if let Some(avg) = &self.balanced_avg {
+            columns.push(("balanced.avg".to_string(), Column::Real(avg)));
+        }
+        columns
+    }
+}
+
+/// Region id of a bin outside every region (or masked).
+const NO_REGION: u32 = u32::MAX;
+
+/// Per-bin region ids for pixel assignment, with masked bins (NaN weight) excluded.
+fn pixel_regions(view: &View, n_bins: usize, weights: Option<&[f64]>) -> Vec<u32> {
+    view.bin_regions(n_bins)
+        .iter()
+        .enumerate()
+        .map(|(bin, region)| match (region, weights) {
+            (Some(_), Some(w)) if w[bin].is_nan() => NO_REGION,
+            (Some(r), _) => *r as u32,
+            (None, _) => NO_REGION,
+        })
+        .collect()
+}
+
+fn check_inputs<S: PixelSource>(pixels: &S, weights: Option<&[f64]>, view: &View) -> Result<()> {
+    let n_bins = pixels.bins().n_bins();
+    if let Some(w) = weights {
+        if w.len() != n_bins {
+            return Err(Error::Invalid(format!(
+                "{} weights for {n_bins} bins",
+                w.len()
+            )));
+        }
+    }
+    if view.len() >= NO_REGION as usize {
+        return Err(Error::Invalid(format!(
+            "{} view regions are too many",
+            view.len()
+        )));
+    }
+    if let Some(region) = view.regions().iter().find(|r| r.bins.end > n_bins) {
+        return Err(Error::Invalid(format!(
+            "view region '{}' lies outside the matrix's {n_bins} bins",
+            region.name
+        )));
+    }
+    Ok(())
+}
+
+/// Compute the cis expected of `pixels` over `view`: balanced with `weights` (multiplicative,
+/// one per bin, NaN for masked bins), or raw counts when `weights` is `None`.
+///
+/// Needs fixed-size bins (distances in bp are `dist * bin_size`, as cooltools writes them).
+pub fn expected_cis<S: PixelSource>(
+    pixels: &S,
+    weights: Option<&[f64]>,
+    view: &View,
+    params: &CisParams,
+) -> Result<CisExpected> {
+    check_inputs(pixels, weights, view)?;
+    let bins = pixels.bins();
+    let bin_size = bins.bin_size_bp().ok_or_else(|| {
+        Error::Invalid(
+            "expected needs fixed-size bins (distances are diagonals times the bin size)".into(),
+        )
+    })?;
+    if !(params.smooth_sigma_log10 > 0.0 && params.smooth_sigma_log10.is_finite()) {
+        return Err(Error::Invalid(format!(
+            "the smoothing sigma must be positive (got {})",
+            params.smooth_sigma_log10
+        )));
+    }
+    let region_of = pixel_regions(view, bins.n_bins(), weights);
+    let mut base = Vec::with_capacity(view.len() + 1);
+    let mut n_keys = 0usize;
+    for region in view.regions() {
+        base.push(n_keys);
+        n_keys += region.n_bins();
+    }
+    base.push(n_keys);
+    if n_keys > u32::MAX as usize {
+        return Err(Error::Invalid(format!(
+            "{n_keys} (region, diagonal) pairs do not fit 32-bit keys"
+        )));
+    }
+    let base32: Vec<u32> = base.iter().map(|&b| b as u32).collect();
+    let sums = accumulate(pixels, n_keys, weights, |i, j| {
+        let r = region_of[i];
+        if r != NO_REGION && r == region_of[j] {
+            Some(base32[r as usize] + (j - i) as u32)
+        } else {
+            None
+        }
+    })?;
+
+    let balanced = weights.is_some();
+    let mut table = CisExpected {
+        bin_size_bp: bin_size,
+        region_names: view.regions().iter().map(|r| r.name.clone()).collect(),
+        region: Vec::with_capacity(n_keys),
+        dist: Vec::with_capacity(n_keys),
+        dist_bp: Vec::with_capacity(n_keys),
+        n_total: Vec::with_capacity(n_keys),
+        n_valid: Vec::with_capacity(n_keys),
+        count_sum: Vec::with_capacity(n_keys),
+        balanced_sum: balanced.then(|| Vec::with_capacity(n_keys)),
+        count_avg: Vec::with_capacity(n_keys),
+        balanced_avg: balanced.then(|| Vec::with_capacity(n_keys)),
+        avg_smoothed: None,
+        avg_smoothed_agg: None,
+    };
+    let valid_per_region: Vec<Vec<u64>> = view
+        .regions()
+        .par_iter()
+        .map(|region| {
+            let good: Vec<bool> = region
+                .bins
+                .clone()
+                .map(|bin| weights.is_none_or(|w| !w[bin].is_nan()))
+                .collect();
+            valid_pairs_per_diagonal(&good)
+        })
+        .collect();
+    for (r, region) in view.regions().iter().enumerate() {
+        let n = region.n_bins();
+        for d in 0..n {
+            let ignored = d < params.ignore_diags;
+            let [count, balanced_value] = sums[base[r] + d];
+            let n_total = (n - d) as u64;
+            let n_valid = valid_per_region[r][d];
+            let count_sum = if ignored { f64::NAN } else { count };
+            table.region.push(r as u32);
+            table.dist.push(d as u64);
+            table.dist_bp.push(d as u64 * bin_size);
+            table.n_total.push(n_total);
+            table.n_valid.push(n_valid);
+            table.count_sum.push(count_sum);
+            table.count_avg.push(count_sum / n_total as f64);
+            if let (Some(sum), Some(avg)) = (&mut table.balanced_sum, &mut table.balanced_avg) {
+                let value = if ignored { f64::NAN } else { balanced_value };
+                sum.push(value);
+                avg.push(value / n_valid as f64);
+            }
+        }
+    }
+    if params.smooth {
+        let (smoothed, aggregated) = smooth_table(&table, view, &base, params);
+        table.avg_smoothed = Some(smoothed);
+        table.avg_smoothed_agg = aggregated;
+    }
+    Ok(table)
+}
+
+/// The smoothed averages per region and, when asked, over all regions (cooltools'
+/// `per_region_smooth_cvd` and `genomewide_smooth_cvd`).
+fn smooth_table(
+    table: &CisExpected,
+    view: &View,
+    base: &[usize],
+    params: &CisParams,
+) -> (Vec<f64>, Option<Vec<f64>>) {
+    let pixel_counts: &[u64] = if table.is_balanced() {
+        &table.n_valid
+    } else {
+        &table.n_total
+    };
+    let contacts: Vec<f64> = table
+        .summary()
+        .iter()
+        .map(|&v| if v.is_nan() { 0.0 } else { v })
+        .collect();
+    let smooth_pair = |n_pixels: &[f64], n_contacts: &[f64]| -> Vec<f64> {
+        let xs: Vec<f64> = (0..n_pixels.len()).map(|d| d as f64).collect();
+        let smoothed = smooth::log_smooth(
+            &xs,
+            &[n_contacts, n_pixels],
+            params.smooth_sigma_log10,
+            SMOOTH_WINDOW_SIGMAS,
+            SMOOTH_POINTS_PER_SIGMA,
+        );
+        smoothed[0]
+            .iter()
+            .zip(&smoothed[1])
+            .map(|(c, p)| c / p)
+            .collect()
+    };
+    let per_region: Vec<Vec<f64>> = (0..view.len())
+        .into_par_iter()
+        .map(|r| {
+            let rows = base[r]..base[r + 1];
+            let n_pixels: Vec<f64> = pixel_counts[rows.clone()]
+                .iter()
+                .map(|&v| v as f64)
+                .collect();
+            smooth_pair(&n_pixels, &contacts[rows])
+        })
+        .collect();
+    let smoothed: Vec<f64> = per_region.into_iter().flatten().collect();
+    let aggregated = params.aggregate_smoothed.then(|| {
+        let max_n = (0..view.len())
+            .map(|r| base[r + 1] - base[r])
+            .max()
+            .unwrap_or(0);
+        let mut n_pixels = vec![0u64; max_n];
+        let mut n_contacts = vec![0.0f64; max_n];
+        for r in 0..view.len() {
+            for (d, row) in (base[r]..base[r + 1]).enumerate() {
+                n_pixels[d] += pixel_counts[row];
+                n_contacts[d] += contacts[row];
+            }
+        }
+        let n_pixels: Vec<f64> = n_pixels.iter().map(|&v| v as f64).collect();
+        let by_dist = smooth_pair(&n_pixels, &n_contacts);
+        table.dist.iter().map(|&d| by_dist[d as usize]).collect()
+    });
+    (smoothed, aggregated)
+}
+
+/// Compute the trans expected of `pixels` between every pair of `view` regions on different
+/// chromosomes: balanced with `weights`, or raw counts when `weights` is `None`.
+pub fn expected_trans<S: PixelSource>(
+    pixels: &S,
+    weights: Option<&[f64]>,
+    view: &View,
+) -> Result<TransExpected> {
+    check_inputs(pixels, weights, view)?;
+    let n_regions = view.len();
+    let n_keys = n_regions
+        .checked_mul(n_regions)
+        .filter(|&n| n <= u32::MAX as usize)
+        .ok_or_else(|| Error::Invalid(format!("{n_regions} view regions are too many")))?;
+    let region_of = pixel_regions(view, pixels.bins().n_bins(), weights);
+    let chrom_of: Vec<usize> = view.regions().iter().map(|r| r.chrom_id).collect();
+    let sums = accumulate(pixels, n_keys, weights, |i, j| {
+        let (r1, r2) = (region_of[i], region_of[j]);
+        if r1 != NO_REGION && r2 != NO_REGION && chrom_of[r1 as usize] != chrom_of[r2 as usize] {
+            // Pixels are the upper triangle and the view is sorted: r1 < r2.
+            Some(r1 * n_regions as u32 + r2)
+        } else {
+            None
+        }
+    })?;
+    let balanced = weights.is_some();
+    let good_bins: Vec<u64> = view
+        .regions()
+        .iter()
+        .map(|r| {
+            r.bins
+                .clone()
+                .filter(|&bin| weights.is_none_or(|w| !w[bin].is_nan()))
+                .count() as u64
+        })
+        .collect();
+    let mut table = TransExpected {
+        region1: Vec::new(),
+        region2: Vec::new(),
+        n_valid: Vec::new(),
+        count_sum: Vec::new(),
+        balanced_sum: balanced.then(Vec::new),
+        count_avg: Vec::new(),
+        balanced_avg: balanced.then(Vec::new),
+    };
+    let regions = view.regions();
+    for r1 in 0..n_regions {
+        for r2 in r1 + 1..n_regions {
+            if regions[r1].chrom_id == regions[r2].chrom_id {
+                continue;
+            }
+            let n_valid = good_bins[r1] * good_bins[r2];
+            let [count, balanced_value] = sums[r1 * n_regions + r2];
+            table.region1.push(regions[r1].name.clone());
+            table.region2.push(regions[r2].name.clone());
+            table.n_valid.push(n_valid);
+            table.count_sum.push(count);
+            table.count_avg.push(count / n_valid as f64);
+            if let (Some(sum), Some(avg)) = (&mut table.balanced_sum, &mut table.balanced_avg) {
+                sum.push(balanced_value);
+                avg.push(balanced_value / n_valid as f64);
+            }
+        }
+    }
+    Ok(table)
+}
+
+/// Per-chromosome expected curves for observed / expected ([`crate::normalize`]): the cis
+/// expected over whole chromosomes without smoothing, with `balanced.avg` (`count.avg` for raw
+/// counts) and `n_valid` per diagonal.
+pub fn cis_curves<S: PixelSource>(
+    pixels: &S,
+    weights: Option<&[f64]>,
+    ignore_diags: usize,
+) -> Result<Vec<DiagonalCurve>> {
+    let view = View::chromosomes(pixels.bins());
+    let params = CisParams {
+        ignore_diags,
+        smooth: false,
+        aggregate_smoothed: false,
+        ..CisParams::default()
+    };
+    let table = expected_cis(pixels, weights, &view, &params)?;
+    let average = table.average();
+    let mut start = 0;
+    Ok(view
+        .regions()
+        .iter()
+        .map(|region| {
+            let rows = start..start + region.n_bins();
+            start = rows.end;
+            DiagonalCurve {
+                bins: region.bins.clone(),
+                expected: average[rows.clone()].to_vec(),
+                n_valid: table.n_valid[rows].iter().map(|&n| n as f64).collect(),
+            }
+        })
+        .collect())
+}
+
+/// Longest sparse partial result kept before turning it dense (48 MB of entries).
+const SPARSE_MAX_ENTRIES: usize = 1 << 21;
+
+/// Sums `[count, balanced]` per key, for partial results of a pass.
+enum Sums {
+    /// The keys some consecutive slices touched, slice after slice (a key may appear once per
+    /// slice, and twice within a slice with a zero second entry).
+    Sparse(Vec<(u32, [f64; 2])>),
+    /// Every key.
+    Dense(Vec<[f64; 2]>),
+}
+
+/// A per-thread accumulator: dense sums kept at zero between slices, and the keys touched.
+#[derive(Default)]
+struct Scratch {
+    sums: Vec<[f64; 2]>,
+    touched: Vec<u32>,
+}
+
+fn add_sparse(dense: &mut [[f64; 2]], sparse: &[(u32, [f64; 2])]) {
+    for &(key, [count, balanced]) in sparse {
+        let cell = &mut dense[key as usize];
+        cell[0] += count;
+        cell[1] += balanced;
+    }
+}
+
+/// Add two partial results, `a` holding earlier slices than `b`.
+///
+/// Sparse lists are concatenated while they stay below [`SPARSE_MAX_ENTRIES`] (or a quarter of
+/// the keys, if more), then turned dense. Every sparse entry is added to the dense sums one at a
+/// time in slice order, so the result is the sequential sum of the slices' partial sums (IEEE
+/// addition is commutative, and adding a missing key's zero is exact) whatever the
+/// representation. A streamed pass hands its blocks (1 M pixels for .cool files) over as sparse
+/// lists, so when blocks are made of whole slices it gives bit-identical sums to an in-memory
+/// pass; only dense partials of larger blocks would be added as totals.
+fn merge(a: Sums, b: Sums, n_keys: usize) -> Sums {
+    match (a, b) {
+        (Sums::Sparse(a), b) if a.is_empty() => b,
+        (a, Sums::Sparse(b)) if b.is_empty() => a,
+        (Sums::Dense(mut dense), Sums::Sparse(sparse)) => {
+            add_sparse(&mut dense, &sparse);
+            Sums::Dense(dense)
+        }
+        (Sums::Sparse(sparse), Sums::Dense(later)) => {
+            let mut dense = vec![[0.0; 2]; n_keys];
+            add_sparse(&mut dense, &sparse);
+            add_dense(&mut dense, &later);
+            Sums::Dense(dense)
+        }
+        (Sums::Dense(mut a), Sums::Dense(b)) => {
+            add_dense(&mut a, &b);
+            Sums::Dense(a)
+        }
+        (Sums::Sparse(mut a), Sums::Sparse(b)) => {
+            if a.len() + b.len() <= SPARSE_MAX_ENTRIES.max(n_keys / 4) {
+                a.extend(b);
+                Sums::Sparse(a)
+            } else {
+                let mut dense = vec![[0.0; 2]; n_keys];
+                add_sparse(&mut dense, &a);
+                add_sparse(&mut dense, &b);
+                Sums::Dense(dense)
+            }
+        }
+    }
+}
+
+fn add_dense(dense: &mut [[f64; 2]], later: &[[f64; 2]]) {
+    for (x, y) in dense.iter_mut().zip(later) {
+        x[0] += y[0];
+        x[1] += y[1];
+    }
+}
+
+/// One pass over the pixels: for each pixel with a key, add its count (and its balanced value
+/// `count * w1 * w2` when weighted) to the key's sums.
+fn accumulate<S, K>(
+    pixels: &S,
+    n_keys: usize,
+    weights: Option<&[f64]>,
+    key_of: K,
+) -> Result<Vec<[f64; 2]>>
+where
+    S: PixelSource,
+    K: Fn(usize, usize) -> Option<u32> + Sync,
+{
+    let pool: Mutex<Vec<Scratch>> = Mutex::new(Vec::new());
+    let take = || {
+        pool.lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .pop()
+            .unwrap_or_default()
+    };
+    let fold = |acc: Sums, slice: PixelSlice<'_>| {
+        let mut scratch = take();
+        if scratch.sums.len() < n_keys {
+            scratch.sums.resize(n_keys, [0.0; 2]);
+        }
+        let Scratch { sums, touched } = &mut scratch;
+        match weights {
+            Some(w) => {
+                for (i, j, count) in slice.iter() {
+                    if let Some(key) = key_of(i, j) {
+                        let cell = &mut sums[key as usize];
+                        if cell[0] == 0.0 && cell[1] == 0.0 {
+                            touched.push(key);
+                        }
+                        cell[0] += count;
+                        cell[1] += count * w[i] * w[j];
+                    }
+                }
+            }
+            None => {
+                for (i, j, count) in slice.iter() {
+                    if let Some(key) = key_of(i, j) {
+                        let cell = &mut sums[key as usize];
+                        if cell[0] == 0.0 {
+                            touched.push(key);
+                        }
+                        cell[0] += count;
+                    }
+                }
+            }
+        }
+        // A key whose sum returned to zero may be listed twice: its second entry is zero.
+        let part: Vec<(u32, [f64; 2])> = touched
+            .drain(..)
+            .map(|key| (key, std::mem::take(&mut sums[key as usize])))
+            .collect();
+        pool.lock().unwrap_or_else(|e| e.into_inner()).push(scratch);
+        merge(acc, Sums::Sparse(part), n_keys)
+    };
+    let total = pixels.pass(
+        || Sums::Sparse(Vec::new()),
+        fold,
+        |a, b| merge(a, b, n_keys),
+    )?;
+    Ok(match total {
+        Sums::Dense(dense) => dense,
+        Sums::Sparse(sparse) => {
+            let mut dense = vec![[0.0; 2]; n_keys];
+            add_sparse(&mut dense, &sparse);
+            dense
+        }
+    })
+}
+
+/// For each distance `d` in `0..good.len()`, the number of positions `i` with `good[i]` and
+/// `good[i + d]`: the valid pixels on diagonal `d` of a region whose bins are `good` or masked.
+///
+/// Exact integers (cooltools gets the same numbers through an FFT and rounding).
+pub fn valid_pairs_per_diagonal(good: &[bool]) -> Vec<u64> {
+    let n = good.len();
+    let n_good = good.iter().filter(|&&g| g).count();
+    let n_bad = n - n_good;
+    if n_bad == 0 {
+        return (0..n).map(|d| (n - d) as u64).collect();
+    }
+    if n_good == 0 {
+        return vec![0; n];
+    }
+    // Autocorrelation of the sparser set; the other follows by inclusion-exclusion.
+    let use_good = n_good <= n_bad;
+    let members: Vec<bool> = good.iter().map(|&g| g == use_good).collect();
+    let m = n_good.min(n_bad) as u128;
+    let pairs = if m * m <= (n as u128 * n as u128) / 64 {
+        let positions: Vec<usize> = (0..n).filter(|&i| members[i]).collect();
+        let mut auto = vec![0u64; n];
+        auto[0] = positions.len() as u64;
+        for (a, &pa) in positions.iter().enumerate() {
+            for &pb in &positions[a + 1..] {
+                auto[pb - pa] += 1;
+            }
+        }
+        auto
+    } else {
+        bitset_autocorrelation(&members)
+    };
+    if use_good {
+        return pairs;
+    }
+    // good pairs = all pairs - pairs with a masked left bin - with a masked right bin + both.
+    let mut masked_before = vec![0u64; n + 1];
+    for i in 0..n {
+        masked_before[i + 1] = masked_before[i] + u64::from(!good[i]);
+    }
+    (0..n)
+        .map(|d| {
+            let left = masked_before[n - d];
+            let right = masked_before[n] - masked_before[d];
+            (n - d) as u64 + pairs[d] - left - right
+        })
+        .collect()
+}
+
+/// `auto[d] = #{i : bits[i] && bits[i + d]}` with 64-bit words and popcounts (parallel over d).
+fn bitset_autocorrelation(bits: &[bool]) -> Vec<u64> {
+    let n = bits.len();
+    let n_words = n.div_ceil(64);
+    let mut words = vec![0u64; n_words + 1];
+    for (i, _) in bits.iter().enumerate().filter(|(_, &b)| b) {
+        words[i / 64] |= 1 << (i % 64);
+    }
+    (0..n)
+        .into_par_iter()
+        .with_min_len(64)
+        .map(|d| {
+            let (q, r) = (d / 64, d % 64);
+            let mut count = 0u64;
+            for k in 0..n_words - q {
+                let shifted = if r == 0 {
+                    words[k + q]
+                } else {
+                    (words[k + q] >> r) | (words[k + q + 1] << (64 - r))
+                };
+                count += u64::from((words[k] & shifted).count_ones());
+            }
+            count
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use proptest::prelude::*;
+
+    use super::*;
+    use crate::genome::{BinTable, Chrom};
+    use crate::matrix::{ContactMatrix, CountType, MatrixBuilder, Pixels};
+
+    /// A random matrix, weights with masked bins, and a random view (possibly with regions
+    /// that meet inside a bin).
+    fn cases() -> impl Strategy<Value = (ContactMatrix, Vec<f64>, Vec<RegionSpec>)> {
+        (
+            prop::collection::vec(1u64..300, 1..4),
+            5u64..40,
+            any::<u64>(),
+        )
+            .prop_flat_map(|(lengths, bin_size, seed)| {
+                let chroms: Vec<Chrom> = lengths
+                    .iter()
+                    .enumerate()
+                    .map(|(i, &l)| Chrom::new(format!("c{i}"), l))
+                    .collect();
+                let bins = BinTable::fixed(chroms, bin_size).unwrap();
+                let n = bins.n_bins() as u64;
+                let triplets = prop::collection::vec((0..n, 0..n, 1u32..50), 0..300);
+                let cuts =
+                    prop::collection::vec(prop::collection::vec(0.0f64..1.0, 0..4), lengths.len());
+                (Just(bins), Just(seed), triplets, cuts)
+            })
+            .prop_map(|(bins, seed, triplets, cuts)| {
+                let mut builder = MatrixBuilder::new(bins.clone(), CountType::Integer);
+                for (i, j, c) in triplets {
+                    builder.push(i, j, c as f64).unwrap();
+                }
+                let weights: Vec<f64> = (0..bins.n_bins())
+                    .map(|k| {
+                        if (seed >> (k % 61)) & 3 == 0 {
+                            f64::NAN
+                        } else {
+                            0.25 + k as f64 / 7.0
+                        }
+                    })
+                    .collect();
+                let mut specs = Vec::new();
+                for (chrom, fractions) in bins.chroms().iter().zip(cuts) {
+                    let mut points: Vec<u64> = fractions
+                        .iter()
+                        .map(|f| (f * chrom.length_bp as f64) as u64)
+                        .chain([0, chrom.length_bp])
+                        .collect();
+                    points.sort_unstable();
+                    points.dedup();
+                    for (k, pair) in points.windows(2).enumerate() {
+                        // Leave some stretches out of the view.
+                        if (seed >> (k + 3)) & 7 != 0 {
+                            specs.push(RegionSpec {
+                                chrom: chrom.name.clone(),
+                                start_bp: pair[0],
+                                end_bp: pair[1],
+                                name: None,
+                            });
+                        }
+                    }
+                }
+                if specs.is_empty() {
+                    specs.push(RegionSpec {
+                        chrom: bins.chroms()[0].name.clone(),
+                        start_bp: 0,
+                        end_bp: bins.chroms()[0].length_bp,
+                        name: None,
+                    });
+                }
+                (builder.build(), weights, specs)
+            })
+    }
+
+    fn pixels_of(matrix: &ContactMatrix) -> Pixels {
+        let mut pixels =
+            Pixels::with_capacity(matrix.bins().clone(), CountType::Integer, matrix.nnz()).unwrap();
+        pixels.extend(&matrix.all_pixels()).unwrap();
+        pixels
+    }
+
+    fn close(a: f64, b: f64) -> bool {
+        (a.is_nan() && b.is_nan()) || (a - b).abs() <= 1e-12 * b.abs().max(1.0)
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+
+        /// Per-diagonal and per-block sums equal a naive loop over the dense matrix.
+        #[test]
+        fn sums_equal_a_dense_computation((matrix, weights, specs) in cases(), balanced in any::<bool>()) {
+            let bins = matrix.bins();
+            let view = View::new(bins, &specs).unwrap();
+            let pixels = pixels_of(&matrix);
+            let w = balanced.then_some(weights.as_slice());
+            let params = CisParams::default();
+            let table = expected_cis(&pixels, w, &view, &params).unwrap();
+            let owner = view.bin_regions(bins.n_bins());
+            let good = |i: usize| w.is_none_or(|w| !w[i].is_nan());
+            let mut row = 0;
+            for (r, region) in view.regions().iter().enumerate() {
+                let lo = region.bins.start;
+                let n = region.n_bins();
+                for d in 0..n {
+                    let (mut count, mut balanced_sum) = (0.0, 0.0);
+                    for i in 0..n - d {
+                        let (a, b) = (lo + i, lo + i + d);
+                        if owner[a] == Some(r) && owner[b] == Some(r) && good(a) && good(b) {
+                            let c = matrix.get(a, b);
+                            count += c;
+                            if let Some(w) = w {
+                                balanced_sum += c * w[a] * w[b];
+                            }
+                        }
+                    }
+                    let n_valid = (0..n - d).filter(|&i| good(lo + i) && good(lo + i + d)).count();
+                    prop_assert_eq!(table.region_name(row), region.name.as_str());
+                    prop_assert_eq!(table.dist[row], d as u64);
+                    prop_assert_eq!(table.n_total[row], (n - d) as u64);
+                    prop_assert_eq!(table.n_valid[row], n_valid as u64);
+                    if d < params.ignore_diags {
+                        prop_assert!(table.count_sum[row].is_nan());
+                    } else {
+                        prop_assert_eq!(table.count_sum[row], count);
+                        prop_assert!(close(table.count_avg[row], count / (n - d) as f64));
+                        if let Some(sums) = &table.balanced_sum {
+                            prop_assert!(close(sums[row], balanced_sum), "{} vs {}", sums[row], balanced_sum);
+                        }
+                    }
+                    row += 1;
+                }
+            }
+            prop_assert_eq!(row, table.n_rows());
+
+            let trans = expected_trans(&pixels, w, &view).unwrap();
+            let regions = view.regions();
+            let mut row = 0;
+            for r1 in 0..regions.len() {
+                for r2 in r1 + 1..regions.len() {
+                    if regions[r1].chrom_id == regions[r2].chrom_id {
+                        continue;
+                    }
+                    let (mut count, mut balanced_sum) = (0.0, 0.0);
+                    for a in regions[r1].bins.clone() {
+                        for b in regions[r2].bins.clone() {
+                            if owner[a] == Some(r1) && owner[b] == Some(r2) && good(a) && good(b) {
+                                let c = matrix.get(a, b);
+                                count += c;
+                                if let Some(w) = w {
+                                    balanced_sum += c * w[a] * w[b];
+                                }
+                            }
+                        }
+                    }
+                    let n_good = |r: usize| regions[r].bins.clone().filter(|&b| good(b)).count() as u64;
+                    prop_assert_eq!(&trans.region1[row], &regions[r1].name);
+                    prop_assert_eq!(&trans.region2[row], &regions[r2].name);
+                    prop_assert_eq!(trans.n_valid[row], n_good(r1) * n_good(r2));
+                    prop_assert_eq!(trans.count_sum[row], count);
+                    if let Some(sums) = &trans.balanced_sum {
+                        prop_assert!(close(sums[row], balanced_sum));
+                    }
+                    row += 1;
+                }
+            }
+            prop_assert_eq!(row, trans.n_rows());
+        }
+    }
+
+    #[test]
+    fn streamed_and_in_memory_passes_agree() {
+        let bins =
+            BinTable::fixed(vec![Chrom::new("a", 30_000), Chrom::new("b", 20_000)], 10).unwrap();
+        let mut builder = MatrixBuilder::new(bins.clone(), CountType::Integer);
+        for i in 0..bins.n_bins() as u64 {
+            for j in (i..(i + 120).min(bins.n_bins() as u64)).step_by(2) {
+                builder.push(i, j, ((i * 7 + j) % 13) as f64).unwrap();
+            }
+        }
+        let reader = crate::io::InMemory::new("test".into(), builder.build());
+        let memory = crate::io::load_pixels(&reader, u64::MAX).unwrap();
+        let streamed = crate::io::load_pixels(&reader, 0).unwrap();
+        assert!(matches!(streamed, crate::io::LoadedPixels::Streamed(_)));
+        let weights: Vec<f64> = (0..bins.n_bins())
+            .map(|k| {
+                if k % 17 == 3 {
+                    f64::NAN
+                } else {
+                    1.0 / (1.0 + (k % 11) as f64)
+                }
+            })
+            .collect();
+        let view = View::chromosomes(&bins);
+        let params = CisParams::default();
+        let a = expected_cis(&memory, Some(&weights), &view, &params).unwrap();
+        let b = expected_cis(&streamed, Some(&weights), &view, &params).unwrap();
+        // Integer counts add up exactly; balanced sums may differ by rounding only.
+        assert_eq!(
+            a.count_sum.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
+            b.count_sum.iter().map(|x| x.to_bits()).collect::<Vec<_>>()
+        );
+        for (x, y) in a.balanced_sum.unwrap().iter().zip(b.balanced_sum.unwrap()) {
+            assert!(close(*x, y), "{x} vs {y}");
+        }
+        let t1 = expected_trans(&memory, None, &view).unwrap();
+        let t2 = expected_trans(&streamed, None, &view).unwrap();
+        assert_eq!(t1, t2);
+    }
+
+    #[test]
+    fn curves_for_observed_over_expected() {
+        let bins = BinTable::fixed(vec![Chrom::new("a", 50), Chrom::new("b", 30)], 10).unwrap();
+        let mut builder = MatrixBuilder::new(bins.clone(), CountType::Integer);
+        for i in 0..5u64 {
+            for j in i..5 {
+                builder.push(i, j, (1 + j - i) as f64).unwrap();
+            }
+        }
+        let pixels = pixels_of(&builder.build());
+        let curves = cis_curves(&pixels, None, 2).unwrap();
+        assert_eq!(curves.len(), 2);
+        assert_eq!(curves[0].bins, 0..5);
+        assert_eq!(curves[1].bins, 5..8);
+        assert!(curves[0].expected[1].is_nan());
+        // Diagonal 2 of chromosome a: three pixels of count 3.
+        assert_eq!(curves[0].expected[2], 3.0);
+        assert_eq!(curves[0].n_valid[2], 3.0);
+        assert_eq!(curves[1].expected[2], 0.0);
+    }
+
+    #[test]
+    fn results_do_not_depend_on_the_thread_count() {
+        let bins =
+            BinTable::fixed(vec![Chrom::new("a", 40_000), Chrom::new("b", 30_000)], 10).unwrap();
+        let mut builder = MatrixBuilder::new(bins.clone(), CountType::Float);
+        let mut state = 3u64;
+        for i in 0..bins.n_bins() as u64 {
+            for j in i..(i + 60).min(bins.n_bins() as u64) {
+                state = state
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                builder.push(i, j, (state >> 40) as f64 / 977.0).unwrap();
+            }
+        }
+        let pixels = pixels_of(&builder.build());
+        assert!(pixels.len() > 4 * crate::matrix::pixels::SLICE_PIXELS);
+        let weights: Vec<f64> = (0..bins.n_bins())
+            .map(|k| 1.0 / (1.0 + (k % 13) as f64))
+            .collect();
+        let view = View::chromosomes(&bins);
+        let run = |threads: usize| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| {
+                    expected_cis(&pixels, Some(&weights), &view, &CisParams::default()).unwrap()
+                })
+        };
+        let one = run(1);
+        let three = run(3);
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(
+            bits(one.balanced_sum.as_ref().unwrap()),
+            bits(three.balanced_sum.as_ref().unwrap())
+        );
+        assert_eq!(
+            bits(one.avg_smoothed_agg.as_ref().unwrap()),
+            bits(three.avg_smoothed_agg.as_ref().unwrap())
+        );
+    }
+
+    fn naive_valid(good: &[bool]) -> Vec<u64> {
+        let n = good.len();
+        (0..n)
+            .map(|d| (0..n - d).filter(|&i| good[i] && good[i + d]).count() as u64)
+            .collect()
+    }
+
+    #[test]
+    fn valid_pairs_match_the_naive_count() {
+        let mut state = 7u64;
+        for n in [1usize, 2, 5, 63, 64, 65, 130, 500] {
+            for density in [0.0, 0.02, 0.3, 0.5, 0.8, 0.99, 1.0] {
+                let good: Vec<bool> = (0..n)
+                    .map(|_| {
+                        state = state.wrapping_mul(6364136223846793005).wrapping_add(1);
+                        ((state >> 11) as f64 / (1u64 << 53) as f64) < density
+                    })
+                    .collect();
+                assert_eq!(
+                    valid_pairs_per_diagonal(&good),
+                    naive_valid(&good),
+                    "n {n} density {density}"
+                );
+                assert_eq!(
+                    bitset_autocorrelation(&good),
+                    naive_valid(&good),
+                    "bitset n {n} density {density}"
+                );
+            }
+        }
+    }
+}

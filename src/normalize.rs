@@ -14,7 +14,8 @@
 //! included), and `SD[r][d]` the standard deviation over the same valid pixels, zeros included:
 //! `sqrt(sum(o^2) / n_valid - E^2)`. Only stored (non-zero) pixels are written, and pixels whose
 //! value is not finite are dropped (masked bins, diagonals whose expected is NaN or zero — the
-//! ignored diagonals among them). For cis pixels the `oe` values are those of cooltools'
+//! ignored diagonals among them — and, for `zscore`, diagonals without spread, such as the last
+//! diagonal of a region, which holds one pixel). For cis pixels the `oe` values are those of cooltools'
 //! `sandbox.obs_over_exp_cooler.obs_over_exp` (unsmoothed `balanced.avg`); unlike it, trans pixels
 //! and pixels outside the regions are dropped rather than divided by a trans expected.
 

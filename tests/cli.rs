@@ -15,6 +15,8 @@ mod expected;
 mod hic;
 #[path = "cli/info.rs"]
 mod info;
+#[path = "cli/normalize.rs"]
+mod normalize;
 #[path = "cli/roundtrip.rs"]
 mod roundtrip;
 #[path = "cli/text.rs"]

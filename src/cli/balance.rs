@@ -1,17 +1,471 @@
-//! `contactmap balance`. Being written.
+//! `contactmap balance`: ICE as `cooler balance`, VC, VC_SQRT and KR as Juicer; weights to a TSV
+//! or stored into the cooler.
 
-use clap::Args;
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
 
+use clap::{Args, ValueEnum};
+
+use crate::balance::{balance, BalanceParams, BalanceResult, Method, Scope};
+use crate::cli::output::Output;
+use crate::cli::InputArgs;
 use crate::error::{Error, Result};
+use crate::genome::BinTable;
+use crate::io::cool::store::{check_target, store_weights, AttrValue};
+use crate::io::{self, default_memory_budget, load_pixels, parse_memory_size, FileKind};
+use crate::matrix::Weights;
+
+/// Balancing methods, for `--method`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum MethodArg {
+    /// iterative correction, exactly as cooler 0.11 `cooler balance`
+    Ice,
+    /// vanilla coverage (1 / row sum), scaled as Juicer
+    Vc,
+    /// square root of vanilla coverage (1 / sqrt(row sum)), scaled as Juicer
+    VcSqrt,
+    /// Knight-Ruiz, as Juicer
+    Kr,
+}
+
+impl From<MethodArg> for Method {
+    fn from(arg: MethodArg) -> Self {
+        match arg {
+            MethodArg::Ice => Method::Ice,
+            MethodArg::Vc => Method::Vc,
+            MethodArg::VcSqrt => Method::VcSqrt,
+            MethodArg::Kr => Method::Kr,
+        }
+    }
+}
 
 /// Arguments of `contactmap balance`.
 #[derive(Debug, Args)]
+#[command(after_long_help = "\
+ICE (default) follows cooler 0.11 `cooler balance` step by step, with its defaults: pixels on the
+first --ignore-diags diagonals left out, bins masked by --min-nnz, --min-count, the MAD-max filter
+and --blacklist, then iterations until the variance of the nonzero marginals is below --tol; the
+weights are rescaled so that balanced rows sum to 1, as cooler does.
+
+VC, VC-SQRT and KR follow Juicer: no filter (the filter options still apply when given), the
+diagonal included, the divisive vector scaled so that the balanced matrix sums to the raw one;
+KR uses Juicer's tolerance 1e-6 and its rules for dropping rows that cannot be balanced. Juicer's
+own KR / VC / VC_SQRT vectors (the columns hic2cool writes) are per chromosome: use --cis-only to
+reproduce them (without it, Juicer's GW_ vectors).
+
+Weights are multiplicative (balanced = count * w1 * w2), NaN for masked bins. Without --store they
+are printed as a table `chrom start end NAME` with a header line (NaN as `nan`, full precision)
+to standard output or -o FILE, and a summary (`# converged=... scale=... var=...`) goes to
+standard error. With --store the column bins/NAME is written into the cooler with cooler's
+attributes (converged, scale, var, tol, min_nnz, min_count, mad_max, ignore_diags, cis_only,
+divisive_weights); an existing column is replaced only with --force. The new column is written
+under a temporary name and swapped in, so a failure leaves the file as it was. Columns named KR, VC
+or VC_SQRT are stored divisive (cooler divides by those names).
+
+When the balancing does not converge within --max-iters, a WARNING line goes to standard error
+and the summary says converged=false; the table is still written (exit code 0), as cooler's
+default does. --store, however, refuses to store unconverged weights (exit code 2, the file is
+left as it was) unless --store-unconverged is given (then converged=false is stored with them).
+A chromosome with no contacts left after filtering gets NaN weights and counts as converged, as in
+cooler.
+
+The pixels are copied into memory (16 bytes each) when they fit --max-memory, otherwise every
+iteration streams them from the file (slower, same weights).
+
+Examples:
+  contactmap balance data/CN.mm9.10000kb.cool -o weights.tsv
+  contactmap balance data/cooler_test_file.mcool::/resolutions/100000 --cis-only
+  contactmap balance copy.cool --store --force --name weight
+  contactmap balance data/cooler_test_file.mcool::/resolutions/100000 --method kr --cis-only
+  contactmap balance big.cool --blacklist gaps.bed --max-memory 2G -o w.tsv.gz")]
 pub struct BalanceArgs {
-    /// Matrix URI.
+    /// Matrix URI: file.cool, file.mcool::/resolutions/N; .hic and text tables too, without --store.
     pub uri: String,
+    /// Balancing method.
+    #[arg(long, value_enum, default_value_t = MethodArg::Ice)]
+    pub method: MethodArg,
+    /// Leave out the first N diagonals (0: none, 1: the main diagonal, 2: also +-1). Default 2 for
+    /// ICE (cooler), 0 for VC / KR (Juicer).
+    #[arg(long, value_name = "N")]
+    pub ignore_diags: Option<u64>,
+    /// Leave out pixels closer than this many bp (the larger of this, in diagonals, and
+    /// --ignore-diags is used; fixed bins only).
+    #[arg(long, value_name = "BP")]
+    pub ignore_dist: Option<u64>,
+    /// MAD-max filter: mask bins whose log marginal is more than N median absolute deviations
+    /// below the median (0: off). Default 5 for ICE, 0 for VC / KR.
+    #[arg(long, value_name = "N")]
+    pub mad_max: Option<f64>,
+    /// Mask bins with fewer nonzero pixels than N. Default 10 for ICE, 0 for VC / KR.
+    #[arg(long, value_name = "N")]
+    pub min_nnz: Option<u64>,
+    /// Mask bins whose marginal count is below N (default 0: off).
+    #[arg(long, value_name = "N")]
+    pub min_count: Option<f64>,
+    /// Mask the bins overlapping the regions of this BED file (chrom start end).
+    #[arg(long, value_name = "BED")]
+    pub blacklist: Option<PathBuf>,
+    /// Convergence tolerance: variance of the marginals (ICE, default 1e-5) or residual (KR,
+    /// default 1e-6).
+    #[arg(long)]
+    pub tol: Option<f64>,
+    /// Iteration limit (ICE iterations; KR Newton iterations per try). Default 200.
+    #[arg(long, value_name = "N")]
+    pub max_iters: Option<usize>,
+    /// Balance each chromosome on its intra-chromosomal pixels only.
+    #[arg(long, conflicts_with = "trans_only")]
+    pub cis_only: bool,
+    /// Balance on the inter-chromosomal pixels only.
+    #[arg(long)]
+    pub trans_only: bool,
+    /// Name of the weight column.
+    #[arg(long, default_value = "weight")]
+    pub name: String,
+    /// Store the weights into the cooler as bins/NAME instead of printing them.
+    #[arg(long, conflicts_with = "out")]
+    pub store: bool,
+    /// With --store: replace an existing column.
+    #[arg(short, long)]
+    pub force: bool,
+    /// With --store: store the weights even when the balancing did not converge (with
+    /// converged=false).
+    #[arg(long, requires = "store")]
+    pub store_unconverged: bool,
+    /// Write the table to FILE (gzip if it ends in .gz) instead of standard output.
+    #[arg(short, long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+    /// Memory for the in-memory copy of the pixels, e.g. 8G, 512M (default: half of the RAM);
+    /// larger matrices are streamed from the file on every iteration.
+    #[arg(long, value_name = "SIZE")]
+    pub max_memory: Option<String>,
+    /// Options for text inputs.
+    #[command(flatten)]
+    pub input: InputArgs,
 }
 
 /// Run `contactmap balance`.
 pub fn run(args: &BalanceArgs) -> Result<()> {
-    Err(Error::Invalid(format!("{}: not available yet", args.uri)))
+    let budget = match &args.max_memory {
+        Some(text) => parse_memory_size(text)?,
+        None => default_memory_budget(),
+    };
+    if args.store {
+        let (path, _) = io::split_uri(&args.uri);
+        if io::detect_kind(path)? != FileKind::Hdf5 {
+            return Err(Error::Invalid(format!(
+                "{}: --store writes into .cool / .mcool files only; write a table with -o instead",
+                args.uri
+            )));
+        }
+        check_target(&args.uri, &args.name, args.force)?;
+    }
+    // The reader (and the pixels borrowing it) is closed before --store opens the file to write.
+    let (result, bins, params_used) = {
+        let reader = io::open_matrix(&args.uri, &args.input.to_options()?)?;
+        let params = params(args, reader.bins())?;
+        let pixels = load_pixels(reader.as_ref(), budget)?;
+        let result = balance(&pixels, &params)?;
+        (result, reader.bins().clone(), params)
+    };
+    if !result.converged {
+        let message = format!(
+            "{}: {} balancing did not converge within {} iterations ({})",
+            args.uri,
+            params_used.method.name(),
+            params_used.max_iters,
+            unconverged_detail(&result, &bins, params_used.tol)
+        );
+        if args.store && !args.store_unconverged {
+            return Err(Error::Invalid(format!(
+                "{message}; nothing stored. Raise --max-iters or --tol, or pass --store-unconverged"
+            )));
+        }
+        let what = if args.store { "storing" } else { "writing" };
+        eprintln!("contactmap: WARNING: {message}; {what} the unconverged weights anyway");
+    }
+    let weights = Weights {
+        name: args.name.clone(),
+        values: result.weights.clone(),
+        provenance: None,
+    };
+    if args.store {
+        store_weights(
+            &args.uri,
+            &weights,
+            &attributes(&params_used, &result),
+            args.force,
+        )?;
+    } else {
+        write_table(&bins, &weights, args.out.as_deref())?;
+    }
+    eprint!("{}", summary(&params_used, &result, &bins));
+    Ok(())
+}
+
+/// Check the options and build the library's parameters, with the method's defaults.
+fn params(args: &BalanceArgs, bins: &BinTable) -> Result<BalanceParams> {
+    let method: Method = args.method.into();
+    let mut params = BalanceParams::for_method(method);
+    params.scope = if args.cis_only {
+        Scope::Cis
+    } else if args.trans_only {
+        Scope::Trans
+    } else {
+        Scope::GenomeWide
+    };
+    if let Some(n) = args.ignore_diags {
+        params.ignore_diags = n;
+    }
+    if let Some(bp) = args.ignore_dist {
+        let Some(bin_size) = bins.bin_size_bp() else {
+            return Err(Error::Invalid(
+                "--ignore-dist needs fixed-size bins; use --ignore-diags".into(),
+            ));
+        };
+        params.ignore_diags = params.ignore_diags.max(bp.div_ceil(bin_size));
+    }
+    if let Some(m) = args.mad_max {
+        if !(m.is_finite() && m >= 0.0) {
+            return Err(Error::Invalid(format!(
+                "--mad-max must be a non-negative number (got {m})"
+            )));
+        }
+        params.mad_max = m;
+    }
+    if let Some(n) = args.min_nnz {
+        params.min_nnz = n;
+    }
+    if let Some(c) = args.min_count {
+        params.min_count = c;
+    }
+    if let Some(tol) = args.tol {
+        if !(tol.is_finite() && tol > 0.0) {
+            return Err(Error::Invalid(format!(
+                "--tol must be a positive number (got {tol})"
+            )));
+        }
+        params.tol = tol;
+    }
+    if let Some(n) = args.max_iters {
+        if n == 0 {
+            return Err(Error::Invalid("--max-iters must be at least 1".into()));
+        }
+        params.max_iters = n;
+    }
+    if let Some(path) = &args.blacklist {
+        params.blacklist = read_blacklist(path, bins)?;
+    }
+    Ok(params)
+}
+
+/// Bins overlapping the regions of a BED file. `#`, `track` and `browser` lines, and lines whose
+/// start and end are not whole numbers (a header), are skipped, as `cooler balance` does; regions
+/// past a chromosome's end are clipped; an unknown chromosome is an error.
+fn read_blacklist(path: &Path, bins: &BinTable) -> Result<Vec<usize>> {
+    let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+    let mut raw = BufReader::new(file);
+    let gzip = raw
+        .fill_buf()
+        .map_err(|e| Error::io(path, e))?
+        .starts_with(&[0x1f, 0x8b]);
+    let reader: Box<dyn BufRead> = if gzip {
+        Box::new(BufReader::new(flate2::read::MultiGzDecoder::new(raw)))
+    } else {
+        Box::new(raw)
+    };
+    let mut masked = Vec::new();
+    for (index, line) in reader.lines().enumerate() {
+        let line_no = index as u64 + 1;
+        let line = line.map_err(|e| Error::io(path, e))?;
+        let line = line.trim_end_matches('\r');
+        if line.trim().is_empty()
+            || line.starts_with('#')
+            || line.starts_with("track")
+            || line.starts_with("browser")
+        {
+            continue;
+        }
+        let fields: Vec<&str> = line.split('\t').collect();
+        if fields.len() < 3 {
+            return Err(Error::parse(
+                path,
+                line_no,
+                format!(
+                    "expected 3 tab-separated columns (chrom start end), found {}",
+                    fields.len()
+                ),
+            ));
+        }
+        let (Ok(start), Ok(end)) = (
+            fields[1].trim().parse::<u64>(),
+            fields[2].trim().parse::<u64>(),
+        ) else {
+            continue;
+        };
+        let chrom = fields[0].trim();
+        let Some(chrom_id) = bins.chrom_id(chrom) else {
+            return Err(Error::parse(
+                path,
+                line_no,
+                format!("no chromosome '{chrom}' in this matrix"),
+            ));
+        };
+        let end = end.min(bins.chroms()[chrom_id].length_bp);
+        if start >= end || bins.chrom_bins(chrom_id).is_empty() {
+            continue;
+        }
+        let lo = bins.bin_at(chrom_id, start);
+        let hi = bins.bin_at(chrom_id, end - 1) + 1;
+        masked.extend(lo..hi);
+    }
+    masked.sort_unstable();
+    masked.dedup();
+    Ok(masked)
+}
+
+/// Which groups did not converge, for the error message.
+fn unconverged_detail(result: &BalanceResult, bins: &BinTable, tol: f64) -> String {
+    match &result.per_chrom {
+        Some(per_chrom) => {
+            let names: Vec<String> = per_chrom
+                .iter()
+                .zip(bins.chroms())
+                .filter(|(g, _)| !g.converged)
+                .map(|(g, c)| format!("{} var={:e}", c.name, g.var))
+                .collect();
+            format!("tol={tol:e}; not converged: {}", names.join(", "))
+        }
+        None => format!("var={:e}, tol={tol:e}", result.var),
+    }
+}
+
+/// An integral value as an integer attribute (cooler stores its integer options as int64).
+fn number_attr(value: f64) -> AttrValue {
+    if value.fract() == 0.0 && value.abs() < 9e15 {
+        AttrValue::Int(value as i64)
+    } else {
+        AttrValue::Float(value)
+    }
+}
+
+/// cooler's attributes of a stored weight column.
+fn attributes(params: &BalanceParams, result: &BalanceResult) -> Vec<(String, AttrValue)> {
+    let mut attrs = vec![
+        ("tol".to_string(), AttrValue::Float(params.tol)),
+        ("min_nnz".to_string(), AttrValue::Int(params.min_nnz as i64)),
+        ("min_count".to_string(), number_attr(params.min_count)),
+        ("mad_max".to_string(), number_attr(params.mad_max)),
+        (
+            "cis_only".to_string(),
+            AttrValue::Bool(params.scope == Scope::Cis),
+        ),
+        (
+            "ignore_diags".to_string(),
+            AttrValue::Int(params.ignore_diags as i64),
+        ),
+    ];
+    match &result.per_chrom {
+        Some(per_chrom) => {
+            attrs.push((
+                "scale".to_string(),
+                AttrValue::Floats(per_chrom.iter().map(|g| g.scale).collect()),
+            ));
+            attrs.push((
+                "converged".to_string(),
+                AttrValue::Bools(per_chrom.iter().map(|g| g.converged).collect()),
+            ));
+            attrs.push((
+                "var".to_string(),
+                AttrValue::Floats(per_chrom.iter().map(|g| g.var).collect()),
+            ));
+        }
+        None => {
+            attrs.push(("scale".to_string(), AttrValue::Float(result.scale)));
+            attrs.push(("converged".to_string(), AttrValue::Bool(result.converged)));
+            attrs.push(("var".to_string(), AttrValue::Float(result.var)));
+        }
+    }
+    if params.scope == Scope::Trans {
+        attrs.push(("trans_only".to_string(), AttrValue::Bool(true)));
+    }
+    attrs.push((
+        "method".to_string(),
+        AttrValue::Str(params.method.name().to_string()),
+    ));
+    attrs
+}
+
+/// Write `chrom start end NAME` with a header line.
+fn write_table(bins: &BinTable, weights: &Weights, path: Option<&Path>) -> Result<()> {
+    let mut out = Output::open(path)?;
+    let mut text = Vec::with_capacity(1 << 20);
+    text.extend_from_slice(format!("chrom\tstart\tend\t{}\n", weights.name).as_bytes());
+    for (bin_id, &w) in weights.values.iter().enumerate() {
+        let bin = bins.bin(bin_id);
+        let name = &bins.chroms()[bin.chrom_id].name;
+        let value = if w.is_nan() {
+            "nan".to_string()
+        } else {
+            format!("{w:?}")
+        };
+        text.extend_from_slice(format!("{name}\t{}\t{}\t{value}\n", bin.start, bin.end).as_bytes());
+        if text.len() > (1 << 20) {
+            out.write_all(&text)?;
+            text.clear();
+        }
+    }
+    out.write_all(&text)?;
+    out.finish()
+}
+
+/// The summary printed on standard error.
+fn summary(params: &BalanceParams, result: &BalanceResult, bins: &BinTable) -> String {
+    let scope = match params.scope {
+        Scope::GenomeWide => "genome-wide",
+        Scope::Cis => "cis-only",
+        Scope::Trans => "trans-only",
+    };
+    let mut text = format!(
+        "# method={} scope={scope} converged={} n_iterations={} masked_bins={}/{}",
+        params.method.name(),
+        result.converged,
+        result.n_iterations,
+        result.n_masked(),
+        result.weights.len()
+    );
+    match &result.per_chrom {
+        None => text.push_str(&format!(" scale={:?} var={:e}\n", result.scale, result.var)),
+        Some(per_chrom) => {
+            text.push('\n');
+            for (g, chrom) in per_chrom.iter().zip(bins.chroms()) {
+                text.push_str(&format!(
+                    "# {} converged={} n_iterations={} scale={:?} var={:e}\n",
+                    chrom.name, g.converged, g.n_iterations, g.scale, g.var
+                ));
+            }
+        }
+    }
+    text
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::genome::Chrom;
+
+    #[test]
+    fn blacklist_regions_select_overlapping_bins() {
+        let bins = BinTable::fixed(vec![Chrom::new("a", 100), Chrom::new("b", 55)], 10).unwrap();
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("black.bed");
+        std::fs::write(
+            &path,
+            "track name=x\nchrom\tstart\tend\na\t15\t31\tfoo\nb\t50\t1000\n#c\t0\t1\na\t40\t40\n",
+        )
+        .unwrap();
+        assert_eq!(read_blacklist(&path, &bins).unwrap(), vec![1, 2, 3, 15]);
+        std::fs::write(&path, "a\t0\t10\nchrZ\t0\t10\n").unwrap();
+        let err = read_blacklist(&path, &bins).unwrap_err().to_string();
+        assert!(err.contains(":2:") && err.contains("chrZ"), "{err}");
+    }
 }

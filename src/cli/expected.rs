@@ -1,17 +1,659 @@
-//! `contactmap expected`. Being written.
+//! `contactmap expected`: cis expected as `cooltools expected-cis`, trans expected as
+//! `cooltools expected-trans`, log-binned P(s) with slopes, and power-law exponents.
+
+use std::io::Read;
+use std::path::{Path, PathBuf};
 
 use clap::Args;
+use rayon::prelude::*;
 
+use crate::cli::output::{write_u64, Output};
+use crate::cli::InputArgs;
 use crate::error::{Error, Result};
+use crate::expected::logbin::{logbin_expected, LogBinParams, LogBinned};
+use crate::expected::powerlaw::{
+    default_fit_range, fit_bins, fit_log_binned, FitParams, FitRange, PowerLawReport,
+};
+use crate::expected::{
+    expected_cis, expected_trans, CisExpected, CisParams, Column, RegionSpec, TransExpected, View,
+};
+use crate::io::{self, LoadedPixels, MatrixReader, StreamedPixels};
 
 /// Arguments of `contactmap expected`.
 #[derive(Debug, Args)]
+#[command(after_long_help = "\
+Output (tab-separated, header line, NaN as `nan`, numbers with every digit):
+
+  default    the cis expected table of `cooltools expected-cis` with smoothing on (the Python
+             API's defaults: smooth=True, aggregate_smoothed=True, smooth_sigma=0.1; the
+             cooltools command line needs --smooth --aggregate-smoothed for the same table):
+             region1 region2 dist dist_bp contact_frequency n_total n_valid count.sum
+             [balanced.sum] count.avg [balanced.avg] X.avg.smoothed X.avg.smoothed.agg
+  --trans    the trans table of `cooltools expected-trans`:
+             region1 region2 n_valid count.sum [balanced.sum] count.avg [balanced.avg]
+  --logbin   log-binned P(s) combined over regions (cooltools logbin_expected +
+             combine_binned_expected: 10 bins per decade, distances in bins; per region, bins
+             with n_valid <= 200 or count.sum <= 50 are dropped, as cooltools does), with the
+             local slope d ln P / d ln s from each bin to the next:
+             dist_bin_id X.avg n_valid dist.avg dist_bin_start dist_bin_end low_err high_err
+             dist_bp.avg slope slope.low_err slope.high_err slope.dist.avg slope.n_valid
+             The power-law exponent goes to standard error.
+  --fit      power-law exponent of P(s) over --fit-range (least squares on the log-binned
+             P(s) in log-log space, at each bin's effective distance), with its 95% CI
+             (Student's t) and R^2, and piecewise exponents between 0-3 breakpoints chosen
+             by BIC (--json for everything, with the points fitted)
+
+Balanced values use the weight column --weight-name (default `weight`, cooler's ICE weights);
+--raw uses raw counts with no masked bins, as cooltools with clr_weight_name=None.
+The view (--view) is a BED file `chrom start end [name]` of sorted, non-overlapping regions
+(names default to chrom:start-end); without it, whole chromosomes.
+The default fit range is max(ignore-diags, 2) bins to a quarter of the median region length.
+
+Examples:
+  contactmap expected data/cooler_test_file.mcool::/resolutions/100000 -o exp.tsv
+  contactmap expected data/hg19.GM12878-MboI.matrix.2000kb.cool --raw --trans
+  contactmap expected data/cooler_test_file.mcool::/resolutions/100000 --fit --fit-range 200k-5M
+  contactmap expected big.cool --raw --logbin --view arms.bed")]
 pub struct ExpectedArgs {
-    /// Matrix URI.
+    /// Matrix URI: file.cool, file.mcool::/resolutions/N, file.hic[::/resolutions/N], text table.
     pub uri: String,
+    /// Write to FILE (gzip if it ends in .gz) instead of standard output.
+    #[arg(short, long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+    /// Weight column for balanced values.
+    #[arg(long, default_value = "weight", value_name = "COLUMN")]
+    pub weight_name: String,
+    /// Raw counts: no weights, no masked bins (cooltools' clr_weight_name=None).
+    #[arg(long, visible_alias = "no-balance")]
+    pub raw: bool,
+    /// BED file of regions (`chrom start end [name]`), sorted and non-overlapping.
+    #[arg(long, value_name = "BED")]
+    pub view: Option<PathBuf>,
+    /// Diagonals 0..N get NaN sums.
+    #[arg(long, default_value_t = 2, value_name = "N")]
+    pub ignore_diags: usize,
+    /// Standard deviation of the smoothing kernel, in log10(distance).
+    #[arg(long, default_value_t = 0.1, value_name = "SIGMA")]
+    pub smooth_sigma: f64,
+    /// Leave out the smoothed columns.
+    #[arg(long)]
+    pub no_smooth: bool,
+    /// Leave out the smoothed-over-all-regions column (*.avg.smoothed.agg).
+    #[arg(long)]
+    pub no_aggregate: bool,
+    /// Print the trans expected (pairs of regions on different chromosomes) instead.
+    #[arg(long, conflicts_with_all = ["logbin", "fit", "json"])]
+    pub trans: bool,
+    /// Print the log-binned P(s) with its slopes instead.
+    #[arg(long, conflicts_with_all = ["fit", "json"])]
+    pub logbin: bool,
+    /// Print power-law exponents of P(s) instead.
+    #[arg(long)]
+    pub fit: bool,
+    /// Distance range of the fits in bp, e.g. 100k-10M (default: see below).
+    #[arg(long, value_name = "MIN-MAX")]
+    pub fit_range: Option<String>,
+    /// Power-law report as JSON (implies --fit).
+    #[arg(long)]
+    pub json: bool,
+    /// Copy the pixels into memory first when they fit SIZE (e.g. 8G; 0 never copies). By
+    /// default they are streamed from the file: expected makes a single pass over them, so a
+    /// copy only costs time and memory.
+    #[arg(long, value_name = "SIZE")]
+    pub max_memory: Option<String>,
+    /// Options for text inputs.
+    #[command(flatten)]
+    pub input: InputArgs,
+}
+
+/// What to print.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Report {
+    Cis,
+    Trans,
+    LogBin,
+    Fit { json: bool },
+}
+
+/// Checked parameters.
+struct Checked {
+    report: Report,
+    params: CisParams,
+    fit_range: Option<FitRange>,
+    /// `None`: stream the pixels.
+    max_memory: Option<u64>,
+}
+
+fn check(args: &ExpectedArgs) -> Result<Checked> {
+    let report = if args.trans {
+        Report::Trans
+    } else if args.logbin {
+        Report::LogBin
+    } else if args.fit || args.json {
+        Report::Fit { json: args.json }
+    } else {
+        Report::Cis
+    };
+    if !(args.smooth_sigma > 0.0 && args.smooth_sigma.is_finite()) {
+        return Err(Error::Invalid(format!(
+            "--smooth-sigma must be a positive number (got {})",
+            args.smooth_sigma
+        )));
+    }
+    let fit_range = args.fit_range.as_deref().map(parse_range).transpose()?;
+    let max_memory = args
+        .max_memory
+        .as_deref()
+        .map(io::parse_memory_size)
+        .transpose()?;
+    Ok(Checked {
+        report,
+        params: CisParams {
+            ignore_diags: args.ignore_diags,
+            smooth: !args.no_smooth,
+            aggregate_smoothed: !args.no_smooth && !args.no_aggregate,
+            smooth_sigma_log10: args.smooth_sigma,
+        },
+        fit_range,
+        max_memory,
+    })
 }
 
 /// Run `contactmap expected`.
 pub fn run(args: &ExpectedArgs) -> Result<()> {
-    Err(Error::Invalid(format!("{}: not available yet", args.uri)))
+    let checked = check(args)?;
+    let reader = io::open_matrix(&args.uri, &args.input.to_options()?)?;
+    let weights = if args.raw {
+        None
+    } else {
+        Some(read_weights(reader.as_ref(), &args.weight_name)?)
+    };
+    let view = match &args.view {
+        Some(path) => read_view(path, reader.as_ref())?,
+        None => View::chromosomes(reader.bins()),
+    };
+    if reader.bins().bin_size_bp().is_none() {
+        return Err(Error::format(
+            reader.source(),
+            "expected needs fixed-size bins (distances are diagonals times the bin size)",
+        ));
+    }
+    let pixels = match checked.max_memory {
+        Some(budget) => io::load_pixels(reader.as_ref(), budget)?,
+        None => LoadedPixels::Streamed(StreamedPixels::new(reader.as_ref())),
+    };
+    let weights = weights.as_deref();
+    match checked.report {
+        Report::Trans => {
+            let table = expected_trans(&pixels, weights, &view)?;
+            write_text(args, &trans_text(&table))
+        }
+        Report::Cis => {
+            let table = expected_cis(&pixels, weights, &view, &checked.params)?;
+            write_text(args, &cis_text(&table))
+        }
+        Report::LogBin => {
+            let (_, binned, fit) = power_law(&pixels, weights, &view, &checked)?;
+            write_text(args, &logbin_text(&binned))?;
+            match fit {
+                Ok(report) => eprintln!("{}", headline(&report)),
+                Err(e) => eprintln!("contactmap: no power-law fit: {e}"),
+            }
+            Ok(())
+        }
+        Report::Fit { json } => {
+            let (table, binned, fit) = power_law(&pixels, weights, &view, &checked)?;
+            let report = fit?;
+            let text = if json {
+                let mut text =
+                    serde_json::to_string_pretty(&fit_json(args, &table, &binned, &report))
+                        .map_err(|e| Error::Invalid(format!("JSON output: {e}")))?;
+                text.push('\n');
+                text
+            } else {
+                fit_text(&report)
+            };
+            write_text(args, text.as_bytes())
+        }
+    }
+}
+
+/// The cis table (without smoothing: the log-binned analyses use the sums), its log-binned
+/// P(s), and the power-law fits over the asked or default range.
+fn power_law(
+    pixels: &LoadedPixels<'_>,
+    weights: Option<&[f64]>,
+    view: &View,
+    checked: &Checked,
+) -> Result<(CisExpected, LogBinned, Result<PowerLawReport>)> {
+    let params = CisParams {
+        smooth: false,
+        aggregate_smoothed: false,
+        ..checked.params
+    };
+    let table = expected_cis(pixels, weights, view, &params)?;
+    let binned = logbin_expected(&table, &LogBinParams::default())?;
+    let range = checked.fit_range.unwrap_or_else(|| {
+        default_fit_range(
+            table.bin_size_bp,
+            params.ignore_diags,
+            view.median_length_bp(),
+        )
+    });
+    let fit = fit_log_binned(&binned, &FitParams::new(range));
+    Ok((table, binned, fit))
+}
+
+fn write_text(args: &ExpectedArgs, text: &[u8]) -> Result<()> {
+    let mut out = Output::open(args.out.as_deref())?;
+    out.write_all(text)?;
+    out.finish()
+}
+
+/// The weight column `name`, or an error listing the available ones.
+fn read_weights(reader: &dyn MatrixReader, name: &str) -> Result<Vec<f64>> {
+    let names = reader.weight_names();
+    if !names.iter().any(|n| n == name) {
+        let available = if names.is_empty() {
+            "it has none".to_string()
+        } else {
+            format!("it has {}", names.join(", "))
+        };
+        return Err(Error::format(
+            reader.source(),
+            format!(
+                "no weight column '{name}' ({available}); use --weight-name NAME, or --raw for raw counts"
+            ),
+        ));
+    }
+    Ok(reader.weights(name)?.values)
+}
+
+/// Read a BED view (`chrom start end [name]`, gzip allowed) and check it against the matrix.
+fn read_view(path: &Path, reader: &dyn MatrixReader) -> Result<View> {
+    let mut bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    if bytes.starts_with(&[0x1f, 0x8b]) {
+        let mut text = Vec::new();
+        flate2::read::MultiGzDecoder::new(bytes.as_slice())
+            .read_to_end(&mut text)
+            .map_err(|e| Error::io(path, e))?;
+        bytes = text;
+    }
+    let text =
+        String::from_utf8(bytes).map_err(|_| Error::format(path, "not a text (UTF-8) BED file"))?;
+    let mut specs = Vec::new();
+    for (index, line) in text.lines().enumerate() {
+        let line_number = index as u64 + 1;
+        let trimmed = line.trim_end_matches('\r');
+        if trimmed.trim().is_empty()
+            || trimmed.starts_with('#')
+            || trimmed.starts_with("track")
+            || trimmed.starts_with("browser")
+        {
+            continue;
+        }
+        let fields: Vec<&str> = if trimmed.contains('\t') {
+            trimmed.split('\t').collect()
+        } else {
+            trimmed.split_whitespace().collect()
+        };
+        if !(3..=4).contains(&fields.len()) {
+            return Err(Error::parse(
+                path,
+                line_number,
+                format!(
+                    "expected 3 or 4 columns (chrom start end [name]), found {}",
+                    fields.len()
+                ),
+            ));
+        }
+        let number = |text: &str, what: &str| {
+            text.trim().parse::<u64>().map_err(|_| {
+                Error::parse(
+                    path,
+                    line_number,
+                    format!("{what} '{text}' is not a non-negative integer"),
+                )
+            })
+        };
+        specs.push(RegionSpec {
+            chrom: fields[0].trim().to_string(),
+            start_bp: number(fields[1], "start")?,
+            end_bp: number(fields[2], "end")?,
+            name: fields.get(3).map(|n| n.trim().to_string()),
+        });
+    }
+    View::new(reader.bins(), &specs).map_err(|e| Error::format(path, e.to_string()))
+}
+
+/// Parse `MIN-MAX` in bp with optional k / kb / M / Mb / G / Gb suffixes (`100k-10M`).
+fn parse_range(text: &str) -> Result<FitRange> {
+    let bad = |why: &str| {
+        Error::Invalid(format!(
+            "--fit-range '{text}': {why} (expected MIN-MAX in bp, e.g. 100k-10M)"
+        ))
+    };
+    let (min, max) = text.split_once('-').ok_or_else(|| bad("no '-'"))?;
+    let parse = |part: &str| -> Result<f64> {
+        let cleaned: String = part
+            .trim()
+            .chars()
+            .filter(|&c| c != ',' && c != '_')
+            .collect::<String>()
+            .to_ascii_lowercase();
+        let (number, multiplier) = [
+            ("gb", 1e9),
+            ("mb", 1e6),
+            ("kb", 1e3),
+            ("g", 1e9),
+            ("m", 1e6),
+            ("k", 1e3),
+            ("bp", 1.0),
+        ]
+        .iter()
+        .find_map(|(suffix, m)| cleaned.strip_suffix(suffix).map(|n| (n.to_string(), *m)))
+        .unwrap_or((cleaned.clone(), 1.0));
+        let value: f64 = number
+            .trim()
+            .parse()
+            .map_err(|_| bad(&format!("'{}' is not a distance", part.trim())))?;
+        Ok(value * multiplier)
+    };
+    let range = FitRange {
+        min_bp: parse(min)?,
+        max_bp: parse(max)?,
+    };
+    if !(range.min_bp > 0.0 && range.max_bp > range.min_bp && range.max_bp.is_finite()) {
+        return Err(bad("MIN must be positive and below MAX"));
+    }
+    Ok(range)
+}
+
+/// Append a real number: shortest round-trip digits, `nan` / `inf` / `-inf`, integers without
+/// a decimal point, exponent notation for very small or very large magnitudes.
+fn write_real(out: &mut Vec<u8>, value: f64) {
+    use std::io::Write as _;
+    if value.is_nan() {
+        out.extend_from_slice(b"nan");
+    } else if value.is_infinite() {
+        out.extend_from_slice(if value > 0.0 { b"inf" } else { b"-inf" });
+    } else if value == 0.0 || (1e-5..1e16).contains(&value.abs()) {
+        let _ = write!(out, "{value}");
+    } else {
+        let _ = write!(out, "{value:e}");
+    }
+}
+
+fn write_column(out: &mut Vec<u8>, column: &Column<'_>, row: usize) {
+    match column {
+        Column::Integer(values) => write_u64(out, values[row]),
+        Column::Real(values) => write_real(out, values[row]),
+    }
+}
+
+/// Rows formatted per parallel task.
+const FORMAT_TASK_ROWS: usize = 4096;
+
+fn table_text(
+    n_rows: usize,
+    columns: &[(String, Column<'_>)],
+    region1: impl Fn(usize) -> String + Sync,
+    region2: impl Fn(usize) -> String + Sync,
+) -> Vec<u8> {
+    let mut text = Vec::with_capacity(64 * (n_rows + 1));
+    text.extend_from_slice(b"region1\tregion2");
+    for (name, _) in columns {
+        text.push(b'\t');
+        text.extend_from_slice(name.as_bytes());
+    }
+    text.push(b'\n');
+    let chunks: Vec<Vec<u8>> = (0..n_rows.div_ceil(FORMAT_TASK_ROWS))
+        .into_par_iter()
+        .map(|chunk| {
+            let rows = chunk * FORMAT_TASK_ROWS..((chunk + 1) * FORMAT_TASK_ROWS).min(n_rows);
+            let mut part = Vec::with_capacity(100 * rows.len());
+            for row in rows {
+                part.extend_from_slice(region1(row).as_bytes());
+                part.push(b'\t');
+                part.extend_from_slice(region2(row).as_bytes());
+                for (_, column) in columns {
+                    part.push(b'\t');
+                    write_column(&mut part, column, row);
+                }
+                part.push(b'\n');
+            }
+            part
+        })
+        .collect();
+    for part in chunks {
+        text.extend_from_slice(&part);
+    }
+    text
+}
+
+fn cis_text(table: &CisExpected) -> Vec<u8> {
+    table_text(
+        table.n_rows(),
+        &table.columns(),
+        |row| table.region_name(row).to_string(),
+        |row| table.region_name(row).to_string(),
+    )
+}
+
+fn trans_text(table: &TransExpected) -> Vec<u8> {
+    table_text(
+        table.n_rows(),
+        &table.columns(),
+        |row| table.region1[row].clone(),
+        |row| table.region2[row].clone(),
+    )
+}
+
+fn logbin_text(binned: &LogBinned) -> Vec<u8> {
+    let mut text = Vec::new();
+    let header = [
+        "dist_bin_id".to_string(),
+        format!("{}.avg", binned.prefix),
+        "n_valid".into(),
+        "dist.avg".into(),
+        "dist_bin_start".into(),
+        "dist_bin_end".into(),
+        "low_err".into(),
+        "high_err".into(),
+        "dist_bp.avg".into(),
+        "slope".into(),
+        "slope.low_err".into(),
+        "slope.high_err".into(),
+        "slope.dist.avg".into(),
+        "slope.n_valid".into(),
+    ];
+    text.extend_from_slice(header.join("\t").as_bytes());
+    text.push(b'\n');
+    for bin in &binned.combined {
+        write_u64(&mut text, bin.dist_bin_id as u64);
+        text.push(b'\t');
+        write_real(&mut text, bin.average);
+        text.push(b'\t');
+        write_u64(&mut text, bin.n_valid);
+        text.push(b'\t');
+        write_real(&mut text, bin.dist_avg);
+        text.push(b'\t');
+        write_u64(&mut text, bin.dist_bin_start);
+        text.push(b'\t');
+        write_u64(&mut text, bin.dist_bin_end);
+        for value in [
+            bin.low_err,
+            bin.high_err,
+            bin.dist_avg * binned.bin_size_bp as f64,
+        ] {
+            text.push(b'\t');
+            write_real(&mut text, value);
+        }
+        match binned
+            .slopes
+            .iter()
+            .find(|s| s.dist_bin_id == bin.dist_bin_id)
+        {
+            Some(slope) => {
+                for value in [slope.slope, slope.low_err, slope.high_err, slope.dist_avg] {
+                    text.push(b'\t');
+                    write_real(&mut text, value);
+                }
+                text.push(b'\t');
+                write_u64(&mut text, slope.n_valid);
+            }
+            None => text.extend_from_slice(b"\tnan\tnan\tnan\tnan\tnan"),
+        }
+        text.push(b'\n');
+    }
+    text
+}
+
+/// A distance for people: `250 kb`, `1.2 Mb`, `800 bp`.
+fn human_bp(value: f64) -> String {
+    let (scaled, unit) = if value >= 1e6 {
+        (value / 1e6, "Mb")
+    } else if value >= 1e3 {
+        (value / 1e3, "kb")
+    } else {
+        (value, "bp")
+    };
+    let digits = format!("{scaled:.2}");
+    let trimmed = digits.trim_end_matches('0').trim_end_matches('.');
+    format!("{trimmed} {unit}")
+}
+
+/// The one-line summary: `P(s) ~ s^-1.08 [95% CI -1.10, -1.06], R² 0.998, 100 kb - 10 Mb`.
+fn headline(report: &PowerLawReport) -> String {
+    let fit = &report.fit;
+    format!(
+        "P(s) ~ s^{:.2} [95% CI {:.2}, {:.2}], R² {:.3}, {} - {} ({} log bins)",
+        fit.alpha,
+        fit.ci95.0,
+        fit.ci95.1,
+        fit.r_squared,
+        human_bp(report.range.min_bp),
+        human_bp(report.range.max_bp),
+        fit.n_points
+    )
+}
+
+fn fit_text(report: &PowerLawReport) -> String {
+    let mut text = headline(report);
+    text.push('\n');
+    let piecewise = &report.piecewise;
+    let breaks: Vec<String> = piecewise
+        .breakpoints_bp
+        .iter()
+        .map(|&b| human_bp(b))
+        .collect();
+    text.push_str(&match breaks.len() {
+        0 => "piecewise: no breakpoint (one power law is best by BIC)\n".to_string(),
+        n => format!(
+            "piecewise: {n} breakpoint{} by BIC, at {}\n",
+            if n == 1 { "" } else { "s" },
+            breaks.join(", ")
+        ),
+    });
+    for segment in &piecewise.segments {
+        text.push_str(&format!(
+            "  {} - {}: s^{:.2} [95% CI {:.2}, {:.2}], {} log bins\n",
+            human_bp(segment.start_bp),
+            human_bp(segment.end_bp),
+            segment.alpha,
+            segment.ci95.0,
+            segment.ci95.1,
+            segment.n_points
+        ));
+    }
+    text
+}
+
+fn fit_json(
+    args: &ExpectedArgs,
+    table: &CisExpected,
+    binned: &LogBinned,
+    report: &PowerLawReport,
+) -> serde_json::Value {
+    use serde_json::json;
+    let fit = &report.fit;
+    let piecewise = &report.piecewise;
+    let points: Vec<serde_json::Value> = fit_bins(binned, &report.range)
+        .iter()
+        .zip(&report.points)
+        .map(|(bin, (s, p))| {
+            json!({
+                "dist_bin_id": bin.dist_bin_id,
+                "dist_bp_avg": bin.dist_avg * table.bin_size_bp as f64,
+                "dist_bp_effective": s,
+                "p": p,
+                "n_valid": bin.n_valid,
+            })
+        })
+        .collect();
+    json!({
+        "uri": args.uri,
+        "values": if table.is_balanced() { format!("balanced ({})", args.weight_name) } else { "raw counts".to_string() },
+        "bin_size_bp": table.bin_size_bp,
+        "fit_range_bp": [report.range.min_bp, report.range.max_bp],
+        "power_law": {
+            "alpha": fit.alpha,
+            "intercept_log10": fit.intercept_log10,
+            "stderr": fit.stderr,
+            "ci95": [fit.ci95.0, fit.ci95.1],
+            "r_squared": fit.r_squared,
+            "rss_log10": fit.rss,
+            "n_points": fit.n_points,
+            "dof": fit.dof,
+            "first_bp": fit.first_bp,
+            "last_bp": fit.last_bp,
+        },
+        "piecewise": {
+            "n_breakpoints": piecewise.breakpoints_bp.len(),
+            "breakpoints_bp": piecewise.breakpoints_bp,
+            "segments": piecewise.segments.iter().map(|s| json!({
+                "start_bp": s.start_bp,
+                "end_bp": s.end_bp,
+                "alpha": s.alpha,
+                "stderr": s.stderr,
+                "ci95": [s.ci95.0, s.ci95.1],
+                "n_points": s.n_points,
+            })).collect::<Vec<_>>(),
+            "rss_log10": piecewise.rss,
+            "bic_by_breakpoints": piecewise.bic_by_breakpoints,
+        },
+        "points": points,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ranges_parse_with_units() {
+        let range = parse_range("100k-10M").unwrap();
+        assert_eq!((range.min_bp, range.max_bp), (1e5, 1e7));
+        let range = parse_range("200,000-1.5Mb").unwrap();
+        assert_eq!((range.min_bp, range.max_bp), (2e5, 1.5e6));
+        assert!(parse_range("10M-1M").is_err());
+        assert!(parse_range("abc").is_err());
+        assert!(parse_range("1x-2M").is_err());
+    }
+
+    #[test]
+    fn reals_print_shortest() {
+        let text = |v: f64| {
+            let mut out = Vec::new();
+            write_real(&mut out, v);
+            String::from_utf8(out).unwrap()
+        };
+        assert_eq!(text(894773.0), "894773");
+        assert_eq!(text(0.1 + 0.2), "0.30000000000000004");
+        assert_eq!(text(1.5e-7), "1.5e-7");
+        assert_eq!(text(f64::NAN), "nan");
+        assert_eq!(text(0.0), "0");
+        assert_eq!(human_bp(1.2e6), "1.2 Mb");
+        assert_eq!(human_bp(250_000.0), "250 kb");
+    }
 }

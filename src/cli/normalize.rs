@@ -1,0 +1,252 @@
+//! `contactmap normalize`: observed / expected maps (o/e, log2 o/e, z-score) as a .cool or a text
+//! table.
+
+use std::collections::HashMap;
+use std::ops::Range;
+use std::path::PathBuf;
+
+use clap::{Args, ValueEnum};
+
+use crate::cli::convert::OutputFormat;
+use crate::cli::progress::WithProgress;
+use crate::cli::InputArgs;
+use crate::error::{Error, Result};
+use crate::genome::BinTable;
+use crate::io::cool::{write_cool, CoolWriteOptions};
+use crate::io::tables::Table;
+use crate::io::text::{write_text, TextFormat};
+use crate::io::{self, MatrixInfo, MatrixReader};
+use crate::matrix::{CountType, PixelBlock, Weights};
+use crate::normalize::{DiagonalCurve, Method, Normalizer};
+
+/// Normalisation methods.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum MethodArg {
+    /// observed / expected
+    Oe,
+    /// log2(observed / expected)
+    Log2oe,
+    /// (observed - expected) / standard deviation of the diagonal
+    Zscore,
+}
+
+/// Arguments of `contactmap normalize`.
+#[derive(Debug, Args)]
+#[command(after_long_help = "\
+Observed values are balanced (count * w1 * w2 with --weight-name, default `weight`) unless --raw.
+The expected of each diagonal is cooltools' expected-cis average (balanced.avg, or count.avg with
+--raw), computed on the fly or read from --expected (a cooltools expected-cis table; regions named
+by chromosome). Only stored cis pixels are written; pixels of masked bins, of diagonals without an
+expected value (the --ignore-diags first ones) and trans pixels are dropped. The output's count
+column holds the normalised values (float).
+
+Examples:
+  contactmap normalize data/CN.mm9.10000kb.cool oe.cool
+  contactmap normalize in.mcool::/resolutions/10000 - --method log2oe --to bg2 | head
+  contactmap expected in.cool -o exp.tsv && contactmap normalize in.cool z.cool --method zscore --expected exp.tsv")]
+pub struct NormalizeArgs {
+    /// Input matrix URI.
+    pub uri: String,
+    /// Output: .cool, or a text table (.bg2, .coo, optionally .gz; `-` with --to for stdout).
+    pub output: PathBuf,
+    /// What to compute.
+    #[arg(long, value_enum, default_value_t = MethodArg::Oe)]
+    pub method: MethodArg,
+    /// Use raw counts instead of balanced ones.
+    #[arg(long)]
+    pub raw: bool,
+    /// Weight column for balancing.
+    #[arg(long, default_value = "weight", value_name = "COLUMN")]
+    pub weight_name: String,
+    /// Read the expected from this table (cooltools expected-cis layout) instead of computing it.
+    #[arg(long, value_name = "TSV")]
+    pub expected: Option<String>,
+    /// Column of --expected to use (default: balanced.avg, or count.avg with --raw).
+    #[arg(long, value_name = "NAME")]
+    pub expected_column: Option<String>,
+    /// Diagonals ignored when computing the expected (as cooltools).
+    #[arg(long, default_value_t = 2)]
+    pub ignore_diags: usize,
+    /// Output format (default: from the extension of OUTPUT).
+    #[arg(long, value_enum)]
+    pub to: Option<OutputFormat>,
+    /// Memory budget for the in-memory pixel copy (e.g. 8G); larger matrices are streamed.
+    #[arg(long, value_name = "SIZE")]
+    pub max_memory: Option<String>,
+    /// Options for text inputs.
+    #[command(flatten)]
+    pub input: InputArgs,
+}
+
+/// Run `contactmap normalize`.
+pub fn run(args: &NormalizeArgs) -> Result<()> {
+    let format = match args.to {
+        Some(format) => format,
+        None => crate::cli::convert::format_from_extension(&args.output)?,
+    };
+    if matches!(format, OutputFormat::Mcool | OutputFormat::Dense) {
+        return Err(Error::Invalid(
+            "normalize writes .cool, .bg2 or .coo outputs".into(),
+        ));
+    }
+    let reader = io::open_matrix(&args.uri, &args.input.to_options()?)?;
+    let bins = reader.bins().clone();
+    let weights = if args.raw {
+        None
+    } else {
+        Some(reader.weights(&args.weight_name)?.values)
+    };
+    let method = match args.method {
+        MethodArg::Oe => Method::Oe,
+        MethodArg::Log2oe => Method::Log2Oe,
+        MethodArg::Zscore => Method::Zscore,
+    };
+    let budget = match &args.max_memory {
+        Some(text) => io::parse_memory_size(text)?,
+        None => io::default_memory_budget(),
+    };
+    let needs_pass = method == Method::Zscore || args.expected.is_none();
+    let pixels = if needs_pass {
+        Some(io::load_pixels(reader.as_ref(), budget)?)
+    } else {
+        None
+    };
+    let curves = match &args.expected {
+        Some(path) => {
+            let column = args.expected_column.clone().unwrap_or_else(|| {
+                if args.raw {
+                    "count.avg"
+                } else {
+                    "balanced.avg"
+                }
+                .to_string()
+            });
+            curves_from_table(&Table::read(path)?, &bins, &column)?
+        }
+        None => {
+            let pixels = pixels.as_ref().expect("loaded when no --expected");
+            crate::expected::cis_curves(pixels, weights.as_deref(), args.ignore_diags)?
+        }
+    };
+    let mut normalizer = Normalizer::new(method, bins.n_bins(), weights, curves)?;
+    if normalizer.needs_deviations() {
+        let pixels = pixels.as_ref().expect("loaded for zscore");
+        normalizer.compute_deviations(pixels)?;
+    }
+    drop(pixels);
+    let normalized = Normalized {
+        inner: reader.as_ref(),
+        normalizer: &normalizer,
+        source: format!("{} ({:?})", reader.source(), args.method),
+    };
+    let progress = WithProgress::new(&normalized, "normalizing")?;
+    let out = args.output.to_string_lossy().into_owned();
+    match format {
+        OutputFormat::Cool => write_cool(
+            &progress,
+            &args.output,
+            &CoolWriteOptions {
+                weight_columns: Some(Vec::new()),
+                ..CoolWriteOptions::default()
+            },
+        ),
+        OutputFormat::Bg2 => write_text(&progress, &out, TextFormat::Bg2),
+        _ => write_text(&progress, &out, TextFormat::Coo),
+    }
+}
+
+/// Per-chromosome curves from a cooltools expected-cis table (regions named by chromosome).
+fn curves_from_table(table: &Table, bins: &BinTable, column: &str) -> Result<Vec<DiagonalCurve>> {
+    let (c1, c2) = (table.column("region1")?, table.column("region2")?);
+    let (dist, n_valid, value) = (
+        table.column("dist")?,
+        table.column("n_valid")?,
+        table.column(column)?,
+    );
+    let mut curves: HashMap<usize, DiagonalCurve> = HashMap::new();
+    for row in 0..table.len() {
+        let (r1, r2) = (table.text(row, c1), table.text(row, c2));
+        if r1 != r2 {
+            continue;
+        }
+        let chrom = bins.chrom_id(r1).ok_or_else(|| {
+            Error::format(
+                table.path(),
+                format!("region '{r1}' is not a chromosome of the matrix (regions must be whole chromosomes)"),
+            )
+        })?;
+        let range: Range<usize> = bins.chrom_bins(chrom);
+        let curve = curves.entry(chrom).or_insert_with(|| DiagonalCurve {
+            expected: vec![f64::NAN; range.len()],
+            n_valid: vec![0.0; range.len()],
+            bins: range.clone(),
+        });
+        let d = table.number(row, dist)?;
+        if !(d >= 0.0 && d.fract() == 0.0 && (d as usize) < range.len()) {
+            return Err(Error::format(
+                table.path(),
+                format!(
+                    "row {}: dist {d} is not a diagonal of {r1} ({} bins)",
+                    row + 1,
+                    range.len()
+                ),
+            ));
+        }
+        curve.expected[d as usize] = table.number(row, value)?;
+        curve.n_valid[d as usize] = table.number(row, n_valid)?;
+    }
+    let mut curves: Vec<DiagonalCurve> = curves.into_values().collect();
+    curves.sort_by_key(|c| c.bins.start);
+    Ok(curves)
+}
+
+/// A reader whose pixels are the normalised values of another reader's.
+struct Normalized<'a> {
+    inner: &'a dyn MatrixReader,
+    normalizer: &'a Normalizer,
+    source: String,
+}
+
+impl MatrixReader for Normalized<'_> {
+    fn source(&self) -> &str {
+        &self.source
+    }
+
+    fn bins(&self) -> &BinTable {
+        self.inner.bins()
+    }
+
+    fn count_type(&self) -> CountType {
+        CountType::Float
+    }
+
+    fn weight_names(&self) -> Vec<String> {
+        Vec::new()
+    }
+
+    fn weights(&self, name: &str) -> Result<Weights> {
+        Err(Error::Invalid(format!(
+            "a normalised matrix has no weight column '{name}'"
+        )))
+    }
+
+    fn info(&self) -> MatrixInfo {
+        self.inner.info()
+    }
+
+    fn read_pixels(
+        &self,
+        rows: Range<usize>,
+        cols: Range<usize>,
+        sink: &mut dyn FnMut(&PixelBlock) -> Result<()>,
+    ) -> Result<()> {
+        self.inner.read_pixels(rows, cols, &mut |block| {
+            let out = self.normalizer.apply(block)?;
+            if out.is_empty() {
+                Ok(())
+            } else {
+                sink(&out)
+            }
+        })
+    }
+}
