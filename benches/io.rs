@@ -9,38 +9,27 @@
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 
-use contactmap::genome::{BinTable, Chrom};
 use contactmap::io::cool::{write_cool, CoolReader, CoolWriteOptions};
 use contactmap::io::{InMemory, MatrixReader};
 use contactmap::matrix::{CountType, MatrixBuilder};
 
+mod common;
+
+/// 2 chromosomes x 5,000 bins, diagonals up to 150, cis only.
 fn synthetic() -> InMemory {
-    let bins = BinTable::fixed(
-        vec![
-            Chrom::new("chrA", 50_000_000),
-            Chrom::new("chrB", 50_000_000),
-        ],
-        10_000,
-    )
-    .expect("valid bins");
-    let mut builder = MatrixBuilder::new(bins.clone(), CountType::Integer);
-    let mut state = 12345u64;
-    for chrom in 0..2 {
-        let range = bins.chrom_bins(chrom);
-        for i in range.clone() {
-            for d in 0..150.min(range.end - i) {
-                state = state
-                    .wrapping_mul(6364136223846793005)
-                    .wrapping_add(1442695040888963407);
-                let noise = 0.5 + (state >> 33) as f64 / (1u64 << 31) as f64;
-                let count = (1000.0 * ((d + 1) as f64).powf(-1.08) * noise).floor();
-                if count > 0.0 {
-                    builder
-                        .push(i as u64, (i + d) as u64, count)
-                        .expect("in range");
-                }
-            }
-        }
+    let (bins, block) = common::Synthetic {
+        n_chroms: 2,
+        bins_per_chrom: 5_000,
+        max_diagonal: 150,
+        dead_every: None,
+        trans_per_row: 0,
+    }
+    .build();
+    let mut builder = MatrixBuilder::new(bins, CountType::Integer);
+    for k in 0..block.len() {
+        builder
+            .push(block.bin1[k], block.bin2[k], block.count[k])
+            .expect("in range");
     }
     InMemory::new("synthetic".into(), builder.build())
 }

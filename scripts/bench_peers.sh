@@ -45,3 +45,12 @@ time_it "hictkpy: File(big.hic, 10000).fetch().to_df()" "$py" -c "import hictkpy
 time_it "hictkpy: File(big.hic, 10000).fetch().sum() and .nnz()" "$py" -c "import hictkpy; s = hictkpy.File('$bighic', 10000).fetch(); print(s.sum(), s.nnz())"
 time_it "contactmap dump data/hic_test_file.hic > /dev/null (890k pixels)" "$cm" dump data/hic_test_file.hic
 time_it "hictkpy: File(hic_test_file.hic, 100000).fetch().to_df()" "$py" -c "import hictkpy; print(len(hictkpy.File('data/hic_test_file.hic', 100000).fetch().to_df()))"
+
+# Numerics (issue 3): balancing and expected on the same large file.
+if [ "${SKIP_NUMERICS:-0}" != 1 ]; then
+  time_it "contactmap balance big.cool (ICE, cooler's defaults) -o weights.tsv" "$cm" balance "$big" -o bench-data/weights.tsv
+  time_it "cooler balance -p 2 --stdout big.cool" "$venv/bin/cooler" balance -p 2 --stdout "$big"
+  time_it "contactmap expected big.cool --raw -o e.tsv (smoothed, as cooltools' API)" "$cm" expected "$big" --raw -o bench-data/e.tsv
+  time_it "cooltools expected-cis -p 2 --clr-weight-name '' --smooth --aggregate-smoothed big.cool" \
+    "$venv/bin/cooltools" expected-cis -p 2 --clr-weight-name "" --smooth --aggregate-smoothed -o bench-data/e_cooltools.tsv "$big"
+fi

@@ -34,4 +34,20 @@ if [ -f data/hg19.GM12878-MboI.pairs.subsample.sorted.txt.gz ]; then
     "$work/pairs.cool" --format pairs --bin-size 2000000 --chrom-sizes "$work/hg19.sizes" --pairs-columns 1,2,4,5
   "$cm" info "$work/pairs.cool"
 fi
+dm6="$mcool::/resolutions/100000"
+step "Balance with ICE exactly as cooler (weights to a table; --store writes them into the file)" \
+  "$cm" balance "$dm6" -o "$work/weights.tsv"
+head -4 "$work/weights.tsv"
+cp "$mcool" "$work/dm6.mcool"
+step "Store the weights in a copy of the file, as a column named ice" \
+  "$cm" balance "$work/dm6.mcool::/resolutions/100000" --store --name ice
+"$cm" info "$work/dm6.mcool::/resolutions/100000" | grep weights
+step "Expected P(s) per diagonal (cooltools expected-cis columns)" \
+  "$cm" expected "$dm6" -o "$work/expected.tsv"
+head -5 "$work/expected.tsv" | cut -f1-9
+step "Its power law: the exponent biologists quote, and piecewise exponents" \
+  "$cm" expected "$dm6" --fit
+step "Observed/expected map (balanced), as a cooler" \
+  "$cm" normalize "$dm6" "$work/oe.cool" --method oe
+"$cm" dump "$work/oe.cool" -r chr2L:1,000,000-1,300,000 --join -H
 printf '\nDemo finished.\n'

@@ -84,7 +84,12 @@ fn zscore_and_cool_output() {
     let z = pixels(&run_ok(&["dump", out, "--float-format", ".17g"]));
     let oe = normalize(&[]);
     // z is undefined where a diagonal has no spread (e.g. the last diagonals, one valid pixel)
-    assert!(z.len() <= oe.len() && z.len() + 40 >= oe.len(), "{} of {}", z.len(), oe.len());
+    assert!(
+        z.len() <= oe.len() && z.len() + 40 >= oe.len(),
+        "{} of {}",
+        z.len(),
+        oe.len()
+    );
     // above-average pixels have positive z-scores and vice versa
     for (key, value) in &z {
         assert_eq!(*value > 0.0, oe[key] > 1.0, "{key:?}");
