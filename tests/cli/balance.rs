@@ -334,3 +334,55 @@ fn unconverged_weights_are_written_with_a_warning_but_not_stored_unless_asked() 
         .unwrap();
     assert!(!converged);
 }
+
+#[test]
+fn an_all_zero_chromosome_gives_nan_weights_and_nan_expected_without_failing() {
+    // chrB has bins but no contact at all: cooler masks its bins (NaN weights); its expected is
+    // NaN (0 / 0 valid pixels), and normalize writes nothing for it.
+    let dir = tempfile::tempdir().unwrap();
+    let bed = dir.path().join("bins.bed");
+    let mut bins = String::new();
+    for (chrom, n) in [("chrA", 30), ("chrB", 10)] {
+        for k in 0..n {
+            bins.push_str(&format!("{chrom}\t{}\t{}\n", k * 100, (k + 1) * 100));
+        }
+    }
+    std::fs::write(&bed, bins).unwrap();
+    let mut pixels = String::new();
+    for i in 0..30u64 {
+        for j in i..(i + 6).min(30) {
+            pixels.push_str(&format!("{i}\t{j}\t{}\n", 50 / (j - i + 1) + (i * j) % 3));
+        }
+    }
+    let coo = dir.path().join("m.coo");
+    std::fs::write(&coo, pixels).unwrap();
+    let cool = dir.path().join("m.cool");
+    let (coo, bed, cool) = (
+        coo.to_str().unwrap(),
+        bed.to_str().unwrap(),
+        cool.to_str().unwrap(),
+    );
+    run_ok(&["convert", coo, cool, "--format", "coo", "--bins", bed]);
+    run_ok(&["balance", cool, "--store", "--min-nnz", "1"]);
+    let table = run_ok(&["dump", "-t", "bins", "-H", cool]);
+    let (_, weights) = column(&table, "weight");
+    assert!(
+        weights[30..].iter().all(|w| w.is_nan()),
+        "chrB must be masked"
+    );
+    assert!(weights[..30].iter().filter(|w| !w.is_nan()).count() > 20);
+    let expected = run_ok(&["expected", cool]);
+    let chr_b: Vec<&str> = expected
+        .lines()
+        .filter(|l| l.starts_with("chrB\t"))
+        .collect();
+    assert_eq!(chr_b.len(), 10);
+    assert!(
+        chr_b.iter().all(|l| l.split('\t').nth(6) == Some("0")),
+        "n_valid 0 on chrB"
+    );
+    let oe = run_ok(&["normalize", cool, "-", "--to", "coo"]);
+    assert!(oe
+        .lines()
+        .all(|l| l.split('\t').next().unwrap().parse::<usize>().unwrap() < 30));
+}
