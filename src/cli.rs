@@ -17,13 +17,14 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 use crate::error::Result;
 use crate::io::{text::TextFormat, OpenOptions};
 
-/// Genome (Hi-C) and protein contact maps: inspect, convert, balance, analyse.
+/// Hi-C contact maps: inspect, dump and convert (.cool, .mcool, .hic, text, pairs), balance (ICE,
+/// VC, KR), distance-decay expected and its power law, observed / expected maps.
 ///
 /// Matrices are named by URI: `file.cool`, `file.mcool::/resolutions/10000`, `file.hic` (or
 /// `file.hic::/resolutions/10000` when it has several resolutions), or a text table
 /// (BG2 / COO pixels, pairs, dense; gzip allowed; `-` for standard input).
 #[derive(Debug, Parser)]
-#[command(name = "contactmap", version, about, long_about = None, propagate_version = true)]
+#[command(name = "contactmap", version, propagate_version = true)]
 pub struct Cli {
     /// The subcommand.
     #[command(subcommand)]
