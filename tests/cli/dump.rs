@@ -102,3 +102,29 @@ fn output_to_gzip_file_is_complete() {
         .unwrap();
     assert_eq!(text, run_ok(&["dump", &uri]));
 }
+
+#[test]
+fn a_closed_output_pipe_is_success() {
+    // `contactmap dump ... | head -1`: the reader goes away after one line.
+    use std::io::{BufRead, BufReader};
+    use std::process::{Command, Stdio};
+    let mut child = Command::new(env!("CARGO_BIN_EXE_contactmap"))
+        .args(["dump", &data("cooler_test_file.mcool::/resolutions/100000")])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut first = String::new();
+    BufReader::new(child.stdout.take().unwrap())
+        .read_line(&mut first)
+        .unwrap();
+    assert_eq!(first, "0\t0\t101360\n");
+    // stdout is dropped here: later writes hit a closed pipe
+    let out = child.wait_with_output().unwrap();
+    assert!(out.status.success(), "exit status {:?}", out.status);
+    assert!(
+        out.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
