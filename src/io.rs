@@ -251,11 +251,9 @@ impl MatrixReader for InMemory {
     ) -> Result<()> {
         let mut block = PixelBlock::with_capacity(MEMORY_BLOCK_PIXELS);
         for bin1 in rows {
-            let (bin2s, counts) = self.matrix.row(bin1);
-            let lo = bin2s.partition_point(|&c| (c as usize) < cols.start);
-            let hi = bin2s.partition_point(|&c| (c as usize) < cols.end);
-            for k in lo..hi {
-                block.push(bin1 as u64, bin2s[k] as u64, counts[k]);
+            let (bin2s, counts) = self.matrix.row_window(bin1, &cols);
+            for (&bin2, &count) in bin2s.iter().zip(counts) {
+                block.push(bin1 as u64, bin2 as u64, count);
             }
             if block.len() >= MEMORY_BLOCK_PIXELS {
                 sink(&block)?;
@@ -271,6 +269,22 @@ impl MatrixReader for InMemory {
     fn totals(&self) -> Result<(u64, f64)> {
         Ok((self.matrix.nnz() as u64, self.matrix.sum()))
     }
+}
+
+/// A hidden, unique temporary name beside `path` (`.NAME.PID-SEQ.tmp`), for outputs written in
+/// full and then renamed into place, so that a failure never leaves a half-written file.
+pub fn temporary_path(path: &Path) -> Result<PathBuf> {
+    use std::sync::atomic::{AtomicU64, Ordering};
+    static SEQUENCE: AtomicU64 = AtomicU64::new(0);
+    let name = path
+        .file_name()
+        .ok_or_else(|| Error::Invalid(format!("'{}' is not a file name", path.display())))?;
+    Ok(path.with_file_name(format!(
+        ".{}.{}-{}.tmp",
+        name.to_string_lossy(),
+        std::process::id(),
+        SEQUENCE.fetch_add(1, Ordering::Relaxed)
+    )))
 }
 
 /// Read every pixel of `reader` into a [`ContactMatrix`] (with all its weight columns).

@@ -225,14 +225,20 @@ impl ContactMatrix {
     pub fn pixels_in(&self, rows: Range<usize>, cols: Range<usize>) -> PixelBlock {
         let mut block = PixelBlock::default();
         for bin1 in rows {
-            let (bin2s, counts) = self.row(bin1);
-            let lo = bin2s.partition_point(|&c| (c as usize) < cols.start);
-            let hi = bin2s.partition_point(|&c| (c as usize) < cols.end);
-            for k in lo..hi {
-                block.push(bin1 as u64, bin2s[k] as u64, counts[k]);
+            let (bin2s, counts) = self.row_window(bin1, &cols);
+            for (&bin2, &count) in bin2s.iter().zip(counts) {
+                block.push(bin1 as u64, bin2 as u64, count);
             }
         }
         block
+    }
+
+    /// The pixels of row `bin1` whose column lies in `cols`: column ids and counts.
+    pub fn row_window(&self, bin1: usize, cols: &Range<usize>) -> (&[u32], &[f64]) {
+        let (bin2s, counts) = self.row(bin1);
+        let lo = bin2s.partition_point(|&c| (c as usize) < cols.start);
+        let hi = bin2s.partition_point(|&c| (c as usize) < cols.end);
+        (&bin2s[lo..hi], &counts[lo..hi])
     }
 
     /// Dense view of the rectangle `rows x cols`, with both triangles filled from the stored upper

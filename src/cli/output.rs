@@ -47,7 +47,7 @@ impl Output {
                 label: "<stdout>".into(),
             });
         };
-        let tmp = temporary_path(path)?;
+        let tmp = crate::io::temporary_path(path)?;
         let file = File::create(&tmp).map_err(|e| Error::io(path, e))?;
         let label = path.display().to_string();
         let target = if path.extension().is_some_and(|e| e == "gz") {
@@ -113,17 +113,6 @@ impl Drop for Output {
             let _ = std::fs::remove_file(tmp);
         }
     }
-}
-
-/// A hidden temporary name in the same directory as `path`.
-pub fn temporary_path(path: &Path) -> Result<PathBuf> {
-    let name = path
-        .file_name()
-        .ok_or_else(|| Error::Invalid(format!("{}: not a file path", path.display())))?;
-    let mut tmp = std::ffi::OsString::from(".");
-    tmp.push(name);
-    tmp.push(format!(".contactmap-{}.tmp", std::process::id()));
-    Ok(path.with_file_name(tmp))
 }
 
 /// A printf-style float format, the subset `cooler dump --float-format` users write:

@@ -66,7 +66,6 @@ use std::fs::File;
 use std::hash::{BuildHasherDefault, Hasher};
 use std::io::{BufRead, BufReader, BufWriter, Read, Write};
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::mpsc::{sync_channel, Receiver, SyncSender};
 use std::sync::{Arc, Mutex};
 
@@ -1271,16 +1270,7 @@ struct PendingOutput {
 
 impl PendingOutput {
     fn create(target: &Path) -> Result<(Self, File)> {
-        static SEQUENCE: AtomicU64 = AtomicU64::new(0);
-        let name = target
-            .file_name()
-            .ok_or_else(|| Error::Invalid(format!("'{}' is not a file name", target.display())))?;
-        let temporary = target.with_file_name(format!(
-            ".{}.{}-{}.tmp",
-            name.to_string_lossy(),
-            std::process::id(),
-            SEQUENCE.fetch_add(1, Ordering::Relaxed)
-        ));
+        let temporary = crate::io::temporary_path(target)?;
         let file = File::options()
             .write(true)
             .create_new(true)

@@ -135,13 +135,7 @@ fn selected_weights(reader: &dyn MatrixReader, options: &CoolWriteOptions) -> Re
 
 /// Run `write` on a temporary path beside `path`, then rename it to `path`; remove it on error.
 fn with_temporary(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
-    let file_name = path
-        .file_name()
-        .ok_or_else(|| Error::Invalid(format!("{}: not a file path", path.display())))?;
-    let mut tmp_name = std::ffi::OsString::from(".");
-    tmp_name.push(file_name);
-    tmp_name.push(format!(".contactmap-{}.tmp", std::process::id()));
-    let tmp: PathBuf = path.with_file_name(tmp_name);
+    let tmp = crate::io::temporary_path(path)?;
     match write(&tmp) {
         Ok(()) => std::fs::rename(&tmp, path).map_err(|e| Error::io(path, e)),
         Err(e) => {
