@@ -35,6 +35,7 @@ pub mod genome;
 pub mod io;
 pub mod matrix;
 pub mod normalize;
+pub mod tads;
 
 pub use error::{Error, Result};
 pub use genome::{Bin, BinTable, Chrom, Region};
