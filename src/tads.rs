@@ -2,13 +2,13 @@
 //!
 //! Callers, each documented with its reference in its module:
 //!
-//! - [`insulation`]: the diamond insulation score (Crane 2015) exactly as `cooltools insulation`
-//!   computes it, boundaries by peak prominence ([`peaks`]) and a Li / Otsu / fixed threshold
-//!   ([`threshold`]);
-//! - [`directionality`]: the directionality index (Dixon 2012) as cooltools computes it, and
-//!   domains from a three-state hidden Markov model over it ([`hmm`]);
-//! - [`topdom`]: TopDom (Shin 2016);
-//! - [`armatus`]: Armatus (Filippova 2014), multi-scale domains by dynamic programming, nested
+//! - `insulation`: the diamond insulation score (Crane 2015) exactly as `cooltools insulation`
+//!   computes it, boundaries by peak prominence (`peaks`) and a Li / Otsu / fixed threshold
+//!   (`threshold`);
+//! - `directionality`: the directionality index (Dixon 2012) as cooltools computes it, and
+//!   domains from a three-state hidden Markov model over it (`hmm`);
+//! - `topdom`: TopDom (Shin 2016);
+//! - `armatus`: Armatus (Filippova 2014), multi-scale domains by dynamic programming, nested
 //!   across its resolution parameter.
 //!
 //! All callers take pixels through [`crate::matrix::PixelSource`] (or a [`band::CisBand`] built
