@@ -15,21 +15,22 @@ BIN := target/release/contactmap
 all: build
 
 build:
-	$(CARGO) build --release
+	$(CARGO) build --release < /dev/null
 
 ## make demo: build, then run the pipeline on the real example data shipped in data/
 demo: build
 	CONTACTMAP=$(BIN) scripts/demo.sh
 
 ## make test: formatting, lints, docs and the whole test suite (what CI runs)
+## (standard input is /dev/null for every build step: rustc probes in build scripts read stdin)
 test: lint
-	$(CARGO) test --all-targets
-	$(CARGO) test --doc
-	RUSTDOCFLAGS="-D warnings" $(CARGO) doc --no-deps --quiet
+	$(CARGO) test --all-targets < /dev/null
+	$(CARGO) test --doc < /dev/null
+	RUSTDOCFLAGS="-D warnings" $(CARGO) doc --no-deps --quiet < /dev/null
 
 lint:
-	$(CARGO) fmt --all -- --check
-	$(CARGO) clippy --all-targets -- -D warnings
+	$(CARGO) fmt --all -- --check < /dev/null
+	$(CARGO) clippy --all-targets -- -D warnings < /dev/null
 
 ## make check-peers: open every file we write with cooler 0.11 (needs a venv: see docs/peers.md)
 check-peers: build

@@ -409,7 +409,7 @@ impl std::fmt::Display for Region {
 }
 
 /// Parse a base-pair position such as `1,000,000`, `1_000_000`, `1.5M`, `200kb`.
-fn parse_bp(text: &str) -> std::result::Result<u64, String> {
+pub fn parse_bp(text: &str) -> std::result::Result<u64, String> {
     let cleaned: String = text
         .trim()
         .chars()

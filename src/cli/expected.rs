@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 use rayon::prelude::*;
 
-use crate::cli::output::{write_u64, Output};
+use crate::cli::output::{write_real, write_u64, Output};
 use crate::cli::InputArgs;
 use crate::error::{Error, Result};
 use crate::expected::logbin::{logbin_expected, LogBinParams, LogBinned};
@@ -251,7 +251,7 @@ fn write_text(args: &ExpectedArgs, text: &[u8]) -> Result<()> {
 }
 
 /// The weight column `name`, or an error listing the available ones.
-fn read_weights(reader: &dyn MatrixReader, name: &str) -> Result<Vec<f64>> {
+pub(crate) fn read_weights(reader: &dyn MatrixReader, name: &str) -> Result<Vec<f64>> {
     let names = reader.weight_names();
     if !names.iter().any(|n| n == name) {
         let available = if names.is_empty() {
@@ -270,7 +270,7 @@ fn read_weights(reader: &dyn MatrixReader, name: &str) -> Result<Vec<f64>> {
 }
 
 /// Read a BED view (`chrom start end [name]`, gzip allowed) and check it against the matrix.
-fn read_view(path: &Path, reader: &dyn MatrixReader) -> Result<View> {
+pub(crate) fn read_view(path: &Path, reader: &dyn MatrixReader) -> Result<View> {
     let mut bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
     if bytes.starts_with(&[0x1f, 0x8b]) {
         let mut text = Vec::new();
@@ -367,21 +367,6 @@ fn parse_range(text: &str) -> Result<FitRange> {
         return Err(bad("MIN must be positive and below MAX"));
     }
     Ok(range)
-}
-
-/// Append a real number: shortest round-trip digits, `nan` / `inf` / `-inf`, integers without
-/// a decimal point, exponent notation for very small or very large magnitudes.
-fn write_real(out: &mut Vec<u8>, value: f64) {
-    use std::io::Write as _;
-    if value.is_nan() {
-        out.extend_from_slice(b"nan");
-    } else if value.is_infinite() {
-        out.extend_from_slice(if value > 0.0 { b"inf" } else { b"-inf" });
-    } else if value == 0.0 || (1e-5..1e16).contains(&value.abs()) {
-        let _ = write!(out, "{value}");
-    } else {
-        let _ = write!(out, "{value:e}");
-    }
 }
 
 fn write_column(out: &mut Vec<u8>, column: &Column<'_>, row: usize) {

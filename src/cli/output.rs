@@ -229,6 +229,21 @@ fn strip_zeros(text: &str) -> &str {
     }
 }
 
+/// Append a real number: shortest round-trip digits, `nan` / `inf` / `-inf`, integers without
+/// a decimal point, exponent notation for very small or very large magnitudes.
+pub fn write_real(out: &mut Vec<u8>, value: f64) {
+    use std::io::Write as _;
+    if value.is_nan() {
+        out.extend_from_slice(b"nan");
+    } else if value.is_infinite() {
+        out.extend_from_slice(if value > 0.0 { b"inf" } else { b"-inf" });
+    } else if value == 0.0 || (1e-5..1e16).contains(&value.abs()) {
+        let _ = write!(out, "{value}");
+    } else {
+        let _ = write!(out, "{value:e}");
+    }
+}
+
 /// Append the decimal digits of `value`.
 pub fn write_u64(out: &mut Vec<u8>, mut value: u64) {
     let mut digits = [0u8; 20];
