@@ -50,4 +50,18 @@ step "Its power law: the exponent biologists quote, and piecewise exponents" \
 step "Observed/expected map (balanced), as a cooler" \
   "$cm" normalize "$dm6" "$work/oe.cool" --method oe
 "$cm" dump "$work/oe.cool" -r chr2L:1,000,000-1,300,000 --join -H
+step "TADs: diamond insulation at three windows, as cooltools insulation (boundaries and domains as BED)" \
+  "$cm" tads "$dm6" --window 300k,500k,1M -o "$work/insulation.tsv" \
+  --boundaries "$work/boundaries.bed" --domains "$work/domains.bed"
+head -3 "$work/insulation.tsv" | cut -f1-8
+head -3 "$work/boundaries.bed"
+step "TADs: directionality index with Dixon's HMM domains" \
+  "$cm" tads "$dm6" --method directionality --window 500k -o "$work/di.tsv" --domains "$work/di_domains.bed"
+step "TADs: TopDom" "$cm" tads "$dm6" --method topdom --boundaries "$work/topdom.bed"
+step "A synthetic map with known domains (power-law decay, Poisson noise), and its balancing" \
+  "$cm" simulate blocks -o "$work/blocks.cool" --truth-boundaries "$work/truth.bed" --seed 1
+"$cm" balance "$work/blocks.cool" --store 2> /dev/null
+"$cm" tads "$work/blocks.cool" --window 100k --boundaries "$work/calls.bed" 2> /dev/null
+step "Boundary calls scored against the truth (precision, recall, F1 within one bin)" \
+  "$cm" score boundaries --truth "$work/truth.bed" "$work/calls.bed"
 printf '\nDemo finished.\n'

@@ -9,6 +9,9 @@ pub mod info;
 pub mod normalize;
 pub mod output;
 pub mod progress;
+pub mod score;
+pub mod simulate;
+pub mod tads;
 
 use std::path::PathBuf;
 
@@ -18,7 +21,8 @@ use crate::error::Result;
 use crate::io::{text::TextFormat, OpenOptions};
 
 /// Hi-C contact maps: inspect, dump and convert (.cool, .mcool, .hic, text, pairs), balance (ICE,
-/// VC, KR), distance-decay expected and its power law, observed / expected maps.
+/// VC, KR), distance-decay expected and its power law, observed / expected maps, TADs;
+/// simulated maps with known TADs and boundary scoring.
 ///
 /// Matrices are named by URI: `file.cool`, `file.mcool::/resolutions/10000`, `file.hic` (or
 /// `file.hic::/resolutions/10000` when it has several resolutions), or a text table
@@ -47,6 +51,13 @@ pub enum Command {
     Expected(expected::ExpectedArgs),
     /// Observed / expected maps (o/e, log2 o/e, z-score) as a .cool or a text table.
     Normalize(normalize::NormalizeArgs),
+    /// TAD boundaries and domains: insulation (as cooltools), directionality + HMM, TopDom,
+    /// Armatus.
+    Tads(tads::TadsArgs),
+    /// Simulated maps with a known truth: `simulate blocks` (block-structured map with TADs).
+    Simulate(simulate::SimulateArgs),
+    /// Score calls against a truth: `score boundaries` (TAD boundaries and domains).
+    Score(score::ScoreArgs),
 }
 
 /// Run a parsed command line.
@@ -58,6 +69,9 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Balance(args) => balance::run(&args),
         Command::Expected(args) => expected::run(&args),
         Command::Normalize(args) => normalize::run(&args),
+        Command::Tads(args) => tads::run(&args),
+        Command::Simulate(args) => simulate::run(&args),
+        Command::Score(args) => score::run(&args),
     }
 }
 

@@ -12,6 +12,7 @@
 //!
 //! Format modules only read and write: they never compute biology.
 
+pub mod bed;
 pub mod cool;
 pub mod hic;
 pub mod tables;

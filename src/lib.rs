@@ -8,7 +8,10 @@
 //! - the core types: [`genome::BinTable`] (chromosomes cut into bins), [`matrix::ContactMatrix`]
 //!   (upper-triangle sparse matrix with weight columns) and [`matrix::PixelBlock`];
 //! - algorithms take core types and return core types or plain tables; they never open files:
-//!   [`balance`] (ICE, VC, KR), [`expected`] (P(s), power laws).
+//!   [`balance`] (ICE, VC, KR), [`expected`] (P(s), power laws), [`normalize`] (observed /
+//!   expected), [`tads`] (insulation, directionality, TopDom, Armatus), [`score`] (calls against
+//!   a truth);
+//! - [`sim`] makes synthetic maps with a known truth (block-structured maps with TADs).
 //!
 //! Coordinates are 0-based and half-open; weights are multiplicative (cooler's convention).
 //!
@@ -35,6 +38,8 @@ pub mod genome;
 pub mod io;
 pub mod matrix;
 pub mod normalize;
+pub mod score;
+pub mod sim;
 pub mod tads;
 
 pub use error::{Error, Result};

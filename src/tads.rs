@@ -2,13 +2,13 @@
 //!
 //! Callers, each documented with its reference in its module:
 //!
-//! - `insulation`: the diamond insulation score (Crane 2015) exactly as `cooltools insulation`
-//!   computes it, boundaries by peak prominence (`peaks`) and a Li / Otsu / fixed threshold
-//!   (`threshold`);
-//! - `directionality`: the directionality index (Dixon 2012) as cooltools computes it, and
-//!   domains from a three-state hidden Markov model over it (`hmm`);
-//! - `topdom`: TopDom (Shin 2016);
-//! - `armatus`: Armatus (Filippova 2014), multi-scale domains by dynamic programming, nested
+//! - [`insulation`]: the diamond insulation score (Crane 2015) exactly as `cooltools insulation`
+//!   computes it, boundaries by peak prominence ([`peaks`]) and a Li / Otsu / fixed threshold
+//!   ([`threshold`]);
+//! - [`directionality`]: the directionality index (Dixon 2012) as cooltools computes it, and
+//!   domains from a three-state hidden Markov model over it ([`hmm`]);
+//! - [`topdom`]: TopDom (Shin 2016);
+//! - [`armatus`]: Armatus (Filippova 2014), multi-scale domains by dynamic programming, nested
 //!   across its resolution parameter.
 //!
 //! All callers take pixels through [`crate::matrix::PixelSource`] (or a [`band::CisBand`] built
@@ -16,7 +16,14 @@
 //! plain tables: per-bin tracks, [`Boundary`] and [`Domain`] lists. Bins are genome-wide indices
 //! into the bin table; coordinates are 0-based half-open as BED.
 
+pub mod armatus;
 pub mod band;
+pub mod directionality;
+pub mod hmm;
+pub mod insulation;
+pub mod peaks;
+pub mod threshold;
+pub mod topdom;
 
 use crate::expected::View;
 
@@ -86,10 +93,7 @@ mod tests {
     fn domains_between_boundaries_tile_each_region() {
         let bins = BinTable::fixed(vec![Chrom::new("a", 1000), Chrom::new("b", 500)], 100).unwrap();
         let view = View::chromosomes(&bins);
-        let boundaries = [3, 7, 12].map(|bin| Boundary {
-            bin,
-            strength: 1.0,
-        });
+        let boundaries = [3, 7, 12].map(|bin| Boundary { bin, strength: 1.0 });
         let spans: Vec<(usize, usize)> = domains_between(&view, &boundaries, 1)
             .iter()
             .map(|d| (d.start_bin, d.end_bin))

@@ -19,6 +19,12 @@ mod info;
 mod normalize;
 #[path = "cli/roundtrip.rs"]
 mod roundtrip;
+#[path = "cli/score.rs"]
+mod score;
+#[path = "cli/simulate.rs"]
+mod simulate;
+#[path = "cli/tads.rs"]
+mod tads;
 #[path = "cli/text.rs"]
 mod text;
 

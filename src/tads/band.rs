@@ -55,6 +55,15 @@ impl CisBand {
         self.values[i * self.width + d] += value;
     }
 
+    /// Set the pixels closer than `n_diagonals` to the diagonal (`j - i < n_diagonals`) to 0, as
+    /// callers that ignore the first diagonals need.
+    pub fn clear_near_diagonal(&mut self, n_diagonals: usize) {
+        let n = n_diagonals.min(self.width);
+        for row in self.values.chunks_mut(self.width) {
+            row[..n].fill(0.0);
+        }
+    }
+
     /// The row of distances `0..width` starting at local bin `i` (shorter near the region end:
     /// entries past the end are 0).
     pub fn row(&self, i: usize) -> &[f64] {
@@ -175,6 +184,9 @@ mod tests {
         assert_eq!(bands[1].get(0, 1), 2.0);
         assert_eq!(bands[1].get(1, 2), 0.0);
         assert_eq!(bands[1].bad, vec![false, false, true]);
+        let mut cleared = bands[0].clone();
+        cleared.clear_near_diagonal(1);
+        assert_eq!((cleared.get(0, 0), cleared.get(0, 1)), (0.0, 4.0));
         let raw = cis_bands(&p, None, &view, 3).unwrap();
         assert_eq!(raw[1].get(1, 2), 6.0);
         assert!(raw[1].bad.iter().all(|b| !b));

@@ -1,0 +1,744 @@
+//! `contactmap tads`: TAD boundaries and domains along the chromosomes: diamond insulation (as
+//! `cooltools insulation`), directionality index (as cooltools) with Dixon's HMM, TopDom, Armatus.
+
+use std::path::PathBuf;
+
+use clap::{Args, ValueEnum};
+
+use crate::cli::expected::{read_view, read_weights};
+use crate::cli::output::{write_real, write_u64, Output};
+use crate::cli::InputArgs;
+use crate::error::{Error, Result};
+use crate::expected::View;
+use crate::genome::{parse_bp, BinTable};
+use crate::io::{self, LoadedPixels, StreamedPixels};
+use crate::tads::armatus::{armatus, ArmatusParams};
+use crate::tads::band::cis_bands;
+use crate::tads::directionality::{directionality, DirectionalityParams, DirectionalityTable};
+use crate::tads::hmm::{di_domains, DiState, GaussianHmm, HmmParams};
+use crate::tads::insulation::{
+    dist_to_bad, insulation, regions_shorter_than, InsulationParams, InsulationTable,
+};
+use crate::tads::threshold::Threshold;
+use crate::tads::topdom::{topdom, TopDomParams, TopDomRegion, TopDomTag};
+use crate::tads::{domains_between, Boundary, Domain};
+
+/// TAD callers, for `--method`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum MethodArg {
+    /// diamond insulation score and prominent minima (Crane 2015), as cooltools insulation
+    Insulation,
+    /// directionality index (Dixon 2012) as cooltools, domains from a 3-state HMM
+    Directionality,
+    /// TopDom (Shin 2016): binSignal minima filtered by a Wilcoxon test
+    Topdom,
+    /// Armatus (Filippova 2014): nested domains by dynamic programming over several scales
+    Armatus,
+}
+
+/// Arguments of `contactmap tads`.
+#[derive(Debug, Args)]
+#[command(after_long_help = "\
+Methods and their outputs (-o: per-bin track, tab-separated with a header, `nan` for NaN):
+
+  insulation      cooltools insulation's table, same columns and values:
+                  chrom start end region is_bad_bin [dist_bad_bin]
+                  log2_insulation_score_W n_valid_pixels_W [sum_counts_W sum_balanced_W] ...
+                  boundary_strength_W ... is_boundary_W ...
+                  Diamond of W/binsize bins, --ignore-diags 2, score over its median, log2;
+                  boundary strength = prominence of the minima over bins with at least
+                  --min-frac-valid-pixels of the fullest diamond; boundaries are strengths >= the
+                  --threshold cutoff (li, otsu or a number; cooltools' default is li). Unlike
+                  cooltools 0.7.1, otsu works when some strengths are NaN (they are left out).
+  directionality  cooltools directionality's table: chrom start end bad_bin_masked
+                  directionality_ratio_W directionality_index_W, plus di_state (upstream, neutral,
+                  downstream) from a 3-state Gaussian HMM fitted to the index genome-wide (Dixon
+                  2012); domains run from a downstream-biased run to the end of the following
+                  upstream-biased run.
+  topdom          chrom start end bin_signal local_min pvalue segment (domain, gap, boundary):
+                  TopDom's binSignal over --window (default 5 bins), local minima, and its
+                  Wilcoxon filter (p < 0.05).
+  armatus         domains at each --gamma: chrom start end level gamma score (level 0 = smallest
+                  gamma = largest domains); boundaries are the edges of --bed-level's domains.
+
+--boundaries writes the boundary bins as BED (chrom start end name score; score = strength, `.`
+when the method has none) and --domains the domains as BED (chrom start end name score). With
+several insulation windows, the BED files use --bed-window (default: the first window).
+
+Balanced values (count * w1 * w2, the --weight-name column, default `weight`) are used unless
+--raw. A window must be a multiple of the bin size. Regions (whole chromosomes, or --view BED)
+shorter than the window get truncated diamonds, as in cooltools, with a warning; a --view region
+shorter than the window is an error.
+
+Examples:
+  contactmap tads data/yeast.10kb.cool --window 30k,50k,100k -o yeast.insulation.tsv
+  contactmap tads in.mcool::/resolutions/10000 --window 200k --boundaries b.bed --domains d.bed
+  contactmap tads in.cool --method directionality --window 500k -o di.tsv --domains di.bed
+  contactmap tads in.cool --method topdom --boundaries topdom.bed
+  contactmap score boundaries --truth truth.bed b.bed")]
+pub struct TadsArgs {
+    /// Matrix URI: file.cool, file.mcool::/resolutions/N, file.hic, text table.
+    pub uri: String,
+    /// TAD caller.
+    #[arg(long, value_enum, default_value_t = MethodArg::Insulation)]
+    pub method: MethodArg,
+    /// Window(s) in bp, comma-separated, multiples of the bin size (k / M suffixes allowed).
+    /// Default: 10 bins (insulation, directionality), 5 bins (topdom).
+    #[arg(long, value_delimiter = ',', value_name = "BP[,BP...]")]
+    pub window: Vec<String>,
+    /// Pixels closer than this to the diagonal (j - i < N) are left out, as cooltools.
+    #[arg(long, default_value_t = 2)]
+    pub ignore_diags: usize,
+    /// Insulation: boundaries need at least this fraction of the fullest diamond's valid pixels.
+    #[arg(long, default_value_t = 0.66, value_name = "FRACTION")]
+    pub min_frac_valid_pixels: f64,
+    /// Mask scores of bins closer than this to a masked bin (insulation default 0, directionality
+    /// default 2, as cooltools).
+    #[arg(long, value_name = "BINS")]
+    pub min_dist_bad_bin: Option<usize>,
+    /// Insulation: boundary strength cutoff: li, otsu, or a number.
+    #[arg(long, default_value = "li", value_name = "li|otsu|VALUE")]
+    pub threshold: String,
+    /// Insulation: add sum_counts_W and sum_balanced_W columns.
+    #[arg(long)]
+    pub append_raw_scores: bool,
+    /// TopDom: skip the Wilcoxon filter of false boundaries.
+    #[arg(long)]
+    pub no_filter: bool,
+    /// Armatus: resolution parameters, comma-separated (larger = smaller domains).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "0.2,0.5,1.0",
+        value_name = "G[,G...]"
+    )]
+    pub gamma: Vec<f64>,
+    /// Armatus: largest domain, in bp.
+    #[arg(long, default_value = "2M", value_name = "BP")]
+    pub max_domain: String,
+    /// Armatus: the level whose domain edges are written by --boundaries.
+    #[arg(long, default_value_t = 0)]
+    pub bed_level: u32,
+    /// Directionality: domains shorter than this many bins are dropped.
+    #[arg(long, default_value_t = 3, value_name = "BINS")]
+    pub min_domain_bins: usize,
+    /// Insulation: the window (bp) whose calls go to --boundaries / --domains.
+    #[arg(long, value_name = "BP")]
+    pub bed_window: Option<String>,
+    /// Use raw counts instead of balanced ones (no bin is masked).
+    #[arg(long)]
+    pub raw: bool,
+    /// Weight column for balancing.
+    #[arg(long, default_value = "weight", value_name = "COLUMN")]
+    pub weight_name: String,
+    /// Regions as BED (`chrom start end [name]`), sorted and non-overlapping; default: whole
+    /// chromosomes.
+    #[arg(long, value_name = "BED")]
+    pub view: Option<PathBuf>,
+    /// Write the per-bin track (or Armatus' domains) to FILE (gzip if .gz); `-` = stdout.
+    #[arg(short = 'o', long = "output", value_name = "FILE")]
+    pub out: Option<PathBuf>,
+    /// Write boundaries as BED to FILE (`-` = stdout).
+    #[arg(long, value_name = "FILE")]
+    pub boundaries: Option<PathBuf>,
+    /// Write domains as BED to FILE (`-` = stdout).
+    #[arg(long, value_name = "FILE")]
+    pub domains: Option<PathBuf>,
+    /// Options for text inputs.
+    #[command(flatten)]
+    pub input: InputArgs,
+}
+
+/// Run `contactmap tads`.
+pub fn run(args: &TadsArgs) -> Result<()> {
+    // Option values are checked before any file is read.
+    parse_threshold(args)?;
+    let reader = io::open_matrix(&args.uri, &args.input.to_options()?)?;
+    let bins = reader.bins().clone();
+    let bin_size = bins.bin_size_bp().ok_or_else(|| {
+        Error::format(
+            reader.source(),
+            "TAD calling needs fixed-size bins (windows are counted in bins)",
+        )
+    })?;
+    let windows = windows_bp(args, bin_size)?;
+    let weights = if args.raw {
+        None
+    } else {
+        Some(read_weights(reader.as_ref(), &args.weight_name)?)
+    };
+    let explicit_view = args.view.is_some();
+    let view = match &args.view {
+        Some(path) => read_view(path, reader.as_ref())?,
+        None => View::chromosomes(&bins),
+    };
+    let largest = windows.iter().copied().max().unwrap_or(bin_size);
+    if args.method != MethodArg::Armatus {
+        check_region_lengths(&view, (largest / bin_size) as usize, largest, explicit_view)?;
+    }
+    let pixels = LoadedPixels::Streamed(StreamedPixels::new(reader.as_ref()));
+    let weights = weights.as_deref();
+    let calls = match args.method {
+        MethodArg::Insulation => run_insulation(args, &pixels, weights, &view, &windows)?,
+        MethodArg::Directionality => run_directionality(args, &pixels, weights, &view, &windows)?,
+        MethodArg::Topdom => run_topdom(args, &pixels, weights, &view, windows[0], bin_size)?,
+        MethodArg::Armatus => run_armatus(args, &pixels, weights, &view, bin_size)?,
+    };
+    let track = calls.track(&bins);
+    write_to(args.out.as_deref(), &track)?;
+    if let Some(path) = &args.boundaries {
+        write_to(
+            Some(path),
+            &boundaries_bed(&bins, &calls.boundaries, &calls.label),
+        )?;
+    }
+    if let Some(path) = &args.domains {
+        write_to(
+            Some(path),
+            &domains_bed(&bins, &calls.domains, &calls.label),
+        )?;
+    }
+    eprintln!(
+        "contactmap: {}: {} boundaries, {} domains",
+        calls.label,
+        calls.boundaries.len(),
+        calls.domains.len()
+    );
+    Ok(())
+}
+
+/// What a caller produced: its per-bin track, and the boundaries and domains for the BED files.
+struct Calls {
+    label: String,
+    boundaries: Vec<Boundary>,
+    domains: Vec<Domain>,
+    track: Track,
+}
+
+enum Track {
+    Insulation(InsulationTable, Vec<String>, Option<usize>),
+    Directionality(DirectionalityTable, Vec<Option<DiState>>),
+    TopDom(Vec<TopDomRegion>),
+    Armatus(Vec<(Domain, f64)>),
+}
+
+impl Calls {
+    fn track(&self, bins: &BinTable) -> Vec<u8> {
+        match &self.track {
+            Track::Insulation(table, names, min_dist) => {
+                insulation_text(bins, table, names, *min_dist)
+            }
+            Track::Directionality(table, states) => directionality_text(bins, table, states),
+            Track::TopDom(regions) => topdom_text(bins, regions),
+            Track::Armatus(domains) => armatus_text(bins, domains),
+        }
+    }
+}
+
+fn parse_threshold(args: &TadsArgs) -> Result<Threshold> {
+    if !(0.0..=1.0).contains(&args.min_frac_valid_pixels) {
+        return Err(Error::Invalid(
+            "--min-frac-valid-pixels must be between 0 and 1".into(),
+        ));
+    }
+    args.threshold
+        .parse()
+        .map_err(|e| Error::Invalid(format!("--threshold: {e}")))
+}
+
+/// The windows in bp: given, or the method's default number of bins.
+fn windows_bp(args: &TadsArgs, bin_size: u64) -> Result<Vec<u64>> {
+    let mut windows = Vec::with_capacity(args.window.len());
+    for text in &args.window {
+        let value = parse_bp(text).map_err(|e| Error::Invalid(format!("--window: {e}")))?;
+        if value == 0 || value % bin_size != 0 {
+            return Err(Error::Invalid(format!(
+                "--window {text}: a window must be a positive multiple of the bin size ({bin_size} bp)"
+            )));
+        }
+        windows.push(value);
+    }
+    if windows.is_empty() {
+        let n_bins = if args.method == MethodArg::Topdom {
+            5
+        } else {
+            10
+        };
+        windows.push(n_bins * bin_size);
+    }
+    if windows.len() > 1 && args.method != MethodArg::Insulation {
+        return Err(Error::Invalid(
+            format!("--window: {:?} takes a single window", args.method).to_lowercase(),
+        ));
+    }
+    Ok(windows)
+}
+
+/// Warn about (whole-chromosome view) or refuse (explicit view) regions shorter than the window.
+fn check_region_lengths(
+    view: &View,
+    window_bins: usize,
+    window_bp: u64,
+    explicit_view: bool,
+) -> Result<()> {
+    let short = regions_shorter_than(view, window_bins);
+    if short.is_empty() {
+        return Ok(());
+    }
+    if explicit_view || short.len() == view.len() {
+        return Err(Error::Invalid(format!(
+            "region{} {} shorter than the {window_bp} bp window ({window_bins} bins): use a smaller --window",
+            if short.len() > 1 { "s" } else { "" },
+            list_names(&short)
+        )));
+    }
+    eprintln!(
+        "contactmap: warning: {} shorter than the {window_bp} bp window: truncated diamonds (as cooltools)",
+        list_names(&short)
+    );
+    Ok(())
+}
+
+fn list_names(names: &[&str]) -> String {
+    if names.len() <= 6 {
+        names.join(", ")
+    } else {
+        format!("{}, ... ({} regions)", names[..6].join(", "), names.len())
+    }
+}
+
+fn run_insulation(
+    args: &TadsArgs,
+    pixels: &LoadedPixels<'_>,
+    weights: Option<&[f64]>,
+    view: &View,
+    windows: &[u64],
+) -> Result<Calls> {
+    let threshold = parse_threshold(args)?;
+    let min_dist_bad_bin = args.min_dist_bad_bin.unwrap_or(0);
+    let params = InsulationParams {
+        windows_bp: windows.to_vec(),
+        ignore_diags: args.ignore_diags,
+        min_frac_valid_pixels: args.min_frac_valid_pixels,
+        min_dist_bad_bin,
+        threshold,
+        append_raw_scores: args.append_raw_scores,
+    };
+    let table = insulation(pixels, weights, view, &params)?;
+    let bed_track = match &args.bed_window {
+        None => 0,
+        Some(text) => {
+            let bp = parse_bp(text).map_err(|e| Error::Invalid(format!("--bed-window: {e}")))?;
+            windows.iter().position(|&w| w == bp).ok_or_else(|| {
+                Error::Invalid(format!(
+                    "--bed-window {text} is not one of the --window values"
+                ))
+            })?
+        }
+    };
+    let boundaries = table.boundaries(bed_track);
+    let domains = domains_between(view, &boundaries, 1);
+    for track in &table.tracks {
+        eprintln!(
+            "contactmap: window {}: {} boundaries (strength cutoff {})",
+            track.window_bp,
+            track.is_boundary.iter().filter(|&&b| b).count(),
+            track.cutoff
+        );
+    }
+    Ok(Calls {
+        label: format!("insulation_{}", windows[bed_track]),
+        boundaries,
+        domains,
+        track: Track::Insulation(
+            table,
+            view.regions().iter().map(|r| r.name.clone()).collect(),
+            (min_dist_bad_bin > 0).then_some(min_dist_bad_bin),
+        ),
+    })
+}
+
+fn run_directionality(
+    args: &TadsArgs,
+    pixels: &LoadedPixels<'_>,
+    weights: Option<&[f64]>,
+    view: &View,
+    windows: &[u64],
+) -> Result<Calls> {
+    let params = DirectionalityParams {
+        window_bp: windows[0],
+        ignore_diags: args.ignore_diags,
+        min_dist_bad_bin: args.min_dist_bad_bin.unwrap_or(2),
+    };
+    let table = directionality(pixels, weights, view, &params)?;
+    let hmm_params = HmmParams {
+        min_domain_bins: args.min_domain_bins,
+        ..HmmParams::default()
+    };
+    // One region's index track at a time, in view order.
+    let mut spans = Vec::new();
+    let mut start = 0;
+    while start < table.bins.len() {
+        let region = table.region[start];
+        let mut end = start;
+        while end < table.bins.len() && table.region[end] == region {
+            end += 1;
+        }
+        spans.push(start..end);
+        start = end;
+    }
+    let tracks: Vec<&[f64]> = spans.iter().map(|s| &table.index[s.clone()]).collect();
+    let model = GaussianHmm::fit(&tracks, &hmm_params)?;
+    let mut states = vec![None; table.bins.len()];
+    let (mut boundaries, mut domains) = (Vec::new(), Vec::new());
+    for span in &spans {
+        let called = di_domains(
+            &model,
+            &table.index[span.clone()],
+            table.bins[span.start],
+            &hmm_params,
+        );
+        for (k, state) in called.states.iter().enumerate() {
+            states[span.start + k] = Some(*state);
+        }
+        boundaries.extend(called.boundaries);
+        domains.extend(called.domains);
+    }
+    Ok(Calls {
+        label: format!("directionality_{}", windows[0]),
+        boundaries,
+        domains,
+        track: Track::Directionality(table, states),
+    })
+}
+
+fn run_topdom(
+    args: &TadsArgs,
+    pixels: &LoadedPixels<'_>,
+    weights: Option<&[f64]>,
+    view: &View,
+    window_bp: u64,
+    bin_size: u64,
+) -> Result<Calls> {
+    let params = TopDomParams {
+        window_bins: (window_bp / bin_size) as usize,
+        statistical_filter: !args.no_filter,
+        ..TopDomParams::default()
+    };
+    let bands = cis_bands(pixels, weights, view, 2 * params.window_bins + 1)?;
+    let mut regions = Vec::with_capacity(bands.len());
+    for (band, region) in bands.iter().zip(view.regions()) {
+        if band.n_bins < 2 * params.window_bins {
+            eprintln!(
+                "contactmap: warning: {} has fewer than {} bins: skipped by TopDom",
+                region.name,
+                2 * params.window_bins
+            );
+            continue;
+        }
+        regions.push(topdom(band, &params)?);
+    }
+    let boundaries = regions
+        .iter()
+        .flat_map(|r| r.boundaries.iter().copied())
+        .collect();
+    let domains = regions
+        .iter()
+        .flat_map(|r| r.segments.iter())
+        .filter(|(_, tag)| matches!(tag, TopDomTag::Domain))
+        .map(|(domain, _)| *domain)
+        .collect();
+    Ok(Calls {
+        label: format!("topdom_{window_bp}"),
+        boundaries,
+        domains,
+        track: Track::TopDom(regions),
+    })
+}
+
+fn run_armatus(
+    args: &TadsArgs,
+    pixels: &LoadedPixels<'_>,
+    weights: Option<&[f64]>,
+    view: &View,
+    bin_size: u64,
+) -> Result<Calls> {
+    let max_domain_bp =
+        parse_bp(&args.max_domain).map_err(|e| Error::Invalid(format!("--max-domain: {e}")))?;
+    let max_domain_bins = (max_domain_bp / bin_size).max(2) as usize;
+    let mut gammas = args.gamma.clone();
+    if gammas.iter().any(|g| !g.is_finite() || *g < 0.0) {
+        return Err(Error::Invalid("--gamma values must be >= 0".into()));
+    }
+    gammas.sort_by(f64::total_cmp);
+    gammas.dedup();
+    let params = ArmatusParams {
+        gammas: gammas.clone(),
+        max_domain_bins,
+    };
+    let mut bands = cis_bands(pixels, weights, view, max_domain_bins)?;
+    let mut domains = Vec::new();
+    for band in &mut bands {
+        band.clear_near_diagonal(args.ignore_diags);
+        domains.extend(armatus(band, &params)?);
+    }
+    let mut edges: Vec<usize> = domains
+        .iter()
+        .filter(|d| d.level == args.bed_level)
+        .flat_map(|d| [d.start_bin, d.end_bin])
+        .collect();
+    edges.sort_unstable();
+    edges.dedup();
+    let n_bins = view
+        .regions()
+        .last()
+        .map(|r| r.bins.end)
+        .unwrap_or_default();
+    let boundaries = edges
+        .into_iter()
+        .filter(|&bin| bin < n_bins)
+        .map(|bin| Boundary {
+            bin,
+            strength: f64::NAN,
+        })
+        .collect();
+    let with_gamma = domains
+        .iter()
+        .map(|d| (*d, gammas[d.level as usize]))
+        .collect();
+    Ok(Calls {
+        label: "armatus".into(),
+        boundaries,
+        domains,
+        track: Track::Armatus(with_gamma),
+    })
+}
+
+fn write_to(path: Option<&std::path::Path>, text: &[u8]) -> Result<()> {
+    let mut out = Output::open(path)?;
+    out.write_all(text)?;
+    out.finish()
+}
+
+fn push_bin(text: &mut Vec<u8>, bins: &BinTable, bin: usize) {
+    let b = bins.bin(bin);
+    text.extend_from_slice(bins.chroms()[b.chrom_id].name.as_bytes());
+    text.push(b'\t');
+    write_u64(text, b.start);
+    text.push(b'\t');
+    write_u64(text, b.end);
+}
+
+fn push_bool(text: &mut Vec<u8>, value: bool) {
+    text.extend_from_slice(if value { b"True" } else { b"False" });
+}
+
+fn insulation_text(
+    bins: &BinTable,
+    table: &InsulationTable,
+    region_names: &[String],
+    min_dist: Option<usize>,
+) -> Vec<u8> {
+    let mut text = Vec::with_capacity(128 * (table.bins.len() + 1));
+    text.extend_from_slice(b"chrom\tstart\tend\tregion\tis_bad_bin");
+    if min_dist.is_some() {
+        text.extend_from_slice(b"\tdist_bad_bin");
+    }
+    for track in &table.tracks {
+        let w = track.window_bp;
+        text.extend_from_slice(
+            format!("\tlog2_insulation_score_{w}\tn_valid_pixels_{w}").as_bytes(),
+        );
+        if track.sum_counts.is_some() {
+            text.extend_from_slice(format!("\tsum_counts_{w}\tsum_balanced_{w}").as_bytes());
+        }
+    }
+    for track in &table.tracks {
+        text.extend_from_slice(format!("\tboundary_strength_{}", track.window_bp).as_bytes());
+    }
+    for track in &table.tracks {
+        text.extend_from_slice(format!("\tis_boundary_{}", track.window_bp).as_bytes());
+    }
+    text.push(b'\n');
+    let distances = min_dist.map(|_| distance_to_bad_bin(table));
+    for (row, &bin) in table.bins.iter().enumerate() {
+        push_bin(&mut text, bins, bin);
+        text.push(b'\t');
+        text.extend_from_slice(region_names[table.region[row]].as_bytes());
+        text.push(b'\t');
+        push_bool(&mut text, table.is_bad_bin[row]);
+        if let Some(d) = &distances {
+            text.push(b'\t');
+            write_u64(&mut text, d[row] as u64);
+        }
+        for track in &table.tracks {
+            text.push(b'\t');
+            write_real(&mut text, track.log2_insulation_score[row]);
+            text.push(b'\t');
+            write_real(&mut text, track.n_valid_pixels[row]);
+            if let (Some(counts), Some(balanced)) = (&track.sum_counts, &track.sum_balanced) {
+                text.push(b'\t');
+                write_real(&mut text, counts[row]);
+                text.push(b'\t');
+                write_real(&mut text, balanced[row]);
+            }
+        }
+        for track in &table.tracks {
+            text.push(b'\t');
+            write_real(&mut text, track.boundary_strength[row]);
+        }
+        for track in &table.tracks {
+            text.push(b'\t');
+            push_bool(&mut text, track.is_boundary[row]);
+        }
+        text.push(b'\n');
+    }
+    text
+}
+
+/// Distance (in bins) from each row to the nearest bad bin of its region (cooltools
+/// `dist_to_mask`, as the `dist_bad_bin` column).
+fn distance_to_bad_bin(table: &InsulationTable) -> Vec<usize> {
+    let mut distance = Vec::with_capacity(table.bins.len());
+    let mut start = 0;
+    while start < table.bins.len() {
+        let end = start
+            + table.region[start..]
+                .iter()
+                .take_while(|&&r| r == table.region[start])
+                .count();
+        distance.extend(dist_to_bad(&table.is_bad_bin[start..end]));
+        start = end;
+    }
+    distance
+}
+
+fn directionality_text(
+    bins: &BinTable,
+    table: &DirectionalityTable,
+    states: &[Option<DiState>],
+) -> Vec<u8> {
+    let w = table.window_bp;
+    let mut text = Vec::with_capacity(96 * (table.bins.len() + 1));
+    text.extend_from_slice(
+        format!(
+            "chrom\tstart\tend\tbad_bin_masked\tdirectionality_ratio_{w}\tdirectionality_index_{w}\tdi_state\n"
+        )
+        .as_bytes(),
+    );
+    for (row, &bin) in table.bins.iter().enumerate() {
+        push_bin(&mut text, bins, bin);
+        text.push(b'\t');
+        push_bool(&mut text, table.bad_bin_masked[row]);
+        text.push(b'\t');
+        write_real(&mut text, table.ratio[row]);
+        text.push(b'\t');
+        write_real(&mut text, table.index[row]);
+        text.push(b'\t');
+        text.extend_from_slice(match states[row] {
+            Some(DiState::Upstream) => b"upstream".as_slice(),
+            Some(DiState::Neutral) => b"neutral",
+            Some(DiState::Downstream) => b"downstream",
+            None => b".",
+        });
+        text.push(b'\n');
+    }
+    text
+}
+
+fn topdom_text(bins: &BinTable, regions: &[TopDomRegion]) -> Vec<u8> {
+    let mut text = Vec::new();
+    text.extend_from_slice(b"chrom\tstart\tend\tbin_signal\tlocal_min\tpvalue\tsegment\n");
+    for region in regions {
+        let mut tags = vec![b"gap".as_slice(); region.bin_signal.len()];
+        for (domain, tag) in &region.segments {
+            let name: &[u8] = match tag {
+                TopDomTag::Gap => b"gap",
+                TopDomTag::Domain => b"domain",
+                TopDomTag::Boundary => b"boundary",
+            };
+            for bin in domain.start_bin..domain.end_bin {
+                if let Some(slot) = tags.get_mut(bin - region.first_bin) {
+                    *slot = name;
+                }
+            }
+        }
+        for (k, &signal) in region.bin_signal.iter().enumerate() {
+            push_bin(&mut text, bins, region.first_bin + k);
+            text.push(b'\t');
+            write_real(&mut text, signal);
+            text.push(b'\t');
+            push_bool(&mut text, region.is_local_min[k]);
+            text.push(b'\t');
+            write_real(&mut text, region.pvalue[k]);
+            text.push(b'\t');
+            text.extend_from_slice(tags[k]);
+            text.push(b'\n');
+        }
+    }
+    text
+}
+
+fn armatus_text(bins: &BinTable, domains: &[(Domain, f64)]) -> Vec<u8> {
+    let mut text = Vec::new();
+    text.extend_from_slice(b"chrom\tstart\tend\tlevel\tgamma\tscore\n");
+    for (domain, gamma) in domains {
+        push_span(&mut text, bins, domain);
+        text.push(b'\t');
+        write_u64(&mut text, u64::from(domain.level));
+        text.push(b'\t');
+        write_real(&mut text, *gamma);
+        text.push(b'\t');
+        write_real(&mut text, domain.score);
+        text.push(b'\n');
+    }
+    text
+}
+
+/// chrom, start of the first bin, end of the last bin.
+fn push_span(text: &mut Vec<u8>, bins: &BinTable, domain: &Domain) {
+    let first = bins.bin(domain.start_bin);
+    let last = bins.bin(domain.end_bin - 1);
+    text.extend_from_slice(bins.chroms()[first.chrom_id].name.as_bytes());
+    text.push(b'\t');
+    write_u64(text, first.start);
+    text.push(b'\t');
+    write_u64(text, last.end);
+}
+
+fn push_score(text: &mut Vec<u8>, value: f64) {
+    if value.is_finite() {
+        write_real(text, value);
+    } else {
+        text.push(b'.');
+    }
+}
+
+fn boundaries_bed(bins: &BinTable, boundaries: &[Boundary], label: &str) -> Vec<u8> {
+    let mut text = Vec::new();
+    for boundary in boundaries {
+        push_bin(&mut text, bins, boundary.bin);
+        text.push(b'\t');
+        text.extend_from_slice(label.as_bytes());
+        text.push(b'\t');
+        push_score(&mut text, boundary.strength);
+        text.push(b'\n');
+    }
+    text
+}
+
+fn domains_bed(bins: &BinTable, domains: &[Domain], label: &str) -> Vec<u8> {
+    let mut text = Vec::new();
+    for domain in domains {
+        push_span(&mut text, bins, domain);
+        text.push(b'\t');
+        text.extend_from_slice(label.as_bytes());
+        if domain.level > 0 || label == "armatus" {
+            text.extend_from_slice(format!("_level{}", domain.level).as_bytes());
+        }
+        text.push(b'\t');
+        push_score(&mut text, domain.score);
+        text.push(b'\n');
+    }
+    text
+}

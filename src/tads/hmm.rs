@@ -1,0 +1,647 @@
+//! Domains from the directionality index by a three-state Gaussian hidden Markov model.
+//!
+//! Reference: Dixon JR, Selvaraj S, Yue F, Kim A, Li Y, Shen Y, Hu M, Liu JS, Ren B. "Topological
+//! domains in mammalian genomes identified by analysis of chromatin interactions." Nature
+//! 485:376-380 (2012), Methods "Directionality index" and "Hidden Markov model".
+//!
+//! The directionality index (DI) of a bin is positive when the bin contacts its downstream
+//! (higher-coordinate) neighbours more than its upstream ones. Dixon et al. model the DI with a
+//! hidden Markov model whose three hidden states are *upstream biased*, *no bias* and *downstream
+//! biased*; a domain starts where downstream bias starts and ends where the last upstream bias
+//! before the next downstream-biased run ends.
+//!
+//! Model ([`GaussianHmm`]): three states, an initial distribution, a 3 x 3 transition matrix and
+//! **one Gaussian per state with a variance shared by the three states** (Dixon et al. used a
+//! mixture of Gaussians per state and chose the number of components by AIC). The shared variance
+//! makes the states differ by the direction of the bias: with a free variance per state, the fit
+//! on a real or simulated index, which is heavy-tailed, tends to give one state to the large
+//! values of both signs and another to the small ones, and the upstream / downstream labels lose
+//! their meaning. Fitting ([`GaussianHmm::fit`]) is Baum-Welch (EM) with scaled
+//! forward-backward, jointly over all tracks (one per chromosome / region: they share the
+//! parameters, each has its own chain). NaN observations are missing: their emission probability
+//! is 1, so the chain runs through them on the transitions alone.
+//!
+//! Conventions and defaults ([`HmmParams`]):
+//! - deterministic initialisation: the finite DI values are sorted and split in thirds; each
+//!   state starts with the mean of one third and the mean of the thirds' variances, uniform
+//!   initial probabilities and a transition matrix with 0.9 on the diagonal;
+//! - variances are floored at `1e-6` times the variance of all DI values (and at `1e-12`) so that
+//!   a state cannot collapse onto one value;
+//! - EM stops when the log-likelihood changes by less than `tolerance` (default `1e-6`) relative
+//!   to `max(1, |log-likelihood|)`, or after `max_iterations` (default 500) iterations;
+//! - after fitting, states are ordered by their emission mean: the most negative is
+//!   [`DiState::Upstream`], the middle one [`DiState::Neutral`], the most positive
+//!   [`DiState::Downstream`];
+//! - domains ([`di_domains`]): from the Viterbi path, a domain opens at the first bin of a
+//!   downstream-biased state and stays open through downstream and neutral states; it closes at
+//!   the end of the last upstream-biased state seen before the next downstream-biased state, which
+//!   opens the next domain. A domain that never sees an upstream-biased state (at the end of the
+//!   track) is dropped, as are domains shorter than `min_domain_bins` (default 3). Boundaries are
+//!   the domain starts. Bins are genome-wide (`first_bin + local index`).
+
+use super::{Boundary, Domain};
+use crate::error::{Error, Result};
+
+/// Parameters of the fit and of the domain calls.
+#[derive(Clone, Debug, PartialEq)]
+pub struct HmmParams {
+    /// Maximum number of Baum-Welch iterations (default 500).
+    pub max_iterations: usize,
+    /// Convergence threshold on the relative change of the log-likelihood (default 1e-6).
+    pub tolerance: f64,
+    /// Domains shorter than this many bins are dropped (default 3).
+    pub min_domain_bins: usize,
+}
+
+impl Default for HmmParams {
+    fn default() -> Self {
+        HmmParams {
+            max_iterations: 500,
+            tolerance: 1e-6,
+            min_domain_bins: 3,
+        }
+    }
+}
+
+/// The hidden state of a bin: the direction of its contact bias.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum DiState {
+    /// Upstream biased (negative DI): the end of a domain.
+    Upstream,
+    /// No bias (DI near 0): inside a domain.
+    Neutral,
+    /// Downstream biased (positive DI): the start of a domain.
+    Downstream,
+}
+
+impl DiState {
+    /// The state of index `k` (0 Upstream, 1 Neutral, 2 Downstream).
+    pub fn from_index(k: usize) -> DiState {
+        match k {
+            0 => DiState::Upstream,
+            1 => DiState::Neutral,
+            _ => DiState::Downstream,
+        }
+    }
+
+    /// The index of the state (0 Upstream, 1 Neutral, 2 Downstream).
+    pub fn index(self) -> usize {
+        match self {
+            DiState::Upstream => 0,
+            DiState::Neutral => 1,
+            DiState::Downstream => 2,
+        }
+    }
+}
+
+/// A three-state hidden Markov model with one Gaussian emission per state. State `k` is
+/// [`DiState::from_index`]`(k)`; after [`GaussianHmm::fit`] the means are increasing.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GaussianHmm {
+    /// Initial state probabilities.
+    pub initial: [f64; 3],
+    /// `transition[i][j]`: probability of state `j` after state `i`.
+    pub transition: [[f64; 3]; 3],
+    /// Emission mean per state.
+    pub means: [f64; 3],
+    /// Emission variance per state.
+    pub variances: [f64; 3],
+}
+
+/// Forward-backward of one track: posteriors, expected transitions and the log-likelihood.
+struct ForwardBackward {
+    gamma: Vec<[f64; 3]>,
+    xi_sum: [[f64; 3]; 3],
+    log_likelihood: f64,
+}
+
+impl GaussianHmm {
+    /// Fit by Baum-Welch over all `tracks` jointly (see the module doc for the initialisation,
+    /// the variance floor and the stopping rule). Errors when there are fewer than 3 finite
+    /// observations in all, or when the parameters are not usable.
+    pub fn fit(tracks: &[&[f64]], params: &HmmParams) -> Result<GaussianHmm> {
+        if params.tolerance.is_nan() || params.tolerance < 0.0 {
+            return Err(Error::Invalid(format!(
+                "HMM: tolerance must be >= 0, got {}",
+                params.tolerance
+            )));
+        }
+        let mut finite: Vec<f64> = tracks
+            .iter()
+            .flat_map(|t| t.iter().copied())
+            .filter(|v| v.is_finite())
+            .collect();
+        if finite.len() < 3 {
+            return Err(Error::Invalid(format!(
+                "HMM: need at least 3 finite observations to fit 3 states, got {}",
+                finite.len()
+            )));
+        }
+        finite.sort_by(f64::total_cmp);
+        let (_, total_var) = mean_var(&finite);
+        let floor = (total_var * 1e-6).max(1e-12);
+        let n = finite.len();
+        let mut means = [0.0; 3];
+        let mut variances = [0.0; 3];
+        for k in 0..3 {
+            let part = &finite[k * n / 3..(k + 1) * n / 3];
+            let (m, v) = mean_var(part);
+            means[k] = m;
+            variances[k] = v.max(floor);
+        }
+        let shared = variances.iter().sum::<f64>() / 3.0;
+        let variances = [shared; 3];
+        let mut model = GaussianHmm {
+            initial: [1.0 / 3.0; 3],
+            transition: [[0.9, 0.05, 0.05], [0.05, 0.9, 0.05], [0.05, 0.05, 0.9]],
+            means,
+            variances,
+        };
+
+        let mut previous = f64::NEG_INFINITY;
+        for _ in 0..params.max_iterations.max(1) {
+            let mut init_acc = [0.0; 3];
+            let mut n_chains = 0.0;
+            let mut trans_acc = [[0.0; 3]; 3];
+            let mut weight = [0.0; 3];
+            let mut sum_x = [0.0; 3];
+            let mut sum_xx = [0.0; 3];
+            let mut ll = 0.0;
+            for track in tracks {
+                if track.is_empty() {
+                    continue;
+                }
+                let fb = model.forward_backward(track);
+                ll += fb.log_likelihood;
+                for k in 0..3 {
+                    init_acc[k] += fb.gamma[0][k];
+                    for (acc, xi) in trans_acc[k].iter_mut().zip(&fb.xi_sum[k]) {
+                        *acc += xi;
+                    }
+                }
+                n_chains += 1.0;
+                for (x, g) in track.iter().zip(&fb.gamma) {
+                    if x.is_finite() {
+                        for k in 0..3 {
+                            weight[k] += g[k];
+                            sum_x[k] += g[k] * x;
+                            sum_xx[k] += g[k] * x * x;
+                        }
+                    }
+                }
+            }
+            // M step.
+            let mut pooled = 0.0;
+            for k in 0..3 {
+                model.initial[k] = init_acc[k] / n_chains;
+                let row: f64 = trans_acc[k].iter().sum();
+                if row > 0.0 {
+                    model.transition[k] = trans_acc[k].map(|t| t / row);
+                }
+                if weight[k] > 0.0 {
+                    let m = sum_x[k] / weight[k];
+                    model.means[k] = m;
+                    pooled += sum_xx[k] - weight[k] * m * m;
+                }
+            }
+            // One variance shared by the three states: the states differ by their mean (the
+            // direction of the bias), not by the spread of the index.
+            let total: f64 = weight.iter().sum();
+            if total > 0.0 {
+                model.variances = [(pooled / total).max(floor); 3];
+            }
+            let converged = (ll - previous).abs() <= params.tolerance * ll.abs().max(1.0);
+            previous = ll;
+            if converged {
+                break;
+            }
+        }
+        if !model
+            .means
+            .iter()
+            .chain(&model.variances)
+            .all(|v| v.is_finite())
+        {
+            return Err(Error::Invalid(
+                "HMM: the fit did not converge to finite parameters".into(),
+            ));
+        }
+        Ok(model.sorted_by_mean())
+    }
+
+    /// The same model with the states relabelled so that the means increase.
+    fn sorted_by_mean(&self) -> GaussianHmm {
+        let mut order = [0usize, 1, 2];
+        order.sort_by(|&a, &b| self.means[a].total_cmp(&self.means[b]));
+        let mut out = self.clone();
+        for (new, &old) in order.iter().enumerate() {
+            out.initial[new] = self.initial[old];
+            out.means[new] = self.means[old];
+            out.variances[new] = self.variances[old];
+            for (new2, &old2) in order.iter().enumerate() {
+                out.transition[new][new2] = self.transition[old][old2];
+            }
+        }
+        out
+    }
+
+    /// Log emission densities at `x` (all 0 for a missing observation).
+    fn log_emissions(&self, x: f64) -> [f64; 3] {
+        if x.is_nan() {
+            return [0.0; 3];
+        }
+        std::array::from_fn(|k| {
+            let v = self.variances[k];
+            -0.5 * ((x - self.means[k]).powi(2) / v + (2.0 * std::f64::consts::PI * v).ln())
+        })
+    }
+
+    /// Emissions divided by their maximum, and the log of that maximum (avoids underflow far
+    /// from every mean; the factor only shifts the log-likelihood).
+    fn emissions(&self, x: f64) -> ([f64; 3], f64) {
+        let le = self.log_emissions(x);
+        let top = le.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        (le.map(|l| (l - top).exp()), top)
+    }
+
+    fn forward_backward(&self, track: &[f64]) -> ForwardBackward {
+        let n = track.len();
+        let mut alpha = vec![[0.0; 3]; n];
+        let mut scale = vec![0.0; n];
+        let mut emis = Vec::with_capacity(n);
+        let mut ll = 0.0;
+        for t in 0..n {
+            let (b, shift) = self.emissions(track[t]);
+            emis.push(b);
+            let mut a = [0.0; 3];
+            for j in 0..3 {
+                let prior = if t == 0 {
+                    self.initial[j]
+                } else {
+                    (0..3)
+                        .map(|i| alpha[t - 1][i] * self.transition[i][j])
+                        .sum()
+                };
+                a[j] = prior * b[j];
+            }
+            let c: f64 = a.iter().sum();
+            let c = if c > 0.0 { c } else { f64::MIN_POSITIVE };
+            alpha[t] = a.map(|v| v / c);
+            scale[t] = c;
+            ll += c.ln() + shift;
+        }
+        let mut beta = vec![[1.0; 3]; n];
+        for t in (0..n.saturating_sub(1)).rev() {
+            for i in 0..3 {
+                beta[t][i] = (0..3)
+                    .map(|j| self.transition[i][j] * emis[t + 1][j] * beta[t + 1][j])
+                    .sum::<f64>()
+                    / scale[t + 1];
+            }
+        }
+        let mut gamma = vec![[0.0; 3]; n];
+        let mut xi_sum = [[0.0; 3]; 3];
+        for t in 0..n {
+            let mut g = [0.0; 3];
+            for k in 0..3 {
+                g[k] = alpha[t][k] * beta[t][k];
+            }
+            let s: f64 = g.iter().sum();
+            gamma[t] = if s > 0.0 {
+                g.map(|v| v / s)
+            } else {
+                [1.0 / 3.0; 3]
+            };
+            if t + 1 < n {
+                for i in 0..3 {
+                    for j in 0..3 {
+                        xi_sum[i][j] +=
+                            alpha[t][i] * self.transition[i][j] * emis[t + 1][j] * beta[t + 1][j]
+                                / scale[t + 1];
+                    }
+                }
+            }
+        }
+        ForwardBackward {
+            gamma,
+            xi_sum,
+            log_likelihood: ll,
+        }
+    }
+
+    /// Log-likelihood of one track (scaled forward algorithm; NaN observations are missing).
+    pub fn log_likelihood(&self, track: &[f64]) -> f64 {
+        if track.is_empty() {
+            return 0.0;
+        }
+        self.forward_backward(track).log_likelihood
+    }
+
+    /// The most likely state path (Viterbi, in log space; ties go to the lower state index).
+    pub fn viterbi(&self, track: &[f64]) -> Vec<DiState> {
+        let n = track.len();
+        if n == 0 {
+            return Vec::new();
+        }
+        let log_a = self.transition.map(|row| row.map(f64::ln));
+        let mut delta = self.log_emissions(track[0]);
+        for (k, d) in delta.iter_mut().enumerate() {
+            *d += self.initial[k].ln();
+        }
+        let mut back = vec![[0u8; 3]; n];
+        for t in 1..n {
+            let le = self.log_emissions(track[t]);
+            let mut next = [0.0; 3];
+            for j in 0..3 {
+                let mut best = 0;
+                for i in 1..3 {
+                    if delta[i] + log_a[i][j] > delta[best] + log_a[best][j] {
+                        best = i;
+                    }
+                }
+                next[j] = delta[best] + log_a[best][j] + le[j];
+                back[t][j] = best as u8;
+            }
+            delta = next;
+        }
+        let mut state = 0;
+        for k in 1..3 {
+            if delta[k] > delta[state] {
+                state = k;
+            }
+        }
+        let mut path = vec![DiState::Upstream; n];
+        for t in (0..n).rev() {
+            path[t] = DiState::from_index(state);
+            state = back[t][state] as usize;
+        }
+        path
+    }
+
+    /// Posterior state probabilities per position (forward-backward), indexed by
+    /// [`DiState::index`].
+    pub fn posterior(&self, track: &[f64]) -> Vec<[f64; 3]> {
+        if track.is_empty() {
+            return Vec::new();
+        }
+        self.forward_backward(track).gamma
+    }
+}
+
+fn mean_var(v: &[f64]) -> (f64, f64) {
+    if v.is_empty() {
+        return (0.0, 0.0);
+    }
+    let m = v.iter().sum::<f64>() / v.len() as f64;
+    let var = v.iter().map(|x| (x - m).powi(2)).sum::<f64>() / v.len() as f64;
+    (m, var)
+}
+
+/// Domains of one region's DI track.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DiDomains {
+    /// Viterbi state per local bin.
+    pub states: Vec<DiState>,
+    /// Domains (genome-wide bins, `level` 0, `score` = mean posterior probability of the Viterbi
+    /// state over the domain's bins).
+    pub domains: Vec<Domain>,
+    /// Domain starts (genome-wide bins), strength = posterior probability of
+    /// [`DiState::Downstream`] at the start bin.
+    pub boundaries: Vec<Boundary>,
+}
+
+/// Call Dixon domains on `track` (the DI of one region whose first bin is `first_bin`) with a
+/// fitted `model`; see the module doc for the rule.
+pub fn di_domains(
+    model: &GaussianHmm,
+    track: &[f64],
+    first_bin: usize,
+    params: &HmmParams,
+) -> DiDomains {
+    let states = model.viterbi(track);
+    let posterior = model.posterior(track);
+    let spans = domain_spans(&states, params.min_domain_bins);
+    let mut domains = Vec::with_capacity(spans.len());
+    let mut boundaries = Vec::with_capacity(spans.len());
+    for (s, e) in spans {
+        let score = (s..e).map(|t| posterior[t][states[t].index()]).sum::<f64>() / (e - s) as f64;
+        domains.push(Domain {
+            start_bin: first_bin + s,
+            end_bin: first_bin + e,
+            level: 0,
+            score,
+        });
+        boundaries.push(Boundary {
+            bin: first_bin + s,
+            strength: posterior[s][DiState::Downstream.index()],
+        });
+    }
+    DiDomains {
+        states,
+        domains,
+        boundaries,
+    }
+}
+
+/// Dixon's rule on a state path: local `[start, end)` spans of at least `min_bins` bins.
+fn domain_spans(states: &[DiState], min_bins: usize) -> Vec<(usize, usize)> {
+    let mut spans = Vec::new();
+    let mut open: Option<usize> = None;
+    let mut last_up_end: Option<usize> = None;
+    let mut close = |s: usize, e: usize| {
+        if e - s >= min_bins.max(1) {
+            spans.push((s, e));
+        }
+    };
+    for (t, &state) in states.iter().enumerate() {
+        match state {
+            DiState::Downstream => match (open, last_up_end) {
+                (Some(s), Some(e)) => {
+                    close(s, e);
+                    open = Some(t);
+                    last_up_end = None;
+                }
+                (None, _) => open = Some(t),
+                (Some(_), None) => {}
+            },
+            DiState::Upstream => {
+                if open.is_some() {
+                    last_up_end = Some(t + 1);
+                }
+            }
+            DiState::Neutral => {}
+        }
+    }
+    if let (Some(s), Some(e)) = (open, last_up_end) {
+        close(s, e);
+    }
+    spans
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A small LCG with Box-Muller normals, for reproducible synthetic data.
+    struct Lcg(u64);
+
+    impl Lcg {
+        fn uniform(&mut self) -> f64 {
+            self.0 = self
+                .0
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((self.0 >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+        }
+
+        fn normal(&mut self) -> f64 {
+            let (u1, u2) = (self.uniform(), self.uniform());
+            (-2.0 * u1.ln()).sqrt() * (2.0 * std::f64::consts::PI * u2).cos()
+        }
+    }
+
+    fn simulate(model: &GaussianHmm, n: usize, rng: &mut Lcg) -> (Vec<usize>, Vec<f64>) {
+        let pick = |p: &[f64; 3], u: f64| {
+            let mut acc = 0.0;
+            for (k, &pk) in p.iter().enumerate() {
+                acc += pk;
+                if u < acc {
+                    return k;
+                }
+            }
+            2
+        };
+        let mut states = Vec::with_capacity(n);
+        let mut obs = Vec::with_capacity(n);
+        let mut s = pick(&model.initial, rng.uniform());
+        for _ in 0..n {
+            states.push(s);
+            obs.push(model.means[s] + model.variances[s].sqrt() * rng.normal());
+            s = pick(&model.transition[s], rng.uniform());
+        }
+        (states, obs)
+    }
+
+    fn truth() -> GaussianHmm {
+        GaussianHmm {
+            initial: [0.2, 0.5, 0.3],
+            transition: [[0.9, 0.08, 0.02], [0.04, 0.92, 0.04], [0.03, 0.07, 0.9]],
+            means: [-2.5, 0.0, 2.0],
+            variances: [0.5, 0.5, 0.5],
+        }
+    }
+
+    #[test]
+    fn fit_recovers_generating_chain() {
+        let model = truth();
+        let mut rng = Lcg(42);
+        let (s1, mut x1) = simulate(&model, 2500, &mut rng);
+        let (s2, x2) = simulate(&model, 1500, &mut rng);
+        // Some missing observations.
+        for t in (0..x1.len()).step_by(97) {
+            x1[t] = f64::NAN;
+        }
+        let fitted = GaussianHmm::fit(&[&x1, &x2], &HmmParams::default()).unwrap();
+        for k in 0..3 {
+            assert!(
+                (fitted.means[k] - model.means[k]).abs() < 0.15,
+                "means {:?}",
+                fitted.means
+            );
+            assert!(
+                (fitted.variances[k] / model.variances[k] - 1.0).abs() < 0.25,
+                "variances {:?}",
+                fitted.variances
+            );
+            assert!((fitted.transition[k][k] - model.transition[k][k]).abs() < 0.05);
+        }
+        for (states, x) in [(&s1, &x1), (&s2, &x2)] {
+            let path = fitted.viterbi(x);
+            let agree = path
+                .iter()
+                .zip(states.iter())
+                .filter(|(p, &s)| p.index() == s)
+                .count();
+            assert!(
+                agree as f64 > 0.9 * x.len() as f64,
+                "{agree} of {}",
+                x.len()
+            );
+        }
+        // Posteriors are distributions.
+        for g in fitted.posterior(&x2) {
+            assert!((g.iter().sum::<f64>() - 1.0).abs() < 1e-9);
+        }
+    }
+
+    #[test]
+    fn forward_log_likelihood_equals_brute_force() {
+        let model = truth();
+        let track = [0.3, -2.0, f64::NAN, 1.7, 2.4];
+        let density = |k: usize, x: f64| {
+            if x.is_nan() {
+                1.0
+            } else {
+                let v = model.variances[k];
+                (-(x - model.means[k]).powi(2) / (2.0 * v)).exp()
+                    / (2.0 * std::f64::consts::PI * v).sqrt()
+            }
+        };
+        let mut total = 0.0;
+        for code in 0..3usize.pow(5) {
+            let path: Vec<usize> = (0..5).map(|t| code / 3usize.pow(t) % 3).collect();
+            let mut p = model.initial[path[0]] * density(path[0], track[0]);
+            for t in 1..5 {
+                p *= model.transition[path[t - 1]][path[t]] * density(path[t], track[t]);
+            }
+            total += p;
+        }
+        let ll = model.log_likelihood(&track);
+        assert!((ll - total.ln()).abs() < 1e-10, "{ll} vs {}", total.ln());
+        // Far-away observations do not underflow.
+        assert!(model.log_likelihood(&[1e3, -1e3]).is_finite());
+    }
+
+    #[test]
+    fn dixon_rule_on_state_paths() {
+        use DiState::{Downstream as D, Neutral as N, Upstream as U};
+        let states = [D, D, N, U, U, N, D, D, U, D, N, N, U, D, N];
+        assert_eq!(domain_spans(&states, 3), vec![(0, 5), (6, 9), (9, 13)]);
+        assert_eq!(domain_spans(&states, 4), vec![(0, 5), (9, 13)]);
+        assert_eq!(
+            domain_spans(&[U, N, U, D, N], 1),
+            Vec::<(usize, usize)>::new()
+        );
+        assert_eq!(domain_spans(&[U, D, N, D, U, N], 1), vec![(1, 5)]);
+    }
+
+    #[test]
+    fn di_domains_on_a_synthetic_track() {
+        // Three domains of 20 bins: DI positive at the start, negative at the end.
+        let mut track = Vec::new();
+        for _ in 0..3 {
+            track.extend([3.0, 2.5, 2.8, 2.0]);
+            track.extend([
+                0.1, -0.2, 0.0, 0.2, -0.1, 0.05, 0.0, -0.05, 0.1, 0.0, -0.1, 0.2,
+            ]);
+            track.extend([-2.0, -2.6, -3.0, -2.4]);
+        }
+        let model = GaussianHmm::fit(&[&track], &HmmParams::default()).unwrap();
+        assert!(model.means[0] < -1.5 && model.means[2] > 1.5);
+        let out = di_domains(&model, &track, 1000, &HmmParams::default());
+        let spans: Vec<(usize, usize)> = out
+            .domains
+            .iter()
+            .map(|d| (d.start_bin, d.end_bin))
+            .collect();
+        assert_eq!(spans, vec![(1000, 1020), (1020, 1040), (1040, 1060)]);
+        let starts: Vec<usize> = out.boundaries.iter().map(|b| b.bin).collect();
+        assert_eq!(starts, vec![1000, 1020, 1040]);
+        assert!(out.domains.iter().all(|d| d.score > 0.5 && d.score <= 1.0));
+    }
+
+    #[test]
+    fn too_few_observations_is_invalid() {
+        assert!(GaussianHmm::fit(&[&[1.0, f64::NAN, 2.0]], &HmmParams::default()).is_err());
+    }
+}

@@ -1,0 +1,203 @@
+//! `contactmap score boundaries` on hand-made examples.
+
+use std::path::Path;
+
+use crate::{run_err, run_ok};
+
+fn write(dir: &Path, name: &str, text: &str) -> String {
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path.to_string_lossy().into_owned()
+}
+
+/// Bins of 10 kb at these bin indices on chr1, as BED text.
+fn bins(indices: &[u64]) -> String {
+    indices
+        .iter()
+        .map(|&i| format!("chr1\t{}\t{}\n", i * 10_000, (i + 1) * 10_000))
+        .collect()
+}
+
+/// The table's one row as (column, value) pairs.
+fn score(args: &[&str]) -> Vec<(String, String)> {
+    let text = run_ok(&[&["score", "boundaries"][..], args].concat());
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), 2, "{text}");
+    lines[0]
+        .split('\t')
+        .zip(lines[1].split('\t'))
+        .map(|(k, v)| (k.to_string(), v.to_string()))
+        .collect()
+}
+
+fn value(row: &[(String, String)], name: &str) -> f64 {
+    row.iter()
+        .find(|(k, _)| k == name)
+        .unwrap_or_else(|| panic!("no column {name}: {row:?}"))
+        .1
+        .parse()
+        .unwrap()
+}
+
+#[test]
+fn known_examples() {
+    let dir = tempfile::tempdir().unwrap();
+    let truth = write(dir.path(), "truth.bed", &bins(&[10, 20, 30, 40]));
+    let perfect = score(&["--truth", &truth, &truth]);
+    let columns: Vec<&str> = perfect.iter().map(|(k, _)| k.as_str()).collect();
+    assert_eq!(
+        columns,
+        [
+            "tolerance_bp",
+            "n_truth",
+            "n_calls",
+            "true_positives",
+            "precision",
+            "recall",
+            "f1"
+        ]
+    );
+    assert_eq!(value(&perfect, "f1"), 1.0);
+    assert_eq!(value(&perfect, "tolerance_bp"), 10_000.0);
+
+    let shifted = write(dir.path(), "shifted.bed", &bins(&[11, 21, 31, 41]));
+    assert_eq!(value(&score(&["--truth", &truth, &shifted]), "f1"), 1.0);
+    let strict = score(&["--truth", &truth, &shifted, "--tolerance-bins", "0"]);
+    assert_eq!(value(&strict, "f1"), 0.0);
+    assert_eq!(value(&strict, "true_positives"), 0.0);
+
+    let half = write(dir.path(), "half.bed.gz", "");
+    {
+        use std::io::Write;
+        let mut gz = flate2::write::GzEncoder::new(
+            std::fs::File::create(&half).unwrap(),
+            flate2::Compression::default(),
+        );
+        gz.write_all(bins(&[10, 30]).as_bytes()).unwrap();
+        gz.finish().unwrap();
+    }
+    let row = score(&["--truth", &truth, &half]);
+    assert_eq!(value(&row, "recall"), 0.5);
+    assert_eq!(value(&row, "precision"), 1.0);
+    assert!((value(&row, "f1") - 2.0 / 3.0).abs() < 1e-12);
+
+    // Explicit bin size (zero-width calls at the bin midpoints + 2 bins): tolerance 2 bins.
+    let points: String = [10u64, 20]
+        .iter()
+        .map(|i| format!("chr1\t{0}\t{0}\n", i * 10_000 + 5_000 + 20_000))
+        .collect();
+    let points = write(dir.path(), "points.bed", &points);
+    let row = score(&[
+        "--truth",
+        &truth,
+        &points,
+        "--bin-size",
+        "10000",
+        "--tolerance-bins",
+        "2",
+    ]);
+    assert_eq!(value(&row, "true_positives"), 2.0);
+    let line = run_err(&["score", "boundaries", "--truth", &truth, &points]);
+    assert!(
+        line.contains("points.bed") && line.contains("--bin-size"),
+        "{line}"
+    );
+
+    // Output to a file.
+    let out = dir.path().join("score.tsv");
+    run_ok(&[
+        "score",
+        "boundaries",
+        "--truth",
+        &truth,
+        &truth,
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(std::fs::read_to_string(&out)
+        .unwrap()
+        .starts_with("tolerance_bp\t"));
+}
+
+#[test]
+fn domain_scores() {
+    let dir = tempfile::tempdir().unwrap();
+    let truth = write(dir.path(), "truth.bed", &bins(&[10, 20]));
+    let tads = write(
+        dir.path(),
+        "tads.bed",
+        "chr1\t0\t100000\t0\nchr1\t100000\t200000\t0\n",
+    );
+    let merged = write(dir.path(), "merged.bed", "chr1\t0\t200000\n");
+    let nested = write(
+        dir.path(),
+        "nested.bed",
+        "chr1\t0\t200000\nchr1\t0\t100000\n",
+    );
+    let same = score(&[
+        "--truth",
+        &truth,
+        &truth,
+        "--truth-domains",
+        &tads,
+        "--domains",
+        &tads,
+    ]);
+    assert_eq!(value(&same, "mean_best_jaccard_truth"), 1.0);
+    assert_eq!(value(&same, "moc"), 1.0);
+    let row = score(&[
+        "--truth",
+        &truth,
+        &truth,
+        "--truth-domains",
+        &tads,
+        "--domains",
+        &merged,
+    ]);
+    assert_eq!(value(&row, "mean_best_jaccard_truth"), 0.5);
+    assert!(value(&row, "moc").abs() < 1e-12);
+    let row = score(&[
+        "--truth",
+        &truth,
+        &truth,
+        "--truth-domains",
+        &tads,
+        "--domains",
+        &nested,
+    ]);
+    assert!(value(&row, "moc").is_nan());
+}
+
+#[test]
+fn bad_input_names_file_and_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let truth = write(dir.path(), "truth.bed", &bins(&[10, 20]));
+    let bad = write(
+        dir.path(),
+        "bad.bed",
+        "# calls\nchr1\t100\t200\nchr1\tabc\t300\n",
+    );
+    let line = run_err(&["score", "boundaries", "--truth", &truth, &bad]);
+    assert!(
+        line.contains("bad.bed:3:") && line.contains("'abc'"),
+        "{line}"
+    );
+    let reversed = write(dir.path(), "reversed.bed", "chr1\t300\t200\n");
+    let line = run_err(&["score", "boundaries", "--truth", &reversed, &truth]);
+    assert!(
+        line.contains("reversed.bed:1:") && line.contains("after end"),
+        "{line}"
+    );
+    let short = write(dir.path(), "short.bed", "chr1\t300\n");
+    let line = run_err(&["score", "boundaries", "--truth", &truth, &short]);
+    assert!(line.contains("short.bed:1:"), "{line}");
+    let missing = dir.path().join("missing.bed");
+    let line = run_err(&[
+        "score",
+        "boundaries",
+        "--truth",
+        &truth,
+        missing.to_str().unwrap(),
+    ]);
+    assert!(line.contains("missing.bed"), "{line}");
+}

@@ -1,0 +1,177 @@
+//! `contactmap simulate blocks`: a small map, its truth BEDs, reproducibility.
+
+use std::path::Path;
+
+use crate::{run, run_err, run_ok};
+
+/// Simulate 2 chromosomes x 300 bins into `dir` with `seed`; return (cool, domains, boundaries).
+fn simulate(dir: &Path, tag: &str, seed: &str, extra: &[&str]) -> (String, String, String) {
+    let path = |name: &str| {
+        dir.join(format!("{tag}.{name}"))
+            .to_string_lossy()
+            .into_owned()
+    };
+    let (cool, domains, boundaries) = (path("cool"), path("domains.bed"), path("bounds.bed"));
+    let base = [
+        "simulate",
+        "blocks",
+        "--chroms",
+        "2",
+        "--bins",
+        "300",
+        "--depth",
+        "2e5",
+        "--max-distance",
+        "50",
+        "--seed",
+        seed,
+        "-o",
+        &cool,
+        "--truth-domains",
+        &domains,
+        "--truth-boundaries",
+        &boundaries,
+    ];
+    run_ok(&[&base[..], extra].concat());
+    (cool, domains, boundaries)
+}
+
+fn bed_lines(path: &str) -> Vec<Vec<String>> {
+    std::fs::read_to_string(path)
+        .unwrap()
+        .lines()
+        .map(|l| l.split('\t').map(str::to_string).collect())
+        .collect()
+}
+
+#[test]
+fn simulated_map_has_the_expected_shape_and_truth() {
+    let dir = tempfile::tempdir().unwrap();
+    let (cool, domains, boundaries) = simulate(dir.path(), "a", "1", &["--nested-fraction", "0.3"]);
+    let info: serde_json::Value =
+        serde_json::from_str(&run_ok(&["info", "--json", &cool])).unwrap();
+    assert_eq!(info["nbins"], 600);
+    assert_eq!(info["nchroms"], 2);
+    let nnz = info["nnz"].as_u64().unwrap();
+    // At most 51 diagonals per chromosome (300 + 299 + ... + 250 pixels each).
+    assert!(nnz > 10_000 && nnz <= 2 * (51 * 300 - 50 * 51 / 2), "{nnz}");
+    let sum = info["sum"].as_f64().unwrap();
+    assert!((sum - 2e5).abs() < 5.0 * 2e5f64.sqrt(), "{sum}");
+
+    let domains = bed_lines(&domains);
+    let top: Vec<&Vec<String>> = domains.iter().filter(|f| f[3] == "0").collect();
+    assert!(domains
+        .iter()
+        .all(|f| f.len() == 4 && (f[3] == "0" || f[3] == "1")));
+    assert!(domains.iter().any(|f| f[3] == "1"), "some nested domains");
+    for chrom in ["chr1", "chr2"] {
+        let spans: Vec<(u64, u64)> = top
+            .iter()
+            .filter(|f| f[0] == chrom)
+            .map(|f| (f[1].parse().unwrap(), f[2].parse().unwrap()))
+            .collect();
+        assert_eq!(spans[0].0, 0);
+        assert_eq!(spans.last().unwrap().1, 3_000_000);
+        assert!(spans.windows(2).all(|w| w[0].1 == w[1].0));
+    }
+    // Boundaries: one 10 kb bin at each domain start (any level) except chromosome starts.
+    let boundaries = bed_lines(&boundaries);
+    let mut starts: Vec<(String, u64)> = domains
+        .iter()
+        .map(|f| (f[0].clone(), f[1].parse().unwrap()))
+        .filter(|(_, s)| *s != 0)
+        .collect();
+    starts.sort();
+    starts.dedup();
+    let mut got: Vec<(String, u64)> = boundaries
+        .iter()
+        .map(|f| {
+            let (s, e): (u64, u64) = (f[1].parse().unwrap(), f[2].parse().unwrap());
+            assert_eq!(e - s, 10_000);
+            (f[0].clone(), s)
+        })
+        .collect();
+    got.sort();
+    assert_eq!(got, starts);
+    // Each boundary scores perfectly against itself.
+    let bounds = dir.path().join("a.bounds.bed");
+    let bounds = bounds.to_str().unwrap();
+    let table = run_ok(&["score", "boundaries", "--truth", bounds, bounds]);
+    assert!(
+        table.lines().nth(1).unwrap().ends_with("\t1\t1\t1"),
+        "{table}"
+    );
+}
+
+#[test]
+fn same_seed_same_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let a = simulate(
+        dir.path(),
+        "a",
+        "5",
+        &["--bias-sd", "0.3", "--dead-bins", "0.05"],
+    );
+    let b = simulate(
+        dir.path(),
+        "b",
+        "5",
+        &["--bias-sd", "0.3", "--dead-bins", "0.05"],
+    );
+    let c = simulate(
+        dir.path(),
+        "c",
+        "6",
+        &["--bias-sd", "0.3", "--dead-bins", "0.05"],
+    );
+    assert_eq!(std::fs::read(&a.1).unwrap(), std::fs::read(&b.1).unwrap());
+    assert_eq!(std::fs::read(&a.2).unwrap(), std::fs::read(&b.2).unwrap());
+    let (dump_a, dump_b, dump_c) = (
+        run_ok(&["dump", &a.0]),
+        run_ok(&["dump", &b.0]),
+        run_ok(&["dump", &c.0]),
+    );
+    assert!(!dump_a.is_empty());
+    assert_eq!(dump_a, dump_b);
+    assert_ne!(dump_a, dump_c);
+    // Dead bins have no pixels: the bin table shows them with empty rows.
+    let dead = dump_a
+        .lines()
+        .filter(|l| !l.is_empty())
+        .flat_map(|l| {
+            l.split('\t')
+                .take(2)
+                .map(|b| b.parse::<usize>().unwrap())
+                .collect::<Vec<_>>()
+        })
+        .collect::<std::collections::HashSet<_>>();
+    assert_eq!(600 - dead.len(), 30, "round(0.05 x 600) dead bins");
+}
+
+#[test]
+fn bad_parameters_fail_cleanly() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.cool");
+    let out = out.to_str().unwrap();
+    let line = run_err(&[
+        "simulate",
+        "blocks",
+        "-o",
+        out,
+        "--min-domain",
+        "80",
+        "--max-domain",
+        "60",
+    ]);
+    assert!(line.contains("minimum domain size"), "{line}");
+    let line = run_err(&["simulate", "blocks", "-o", out, "--depth", "0"]);
+    assert!(line.contains("depth"), "{line}");
+    let line = run_err(&["simulate", "blocks", "-o", out, "--bins", "5"]);
+    assert!(line.contains("cannot hold"), "{line}");
+    assert!(!Path::new(out).exists());
+    let help = run(&["simulate", "blocks", "--help"]);
+    let help = String::from_utf8_lossy(&help.stdout);
+    for text in ["--truth-domains", "[default: 2000]", "Examples:", "--seed"] {
+        assert!(help.contains(text), "help lacks {text}: {help}");
+    }
+}
