@@ -69,7 +69,8 @@ if [ "${SKIP_TADS:-0}" != 1 ]; then
   fi
   time_it "contactmap tads big.cool --window 100k,200k,500k -o ins.tsv" \
     "$cm" tads "$bigw" --window 100k,200k,500k -o bench-data/ins_ours.tsv
-  time_it "cooltools insulation -p 2 big.cool 100000 200000 500000 -o ins.tsv" \
-    "$venv/bin/cooltools" insulation -p 2 -o bench-data/ins_cooltools.tsv "$bigw" 100000 200000 500000
+  # cooltools' command line thresholds at 0 by default; --threshold Li is its API's default, and ours.
+  time_it "cooltools insulation -p 2 --threshold Li big.cool 100000 200000 500000 -o ins.tsv" \
+    "$venv/bin/cooltools" insulation -p 2 --threshold Li -o bench-data/ins_cooltools.tsv "$bigw" 100000 200000 500000
   "$py" scripts/compare_insulation.py bench-data/ins_ours.tsv bench-data/ins_cooltools.tsv
 fi

@@ -11,7 +11,7 @@ import pandas as pd
 ours = pd.read_csv(sys.argv[1], sep="\t")
 theirs = pd.read_csv(sys.argv[2], sep="\t")
 assert len(ours) == len(theirs), "row counts differ"
-worst, nan_same, calls_same = 0.0, True, True
+worst, worst_abs, nan_same, calls_same = 0.0, 0.0, True, True
 for column in theirs.columns:
     if column in ("chrom", "region"):
         assert (ours[column].astype(str) == theirs[column].astype(str)).all(), column
@@ -23,12 +23,15 @@ for column in theirs.columns:
         continue
     a, b = a.astype(float), b.astype(float)
     nan_same &= bool((np.isnan(a) == np.isnan(b)).all())
-    both = ~np.isnan(a) & ~np.isnan(b) & (b != 0)
+    finite = ~np.isnan(a) & ~np.isnan(b)
+    if finite.any():
+        worst_abs = max(worst_abs, float(np.max(np.abs(a[finite] - b[finite]))))
+    both = finite & (b != 0)
     if both.any():
         worst = max(worst, float(np.max(np.abs(a[both] - b[both]) / np.abs(b[both]))))
 n_calls = int(sum(theirs[c].sum() for c in theirs.columns if c.startswith("is_boundary")))
 print(
-    f"| tables agree: max relative difference {worst:.1e}, NaN positions "
+    f"| tables agree: max relative difference {worst:.1e} (absolute {worst_abs:.1e}), NaN positions "
     f"{'identical' if nan_same else 'DIFFER'}, boundary calls ({n_calls}) "
     f"{'identical' if calls_same else 'DIFFER'} | | |"
 )

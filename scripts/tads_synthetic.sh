@@ -21,7 +21,7 @@ methods=(
   "insulation (200 kb)|--method insulation --window 200k"
   "directionality + HMM (200 kb)|--method directionality --window 200k"
   "TopDom (w = 5 bins)|--method topdom --window 50k"
-  "Armatus (gamma 0.5)|--method armatus --gamma 0.5 --max-domain 1M"
+  "Armatus (level 0: gamma 0.2)|--method armatus --max-domain 1M"
 )
 
 f1_of() { awk -F'\t' 'NR == 2 { print $7 }' "$1"; }

@@ -15,7 +15,7 @@ use crate::io::{self, LoadedPixels, StreamedPixels};
 use crate::tads::armatus::{armatus, ArmatusParams};
 use crate::tads::band::cis_bands;
 use crate::tads::directionality::{directionality, DirectionalityParams, DirectionalityTable};
-use crate::tads::hmm::{di_domains, DiState, GaussianHmm, HmmParams};
+use crate::tads::hmm::{di_domains, signed_normal_scores, DiState, GaussianHmm, HmmParams};
 use crate::tads::insulation::{
     dist_to_bad, insulation, regions_shorter_than, InsulationParams, InsulationTable,
 };
@@ -52,8 +52,8 @@ Methods and their outputs (-o: per-bin track, tab-separated with a header, `nan`
                   cooltools 0.7.1, otsu works when some strengths are NaN (they are left out).
   directionality  cooltools directionality's table: chrom start end bad_bin_masked
                   directionality_ratio_W directionality_index_W, plus di_state (upstream, neutral,
-                  downstream) from a 3-state Gaussian HMM fitted to the index genome-wide (Dixon
-                  2012); domains run from a downstream-biased run to the end of the following
+                  downstream) from a 3-state Gaussian HMM fitted genome-wide to the index's
+                  signed normal scores (Dixon 2012); domains run from a downstream-biased run to the end of the following
                   upstream-biased run.
   topdom          chrom start end bin_signal local_min pvalue segment (domain, gap, boundary):
                   TopDom's binSignal over --window (default 5 bins), local minima, and its
@@ -388,16 +388,13 @@ fn run_directionality(
         start = end;
     }
     let tracks: Vec<&[f64]> = spans.iter().map(|s| &table.index[s.clone()]).collect();
-    let model = GaussianHmm::fit(&tracks, &hmm_params)?;
+    let scores = signed_normal_scores(&tracks);
+    let score_tracks: Vec<&[f64]> = scores.iter().map(Vec::as_slice).collect();
+    let model = GaussianHmm::fit(&score_tracks, &hmm_params)?;
     let mut states = vec![None; table.bins.len()];
     let (mut boundaries, mut domains) = (Vec::new(), Vec::new());
-    for span in &spans {
-        let called = di_domains(
-            &model,
-            &table.index[span.clone()],
-            table.bins[span.start],
-            &hmm_params,
-        );
+    for (span, track) in spans.iter().zip(&score_tracks) {
+        let called = di_domains(&model, track, table.bins[span.start], &hmm_params);
         for (k, state) in called.states.iter().enumerate() {
             states[span.start + k] = Some(*state);
         }

@@ -410,6 +410,51 @@ pub struct DiDomains {
     pub boundaries: Vec<Boundary>,
 }
 
+/// Signed normal scores of the directionality index, the scale the HMM is fitted on: each finite
+/// value `x` becomes `sign(x) * Phi^-1((1 + r / (n + 1)) / 2)`, where `r` is the rank of `|x|`
+/// among the `n` finite values of all `tracks` (ties share their mean rank) and `Phi^-1` the
+/// standard normal quantile; 0 stays 0 and NaN stays NaN.
+///
+/// The index is a chi-square-like statistic whose tails grow with the contact counts: a handful of
+/// extreme bins (next to masked bins, at chromosome ends) would otherwise claim the two biased
+/// states and leave every other bin neutral. The transform keeps the sign and the order of the
+/// index and gives it Gaussian tails, whatever the depth and the balancing.
+pub fn signed_normal_scores(tracks: &[&[f64]]) -> Vec<Vec<f64>> {
+    let mut magnitudes: Vec<f64> = tracks
+        .iter()
+        .flat_map(|t| t.iter())
+        .filter(|x| x.is_finite())
+        .map(|x| x.abs())
+        .collect();
+    magnitudes.sort_by(f64::total_cmp);
+    let n = magnitudes.len() as f64;
+    let normal = statrs::distribution::Normal::standard();
+    // Mean rank (1-based) of `value` among the sorted magnitudes.
+    let rank = |value: f64| {
+        let below = magnitudes.partition_point(|&m| m < value) as f64;
+        let up_to = magnitudes.partition_point(|&m| m <= value) as f64;
+        (below + 1.0 + up_to) / 2.0
+    };
+    tracks
+        .iter()
+        .map(|track| {
+            track
+                .iter()
+                .map(|&x| {
+                    if !x.is_finite() {
+                        f64::NAN
+                    } else if x == 0.0 {
+                        0.0
+                    } else {
+                        let p = (1.0 + rank(x.abs()) / (n + 1.0)) / 2.0;
+                        x.signum() * statrs::distribution::ContinuousCDF::inverse_cdf(&normal, p)
+                    }
+                })
+                .collect()
+        })
+        .collect()
+}
+
 /// Call Dixon domains on `track` (the DI of one region whose first bin is `first_bin`) with a
 /// fitted `model`; see the module doc for the rule.
 pub fn di_domains(
@@ -529,6 +574,25 @@ mod tests {
             means: [-2.5, 0.0, 2.0],
             variances: [0.5, 0.5, 0.5],
         }
+    }
+
+    #[test]
+    fn signed_normal_scores_keep_sign_order_and_zero() {
+        let a = [3.0, -0.5, 0.0, f64::NAN, 100.0];
+        let b = [-3.0, 0.5];
+        let scores = signed_normal_scores(&[&a, &b]);
+        // Magnitudes 0.5, 0.5, 3, 3, 100 and 0 (ranks 2.5, 2.5, 4.5, 4.5, 6, 1) among n = 6.
+        let z = |rank: f64| {
+            let normal = statrs::distribution::Normal::standard();
+            statrs::distribution::ContinuousCDF::inverse_cdf(&normal, (1.0 + rank / 7.0) / 2.0)
+        };
+        assert!((scores[0][0] - z(4.5)).abs() < 1e-12);
+        assert!((scores[0][1] + z(2.5)).abs() < 1e-12);
+        assert_eq!(scores[0][2], 0.0);
+        assert!(scores[0][3].is_nan());
+        assert!((scores[0][4] - z(6.0)).abs() < 1e-12);
+        assert_eq!(scores[1][0], -scores[0][0]);
+        assert_eq!(scores[1][1], -scores[0][1]);
     }
 
     #[test]
