@@ -1,0 +1,80 @@
+//! Criterion benches of the TAD callers on the synthetic in-memory matrix of the expected bench
+//! (4 chromosomes x 5,000 bins of 10 kb, diagonals up to 300, about 6 M pixels, every 97th bin
+//! masked): insulation with three windows and directionality over all of it, TopDom and Armatus
+//! on one chromosome's band.
+//!
+//! Run: `cargo bench --bench tads`. The end-to-end timing on the 25 M pixel file against cooltools
+//! is in docs/performance.md.
+
+// criterion_group! generates an undocumented public function.
+#![allow(missing_docs)]
+
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+
+use contactmap::expected::View;
+use contactmap::matrix::{CountType, PixelSource, Pixels};
+use contactmap::tads::armatus::{armatus, ArmatusParams};
+use contactmap::tads::band::cis_bands;
+use contactmap::tads::directionality::{directionality, DirectionalityParams};
+use contactmap::tads::insulation::{insulation, InsulationParams};
+use contactmap::tads::topdom::{topdom, TopDomParams};
+
+mod common;
+
+fn synthetic() -> (Pixels, Vec<f64>) {
+    let (bins, block) = common::Synthetic {
+        n_chroms: 4,
+        bins_per_chrom: 5_000,
+        max_diagonal: 300,
+        dead_every: None,
+        trans_per_row: 1,
+    }
+    .build();
+    let n_bins = bins.n_bins();
+    let mut pixels = Pixels::with_capacity(bins, CountType::Integer, block.len()).expect("bins");
+    pixels.extend(&block).expect("sorted pixels");
+    let mut random = common::Lcg::new(777);
+    let weights = (0..n_bins)
+        .map(|i| {
+            if i % 97 == 0 {
+                f64::NAN
+            } else {
+                0.5 + random.next_unit()
+            }
+        })
+        .collect();
+    (pixels, weights)
+}
+
+fn bench_tads(c: &mut Criterion) {
+    let (pixels, weights) = synthetic();
+    let view = View::chromosomes(pixels.bins());
+    let mut group = c.benchmark_group("tads");
+    group.throughput(Throughput::Elements(pixels.len() as u64));
+    group.sample_size(10);
+    let params = InsulationParams::new(vec![100_000, 200_000, 500_000]);
+    group.bench_function("insulation_3_windows", |b| {
+        b.iter(|| insulation(&pixels, Some(&weights), &view, &params).expect("insulation"))
+    });
+    let params = DirectionalityParams::new(500_000);
+    group.bench_function("directionality", |b| {
+        b.iter(|| directionality(&pixels, Some(&weights), &view, &params).expect("DI"))
+    });
+    let bands = cis_bands(&pixels, Some(&weights), &view, 101).expect("bands");
+    group.throughput(Throughput::Elements(bands[0].n_bins as u64));
+    let params = TopDomParams::default();
+    group.bench_function("topdom_one_chromosome", |b| {
+        b.iter(|| topdom(&bands[0], &params).expect("topdom"))
+    });
+    let params = ArmatusParams {
+        gammas: vec![0.2, 0.5, 1.0],
+        max_domain_bins: 100,
+    };
+    group.bench_function("armatus_one_chromosome_3_gammas", |b| {
+        b.iter(|| armatus(&bands[0], &params).expect("armatus"))
+    });
+    group.finish();
+}
+
+criterion_group!(benches, bench_tads);
+criterion_main!(benches);
