@@ -11,39 +11,12 @@
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 
 use contactmap::expected::{expected_cis, expected_trans, CisParams, View};
-use contactmap::matrix::{CountType, PixelSource, Pixels};
+use contactmap::matrix::PixelSource;
 
 mod common;
 
-/// 4 chromosomes x 5,000 bins, diagonals up to 300, one trans pixel a row, weights with every
-/// 97th bin masked.
-fn synthetic() -> (Pixels, Vec<f64>) {
-    let (bins, block) = common::Synthetic {
-        n_chroms: 4,
-        bins_per_chrom: 5_000,
-        max_diagonal: 300,
-        dead_every: None,
-        trans_per_row: 1,
-    }
-    .build();
-    let n_bins = bins.n_bins();
-    let mut pixels = Pixels::with_capacity(bins, CountType::Integer, block.len()).expect("bins");
-    pixels.extend(&block).expect("sorted pixels");
-    let mut random = common::Lcg::new(777);
-    let weights = (0..n_bins)
-        .map(|i| {
-            if i % 97 == 0 {
-                f64::NAN
-            } else {
-                0.5 + random.next_unit()
-            }
-        })
-        .collect();
-    (pixels, weights)
-}
-
 fn bench_expected(c: &mut Criterion) {
-    let (pixels, weights) = synthetic();
+    let (pixels, weights) = common::six_million_pixels();
     let view = View::chromosomes(pixels.bins());
     let mut group = c.benchmark_group("expected");
     group.throughput(Throughput::Elements(pixels.len() as u64));

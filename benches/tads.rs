@@ -12,7 +12,7 @@
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 
 use contactmap::expected::View;
-use contactmap::matrix::{CountType, PixelSource, Pixels};
+use contactmap::matrix::PixelSource;
 use contactmap::tads::armatus::{armatus, ArmatusParams};
 use contactmap::tads::band::cis_bands;
 use contactmap::tads::directionality::{directionality, DirectionalityParams};
@@ -21,33 +21,8 @@ use contactmap::tads::topdom::{topdom, TopDomParams};
 
 mod common;
 
-fn synthetic() -> (Pixels, Vec<f64>) {
-    let (bins, block) = common::Synthetic {
-        n_chroms: 4,
-        bins_per_chrom: 5_000,
-        max_diagonal: 300,
-        dead_every: None,
-        trans_per_row: 1,
-    }
-    .build();
-    let n_bins = bins.n_bins();
-    let mut pixels = Pixels::with_capacity(bins, CountType::Integer, block.len()).expect("bins");
-    pixels.extend(&block).expect("sorted pixels");
-    let mut random = common::Lcg::new(777);
-    let weights = (0..n_bins)
-        .map(|i| {
-            if i % 97 == 0 {
-                f64::NAN
-            } else {
-                0.5 + random.next_unit()
-            }
-        })
-        .collect();
-    (pixels, weights)
-}
-
 fn bench_tads(c: &mut Criterion) {
-    let (pixels, weights) = synthetic();
+    let (pixels, weights) = common::six_million_pixels();
     let view = View::chromosomes(pixels.bins());
     let mut group = c.benchmark_group("tads");
     group.throughput(Throughput::Elements(pixels.len() as u64));

@@ -18,7 +18,7 @@ pub mod hic;
 pub mod tables;
 pub mod text;
 
-use std::io::Read;
+use std::io::{BufRead, BufReader, Read};
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
@@ -406,6 +406,26 @@ impl PixelSource for StreamedPixels<'_> {
         })?;
         Ok(total.unwrap_or_else(&init))
     }
+}
+
+/// Open a text file for reading line by line: `-` is standard input; gzip is detected from the
+/// content (the magic bytes), whatever the extension.
+pub fn open_text(path: &Path) -> Result<Box<dyn BufRead>> {
+    let input: Box<dyn Read> = if path == Path::new("-") {
+        Box::new(std::io::stdin())
+    } else {
+        Box::new(std::fs::File::open(path).map_err(|e| Error::io(path, e))?)
+    };
+    let mut reader = BufReader::new(input);
+    let gzip = reader
+        .fill_buf()
+        .map_err(|e| Error::io(path, e))?
+        .starts_with(&[0x1f, 0x8b]);
+    Ok(if gzip {
+        Box::new(BufReader::new(flate2::read::MultiGzDecoder::new(reader)))
+    } else {
+        Box::new(reader)
+    })
 }
 
 /// Parse a memory size such as `8G`, `512M`, `2GiB`, `1000000` (bytes).

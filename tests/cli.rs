@@ -90,3 +90,37 @@ pub fn reference_totals() -> Vec<(String, u64, u64, f64)> {
         })
         .collect()
 }
+
+/// A tab-separated table with a header line, as text fields.
+pub struct Table {
+    /// Column names.
+    pub header: Vec<String>,
+    /// Rows of fields.
+    pub rows: Vec<Vec<String>>,
+}
+
+/// Parse a tab-separated table with a header line (empty lines skipped).
+pub fn parse_table(text: &str) -> Table {
+    let mut lines = text.lines();
+    let header = lines
+        .next()
+        .expect("a header line")
+        .split('\t')
+        .map(String::from)
+        .collect();
+    let rows = lines
+        .filter(|l| !l.is_empty())
+        .map(|l| l.split('\t').map(String::from).collect())
+        .collect();
+    Table { header, rows }
+}
+
+/// A gzipped reference table under `data/` (e.g. `reference/tads/x.tsv.gz`).
+pub fn reference_table(name: &str) -> Table {
+    use std::io::Read;
+    let mut text = String::new();
+    flate2::read::MultiGzDecoder::new(std::fs::File::open(data(name)).expect("reference file"))
+        .read_to_string(&mut text)
+        .expect("gzip text");
+    parse_table(&text)
+}

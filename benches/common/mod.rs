@@ -2,7 +2,7 @@
 //! maximum diagonal with a fixed linear congruential noise, optional dead bins, sparse trans.
 
 use contactmap::genome::{BinTable, Chrom};
-use contactmap::matrix::PixelBlock;
+use contactmap::matrix::{CountType, PixelBlock, Pixels};
 
 /// Bin size of the synthetic matrices.
 pub const BIN_SIZE: u64 = 10_000;
@@ -73,4 +73,33 @@ impl Synthetic {
         }
         (bins, block)
     }
+}
+
+/// The in-memory matrix of the `expected` and `tads` benches: 4 chromosomes x 5,000 bins,
+/// diagonals up to 300, one trans pixel a row (about 6 M pixels), and weights with every 97th bin
+/// masked.
+#[allow(dead_code)] // not every bench uses it
+pub fn six_million_pixels() -> (Pixels, Vec<f64>) {
+    let (bins, block) = Synthetic {
+        n_chroms: 4,
+        bins_per_chrom: 5_000,
+        max_diagonal: 300,
+        dead_every: None,
+        trans_per_row: 1,
+    }
+    .build();
+    let n_bins = bins.n_bins();
+    let mut pixels = Pixels::with_capacity(bins, CountType::Integer, block.len()).expect("bins");
+    pixels.extend(&block).expect("sorted pixels");
+    let mut random = Lcg::new(777);
+    let weights = (0..n_bins)
+        .map(|i| {
+            if i % 97 == 0 {
+                f64::NAN
+            } else {
+                0.5 + random.next_unit()
+            }
+        })
+        .collect();
+    (pixels, weights)
 }

@@ -1,7 +1,7 @@
 //! `contactmap balance`: ICE as `cooler balance`, VC, VC_SQRT and KR as Juicer; weights to a TSV
 //! or stored into the cooler.
 
-use std::io::{BufRead, BufReader};
+use std::io::BufRead;
 use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
@@ -262,17 +262,7 @@ fn params(args: &BalanceArgs, bins: &BinTable) -> Result<BalanceParams> {
 /// start and end are not whole numbers (a header), are skipped, as `cooler balance` does; regions
 /// past a chromosome's end are clipped; an unknown chromosome is an error.
 fn read_blacklist(path: &Path, bins: &BinTable) -> Result<Vec<usize>> {
-    let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
-    let mut raw = BufReader::new(file);
-    let gzip = raw
-        .fill_buf()
-        .map_err(|e| Error::io(path, e))?
-        .starts_with(&[0x1f, 0x8b]);
-    let reader: Box<dyn BufRead> = if gzip {
-        Box::new(BufReader::new(flate2::read::MultiGzDecoder::new(raw)))
-    } else {
-        Box::new(raw)
-    };
+    let reader = io::open_text(path)?;
     let mut masked = Vec::new();
     for (index, line) in reader.lines().enumerate() {
         let line_no = index as u64 + 1;

@@ -518,12 +518,7 @@ fn write_to(path: Option<&std::path::Path>, text: &[u8]) -> Result<()> {
 }
 
 fn push_bin(text: &mut Vec<u8>, bins: &BinTable, bin: usize) {
-    let b = bins.bin(bin);
-    text.extend_from_slice(bins.chroms()[b.chrom_id].name.as_bytes());
-    text.push(b'\t');
-    write_u64(text, b.start);
-    text.push(b'\t');
-    write_u64(text, b.end);
+    push_bins(text, bins, bin, bin + 1);
 }
 
 fn push_bool(text: &mut Vec<u8>, value: bool) {
@@ -694,8 +689,12 @@ fn armatus_text(bins: &BinTable, domains: &[(Domain, f64)]) -> Vec<u8> {
 
 /// chrom, start of the first bin, end of the last bin.
 fn push_span(text: &mut Vec<u8>, bins: &BinTable, domain: &Domain) {
-    let first = bins.bin(domain.start_bin);
-    let last = bins.bin(domain.end_bin - 1);
+    push_bins(text, bins, domain.start_bin, domain.end_bin);
+}
+
+/// chrom, start, end of the bins `first..end` (one chromosome).
+fn push_bins(text: &mut Vec<u8>, bins: &BinTable, first: usize, end: usize) {
+    let (first, last) = (bins.bin(first), bins.bin(end - 1));
     text.extend_from_slice(bins.chroms()[first.chrom_id].name.as_bytes());
     text.push(b'\t');
     write_u64(text, first.start);

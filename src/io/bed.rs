@@ -6,8 +6,7 @@
 //! five columns are interpreted (chrom, start, end, name, score); further columns are ignored.
 //! A score of `.` means "no score".
 
-use std::fs::File;
-use std::io::{BufRead, BufReader, Write};
+use std::io::{BufRead, Write};
 use std::path::Path;
 
 use crate::error::{Error, Result};
@@ -50,17 +49,7 @@ impl BedRecord {
 /// Errors name the file and the 1-based line: fewer than 3 fields, a coordinate that is not a
 /// non-negative integer, `start > end`, or a 5th column that is neither `.` nor a number.
 pub fn read_bed(path: &Path) -> Result<Vec<BedRecord>> {
-    let file = File::open(path).map_err(|e| Error::io(path, e))?;
-    let mut raw = BufReader::new(file);
-    let gzip = raw
-        .fill_buf()
-        .map_err(|e| Error::io(path, e))?
-        .starts_with(&[0x1f, 0x8b]);
-    let reader: Box<dyn BufRead> = if gzip {
-        Box::new(BufReader::new(flate2::read::MultiGzDecoder::new(raw)))
-    } else {
-        Box::new(raw)
-    };
+    let reader = crate::io::open_text(path)?;
     let mut records = Vec::new();
     for (index, line) in reader.lines().enumerate() {
         let line_no = index as u64 + 1;
@@ -183,7 +172,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("a.bed.gz");
         let mut encoder = flate2::write::GzEncoder::new(
-            File::create(&path).unwrap(),
+            std::fs::File::create(&path).unwrap(),
             flate2::Compression::default(),
         );
         encoder.write_all(b"chrX\t10\t20\n").unwrap();

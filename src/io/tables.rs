@@ -4,7 +4,7 @@
 //! Values are read as text or numbers by column name; `nan`, `NaN`, empty fields and `NA` read as
 //! NaN, as pandas writes and reads them.
 
-use std::io::{BufRead, BufReader, Read};
+use std::io::BufRead;
 
 use crate::error::{Error, Result};
 
@@ -19,21 +19,7 @@ pub struct Table {
 impl Table {
     /// Read `path` (`-` for stdin, gzip detected from the content).
     pub fn read(path: &str) -> Result<Table> {
-        let input: Box<dyn Read> = if path == "-" {
-            Box::new(std::io::stdin())
-        } else {
-            Box::new(std::fs::File::open(path).map_err(|e| Error::io(path, e))?)
-        };
-        let mut reader = BufReader::new(input);
-        let gzip = reader
-            .fill_buf()
-            .map_err(|e| Error::io(path, e))?
-            .starts_with(&[0x1f, 0x8b]);
-        let reader: Box<dyn BufRead> = if gzip {
-            Box::new(BufReader::new(flate2::read::MultiGzDecoder::new(reader)))
-        } else {
-            Box::new(reader)
-        };
+        let reader = crate::io::open_text(std::path::Path::new(path))?;
         let mut header = None;
         let mut rows = Vec::new();
         for (index, line) in reader.lines().enumerate() {

@@ -17,41 +17,14 @@ use contactmap::io::cool::{write_cool, CoolWriteOptions};
 use contactmap::io::{load_matrix, open_matrix, InMemory, OpenOptions};
 use contactmap::matrix::{CountType, MatrixBuilder};
 
-use crate::{data, run_err, run_ok};
+use crate::{data, parse_table, reference_table, run_err, run_ok, Table};
 
 const DM6: &str = "cooler_test_file.mcool::/resolutions/100000";
 const MM9: &str = "CN.mm9.10000kb.cool";
 const HG19: &str = "hg19.GM12878-MboI.matrix.2000kb.cool";
 
-/// A parsed table: header and rows of fields.
-struct Table {
-    header: Vec<String>,
-    rows: Vec<Vec<String>>,
-}
-
-fn parse_table(text: &str) -> Table {
-    let mut lines = text.lines();
-    let header = lines
-        .next()
-        .expect("a header line")
-        .split('\t')
-        .map(String::from)
-        .collect();
-    let rows = lines
-        .filter(|l| !l.is_empty())
-        .map(|l| l.split('\t').map(String::from).collect())
-        .collect();
-    Table { header, rows }
-}
-
 fn reference(name: &str) -> Table {
-    let mut text = String::new();
-    flate2::read::MultiGzDecoder::new(
-        std::fs::File::open(data(&format!("reference/numerics/{name}"))).expect("reference file"),
-    )
-    .read_to_string(&mut text)
-    .expect("gzip text");
-    parse_table(&text)
+    reference_table(&format!("reference/numerics/{name}"))
 }
 
 fn number(field: &str) -> f64 {

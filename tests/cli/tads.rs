@@ -5,41 +5,13 @@
 //! `|ours - reference| <= 1e-9 * |reference|` (twice the quantisation; the acceptance bound is
 //! 1e-8), integers and booleans exactly, NaN must be NaN in both.
 
-use std::io::Read;
-
-use crate::{data, run, run_err, run_ok};
+use crate::{data, parse_table, reference_table, run, run_err, run_ok, Table};
 
 const DM6: &str = "cooler_test_file.mcool::/resolutions/100000";
 const YEAST: &str = "yeast.10kb.cool";
 
-struct Table {
-    header: Vec<String>,
-    rows: Vec<Vec<String>>,
-}
-
-fn parse_table(text: &str) -> Table {
-    let mut lines = text.lines();
-    let header = lines
-        .next()
-        .expect("a header line")
-        .split('\t')
-        .map(String::from)
-        .collect();
-    let rows = lines
-        .filter(|l| !l.is_empty())
-        .map(|l| l.split('\t').map(String::from).collect())
-        .collect();
-    Table { header, rows }
-}
-
 fn reference(name: &str) -> Table {
-    let mut text = String::new();
-    flate2::read::MultiGzDecoder::new(
-        std::fs::File::open(data(&format!("reference/tads/{name}"))).expect("reference file"),
-    )
-    .read_to_string(&mut text)
-    .expect("gzip text");
-    parse_table(&text)
+    reference_table(&format!("reference/tads/{name}"))
 }
 
 /// Compare every column of `theirs` with the same-named column of `ours`; returns the largest
