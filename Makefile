@@ -8,6 +8,11 @@ ifneq ($(CMAKE_DIR),)
 export PATH := $(CMAKE_DIR):$(PATH)
 endif
 
+# Cargo caches rustc's target-information probe in target/.rustc_info.json; on fresh clones that
+# cache has been seen holding a failed probe (rustc fed other processes' diagnostics), which then
+# failed every later cargo command. Probing afresh costs milliseconds.
+export CARGO_CACHE_RUSTC_INFO := 0
+
 BIN := target/release/contactmap
 
 .PHONY: all build demo test lint check-peers bench clean
