@@ -272,11 +272,27 @@ impl MatrixReader for InMemory {
     }
 }
 
+/// Whether `path` exists and is not a regular file (a device such as `/dev/null`, a FIFO, a
+/// socket; symbolic links are followed). Such outputs are written in place: renaming a file over
+/// them would replace the device with a file.
+pub fn is_special_file(path: &Path) -> bool {
+    std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir())
+}
+
 /// A hidden, unique temporary name beside `path` (`.NAME.PID-SEQ.tmp`), for outputs written in
 /// full and then renamed into place, so that a failure never leaves a half-written file.
+///
+/// Errors when `path` exists and is not a regular file ([`is_special_file`]): renaming over it
+/// would replace it (as root, even `/dev/null`).
 pub fn temporary_path(path: &Path) -> Result<PathBuf> {
     use std::sync::atomic::{AtomicU64, Ordering};
     static SEQUENCE: AtomicU64 = AtomicU64::new(0);
+    if is_special_file(path) {
+        return Err(Error::Invalid(format!(
+            "'{}' is not a regular file: this output is written to a file",
+            path.display()
+        )));
+    }
     let name = path
         .file_name()
         .ok_or_else(|| Error::Invalid(format!("'{}' is not a file name", path.display())))?;

@@ -1,7 +1,8 @@
 //! Where command output goes (stdout, a file, a gzip file) and how numbers are printed.
 //!
 //! Files are written under a temporary name and renamed when the command succeeds, so a failed
-//! command never leaves a half-written output behind.
+//! command never leaves a half-written output behind. Special files (`/dev/null`, a named pipe,
+//! `/dev/stdout`) are written in place: a rename would replace them.
 
 use std::fs::File;
 use std::io::{BufWriter, Write};
@@ -21,14 +22,15 @@ pub struct Output {
 
 enum Target {
     Stdout(BufWriter<std::io::Stdout>),
+    /// `tmp` is the temporary file renamed to `path` on success; `None` when writing in place.
     File {
         writer: BufWriter<File>,
-        tmp: PathBuf,
+        tmp: Option<PathBuf>,
         path: PathBuf,
     },
     Gzip {
         writer: Box<BufWriter<GzEncoder<File>>>,
-        tmp: PathBuf,
+        tmp: Option<PathBuf>,
         path: PathBuf,
     },
 }
@@ -47,8 +49,17 @@ impl Output {
                 label: "<stdout>".into(),
             });
         };
-        let tmp = crate::io::temporary_path(path)?;
-        let file = File::create(&tmp).map_err(|e| Error::io(path, e))?;
+        let (file, tmp) = if crate::io::is_special_file(path) {
+            let file = File::options()
+                .write(true)
+                .open(path)
+                .map_err(|e| Error::io(path, e))?;
+            (file, None)
+        } else {
+            let tmp = crate::io::temporary_path(path)?;
+            let file = File::create(&tmp).map_err(|e| Error::io(path, e))?;
+            (file, Some(tmp))
+        };
         let label = path.display().to_string();
         let target = if path.extension().is_some_and(|e| e == "gz") {
             Target::Gzip {
@@ -94,13 +105,21 @@ impl Output {
             Target::Stdout(mut w) => w.flush().map_err(io),
             Target::File { writer, tmp, path } => {
                 let file = writer.into_inner().map_err(|e| io(e.into_error()))?;
-                file.sync_all().map_err(io)?;
-                std::fs::rename(&tmp, &path).map_err(io)
+                match tmp {
+                    Some(tmp) => {
+                        file.sync_all().map_err(io)?;
+                        std::fs::rename(&tmp, &path).map_err(io)
+                    }
+                    None => Ok(()),
+                }
             }
             Target::Gzip { writer, tmp, path } => {
                 let encoder = writer.into_inner().map_err(|e| io(e.into_error()))?;
                 encoder.finish().map_err(io)?;
-                std::fs::rename(&tmp, &path).map_err(io)
+                match tmp {
+                    Some(tmp) => std::fs::rename(&tmp, &path).map_err(io),
+                    None => Ok(()),
+                }
             }
         }
     }
@@ -109,7 +128,9 @@ impl Output {
 impl Drop for Output {
     fn drop(&mut self) {
         // Not finished (an error happened): remove the partial file.
-        if let Some(Target::File { tmp, .. } | Target::Gzip { tmp, .. }) = &self.target {
+        if let Some(Target::File { tmp: Some(tmp), .. } | Target::Gzip { tmp: Some(tmp), .. }) =
+            &self.target
+        {
             let _ = std::fs::remove_file(tmp);
         }
     }

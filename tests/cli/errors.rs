@@ -98,3 +98,31 @@ fn failed_conversion_leaves_no_output() {
     assert!(line.contains("not a multiple"), "{line}");
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
 }
+
+/// Outputs that are not regular files (`/dev/null`, a named pipe) are written in place: the
+/// temporary-then-rename of regular files would replace them with a file (as root, even
+/// `/dev/null`, which then fed other programs' output to everything reading it).
+#[test]
+fn a_named_pipe_output_is_written_in_place_not_replaced() {
+    use std::os::unix::fs::FileTypeExt;
+    let dir = tempfile::tempdir().unwrap();
+    let fifo = dir.path().join("out.fifo");
+    let made = std::process::Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .expect("mkfifo runs");
+    assert!(made.success());
+    let reader = {
+        let fifo = fifo.clone();
+        std::thread::spawn(move || std::fs::read_to_string(fifo).unwrap())
+    };
+    let uri = data("CN.mm9.10000kb.cool");
+    crate::run_ok(&["expected", &uri, "-o", fifo.to_str().unwrap()]);
+    let through_pipe = reader.join().unwrap();
+    assert!(std::fs::metadata(&fifo).unwrap().file_type().is_fifo());
+    assert_eq!(through_pipe, crate::run_ok(&["expected", &uri]));
+    // Formats written whole (a .cool) refuse a special file instead of replacing it.
+    let message = crate::run_err(&["convert", &uri, fifo.to_str().unwrap(), "--to", "cool"]);
+    assert!(message.contains("not a regular file"), "{message}");
+    assert!(std::fs::metadata(&fifo).unwrap().file_type().is_fifo());
+}

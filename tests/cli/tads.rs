@@ -277,13 +277,14 @@ fn synthetic_f1(dir: &std::path::Path, depth: &str, seed: &str, args: &[&str]) -
         ]);
     }
     let calls = dir.join("calls.bed");
+    let track = dir.join("track.tsv");
     let mut tads = vec![
         "tads",
         map.to_str().unwrap(),
         "--boundaries",
         calls.to_str().unwrap(),
         "-o",
-        "/dev/null",
+        track.to_str().unwrap(),
     ];
     tads.extend_from_slice(args);
     run_ok(&tads);
