@@ -10,11 +10,17 @@
 //! | Juicer `.hic` v8 / v9 (`file.hic::/resolutions/N` or `file.hic` for its only resolution) | `HIC\0` magic | [`hic`] |
 //! | BG2 / COO pixel tables, pairs, dense matrices (gzip or plain, `-` for stdin) | `--format` or extension | [`text`] |
 //!
+//! Protein inputs have their own readers: [`structure`] (PDB / mmCIF) and [`predictions`]
+//! (CASP RR, CCMpred / PSICOV matrices, `i j score` tables, trRosetta `.npz`, `.npy` distance
+//! maps).
+//!
 //! Format modules only read and write: they never compute biology.
 
 pub mod bed;
 pub mod cool;
 pub mod hic;
+pub mod predictions;
+pub mod structure;
 pub mod tables;
 pub mod text;
 

@@ -3,12 +3,16 @@
 //! - [`boundaries`]: TAD boundaries and domains against a reference (for example the truth of a
 //!   simulated map, [`crate::sim::blocks`]): one-to-one boundary matching within a tolerance
 //!   (precision, recall, F1), best-match Jaccard of domains and the Measure of Concordance (MoC).
+//! - [`contacts`]: predicted residue contacts against the contacts of a known protein structure
+//!   (precision of the top L/k pairs per separation range, recall, F1, MCC), with the
+//!   conventions of CASP, ConKit, ConEVA and DISTEVAL as options.
 //!
-//! Protein contact scoring (precision of the top L/k predicted contacts and friends) and
-//! map-vs-map scores will live beside it in later modules.
+//! Map-vs-map scores will live beside them in later modules.
 //!
-//! Scores take plain tables (chromosome names and bp positions), never files.
+//! Scores take plain tables (chromosome names and bp positions) or parsed structures and
+//! predictions, never files.
 
 pub mod boundaries;
+pub mod contacts;
 
 pub use boundaries::{domain_overlap, score_boundaries, BoundaryMatch, DomainOverlap};

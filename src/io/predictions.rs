@@ -1,0 +1,679 @@
+//! Predicted residue contacts: CASP RR, CCMpred / PSICOV matrices, `i j score` tables,
+//! trRosetta `.npz` distograms and `.npy` predicted distance maps.
+//!
+//! Every reader returns a [`Prediction`]: scored residue pairs `(i, j, score)` with 1-based
+//! residue numbers in the prediction's own numbering (that of its sequence), where **a higher
+//! score means a more confident contact**, and the sequence when the file gives one. Pairs are
+//! returned as written (RR, tables) or as the upper triangle `i < j` (matrices, where row `i`
+//! and column `j`, 0-based, become residues `i + 1` and `j + 1`); making pairs `i < j`,
+//! removing duplicates and ranking is the scorer's job ([`crate::score::contacts`]).
+//!
+//! | format | [`PredictionFormat`] | rules |
+//! |---|---|---|
+//! | CASP RR (CASP assessment format; ConEVA, DISTEVAL, PSICOV output) | `Rr` | optional `PFRMAT` / `TARGET` / `AUTHOR` / `REMARK` / `METHOD` / `MODEL` header lines, optional sequence lines (letters only) before the first row, rows `i j score` or `i j d1 d2 score`, `END` or a second `MODEL` stops; residues beyond the sequence are errors |
+//! | CCMpred / PSICOV / plain matrix | `Matrix` | whitespace-separated square matrix, `#` lines skipped (ccmpred-py's `#>META>` line), upper triangle |
+//! | table | `Table` | rows `i j score`, separated by whitespace or commas, `#` lines skipped |
+//! | trRosetta `.npz` | `Npz` | array `dist` of shape `(L, L, 37)`: bin 0 is `d > 20` A, bins 1..36 cover 2-20 A in 0.5 A steps; the score is `P(d < 8) = sum of bins 1..=12` ([`TRROSETTA_CONTACT_BINS`]), upper triangle |
+//! | `.npy` distance map | `Npy` | `(L, L)` or `(L, L, 1)` predicted distances; the score is **minus** the distance (the smallest distance ranks first, as DISTEVAL), upper triangle |
+//!
+//! [`detect_format`] recognises the format from the content (zip and NumPy magic bytes, then the
+//! shape of the first data lines of a text file); an explicit [`PredictionFormat`] overrides it.
+//! An `.npz` is a zip of `.npy` files: it is opened with the `zip` crate (deflate through
+//! `flate2`, already a dependency); `.npy` headers are parsed here (little-endian `f2`, `f4`,
+//! `f8`, C order), which avoids a dependency for a twenty-line format.
+
+use std::io::Read;
+use std::path::Path;
+use std::str::FromStr;
+
+use crate::error::{Error, Result};
+
+/// Bins of a trRosetta `dist` array whose sum is `P(d < 8 A)`: bins 1..=12 span 2-8 A.
+pub const TRROSETTA_CONTACT_BINS: std::ops::RangeInclusive<usize> = 1..=12;
+
+/// Number of distance bins in a trRosetta `dist` array.
+pub const TRROSETTA_N_BINS: usize = 37;
+
+/// Scored residue pairs from a contact predictor.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Prediction {
+    /// `(i, j, score)`: 1-based residue numbers in the prediction's numbering; a higher score is
+    /// a more confident contact.
+    pub pairs: Vec<(i32, i32, f64)>,
+    /// The target sequence, when the file gives one (RR sequence lines).
+    pub sequence: Option<String>,
+}
+
+impl Prediction {
+    /// Attach `sequence` (for example from a FASTA file) and check that every residue number
+    /// lies in `1..=sequence.len()`; a sequence already in the file must be the same.
+    pub fn with_sequence(mut self, sequence: &str) -> Result<Self> {
+        if let Some(own) = &self.sequence {
+            if !own.eq_ignore_ascii_case(sequence) {
+                return Err(Error::Invalid(format!(
+                    "the prediction's sequence ({} residues) differs from the one given ({} residues)",
+                    own.len(),
+                    sequence.len()
+                )));
+            }
+        }
+        let length = sequence.chars().count();
+        if let Some(&(i, j, _)) = self
+            .pairs
+            .iter()
+            .find(|(i, j, _)| !in_sequence(*i, length) || !in_sequence(*j, length))
+        {
+            return Err(Error::Invalid(format!(
+                "predicted pair {i}-{j} refers to a residue beyond the sequence (length {length})"
+            )));
+        }
+        self.sequence = Some(sequence.to_string());
+        Ok(self)
+    }
+}
+
+fn in_sequence(residue: i32, length: usize) -> bool {
+    residue >= 1 && (residue as usize) <= length
+}
+
+/// A prediction file format.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PredictionFormat {
+    /// CASP RR.
+    Rr,
+    /// Square matrix (CCMpred, PSICOV matrix output, plain).
+    Matrix,
+    /// `i j score` rows.
+    Table,
+    /// trRosetta `.npz` distogram.
+    Npz,
+    /// `.npy` predicted distance map.
+    Npy,
+}
+
+impl FromStr for PredictionFormat {
+    type Err = Error;
+
+    fn from_str(name: &str) -> Result<Self> {
+        match name.to_ascii_lowercase().as_str() {
+            "rr" | "casp" => Ok(Self::Rr),
+            "matrix" | "mat" | "ccmpred" => Ok(Self::Matrix),
+            "table" | "pairs" => Ok(Self::Table),
+            "npz" | "trrosetta" => Ok(Self::Npz),
+            "npy" => Ok(Self::Npy),
+            _ => Err(Error::Invalid(format!(
+                "unknown prediction format '{name}' (expected rr, matrix, table, npz or npy)"
+            ))),
+        }
+    }
+}
+
+const RR_KEYWORDS: &[&str] = &[
+    "PFRMAT", "TARGET", "AUTHOR", "REMARK", "METHOD", "MODEL", "PARENT",
+];
+
+fn is_sequence_line(line: &str) -> bool {
+    !line.is_empty() && line.chars().all(|c| c.is_ascii_alphabetic() || c == '-')
+}
+
+fn split_fields(line: &str) -> Vec<&str> {
+    line.split(|c: char| c.is_ascii_whitespace() || c == ',')
+        .filter(|field| !field.is_empty())
+        .collect()
+}
+
+/// The format of `bytes` (the start of a file is enough), or an error naming `path`.
+pub fn detect_format(bytes: &[u8], path: &Path) -> Result<PredictionFormat> {
+    if bytes.starts_with(b"PK\x03\x04") {
+        return Ok(PredictionFormat::Npz);
+    }
+    if bytes.starts_with(b"\x93NUMPY") {
+        return Ok(PredictionFormat::Npy);
+    }
+    let unknown = || {
+        Error::format(
+            path,
+            "unknown prediction format (expected CASP RR, a CCMpred/PSICOV matrix, an `i j score` \
+             table, a trRosetta .npz or a .npy distance map); give the format explicitly",
+        )
+    };
+    let text = std::str::from_utf8(bytes).map_err(|_| unknown())?;
+    let first = text
+        .lines()
+        .map(str::trim)
+        .find(|line| !line.is_empty() && !line.starts_with('#'))
+        .ok_or_else(unknown)?;
+    let first_word = first.split_whitespace().next().unwrap_or("");
+    if RR_KEYWORDS.contains(&first_word) || is_sequence_line(first) {
+        return Ok(PredictionFormat::Rr);
+    }
+    let fields = split_fields(first);
+    let integer = |field: &str| field.parse::<i64>().is_ok();
+    let number = |field: &&str| field.parse::<f64>().is_ok();
+    if !fields.iter().all(number) {
+        return Err(unknown());
+    }
+    match fields.len() {
+        5 if integer(fields[0]) && integer(fields[1]) => Ok(PredictionFormat::Rr),
+        3 if integer(fields[0]) && integer(fields[1]) => Ok(PredictionFormat::Table),
+        n if n > 3 => Ok(PredictionFormat::Matrix),
+        _ => Err(unknown()),
+    }
+}
+
+/// Read a prediction file; `format` overrides [`detect_format`].
+pub fn read_prediction(
+    path: impl AsRef<Path>,
+    format: Option<PredictionFormat>,
+) -> Result<Prediction> {
+    let path = path.as_ref();
+    let bytes = std::fs::read(path).map_err(|err| Error::io(path, err))?;
+    let format = match format {
+        Some(format) => format,
+        None => detect_format(&bytes, path)?,
+    };
+    let text =
+        || std::str::from_utf8(&bytes).map_err(|_| Error::format(path, "not a UTF-8 text file"));
+    match format {
+        PredictionFormat::Rr => parse_rr(text()?, path),
+        PredictionFormat::Matrix => parse_matrix(text()?, path),
+        PredictionFormat::Table => parse_table(text()?, path),
+        PredictionFormat::Npz => parse_npz(&bytes, path),
+        PredictionFormat::Npy => parse_distance_npy(&bytes, path),
+    }
+}
+
+fn parse_residue(field: &str, path: &Path, line: u64) -> Result<i32> {
+    match field.parse::<i32>() {
+        Ok(residue) if residue >= 1 => Ok(residue),
+        _ => Err(Error::parse(
+            path,
+            line,
+            format!("residue number '{field}' is not a positive integer"),
+        )),
+    }
+}
+
+fn parse_score(field: &str, path: &Path, line: u64) -> Result<f64> {
+    field
+        .parse::<f64>()
+        .map_err(|_| Error::parse(path, line, format!("score '{field}' is not a number")))
+}
+
+/// Parse a CASP RR file (see the module docs).
+pub fn parse_rr(text: &str, path: &Path) -> Result<Prediction> {
+    let mut sequence = String::new();
+    let mut pairs = Vec::new();
+    let mut n_models = 0;
+    for (index, raw) in text.lines().enumerate() {
+        let line_number = index as u64 + 1;
+        let line = raw.trim();
+        if line.is_empty() || line.starts_with('#') {
+            continue;
+        }
+        let first_word = line.split_whitespace().next().unwrap_or("");
+        if first_word == "END" {
+            break;
+        }
+        if first_word == "MODEL" {
+            n_models += 1;
+            if n_models > 1 {
+                break; // first model only
+            }
+            continue;
+        }
+        if RR_KEYWORDS.contains(&first_word) {
+            continue;
+        }
+        if is_sequence_line(line) {
+            if !pairs.is_empty() {
+                return Err(Error::parse(
+                    path,
+                    line_number,
+                    "sequence line after the first contact row",
+                ));
+            }
+            sequence.push_str(line);
+            continue;
+        }
+        let fields: Vec<&str> = line.split_whitespace().collect();
+        let score_field = match fields.len() {
+            3 => fields[2],
+            5 => fields[4],
+            n => {
+                return Err(Error::parse(
+                    path,
+                    line_number,
+                    format!("RR row with {n} fields, expected `i j score` or `i j d1 d2 score`"),
+                ))
+            }
+        };
+        let i = parse_residue(fields[0], path, line_number)?;
+        let j = parse_residue(fields[1], path, line_number)?;
+        if !sequence.is_empty() {
+            let length = sequence.len();
+            for residue in [i, j] {
+                if !in_sequence(residue, length) {
+                    return Err(Error::parse(
+                        path,
+                        line_number,
+                        format!("residue {residue} is beyond the sequence (length {length})"),
+                    ));
+                }
+            }
+        }
+        pairs.push((i, j, parse_score(score_field, path, line_number)?));
+    }
+    Ok(Prediction {
+        pairs,
+        sequence: (!sequence.is_empty()).then_some(sequence),
+    })
+}
+
+/// Parse a table of `i j score` rows (whitespace or commas; `#` lines skipped).
+pub fn parse_table(text: &str, path: &Path) -> Result<Prediction> {
+    let mut pairs = Vec::new();
+    for (index, raw) in text.lines().enumerate() {
+        let line_number = index as u64 + 1;
+        let line = raw.trim();
+        if line.is_empty() || line.starts_with('#') {
+            continue;
+        }
+        let fields = split_fields(line);
+        if fields.len() != 3 {
+            return Err(Error::parse(
+                path,
+                line_number,
+                format!("{} fields, expected `i j score`", fields.len()),
+            ));
+        }
+        let i = parse_residue(fields[0], path, line_number)?;
+        let j = parse_residue(fields[1], path, line_number)?;
+        pairs.push((i, j, parse_score(fields[2], path, line_number)?));
+    }
+    Ok(Prediction {
+        pairs,
+        sequence: None,
+    })
+}
+
+/// Parse a whitespace-separated square matrix (CCMpred, PSICOV, plain); `#` lines are skipped.
+/// Returns the upper triangle, 0-based row / column `i < j` as residues `i + 1`, `j + 1`.
+pub fn parse_matrix(text: &str, path: &Path) -> Result<Prediction> {
+    let mut rows: Vec<Vec<f64>> = Vec::new();
+    for (index, raw) in text.lines().enumerate() {
+        let line_number = index as u64 + 1;
+        let line = raw.trim();
+        if line.is_empty() || line.starts_with('#') {
+            continue;
+        }
+        let row = line
+            .split_whitespace()
+            .map(|field| parse_score(field, path, line_number))
+            .collect::<Result<Vec<f64>>>()?;
+        if let Some(first) = rows.first() {
+            if row.len() != first.len() {
+                return Err(Error::parse(
+                    path,
+                    line_number,
+                    format!(
+                        "matrix row with {} values, the first row has {}",
+                        row.len(),
+                        first.len()
+                    ),
+                ));
+            }
+        }
+        rows.push(row);
+    }
+    let n = rows.len();
+    if n == 0 {
+        return Err(Error::format(path, "empty matrix"));
+    }
+    if rows[0].len() != n {
+        return Err(Error::format(
+            path,
+            format!("matrix is not square: {n} rows of {} values", rows[0].len()),
+        ));
+    }
+    Ok(Prediction {
+        pairs: upper_triangle(n, |i, j| rows[i][j]),
+        sequence: None,
+    })
+}
+
+fn upper_triangle(n: usize, value: impl Fn(usize, usize) -> f64) -> Vec<(i32, i32, f64)> {
+    let mut pairs = Vec::with_capacity(n * n.saturating_sub(1) / 2);
+    for i in 0..n {
+        for j in i + 1..n {
+            pairs.push((i as i32 + 1, j as i32 + 1, value(i, j)));
+        }
+    }
+    pairs
+}
+
+/// A decoded `.npy` array: its shape and its values in C order.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NpyArray {
+    /// Dimensions.
+    pub shape: Vec<usize>,
+    /// Values, row-major.
+    pub values: Vec<f64>,
+}
+
+fn header_value<'a>(header: &'a str, key: &str) -> Option<&'a str> {
+    let start = header.find(&format!("'{key}'"))? + key.len() + 2;
+    let rest = header[start..].trim_start().strip_prefix(':')?.trim_start();
+    if let Some(tuple) = rest.strip_prefix('(') {
+        return tuple.find(')').map(|end| &tuple[..end]);
+    }
+    if let Some(quoted) = rest.strip_prefix('\'') {
+        return quoted.find('\'').map(|end| &quoted[..end]);
+    }
+    rest.find([',', '}']).map(|end| rest[..end].trim())
+}
+
+fn f16_to_f64(bits: u16) -> f64 {
+    let sign = if bits & 0x8000 != 0 { -1.0 } else { 1.0 };
+    let exponent = i32::from((bits >> 10) & 0x1f);
+    let fraction = f64::from(bits & 0x3ff);
+    match exponent {
+        0 => sign * fraction * 2f64.powi(-24),
+        31 if fraction == 0.0 => sign * f64::INFINITY,
+        31 => f64::NAN,
+        _ => sign * (1.0 + fraction / 1024.0) * 2f64.powi(exponent - 15),
+    }
+}
+
+/// Decode a `.npy` array of little-endian `f2`, `f4` or `f8` values in C order.
+pub fn parse_npy(bytes: &[u8], path: &Path) -> Result<NpyArray> {
+    let bad = |message: String| Error::format(path, message);
+    if !bytes.starts_with(b"\x93NUMPY") || bytes.len() < 10 {
+        return Err(bad("not a .npy array (no \\x93NUMPY magic)".into()));
+    }
+    let (header_length, header_start) = match bytes[6] {
+        1 => (usize::from(u16::from_le_bytes([bytes[8], bytes[9]])), 10),
+        2 | 3 if bytes.len() >= 12 => (
+            u32::from_le_bytes([bytes[8], bytes[9], bytes[10], bytes[11]]) as usize,
+            12,
+        ),
+        version => return Err(bad(format!("unsupported .npy version {version}"))),
+    };
+    let data_start = header_start + header_length;
+    let header = bytes
+        .get(header_start..data_start)
+        .and_then(|header| std::str::from_utf8(header).ok())
+        .ok_or_else(|| bad("truncated .npy header".into()))?;
+    let descr = header_value(header, "descr").unwrap_or("");
+    if header_value(header, "fortran_order") != Some("False") {
+        return Err(bad(format!(
+            ".npy array in Fortran order is not supported (header {header})"
+        )));
+    }
+    let shape = header_value(header, "shape")
+        .ok_or_else(|| bad(format!("no shape in the .npy header {}", header.trim())))?
+        .split(',')
+        .map(str::trim)
+        .filter(|dim| !dim.is_empty())
+        .map(|dim| {
+            dim.parse::<usize>()
+                .map_err(|_| bad(format!("bad .npy shape dimension '{dim}'")))
+        })
+        .collect::<Result<Vec<usize>>>()?;
+    let n_values: usize = shape.iter().product();
+    let data = &bytes[data_start..];
+    let width = match descr {
+        "<f2" => 2,
+        "<f4" => 4,
+        "<f8" => 8,
+        other => {
+            return Err(bad(format!(
+                ".npy dtype '{other}' is not supported (expected <f2, <f4 or <f8)"
+            )))
+        }
+    };
+    if data.len() < n_values * width {
+        return Err(bad(format!(
+            "truncated .npy data: shape {shape:?} needs {} bytes, found {}",
+            n_values * width,
+            data.len()
+        )));
+    }
+    let values = data[..n_values * width]
+        .chunks_exact(width)
+        .map(|chunk| match width {
+            2 => f16_to_f64(u16::from_le_bytes([chunk[0], chunk[1]])),
+            4 => f64::from(f32::from_le_bytes([chunk[0], chunk[1], chunk[2], chunk[3]])),
+            _ => f64::from_le_bytes(chunk.try_into().expect("8-byte chunk")),
+        })
+        .collect();
+    Ok(NpyArray { shape, values })
+}
+
+/// Read a trRosetta `.npz` and score each pair `i < j` by `P(d < 8 A)`, the sum of the `dist`
+/// bins [`TRROSETTA_CONTACT_BINS`].
+pub fn parse_npz(bytes: &[u8], path: &Path) -> Result<Prediction> {
+    let mut archive = zip::ZipArchive::new(std::io::Cursor::new(bytes))
+        .map_err(|err| Error::format(path, format!("not a readable .npz (zip) archive: {err}")))?;
+    let names: Vec<String> = archive.file_names().map(str::to_string).collect();
+    let Some(name) = names
+        .iter()
+        .find(|name| *name == "dist.npy" || *name == "dist")
+    else {
+        return Err(Error::format(
+            path,
+            format!(
+                "no 'dist' array (trRosetta distogram) in the .npz; it holds: {}",
+                names.join(", ")
+            ),
+        ));
+    };
+    let mut entry = archive
+        .by_name(name)
+        .map_err(|err| Error::format(path, format!("cannot open {name} in the .npz: {err}")))?;
+    let mut npy = Vec::new();
+    entry
+        .read_to_end(&mut npy)
+        .map_err(|err| Error::format(path, format!("cannot inflate {name} in the .npz: {err}")))?;
+    let array = parse_npy(&npy, path)?;
+    let n = match array.shape[..] {
+        [rows, cols, TRROSETTA_N_BINS] if rows == cols => rows,
+        _ => {
+            return Err(Error::format(
+                path,
+                format!(
+                    "'dist' has shape {:?}, expected (L, L, {TRROSETTA_N_BINS}) (trRosetta bins)",
+                    array.shape
+                ),
+            ))
+        }
+    };
+    let at = |i: usize, j: usize| {
+        let start = (i * n + j) * TRROSETTA_N_BINS;
+        TRROSETTA_CONTACT_BINS
+            .map(|bin| array.values[start + bin])
+            .sum::<f64>()
+    };
+    Ok(Prediction {
+        pairs: upper_triangle(n, at),
+        sequence: None,
+    })
+}
+
+/// Read a `.npy` predicted distance map of shape `(L, L)` or `(L, L, 1)`; each pair `i < j` is
+/// scored by minus its distance.
+pub fn parse_distance_npy(bytes: &[u8], path: &Path) -> Result<Prediction> {
+    let array = parse_npy(bytes, path)?;
+    let n = match array.shape[..] {
+        [rows, cols] | [rows, cols, 1] if rows == cols => rows,
+        _ => {
+            return Err(Error::format(
+                path,
+                format!(
+                    "distance map has shape {:?}, expected a square (L, L) or (L, L, 1)",
+                    array.shape
+                ),
+            ))
+        }
+    };
+    Ok(Prediction {
+        pairs: upper_triangle(n, |i, j| -array.values[i * n + j]),
+        sequence: None,
+    })
+}
+
+/// The sequence of the first record of a FASTA file (letters only, upper case).
+pub fn read_fasta(path: impl AsRef<Path>) -> Result<String> {
+    let path = path.as_ref();
+    let text = std::fs::read_to_string(path).map_err(|err| Error::io(path, err))?;
+    let mut lines = text.lines().filter(|line| !line.trim().is_empty());
+    match lines.next() {
+        Some(header) if header.starts_with('>') => {}
+        _ => {
+            return Err(Error::parse(
+                path,
+                1,
+                "FASTA file without a '>' header line",
+            ))
+        }
+    }
+    let sequence: String = lines
+        .take_while(|line| !line.starts_with('>'))
+        .flat_map(|line| line.trim().chars())
+        .map(|c| c.to_ascii_uppercase())
+        .collect();
+    if sequence.is_empty() {
+        return Err(Error::format(path, "empty FASTA sequence"));
+    }
+    Ok(sequence)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const DATA: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data/protein");
+
+    fn bytes(relative: &str) -> Vec<u8> {
+        std::fs::read(format!("{DATA}/{relative}")).unwrap()
+    }
+
+    #[test]
+    fn detects_every_fixture_format() {
+        for (file, format) in [
+            ("toxd/toxd.mat", PredictionFormat::Matrix),
+            ("1atzA/1atzA.apc.mat", PredictionFormat::Matrix),
+            ("1aapA/1aapA.rr", PredictionFormat::Rr),
+            ("1guuA/1guuA.contact.rr", PredictionFormat::Rr),
+            ("1guuA/1guuA.npz", PredictionFormat::Npz),
+            ("1guuA/1guuA.predicted.npy", PredictionFormat::Npy),
+        ] {
+            assert_eq!(
+                detect_format(&bytes(file), Path::new(file)).unwrap(),
+                format,
+                "{file}"
+            );
+        }
+        let err = detect_format(b"hello world\n", Path::new("x.txt")).unwrap_err();
+        assert!(
+            err.to_string().contains("unknown prediction format"),
+            "{err}"
+        );
+        assert_eq!(
+            detect_format(b"# i j score\n1 10 0.5\n", Path::new("t")).unwrap(),
+            PredictionFormat::Table
+        );
+    }
+
+    #[test]
+    fn reads_matrices_skipping_comments() {
+        let toxd = read_prediction(format!("{DATA}/toxd/toxd.mat"), None).unwrap();
+        assert_eq!(toxd.pairs.len(), 59 * 58 / 2);
+        assert_eq!(toxd.pairs[0].0, 1);
+        assert_eq!(toxd.pairs.last().unwrap().1, 59);
+        let atz = read_prediction(format!("{DATA}/1atzA/1atzA.apc.mat"), None).unwrap();
+        assert_eq!(atz.pairs.len(), 75 * 74 / 2);
+        let err = parse_matrix("1 2 3\n4 5 6\n", Path::new("m")).unwrap_err();
+        assert!(err.to_string().contains("not square"), "{err}");
+        let err = parse_matrix("1 2\n4 5 6\n", Path::new("m")).unwrap_err();
+        assert!(matches!(err, Error::Parse { line: 2, .. }), "{err}");
+    }
+
+    #[test]
+    fn reads_rr_with_and_without_header() {
+        let rr = read_prediction(format!("{DATA}/1aapA/1aapA.rr"), None).unwrap();
+        assert_eq!(rr.sequence.as_deref().unwrap().len(), 56);
+        assert_eq!(rr.pairs[0], (14, 38, 41.427055));
+        let text =
+            "PFRMAT RR\nTARGET T0001\nMODEL 1\nACDEF\nGHIKL\n1 7 0.9\n2 9 0 8 0.5\nEND\n3 4 1\n";
+        let rr = parse_rr(text, Path::new("x.rr")).unwrap();
+        assert_eq!(rr.sequence.as_deref(), Some("ACDEFGHIKL"));
+        assert_eq!(rr.pairs, vec![(1, 7, 0.9), (2, 9, 0.5)]);
+        let err = parse_rr("ACDEF\n1 9 0.5\n", Path::new("x.rr")).unwrap_err();
+        assert!(matches!(err, Error::Parse { line: 2, .. }), "{err}");
+        assert!(err.to_string().contains("beyond the sequence"), "{err}");
+        let err = parse_rr("1 9 0 0.5\n", Path::new("x.rr")).unwrap_err();
+        assert!(err.to_string().contains("4 fields"), "{err}");
+    }
+
+    #[test]
+    fn attaching_a_sequence_checks_residue_numbers() {
+        let prediction = parse_table("1 9 0.5\n2,4,0.1\n", Path::new("t")).unwrap();
+        assert_eq!(prediction.pairs, vec![(1, 9, 0.5), (2, 4, 0.1)]);
+        assert!(prediction.clone().with_sequence("ACDEFGHIK").is_ok());
+        let err = prediction.with_sequence("ACDEFGHI").unwrap_err();
+        assert!(err.to_string().contains("beyond the sequence"), "{err}");
+    }
+
+    #[test]
+    fn reads_trrosetta_npz_and_npy_distances() {
+        let npz = read_prediction(format!("{DATA}/1guuA/1guuA.npz"), None).unwrap();
+        assert_eq!(npz.pairs.len(), 50 * 49 / 2);
+        assert!(npz
+            .pairs
+            .iter()
+            .all(|p| (-1e-6..=1.0 + 1e-5).contains(&p.2)));
+        let npy = read_prediction(format!("{DATA}/1guuA/1guuA.predicted.npy"), None).unwrap();
+        assert_eq!(npy.pairs.len(), 50 * 49 / 2);
+        assert!(npy.pairs.iter().all(|p| p.2 < 0.0));
+        // float16 true distance map.
+        let truth = parse_npy(&bytes("1guuA/1guuA.true.npy"), Path::new("t")).unwrap();
+        assert_eq!(truth.shape, vec![50, 50]);
+        assert_eq!(truth.values[0], 0.0);
+        // numpy: t[0, 1] == 5.973 (float16 0x45F9 == 5.97265625), t[0, 2] == 8.086.
+        assert_eq!(truth.values[1], 5.97265625);
+        assert!((truth.values[2] - 8.086).abs() < 4e-3);
+    }
+
+    #[test]
+    fn npz_without_dist_is_an_error() {
+        // A zip holding only omega.npy, written with the zip crate.
+        let mut buffer = std::io::Cursor::new(Vec::new());
+        {
+            let mut writer = zip::ZipWriter::new(&mut buffer);
+            let options = zip::write::SimpleFileOptions::default()
+                .compression_method(zip::CompressionMethod::Stored);
+            writer.start_file("omega.npy", options).unwrap();
+            std::io::Write::write_all(&mut writer, b"\x93NUMPY").unwrap();
+            writer.finish().unwrap();
+        }
+        let err = parse_npz(buffer.get_ref(), Path::new("x.npz")).unwrap_err();
+        assert!(err.to_string().contains("no 'dist' array"), "{err}");
+        assert!(err.to_string().contains("omega.npy"), "{err}");
+    }
+
+    #[test]
+    fn half_precision() {
+        assert_eq!(f16_to_f64(0x3c00), 1.0);
+        assert_eq!(f16_to_f64(0xc000), -2.0);
+        assert_eq!(f16_to_f64(0x0001), 2f64.powi(-24));
+    }
+
+    #[test]
+    fn fasta() {
+        assert_eq!(
+            read_fasta(format!("{DATA}/toxd/toxd.fasta")).unwrap().len(),
+            59
+        );
+    }
+}

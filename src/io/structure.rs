@@ -1,0 +1,644 @@
+//! Protein structures from PDB and mmCIF files: chains of residues with atom coordinates.
+//!
+//! [`read_structure`] reads a `.pdb` / `.ent` or `.cif` / `.mmcif` file (optionally gzipped,
+//! `.gz`); the format is taken from the content (an mmCIF file starts with `data_`), so the
+//! extension does not matter. The parser is hand-written (fixed PDB columns, and the
+//! `_atom_site` loop of mmCIF) because the few rules below are the whole point of the reader
+//! and must be exactly those of the contact-scoring references (see `data/protein/README.md`).
+//!
+//! Conventions:
+//!
+//! - **First model only**: PDB records after the first `ENDMDL`, and mmCIF rows whose
+//!   `pdbx_PDB_model_num` differs from the first row's, are ignored.
+//! - **First alternate location only**: an atom whose name already occurs in its residue is
+//!   ignored, so the first altloc written (blank or `A` in practice) wins.
+//! - **Author numbering**: residue numbers are the author numbers (PDB columns 23-26, mmCIF
+//!   `auth_seq_id`), with the insertion code (PDB column 27, `pdbx_PDB_ins_code`) kept apart;
+//!   chains are the author chain ids (PDB column 22, `auth_asym_id`).
+//! - **Which residues are kept**: the 20 standard amino acids (and `UNK`, one-letter `X`),
+//!   whether written as `ATOM` or `HETATM`, and the modified amino acids of
+//!   [`MODIFIED_RESIDUES`] (for example `MSE`, selenomethionine, kept as `MET`), which are
+//!   renamed to their parent. Everything else is ignored: waters, ligands, ions, nucleotides,
+//!   and modified residues that are not in the table. In particular `PCA` (pyroglutamic acid,
+//!   the first residue of 1DTX / toxd) is **dropped**, as the CASP-style reference computation
+//!   (method P of the test data) does: it is a cyclised glutamate without a free backbone amine
+//!   and is absent from the ATOM records.
+//! - Elements come from PDB columns 77-78 (mmCIF `type_symbol`), or from the atom name when
+//!   those are blank.
+//!
+//! Parsing errors name the file and the 1-based line.
+
+use std::collections::HashSet;
+use std::io::Read;
+use std::path::Path;
+
+use crate::error::{Error, Result};
+
+/// Modified amino acids kept as their parent residue: `(name in the file, parent name)`.
+///
+/// Residues not in this table and not standard are ignored. `PCA` is deliberately absent (see
+/// the module docs).
+pub const MODIFIED_RESIDUES: &[(&str, &str)] = &[
+    ("MSE", "MET"), // selenomethionine
+    ("SEP", "SER"), // phosphoserine
+    ("TPO", "THR"), // phosphothreonine
+    ("PTR", "TYR"), // phosphotyrosine
+    ("CSO", "CYS"), // S-hydroxycysteine
+    ("CME", "CYS"), // S,S-(2-hydroxyethyl)thiocysteine
+    ("MLY", "LYS"), // N-dimethyl-lysine
+    ("M3L", "LYS"), // N-trimethyl-lysine
+    ("HYP", "PRO"), // 4-hydroxyproline
+    ("KCX", "LYS"), // lysine NZ-carboxylic acid
+];
+
+const STANDARD_RESIDUES: &[(&str, char)] = &[
+    ("ALA", 'A'),
+    ("ARG", 'R'),
+    ("ASN", 'N'),
+    ("ASP", 'D'),
+    ("CYS", 'C'),
+    ("GLN", 'Q'),
+    ("GLU", 'E'),
+    ("GLY", 'G'),
+    ("HIS", 'H'),
+    ("ILE", 'I'),
+    ("LEU", 'L'),
+    ("LYS", 'K'),
+    ("MET", 'M'),
+    ("PHE", 'F'),
+    ("PRO", 'P'),
+    ("SER", 'S'),
+    ("THR", 'T'),
+    ("TRP", 'W'),
+    ("TYR", 'Y'),
+    ("VAL", 'V'),
+    ("UNK", 'X'),
+];
+
+/// The parent residue name and its one-letter code for a residue name found in a file, or
+/// `None` when the residue is not an amino acid this reader keeps.
+pub fn amino_acid(name: &str) -> Option<(&'static str, char)> {
+    let parent = MODIFIED_RESIDUES
+        .iter()
+        .find(|(modified, _)| *modified == name)
+        .map_or(name, |(_, parent)| parent);
+    STANDARD_RESIDUES
+        .iter()
+        .find(|(standard, _)| *standard == parent)
+        .map(|(standard, code)| (*standard, *code))
+}
+
+/// One atom.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Atom {
+    /// Atom name, e.g. `CA`, `CB`, `OG1` (PDB columns 13-16, trimmed).
+    pub name: String,
+    /// Element symbol, upper case, e.g. `C`, `SE`.
+    pub element: String,
+    /// Cartesian coordinates in Angstrom.
+    pub xyz: [f64; 3],
+}
+
+impl Atom {
+    /// True for hydrogen and deuterium.
+    pub fn is_hydrogen(&self) -> bool {
+        self.element == "H" || self.element == "D"
+    }
+}
+
+/// One amino-acid residue.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Residue {
+    /// Author residue number.
+    pub number: i32,
+    /// Insertion code, if any.
+    pub insertion: Option<char>,
+    /// Three-letter name of the (parent) amino acid: `MSE` is stored as `MET`.
+    pub name: String,
+    /// One-letter code of the parent amino acid (`X` for `UNK`).
+    pub one_letter: char,
+    /// Atoms, first alternate location only, in file order.
+    pub atoms: Vec<Atom>,
+}
+
+impl Residue {
+    /// The atom called `name`, if present.
+    pub fn atom(&self, name: &str) -> Option<&Atom> {
+        self.atoms.iter().find(|atom| atom.name == name)
+    }
+}
+
+/// One chain of amino-acid residues, in file order.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Chain {
+    /// Author chain id.
+    pub id: String,
+    /// Observed residues.
+    pub residues: Vec<Residue>,
+}
+
+impl Chain {
+    /// One-letter sequence of the observed residues.
+    pub fn sequence(&self) -> String {
+        self.residues
+            .iter()
+            .map(|residue| residue.one_letter)
+            .collect()
+    }
+}
+
+/// The protein chains of the first model of a structure.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Structure {
+    /// Chains with at least one amino-acid residue, in file order.
+    pub chains: Vec<Chain>,
+}
+
+impl Structure {
+    /// The chain `id`, or the first protein chain when `id` is `None`.
+    pub fn chain(&self, id: Option<&str>) -> Result<&Chain> {
+        match id {
+            None => self
+                .chains
+                .first()
+                .ok_or_else(|| Error::Invalid("the structure has no protein chain".into())),
+            Some(id) => self
+                .chains
+                .iter()
+                .find(|chain| chain.id == id)
+                .ok_or_else(|| {
+                    let ids: Vec<&str> =
+                        self.chains.iter().map(|chain| chain.id.as_str()).collect();
+                    Error::Invalid(format!(
+                        "the structure has no protein chain '{id}' (chains: {})",
+                        ids.join(", ")
+                    ))
+                }),
+        }
+    }
+}
+
+/// Read a PDB or mmCIF file (optionally gzipped); see the module docs.
+pub fn read_structure(path: impl AsRef<Path>) -> Result<Structure> {
+    let path = path.as_ref();
+    let file = std::fs::File::open(path).map_err(|err| Error::io(path, err))?;
+    let mut bytes = Vec::new();
+    if path.extension().is_some_and(|ext| ext == "gz") {
+        flate2::read::MultiGzDecoder::new(file).read_to_end(&mut bytes)
+    } else {
+        std::io::BufReader::new(file).read_to_end(&mut bytes)
+    }
+    .map_err(|err| Error::io(path, err))?;
+    let text = String::from_utf8_lossy(&bytes);
+    parse_structure(&text, path)
+}
+
+/// Parse the text of a PDB or mmCIF file; `path` is used in messages only.
+pub fn parse_structure(text: &str, path: &Path) -> Result<Structure> {
+    let first = text.lines().find(|line| !line.trim().is_empty());
+    if first.is_some_and(|line| line.trim_start().starts_with("data_")) {
+        parse_mmcif(text, path)
+    } else {
+        parse_pdb(text, path)
+    }
+}
+
+/// Accumulates atoms into residues and chains.
+#[derive(Default)]
+struct Builder {
+    chains: Vec<Chain>,
+    /// (chain, number, insertion, file residue name) of the residue being filled.
+    current: Option<(String, i32, Option<char>, String)>,
+    atom_names: HashSet<String>,
+}
+
+struct AtomRecord<'a> {
+    chain: &'a str,
+    number: i32,
+    insertion: Option<char>,
+    residue_name: &'a str,
+    atom: Atom,
+}
+
+impl Builder {
+    fn push(&mut self, record: AtomRecord<'_>) {
+        let Some((parent, one_letter)) = amino_acid(record.residue_name) else {
+            return;
+        };
+        let same = self
+            .current
+            .as_ref()
+            .is_some_and(|(chain, number, insertion, name)| {
+                chain == record.chain
+                    && *number == record.number
+                    && *insertion == record.insertion
+                    && name == record.residue_name
+            });
+        if !same {
+            self.current = Some((
+                record.chain.to_string(),
+                record.number,
+                record.insertion,
+                record.residue_name.to_string(),
+            ));
+            self.atom_names.clear();
+            if self
+                .chains
+                .last()
+                .is_none_or(|chain| chain.id != record.chain)
+            {
+                self.chains.push(Chain {
+                    id: record.chain.to_string(),
+                    residues: Vec::new(),
+                });
+            }
+            let chain = self.chains.last_mut().expect("pushed above");
+            chain.residues.push(Residue {
+                number: record.number,
+                insertion: record.insertion,
+                name: parent.to_string(),
+                one_letter,
+                atoms: Vec::new(),
+            });
+        }
+        if !self.atom_names.insert(record.atom.name.clone()) {
+            return; // a later alternate location of an atom already read
+        }
+        let chain = self.chains.last_mut().expect("a residue was started");
+        let residue = chain.residues.last_mut().expect("a residue was started");
+        residue.atoms.push(record.atom);
+    }
+
+    fn finish(self) -> Structure {
+        // A chain id may reappear after other chains (rare, e.g. after TER and ligands of
+        // another chain): merge such pieces so that a chain id names one chain.
+        let mut chains: Vec<Chain> = Vec::new();
+        for chain in self.chains {
+            match chains.iter_mut().find(|known| known.id == chain.id) {
+                Some(known) => known.residues.extend(chain.residues),
+                None => chains.push(chain),
+            }
+        }
+        Structure { chains }
+    }
+}
+
+fn element_from_name(name: &str) -> String {
+    // PDB atom names of the standard residues start with the element (one letter for
+    // protein atoms); selenium in MSE is "SE".
+    if name == "SE" {
+        return "SE".into();
+    }
+    name.chars()
+        .find(|c| c.is_ascii_alphabetic())
+        .map(|c| c.to_ascii_uppercase().to_string())
+        .unwrap_or_default()
+}
+
+fn parse_coordinate(text: &str, path: &Path, line: u64, what: &str) -> Result<f64> {
+    text.trim().parse::<f64>().map_err(|_| {
+        Error::parse(
+            path,
+            line,
+            format!("{what} '{}' is not a number", text.trim()),
+        )
+    })
+}
+
+/// Parse PDB `ATOM` / `HETATM` records (fixed columns) of the first model.
+pub fn parse_pdb(text: &str, path: &Path) -> Result<Structure> {
+    let mut builder = Builder::default();
+    for (index, line) in text.lines().enumerate() {
+        let line_number = index as u64 + 1;
+        if line.starts_with("ENDMDL") {
+            break;
+        }
+        if !(line.starts_with("ATOM  ") || line.starts_with("HETATM")) {
+            continue;
+        }
+        let field = |start: usize, end: usize| line.get(start..end.min(line.len())).unwrap_or("");
+        if line.len() < 54 || !line.is_char_boundary(54) {
+            return Err(Error::parse(
+                path,
+                line_number,
+                "ATOM/HETATM record shorter than 54 columns (coordinates end at column 54)",
+            ));
+        }
+        let residue_name = field(17, 20).trim();
+        if amino_acid(residue_name).is_none() {
+            continue;
+        }
+        let name = field(12, 16).trim().to_string();
+        let number_text = field(22, 26).trim();
+        let number = number_text.parse::<i32>().map_err(|_| {
+            Error::parse(
+                path,
+                line_number,
+                format!("residue number '{number_text}' (columns 23-26) is not an integer"),
+            )
+        })?;
+        let insertion = field(26, 27).chars().next().filter(|c| *c != ' ');
+        let xyz = [
+            parse_coordinate(field(30, 38), path, line_number, "x (columns 31-38)")?,
+            parse_coordinate(field(38, 46), path, line_number, "y (columns 39-46)")?,
+            parse_coordinate(field(46, 54), path, line_number, "z (columns 47-54)")?,
+        ];
+        let element = match field(76, 78).trim() {
+            "" => element_from_name(&name),
+            symbol => symbol.to_ascii_uppercase(),
+        };
+        builder.push(AtomRecord {
+            chain: field(21, 22).trim(),
+            number,
+            insertion,
+            residue_name,
+            atom: Atom { name, element, xyz },
+        });
+    }
+    Ok(builder.finish())
+}
+
+/// Split one line of a CIF loop into tokens (whitespace separated; `'...'` and `"..."` quoted
+/// values end at a matching quote followed by whitespace or the end of the line).
+fn cif_tokens(line: &str) -> Vec<&str> {
+    let bytes = line.as_bytes();
+    let mut tokens = Vec::new();
+    let mut i = 0;
+    while i < bytes.len() {
+        if bytes[i].is_ascii_whitespace() {
+            i += 1;
+            continue;
+        }
+        let quote = bytes[i];
+        if quote == b'\'' || quote == b'"' {
+            let start = i + 1;
+            let mut end = start;
+            while end < bytes.len()
+                && !(bytes[end] == quote
+                    && (end + 1 == bytes.len() || bytes[end + 1].is_ascii_whitespace()))
+            {
+                end += 1;
+            }
+            tokens.push(&line[start..end.min(bytes.len())]);
+            i = end + 1;
+        } else {
+            let start = i;
+            while i < bytes.len() && !bytes[i].is_ascii_whitespace() {
+                i += 1;
+            }
+            tokens.push(&line[start..i]);
+        }
+    }
+    tokens
+}
+
+/// Parse the `_atom_site` loop of an mmCIF file (first model).
+pub fn parse_mmcif(text: &str, path: &Path) -> Result<Structure> {
+    let lines: Vec<&str> = text.lines().collect();
+    // Find the `_atom_site.` header of a loop, skipping semicolon text fields.
+    let mut in_text_field = false;
+    let mut header_start = None;
+    for (index, line) in lines.iter().enumerate() {
+        if line.starts_with(';') {
+            in_text_field = !in_text_field;
+            continue;
+        }
+        if !in_text_field && line.trim_start().starts_with("_atom_site.") {
+            header_start = Some(index);
+            break;
+        }
+    }
+    let Some(header_start) = header_start else {
+        return Err(Error::format(path, "mmCIF file without an _atom_site loop"));
+    };
+    if header_start == 0 || lines[header_start - 1].trim() != "loop_" {
+        return Err(Error::parse(
+            path,
+            header_start as u64 + 1,
+            "_atom_site is not a loop_ (single-atom mmCIF files are not supported)",
+        ));
+    }
+    let mut columns = Vec::new();
+    let mut index = header_start;
+    while index < lines.len() && lines[index].trim_start().starts_with("_atom_site.") {
+        let name = lines[index].trim().trim_start_matches("_atom_site.");
+        columns.push(name.split_whitespace().next().unwrap_or("").to_string());
+        index += 1;
+    }
+    let column = |names: &[&str]| {
+        names
+            .iter()
+            .find_map(|n| columns.iter().position(|c| c == n))
+    };
+    let require = |names: &[&str]| {
+        column(names).ok_or_else(|| {
+            Error::parse(
+                path,
+                header_start as u64 + 1,
+                format!("_atom_site loop without a {} column", names.join(" or ")),
+            )
+        })
+    };
+    let group = require(&["group_PDB"])?;
+    let x = require(&["Cartn_x"])?;
+    let y = require(&["Cartn_y"])?;
+    let z = require(&["Cartn_z"])?;
+    let atom_name = require(&["auth_atom_id", "label_atom_id"])?;
+    let residue_name = require(&["auth_comp_id", "label_comp_id"])?;
+    let chain = require(&["auth_asym_id", "label_asym_id"])?;
+    let number = require(&["auth_seq_id", "label_seq_id"])?;
+    let insertion = column(&["pdbx_PDB_ins_code"]);
+    let element = column(&["type_symbol"]);
+    let model = column(&["pdbx_PDB_model_num"]);
+
+    let mut builder = Builder::default();
+    let mut first_model: Option<String> = None;
+    let mut row: Vec<&str> = Vec::with_capacity(columns.len());
+    let mut row_line = index as u64 + 1;
+    while index < lines.len() {
+        let line = lines[index];
+        let line_number = index as u64 + 1;
+        index += 1;
+        let trimmed = line.trim_start();
+        if row.is_empty()
+            && (trimmed.starts_with('_')
+                || trimmed.starts_with("loop_")
+                || trimmed.starts_with('#')
+                || trimmed.starts_with("data_"))
+        {
+            break;
+        }
+        if trimmed.is_empty() {
+            continue;
+        }
+        if row.is_empty() {
+            row_line = line_number;
+        }
+        row.extend(cif_tokens(line));
+        if row.len() < columns.len() {
+            continue;
+        }
+        if row.len() > columns.len() {
+            return Err(Error::parse(
+                path,
+                row_line,
+                format!(
+                    "_atom_site row with {} values, expected {}",
+                    row.len(),
+                    columns.len()
+                ),
+            ));
+        }
+        if let Some(model) = model {
+            match &first_model {
+                None => first_model = Some(row[model].to_string()),
+                Some(first) if first != row[model] => break,
+                Some(_) => {}
+            }
+        }
+        let group_name = row[group];
+        if (group_name == "ATOM" || group_name == "HETATM")
+            && amino_acid(row[residue_name]).is_some()
+        {
+            let number_text = row[number];
+            let residue_number = number_text.parse::<i32>().map_err(|_| {
+                Error::parse(
+                    path,
+                    row_line,
+                    format!("residue number '{number_text}' is not an integer"),
+                )
+            })?;
+            let insertion_code = insertion
+                .map(|column| row[column])
+                .filter(|code| *code != "?" && *code != ".")
+                .and_then(|code| code.chars().next());
+            let name = row[atom_name].to_string();
+            let element_symbol = element
+                .map(|column| row[column])
+                .filter(|symbol| *symbol != "?" && *symbol != ".")
+                .map_or_else(|| element_from_name(&name), str::to_ascii_uppercase);
+            let xyz = [
+                parse_coordinate(row[x], path, row_line, "Cartn_x")?,
+                parse_coordinate(row[y], path, row_line, "Cartn_y")?,
+                parse_coordinate(row[z], path, row_line, "Cartn_z")?,
+            ];
+            builder.push(AtomRecord {
+                chain: row[chain],
+                number: residue_number,
+                insertion: insertion_code,
+                residue_name: row[residue_name],
+                atom: Atom {
+                    name,
+                    element: element_symbol,
+                    xyz,
+                },
+            });
+        }
+        row.clear();
+    }
+    if !row.is_empty() {
+        return Err(Error::parse(
+            path,
+            row_line,
+            format!(
+                "incomplete _atom_site row: {} values, expected {}",
+                row.len(),
+                columns.len()
+            ),
+        ));
+    }
+    Ok(builder.finish())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const DATA: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data/protein");
+
+    #[test]
+    fn pdb_and_mmcif_of_1a8o_agree() {
+        let pdb = read_structure(format!("{DATA}/1a8o/1A8O.pdb")).unwrap();
+        let cif = read_structure(format!("{DATA}/1a8o/1A8O.cif")).unwrap();
+        assert_eq!(pdb.chains.len(), 1);
+        assert_eq!(pdb, cif);
+        let chain = pdb.chain(None).unwrap();
+        assert_eq!(chain.id, "A");
+        assert_eq!(chain.residues.len(), 70);
+        assert_eq!(chain.residues[0].number, 151);
+        assert_eq!(chain.residues[69].number, 220);
+        let fasta = std::fs::read_to_string(format!("{DATA}/1a8o/1A8O.fasta")).unwrap();
+        assert_eq!(chain.sequence(), fasta.lines().nth(1).unwrap().trim());
+        // The four selenomethionines are kept as MET, with their selenium atom.
+        let mse: Vec<i32> = chain
+            .residues
+            .iter()
+            .filter(|residue| residue.atom("SE").is_some())
+            .map(|residue| residue.number)
+            .collect();
+        assert_eq!(mse.len(), 4);
+        for number in mse {
+            let residue = chain.residues.iter().find(|r| r.number == number).unwrap();
+            assert_eq!((residue.name.as_str(), residue.one_letter), ("MET", 'M'));
+            assert_eq!(residue.atom("SE").unwrap().element, "SE");
+        }
+    }
+
+    #[test]
+    fn toxd_drops_pca_waters_and_sulfate() {
+        let structure = read_structure(format!("{DATA}/toxd/toxd.pdb")).unwrap();
+        assert_eq!(structure.chains.len(), 1);
+        let chain = structure.chain(Some("A")).unwrap();
+        let numbers: Vec<i32> = chain
+            .residues
+            .iter()
+            .map(|residue| residue.number)
+            .collect();
+        assert_eq!(numbers, (2..=59).collect::<Vec<_>>());
+        let fasta = std::fs::read_to_string(format!("{DATA}/toxd/toxd.fasta")).unwrap();
+        assert_eq!(chain.sequence(), &fasta.lines().nth(1).unwrap().trim()[1..]);
+        assert!(structure.chain(Some("B")).is_err());
+    }
+
+    #[test]
+    fn first_model_first_altloc_and_insertion_codes() {
+        let text = "\
+MODEL        1
+ATOM      1  N   ALA A  10       1.000   2.000   3.000  1.00  0.00           N
+ATOM      2  CA AALA A  10       1.000   2.000   4.000  0.50  0.00           C
+ATOM      3  CA BALA A  10       9.000   9.000   9.000  0.50  0.00           C
+ATOM      4  CA  GLY A  10A      5.000   5.000   5.000  1.00  0.00           C
+HETATM    5  O   HOH A 100       0.000   0.000   0.000  1.00  0.00           O
+HETATM    6  CA  PCA A   9       0.000   0.000   0.000  1.00  0.00           C
+ENDMDL
+MODEL        2
+ATOM      7  CA  SER A  11       0.000   0.000   0.000  1.00  0.00           C
+ENDMDL
+";
+        let structure = parse_pdb(text, Path::new("test.pdb")).unwrap();
+        let residues = &structure.chains[0].residues;
+        assert_eq!(residues.len(), 2);
+        assert_eq!(residues[0].atoms.len(), 2);
+        assert_eq!(residues[0].atom("CA").unwrap().xyz, [1.0, 2.0, 4.0]);
+        assert_eq!((residues[1].number, residues[1].insertion), (10, Some('A')));
+    }
+
+    #[test]
+    fn errors_name_file_and_line() {
+        let text = "HEADER\nATOM      1  CA  ALA A  1x      1.000   2.000   3.000\n";
+        let err = parse_pdb(text, Path::new("bad.pdb")).unwrap_err();
+        assert!(matches!(err, Error::Parse { line: 2, .. }), "{err}");
+        assert!(err.to_string().starts_with("bad.pdb:2:"), "{err}");
+        let text = "data_x\nloop_\n_atom_site.group_PDB\n_atom_site.Cartn_x\n";
+        let err = parse_mmcif(text, Path::new("bad.cif")).unwrap_err();
+        assert!(err.to_string().contains("Cartn_y"), "{err}");
+    }
+
+    #[test]
+    fn cif_tokens_handle_quotes() {
+        assert_eq!(
+            cif_tokens("ATOM 1 O \"O5'\" 'a b' x"),
+            vec!["ATOM", "1", "O", "O5'", "a b", "x"]
+        );
+    }
+}

@@ -1,0 +1,970 @@
+//! Predicted residue contacts scored against the contacts of a known structure.
+//!
+//! **True contacts** ([`TrueContacts`]): two observed residues are in contact when the distance
+//! between their representative atoms passes the [`ContactDefinition`]: by default the
+//! Cb-Cb distance (Ca for glycine) below 8 Angstrom, the CASP definition
+//! ([`ContactAtom::Cb`], [`DistanceTest::Less`], 8.0). [`ContactAtom::Ca`] uses Ca-Ca and
+//! [`ContactAtom::Heavy`] the smallest distance between any two heavy (non-hydrogen) atoms.
+//! A residue lacking the atom the definition needs (a non-Gly residue without Cb, say) counts as
+//! unobserved. Residues are identified by their author number in the structure (see
+//! [`crate::io::structure`]); the separation of a pair is the difference of the numbers.
+//!
+//! **Scoring** ([`score_contacts`]), the CASP assessors' computation (as ConKit, ConEVA and
+//! DISTEVAL do it, with their conventions as options):
+//!
+//! 1. predicted pairs are made `i < j` (swapped when written `j > i`); pairs `i == i` and pairs
+//!    with a NaN score are dropped; a pair given more than once keeps its **highest** score, at
+//!    the place of its first occurrence;
+//! 2. pairs outside the [`SeparationRange`] are dropped, and, unless
+//!    [`ScoreParams::drop_unobserved`] is false, so are pairs with a residue not observed in the
+//!    structure (when kept, such a pair takes a slot in the list and is never a true positive);
+//! 3. the remaining `available` pairs are sorted by score, descending, with a **stable** sort
+//!    (equal scores keep the prediction's order);
+//! 4. each list size gives `k` ([`ListSize`]: a fraction of `L` rounded by [`Rounding`], a
+//!    count, or the number of true contacts in the range, DISTEVAL's "Top-NC"); `L` is the
+//!    sequence length or the number of observed residues ([`TargetLength`]);
+//! 5. with `TP` the true contacts among the top `min(k, available)` pairs: precision
+//!    `= TP / min(k, available)`, recall `= TP / n_true` (true contacts in the range), F1, and
+//!    the Matthews correlation over all observed pairs of the range. A ratio with a zero
+//!    denominator is 0.
+//!
+//! Defaults ([`ScoreParams::default`]): long range (`|i - j| >= 24`), `L` = sequence length,
+//! `k = floor(L * f)` for `f` in 1/10, 1/5, 1/2, 1, unobserved pairs dropped: CASP's
+//! conventions (Monastyrskyy et al., Proteins 2014, "Evaluation of residue-residue contact
+//! prediction in CASP10"). ConKit (Simkovic et al., Bioinformatics 2017) uses the same with
+//! `d <= 8`; ConEVA (Adhikari et al., BMC Bioinformatics 2016) rounds half up and takes
+//! `L` = observed residues; DISTEVAL (Adhikari, Bioinformatics 2020, ba-lab/disteval) rounds half
+//! to even and adds Top-NC. The tests reproduce the published numbers of each
+//! (`data/protein/README.md`).
+//!
+//! Residue numbers of the prediction are taken to be those of the structure: aligning a
+//! prediction's sequence register onto the structure's numbering is not done here yet.
+
+use std::collections::HashMap;
+
+use crate::error::{Error, Result};
+use crate::io::structure::{Chain, Residue};
+
+pub use crate::io::predictions::Prediction;
+
+/// The atoms whose distance defines a contact.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ContactAtom {
+    /// Cb, Ca for glycine (CASP).
+    #[default]
+    Cb,
+    /// Ca.
+    Ca,
+    /// The closest pair of heavy (non-hydrogen) atoms.
+    Heavy,
+}
+
+/// How a distance is compared with the cutoff.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum DistanceTest {
+    /// `d < cutoff` (CASP, ConEVA, DISTEVAL).
+    #[default]
+    Less,
+    /// `d <= cutoff` (ConKit).
+    LessOrEqual,
+}
+
+/// When two residues are in contact.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactDefinition {
+    /// The atoms measured.
+    pub atom: ContactAtom,
+    /// The distance cutoff in Angstrom.
+    pub cutoff_angstrom: f64,
+    /// Strict or not.
+    pub test: DistanceTest,
+}
+
+impl Default for ContactDefinition {
+    /// Cb (Ca for Gly), `d < 8` Angstrom.
+    fn default() -> Self {
+        Self {
+            atom: ContactAtom::Cb,
+            cutoff_angstrom: 8.0,
+            test: DistanceTest::Less,
+        }
+    }
+}
+
+impl ContactDefinition {
+    /// Whether a distance in Angstrom is a contact.
+    pub fn is_contact(&self, distance: f64) -> bool {
+        match self.test {
+            DistanceTest::Less => distance < self.cutoff_angstrom,
+            DistanceTest::LessOrEqual => distance <= self.cutoff_angstrom,
+        }
+    }
+}
+
+/// A range of sequence separations `|i - j|`, inclusive at both ends.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SeparationRange {
+    /// Smallest separation.
+    pub min: u32,
+    /// Largest separation, `None` for no upper bound.
+    pub max: Option<u32>,
+}
+
+impl SeparationRange {
+    /// Short range, 6-11 (CASP).
+    pub const SHORT: Self = Self::new(6, Some(11));
+    /// Medium range, 12-23 (CASP).
+    pub const MEDIUM: Self = Self::new(12, Some(23));
+    /// Long range, 24 and more (CASP).
+    pub const LONG: Self = Self::new(24, None);
+    /// All ranges, 6 and more (CASP).
+    pub const ALL: Self = Self::new(6, None);
+
+    /// The range `min..=max`.
+    pub const fn new(min: u32, max: Option<u32>) -> Self {
+        Self { min, max }
+    }
+
+    /// Whether the pair `(i, j)` falls in the range.
+    pub fn contains(&self, i: i32, j: i32) -> bool {
+        let separation = i.abs_diff(j);
+        separation >= self.min && self.max.is_none_or(|max| separation <= max)
+    }
+}
+
+/// Distances between the observed residues of a chain, and the contacts they make.
+#[derive(Clone, Debug)]
+pub struct TrueContacts {
+    numbers: Vec<i32>,
+    /// `slot[number - first]`: index into `numbers`, or `u32::MAX`.
+    slot: Vec<u32>,
+    /// Condensed upper triangle of residue distances (index pairs `a < b`).
+    distances: Vec<f64>,
+    definition: ContactDefinition,
+}
+
+fn distance(a: &[f64; 3], b: &[f64; 3]) -> f64 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+}
+
+fn representative_atoms(residue: &Residue, atom: ContactAtom) -> Vec<[f64; 3]> {
+    let named = |name: &str| residue.atom(name).map(|atom| vec![atom.xyz]);
+    match atom {
+        ContactAtom::Ca => named("CA"),
+        ContactAtom::Cb if residue.name == "GLY" => named("CA"),
+        ContactAtom::Cb => named("CB"),
+        ContactAtom::Heavy => Some(
+            residue
+                .atoms
+                .iter()
+                .filter(|atom| !atom.is_hydrogen())
+                .map(|atom| atom.xyz)
+                .collect(),
+        ),
+    }
+    .unwrap_or_default()
+}
+
+impl TrueContacts {
+    /// Measure the residues of `chain` as `definition` says. Residue numbers must be unique
+    /// (a chain with insertion codes needs register alignment, which is not done yet).
+    pub fn from_chain(chain: &Chain, definition: ContactDefinition) -> Result<Self> {
+        if !(definition.cutoff_angstrom.is_finite() && definition.cutoff_angstrom > 0.0) {
+            return Err(Error::Invalid(format!(
+                "contact cutoff must be a positive number of Angstrom, got {}",
+                definition.cutoff_angstrom
+            )));
+        }
+        let mut residues: Vec<(i32, Vec<[f64; 3]>)> = chain
+            .residues
+            .iter()
+            .map(|residue| {
+                (
+                    residue.number,
+                    representative_atoms(residue, definition.atom),
+                )
+            })
+            .filter(|(_, atoms)| !atoms.is_empty())
+            .collect();
+        residues.sort_by_key(|(number, _)| *number);
+        if let Some(pair) = residues.windows(2).find(|pair| pair[0].0 == pair[1].0) {
+            return Err(Error::Invalid(format!(
+                "chain {} has residue number {} more than once (insertion codes): scoring by \
+                 residue number needs unique numbers",
+                chain.id, pair[0].0
+            )));
+        }
+        let numbers: Vec<i32> = residues.iter().map(|(number, _)| *number).collect();
+        let mut slot = Vec::new();
+        if let (Some(first), Some(last)) = (numbers.first(), numbers.last()) {
+            slot = vec![u32::MAX; (last - first) as usize + 1];
+            for (index, number) in numbers.iter().enumerate() {
+                slot[(number - first) as usize] = index as u32;
+            }
+        }
+        let n = residues.len();
+        let mut distances = Vec::with_capacity(n * n.saturating_sub(1) / 2);
+        for a in 0..n {
+            for b in a + 1..n {
+                let mut closest = f64::INFINITY;
+                for x in &residues[a].1 {
+                    for y in &residues[b].1 {
+                        closest = closest.min(distance(x, y));
+                    }
+                }
+                distances.push(closest);
+            }
+        }
+        Ok(Self {
+            numbers,
+            slot,
+            distances,
+            definition,
+        })
+    }
+
+    /// The contact definition used.
+    pub fn definition(&self) -> &ContactDefinition {
+        &self.definition
+    }
+
+    /// Numbers of the observed residues, ascending.
+    pub fn numbers(&self) -> &[i32] {
+        &self.numbers
+    }
+
+    /// Number of observed residues.
+    pub fn n_observed(&self) -> usize {
+        self.numbers.len()
+    }
+
+    fn index(&self, number: i32) -> Option<usize> {
+        let first = *self.numbers.first()?;
+        let offset = usize::try_from(i64::from(number) - i64::from(first)).ok()?;
+        match self.slot.get(offset) {
+            Some(&index) if index != u32::MAX => Some(index as usize),
+            _ => None,
+        }
+    }
+
+    fn condensed(&self, a: usize, b: usize) -> usize {
+        let (a, b) = if a < b { (a, b) } else { (b, a) };
+        let n = self.numbers.len();
+        a * n - a * (a + 1) / 2 + (b - a - 1)
+    }
+
+    /// Distance in Angstrom between residues `i` and `j` (author numbers), or `None` when
+    /// either is not observed or `i == j`.
+    pub fn distance(&self, i: i32, j: i32) -> Option<f64> {
+        let (a, b) = (self.index(i)?, self.index(j)?);
+        (a != b).then(|| self.distances[self.condensed(a, b)])
+    }
+
+    /// Whether `i` and `j` are in contact, or `None` when either is not observed or `i == j`.
+    pub fn is_contact(&self, i: i32, j: i32) -> Option<bool> {
+        self.distance(i, j)
+            .map(|distance| self.definition.is_contact(distance))
+    }
+
+    /// The true contacts `(i, j)`, `i < j`, whose separation is in `range`, sorted.
+    pub fn contacts(&self, range: SeparationRange) -> Vec<(i32, i32)> {
+        let n = self.numbers.len();
+        let mut contacts = Vec::new();
+        let mut index = 0;
+        for a in 0..n {
+            for b in a + 1..n {
+                let (i, j) = (self.numbers[a], self.numbers[b]);
+                if range.contains(i, j) && self.definition.is_contact(self.distances[index]) {
+                    contacts.push((i, j));
+                }
+                index += 1;
+            }
+        }
+        contacts
+    }
+
+    /// Number of true contacts whose separation is in `range`.
+    pub fn n_contacts(&self, range: SeparationRange) -> usize {
+        self.contacts(range).len()
+    }
+
+    /// Number of pairs of observed residues whose separation is in `range`.
+    pub fn n_pairs(&self, range: SeparationRange) -> usize {
+        let n = self.numbers.len();
+        (0..n)
+            .map(|a| {
+                (a + 1..n)
+                    .filter(|&b| range.contains(self.numbers[a], self.numbers[b]))
+                    .count()
+            })
+            .sum()
+    }
+}
+
+/// How `L * f` becomes a list size.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Rounding {
+    /// `floor(L * f)` (CASP, ConKit's `int(L * f)`).
+    #[default]
+    Floor,
+    /// `floor(L * f + 0.5)` (ConEVA).
+    HalfUp,
+    /// Half to even, Python's `round` (DISTEVAL).
+    Banker,
+}
+
+impl Rounding {
+    /// Round a non-negative list size.
+    pub fn apply(self, value: f64) -> usize {
+        let rounded = match self {
+            Rounding::Floor => value.floor(),
+            Rounding::HalfUp => (value + 0.5).floor(),
+            Rounding::Banker => value.round_ties_even(),
+        };
+        rounded.max(0.0) as usize
+    }
+}
+
+/// What `L` is.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum TargetLength {
+    /// The length of the prediction's sequence (CASP, ConKit, DISTEVAL).
+    #[default]
+    Sequence,
+    /// The number of residues observed in the structure (ConEVA).
+    Observed,
+    /// A given number.
+    Residues(usize),
+}
+
+/// The size of a top list.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ListSize {
+    /// `k = round(L * fraction)`, rounded by [`ScoreParams::rounding`].
+    Fraction(f64),
+    /// A fixed number of pairs.
+    Count(usize),
+    /// The number of true contacts in the range (DISTEVAL's "Top-NC").
+    TrueContacts,
+}
+
+/// Options of [`score_contacts`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct ScoreParams {
+    /// Separation range of the scored pairs.
+    pub range: SeparationRange,
+    /// What `L` is.
+    pub length: TargetLength,
+    /// Rounding of `L * f`.
+    pub rounding: Rounding,
+    /// List sizes to report, in order.
+    pub list_sizes: Vec<ListSize>,
+    /// Drop pairs with an unobserved residue before ranking.
+    pub drop_unobserved: bool,
+}
+
+impl Default for ScoreParams {
+    /// Long range, `L` = sequence length, `floor`, L/10, L/5, L/2, L, unobserved dropped.
+    fn default() -> Self {
+        Self {
+            range: SeparationRange::LONG,
+            length: TargetLength::Sequence,
+            rounding: Rounding::Floor,
+            list_sizes: [0.1, 0.2, 0.5, 1.0]
+                .into_iter()
+                .map(ListSize::Fraction)
+                .collect(),
+            drop_unobserved: true,
+        }
+    }
+}
+
+/// The scores of one top list.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ListScore {
+    /// The requested size.
+    pub size: ListSize,
+    /// `k`, the requested number of pairs.
+    pub k: usize,
+    /// `min(k, available)`: the pairs actually scored.
+    pub n_scored: usize,
+    /// True contacts among them.
+    pub true_positives: usize,
+    /// `true_positives / n_scored`.
+    pub precision: f64,
+    /// `true_positives / n_true`.
+    pub recall: f64,
+    /// Harmonic mean of precision and recall.
+    pub f1: f64,
+    /// Matthews correlation coefficient over the observed pairs of the range.
+    pub mcc: f64,
+}
+
+/// Result of [`score_contacts`] for one separation range.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ContactScore {
+    /// The range.
+    pub range: SeparationRange,
+    /// `L`.
+    pub length: usize,
+    /// True contacts in the range.
+    pub n_true: usize,
+    /// Pairs of observed residues in the range.
+    pub n_pairs: usize,
+    /// Predicted pairs left to rank after steps 1-2 of the module docs.
+    pub n_available: usize,
+    /// One score per requested list size.
+    pub lists: Vec<ListScore>,
+}
+
+fn ratio(numerator: usize, denominator: usize) -> f64 {
+    if denominator == 0 {
+        0.0
+    } else {
+        numerator as f64 / denominator as f64
+    }
+}
+
+/// Pairs made `i < j`, without self pairs and NaN scores, duplicates keeping their highest
+/// score at the place of their first occurrence (step 1 of the module docs).
+pub fn normalize_pairs(pairs: &[(i32, i32, f64)]) -> Vec<(i32, i32, f64)> {
+    let mut first_seen: HashMap<(i32, i32), usize> = HashMap::with_capacity(pairs.len());
+    let mut normalized: Vec<(i32, i32, f64)> = Vec::with_capacity(pairs.len());
+    for &(i, j, score) in pairs {
+        if i == j || score.is_nan() {
+            continue;
+        }
+        let (i, j) = if i < j { (i, j) } else { (j, i) };
+        match first_seen.entry((i, j)) {
+            std::collections::hash_map::Entry::Occupied(entry) => {
+                let kept = &mut normalized[*entry.get()].2;
+                *kept = kept.max(score);
+            }
+            std::collections::hash_map::Entry::Vacant(entry) => {
+                entry.insert(normalized.len());
+                normalized.push((i, j, score));
+            }
+        }
+    }
+    normalized
+}
+
+/// Score `prediction` against `truth` (see the module docs).
+pub fn score_contacts(
+    truth: &TrueContacts,
+    prediction: &Prediction,
+    params: &ScoreParams,
+) -> Result<ContactScore> {
+    let length = match params.length {
+        TargetLength::Sequence => prediction
+            .sequence
+            .as_ref()
+            .map(|sequence| sequence.chars().count())
+            .ok_or_else(|| {
+                Error::Invalid(
+                    "L is the sequence length, but the prediction has no sequence: give one \
+                     (FASTA) or take L from the observed residues"
+                        .into(),
+                )
+            })?,
+        TargetLength::Observed => truth.n_observed(),
+        TargetLength::Residues(n) => n,
+    };
+    // (score, is a true contact: None when a residue is unobserved)
+    let mut ranked: Vec<(f64, Option<bool>)> = normalize_pairs(&prediction.pairs)
+        .into_iter()
+        .filter(|&(i, j, _)| params.range.contains(i, j))
+        .map(|(i, j, score)| (score, truth.is_contact(i, j)))
+        .filter(|(_, status)| status.is_some() || !params.drop_unobserved)
+        .collect();
+    // Stable and descending; NaN scores were dropped, so the comparison is total.
+    ranked.sort_by(|a, b| b.0.partial_cmp(&a.0).unwrap_or(std::cmp::Ordering::Equal));
+    let n_true = truth.n_contacts(params.range);
+    let n_pairs = truth.n_pairs(params.range);
+    let lists = params
+        .list_sizes
+        .iter()
+        .map(|&size| {
+            let k = match size {
+                ListSize::Fraction(fraction) => params.rounding.apply(length as f64 * fraction),
+                ListSize::Count(count) => count,
+                ListSize::TrueContacts => n_true,
+            };
+            let n_scored = k.min(ranked.len());
+            let top = &ranked[..n_scored];
+            let tp = top
+                .iter()
+                .filter(|(_, status)| *status == Some(true))
+                .count();
+            let fp = top
+                .iter()
+                .filter(|(_, status)| *status == Some(false))
+                .count();
+            let precision = ratio(tp, n_scored);
+            let recall = ratio(tp, n_true);
+            let f1 = if precision + recall > 0.0 {
+                2.0 * precision * recall / (precision + recall)
+            } else {
+                0.0
+            };
+            let false_negatives = n_true - tp;
+            let true_negatives = n_pairs.saturating_sub(tp + fp + false_negatives);
+            let (tp_f, fp_f, fn_f, tn_f) = (
+                tp as f64,
+                fp as f64,
+                false_negatives as f64,
+                true_negatives as f64,
+            );
+            let denominator =
+                ((tp_f + fp_f) * (tp_f + fn_f) * (tn_f + fp_f) * (tn_f + fn_f)).sqrt();
+            let mcc = if denominator > 0.0 {
+                (tp_f * tn_f - fp_f * fn_f) / denominator
+            } else {
+                0.0
+            };
+            ListScore {
+                size,
+                k,
+                n_scored,
+                true_positives: tp,
+                precision,
+                recall,
+                f1,
+                mcc,
+            }
+        })
+        .collect();
+    Ok(ContactScore {
+        range: params.range,
+        length,
+        n_true,
+        n_pairs,
+        n_available: ranked.len(),
+        lists,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::io::predictions::{read_fasta, read_prediction};
+    use crate::io::structure::read_structure;
+
+    const DATA: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data/protein");
+
+    fn truth(structure: &str, definition: ContactDefinition) -> TrueContacts {
+        let structure = read_structure(format!("{DATA}/{structure}")).unwrap();
+        TrueContacts::from_chain(structure.chain(None).unwrap(), definition).unwrap()
+    }
+
+    fn prediction(file: &str, fasta: &str) -> Prediction {
+        let sequence = read_fasta(format!("{DATA}/{fasta}")).unwrap();
+        read_prediction(format!("{DATA}/{file}"), None)
+            .unwrap()
+            .with_sequence(&sequence)
+            .unwrap()
+    }
+
+    /// `(TP, n_scored)` of each list.
+    fn counts(score: &ContactScore) -> Vec<(usize, usize)> {
+        score
+            .lists
+            .iter()
+            .map(|list| (list.true_positives, list.n_scored))
+            .collect()
+    }
+
+    #[test]
+    fn true_contact_counts_per_range() {
+        let ranges = [
+            SeparationRange::SHORT,
+            SeparationRange::MEDIUM,
+            SeparationRange::LONG,
+            SeparationRange::ALL,
+        ];
+        for (structure, observed, expected) in [
+            ("toxd/toxd.pdb", 58, [15, 43, 57, 115]),
+            ("1atzA/1atzA.pdb", 75, [24, 27, 69, 120]),
+            ("1aapA/1aapA.pdb", 56, [13, 44, 57, 114]),
+            ("1guuA/1guuA.pdb", 50, [15, 17, 13, 45]),
+            ("1a8o/1A8O.pdb", 70, [16, 26, 35, 77]),
+            ("1a8o/1A8O.cif", 70, [16, 26, 35, 77]),
+        ] {
+            for test in [DistanceTest::Less, DistanceTest::LessOrEqual] {
+                let definition = ContactDefinition {
+                    test,
+                    ..ContactDefinition::default()
+                };
+                let truth = truth(structure, definition);
+                assert_eq!(truth.n_observed(), observed, "{structure}");
+                let found = ranges.map(|range| truth.n_contacts(range));
+                assert_eq!(found, expected, "{structure} {test:?}");
+            }
+        }
+        let pdb = truth("1a8o/1A8O.pdb", ContactDefinition::default());
+        let cif = truth("1a8o/1A8O.cif", ContactDefinition::default());
+        assert_eq!(
+            pdb.contacts(SeparationRange::new(1, None)),
+            cif.contacts(SeparationRange::new(1, None))
+        );
+    }
+
+    #[test]
+    fn method_p_long_range_precision() {
+        let params = ScoreParams::default();
+        for (structure, file, fasta, expected) in [
+            (
+                "toxd/toxd.pdb",
+                "toxd/toxd.mat",
+                "toxd/toxd.fasta",
+                [(5, 5), (9, 11), (17, 29), (22, 59)],
+            ),
+            (
+                "1atzA/1atzA.pdb",
+                "1atzA/1atzA.apc.mat",
+                "1atzA/1atzA.fasta",
+                [(6, 7), (12, 15), (21, 37), (30, 75)],
+            ),
+            (
+                "1atzA/1atzA.pdb",
+                "1atzA/1atzA.noapc.mat",
+                "1atzA/1atzA.fasta",
+                [(4, 7), (5, 15), (9, 37), (11, 75)],
+            ),
+            (
+                "1aapA/1aapA.pdb",
+                "1aapA/1aapA.rr",
+                "1aapA/1aapA.fasta",
+                [(4, 5), (9, 11), (13, 28), (17, 56)],
+            ),
+            (
+                "1guuA/1guuA.pdb",
+                "1guuA/1guuA.contact.rr",
+                "1guuA/1guuA.fasta",
+                [(1, 1); 4],
+            ),
+            (
+                "1guuA/1guuA.pdb",
+                "1guuA/1guuA.npz",
+                "1guuA/1guuA.fasta",
+                [(5, 5), (10, 10), (13, 25), (13, 50)],
+            ),
+        ] {
+            let truth = truth(structure, ContactDefinition::default());
+            let score = score_contacts(&truth, &prediction(file, fasta), &params).unwrap();
+            assert_eq!(counts(&score), expected, "{file}");
+        }
+    }
+
+    #[test]
+    fn method_p_precision_values() {
+        let truth = truth("toxd/toxd.pdb", ContactDefinition::default());
+        let prediction = prediction("toxd/toxd.mat", "toxd/toxd.fasta");
+        let score = score_contacts(&truth, &prediction, &ScoreParams::default()).unwrap();
+        let precisions: Vec<f64> = score.lists.iter().map(|list| list.precision).collect();
+        for (found, expected) in precisions.iter().zip([1.0, 0.818182, 0.586207, 0.372881]) {
+            assert!((found - expected).abs() < 5e-7, "{found} vs {expected}");
+        }
+        assert_eq!(score.length, 59);
+        assert_eq!(score.n_true, 57);
+        let first = score.lists[0];
+        assert!((first.recall - 5.0 / 57.0).abs() < 1e-12);
+        assert!(first.mcc > 0.0 && first.mcc <= 1.0);
+    }
+
+    #[test]
+    fn conkit_documentation_toxd() {
+        // Separation >= 5, all ranges, top int(59 * f) for f = 0.5, 1.0, 1.5.
+        let truth = truth("toxd/toxd.pdb", ContactDefinition::default());
+        let prediction = prediction("toxd/toxd.mat", "toxd/toxd.fasta");
+        let params = ScoreParams {
+            range: SeparationRange::new(5, None),
+            list_sizes: vec![
+                ListSize::Fraction(0.5),
+                ListSize::Fraction(1.0),
+                ListSize::Fraction(1.5),
+            ],
+            ..ScoreParams::default()
+        };
+        let score = score_contacts(&truth, &prediction, &params).unwrap();
+        assert_eq!(counts(&score), [(24, 29), (35, 59), (38, 88)]);
+    }
+
+    #[test]
+    fn coneva_conventions() {
+        // Round half up, L = observed residues; coneva.pl prints percentages.
+        let params = ScoreParams {
+            length: TargetLength::Observed,
+            rounding: Rounding::HalfUp,
+            ..ScoreParams::default()
+        };
+        for (structure, file, fasta, expected, percentages) in [
+            (
+                "1aapA/1aapA.pdb",
+                "1aapA/1aapA.rr",
+                "1aapA/1aapA.fasta",
+                [(5, 6), (9, 11), (13, 28), (17, 56)],
+                [83.33, 81.82, 46.43, 30.36],
+            ),
+            (
+                "toxd/toxd.pdb",
+                "toxd/toxd.mat",
+                "toxd/toxd.fasta",
+                [(6, 6), (10, 12), (17, 29), (22, 58)],
+                [100.0, 83.33, 58.62, 37.93],
+            ),
+        ] {
+            let truth = truth(structure, ContactDefinition::default());
+            let score = score_contacts(&truth, &prediction(file, fasta), &params).unwrap();
+            assert_eq!(counts(&score), expected, "{file}");
+            for (list, percentage) in score.lists.iter().zip(percentages) {
+                assert!(
+                    ((list.precision * 100.0 * 100.0).round() / 100.0 - percentage).abs() < 1e-9
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn disteval_conventions() {
+        // Banker's rounding of 0.2 L, separations >= 12 and >= 24, Top-L/5 and Top-NC.
+        let truth = truth("1guuA/1guuA.pdb", ContactDefinition::default());
+        let list_sizes = vec![ListSize::Fraction(0.2), ListSize::TrueContacts];
+        for (file, expected12, expected24) in [
+            ("1guuA/1guuA.contact.rr", [(9, 9), (9, 9)], [(1, 1), (1, 1)]),
+            (
+                "1guuA/1guuA.predicted.npy",
+                [(9, 10), (18, 30)],
+                [(5, 10), (5, 13)],
+            ),
+            (
+                "1guuA/1guuA.npz",
+                [(10, 10), (24, 30)],
+                [(10, 10), (11, 13)],
+            ),
+        ] {
+            let prediction = prediction(file, "1guuA/1guuA.fasta");
+            for (min, expected) in [(12, expected12), (24, expected24)] {
+                let params = ScoreParams {
+                    range: SeparationRange::new(min, None),
+                    rounding: Rounding::Banker,
+                    list_sizes: list_sizes.clone(),
+                    ..ScoreParams::default()
+                };
+                let score = score_contacts(&truth, &prediction, &params).unwrap();
+                assert_eq!(counts(&score), expected, "{file} sep >= {min}");
+            }
+        }
+    }
+
+    #[test]
+    fn cb_distances_match_disteval_true_map() {
+        // 1guuA.true.npy is DISTEVAL's float16 Cb (Ca for Gly) distance map of 1guuA.pdb.
+        let bytes = std::fs::read(format!("{DATA}/1guuA/1guuA.true.npy")).unwrap();
+        let map = crate::io::predictions::parse_npy(&bytes, std::path::Path::new("t")).unwrap();
+        let truth = truth("1guuA/1guuA.pdb", ContactDefinition::default());
+        assert_eq!(truth.numbers(), (1..=50).collect::<Vec<_>>());
+        for i in 1..=50 {
+            for j in i + 1..=50 {
+                let ours = truth.distance(i, j).unwrap();
+                let theirs = map.values[(i as usize - 1) * 50 + j as usize - 1];
+                // float16 keeps 11 significant bits: relative error below 2^-11.
+                assert!(
+                    (ours - theirs).abs() <= ours * 2f64.powi(-11),
+                    "{i}-{j}: {ours} {theirs}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn own_contacts_score_precision_one() {
+        let truth = truth("1atzA/1atzA.pdb", ContactDefinition::default());
+        let pairs = truth
+            .contacts(SeparationRange::ALL)
+            .into_iter()
+            .map(|(i, j)| (j, i, 1.0)) // written j > i on purpose
+            .collect();
+        let prediction = Prediction {
+            pairs,
+            sequence: None,
+        };
+        for range in [
+            SeparationRange::SHORT,
+            SeparationRange::MEDIUM,
+            SeparationRange::LONG,
+        ] {
+            let params = ScoreParams {
+                range,
+                length: TargetLength::Observed,
+                list_sizes: vec![ListSize::TrueContacts],
+                ..ScoreParams::default()
+            };
+            let list = score_contacts(&truth, &prediction, &params).unwrap().lists[0];
+            assert_eq!(
+                (list.precision, list.recall, list.f1, list.mcc),
+                (1.0, 1.0, 1.0, 1.0)
+            );
+        }
+    }
+
+    #[test]
+    fn normalization_rules() {
+        let pairs = [
+            (5, 1, 0.2),
+            (1, 5, 0.9),
+            (2, 2, 1.0),
+            (3, 9, f64::NAN),
+            (1, 7, 0.5),
+        ];
+        assert_eq!(normalize_pairs(&pairs), vec![(1, 5, 0.9), (1, 7, 0.5)]);
+    }
+
+    #[test]
+    fn unobserved_pairs_take_a_slot_when_kept() {
+        // toxd: residue 1 (PCA) is unobserved.
+        let truth = truth("toxd/toxd.pdb", ContactDefinition::default());
+        assert_eq!(truth.is_contact(1, 40), None);
+        let prediction = Prediction {
+            pairs: vec![(1, 40, 2.0), (16, 40, 1.0)],
+            sequence: None,
+        };
+        let mut params = ScoreParams {
+            length: TargetLength::Residues(10),
+            list_sizes: vec![ListSize::Count(1)],
+            ..ScoreParams::default()
+        };
+        assert_eq!(truth.is_contact(16, 40), Some(true));
+        let dropped = score_contacts(&truth, &prediction, &params).unwrap();
+        assert_eq!(dropped.lists[0].true_positives, 1);
+        params.drop_unobserved = false;
+        let kept = score_contacts(&truth, &prediction, &params).unwrap();
+        assert_eq!(kept.lists[0].true_positives, 0);
+    }
+
+    #[test]
+    fn other_atoms_and_errors() {
+        let cb = truth("toxd/toxd.pdb", ContactDefinition::default());
+        let heavy = truth(
+            "toxd/toxd.pdb",
+            ContactDefinition {
+                atom: ContactAtom::Heavy,
+                ..ContactDefinition::default()
+            },
+        );
+        let ca = truth(
+            "toxd/toxd.pdb",
+            ContactDefinition {
+                atom: ContactAtom::Ca,
+                ..ContactDefinition::default()
+            },
+        );
+        // The closest heavy-atom pair is never farther than the Cb or Ca pair.
+        for &i in cb.numbers() {
+            for &j in cb.numbers() {
+                if let (Some(h), Some(b), Some(a)) =
+                    (heavy.distance(i, j), cb.distance(i, j), ca.distance(i, j))
+                {
+                    assert!(h <= b + 1e-12 && h <= a + 1e-12);
+                }
+            }
+        }
+        assert!(heavy.n_contacts(SeparationRange::ALL) > cb.n_contacts(SeparationRange::ALL));
+        let no_sequence = Prediction::default();
+        assert!(score_contacts(&cb, &no_sequence, &ScoreParams::default()).is_err());
+        let structure = read_structure(format!("{DATA}/toxd/toxd.pdb")).unwrap();
+        let bad = ContactDefinition {
+            cutoff_angstrom: f64::NAN,
+            ..ContactDefinition::default()
+        };
+        assert!(TrueContacts::from_chain(&structure.chains[0], bad).is_err());
+    }
+
+    #[test]
+    fn rounding() {
+        assert_eq!(Rounding::Floor.apply(5.9), 5);
+        assert_eq!(Rounding::HalfUp.apply(5.5), 6);
+        assert_eq!(Rounding::Banker.apply(2.5), 2);
+        assert_eq!(Rounding::Banker.apply(3.5), 4);
+    }
+
+    mod properties {
+        use super::*;
+        use crate::io::structure::{Atom, Chain, Residue};
+        use proptest::prelude::*;
+
+        /// A chain of `n` residues on a random walk with 3.8 A steps, Ca only.
+        fn chain(directions: &[(f64, f64)]) -> Chain {
+            let mut xyz = [0.0f64; 3];
+            let residues = directions
+                .iter()
+                .enumerate()
+                .map(|(index, &(theta, phi))| {
+                    xyz[0] += 3.8 * theta.sin() * phi.cos();
+                    xyz[1] += 3.8 * theta.sin() * phi.sin();
+                    xyz[2] += 3.8 * theta.cos();
+                    Residue {
+                        number: index as i32 + 1,
+                        insertion: None,
+                        name: "ALA".into(),
+                        one_letter: 'A',
+                        atoms: vec![Atom {
+                            name: "CA".into(),
+                            element: "C".into(),
+                            xyz,
+                        }],
+                    }
+                })
+                .collect();
+            Chain {
+                id: "A".into(),
+                residues,
+            }
+        }
+
+        proptest! {
+            #[test]
+            fn matches_a_naive_stable_ranking(
+                directions in prop::collection::vec((0.0..std::f64::consts::PI, 0.0..std::f64::consts::TAU), 20..40),
+                raw in prop::collection::vec((1i32..45, 1i32..45, 0u8..4), 0..200),
+                k in 0usize..60,
+            ) {
+                let definition = ContactDefinition { atom: ContactAtom::Ca, ..Default::default() };
+                let truth = TrueContacts::from_chain(&chain(&directions), definition).unwrap();
+                // Few distinct scores: many ties, broken by first occurrence.
+                let pairs: Vec<(i32, i32, f64)> =
+                    raw.iter().map(|&(i, j, s)| (i, j, f64::from(s))).collect();
+                let range = SeparationRange::new(3, None);
+                let params = ScoreParams {
+                    range,
+                    length: TargetLength::Observed,
+                    list_sizes: vec![ListSize::Count(k)],
+                    ..ScoreParams::default()
+                };
+                let prediction = Prediction { pairs: pairs.clone(), sequence: None };
+                let list = score_contacts(&truth, &prediction, &params).unwrap().lists[0];
+
+                // Naive: best score of each unordered pair, ranked by (score desc, first index).
+                let mut best: Vec<((i32, i32), f64, usize)> = Vec::new();
+                for (index, &(i, j, score)) in pairs.iter().enumerate() {
+                    let key = (i.min(j), i.max(j));
+                    if i == j { continue; }
+                    match best.iter_mut().find(|entry| entry.0 == key) {
+                        Some(entry) => entry.1 = entry.1.max(score),
+                        None => best.push((key, score, index)),
+                    }
+                }
+                best.retain(|((i, j), _, _)| {
+                    range.contains(*i, *j) && truth.is_contact(*i, *j).is_some()
+                });
+                best.sort_by(|a, b| b.1.partial_cmp(&a.1).unwrap().then(a.2.cmp(&b.2)));
+                let top = &best[..k.min(best.len())];
+                let tp = top.iter().filter(|((i, j), _, _)| truth.is_contact(*i, *j) == Some(true)).count();
+                prop_assert_eq!(list.n_scored, top.len());
+                prop_assert_eq!(list.true_positives, tp);
+                prop_assert!((0.0..=1.0).contains(&list.precision));
+                prop_assert!((-1.0..=1.0).contains(&list.mcc));
+            }
+        }
+    }
+}
