@@ -16,3 +16,13 @@ pub mod boundaries;
 pub mod contacts;
 
 pub use boundaries::{domain_overlap, score_boundaries, BoundaryMatch, DomainOverlap};
+
+/// `numerator / denominator`, or 0 when the denominator is 0 (a precision without calls, a recall
+/// without truth).
+fn ratio(numerator: usize, denominator: usize) -> f64 {
+    if denominator == 0 {
+        0.0
+    } else {
+        numerator as f64 / denominator as f64
+    }
+}

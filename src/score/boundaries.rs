@@ -28,6 +28,7 @@
 //! do not overlap each other on any chromosome (no nesting); gaps between domains are not filled
 //! (Zufferey et al. count inter-TAD gaps as domains: give them explicitly to reproduce that).
 
+use super::ratio;
 use std::collections::BTreeMap;
 
 /// Result of [`score_boundaries`].
@@ -58,14 +59,6 @@ pub struct DomainOverlap {
     /// Measure of Concordance, averaged over chromosomes; `None` when the domains of either set
     /// overlap each other on some chromosome, or when both sets are empty.
     pub moc: Option<f64>,
-}
-
-fn ratio(numerator: usize, denominator: usize) -> f64 {
-    if denominator == 0 {
-        0.0
-    } else {
-        numerator as f64 / denominator as f64
-    }
 }
 
 /// Match `calls` to `truth` one-to-one within `tolerance_bp` on the same chromosome and report

@@ -40,6 +40,7 @@
 //! Residue numbers of the prediction are taken to be those of the structure: aligning a
 //! prediction's sequence register onto the structure's numbering is not done here yet.
 
+use super::ratio;
 use std::collections::HashMap;
 
 use crate::error::{Error, Result};
@@ -415,14 +416,6 @@ pub struct ContactScore {
     pub n_available: usize,
     /// One score per requested list size.
     pub lists: Vec<ListScore>,
-}
-
-fn ratio(numerator: usize, denominator: usize) -> f64 {
-    if denominator == 0 {
-        0.0
-    } else {
-        numerator as f64 / denominator as f64
-    }
 }
 
 /// Pairs made `i < j`, without self pairs and NaN scores, duplicates keeping their highest
