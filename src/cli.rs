@@ -2,6 +2,7 @@
 //! one `run` function that parses, checks, calls the library and writes the result.
 
 pub mod balance;
+pub mod contacts;
 pub mod convert;
 pub mod dump;
 pub mod expected;
@@ -56,8 +57,12 @@ pub enum Command {
     Tads(tads::TadsArgs),
     /// Simulated maps with a known truth: `simulate blocks` (block-structured map with TADs).
     Simulate(simulate::SimulateArgs),
-    /// Score calls against a truth: `score boundaries` (TAD boundaries and domains).
+    /// Score calls against a truth: `score boundaries` (TAD boundaries and domains), `score
+    /// contacts` (protein residue-contact predictions against a structure).
     Score(score::ScoreArgs),
+    /// True residue contacts of a protein structure (PDB / mmCIF) as CASP RR, or its residue
+    /// distance matrix.
+    Contacts(contacts::ContactsArgs),
 }
 
 /// Run a parsed command line.
@@ -72,6 +77,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Tads(args) => tads::run(&args),
         Command::Simulate(args) => simulate::run(&args),
         Command::Score(args) => score::run(&args),
+        Command::Contacts(args) => contacts::run(&args),
     }
 }
 

@@ -1,15 +1,22 @@
 //! `contactmap score`: calls scored against a truth. `score boundaries` compares TAD boundary
-//! (and optionally domain) calls with a truth ([`crate::score::boundaries`]). (Protein contact
-//! scoring will be other subcommands.)
+//! (and optionally domain) calls with a truth ([`crate::score::boundaries`]); `score contacts`
+//! scores protein residue-contact predictions against a structure
+//! ([`crate::score::contacts`]).
 
 use std::path::{Path, PathBuf};
 
-use clap::{Args, Subcommand};
+use clap::{Args, Subcommand, ValueEnum};
 
+use crate::cli::contacts::{true_contacts, DefinitionArgs};
 use crate::cli::output::Output;
 use crate::error::{Error, Result};
 use crate::io::bed::{read_bed, BedRecord};
+use crate::io::predictions::{read_fasta, read_prediction, PredictionFormat};
 use crate::score::boundaries::{domain_overlap, score_boundaries};
+use crate::score::contacts::{
+    score_contacts, ContactScore, ListSize, Rounding, ScoreParams, SeparationRange, TargetLength,
+    TrueContacts,
+};
 
 /// Arguments of `contactmap score`.
 #[derive(Debug, Args)]
@@ -25,6 +32,9 @@ pub enum ScoreCommand {
     /// TAD boundary calls against true boundaries: precision, recall, F1 with a tolerance; with
     /// --truth-domains and --domains also domain Jaccard and the Measure of Concordance.
     Boundaries(BoundariesArgs),
+    /// Protein residue-contact predictions against a structure: precision, recall, F1, MCC per
+    /// separation range and top-list size (CASP conventions by default).
+    Contacts(Box<ContactsScoreArgs>),
 }
 
 /// Arguments of `contactmap score boundaries`.
@@ -84,6 +94,7 @@ pub struct BoundariesArgs {
 pub fn run(args: &ScoreArgs) -> Result<()> {
     match &args.command {
         ScoreCommand::Boundaries(boundaries) => run_boundaries(boundaries),
+        ScoreCommand::Contacts(contacts) => run_contacts(contacts),
     }
 }
 
@@ -156,6 +167,568 @@ fn run_boundaries(args: &BoundariesArgs) -> Result<()> {
     out.finish()
 }
 
+/// Prediction formats, for `score contacts --format`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum PredictionFormatArg {
+    /// CASP RR (optional header and sequence lines; `i j score` or `i j d1 d2 score` rows)
+    Rr,
+    /// square matrix (CCMpred, PSICOV, ccmpred-py; `#` lines skipped)
+    Matrix,
+    /// `i j score` rows (whitespace or commas; plmDCA / EVfold / GREMLIN style lists)
+    Table,
+    /// trRosetta .npz distogram (score P(d < 8 A))
+    Npz,
+    /// .npy predicted distance map (score: minus the distance)
+    Npy,
+}
+
+impl From<PredictionFormatArg> for PredictionFormat {
+    fn from(arg: PredictionFormatArg) -> Self {
+        match arg {
+            PredictionFormatArg::Rr => PredictionFormat::Rr,
+            PredictionFormatArg::Matrix => PredictionFormat::Matrix,
+            PredictionFormatArg::Table => PredictionFormat::Table,
+            PredictionFormatArg::Npz => PredictionFormat::Npz,
+            PredictionFormatArg::Npy => PredictionFormat::Npy,
+        }
+    }
+}
+
+/// Rounding of `L * f`, for `--rounding`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum RoundingArg {
+    /// floor(L f) (CASP, ConKit)
+    Floor,
+    /// floor(L f + 0.5) (ConEVA)
+    HalfUp,
+    /// half to even, Python's round (DISTEVAL)
+    Banker,
+}
+
+impl From<RoundingArg> for Rounding {
+    fn from(arg: RoundingArg) -> Self {
+        match arg {
+            RoundingArg::Floor => Rounding::Floor,
+            RoundingArg::HalfUp => Rounding::HalfUp,
+            RoundingArg::Banker => Rounding::Banker,
+        }
+    }
+}
+
+/// Arguments of `contactmap score contacts`.
+#[derive(Debug, Args)]
+#[command(after_long_help = "\
+What is computed (the CASP assessors' method; defaults are CASP's):
+  1. True contacts: residues of the chain (first model; author numbering; hetero groups and
+     waters ignored; MSE kept as MET) whose Cb atoms (Ca for Gly) are closer than 8 A
+     (--atom, --cutoff, --le).
+  2. Predicted pairs are made i < j, self pairs and NaN scores dropped, a pair given twice keeps
+     its highest score; pairs outside the separation range are dropped, and so are pairs with a
+     residue not observed in the structure (unless --keep-unobserved: such a pair then takes a
+     slot and is never a true positive). A higher score is a more confident contact.
+  3. The rest is sorted by score, descending, stably (ties keep the file's order).
+  4. Each list size gives k: L/10 = round(L / 10) with --rounding (default floor), N a count,
+     NC the number of true contacts of the range (DISTEVAL's Top-NC). L is the sequence length
+     (--fasta, else the RR file's sequence line, else the observed residues), or --length.
+  5. TP = true contacts among the top min(k, available) pairs; precision = TP / min(k,
+     available), recall = TP / true contacts of the range, F1, MCC over all observed pairs of
+     the range; a ratio with a zero denominator is 0.
+
+Residue numbers of the prediction must be those of the structure (no register alignment yet):
+i in the prediction is the residue with author number i in the structure.
+
+Separation ranges (--ranges, comma separated): short (6-11), medium (12-23), long (>= 24),
+all (>= 6), MIN-MAX, or MIN+ (>= MIN); --min-sep N is --ranges N+.
+List sizes (--top, comma separated): L/10, L/5, L/2, L, a fraction such as 0.3L or 1.5L, a
+count N, or NC.
+
+Output: per prediction, an aligned table (range x list size); --tsv: one row per prediction x
+range x list size, with a header:
+  prediction range min_sep max_sep list k n_scored tp precision recall f1 mcc length n_true
+  n_available
+(max_sep is `inf` for an open range); --json: an array with one object per prediction.
+
+Examples (formats are detected from the content; --format overrides):
+  contactmap score contacts --structure 1aap.pdb 1aapA.rr                  # CASP RR
+  contactmap score contacts --structure toxd.pdb toxd.mat --fasta toxd.fasta  # CCMpred matrix
+  contactmap score contacts --structure 1abc.cif --chain B plmdca.txt --fasta 1abc.fasta \\
+      --format table                                                       # i j score list
+  contactmap score contacts --structure 1guu.pdb 1guu.npz --fasta 1guu.fasta  # trRosetta
+  contactmap score contacts --structure 1guu.pdb 1guu.predicted.npy --fasta 1guu.fasta
+  contactmap score contacts --structure t.pdb --fasta t.fasta preds/*.rr --tsv -o scores.tsv
+
+Other tools' conventions:
+  ConKit:    --le (d <= 8); its documented toxd example is --le --min-sep 5 --top 0.5L,L,1.5L
+  ConEVA:    --length observed --rounding half-up --ranges long
+  DISTEVAL:  --rounding banker --ranges 12+,24+ --top L/5,NC")]
+pub struct ContactsScoreArgs {
+    /// The structure with the true contacts (.pdb / .ent or .cif / .mmcif, optionally .gz).
+    #[arg(long, value_name = "PDB|CIF")]
+    pub structure: PathBuf,
+    /// Chain of the structure (author chain id; default: the first protein chain).
+    #[arg(long)]
+    pub chain: Option<String>,
+    /// Prediction files, scored one by one against the same structure.
+    #[arg(value_name = "PRED", required = true)]
+    pub predictions: Vec<PathBuf>,
+    /// Target sequence (FASTA, first record): gives L and checks the residue numbers.
+    #[arg(long, value_name = "FILE")]
+    pub fasta: Option<PathBuf>,
+    /// Prediction format (default: detected from the content of each file).
+    #[arg(long, value_enum)]
+    pub format: Option<PredictionFormatArg>,
+    /// Separation ranges: short, medium, long, all, MIN-MAX or MIN+ (comma separated).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "short,medium,long,all",
+        value_name = "RANGES"
+    )]
+    pub ranges: Vec<String>,
+    /// One range of separations >= N (same as --ranges N+).
+    #[arg(long, value_name = "N", conflicts_with = "ranges")]
+    pub min_sep: Option<u32>,
+    /// List sizes: L/10, L/5, L/2, L, 0.3L, a count N, or NC (comma separated).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "L/10,L/5,L/2,L",
+        value_name = "SIZES"
+    )]
+    pub top: Vec<String>,
+    /// L: sequence (the FASTA / RR sequence length), observed (residues observed in the
+    /// structure) or a number [default: sequence when there is one, else observed].
+    #[arg(long, value_name = "sequence|observed|N")]
+    pub length: Option<String>,
+    /// Rounding of L * fraction.
+    #[arg(long, value_enum, default_value = "floor")]
+    pub rounding: RoundingArg,
+    /// Keep pairs with a residue not observed in the structure (they count as false).
+    #[arg(long)]
+    pub keep_unobserved: bool,
+    /// Tab-separated output, one row per prediction x range x list size.
+    #[arg(long, conflicts_with = "json")]
+    pub tsv: bool,
+    /// JSON output.
+    #[arg(long)]
+    pub json: bool,
+    /// Write here instead of standard output (.gz compresses).
+    #[arg(short, long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+    /// The contact definition.
+    #[command(flatten)]
+    pub definition: DefinitionArgs,
+}
+
+/// A named separation range.
+#[derive(Clone, Debug, PartialEq)]
+struct NamedRange {
+    name: String,
+    range: SeparationRange,
+}
+
+fn parse_range(token: &str) -> Result<NamedRange> {
+    let token = token.trim();
+    let bad = || {
+        Error::Invalid(format!(
+            "bad separation range '{token}' (expected short, medium, long, all, MIN-MAX or MIN+)"
+        ))
+    };
+    let number = |text: &str| text.trim().parse::<u32>().map_err(|_| bad());
+    let range = match token.to_ascii_lowercase().as_str() {
+        "short" => SeparationRange::SHORT,
+        "medium" => SeparationRange::MEDIUM,
+        "long" => SeparationRange::LONG,
+        "all" => SeparationRange::ALL,
+        other => {
+            if let Some(min) = other.strip_suffix('+') {
+                SeparationRange::new(number(min)?, None)
+            } else if let Some((min, max)) = other.split_once('-') {
+                let (min, max) = (number(min)?, number(max)?);
+                if max < min {
+                    return Err(bad());
+                }
+                SeparationRange::new(min, Some(max))
+            } else {
+                return Err(bad());
+            }
+        }
+    };
+    Ok(NamedRange {
+        name: token.to_ascii_lowercase(),
+        range,
+    })
+}
+
+fn parse_list_size(token: &str) -> Result<(String, ListSize)> {
+    let token = token.trim();
+    let bad = || {
+        Error::Invalid(format!(
+            "bad list size '{token}' (expected L/10, L, 0.3L, a count N, or NC)"
+        ))
+    };
+    let upper = token.to_ascii_uppercase();
+    let size = if upper == "NC" {
+        ListSize::TrueContacts
+    } else if upper == "L" {
+        ListSize::Fraction(1.0)
+    } else if let Some(divisor) = upper.strip_prefix("L/") {
+        let divisor: f64 = divisor.parse().map_err(|_| bad())?;
+        if !(divisor.is_finite() && divisor > 0.0) {
+            return Err(bad());
+        }
+        ListSize::Fraction(1.0 / divisor)
+    } else if let Some(fraction) = upper.strip_suffix('L') {
+        let fraction: f64 = fraction.trim_end_matches('*').parse().map_err(|_| bad())?;
+        if !(fraction.is_finite() && fraction >= 0.0) {
+            return Err(bad());
+        }
+        ListSize::Fraction(fraction)
+    } else {
+        ListSize::Count(token.parse().map_err(|_| bad())?)
+    };
+    Ok((token.to_string(), size))
+}
+
+/// What L is, as asked on the command line.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum LengthChoice {
+    /// Sequence when there is one, else observed.
+    Auto,
+    Fixed(TargetLength),
+}
+
+fn parse_length(text: Option<&str>) -> Result<LengthChoice> {
+    Ok(match text.map(str::trim) {
+        None => LengthChoice::Auto,
+        Some(text) => match text.to_ascii_lowercase().as_str() {
+            "sequence" | "seq" => LengthChoice::Fixed(TargetLength::Sequence),
+            "observed" => LengthChoice::Fixed(TargetLength::Observed),
+            other => match other.parse::<usize>() {
+                Ok(n) if n > 0 => LengthChoice::Fixed(TargetLength::Residues(n)),
+                _ => {
+                    return Err(Error::Invalid(format!(
+                        "bad --length '{text}' (expected sequence, observed or a positive number)"
+                    )))
+                }
+            },
+        },
+    })
+}
+
+/// The scores of one prediction.
+struct PredictionReport {
+    path: String,
+    length_source: &'static str,
+    scores: Vec<(NamedRange, Vec<String>, ContactScore)>,
+}
+
+fn score_one(
+    path: &Path,
+    args: &ContactsScoreArgs,
+    fasta: Option<&str>,
+    truth: &TrueContacts,
+    ranges: &[NamedRange],
+    sizes: &[(String, ListSize)],
+    length: LengthChoice,
+) -> Result<PredictionReport> {
+    let in_file = |err: Error| match err {
+        Error::Invalid(message) => Error::Invalid(format!("{}: {message}", path.display())),
+        other => other,
+    };
+    let mut prediction = read_prediction(path, args.format.map(Into::into))?;
+    if let Some(sequence) = fasta {
+        prediction = prediction.with_sequence(sequence).map_err(in_file)?;
+    }
+    let (target_length, length_source) = match length {
+        LengthChoice::Auto if prediction.sequence.is_some() => (TargetLength::Sequence, "sequence"),
+        LengthChoice::Auto => (TargetLength::Observed, "observed"),
+        LengthChoice::Fixed(TargetLength::Sequence) => (TargetLength::Sequence, "sequence"),
+        LengthChoice::Fixed(TargetLength::Observed) => (TargetLength::Observed, "observed"),
+        LengthChoice::Fixed(fixed) => (fixed, "given"),
+    };
+    let labels: Vec<String> = sizes.iter().map(|(label, _)| label.clone()).collect();
+    let mut scores = Vec::with_capacity(ranges.len());
+    for named in ranges {
+        let params = ScoreParams {
+            range: named.range,
+            length: target_length,
+            rounding: args.rounding.into(),
+            list_sizes: sizes.iter().map(|(_, size)| *size).collect(),
+            drop_unobserved: !args.keep_unobserved,
+        };
+        let score = score_contacts(truth, &prediction, &params).map_err(in_file)?;
+        scores.push((named.clone(), labels.clone(), score));
+    }
+    Ok(PredictionReport {
+        path: path.display().to_string(),
+        length_source,
+        scores,
+    })
+}
+
+fn max_sep_text(range: &SeparationRange) -> String {
+    range
+        .max
+        .map_or_else(|| "inf".to_string(), |max| max.to_string())
+}
+
+fn real(value: f64) -> String {
+    let mut out = Vec::new();
+    crate::cli::output::write_real(&mut out, value);
+    String::from_utf8(out).unwrap_or_default()
+}
+
+fn write_tsv(reports: &[PredictionReport]) -> String {
+    let mut text = String::from(
+        "prediction\trange\tmin_sep\tmax_sep\tlist\tk\tn_scored\ttp\tprecision\trecall\tf1\tmcc\
+         \tlength\tn_true\tn_available\n",
+    );
+    for report in reports {
+        for (named, labels, score) in &report.scores {
+            for (label, list) in labels.iter().zip(&score.lists) {
+                text.push_str(&format!(
+                    "{}\t{}\t{}\t{}\t{label}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\n",
+                    report.path,
+                    named.name,
+                    named.range.min,
+                    max_sep_text(&named.range),
+                    list.k,
+                    list.n_scored,
+                    list.true_positives,
+                    real(list.precision),
+                    real(list.recall),
+                    real(list.f1),
+                    real(list.mcc),
+                    score.length,
+                    score.n_true,
+                    score.n_available,
+                ));
+            }
+        }
+    }
+    text
+}
+
+fn json_number(value: f64) -> serde_json::Value {
+    serde_json::Number::from_f64(value).map_or(serde_json::Value::Null, serde_json::Value::Number)
+}
+
+fn write_json(
+    args: &ContactsScoreArgs,
+    truth: &TrueContacts,
+    reports: &[PredictionReport],
+) -> String {
+    use serde_json::json;
+    let predictions: Vec<serde_json::Value> = reports
+        .iter()
+        .map(|report| {
+            let ranges: Vec<serde_json::Value> = report
+                .scores
+                .iter()
+                .map(|(named, labels, score)| {
+                    let lists: Vec<serde_json::Value> = labels
+                        .iter()
+                        .zip(&score.lists)
+                        .map(|(label, list)| {
+                            json!({
+                                "list": label,
+                                "k": list.k,
+                                "n_scored": list.n_scored,
+                                "tp": list.true_positives,
+                                "precision": json_number(list.precision),
+                                "recall": json_number(list.recall),
+                                "f1": json_number(list.f1),
+                                "mcc": json_number(list.mcc),
+                            })
+                        })
+                        .collect();
+                    json!({
+                        "range": named.name,
+                        "min_sep": named.range.min,
+                        "max_sep": named.range.max,
+                        "n_true": score.n_true,
+                        "n_pairs": score.n_pairs,
+                        "n_available": score.n_available,
+                        "lists": lists,
+                    })
+                })
+                .collect();
+            let length = report.scores.first().map(|(_, _, score)| score.length);
+            json!({
+                "prediction": report.path,
+                "structure": args.structure.display().to_string(),
+                "contact_definition": args.definition.describe(),
+                "n_observed": truth.n_observed(),
+                "length": length,
+                "length_source": report.length_source,
+                "ranges": ranges,
+            })
+        })
+        .collect();
+    let mut text = serde_json::to_string_pretty(&predictions).unwrap_or_default();
+    text.push('\n');
+    text
+}
+
+/// Rows of cells as text with columns aligned (first column left, the others right).
+fn aligned(rows: &[Vec<String>]) -> String {
+    let columns = rows.iter().map(Vec::len).max().unwrap_or(0);
+    let widths: Vec<usize> = (0..columns)
+        .map(|c| {
+            rows.iter()
+                .filter_map(|row| row.get(c))
+                .map(|cell| cell.chars().count())
+                .max()
+                .unwrap_or(0)
+        })
+        .collect();
+    let mut text = String::new();
+    for row in rows {
+        let cells: Vec<String> = row
+            .iter()
+            .enumerate()
+            .map(|(c, cell)| {
+                if c == 0 {
+                    format!("{cell:<width$}", width = widths[c])
+                } else {
+                    format!("{cell:>width$}", width = widths[c])
+                }
+            })
+            .collect();
+        text.push_str(cells.join("  ").trim_end());
+        text.push('\n');
+    }
+    text
+}
+
+fn write_table(
+    args: &ContactsScoreArgs,
+    chain: &str,
+    truth: &TrueContacts,
+    reports: &[PredictionReport],
+) -> String {
+    let mut text = String::new();
+    for (index, report) in reports.iter().enumerate() {
+        if index > 0 {
+            text.push('\n');
+        }
+        let length = report
+            .scores
+            .first()
+            .map_or(0, |(_, _, score)| score.length);
+        text.push_str(&format!(
+            "{}\n  structure {} chain {}: {} observed residues; contacts {}\n  L = {length} ({}), \
+             rounding {}, unobserved pairs {}\n",
+            report.path,
+            args.structure.display(),
+            if chain.is_empty() { "(blank)" } else { chain },
+            truth.n_observed(),
+            args.definition.describe(),
+            report.length_source,
+            match args.rounding {
+                RoundingArg::Floor => "floor",
+                RoundingArg::HalfUp => "half-up",
+                RoundingArg::Banker => "banker",
+            },
+            if args.keep_unobserved {
+                "kept"
+            } else {
+                "dropped"
+            },
+        ));
+        let mut rows = vec![[
+            "range",
+            "sep",
+            "true",
+            "avail",
+            "list",
+            "k",
+            "TP",
+            "precision",
+            "recall",
+            "F1",
+            "MCC",
+        ]
+        .map(String::from)
+        .to_vec()];
+        for (named, labels, score) in &report.scores {
+            let separation = match named.range.max {
+                Some(max) => format!("{}-{max}", named.range.min),
+                None => format!(">={}", named.range.min),
+            };
+            for (label, list) in labels.iter().zip(&score.lists) {
+                rows.push(vec![
+                    named.name.clone(),
+                    separation.clone(),
+                    score.n_true.to_string(),
+                    score.n_available.to_string(),
+                    label.clone(),
+                    list.k.to_string(),
+                    list.true_positives.to_string(),
+                    format!("{:.4}", list.precision),
+                    format!("{:.4}", list.recall),
+                    format!("{:.4}", list.f1),
+                    format!("{:.4}", list.mcc),
+                ]);
+            }
+        }
+        for line in aligned(&rows).lines() {
+            text.push_str("  ");
+            text.push_str(line);
+            text.push('\n');
+        }
+    }
+    text
+}
+
+fn run_contacts(args: &ContactsScoreArgs) -> Result<()> {
+    let ranges: Vec<NamedRange> = match args.min_sep {
+        Some(min) => vec![NamedRange {
+            name: format!("{min}+"),
+            range: SeparationRange::new(min, None),
+        }],
+        None => args
+            .ranges
+            .iter()
+            .map(|token| parse_range(token))
+            .collect::<Result<_>>()?,
+    };
+    let sizes: Vec<(String, ListSize)> = args
+        .top
+        .iter()
+        .map(|token| parse_list_size(token))
+        .collect::<Result<_>>()?;
+    let length = parse_length(args.length.as_deref())?;
+    let fasta = args.fasta.as_deref().map(read_fasta).transpose()?;
+    let (chain, truth) = true_contacts(&args.structure, args.chain.as_deref(), &args.definition)?;
+    let reports = args
+        .predictions
+        .iter()
+        .map(|path| {
+            score_one(
+                path,
+                args,
+                fasta.as_deref(),
+                &truth,
+                &ranges,
+                &sizes,
+                length,
+            )
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let text = if args.json {
+        write_json(args, &truth, &reports)
+    } else if args.tsv {
+        write_tsv(&reports)
+    } else {
+        write_table(args, &chain.id, &truth, &reports)
+    };
+    let mut out = Output::open(args.out.as_deref())?;
+    out.write_all(text.as_bytes())?;
+    out.finish()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -170,5 +743,39 @@ mod tests {
         assert_eq!(median_width(&calls), Some(10));
         assert_eq!(median_width(&[]), None);
         assert_eq!(median_width(&[record(5, 5)]), None);
+    }
+
+    #[test]
+    fn range_list_size_and_length_parsing() {
+        assert_eq!(parse_range("long").unwrap().range, SeparationRange::LONG);
+        assert_eq!(
+            parse_range("12-23").unwrap().range,
+            SeparationRange::new(12, Some(23))
+        );
+        assert_eq!(
+            parse_range("5+").unwrap().range,
+            SeparationRange::new(5, None)
+        );
+        for bad in ["", "9-3", "x", "5", "-3"] {
+            assert!(parse_range(bad).is_err(), "{bad}");
+        }
+        assert_eq!(parse_list_size("L/5").unwrap().1, ListSize::Fraction(0.2));
+        assert_eq!(parse_list_size("L").unwrap().1, ListSize::Fraction(1.0));
+        assert_eq!(parse_list_size("1.5L").unwrap().1, ListSize::Fraction(1.5));
+        assert_eq!(parse_list_size("30").unwrap().1, ListSize::Count(30));
+        assert_eq!(parse_list_size("nc").unwrap().1, ListSize::TrueContacts);
+        for bad in ["L/0", "xL", "-1", "L/"] {
+            assert!(parse_list_size(bad).is_err(), "{bad}");
+        }
+        assert_eq!(parse_length(None).unwrap(), LengthChoice::Auto);
+        assert_eq!(
+            parse_length(Some("observed")).unwrap(),
+            LengthChoice::Fixed(TargetLength::Observed)
+        );
+        assert_eq!(
+            parse_length(Some("70")).unwrap(),
+            LengthChoice::Fixed(TargetLength::Residues(70))
+        );
+        assert!(parse_length(Some("0")).is_err());
     }
 }

@@ -1,0 +1,185 @@
+//! `contactmap contacts`: the true residue contacts of a protein structure as CASP RR rows, or
+//! the full residue distance matrix ([`crate::score::contacts::TrueContacts`]). Also holds the
+//! contact-definition options shared with `contactmap score contacts`.
+
+use std::io::Write as _;
+use std::path::PathBuf;
+
+use clap::{Args, ValueEnum};
+
+use crate::cli::output::{write_real, Output};
+use crate::error::{Error, Result};
+use crate::io::structure::{read_structure, Chain};
+use crate::score::contacts::{
+    ContactAtom, ContactDefinition, DistanceTest, SeparationRange, TrueContacts,
+};
+
+/// The atoms measured, for `--atom`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum AtomArg {
+    /// Cb-Cb, Ca for glycine (CASP)
+    Cb,
+    /// Ca-Ca
+    Ca,
+    /// closest pair of heavy (non-hydrogen) atoms
+    Heavy,
+}
+
+impl From<AtomArg> for ContactAtom {
+    fn from(arg: AtomArg) -> Self {
+        match arg {
+            AtomArg::Cb => ContactAtom::Cb,
+            AtomArg::Ca => ContactAtom::Ca,
+            AtomArg::Heavy => ContactAtom::Heavy,
+        }
+    }
+}
+
+/// When two residues of the structure are in contact.
+#[derive(Debug, Args, Clone)]
+#[command(next_help_heading = "Contact definition")]
+pub struct DefinitionArgs {
+    /// Atoms whose distance defines a contact.
+    #[arg(long, value_enum, default_value = "cb")]
+    pub atom: AtomArg,
+    /// Distance cutoff in Angstrom.
+    #[arg(long, default_value_t = 8.0, value_name = "ANGSTROM")]
+    pub cutoff: f64,
+    /// A contact is `d <= cutoff` (ConKit) instead of `d < cutoff` (CASP, ConEVA, DISTEVAL).
+    #[arg(long)]
+    pub le: bool,
+}
+
+impl DefinitionArgs {
+    /// The library's contact definition.
+    pub fn definition(&self) -> ContactDefinition {
+        ContactDefinition {
+            atom: self.atom.into(),
+            cutoff_angstrom: self.cutoff,
+            test: if self.le {
+                DistanceTest::LessOrEqual
+            } else {
+                DistanceTest::Less
+            },
+        }
+    }
+
+    /// A short description, e.g. `cb d < 8 A`.
+    pub fn describe(&self) -> String {
+        let atom = match self.atom {
+            AtomArg::Cb => "Cb (Ca for Gly)",
+            AtomArg::Ca => "Ca",
+            AtomArg::Heavy => "closest heavy atoms",
+        };
+        let test = if self.le { "<=" } else { "<" };
+        format!("{atom}, d {test} {} A", self.cutoff)
+    }
+}
+
+/// Read `structure`, select the chain and measure its true contacts.
+pub fn true_contacts(
+    structure: &std::path::Path,
+    chain: Option<&str>,
+    definition: &DefinitionArgs,
+) -> Result<(Chain, TrueContacts)> {
+    let parsed = read_structure(structure)?;
+    let chain = parsed
+        .chain(chain)
+        .map_err(|err| Error::Invalid(format!("{}: {err}", structure.display())))?
+        .clone();
+    let truth = TrueContacts::from_chain(&chain, definition.definition())
+        .map_err(|err| Error::Invalid(format!("{}: {err}", structure.display())))?;
+    Ok((chain, truth))
+}
+
+/// Arguments of `contactmap contacts`.
+#[derive(Debug, Args)]
+#[command(after_long_help = "\
+Residues are those of the chosen chain of the first model, numbered by their author numbers
+(PDB columns 23-26, mmCIF auth_seq_id); hetero groups and waters are ignored, modified amino
+acids such as MSE are kept as their parent, PCA is dropped, and a residue without the atom the
+definition needs (a non-Gly residue without Cb) is unobserved.
+
+Output (default): CASP RR. The first line is the sequence from residue 1 to the last residue
+number, with `X` at numbers that are not observed (so the file reads back as a prediction with
+the structure's numbering; it is omitted when a residue number is below 1). Then one row per
+true contact `i j 0 CUTOFF 1`, i < j, |i - j| >= --min-sep, sorted.
+
+With --matrix: the distance matrix of the observed residues in Angstrom (3 decimals), as a
+tab-separated table whose first row and column are the residue numbers.
+
+Examples:
+  contactmap contacts 1abc.pdb                    # Cb, d < 8 A, separation >= 6
+  contactmap contacts 1abc.cif --chain B --atom heavy --cutoff 5 --min-sep 1 -o B.rr
+  contactmap contacts 1abc.pdb --matrix -o distances.tsv")]
+pub struct ContactsArgs {
+    /// The structure (.pdb / .ent or .cif / .mmcif, optionally .gz).
+    #[arg(value_name = "STRUCTURE")]
+    pub structure: PathBuf,
+    /// Chain (author chain id; default: the first protein chain).
+    #[arg(long)]
+    pub chain: Option<String>,
+    /// Smallest sequence separation |i - j| of the listed contacts.
+    #[arg(long, default_value_t = 6, value_name = "N", conflicts_with = "matrix")]
+    pub min_sep: u32,
+    /// Write the full residue distance matrix instead of the contact list.
+    #[arg(long)]
+    pub matrix: bool,
+    /// Write here instead of standard output (.gz compresses).
+    #[arg(short, long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+    /// The contact definition.
+    #[command(flatten)]
+    pub definition: DefinitionArgs,
+}
+
+/// The RR sequence line: residues 1..=last number, `X` where not observed; `None` when a
+/// residue number is below 1.
+fn sequence_line(chain: &Chain) -> Option<String> {
+    if chain.residues.iter().any(|residue| residue.number < 1) {
+        return None;
+    }
+    let last = chain.residues.iter().map(|r| r.number).max()?;
+    let mut sequence = vec!['X'; last as usize];
+    for residue in chain.residues.iter().filter(|r| r.insertion.is_none()) {
+        sequence[residue.number as usize - 1] = residue.one_letter;
+    }
+    Some(sequence.into_iter().collect())
+}
+
+/// Run `contactmap contacts`.
+pub fn run(args: &ContactsArgs) -> Result<()> {
+    let (chain, truth) = true_contacts(&args.structure, args.chain.as_deref(), &args.definition)?;
+    let mut text = Vec::new();
+    if args.matrix {
+        let numbers = truth.numbers();
+        text.extend_from_slice(b"residue");
+        for number in numbers {
+            let _ = write!(text, "\t{number}");
+        }
+        text.push(b'\n');
+        for &i in numbers {
+            let _ = write!(text, "{i}");
+            for &j in numbers {
+                let distance = truth.distance(i, j).unwrap_or(0.0);
+                let _ = write!(text, "\t{distance:.3}");
+            }
+            text.push(b'\n');
+        }
+    } else {
+        if let Some(sequence) = sequence_line(&chain) {
+            text.extend_from_slice(sequence.as_bytes());
+            text.push(b'\n');
+        }
+        let mut cutoff = Vec::new();
+        write_real(&mut cutoff, args.definition.cutoff);
+        for (i, j) in truth.contacts(SeparationRange::new(args.min_sep, None)) {
+            let _ = write!(text, "{i} {j} 0 ");
+            text.extend_from_slice(&cutoff);
+            text.extend_from_slice(b" 1\n");
+        }
+    }
+    let mut out = Output::open(args.out.as_deref())?;
+    out.write_all(&text)?;
+    out.finish()
+}
