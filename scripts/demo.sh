@@ -65,4 +65,11 @@ step "Its TADs by insulation (raw counts: the simulated map has no bias to balan
   "$cm" tads "$work/blocks.cool" --raw --window 200k -o "$work/blocks_insulation.tsv" --boundaries "$work/calls.bed"
 step "Boundary calls scored against the truth (precision, recall, F1 within one bin)" \
   "$cm" score boundaries --truth "$work/truth.bed" "$work/calls.bed"
+step "Protein: true contacts of a structure (Cb-Cb < 8 A, Ca for Gly) as CASP RR" \
+  "$cm" contacts data/protein/1aapA/1aapA.pdb -o "$work/1aapA.true.rr"
+head -4 "$work/1aapA.true.rr"
+step "Protein: CCMpred and RR predictions scored against their structures (CASP long-range precision)" \
+  "$cm" score contacts --structure data/protein/toxd/toxd.pdb data/protein/toxd/toxd.mat \
+  --fasta data/protein/toxd/toxd.fasta --ranges long
+"$cm" score contacts --structure data/protein/1aapA/1aapA.pdb data/protein/1aapA/1aapA.rr --ranges long
 printf '\nDemo finished.\n'
