@@ -25,6 +25,8 @@ pub mod peaks;
 pub mod threshold;
 pub mod topdom;
 
+use std::ops::Range;
+
 use crate::expected::View;
 
 /// A boundary call: one bin, with the caller's strength (NaN when the method has none).
@@ -54,6 +56,23 @@ impl Domain {
     pub fn n_bins(&self) -> usize {
         self.end_bin - self.start_bin
     }
+}
+
+/// The runs of consecutive equal values of `region` (a table's region index per row), as row
+/// ranges in order: the rows of each region of a per-bin table.
+pub fn region_rows(region: &[usize]) -> Vec<Range<usize>> {
+    let mut rows = Vec::new();
+    let mut start = 0;
+    while start < region.len() {
+        let end = start
+            + region[start..]
+                .iter()
+                .take_while(|&&r| r == region[start])
+                .count();
+        rows.push(start..end);
+        start = end;
+    }
+    rows
 }
 
 /// Domains between consecutive boundaries of each region: a boundary bin closes the domain on its
@@ -88,6 +107,12 @@ pub fn domains_between(view: &View, boundaries: &[Boundary], min_bins: usize) ->
 mod tests {
     use super::*;
     use crate::genome::{BinTable, Chrom};
+
+    #[test]
+    fn region_rows_are_the_runs_of_equal_regions() {
+        assert_eq!(region_rows(&[0, 0, 1, 1, 1, 3]), vec![0..2, 2..5, 5..6]);
+        assert!(region_rows(&[]).is_empty());
+    }
 
     #[test]
     fn domains_between_boundaries_tile_each_region() {

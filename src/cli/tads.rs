@@ -12,12 +12,12 @@ use crate::error::{Error, Result};
 use crate::expected::View;
 use crate::genome::{parse_bp, BinTable};
 use crate::io::{self, LoadedPixels, StreamedPixels};
-use crate::tads::armatus::{armatus, ArmatusParams};
+use crate::tads::armatus::{armatus, level_boundaries, ArmatusParams};
 use crate::tads::band::cis_bands;
 use crate::tads::directionality::{directionality, DirectionalityParams, DirectionalityTable};
-use crate::tads::hmm::{di_domains, signed_normal_scores, DiState, GaussianHmm, HmmParams};
+use crate::tads::hmm::{dixon_domains, DiState, HmmParams};
 use crate::tads::insulation::{
-    dist_to_bad, insulation, regions_shorter_than, InsulationParams, InsulationTable,
+    insulation, regions_shorter_than, InsulationParams, InsulationTable,
 };
 use crate::tads::threshold::Threshold;
 use crate::tads::topdom::{topdom, TopDomParams, TopDomRegion, TopDomTag};
@@ -216,8 +216,8 @@ struct Calls {
 }
 
 enum Track {
-    Insulation(InsulationTable, Vec<String>, Option<usize>),
-    Directionality(DirectionalityTable, Vec<Option<DiState>>),
+    Insulation(InsulationTable, Vec<String>),
+    Directionality(DirectionalityTable, Vec<DiState>),
     TopDom(Vec<TopDomRegion>),
     Armatus(Vec<(Domain, f64)>),
 }
@@ -225,9 +225,7 @@ enum Track {
 impl Calls {
     fn track(&self, bins: &BinTable) -> Vec<u8> {
         match &self.track {
-            Track::Insulation(table, names, min_dist) => {
-                insulation_text(bins, table, names, *min_dist)
-            }
+            Track::Insulation(table, names) => insulation_text(bins, table, names),
             Track::Directionality(table, states) => directionality_text(bins, table, states),
             Track::TopDom(regions) => topdom_text(bins, regions),
             Track::Armatus(domains) => armatus_text(bins, domains),
@@ -353,7 +351,6 @@ fn run_insulation(
         track: Track::Insulation(
             table,
             view.regions().iter().map(|r| r.name.clone()).collect(),
-            (min_dist_bad_bin > 0).then_some(min_dist_bad_bin),
         ),
     })
 }
@@ -375,37 +372,12 @@ fn run_directionality(
         min_domain_bins: args.min_domain_bins,
         ..HmmParams::default()
     };
-    // One region's index track at a time, in view order.
-    let mut spans = Vec::new();
-    let mut start = 0;
-    while start < table.bins.len() {
-        let region = table.region[start];
-        let mut end = start;
-        while end < table.bins.len() && table.region[end] == region {
-            end += 1;
-        }
-        spans.push(start..end);
-        start = end;
-    }
-    let tracks: Vec<&[f64]> = spans.iter().map(|s| &table.index[s.clone()]).collect();
-    let scores = signed_normal_scores(&tracks);
-    let score_tracks: Vec<&[f64]> = scores.iter().map(Vec::as_slice).collect();
-    let model = GaussianHmm::fit(&score_tracks, &hmm_params)?;
-    let mut states = vec![None; table.bins.len()];
-    let (mut boundaries, mut domains) = (Vec::new(), Vec::new());
-    for (span, track) in spans.iter().zip(&score_tracks) {
-        let called = di_domains(&model, track, table.bins[span.start], &hmm_params);
-        for (k, state) in called.states.iter().enumerate() {
-            states[span.start + k] = Some(*state);
-        }
-        boundaries.extend(called.boundaries);
-        domains.extend(called.domains);
-    }
+    let calls = dixon_domains(&table, &hmm_params)?;
     Ok(Calls {
         label: format!("directionality_{}", windows[0]),
-        boundaries,
-        domains,
-        track: Track::Directionality(table, states),
+        boundaries: calls.boundaries,
+        domains: calls.domains,
+        track: Track::Directionality(table, calls.states),
     })
 }
 
@@ -479,26 +451,7 @@ fn run_armatus(
         band.clear_near_diagonal(args.ignore_diags);
         domains.extend(armatus(band, &params)?);
     }
-    let mut edges: Vec<usize> = domains
-        .iter()
-        .filter(|d| d.level == args.bed_level)
-        .flat_map(|d| [d.start_bin, d.end_bin])
-        .collect();
-    edges.sort_unstable();
-    edges.dedup();
-    let n_bins = view
-        .regions()
-        .last()
-        .map(|r| r.bins.end)
-        .unwrap_or_default();
-    let boundaries = edges
-        .into_iter()
-        .filter(|&bin| bin < n_bins)
-        .map(|bin| Boundary {
-            bin,
-            strength: f64::NAN,
-        })
-        .collect();
+    let boundaries = level_boundaries(&domains, args.bed_level, view);
     let with_gamma = domains
         .iter()
         .map(|d| (*d, gammas[d.level as usize]))
@@ -525,15 +478,10 @@ fn push_bool(text: &mut Vec<u8>, value: bool) {
     text.extend_from_slice(if value { b"True" } else { b"False" });
 }
 
-fn insulation_text(
-    bins: &BinTable,
-    table: &InsulationTable,
-    region_names: &[String],
-    min_dist: Option<usize>,
-) -> Vec<u8> {
+fn insulation_text(bins: &BinTable, table: &InsulationTable, region_names: &[String]) -> Vec<u8> {
     let mut text = Vec::with_capacity(128 * (table.bins.len() + 1));
     text.extend_from_slice(b"chrom\tstart\tend\tregion\tis_bad_bin");
-    if min_dist.is_some() {
+    if table.dist_bad_bin.is_some() {
         text.extend_from_slice(b"\tdist_bad_bin");
     }
     for track in &table.tracks {
@@ -552,14 +500,13 @@ fn insulation_text(
         text.extend_from_slice(format!("\tis_boundary_{}", track.window_bp).as_bytes());
     }
     text.push(b'\n');
-    let distances = min_dist.map(|_| distance_to_bad_bin(table));
     for (row, &bin) in table.bins.iter().enumerate() {
         push_bin(&mut text, bins, bin);
         text.push(b'\t');
         text.extend_from_slice(region_names[table.region[row]].as_bytes());
         text.push(b'\t');
         push_bool(&mut text, table.is_bad_bin[row]);
-        if let Some(d) = &distances {
+        if let Some(d) = &table.dist_bad_bin {
             text.push(b'\t');
             write_u64(&mut text, d[row] as u64);
         }
@@ -588,27 +535,10 @@ fn insulation_text(
     text
 }
 
-/// Distance (in bins) from each row to the nearest bad bin of its region (cooltools
-/// `dist_to_mask`, as the `dist_bad_bin` column).
-fn distance_to_bad_bin(table: &InsulationTable) -> Vec<usize> {
-    let mut distance = Vec::with_capacity(table.bins.len());
-    let mut start = 0;
-    while start < table.bins.len() {
-        let end = start
-            + table.region[start..]
-                .iter()
-                .take_while(|&&r| r == table.region[start])
-                .count();
-        distance.extend(dist_to_bad(&table.is_bad_bin[start..end]));
-        start = end;
-    }
-    distance
-}
-
 fn directionality_text(
     bins: &BinTable,
     table: &DirectionalityTable,
-    states: &[Option<DiState>],
+    states: &[DiState],
 ) -> Vec<u8> {
     let w = table.window_bp;
     let mut text = Vec::with_capacity(96 * (table.bins.len() + 1));
@@ -628,10 +558,9 @@ fn directionality_text(
         write_real(&mut text, table.index[row]);
         text.push(b'\t');
         text.extend_from_slice(match states[row] {
-            Some(DiState::Upstream) => b"upstream".as_slice(),
-            Some(DiState::Neutral) => b"neutral",
-            Some(DiState::Downstream) => b"downstream",
-            None => b".",
+            DiState::Upstream => b"upstream".as_slice(),
+            DiState::Neutral => b"neutral",
+            DiState::Downstream => b"downstream",
         });
         text.push(b'\n');
     }

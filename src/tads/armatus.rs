@@ -30,8 +30,9 @@
 //! genome-wide (`band.first_bin + local`).
 
 use super::band::CisBand;
-use super::Domain;
+use super::{Boundary, Domain};
 use crate::error::{Error, Result};
+use crate::expected::View;
 
 /// Armatus parameters.
 #[derive(Clone, Debug, PartialEq)]
@@ -188,6 +189,28 @@ fn best_domains(quality: &Quality) -> Vec<(usize, usize, f64)> {
     out
 }
 
+/// The boundaries of one level of Armatus domains: both edges of every domain of `level` (the
+/// bin where it starts and the bin just after it ends), sorted and unique, leaving out the end
+/// of the last view region (past the last bin); strength NaN (Armatus has none).
+pub fn level_boundaries(domains: &[Domain], level: u32, view: &View) -> Vec<Boundary> {
+    let mut edges: Vec<usize> = domains
+        .iter()
+        .filter(|d| d.level == level)
+        .flat_map(|d| [d.start_bin, d.end_bin])
+        .collect();
+    let n_bins = view.regions().last().map_or(0, |r| r.bins.end);
+    edges.retain(|&bin| bin < n_bins);
+    edges.sort_unstable();
+    edges.dedup();
+    edges
+        .into_iter()
+        .map(|bin| Boundary {
+            bin,
+            strength: f64::NAN,
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -342,5 +365,32 @@ mod tests {
         assert!(bad(vec![-1.0], 4));
         assert!(bad(vec![], 4));
         assert!(!bad(vec![0.5], 4));
+    }
+
+    #[test]
+    fn level_boundaries_are_the_sorted_unique_edges_of_one_level() {
+        use crate::genome::{BinTable, Chrom};
+        let bins = BinTable::fixed(vec![Chrom::new("a", 1000)], 100).unwrap();
+        let view = View::chromosomes(&bins);
+        let domain = |start_bin, end_bin, level| Domain {
+            start_bin,
+            end_bin,
+            level,
+            score: 1.0,
+        };
+        let domains = [
+            domain(0, 3, 0),
+            domain(3, 6, 0),
+            domain(7, 10, 0),
+            domain(1, 2, 1),
+        ];
+        let bins_of = |level| -> Vec<usize> {
+            level_boundaries(&domains, level, &view)
+                .iter()
+                .map(|b| b.bin)
+                .collect()
+        };
+        assert_eq!(bins_of(0), vec![0, 3, 6, 7]);
+        assert_eq!(bins_of(1), vec![1, 2]);
     }
 }

@@ -39,7 +39,8 @@
 //!   track) is dropped, as are domains shorter than `min_domain_bins` (default 3). Boundaries are
 //!   the domain starts. Bins are genome-wide (`first_bin + local index`).
 
-use super::{Boundary, Domain};
+use super::directionality::DirectionalityTable;
+use super::{region_rows, Boundary, Domain};
 use crate::error::{Error, Result};
 
 /// Parameters of the fit and of the domain calls.
@@ -408,6 +409,40 @@ pub struct DiDomains {
     /// Domain starts (genome-wide bins), strength = posterior probability of
     /// [`DiState::Downstream`] at the start bin.
     pub boundaries: Vec<Boundary>,
+}
+
+/// Dixon's calls over a whole directionality table: states per row, domains and boundaries.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DixonCalls {
+    /// Viterbi state of each row of the table.
+    pub states: Vec<DiState>,
+    /// Domains of every region, in table order.
+    pub domains: Vec<Domain>,
+    /// Domain starts of every region, in table order.
+    pub boundaries: Vec<Boundary>,
+}
+
+/// Dixon's domains for every region of `table`: the HMM is fitted once, genome-wide, to the
+/// signed normal scores of the directionality index ([`signed_normal_scores`]); each region is
+/// then decoded on its own ([`di_domains`]).
+pub fn dixon_domains(table: &DirectionalityTable, params: &HmmParams) -> Result<DixonCalls> {
+    let rows = region_rows(&table.region);
+    let tracks: Vec<&[f64]> = rows.iter().map(|r| &table.index[r.clone()]).collect();
+    let scores = signed_normal_scores(&tracks);
+    let score_tracks: Vec<&[f64]> = scores.iter().map(Vec::as_slice).collect();
+    let model = GaussianHmm::fit(&score_tracks, params)?;
+    let mut calls = DixonCalls {
+        states: Vec::with_capacity(table.bins.len()),
+        domains: Vec::new(),
+        boundaries: Vec::new(),
+    };
+    for (r, track) in rows.iter().zip(&score_tracks) {
+        let called = di_domains(&model, track, table.bins[r.start], params);
+        calls.states.extend(called.states);
+        calls.domains.extend(called.domains);
+        calls.boundaries.extend(called.boundaries);
+    }
+    Ok(calls)
 }
 
 /// Signed normal scores of the directionality index, the scale the HMM is fitted on: each finite

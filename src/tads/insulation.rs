@@ -109,6 +109,9 @@ pub struct InsulationTable {
     pub region: Vec<usize>,
     /// Whether the bin's weight is NaN (always false without weights).
     pub is_bad_bin: Vec<bool>,
+    /// Distance of each row to the nearest bad bin of its region ([`dist_to_bad`]), when
+    /// `min_dist_bad_bin > 0` (cooltools' `dist_bad_bin` column).
+    pub dist_bad_bin: Option<Vec<usize>>,
     /// One track per window, in the order given.
     pub tracks: Vec<InsulationTrack>,
 }
@@ -485,6 +488,7 @@ pub fn insulation<S: PixelSource>(
         bins: Vec::new(),
         region: Vec::new(),
         is_bad_bin: Vec::new(),
+        dist_bad_bin: None,
         tracks: Vec::new(),
     };
     for (r, region) in view.regions().iter().enumerate() {
@@ -588,6 +592,9 @@ pub fn insulation<S: PixelSource>(
             sum_counts: params.append_raw_scores.then_some(sum_counts),
             sum_balanced: params.append_raw_scores.then_some(sum_balanced),
         });
+    }
+    if params.min_dist_bad_bin > 0 {
+        table.dist_bad_bin = Some(dist);
     }
     Ok(table)
 }
