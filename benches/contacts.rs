@@ -82,6 +82,7 @@ fn prediction() -> Prediction {
     Prediction {
         pairs,
         sequence: Some("A".repeat(N_RESIDUES as usize)),
+        length: None,
     }
 }
 

@@ -5,7 +5,9 @@
 //!   (precision, recall, F1), best-match Jaccard of domains and the Measure of Concordance (MoC).
 //! - [`contacts`]: predicted residue contacts against the contacts of a known protein structure
 //!   (precision of the top L/k pairs per separation range, recall, F1, MCC), with the
-//!   conventions of CASP, ConKit, ConEVA and DISTEVAL as options.
+//!   conventions of CASP, ConKit, ConEVA and DISTEVAL as options; [`register`] places a
+//!   structure's residues on the prediction's sequence, and [`overlap`] compares two
+//!   predictions' top lists with each other.
 //!
 //! Map-vs-map scores will live beside them in later modules.
 //!
@@ -14,6 +16,8 @@
 
 pub mod boundaries;
 pub mod contacts;
+pub mod overlap;
+pub mod register;
 
 pub use boundaries::{domain_overlap, score_boundaries, BoundaryMatch, DomainOverlap};
 

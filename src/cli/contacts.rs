@@ -3,16 +3,18 @@
 //! contact-definition options shared with `contactmap score contacts`.
 
 use std::io::Write as _;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
 
 use crate::cli::output::{write_real, Output};
 use crate::error::{Error, Result};
+use crate::io::predictions::read_fasta;
 use crate::io::structure::{read_structure, Chain};
 use crate::score::contacts::{
     ContactAtom, ContactDefinition, DistanceTest, SeparationRange, TrueContacts,
 };
+use crate::score::register::{register, Register, RegisterMode};
 
 /// The atoms measured, for `--atom`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -76,20 +78,54 @@ impl DefinitionArgs {
     }
 }
 
-/// Read `structure`, select the chain and measure its true contacts.
-pub fn true_contacts(
-    structure: &std::path::Path,
-    chain: Option<&str>,
-    definition: &DefinitionArgs,
-) -> Result<(Chain, TrueContacts)> {
+/// How `--register` places the structure's residues on the sequence.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum RegisterArg {
+    /// the residue numbers when they agree with the sequence (also with an offset), else a
+    /// sequence alignment
+    Auto,
+    /// always a sequence alignment
+    Align,
+    /// the residue numbers as they are, unchecked
+    Numbering,
+}
+
+/// Read `structure` and select the chain.
+pub fn read_chain(structure: &Path, chain: Option<&str>) -> Result<Chain> {
     let parsed = read_structure(structure)?;
-    let chain = parsed
+    Ok(parsed
         .chain(chain)
         .map_err(|err| Error::Invalid(format!("{}: {err}", structure.display())))?
-        .clone();
-    let truth = TrueContacts::from_chain(&chain, definition.definition())
+        .clone())
+}
+
+/// The chain with its residues numbered by their position in `sequence` (see
+/// [`crate::score::register`]), and the register; the chain unchanged without a sequence or
+/// with `--register numbering`.
+pub fn place_chain(
+    structure: &Path,
+    chain: &Chain,
+    sequence: Option<&str>,
+    mode: RegisterArg,
+) -> Result<(Chain, Option<Register>)> {
+    let mode = match (sequence, mode) {
+        (None, _) | (_, RegisterArg::Numbering) => return Ok((chain.clone(), None)),
+        (Some(_), RegisterArg::Auto) => RegisterMode::Auto,
+        (Some(_), RegisterArg::Align) => RegisterMode::Alignment,
+    };
+    let register = register(chain, sequence.unwrap_or_default(), mode)
         .map_err(|err| Error::Invalid(format!("{}: {err}", structure.display())))?;
-    Ok((chain, truth))
+    Ok((register.renumber(chain), Some(register)))
+}
+
+/// The true contacts of a chain read from `structure`.
+pub fn measure(
+    structure: &Path,
+    chain: &Chain,
+    definition: &DefinitionArgs,
+) -> Result<TrueContacts> {
+    TrueContacts::from_chain(chain, definition.definition())
+        .map_err(|err| Error::Invalid(format!("{}: {err}", structure.display())))
 }
 
 /// Arguments of `contactmap contacts`.
@@ -100,10 +136,14 @@ Residues are those of the chosen chain of the first model, numbered by their aut
 acids such as MSE are kept as their parent, PCA is dropped, and a residue without the atom the
 definition needs (a non-Gly residue without Cb) is unobserved.
 
-Output (default): CASP RR. The first line is the sequence from residue 1 to the last residue
-number, with `X` at numbers that are not observed (so the file reads back as a prediction with
-the structure's numbering; it is omitted when a residue number is below 1). Then one row per
-true contact `i j 0 CUTOFF 1`, i < j, |i - j| >= --min-sep, sorted.
+With --fasta, residues are numbered by their position in the target sequence instead: the
+chain is placed on the sequence as `score contacts` does it (--register; what was done is
+printed on standard error), so the list is in the numbering of the predictions.
+
+Output (default): CASP RR. The first line is the sequence: the --fasta sequence, or residue 1
+to the last residue number with `X` at numbers that are not observed (so the file reads back as
+a prediction with the structure's numbering; it is omitted when a residue number is below 1).
+Then one row per true contact `i j 0 CUTOFF 1`, i < j, |i - j| >= --min-sep, sorted.
 
 With --matrix: the distance matrix of the observed residues in Angstrom (3 decimals), as a
 tab-separated table whose first row and column are the residue numbers.
@@ -111,7 +151,8 @@ tab-separated table whose first row and column are the residue numbers.
 Examples:
   contactmap contacts 1abc.pdb                    # Cb, d < 8 A, separation >= 6
   contactmap contacts 1abc.cif --chain B --atom heavy --cutoff 5 --min-sep 1 -o B.rr
-  contactmap contacts 1abc.pdb --matrix -o distances.tsv")]
+  contactmap contacts 1abc.pdb --matrix -o distances.tsv
+  contactmap contacts 1a8o.cif --fasta 1a8o.fasta -o true.rr    # sequence numbering")]
 pub struct ContactsArgs {
     /// The structure (.pdb / .ent or .cif / .mmcif, optionally .gz).
     #[arg(value_name = "STRUCTURE")]
@@ -125,6 +166,12 @@ pub struct ContactsArgs {
     /// Write the full residue distance matrix instead of the contact list.
     #[arg(long)]
     pub matrix: bool,
+    /// Target sequence (FASTA, first record): number residues by their position in it.
+    #[arg(long, value_name = "FILE")]
+    pub fasta: Option<PathBuf>,
+    /// How the chain is placed on the --fasta sequence.
+    #[arg(long, value_enum, default_value = "auto", requires = "fasta")]
+    pub register: RegisterArg,
     /// Write here instead of standard output (.gz compresses).
     #[arg(short, long, value_name = "FILE")]
     pub out: Option<PathBuf>,
@@ -149,7 +196,18 @@ fn sequence_line(chain: &Chain) -> Option<String> {
 
 /// Run `contactmap contacts`.
 pub fn run(args: &ContactsArgs) -> Result<()> {
-    let (chain, truth) = true_contacts(&args.structure, args.chain.as_deref(), &args.definition)?;
+    let original = read_chain(&args.structure, args.chain.as_deref())?;
+    let sequence = args.fasta.as_deref().map(read_fasta).transpose()?;
+    let (chain, register) = place_chain(
+        &args.structure,
+        &original,
+        sequence.as_deref(),
+        args.register,
+    )?;
+    if let Some(register) = &register {
+        eprintln!("{}", register.describe(&original));
+    }
+    let truth = measure(&args.structure, &chain, &args.definition)?;
     let mut text = Vec::new();
     if args.matrix {
         let numbers = truth.numbers();
@@ -167,7 +225,7 @@ pub fn run(args: &ContactsArgs) -> Result<()> {
             text.push(b'\n');
         }
     } else {
-        if let Some(sequence) = sequence_line(&chain) {
+        if let Some(sequence) = sequence.or_else(|| sequence_line(&chain)) {
             text.extend_from_slice(sequence.as_bytes());
             text.push(b'\n');
         }

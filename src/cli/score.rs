@@ -3,20 +3,24 @@
 //! scores protein residue-contact predictions against a structure
 //! ([`crate::score::contacts`]).
 
+mod overlap;
+
 use std::path::{Path, PathBuf};
 
 use clap::{Args, Subcommand, ValueEnum};
 
-use crate::cli::contacts::{true_contacts, DefinitionArgs};
+use crate::cli::contacts::{measure, place_chain, read_chain, DefinitionArgs, RegisterArg};
 use crate::cli::output::Output;
 use crate::error::{Error, Result};
 use crate::io::bed::{read_bed, BedRecord};
 use crate::io::predictions::{read_fasta, read_prediction, PredictionFormat};
+use crate::io::structure::Chain;
 use crate::score::boundaries::{domain_overlap, score_boundaries};
 use crate::score::contacts::{
-    score_contacts, ContactScore, ListSize, Rounding, ScoreParams, SeparationRange, TargetLength,
-    TrueContacts,
+    score_contacts, ContactScore, ListSize, Prediction, Rounding, ScoreParams, SeparationRange,
+    TargetLength, TrueContacts,
 };
+use crate::score::register::RegisterMethod;
 
 /// Arguments of `contactmap score`.
 #[derive(Debug, Args)]
@@ -32,9 +36,12 @@ pub enum ScoreCommand {
     /// TAD boundary calls against true boundaries: precision, recall, F1 with a tolerance; with
     /// --truth-domains and --domains also domain Jaccard and the Measure of Concordance.
     Boundaries(BoundariesArgs),
-    /// Protein residue-contact predictions against a structure: precision, recall, F1, MCC per
-    /// separation range and top-list size (CASP conventions by default).
+    /// Protein residue-contact predictions against a structure: precision, recall, F1, MCC, Xd
+    /// per separation range and top-list size (CASP conventions by default).
     Contacts(Box<ContactsScoreArgs>),
+    /// Two contact predictions against each other, without a structure: shared pairs and
+    /// Jaccard index of their top lists.
+    Overlap(overlap::OverlapArgs),
 }
 
 /// Arguments of `contactmap score boundaries`.
@@ -95,6 +102,7 @@ pub fn run(args: &ScoreArgs) -> Result<()> {
     match &args.command {
         ScoreCommand::Boundaries(boundaries) => run_boundaries(boundaries),
         ScoreCommand::Contacts(contacts) => run_contacts(contacts),
+        ScoreCommand::Overlap(args) => overlap::run(args),
     }
 }
 
@@ -170,16 +178,21 @@ fn run_boundaries(args: &BoundariesArgs) -> Result<()> {
 /// Prediction formats, for `score contacts --format`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum PredictionFormatArg {
-    /// CASP RR (optional header and sequence lines; `i j score` or `i j d1 d2 score` rows)
+    /// CASP RR (optional header and sequence lines; `i j score`, `i j d1 d2 score` or mode 2
+    /// `i j p b1..b10` rows)
     Rr,
     /// square matrix (CCMpred, PSICOV, ccmpred-py; `#` lines skipped)
     Matrix,
-    /// `i j score` rows (whitespace or commas; plmDCA / EVfold / GREMLIN style lists)
+    /// `i j score` rows (whitespace or commas; plmDCA, PSICOV-style lists)
     Table,
     /// trRosetta .npz distogram (score P(d < 8 A))
     Npz,
     /// .npy predicted distance map (score: minus the distance)
     Npy,
+    /// EVfold / EVcouplings `i A j B x score` rows
+    Evfold,
+    /// GREMLIN table with its `i j i_id j_id r_sco s_sco prob` header (score r_sco)
+    Gremlin,
 }
 
 impl From<PredictionFormatArg> for PredictionFormat {
@@ -190,6 +203,8 @@ impl From<PredictionFormatArg> for PredictionFormat {
             PredictionFormatArg::Table => PredictionFormat::Table,
             PredictionFormatArg::Npz => PredictionFormat::Npz,
             PredictionFormatArg::Npy => PredictionFormat::Npy,
+            PredictionFormatArg::Evfold => PredictionFormat::Evfold,
+            PredictionFormatArg::Gremlin => PredictionFormat::Gremlin,
         }
     }
 }
@@ -229,13 +244,25 @@ What is computed (the CASP assessors' method; defaults are CASP's):
   3. The rest is sorted by score, descending, stably (ties keep the file's order).
   4. Each list size gives k: L/10 = round(L / 10) with --rounding (default floor), N a count,
      NC the number of true contacts of the range (DISTEVAL's Top-NC). L is the sequence length
-     (--fasta, else the RR file's sequence line, else the observed residues), or --length.
+     (--fasta, else the sequence the file carries), else the size of a matrix / distogram,
+     else the number of observed residues; or --length.
   5. TP = true contacts among the top min(k, available) pairs; precision = TP / min(k,
      available), recall = TP / true contacts of the range, F1, MCC over all observed pairs of
-     the range; a ratio with a zero denominator is 0.
+     the range; a ratio with a zero denominator is 0. Xd (CASP, in percent) compares the
+     distances of the listed pairs with those of all pairs in 15 bins of 4 A:
+     Xd = sum_i (P_i,listed - P_i,all) / i; near 0 for a random list, large for true contacts.
+  --curve FILE adds the precision-vs-list-size curve: TP, precision and recall at every k from
+  1 to --curve-max (default 2L), one TSV row each.
 
-Residue numbers of the prediction must be those of the structure (no register alignment yet):
-i in the prediction is the residue with author number i in the structure.
+Register: the prediction numbers residues by their position in its sequence (--fasta, or the
+RR file's sequence lines); the structure by its author numbers. With a sequence, the chain is
+placed on it (--register auto): the residue numbers are kept when they agree with the sequence
+(at least 90% identical residues at those positions), else shifted by the offset an alignment
+suggests if that agrees, else each residue takes the position a semi-global alignment gives it
+(residues aligned to a gap are left out; insertion codes are handled this way). What was done
+is printed on standard error and in the table. --register align always aligns; --register
+numbering takes i as the residue with author number i, unchecked. Without a sequence the
+numbers are used as they are.
 
 Separation ranges (--ranges, comma separated): short (6-11), medium (12-23), long (>= 24),
 all (>= 6), MIN-MAX, or MIN+ (>= MIN); --min-sep N is --ranges N+.
@@ -244,8 +271,8 @@ count N, or NC.
 
 Output: per prediction, an aligned table (range x list size); --tsv: one row per prediction x
 range x list size, with a header:
-  prediction range min_sep max_sep list k n_scored tp precision recall f1 mcc length n_true
-  n_available
+  prediction range min_sep max_sep list k n_scored tp precision recall f1 mcc xd length
+  n_true n_available
 (max_sep is `inf` for an open range); --json: an array with one object per prediction.
 
 Examples (formats are detected from the content; --format overrides):
@@ -277,6 +304,9 @@ pub struct ContactsScoreArgs {
     /// Prediction format (default: detected from the content of each file).
     #[arg(long, value_enum)]
     pub format: Option<PredictionFormatArg>,
+    /// How the structure's residues are placed on the prediction's sequence.
+    #[arg(long, value_enum, default_value = "auto")]
+    pub register: RegisterArg,
     /// Separation ranges: short, medium, long, all, MIN-MAX or MIN+ (comma separated).
     #[arg(
         long,
@@ -315,6 +345,13 @@ pub struct ContactsScoreArgs {
     /// Write here instead of standard output (.gz compresses).
     #[arg(short, long, value_name = "FILE")]
     pub out: Option<PathBuf>,
+    /// Also write the precision-vs-list-size curve here (TSV: prediction, range, k, k/L, TP,
+    /// precision, recall for every k from 1 to --curve-max).
+    #[arg(long, value_name = "FILE")]
+    pub curve: Option<PathBuf>,
+    /// Largest list size of the curve (L/10, 2L, a count N, NC ...).
+    #[arg(long, default_value = "2L", value_name = "SIZE", requires = "curve")]
+    pub curve_max: String,
     /// The contact definition.
     #[command(flatten)]
     pub definition: DefinitionArgs,
@@ -420,29 +457,108 @@ fn parse_length(text: Option<&str>) -> Result<LengthChoice> {
 struct PredictionReport {
     path: String,
     length_source: &'static str,
+    /// Observed residues of the chain as placed on the sequence.
+    n_observed: usize,
+    /// What the register step did, when there was one.
+    register: Option<RegisterSummary>,
     scores: Vec<(NamedRange, Vec<String>, ContactScore)>,
+}
+
+/// What the register step did, for the outputs.
+#[derive(Clone, Debug)]
+struct RegisterSummary {
+    method: &'static str,
+    offset: Option<i32>,
+    placed: usize,
+    identical: usize,
+    residues: usize,
+    text: String,
+}
+
+/// What to compute for each prediction.
+struct Plan {
+    ranges: Vec<NamedRange>,
+    sizes: Vec<(String, ListSize)>,
+    length: LengthChoice,
+    curve_size: Option<ListSize>,
+}
+
+/// The chain placed on one sequence, and its true contacts.
+struct Placed {
+    truth: TrueContacts,
+    register: Option<RegisterSummary>,
+}
+
+fn place(args: &ContactsScoreArgs, chain: &Chain, sequence: Option<&str>) -> Result<Placed> {
+    let (placed, register) = place_chain(&args.structure, chain, sequence, args.register)?;
+    let truth = measure(&args.structure, &placed, &args.definition).map_err(|err| match err {
+        Error::Invalid(message) if sequence.is_none() => Error::Invalid(format!(
+            "{message} (give the target sequence with --fasta to place the residues on it)"
+        )),
+        other => other,
+    })?;
+    Ok(Placed {
+        truth,
+        register: register.map(|register| RegisterSummary {
+            method: match register.method {
+                RegisterMethod::Numbering { .. } => "numbering",
+                RegisterMethod::Alignment => "alignment",
+            },
+            offset: match register.method {
+                RegisterMethod::Numbering { offset } => Some(offset),
+                RegisterMethod::Alignment => None,
+            },
+            placed: register.pairs.len(),
+            identical: register.identical,
+            residues: register.n_residues,
+            text: register.describe(chain),
+        }),
+    })
+}
+
+fn load_prediction(
+    path: &Path,
+    args: &ContactsScoreArgs,
+    fasta: Option<&str>,
+) -> Result<Prediction> {
+    let mut prediction = read_prediction(path, args.format.map(Into::into))?;
+    if let Some(sequence) = fasta {
+        prediction = prediction
+            .with_sequence(sequence)
+            .map_err(|err| in_file(path, err))?;
+    }
+    if let Some(sequence) = &mut prediction.sequence {
+        sequence.make_ascii_uppercase();
+    }
+    Ok(prediction)
+}
+
+fn in_file(path: &Path, err: Error) -> Error {
+    match err {
+        Error::Invalid(message) => Error::Invalid(format!("{}: {message}", path.display())),
+        other => other,
+    }
 }
 
 fn score_one(
     path: &Path,
     args: &ContactsScoreArgs,
-    fasta: Option<&str>,
-    truth: &TrueContacts,
-    ranges: &[NamedRange],
-    sizes: &[(String, ListSize)],
-    length: LengthChoice,
+    prediction: &Prediction,
+    placed: &Placed,
+    plan: &Plan,
 ) -> Result<PredictionReport> {
-    let in_file = |err: Error| match err {
-        Error::Invalid(message) => Error::Invalid(format!("{}: {message}", path.display())),
-        other => other,
-    };
-    let mut prediction = read_prediction(path, args.format.map(Into::into))?;
-    if let Some(sequence) = fasta {
-        prediction = prediction.with_sequence(sequence).map_err(in_file)?;
-    }
-    let (target_length, length_source) = match length {
+    let Plan {
+        ranges,
+        sizes,
+        length,
+        curve_size,
+    } = plan;
+    let (target_length, length_source) = match *length {
         LengthChoice::Auto if prediction.sequence.is_some() => (TargetLength::Sequence, "sequence"),
-        LengthChoice::Auto => (TargetLength::Observed, "observed"),
+        LengthChoice::Auto => match prediction.length {
+            Some(n) => (TargetLength::Residues(n), "matrix size"),
+            None => (TargetLength::Observed, "observed"),
+        },
         LengthChoice::Fixed(TargetLength::Sequence) => (TargetLength::Sequence, "sequence"),
         LengthChoice::Fixed(TargetLength::Observed) => (TargetLength::Observed, "observed"),
         LengthChoice::Fixed(fixed) => (fixed, "given"),
@@ -456,13 +572,17 @@ fn score_one(
             rounding: args.rounding.into(),
             list_sizes: sizes.iter().map(|(_, size)| *size).collect(),
             drop_unobserved: !args.keep_unobserved,
+            curve: *curve_size,
         };
-        let score = score_contacts(truth, &prediction, &params).map_err(in_file)?;
+        let score =
+            score_contacts(&placed.truth, prediction, &params).map_err(|err| in_file(path, err))?;
         scores.push((named.clone(), labels.clone(), score));
     }
     Ok(PredictionReport {
         path: path.display().to_string(),
         length_source,
+        n_observed: placed.truth.n_observed(),
+        register: placed.register.clone(),
         scores,
     })
 }
@@ -482,13 +602,13 @@ fn real(value: f64) -> String {
 fn write_tsv(reports: &[PredictionReport]) -> String {
     let mut text = String::from(
         "prediction\trange\tmin_sep\tmax_sep\tlist\tk\tn_scored\ttp\tprecision\trecall\tf1\tmcc\
-         \tlength\tn_true\tn_available\n",
+         \txd\tlength\tn_true\tn_available\n",
     );
     for report in reports {
         for (named, labels, score) in &report.scores {
             for (label, list) in labels.iter().zip(&score.lists) {
                 text.push_str(&format!(
-                    "{}\t{}\t{}\t{}\t{label}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\n",
+                    "{}\t{}\t{}\t{}\t{label}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\n",
                     report.path,
                     named.name,
                     named.range.min,
@@ -500,6 +620,7 @@ fn write_tsv(reports: &[PredictionReport]) -> String {
                     real(list.recall),
                     real(list.f1),
                     real(list.mcc),
+                    real(list.xd),
                     score.length,
                     score.n_true,
                     score.n_available,
@@ -514,11 +635,7 @@ fn json_number(value: f64) -> serde_json::Value {
     serde_json::Number::from_f64(value).map_or(serde_json::Value::Null, serde_json::Value::Number)
 }
 
-fn write_json(
-    args: &ContactsScoreArgs,
-    truth: &TrueContacts,
-    reports: &[PredictionReport],
-) -> String {
+fn write_json(args: &ContactsScoreArgs, reports: &[PredictionReport]) -> String {
     use serde_json::json;
     let predictions: Vec<serde_json::Value> = reports
         .iter()
@@ -540,6 +657,7 @@ fn write_json(
                                 "recall": json_number(list.recall),
                                 "f1": json_number(list.f1),
                                 "mcc": json_number(list.mcc),
+                                "xd": json_number(list.xd),
                             })
                         })
                         .collect();
@@ -559,7 +677,14 @@ fn write_json(
                 "prediction": report.path,
                 "structure": args.structure.display().to_string(),
                 "contact_definition": args.definition.describe(),
-                "n_observed": truth.n_observed(),
+                "n_observed": report.n_observed,
+                "register": report.register.as_ref().map(|register| json!({
+                    "method": register.method,
+                    "offset": register.offset,
+                    "placed": register.placed,
+                    "identical": register.identical,
+                    "residues": register.residues,
+                })),
                 "length": length,
                 "length_source": report.length_source,
                 "ranges": ranges,
@@ -602,12 +727,7 @@ fn aligned(rows: &[Vec<String>]) -> String {
     text
 }
 
-fn write_table(
-    args: &ContactsScoreArgs,
-    chain: &str,
-    truth: &TrueContacts,
-    reports: &[PredictionReport],
-) -> String {
+fn write_table(args: &ContactsScoreArgs, chain: &str, reports: &[PredictionReport]) -> String {
     let mut text = String::new();
     for (index, report) in reports.iter().enumerate() {
         if index > 0 {
@@ -623,7 +743,7 @@ fn write_table(
             report.path,
             args.structure.display(),
             if chain.is_empty() { "(blank)" } else { chain },
-            truth.n_observed(),
+            report.n_observed,
             args.definition.describe(),
             report.length_source,
             match args.rounding {
@@ -637,6 +757,18 @@ fn write_table(
                 "dropped"
             },
         ));
+        match &report.register {
+            Some(register) => {
+                for line in register.text.lines() {
+                    text.push_str("  ");
+                    text.push_str(line.trim_start());
+                    text.push('\n');
+                }
+            }
+            None => {
+                text.push_str("  register: none (the prediction's numbers are the structure's)\n")
+            }
+        }
         let mut rows = vec![[
             "range",
             "sep",
@@ -649,6 +781,7 @@ fn write_table(
             "recall",
             "F1",
             "MCC",
+            "Xd",
         ]
         .map(String::from)
         .to_vec()];
@@ -670,6 +803,7 @@ fn write_table(
                     format!("{:.4}", list.recall),
                     format!("{:.4}", list.f1),
                     format!("{:.4}", list.mcc),
+                    format!("{:.2}", list.xd),
                 ]);
             }
         }
@@ -700,33 +834,86 @@ fn run_contacts(args: &ContactsScoreArgs) -> Result<()> {
         .map(|token| parse_list_size(token))
         .collect::<Result<_>>()?;
     let length = parse_length(args.length.as_deref())?;
+    let curve_size = match &args.curve {
+        Some(_) => Some(parse_list_size(&args.curve_max)?.1),
+        None => None,
+    };
+    let plan = Plan {
+        ranges,
+        sizes,
+        length,
+        curve_size,
+    };
     let fasta = args.fasta.as_deref().map(read_fasta).transpose()?;
-    let (chain, truth) = true_contacts(&args.structure, args.chain.as_deref(), &args.definition)?;
-    let reports = args
-        .predictions
-        .iter()
-        .map(|path| {
-            score_one(
-                path,
-                args,
-                fasta.as_deref(),
-                &truth,
-                &ranges,
-                &sizes,
-                length,
-            )
-        })
-        .collect::<Result<Vec<_>>>()?;
+    let chain = read_chain(&args.structure, args.chain.as_deref())?;
+    // One placement per distinct sequence (usually one for all predictions).
+    let mut placements: Vec<(Option<String>, Placed)> = Vec::new();
+    let mut reports = Vec::with_capacity(args.predictions.len());
+    for path in &args.predictions {
+        let prediction = load_prediction(path, args, fasta.as_deref())?;
+        let index = match placements
+            .iter()
+            .position(|(sequence, _)| *sequence == prediction.sequence)
+        {
+            Some(index) => index,
+            None => {
+                let placed = place(args, &chain, prediction.sequence.as_deref())
+                    .map_err(|err| in_file(path, err))?;
+                if let Some(register) = &placed.register {
+                    eprintln!("{}: {}", path.display(), register.text);
+                }
+                placements.push((prediction.sequence.clone(), placed));
+                placements.len() - 1
+            }
+        };
+        reports.push(score_one(
+            path,
+            args,
+            &prediction,
+            &placements[index].1,
+            &plan,
+        )?);
+    }
     let text = if args.json {
-        write_json(args, &truth, &reports)
+        write_json(args, &reports)
     } else if args.tsv {
         write_tsv(&reports)
     } else {
-        write_table(args, &chain.id, &truth, &reports)
+        write_table(args, &chain.id, &reports)
     };
+    if let Some(path) = &args.curve {
+        let mut curve = Output::open(Some(path))?;
+        curve.write_all(write_curve(&reports).as_bytes())?;
+        curve.finish()?;
+    }
     let mut out = Output::open(args.out.as_deref())?;
     out.write_all(text.as_bytes())?;
     out.finish()
+}
+
+/// The precision curves as TSV: one row per prediction x range x list size k.
+fn write_curve(reports: &[PredictionReport]) -> String {
+    let mut text = String::from("prediction\trange\tk\tk_over_l\ttp\tprecision\trecall\n");
+    for report in reports {
+        for (named, _, score) in &report.scores {
+            for (index, &tp) in score.curve.iter().enumerate() {
+                let k = index + 1;
+                text.push_str(&format!(
+                    "{}\t{}\t{k}\t{}\t{tp}\t{}\t{}\n",
+                    report.path,
+                    named.name,
+                    real(k as f64 / score.length.max(1) as f64),
+                    real(tp as f64 / k as f64),
+                    real(if score.n_true == 0 {
+                        0.0
+                    } else {
+                        tp as f64 / score.n_true as f64
+                    }),
+                ));
+            }
+        }
+    }
+    text
 }
 
 #[cfg(test)]

@@ -12,7 +12,14 @@
 //! |---|---|---|
 //! | CASP RR (CASP assessment format; ConEVA, DISTEVAL, PSICOV output) | `Rr` | optional `PFRMAT` / `TARGET` / `AUTHOR` / `REMARK` / `METHOD` / `MODEL` header lines, optional sequence lines (letters only) before the first row, rows `i j score` or `i j d1 d2 score`, `END` or a second `MODEL` stops; residues beyond the sequence are errors |
 //! | CCMpred / PSICOV / plain matrix | `Matrix` | whitespace-separated square matrix, `#` lines skipped (ccmpred-py's `#>META>` line), upper triangle |
-//! | table | `Table` | rows `i j score`, separated by whitespace or commas, `#` lines skipped |
+//! | CASP RR mode 2 (CASP14 distance bins) | `Rr` | as RR, with rows `i j p b1 .. b10`: `p` = P(d < 8 A) is the score, `b1..b10` the probabilities of the bins 0-4, 4-6, ..., 18-20, > 20 A (checked to be numbers); an `RMODE` line is allowed in the header |
+//! | table (plmDCA, PSICOV-style lists) | `Table` | rows `i j score`, separated by whitespace or commas (plmDCA writes `i,j,score`), `#` lines skipped |
+//! | EVfold / EVcouplings | `Evfold` | rows `i A_i j A_j x score` (`x` is ignored) |
+//! | GREMLIN | `Gremlin` | a header `i j i_id j_id r_sco s_sco prob` (or with `gene` after `j`, inter-chain), rows whose `i_id` is `12_M`; the score is `r_sco` |
+//!
+//! EVfold and GREMLIN name the amino acid of each residue: a residue named twice with different
+//! letters is an error, and when every position from 1 to the largest is named the letters give
+//! the prediction's sequence (so no FASTA is needed).
 //! | trRosetta `.npz` | `Npz` | array `dist` of shape `(L, L, 37)`: bin 0 is `d > 20` A, bins 1..36 cover 2-20 A in 0.5 A steps; the score is `P(d < 8) = sum of bins 1..=12` ([`TRROSETTA_CONTACT_BINS`]), upper triangle |
 //! | `.npy` distance map | `Npy` | `(L, L)` or `(L, L, 1)` predicted distances; the score is **minus** the distance (the smallest distance ranks first, as DISTEVAL), upper triangle |
 //!
@@ -42,14 +49,22 @@ pub struct Prediction {
     pub pairs: Vec<(i32, i32, f64)>,
     /// The target sequence, when the file gives one (RR sequence lines).
     pub sequence: Option<String>,
+    /// The number of residues the file covers, when its shape says it (the size of a matrix,
+    /// a distogram or a distance map).
+    pub length: Option<usize>,
 }
 
 impl Prediction {
     /// Attach `sequence` (for example from a FASTA file) and check that every residue number
-    /// lies in `1..=sequence.len()`; a sequence already in the file must be the same.
+    /// lies in `1..=sequence.len()`; a sequence already in the file must be the same, or its
+    /// beginning.
     pub fn with_sequence(mut self, sequence: &str) -> Result<Self> {
         if let Some(own) = &self.sequence {
-            if !own.eq_ignore_ascii_case(sequence) {
+            // A list format's letters may stop before the end of the target: a prefix agrees.
+            let agrees = sequence
+                .get(..own.len())
+                .is_some_and(|start| own.eq_ignore_ascii_case(start));
+            if !agrees {
                 return Err(Error::Invalid(format!(
                     "the prediction's sequence ({} residues) differs from the one given ({} residues)",
                     own.len(),
@@ -58,6 +73,11 @@ impl Prediction {
             }
         }
         let length = sequence.chars().count();
+        if let Some(covered) = self.length.filter(|&covered| covered != length) {
+            return Err(Error::Invalid(format!(
+                "the prediction covers {covered} residues but the sequence has {length}"
+            )));
+        }
         if let Some(&(i, j, _)) = self
             .pairs
             .iter()
@@ -89,6 +109,10 @@ pub enum PredictionFormat {
     Npz,
     /// `.npy` predicted distance map.
     Npy,
+    /// EVfold `i A j B x score` rows.
+    Evfold,
+    /// GREMLIN table with its header.
+    Gremlin,
 }
 
 impl FromStr for PredictionFormat {
@@ -101,16 +125,31 @@ impl FromStr for PredictionFormat {
             "table" | "pairs" => Ok(Self::Table),
             "npz" | "trrosetta" => Ok(Self::Npz),
             "npy" => Ok(Self::Npy),
+            "evfold" | "evcouplings" => Ok(Self::Evfold),
+            "gremlin" => Ok(Self::Gremlin),
             _ => Err(Error::Invalid(format!(
-                "unknown prediction format '{name}' (expected rr, matrix, table, npz or npy)"
+                "unknown prediction format '{name}' (expected rr, matrix, table, npz, npy, \
+                 evfold or gremlin)"
             ))),
         }
     }
 }
 
 const RR_KEYWORDS: &[&str] = &[
-    "PFRMAT", "TARGET", "AUTHOR", "REMARK", "METHOD", "MODEL", "PARENT",
+    "PFRMAT", "TARGET", "AUTHOR", "REMARK", "METHOD", "MODEL", "PARENT", "RMODE",
 ];
+
+/// Number of fields of a CASP RR mode 2 row: `i j p` and ten bin probabilities.
+const RR_MODE2_FIELDS: usize = 13;
+
+fn is_gremlin_header(line: &str) -> bool {
+    let words: Vec<&str> = line.split_whitespace().collect();
+    words.len() >= 7 && words[0] == "i" && words[1] == "j" && words.contains(&"r_sco")
+}
+
+fn is_residue_letter(field: &str) -> bool {
+    field.len() == 1 && field.as_bytes()[0].is_ascii_alphabetic()
+}
 
 fn is_sequence_line(line: &str) -> bool {
     !line.is_empty() && line.chars().all(|c| c.is_ascii_alphabetic() || c == '-')
@@ -147,14 +186,26 @@ pub fn detect_format(bytes: &[u8], path: &Path) -> Result<PredictionFormat> {
     if RR_KEYWORDS.contains(&first_word) || is_sequence_line(first) {
         return Ok(PredictionFormat::Rr);
     }
+    if is_gremlin_header(first) {
+        return Ok(PredictionFormat::Gremlin);
+    }
     let fields = split_fields(first);
+    if fields.len() == 6
+        && is_residue_letter(fields[1])
+        && is_residue_letter(fields[3])
+        && [0, 2, 4, 5]
+            .iter()
+            .all(|&k| fields[k].parse::<f64>().is_ok())
+    {
+        return Ok(PredictionFormat::Evfold);
+    }
     let integer = |field: &str| field.parse::<i64>().is_ok();
     let number = |field: &&str| field.parse::<f64>().is_ok();
     if !fields.iter().all(number) {
         return Err(unknown());
     }
     match fields.len() {
-        5 if integer(fields[0]) && integer(fields[1]) => Ok(PredictionFormat::Rr),
+        5 | RR_MODE2_FIELDS if integer(fields[0]) && integer(fields[1]) => Ok(PredictionFormat::Rr),
         3 if integer(fields[0]) && integer(fields[1]) => Ok(PredictionFormat::Table),
         n if n > 3 => Ok(PredictionFormat::Matrix),
         _ => Err(unknown()),
@@ -180,6 +231,8 @@ pub fn read_prediction(
         PredictionFormat::Table => parse_table(text()?, path),
         PredictionFormat::Npz => parse_npz(&bytes, path),
         PredictionFormat::Npy => parse_distance_npy(&bytes, path),
+        PredictionFormat::Evfold => parse_evfold(text()?, path),
+        PredictionFormat::Gremlin => parse_gremlin(text()?, path),
     }
 }
 
@@ -240,11 +293,20 @@ pub fn parse_rr(text: &str, path: &Path) -> Result<Prediction> {
         let score_field = match fields.len() {
             3 => fields[2],
             5 => fields[4],
+            RR_MODE2_FIELDS => {
+                for field in &fields[3..] {
+                    parse_score(field, path, line_number)?;
+                }
+                fields[2]
+            }
             n => {
                 return Err(Error::parse(
                     path,
                     line_number,
-                    format!("RR row with {n} fields, expected `i j score` or `i j d1 d2 score`"),
+                    format!(
+                        "RR row with {n} fields, expected `i j score`, `i j d1 d2 score` or \
+                         `i j p` and 10 bin probabilities (mode 2)"
+                    ),
                 ))
             }
         };
@@ -267,6 +329,7 @@ pub fn parse_rr(text: &str, path: &Path) -> Result<Prediction> {
     Ok(Prediction {
         pairs,
         sequence: (!sequence.is_empty()).then_some(sequence),
+        length: None,
     })
 }
 
@@ -294,6 +357,162 @@ pub fn parse_table(text: &str, path: &Path) -> Result<Prediction> {
     Ok(Prediction {
         pairs,
         sequence: None,
+        length: None,
+    })
+}
+
+/// Residue letters named by a list format, checked for consistency; the sequence they spell
+/// when every position from 1 to the largest is named.
+#[derive(Default)]
+struct NamedResidues {
+    letters: Vec<Option<char>>,
+}
+
+impl NamedResidues {
+    fn name(&mut self, residue: i32, letter: char, path: &Path, line: u64) -> Result<()> {
+        let index = residue as usize - 1;
+        if self.letters.len() <= index {
+            self.letters.resize(index + 1, None);
+        }
+        let letter = letter.to_ascii_uppercase();
+        match self.letters[index] {
+            Some(known) if known != letter => Err(Error::parse(
+                path,
+                line,
+                format!("residue {residue} is {letter} here but {known} on an earlier line"),
+            )),
+            _ => {
+                self.letters[index] = Some(letter);
+                Ok(())
+            }
+        }
+    }
+
+    fn sequence(&self) -> Option<String> {
+        self.letters.iter().copied().collect()
+    }
+}
+
+fn residue_letter(field: &str, path: &Path, line: u64) -> Result<char> {
+    if is_residue_letter(field) {
+        Ok(field.as_bytes()[0] as char)
+    } else {
+        Err(Error::parse(
+            path,
+            line,
+            format!("'{field}' is not a one-letter amino-acid code"),
+        ))
+    }
+}
+
+/// Parse an EVfold / EVcouplings list: rows `i A_i j A_j x score`.
+pub fn parse_evfold(text: &str, path: &Path) -> Result<Prediction> {
+    let mut pairs = Vec::new();
+    let mut named = NamedResidues::default();
+    for (index, raw) in text.lines().enumerate() {
+        let line_number = index as u64 + 1;
+        let line = raw.trim();
+        if line.is_empty() || line.starts_with('#') {
+            continue;
+        }
+        let fields = split_fields(line);
+        if fields.len() != 6 {
+            return Err(Error::parse(
+                path,
+                line_number,
+                format!("{} fields, expected `i A_i j A_j x score`", fields.len()),
+            ));
+        }
+        let i = parse_residue(fields[0], path, line_number)?;
+        let j = parse_residue(fields[2], path, line_number)?;
+        named.name(
+            i,
+            residue_letter(fields[1], path, line_number)?,
+            path,
+            line_number,
+        )?;
+        named.name(
+            j,
+            residue_letter(fields[3], path, line_number)?,
+            path,
+            line_number,
+        )?;
+        pairs.push((i, j, parse_score(fields[5], path, line_number)?));
+    }
+    Ok(Prediction {
+        pairs,
+        sequence: named.sequence(),
+        length: None,
+    })
+}
+
+/// Parse a GREMLIN table: a header `i j [gene] i_id j_id r_sco s_sco prob ...` and rows whose
+/// `i_id` / `j_id` are `12_M`; the score is `r_sco`.
+pub fn parse_gremlin(text: &str, path: &Path) -> Result<Prediction> {
+    let mut pairs = Vec::new();
+    let mut named = NamedResidues::default();
+    let mut columns: Option<(usize, usize, usize, usize)> = None; // i_id, j_id, r_sco, width
+    for (index, raw) in text.lines().enumerate() {
+        let line_number = index as u64 + 1;
+        let line = raw.trim();
+        if line.is_empty() || line.starts_with('#') {
+            continue;
+        }
+        if is_gremlin_header(line) {
+            let words: Vec<&str> = line.split_whitespace().collect();
+            let find = |name: &str| words.iter().position(|word| *word == name);
+            match (find("i_id"), find("j_id"), find("r_sco")) {
+                (Some(i_id), Some(j_id), Some(r_sco)) => {
+                    columns = Some((i_id, j_id, r_sco, words.len()))
+                }
+                _ => {
+                    return Err(Error::parse(
+                        path,
+                        line_number,
+                        "GREMLIN header without i_id, j_id and r_sco columns",
+                    ))
+                }
+            }
+            continue;
+        }
+        let Some((i_id, j_id, r_sco, width)) = columns else {
+            return Err(Error::parse(
+                path,
+                line_number,
+                "GREMLIN row before the header `i j i_id j_id r_sco s_sco prob`",
+            ));
+        };
+        let fields: Vec<&str> = line.split_whitespace().collect();
+        if fields.len() != width {
+            return Err(Error::parse(
+                path,
+                line_number,
+                format!("{} fields, the header has {width}", fields.len()),
+            ));
+        }
+        let i = parse_residue(fields[0], path, line_number)?;
+        let j = parse_residue(fields[1], path, line_number)?;
+        for (residue, id) in [(i, fields[i_id]), (j, fields[j_id])] {
+            let letter = match id.split_once('_') {
+                Some((number, letter)) if number.parse::<i32>() == Ok(residue) => {
+                    residue_letter(letter, path, line_number)?
+                }
+                _ => {
+                    return Err(Error::parse(
+                        path,
+                        line_number,
+                        format!("residue id '{id}' is not `{residue}_X`"),
+                    ))
+                }
+            };
+            named.name(residue, letter, path, line_number)?;
+        }
+        pairs.push((i, j, parse_score(fields[r_sco], path, line_number)?));
+    }
+    Ok(Prediction {
+        pairs,
+        sequence: named.sequence(),
+        length: None,
     })
 }
 
@@ -339,6 +558,7 @@ pub fn parse_matrix(text: &str, path: &Path) -> Result<Prediction> {
     Ok(Prediction {
         pairs: upper_triangle(n, |i, j| rows[i][j]),
         sequence: None,
+        length: Some(n),
     })
 }
 
@@ -497,6 +717,7 @@ pub fn parse_npz(bytes: &[u8], path: &Path) -> Result<Prediction> {
     Ok(Prediction {
         pairs: upper_triangle(n, at),
         sequence: None,
+        length: Some(n),
     })
 }
 
@@ -519,6 +740,7 @@ pub fn parse_distance_npy(bytes: &[u8], path: &Path) -> Result<Prediction> {
     Ok(Prediction {
         pairs: upper_triangle(n, |i, j| -array.values[i * n + j]),
         sequence: None,
+        length: Some(n),
     })
 }
 
@@ -614,6 +836,63 @@ mod tests {
         assert!(err.to_string().contains("beyond the sequence"), "{err}");
         let err = parse_rr("1 9 0 0.5\n", Path::new("x.rr")).unwrap_err();
         assert!(err.to_string().contains("4 fields"), "{err}");
+    }
+
+    #[test]
+    fn reads_rr_mode_2_evfold_and_gremlin() {
+        let mode2 = "PFRMAT RR\nRMODE 2\nMODEL 1\nACDEFGHIKL\n\
+                     1 9 0.7 0.1 0.2 0.4 0.1 0.1 0.05 0.05 0 0 0\nEND\n";
+        assert_eq!(
+            detect_format(mode2.as_bytes(), Path::new("m")).unwrap(),
+            PredictionFormat::Rr
+        );
+        let rr = parse_rr(mode2, Path::new("m")).unwrap();
+        assert_eq!(rr.pairs, vec![(1, 9, 0.7)]);
+        let err = parse_rr("1 9 0.7 0.1 x 0 0 0 0 0 0 0 0\n", Path::new("m")).unwrap_err();
+        assert!(err.to_string().contains("'x'"), "{err}");
+
+        let evfold = "1 M 3 K 0 0.25\n2 A 3 K 0 0.5\n1 M 2 A 0 -0.1\n";
+        assert_eq!(
+            detect_format(evfold.as_bytes(), Path::new("e")).unwrap(),
+            PredictionFormat::Evfold
+        );
+        let prediction = parse_evfold(evfold, Path::new("e")).unwrap();
+        assert_eq!(
+            prediction.pairs,
+            vec![(1, 3, 0.25), (2, 3, 0.5), (1, 2, -0.1)]
+        );
+        assert_eq!(prediction.sequence.as_deref(), Some("MAK"));
+        let err = parse_evfold("1 M 3 K 0 0.25\n1 A 2 K 0 0.5\n", Path::new("e")).unwrap_err();
+        assert!(matches!(err, Error::Parse { line: 2, .. }), "{err}");
+        // A filtered list that skips residue 2: no sequence.
+        let prediction = parse_evfold("1 M 3 K 0 0.25\n", Path::new("e")).unwrap();
+        assert_eq!(prediction.sequence, None);
+
+        let gremlin = "i\tj\ti_id\tj_id\tr_sco\ts_sco\tprob\n\
+                       1\t3\t1_M\t3_K\t0.31\t2.1\t0.9\n2\t3\t2_A\t3_K\t0.12\t1.0\t0.4\n";
+        assert_eq!(
+            detect_format(gremlin.as_bytes(), Path::new("g")).unwrap(),
+            PredictionFormat::Gremlin
+        );
+        let prediction = parse_gremlin(gremlin, Path::new("g")).unwrap();
+        assert_eq!(prediction.pairs, vec![(1, 3, 0.31), (2, 3, 0.12)]);
+        assert_eq!(prediction.sequence.as_deref(), Some("MAK"));
+        let inter = "i j gene i_id j_id r_sco s_sco prob I_prob\n1 3 A 1_M 3_K 0.31 2.1 0.9 N/A\n";
+        assert_eq!(
+            parse_gremlin(inter, Path::new("g")).unwrap().pairs,
+            vec![(1, 3, 0.31)]
+        );
+        let err = parse_gremlin(
+            "i j i_id j_id r_sco s_sco prob\n1 3 2_M 3_K 0.3 2 1\n",
+            Path::new("g"),
+        )
+        .unwrap_err();
+        assert!(err.to_string().contains("'2_M'"), "{err}");
+        // plmDCA writes `i,j,score`.
+        assert_eq!(
+            detect_format(b"1,3,0.02\n", Path::new("p")).unwrap(),
+            PredictionFormat::Table
+        );
     }
 
     #[test]

@@ -25,8 +25,21 @@
 //!    sequence length or the number of observed residues ([`TargetLength`]);
 //! 5. with `TP` the true contacts among the top `min(k, available)` pairs: precision
 //!    `= TP / min(k, available)`, recall `= TP / n_true` (true contacts in the range), F1, and
-//!    the Matthews correlation over all observed pairs of the range. A ratio with a zero
-//!    denominator is 0.
+//!    the Matthews correlation over all observed pairs of the range, and Xd. A ratio with a
+//!    zero denominator is 0.
+//!
+//! **Xd** (CASP's distance-distribution score, Ortiz et al. 1999; Graña et al., Proteins 2005):
+//! with 15 bins of 4 Angstrom covering 0-60 A, `P_ip` the percentage of the scored pairs whose
+//! distance falls in bin `i` and `P_ia` the same for all observed pairs of the range,
+//! `Xd = sum_i (P_ip - P_ia) / (d_i * 15)` where `d_i = 4 i / 60` is the upper limit of bin `i`
+//! normalised to 60 A, so `Xd = sum_i (P_ip - P_ia) / i`, in percent. Pairs at 60 A or more
+//! count in the percentages' denominators only. A list no better than chance has `Xd` near 0;
+//! a list of true contacts has a large positive `Xd`. The distance is the one of the contact
+//! definition (Cb-Cb by default).
+//!
+//! **Precision curve**: with [`ScoreParams::curve`], [`ContactScore::curve`] holds the true
+//! positives among the top `k` pairs for every `k` from 1 to the curve's size (capped at the
+//! available pairs), from which precision and recall at any list size follow.
 //!
 //! Defaults ([`ScoreParams::default`]): long range (`|i - j| >= 24`), `L` = sequence length,
 //! `k = floor(L * f)` for `f` in 1/10, 1/5, 1/2, 1, unobserved pairs dropped: CASP's
@@ -37,8 +50,9 @@
 //! to even and adds Top-NC. The tests reproduce the published numbers of each
 //! (`data/protein/README.md`).
 //!
-//! Residue numbers of the prediction are taken to be those of the structure: aligning a
-//! prediction's sequence register onto the structure's numbering is not done here yet.
+//! Residue numbers of the prediction are those of the chain given to [`TrueContacts::from_chain`]:
+//! place the chain on the prediction's sequence first ([`crate::score::register`]) when the
+//! structure's numbering is not the sequence's.
 
 use super::ratio;
 use std::collections::HashMap;
@@ -133,6 +147,31 @@ impl SeparationRange {
     }
 }
 
+/// Number of distance bins of Xd.
+pub const XD_BINS: usize = 15;
+/// Width of an Xd bin in Angstrom.
+pub const XD_BIN_WIDTH: f64 = 4.0;
+
+/// The Xd bin of a distance, or `None` at 60 A and beyond.
+fn xd_bin(distance: f64) -> Option<usize> {
+    let bin = (distance / XD_BIN_WIDTH).floor();
+    (bin >= 0.0 && bin < XD_BINS as f64).then_some(bin as usize)
+}
+
+/// Xd from the bin counts of the scored pairs and of all pairs (see the module docs).
+fn xd(list: &[usize; XD_BINS], n_list: usize, all: &[usize; XD_BINS], n_all: usize) -> f64 {
+    if n_list == 0 || n_all == 0 {
+        return 0.0;
+    }
+    (0..XD_BINS)
+        .map(|bin| {
+            let predicted = 100.0 * list[bin] as f64 / n_list as f64;
+            let everything = 100.0 * all[bin] as f64 / n_all as f64;
+            (predicted - everything) / (bin + 1) as f64
+        })
+        .sum()
+}
+
 /// Distances between the observed residues of a chain, and the contacts they make.
 #[derive(Clone, Debug)]
 pub struct TrueContacts {
@@ -167,8 +206,9 @@ fn representative_atoms(residue: &Residue, atom: ContactAtom) -> Vec<[f64; 3]> {
 }
 
 impl TrueContacts {
-    /// Measure the residues of `chain` as `definition` says. Residue numbers must be unique
-    /// (a chain with insertion codes needs register alignment, which is not done yet).
+    /// Measure the residues of `chain` as `definition` says. Residue numbers must be unique (a
+    /// chain with insertion codes must be placed on a sequence first,
+    /// [`crate::score::register::Register::renumber`]).
     pub fn from_chain(chain: &Chain, definition: ContactDefinition) -> Result<Self> {
         if !(definition.cutoff_angstrom.is_finite() && definition.cutoff_angstrom > 0.0) {
             return Err(Error::Invalid(format!(
@@ -289,6 +329,27 @@ impl TrueContacts {
         self.contacts(range).len()
     }
 
+    /// Xd bin counts of the pairs of observed residues whose separation is in `range`, and
+    /// the number of those pairs.
+    pub fn distance_histogram(&self, range: SeparationRange) -> ([usize; XD_BINS], usize) {
+        let n = self.numbers.len();
+        let mut counts = [0usize; XD_BINS];
+        let mut total = 0;
+        let mut index = 0;
+        for a in 0..n {
+            for b in a + 1..n {
+                if range.contains(self.numbers[a], self.numbers[b]) {
+                    total += 1;
+                    if let Some(bin) = xd_bin(self.distances[index]) {
+                        counts[bin] += 1;
+                    }
+                }
+                index += 1;
+            }
+        }
+        (counts, total)
+    }
+
     /// Number of pairs of observed residues whose separation is in `range`.
     pub fn n_pairs(&self, range: SeparationRange) -> usize {
         let n = self.numbers.len();
@@ -362,6 +423,8 @@ pub struct ScoreParams {
     pub list_sizes: Vec<ListSize>,
     /// Drop pairs with an unobserved residue before ranking.
     pub drop_unobserved: bool,
+    /// Compute the precision curve up to this list size ([`ContactScore::curve`]).
+    pub curve: Option<ListSize>,
 }
 
 impl Default for ScoreParams {
@@ -376,6 +439,7 @@ impl Default for ScoreParams {
                 .map(ListSize::Fraction)
                 .collect(),
             drop_unobserved: true,
+            curve: None,
         }
     }
 }
@@ -399,6 +463,8 @@ pub struct ListScore {
     pub f1: f64,
     /// Matthews correlation coefficient over the observed pairs of the range.
     pub mcc: f64,
+    /// CASP's Xd, in percent (see the module docs).
+    pub xd: f64,
 }
 
 /// Result of [`score_contacts`] for one separation range.
@@ -416,6 +482,9 @@ pub struct ContactScore {
     pub n_available: usize,
     /// One score per requested list size.
     pub lists: Vec<ListScore>,
+    /// `curve[k - 1]`: true positives among the top `k` pairs, for `k` from 1 to the size of
+    /// [`ScoreParams::curve`] (capped at the available pairs); empty without one.
+    pub curve: Vec<usize>,
 }
 
 /// Pairs made `i < j`, without self pairs and NaN scores, duplicates keeping their highest
@@ -463,36 +532,41 @@ pub fn score_contacts(
         TargetLength::Observed => truth.n_observed(),
         TargetLength::Residues(n) => n,
     };
-    // (score, is a true contact: None when a residue is unobserved)
-    let mut ranked: Vec<(f64, Option<bool>)> = normalize_pairs(&prediction.pairs)
+    // (score, distance: None when a residue is unobserved)
+    let mut ranked: Vec<(f64, Option<f64>)> = normalize_pairs(&prediction.pairs)
         .into_iter()
         .filter(|&(i, j, _)| params.range.contains(i, j))
-        .map(|(i, j, score)| (score, truth.is_contact(i, j)))
-        .filter(|(_, status)| status.is_some() || !params.drop_unobserved)
+        .map(|(i, j, score)| (score, truth.distance(i, j)))
+        .filter(|(_, distance)| distance.is_some() || !params.drop_unobserved)
         .collect();
     // Stable and descending; NaN scores were dropped, so the comparison is total.
     ranked.sort_by(|a, b| b.0.partial_cmp(&a.0).unwrap_or(std::cmp::Ordering::Equal));
+    let definition = *truth.definition();
+    let is_true = |distance: &Option<f64>| distance.is_some_and(|d| definition.is_contact(d));
     let n_true = truth.n_contacts(params.range);
-    let n_pairs = truth.n_pairs(params.range);
+    let (all_bins, n_pairs) = truth.distance_histogram(params.range);
+    let list_size = |size: ListSize| match size {
+        ListSize::Fraction(fraction) => params.rounding.apply(length as f64 * fraction),
+        ListSize::Count(count) => count,
+        ListSize::TrueContacts => n_true,
+    };
     let lists = params
         .list_sizes
         .iter()
         .map(|&size| {
-            let k = match size {
-                ListSize::Fraction(fraction) => params.rounding.apply(length as f64 * fraction),
-                ListSize::Count(count) => count,
-                ListSize::TrueContacts => n_true,
-            };
+            let k = list_size(size);
             let n_scored = k.min(ranked.len());
             let top = &ranked[..n_scored];
-            let tp = top
+            let tp = top.iter().filter(|(_, distance)| is_true(distance)).count();
+            let observed = top
                 .iter()
-                .filter(|(_, status)| *status == Some(true))
+                .filter(|(_, distance)| distance.is_some())
                 .count();
-            let fp = top
-                .iter()
-                .filter(|(_, status)| *status == Some(false))
-                .count();
+            let fp = observed - tp;
+            let mut bins = [0usize; XD_BINS];
+            for bin in top.iter().filter_map(|(_, distance)| xd_bin((*distance)?)) {
+                bins[bin] += 1;
+            }
             let precision = ratio(tp, n_scored);
             let recall = ratio(tp, n_true);
             let f1 = if precision + recall > 0.0 {
@@ -524,9 +598,20 @@ pub fn score_contacts(
                 recall,
                 f1,
                 mcc,
+                xd: xd(&bins, observed, &all_bins, n_pairs),
             }
         })
         .collect();
+    let curve = match params.curve {
+        None => Vec::new(),
+        Some(size) => ranked[..list_size(size).min(ranked.len())]
+            .iter()
+            .scan(0usize, |tp, (_, distance)| {
+                *tp += usize::from(is_true(distance));
+                Some(*tp)
+            })
+            .collect(),
+    };
     Ok(ContactScore {
         range: params.range,
         length,
@@ -534,6 +619,7 @@ pub fn score_contacts(
         n_pairs,
         n_available: ranked.len(),
         lists,
+        curve,
     })
 }
 
@@ -665,6 +751,79 @@ mod tests {
         assert!(first.mcc > 0.0 && first.mcc <= 1.0);
     }
 
+    /// Xd against a naive transcription of the CASP definition, and the curve against the
+    /// list scores.
+    #[test]
+    fn xd_and_curve_against_naive() {
+        let truth = truth("toxd/toxd.pdb", ContactDefinition::default());
+        let prediction = prediction("toxd/toxd.mat", "toxd/toxd.fasta");
+        let params = ScoreParams {
+            range: SeparationRange::ALL,
+            list_sizes: vec![ListSize::Fraction(0.2), ListSize::Fraction(1.0)],
+            curve: Some(ListSize::Fraction(2.0)),
+            ..ScoreParams::default()
+        };
+        let score = score_contacts(&truth, &prediction, &params).unwrap();
+        // Naive: rank the observed pairs of the range, count distances per 4 A bin.
+        let mut ranked: Vec<(i32, i32, f64)> = normalize_pairs(&prediction.pairs)
+            .into_iter()
+            .filter(|&(i, j, _)| j - i >= 6 && truth.distance(i, j).is_some())
+            .collect();
+        ranked.sort_by(|a, b| b.2.partial_cmp(&a.2).unwrap());
+        let numbers = truth.numbers();
+        let all: Vec<f64> = numbers
+            .iter()
+            .flat_map(|&i| numbers.iter().map(move |&j| (i, j)))
+            .filter(|&(i, j)| j - i >= 6)
+            .map(|(i, j)| truth.distance(i, j).unwrap())
+            .collect();
+        let percent_in = |distances: &[f64], bin: usize| {
+            let lower = 4.0 * bin as f64;
+            100.0
+                * distances
+                    .iter()
+                    .filter(|&&d| d >= lower && d < lower + 4.0)
+                    .count() as f64
+                / distances.len() as f64
+        };
+        for list in &score.lists {
+            let top: Vec<f64> = ranked[..list.k]
+                .iter()
+                .map(|&(i, j, _)| truth.distance(i, j).unwrap())
+                .collect();
+            let mut naive = 0.0;
+            for bin in 0..15 {
+                let d_i = 4.0 * (bin + 1) as f64 / 60.0;
+                naive += (percent_in(&top, bin) - percent_in(&all, bin)) / (d_i * 15.0);
+            }
+            assert!((list.xd - naive).abs() < 1e-9, "{} vs {naive}", list.xd);
+            assert!(list.xd > 5.0, "a good list has a positive Xd: {}", list.xd);
+            assert_eq!(score.curve[list.k - 1], list.true_positives);
+        }
+        assert_eq!(score.curve.len(), 118);
+        assert!(score
+            .curve
+            .windows(2)
+            .all(|w| w[1] >= w[0] && w[1] <= w[0] + 1));
+        // Listing every observed pair of the range reproduces the background: Xd = 0.
+        let everything = Prediction {
+            pairs: numbers
+                .iter()
+                .flat_map(|&i| numbers.iter().map(move |&j| (i, j, 1.0)))
+                .filter(|&(i, j, _)| j - i >= 6)
+                .collect(),
+            sequence: prediction.sequence.clone(),
+            length: None,
+        };
+        let params = ScoreParams {
+            range: SeparationRange::ALL,
+            list_sizes: vec![ListSize::Count(all.len())],
+            ..ScoreParams::default()
+        };
+        let score = score_contacts(&truth, &everything, &params).unwrap();
+        assert!(score.lists[0].xd.abs() < 1e-9, "{}", score.lists[0].xd);
+    }
+
     #[test]
     fn conkit_documentation_toxd() {
         // Separation >= 5, all ranges, top int(59 * f) for f = 0.5, 1.0, 1.5.
@@ -781,6 +940,7 @@ mod tests {
         let prediction = Prediction {
             pairs,
             sequence: None,
+            length: None,
         };
         for range in [
             SeparationRange::SHORT,
@@ -821,6 +981,7 @@ mod tests {
         let prediction = Prediction {
             pairs: vec![(1, 40, 2.0), (16, 40, 1.0)],
             sequence: None,
+            length: None,
         };
         let mut params = ScoreParams {
             length: TargetLength::Residues(10),
@@ -934,7 +1095,7 @@ mod tests {
                     list_sizes: vec![ListSize::Count(k)],
                     ..ScoreParams::default()
                 };
-                let prediction = Prediction { pairs: pairs.clone(), sequence: None };
+                let prediction = Prediction { pairs: pairs.clone(), sequence: None, length: None };
                 let list = score_contacts(&truth, &prediction, &params).unwrap().lists[0];
 
                 // Naive: best score of each unordered pair, ranked by (score desc, first index).

@@ -342,7 +342,7 @@ fn bad_input_is_one_error_line() {
         "--fasta",
         &protein("1aapA/1aapA.fasta"),
     ]);
-    assert!(line.contains("beyond the sequence"), "{line}");
+    assert!(line.contains("covers 59 residues"), "{line}");
     let rr = write(dir.path(), "short.rr", "ACDEF\n1 9 0 8 0.5\n");
     let line = run_err(&["score", "contacts", "--structure", &structure, &rr]);
     assert!(line.contains("short.rr"), "{line}");
@@ -359,4 +359,281 @@ fn bad_input_is_one_error_line() {
         ]);
         assert!(line.contains(value), "{line}");
     }
+}
+
+/// 1A8O is numbered 151-220; its FASTA from 1. The true contacts written in sequence numbering
+/// score precision 1 against the .pdb and the .cif, and the offset is reported.
+#[test]
+fn register_offset_numbering() {
+    let dir = tempfile::tempdir().unwrap();
+    let fasta = protein("1a8o/1A8O.fasta");
+    let rr = dir.path().join("1a8o.rr");
+    let output = crate::run(&[
+        "contacts",
+        &protein("1a8o/1A8O.cif"),
+        "--fasta",
+        &fasta,
+        "-o",
+        rr.to_str().unwrap(),
+    ]);
+    assert!(output.status.success());
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.contains("positions + 150"), "{stderr}");
+    let text = std::fs::read_to_string(&rr).unwrap();
+    assert!(text.starts_with("MDIRQGPKEP"));
+    assert!(text.lines().nth(1).unwrap().starts_with("1 18 "), "{text}");
+    for structure in ["1a8o/1A8O.pdb", "1a8o/1A8O.cif"] {
+        let rows = scores(&[
+            "--structure",
+            &protein(structure),
+            rr.to_str().unwrap(),
+            "--top",
+            "NC",
+        ]);
+        let counts: Vec<(usize, usize)> = rows.iter().map(|r| (r.3, r.4)).collect();
+        assert_eq!(
+            counts,
+            [(16, 16), (26, 26), (35, 35), (77, 77)],
+            "{structure}"
+        );
+    }
+}
+
+/// A structure that covers part of a longer target, with four unresolved residues and its
+/// residues renumbered 1..66 (so the numbers hide the gap): the register comes from the
+/// alignment, and the true contacts of the full chain, written in the target's numbering,
+/// score precision 1 on the 66 residues that remain.
+#[test]
+fn register_alignment_of_a_gapped_renumbered_domain() {
+    let dir = tempfile::tempdir().unwrap();
+    let core = "MDIRQGPKEPFRDYVDRFYKTLRAEQASQEVKNWMTETLLVQNANPDCKTILKALGPGATLEEMMTACQG";
+    let fasta = write(
+        dir.path(),
+        "long.fasta",
+        &format!(">tagged target\nMGSSHHHHHHSSG{core}LEHHHHHH\n"),
+    );
+    // The truth in the target's numbering (residue 151 is position 14).
+    let truth = dir.path().join("truth.rr");
+    let output = crate::run(&[
+        "contacts",
+        &protein("1a8o/1A8O.pdb"),
+        "--fasta",
+        &fasta,
+        "--min-sep",
+        "1",
+        "-o",
+        truth.to_str().unwrap(),
+    ]);
+    assert!(output.status.success());
+    assert!(String::from_utf8_lossy(&output.stderr).contains("positions + 137"));
+    // The gapped structure: residues 170-173 removed, the rest renumbered from 1.
+    let pdb = std::fs::read_to_string(protein("1a8o/1A8O.pdb")).unwrap();
+    let mut renumbered = String::new();
+    let (mut last, mut index) = (String::new(), 0);
+    for line in pdb.lines() {
+        let is_atom = line.starts_with("ATOM  ") || line.starts_with("HETATM");
+        if !is_atom {
+            renumbered.push_str(line);
+            renumbered.push('\n');
+            continue;
+        }
+        let number: i32 = line[22..26].trim().parse().unwrap();
+        if (170..=173).contains(&number) {
+            continue;
+        }
+        if line[22..27] != last {
+            last = line[22..27].to_string();
+            index += 1;
+        }
+        renumbered.push_str(&format!("{}{index:>4}{}\n", &line[..22], &line[26..]));
+    }
+    let gapped = write(dir.path(), "gapped.pdb", &renumbered);
+    let output = crate::run(&[
+        "score",
+        "contacts",
+        "--tsv",
+        "--structure",
+        &gapped,
+        truth.to_str().unwrap(),
+        "--fasta",
+        &fasta,
+        "--ranges",
+        "1+",
+        "--top",
+        "NC",
+    ]);
+    assert!(output.status.success());
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.contains("aligned the structure's chain"), "{stderr}");
+    assert!(stderr.contains("1-19->14-32, 20-"), "{stderr}");
+    let rows = scores(&[
+        "--structure",
+        &gapped,
+        truth.to_str().unwrap(),
+        "--fasta",
+        &fasta,
+        "--ranges",
+        "1+",
+        "--top",
+        "NC",
+    ]);
+    // Every predicted pair between observed residues is a true contact, and all are found.
+    let (tp, n_scored) = (rows[0].3, rows[0].4);
+    assert_eq!(tp, n_scored);
+    let removed = |i: usize| (14 + 19..14 + 23).contains(&i);
+    let expected = std::fs::read_to_string(&truth)
+        .unwrap()
+        .lines()
+        .skip(1)
+        .filter(|line| {
+            let mut fields = line.split_whitespace().map(|f| f.parse::<usize>().unwrap());
+            let (i, j) = (fields.next().unwrap(), fields.next().unwrap());
+            !removed(i) && !removed(j)
+        })
+        .count();
+    assert_eq!(tp, expected);
+    // Taking the numbers as they are scores the same file far worse.
+    let rows = scores(&[
+        "--structure",
+        &gapped,
+        truth.to_str().unwrap(),
+        "--fasta",
+        &fasta,
+        "--ranges",
+        "long",
+        "--top",
+        "NC",
+        "--register",
+        "numbering",
+    ]);
+    assert!(rows[0].5 < 0.5, "{rows:?}");
+}
+
+/// toxd.mat rewritten in every list format (EVfold, GREMLIN, CASP RR mode 2, plmDCA's
+/// `i,j,score`, PSICOV's `i j 0 8 score`) scores as the matrix does: method P's 5/5, 9/11,
+/// 17/29, 22/59 (data/protein/README.md). The EVfold and GREMLIN files name every residue, so
+/// they need no FASTA.
+#[test]
+fn every_list_format_reproduces_the_matrix() {
+    let dir = tempfile::tempdir().unwrap();
+    let sequence: String = std::fs::read_to_string(protein("toxd/toxd.fasta"))
+        .unwrap()
+        .lines()
+        .filter(|line| !line.starts_with('>'))
+        .collect();
+    let letters: Vec<char> = sequence.chars().collect();
+    let matrix: Vec<Vec<String>> = std::fs::read_to_string(protein("toxd/toxd.mat"))
+        .unwrap()
+        .lines()
+        .filter(|line| !line.trim().is_empty() && !line.starts_with('#'))
+        .map(|line| line.split_whitespace().map(String::from).collect())
+        .collect();
+    let n = matrix.len();
+    let (mut evfold, mut gremlin, mut mode2, mut plmdca, mut psicov) = (
+        String::new(),
+        String::from("i\tj\ti_id\tj_id\tr_sco\ts_sco\tprob\n"),
+        format!("PFRMAT RR\nRMODE 2\nMODEL 1\n{sequence}\n"),
+        String::new(),
+        String::new(),
+    );
+    for i in 0..n {
+        for j in i + 1..n {
+            let (a, b, score) = (i + 1, j + 1, &matrix[i][j]);
+            let (x, y) = (letters[i], letters[j]);
+            evfold.push_str(&format!("{a} {x} {b} {y} 0 {score}\n"));
+            gremlin.push_str(&format!("{a}\t{b}\t{a}_{x}\t{b}_{y}\t{score}\t1.0\t0.5\n"));
+            mode2.push_str(&format!(
+                "{a} {b} {score} 0.1 0.1 0.1 0.1 0.1 0.1 0.1 0.1 0.1 0.1\n"
+            ));
+            plmdca.push_str(&format!("{a},{b},{score}\n"));
+            psicov.push_str(&format!("{a} {b} 0 8 {score}\n"));
+        }
+    }
+    mode2.push_str("END\n");
+    let files = [
+        write(dir.path(), "toxd.evfold", &evfold),
+        write(dir.path(), "toxd.gremlin", &gremlin),
+        write(dir.path(), "toxd.mode2.rr", &mode2),
+        write(dir.path(), "toxd.plmdca", &plmdca),
+        write(dir.path(), "toxd.psicov", &psicov),
+    ];
+    let expected = [(5, 5), (9, 11), (17, 29), (22, 59)];
+    for file in &files {
+        let mut args = vec!["--structure", &*protein("toxd/toxd.pdb")]
+            .into_iter()
+            .map(String::from)
+            .collect::<Vec<_>>();
+        args.extend([file.clone(), "--ranges".into(), "long".into()]);
+        if file.ends_with("plmdca") || file.ends_with("psicov") {
+            args.extend(["--fasta".into(), protein("toxd/toxd.fasta")]);
+        }
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let rows = scores(&args);
+        let counts: Vec<(usize, usize)> = rows.iter().map(|r| (r.3, r.4)).collect();
+        assert_eq!(counts, expected, "{file}");
+    }
+    // Against each other, the same ranking overlaps completely.
+    let text = run_ok(&[
+        "score", "overlap", &files[0], &files[1], "--tsv", "--ranges", "long",
+    ]);
+    let table = parse_table(&text);
+    let jaccard = table.header.iter().position(|h| h == "jaccard").unwrap();
+    assert!(table.rows.iter().all(|row| row[jaccard] == "1"), "{text}");
+}
+
+#[test]
+fn overlap_of_two_predictions() {
+    // APC and non-APC CCMpred matrices of 1atzA; the naive count is done here from the two
+    // ranked lists read independently.
+    let read = |name: &str| -> Vec<(usize, usize)> {
+        let rows: Vec<Vec<f64>> = std::fs::read_to_string(protein(name))
+            .unwrap()
+            .lines()
+            .filter(|line| !line.starts_with('#'))
+            .map(|line| {
+                line.split_whitespace()
+                    .map(|v| v.parse().unwrap())
+                    .collect()
+            })
+            .collect();
+        let mut pairs: Vec<(usize, usize, f64)> = Vec::new();
+        for (i, row) in rows.iter().enumerate() {
+            for (j, &score) in row.iter().enumerate().skip(i + 24) {
+                pairs.push((i + 1, j + 1, score));
+            }
+        }
+        pairs.sort_by(|a, b| b.2.partial_cmp(&a.2).unwrap());
+        pairs.into_iter().map(|(i, j, _)| (i, j)).collect()
+    };
+    let (apc, noapc) = (read("1atzA/1atzA.apc.mat"), read("1atzA/1atzA.noapc.mat"));
+    let text = run_ok(&[
+        "score",
+        "overlap",
+        &protein("1atzA/1atzA.apc.mat"),
+        &protein("1atzA/1atzA.noapc.mat"),
+        "--ranges",
+        "long",
+        "--top",
+        "L/5,L,100",
+        "--tsv",
+    ]);
+    let table = parse_table(&text);
+    let column = |name: &str| table.header.iter().position(|h| h == name).unwrap();
+    for (row, k) in table.rows.iter().zip([15usize, 75, 100]) {
+        assert_eq!(row[column("k")], k.to_string());
+        let shared = apc[..k].iter().filter(|p| noapc[..k].contains(p)).count();
+        assert_eq!(row[column("shared")], shared.to_string());
+        let jaccard: f64 = row[column("jaccard")].parse().unwrap();
+        assert!((jaccard - shared as f64 / (2 * k - shared) as f64).abs() < 1e-12);
+    }
+    let line = run_err(&[
+        "score",
+        "overlap",
+        &protein("toxd/toxd.mat"),
+        &protein("1atzA/1atzA.apc.mat"),
+    ]);
+    assert!(
+        line.contains("not predictions for the same target"),
+        "{line}"
+    );
 }

@@ -1,0 +1,212 @@
+//! `contactmap score overlap`: two contact predictions compared with each other, without a
+//! structure ([`crate::score::overlap`]).
+
+use std::path::PathBuf;
+
+use clap::Args;
+
+use super::{
+    aligned, parse_list_size, parse_range, real, NamedRange, PredictionFormatArg, RoundingArg,
+};
+use crate::cli::output::Output;
+use crate::error::{Error, Result};
+use crate::io::predictions::{read_fasta, read_prediction};
+use crate::score::contacts::{ListSize, Rounding};
+use crate::score::overlap::{overlap, ranked_pairs, Overlap};
+
+/// Arguments of `contactmap score overlap`.
+#[derive(Debug, Args)]
+#[command(after_long_help = "\
+Both predictions are prepared as for scoring: pairs made i < j, self pairs and NaN scores
+dropped, a pair given twice keeps its highest score, pairs outside the separation range dropped,
+the rest sorted by score (descending, ties in file order). For each range and list size the top
+k pairs of each are compared as sets: shared = |A and B|, Jaccard = shared / |A or B| (0 when
+both are empty). A list with fewer than k pairs in the range is compared as it is.
+
+L is --length, else the length of the target sequence (--fasta, or the sequence the files
+carry; two different sequences are an error), else the size of the matrices / distograms. List sizes and ranges are written as for
+`score contacts`.
+
+Output: an aligned table; --tsv: one row per range x list size with the header
+  first second range min_sep max_sep list k n_first n_second shared jaccard
+
+Examples:
+  contactmap score overlap ccmpred.mat trrosetta.npz --fasta t.fasta
+  contactmap score overlap a.rr b.rr --ranges long,all --top L/5,L,100 --tsv")]
+pub struct OverlapArgs {
+    /// The first prediction.
+    #[arg(value_name = "PRED_A")]
+    pub first: PathBuf,
+    /// The second prediction.
+    #[arg(value_name = "PRED_B")]
+    pub second: PathBuf,
+    /// Target sequence (FASTA, first record): gives L and checks the residue numbers.
+    #[arg(long, value_name = "FILE")]
+    pub fasta: Option<PathBuf>,
+    /// L, the target length (default: the sequence's length).
+    #[arg(long, value_name = "N")]
+    pub length: Option<usize>,
+    /// Prediction format of both files (default: detected from the content of each).
+    #[arg(long, value_enum)]
+    pub format: Option<PredictionFormatArg>,
+    /// Separation ranges: short, medium, long, all, MIN-MAX or MIN+ (comma separated).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "long,all",
+        value_name = "RANGES"
+    )]
+    pub ranges: Vec<String>,
+    /// List sizes: L/10, L/5, L/2, L, 0.3L or a count N (comma separated).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "L/10,L/5,L/2,L",
+        value_name = "SIZES"
+    )]
+    pub top: Vec<String>,
+    /// Rounding of L * fraction.
+    #[arg(long, value_enum, default_value = "floor")]
+    pub rounding: RoundingArg,
+    /// Tab-separated output with a header.
+    #[arg(long)]
+    pub tsv: bool,
+    /// Write here instead of standard output (.gz compresses).
+    #[arg(short, long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+}
+
+/// Run `contactmap score overlap`.
+pub fn run(args: &OverlapArgs) -> Result<()> {
+    let ranges: Vec<NamedRange> = args
+        .ranges
+        .iter()
+        .map(|token| parse_range(token))
+        .collect::<Result<_>>()?;
+    let sizes: Vec<(String, ListSize)> = args
+        .top
+        .iter()
+        .map(|token| parse_list_size(token))
+        .collect::<Result<_>>()?;
+    if sizes
+        .iter()
+        .any(|(_, size)| *size == ListSize::TrueContacts)
+    {
+        return Err(Error::Invalid(
+            "list size NC needs a structure (use `score contacts`)".into(),
+        ));
+    }
+    let fasta = args.fasta.as_deref().map(read_fasta).transpose()?;
+    let mut predictions = Vec::with_capacity(2);
+    for path in [&args.first, &args.second] {
+        let mut prediction = read_prediction(path, args.format.map(Into::into))?;
+        if let Some(sequence) = &fasta {
+            prediction = prediction
+                .with_sequence(sequence)
+                .map_err(|err| super::in_file(path, err))?;
+        }
+        predictions.push(prediction);
+    }
+    let length = match (
+        args.length,
+        &predictions[0].sequence,
+        &predictions[1].sequence,
+    ) {
+        (Some(0), _, _) => return Err(Error::Invalid("--length must be positive".into())),
+        (Some(length), _, _) => length,
+        (None, Some(a), Some(b)) if !a.eq_ignore_ascii_case(b) => {
+            return Err(Error::Invalid(format!(
+                "{} and {} carry different sequences ({} and {} residues): they are not \
+                 predictions for the same target",
+                args.first.display(),
+                args.second.display(),
+                a.len(),
+                b.len()
+            )))
+        }
+        (None, Some(sequence), _) | (None, None, Some(sequence)) => sequence.chars().count(),
+        (None, None, None) => match (predictions[0].length, predictions[1].length) {
+            (Some(a), Some(b)) if a != b => {
+                return Err(Error::Invalid(format!(
+                    "{} covers {a} residues and {} {b}: they are not predictions for the same \
+                     target",
+                    args.first.display(),
+                    args.second.display()
+                )))
+            }
+            (Some(n), _) | (None, Some(n)) => n,
+            (None, None) => {
+                return Err(Error::Invalid(
+                    "L is unknown: give the target sequence (--fasta) or --length".into(),
+                ))
+            }
+        },
+    };
+    let rounding: Rounding = args.rounding.into();
+    let mut results: Vec<(&NamedRange, &str, Overlap)> = Vec::new();
+    for named in &ranges {
+        let first = ranked_pairs(&predictions[0], named.range);
+        let second = ranked_pairs(&predictions[1], named.range);
+        for (label, size) in &sizes {
+            let k = match *size {
+                ListSize::Fraction(fraction) => rounding.apply(length as f64 * fraction),
+                ListSize::Count(count) => count,
+                ListSize::TrueContacts => unreachable!("refused above"),
+            };
+            results.push((named, label, overlap(&first, &second, k)));
+        }
+    }
+    let text = if args.tsv {
+        let mut text = String::from(
+            "first\tsecond\trange\tmin_sep\tmax_sep\tlist\tk\tn_first\tn_second\tshared\tjaccard\n",
+        );
+        for (named, label, result) in &results {
+            text.push_str(&format!(
+                "{}\t{}\t{}\t{}\t{}\t{label}\t{}\t{}\t{}\t{}\t{}\n",
+                args.first.display(),
+                args.second.display(),
+                named.name,
+                named.range.min,
+                named
+                    .range
+                    .max
+                    .map_or_else(|| "inf".to_string(), |max| max.to_string()),
+                result.k,
+                result.n_first,
+                result.n_second,
+                result.shared,
+                real(result.jaccard),
+            ));
+        }
+        text
+    } else {
+        let mut rows = vec![["range", "list", "k", "A", "B", "shared", "Jaccard"]
+            .map(String::from)
+            .to_vec()];
+        for (named, label, result) in &results {
+            rows.push(vec![
+                named.name.clone(),
+                label.to_string(),
+                result.k.to_string(),
+                result.n_first.to_string(),
+                result.n_second.to_string(),
+                result.shared.to_string(),
+                format!("{:.4}", result.jaccard),
+            ]);
+        }
+        let mut text = format!(
+            "A = {}\nB = {}\n  L = {length}\n",
+            args.first.display(),
+            args.second.display()
+        );
+        for line in aligned(&rows).lines() {
+            text.push_str("  ");
+            text.push_str(line);
+            text.push('\n');
+        }
+        text
+    };
+    let mut out = Output::open(args.out.as_deref())?;
+    out.write_all(text.as_bytes())?;
+    out.finish()
+}

@@ -1,0 +1,114 @@
+//! Two contact predictions compared with each other, without a structure: how much their top
+//! lists agree.
+//!
+//! Each prediction is prepared as for scoring ([`crate::score::contacts::normalize_pairs`]:
+//! pairs made `i < j`, self pairs and NaN scores dropped, duplicates keeping their highest
+//! score), restricted to a separation range and sorted by score, descending and stably. The top
+//! `k` pairs of each are compared as sets: the overlap is their intersection, and the Jaccard
+//! index is `|A ∩ B| / |A ∪ B|` (0 when both lists are empty). A list shorter than `k` (fewer
+//! pairs in the range) is compared as it is.
+
+use std::collections::HashSet;
+
+use super::contacts::{normalize_pairs, Prediction, SeparationRange};
+
+/// The agreement of two top lists.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Overlap {
+    /// The requested list size.
+    pub k: usize,
+    /// Pairs in the first list (`min(k, available)`).
+    pub n_first: usize,
+    /// Pairs in the second list.
+    pub n_second: usize,
+    /// Pairs in both.
+    pub shared: usize,
+    /// `shared / (n_first + n_second - shared)`.
+    pub jaccard: f64,
+}
+
+/// The pairs `(i, j)`, `i < j`, of `prediction` in `range`, best first (see the module docs).
+pub fn ranked_pairs(prediction: &Prediction, range: SeparationRange) -> Vec<(i32, i32)> {
+    let mut pairs: Vec<(i32, i32, f64)> = normalize_pairs(&prediction.pairs)
+        .into_iter()
+        .filter(|&(i, j, _)| range.contains(i, j))
+        .collect();
+    pairs.sort_by(|a, b| b.2.partial_cmp(&a.2).unwrap_or(std::cmp::Ordering::Equal));
+    pairs.into_iter().map(|(i, j, _)| (i, j)).collect()
+}
+
+/// The overlap of the top `k` of two ranked lists ([`ranked_pairs`]).
+pub fn overlap(first: &[(i32, i32)], second: &[(i32, i32)], k: usize) -> Overlap {
+    let first = &first[..k.min(first.len())];
+    let second = &second[..k.min(second.len())];
+    let set: HashSet<&(i32, i32)> = first.iter().collect();
+    let shared = second.iter().filter(|pair| set.contains(pair)).count();
+    let union = first.len() + second.len() - shared;
+    Overlap {
+        k,
+        n_first: first.len(),
+        n_second: second.len(),
+        shared,
+        jaccard: if union == 0 {
+            0.0
+        } else {
+            shared as f64 / union as f64
+        },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn prediction(pairs: &[(i32, i32, f64)]) -> Prediction {
+        Prediction {
+            pairs: pairs.to_vec(),
+            sequence: None,
+            length: None,
+        }
+    }
+
+    #[test]
+    fn small_example() {
+        let a = prediction(&[(1, 30, 0.9), (2, 40, 0.8), (3, 50, 0.7), (1, 5, 1.0)]);
+        let b = prediction(&[(40, 2, 0.95), (1, 30, 0.5), (4, 60, 0.6), (3, 50, 0.1)]);
+        let (a, b) = (
+            ranked_pairs(&a, SeparationRange::LONG),
+            ranked_pairs(&b, SeparationRange::LONG),
+        );
+        assert_eq!(a, [(1, 30), (2, 40), (3, 50)]);
+        assert_eq!(b, [(2, 40), (4, 60), (1, 30), (3, 50)]);
+        let top2 = overlap(&a, &b, 2);
+        assert_eq!((top2.shared, top2.n_first, top2.n_second), (1, 2, 2));
+        assert!((top2.jaccard - 1.0 / 3.0).abs() < 1e-15);
+        let top4 = overlap(&a, &b, 4);
+        assert_eq!((top4.shared, top4.n_first, top4.n_second), (3, 3, 4));
+        assert!((top4.jaccard - 0.75).abs() < 1e-15);
+        assert_eq!(overlap(&[], &[], 5).jaccard, 0.0);
+    }
+
+    proptest! {
+        /// Against a naive set computation; a list against itself has Jaccard 1.
+        #[test]
+        fn jaccard_against_naive(
+            a in proptest::collection::vec((1i32..40, 1i32..40, 0.0f64..1.0), 0..80),
+            b in proptest::collection::vec((1i32..40, 1i32..40, 0.0f64..1.0), 0..80),
+            k in 0usize..60,
+        ) {
+            let range = SeparationRange::new(3, None);
+            let (ra, rb) = (ranked_pairs(&prediction(&a), range), ranked_pairs(&prediction(&b), range));
+            let found = overlap(&ra, &rb, k);
+            let sa: std::collections::BTreeSet<_> = ra.iter().take(k).collect();
+            let sb: std::collections::BTreeSet<_> = rb.iter().take(k).collect();
+            let shared = sa.intersection(&sb).count();
+            let union = sa.union(&sb).count();
+            prop_assert_eq!(found.shared, shared);
+            let naive = if union == 0 { 0.0 } else { shared as f64 / union as f64 };
+            prop_assert!((found.jaccard - naive).abs() < 1e-15);
+            let own = overlap(&ra, &ra, k);
+            prop_assert!(own.jaccard == 1.0 || own.n_first == 0);
+        }
+    }
+}
