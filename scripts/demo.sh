@@ -72,4 +72,9 @@ step "Protein: CCMpred and RR predictions scored against their structures (CASP 
   "$cm" score contacts --structure data/protein/toxd/toxd.pdb data/protein/toxd/toxd.mat \
   --fasta data/protein/toxd/toxd.fasta --ranges long
 "$cm" score contacts --structure data/protein/1aapA/1aapA.pdb data/protein/1aapA/1aapA.rr --ranges long
+step "Protein: a structure numbered 151-220 placed on its sequence (register), its own contacts score 1" \
+  "$cm" contacts data/protein/1a8o/1A8O.cif --fasta data/protein/1a8o/1A8O.fasta -o "$work/1a8o.rr"
+"$cm" score contacts --structure data/protein/1a8o/1A8O.pdb "$work/1a8o.rr" --ranges long --top L/5,L 2>/dev/null
+step "Protein: two predictions compared without a structure (Jaccard of the top lists)" \
+  "$cm" score overlap data/protein/1atzA/1atzA.apc.mat data/protein/1atzA/1atzA.noapc.mat --ranges long
 printf '\nDemo finished.\n'

@@ -307,32 +307,16 @@ pub struct ContactsScoreArgs {
     /// How the structure's residues are placed on the prediction's sequence.
     #[arg(long, value_enum, default_value = "auto")]
     pub register: RegisterArg,
-    /// Separation ranges: short, medium, long, all, MIN-MAX or MIN+ (comma separated).
-    #[arg(
-        long,
-        value_delimiter = ',',
-        default_value = "short,medium,long,all",
-        value_name = "RANGES"
-    )]
-    pub ranges: Vec<String>,
+    /// Separation ranges and list sizes.
+    #[command(flatten)]
+    pub lists: ListArgs,
     /// One range of separations >= N (same as --ranges N+).
     #[arg(long, value_name = "N", conflicts_with = "ranges")]
     pub min_sep: Option<u32>,
-    /// List sizes: L/10, L/5, L/2, L, 0.3L, a count N, or NC (comma separated).
-    #[arg(
-        long,
-        value_delimiter = ',',
-        default_value = "L/10,L/5,L/2,L",
-        value_name = "SIZES"
-    )]
-    pub top: Vec<String>,
     /// L: sequence (the FASTA / RR sequence length), observed (residues observed in the
     /// structure) or a number [default: sequence when there is one, else observed].
     #[arg(long, value_name = "sequence|observed|N")]
     pub length: Option<String>,
-    /// Rounding of L * fraction.
-    #[arg(long, value_enum, default_value = "floor")]
-    pub rounding: RoundingArg,
     /// Keep pairs with a residue not observed in the structure (they count as false).
     #[arg(long)]
     pub keep_unobserved: bool,
@@ -356,6 +340,51 @@ pub struct ContactsScoreArgs {
     #[command(flatten)]
     pub definition: DefinitionArgs,
 }
+
+/// Separation ranges, list sizes and their rounding, shared by `score contacts` and
+/// `score overlap`.
+#[derive(Debug, Args)]
+pub struct ListArgs {
+    /// Separation ranges: short, medium, long, all, MIN-MAX or MIN+ (comma separated).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "short,medium,long,all",
+        value_name = "RANGES"
+    )]
+    pub ranges: Vec<String>,
+    /// List sizes: L/10, L/5, L/2, L, 0.3L, a count N, or NC (comma separated).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "L/10,L/5,L/2,L",
+        value_name = "SIZES"
+    )]
+    pub top: Vec<String>,
+    /// Rounding of L * fraction.
+    #[arg(long, value_enum, default_value = "floor")]
+    pub rounding: RoundingArg,
+}
+
+impl ListArgs {
+    /// The parsed ranges and list sizes.
+    fn parse(&self) -> Result<(Vec<NamedRange>, Vec<LabelledSize>)> {
+        let ranges = self
+            .ranges
+            .iter()
+            .map(|token| parse_range(token))
+            .collect::<Result<_>>()?;
+        let sizes = self
+            .top
+            .iter()
+            .map(|token| parse_list_size(token))
+            .collect::<Result<_>>()?;
+        Ok((ranges, sizes))
+    }
+}
+
+/// A list size with its label as written (`L/5`, `NC`, ...).
+type LabelledSize = (String, ListSize);
 
 /// A named separation range.
 #[derive(Clone, Debug, PartialEq)]
@@ -569,7 +598,7 @@ fn score_one(
         let params = ScoreParams {
             range: named.range,
             length: target_length,
-            rounding: args.rounding.into(),
+            rounding: args.lists.rounding.into(),
             list_sizes: sizes.iter().map(|(_, size)| *size).collect(),
             drop_unobserved: !args.keep_unobserved,
             curve: *curve_size,
@@ -746,7 +775,7 @@ fn write_table(args: &ContactsScoreArgs, chain: &str, reports: &[PredictionRepor
             report.n_observed,
             args.definition.describe(),
             report.length_source,
-            match args.rounding {
+            match args.lists.rounding {
                 RoundingArg::Floor => "floor",
                 RoundingArg::HalfUp => "half-up",
                 RoundingArg::Banker => "banker",
@@ -817,22 +846,13 @@ fn write_table(args: &ContactsScoreArgs, chain: &str, reports: &[PredictionRepor
 }
 
 fn run_contacts(args: &ContactsScoreArgs) -> Result<()> {
-    let ranges: Vec<NamedRange> = match args.min_sep {
-        Some(min) => vec![NamedRange {
+    let (mut ranges, sizes) = args.lists.parse()?;
+    if let Some(min) = args.min_sep {
+        ranges = vec![NamedRange {
             name: format!("{min}+"),
             range: SeparationRange::new(min, None),
-        }],
-        None => args
-            .ranges
-            .iter()
-            .map(|token| parse_range(token))
-            .collect::<Result<_>>()?,
-    };
-    let sizes: Vec<(String, ListSize)> = args
-        .top
-        .iter()
-        .map(|token| parse_list_size(token))
-        .collect::<Result<_>>()?;
+        }];
+    }
     let length = parse_length(args.length.as_deref())?;
     let curve_size = match &args.curve {
         Some(_) => Some(parse_list_size(&args.curve_max)?.1),
@@ -859,7 +879,9 @@ fn run_contacts(args: &ContactsScoreArgs) -> Result<()> {
             None => {
                 let placed = place(args, &chain, prediction.sequence.as_deref())
                     .map_err(|err| in_file(path, err))?;
-                if let Some(register) = &placed.register {
+                // The table shows the register; other outputs get it on standard error.
+                let table_on_stdout = !(args.tsv || args.json || args.out.is_some());
+                if let Some(register) = placed.register.as_ref().filter(|_| !table_on_stdout) {
                     eprintln!("{}: {}", path.display(), register.text);
                 }
                 placements.push((prediction.sequence.clone(), placed));

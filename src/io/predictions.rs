@@ -155,6 +155,34 @@ fn is_sequence_line(line: &str) -> bool {
     !line.is_empty() && line.chars().all(|c| c.is_ascii_alphabetic() || c == '-')
 }
 
+/// The lines of `text` with their 1-based numbers, trimmed, without blank and `#` lines.
+fn data_lines(text: &str) -> impl Iterator<Item = (u64, &str)> {
+    text.lines()
+        .enumerate()
+        .map(|(index, line)| (index as u64 + 1, line.trim()))
+        .filter(|(_, line)| !line.is_empty() && !line.starts_with('#'))
+}
+
+/// The fields of a list row, which must be `expected` many (`layout` names them).
+fn list_fields<'a>(
+    line: &'a str,
+    expected: usize,
+    layout: &str,
+    path: &Path,
+    line_number: u64,
+) -> Result<Vec<&'a str>> {
+    let fields = split_fields(line);
+    if fields.len() == expected {
+        Ok(fields)
+    } else {
+        Err(Error::parse(
+            path,
+            line_number,
+            format!("{} fields, expected `{layout}`", fields.len()),
+        ))
+    }
+}
+
 fn split_fields(line: &str) -> Vec<&str> {
     line.split(|c: char| c.is_ascii_whitespace() || c == ',')
         .filter(|field| !field.is_empty())
@@ -258,12 +286,7 @@ pub fn parse_rr(text: &str, path: &Path) -> Result<Prediction> {
     let mut sequence = String::new();
     let mut pairs = Vec::new();
     let mut n_models = 0;
-    for (index, raw) in text.lines().enumerate() {
-        let line_number = index as u64 + 1;
-        let line = raw.trim();
-        if line.is_empty() || line.starts_with('#') {
-            continue;
-        }
+    for (line_number, line) in data_lines(text) {
         let first_word = line.split_whitespace().next().unwrap_or("");
         if first_word == "END" {
             break;
@@ -336,20 +359,8 @@ pub fn parse_rr(text: &str, path: &Path) -> Result<Prediction> {
 /// Parse a table of `i j score` rows (whitespace or commas; `#` lines skipped).
 pub fn parse_table(text: &str, path: &Path) -> Result<Prediction> {
     let mut pairs = Vec::new();
-    for (index, raw) in text.lines().enumerate() {
-        let line_number = index as u64 + 1;
-        let line = raw.trim();
-        if line.is_empty() || line.starts_with('#') {
-            continue;
-        }
-        let fields = split_fields(line);
-        if fields.len() != 3 {
-            return Err(Error::parse(
-                path,
-                line_number,
-                format!("{} fields, expected `i j score`", fields.len()),
-            ));
-        }
+    for (line_number, line) in data_lines(text) {
+        let fields = list_fields(line, 3, "i j score", path, line_number)?;
         let i = parse_residue(fields[0], path, line_number)?;
         let j = parse_residue(fields[1], path, line_number)?;
         pairs.push((i, j, parse_score(fields[2], path, line_number)?));
@@ -409,20 +420,8 @@ fn residue_letter(field: &str, path: &Path, line: u64) -> Result<char> {
 pub fn parse_evfold(text: &str, path: &Path) -> Result<Prediction> {
     let mut pairs = Vec::new();
     let mut named = NamedResidues::default();
-    for (index, raw) in text.lines().enumerate() {
-        let line_number = index as u64 + 1;
-        let line = raw.trim();
-        if line.is_empty() || line.starts_with('#') {
-            continue;
-        }
-        let fields = split_fields(line);
-        if fields.len() != 6 {
-            return Err(Error::parse(
-                path,
-                line_number,
-                format!("{} fields, expected `i A_i j A_j x score`", fields.len()),
-            ));
-        }
+    for (line_number, line) in data_lines(text) {
+        let fields = list_fields(line, 6, "i A_i j A_j x score", path, line_number)?;
         let i = parse_residue(fields[0], path, line_number)?;
         let j = parse_residue(fields[2], path, line_number)?;
         named.name(
@@ -452,12 +451,7 @@ pub fn parse_gremlin(text: &str, path: &Path) -> Result<Prediction> {
     let mut pairs = Vec::new();
     let mut named = NamedResidues::default();
     let mut columns: Option<(usize, usize, usize, usize)> = None; // i_id, j_id, r_sco, width
-    for (index, raw) in text.lines().enumerate() {
-        let line_number = index as u64 + 1;
-        let line = raw.trim();
-        if line.is_empty() || line.starts_with('#') {
-            continue;
-        }
+    for (line_number, line) in data_lines(text) {
         if is_gremlin_header(line) {
             let words: Vec<&str> = line.split_whitespace().collect();
             let find = |name: &str| words.iter().position(|word| *word == name);
@@ -520,12 +514,7 @@ pub fn parse_gremlin(text: &str, path: &Path) -> Result<Prediction> {
 /// Returns the upper triangle, 0-based row / column `i < j` as residues `i + 1`, `j + 1`.
 pub fn parse_matrix(text: &str, path: &Path) -> Result<Prediction> {
     let mut rows: Vec<Vec<f64>> = Vec::new();
-    for (index, raw) in text.lines().enumerate() {
-        let line_number = index as u64 + 1;
-        let line = raw.trim();
-        if line.is_empty() || line.starts_with('#') {
-            continue;
-        }
+    for (line_number, line) in data_lines(text) {
         let row = line
             .split_whitespace()
             .map(|field| parse_score(field, path, line_number))

@@ -341,10 +341,14 @@ impl Register {
             ),
             RegisterMethod::Alignment => "aligned the structure's chain to the sequence".into(),
         };
-        let mut text = format!(
+        let mut text =
+            format!(
             "register: {head}: {placed} of {} residues of chain {} on {} sequence positions, {} \
              identical ({identity:.1}%)",
-            self.n_residues, chain.id, self.sequence_length, self.identical
+            self.n_residues,
+            if chain.id.is_empty() { "(blank)" } else { &chain.id },
+            self.sequence_length,
+            self.identical
         );
         if placed < self.n_residues {
             text.push_str(&format!(

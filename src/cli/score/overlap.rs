@@ -5,9 +5,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use super::{
-    aligned, parse_list_size, parse_range, real, NamedRange, PredictionFormatArg, RoundingArg,
-};
+use super::{aligned, real, ListArgs, NamedRange, PredictionFormatArg};
 use crate::cli::output::Output;
 use crate::error::{Error, Result};
 use crate::io::predictions::{read_fasta, read_prediction};
@@ -32,7 +30,7 @@ Output: an aligned table; --tsv: one row per range x list size with the header
 
 Examples:
   contactmap score overlap ccmpred.mat trrosetta.npz --fasta t.fasta
-  contactmap score overlap a.rr b.rr --ranges long,all --top L/5,L,100 --tsv")]
+  contactmap score overlap a.rr b.rr --ranges long --top L/5,L,100 --tsv")]
 pub struct OverlapArgs {
     /// The first prediction.
     #[arg(value_name = "PRED_A")]
@@ -49,25 +47,9 @@ pub struct OverlapArgs {
     /// Prediction format of both files (default: detected from the content of each).
     #[arg(long, value_enum)]
     pub format: Option<PredictionFormatArg>,
-    /// Separation ranges: short, medium, long, all, MIN-MAX or MIN+ (comma separated).
-    #[arg(
-        long,
-        value_delimiter = ',',
-        default_value = "long,all",
-        value_name = "RANGES"
-    )]
-    pub ranges: Vec<String>,
-    /// List sizes: L/10, L/5, L/2, L, 0.3L or a count N (comma separated).
-    #[arg(
-        long,
-        value_delimiter = ',',
-        default_value = "L/10,L/5,L/2,L",
-        value_name = "SIZES"
-    )]
-    pub top: Vec<String>,
-    /// Rounding of L * fraction.
-    #[arg(long, value_enum, default_value = "floor")]
-    pub rounding: RoundingArg,
+    /// Separation ranges and list sizes.
+    #[command(flatten)]
+    pub lists: ListArgs,
     /// Tab-separated output with a header.
     #[arg(long)]
     pub tsv: bool,
@@ -78,16 +60,7 @@ pub struct OverlapArgs {
 
 /// Run `contactmap score overlap`.
 pub fn run(args: &OverlapArgs) -> Result<()> {
-    let ranges: Vec<NamedRange> = args
-        .ranges
-        .iter()
-        .map(|token| parse_range(token))
-        .collect::<Result<_>>()?;
-    let sizes: Vec<(String, ListSize)> = args
-        .top
-        .iter()
-        .map(|token| parse_list_size(token))
-        .collect::<Result<_>>()?;
+    let (ranges, sizes) = args.lists.parse()?;
     if sizes
         .iter()
         .any(|(_, size)| *size == ListSize::TrueContacts)
@@ -142,7 +115,7 @@ pub fn run(args: &OverlapArgs) -> Result<()> {
             }
         },
     };
-    let rounding: Rounding = args.rounding.into();
+    let rounding: Rounding = args.lists.rounding.into();
     let mut results: Vec<(&NamedRange, &str, Overlap)> = Vec::new();
     for named in &ranges {
         let first = ranked_pairs(&predictions[0], named.range);
