@@ -19,6 +19,7 @@
 //! `ln_gamma`, so no distribution crate is needed.
 
 pub mod blocks;
+pub mod cells;
 
 pub use blocks::{block_map, BlockMap, BlockMapParams};
 
