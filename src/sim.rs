@@ -20,6 +20,8 @@
 
 pub mod blocks;
 pub mod cells;
+pub mod extrusion;
+pub mod polymer;
 
 pub use blocks::{block_map, BlockMap, BlockMapParams};
 

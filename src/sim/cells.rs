@@ -9,7 +9,8 @@
 //!
 //! - **Open** (free space, or a confining sphere): the grid covers the bounding box of the
 //!   points, rebuilt each time; its cells grow beyond the cutoff when the box is sparse, so the
-//!   grid never has more than about `2 N` cells. Cell coordinates are clamped to the grid, which
+//!   grid never has more than about `2 N` cells (also in a
+//!   periodic box). Cell coordinates are clamped to the grid, which
 //!   keeps neighbours neighbours.
 //! - **Periodic** cube of side `L`: coordinates are wrapped into `[0, L)`, displacements follow
 //!   the minimum-image convention, and the grid wraps around. With fewer than 3 cells along the
@@ -53,8 +54,29 @@ pub struct CellList {
     /// Coordinates of each slot (wrapped into the box when periodic).
     sorted: Vec<[f64; 3]>,
     cell_of: Vec<u32>,
+    /// Cells holding at least one point, ascending.
+    occupied: Vec<u32>,
+    /// Index offsets of the half-shell neighbours (valid for interior cells).
+    stencil: [isize; 13],
+    next: Vec<u32>,
+    wrapped: Vec<[f64; 3]>,
     brute_force: bool,
 }
+
+/// `x` wrapped into `[0, side)` (`rem_euclid` without the cost of `fmod`).
+#[inline]
+fn wrap_into(x: f64, side: f64) -> f64 {
+    let mut wrapped = x - side * (x / side).floor();
+    // Rounding can land exactly on `side` for tiny negative x.
+    if wrapped >= side {
+        wrapped -= side;
+    }
+    wrapped
+}
+
+/// Largest number of grid cells per point: cells grow beyond the cutoff in sparse systems, where
+/// visiting many empty cells would cost more than testing a few more distances.
+const CELLS_PER_POINT: f64 = 6.0;
 
 /// Offsets of the 13 neighbours of the half shell.
 const HALF_SHELL: [[isize; 3]; 13] = [
@@ -90,7 +112,8 @@ impl CellList {
         self.brute_force = false;
         match space {
             Space::Periodic(side) => {
-                let per_axis = (side / cutoff).floor() as usize;
+                let width = cutoff.max((side.powi(3) / (CELLS_PER_POINT * n.max(1) as f64)).cbrt());
+                let per_axis = (side / width).floor() as usize;
                 if per_axis < 3 {
                     self.brute_force = true;
                     self.dims = [1, 1, 1];
@@ -117,7 +140,7 @@ impl CellList {
                 let extent = [high[0] - low[0], high[1] - low[1], high[2] - low[2]];
                 // Cells of at least the cutoff, grown until the grid has at most 2 N cells
                 // (and at least 27 allowed), so sparse or elongated clouds stay O(N).
-                let limit = (2 * n).max(27) as f64;
+                let limit = (CELLS_PER_POINT * n as f64).max(27.0);
                 let volume = extent.iter().map(|e| e.max(cutoff)).product::<f64>();
                 let mut side = cutoff.max((volume / limit).cbrt());
                 let dims_for = |side: f64| extent.map(|e| (e / side).floor() + 1.0);
@@ -125,46 +148,59 @@ impl CellList {
                     side *= 1.25;
                 }
                 let dims = dims_for(side);
+                // One empty layer of cells around the grid: every occupied cell is interior,
+                // so its neighbours are at fixed index offsets.
                 for k in 0..3 {
-                    self.dims[k] = dims[k] as usize;
+                    self.dims[k] = dims[k] as usize + 2;
                     self.cell_side[k] = side;
+                    self.origin[k] = low[k] - side;
                 }
-                self.origin = low;
             }
+        }
+        let [nx, ny, _] = self.dims;
+        for (slot, offset) in self.stencil.iter_mut().zip(HALF_SHELL) {
+            *slot = offset[0] + nx as isize * (offset[1] + ny as isize * offset[2]);
         }
         let n_cells = self.dims[0] * self.dims[1] * self.dims[2];
         self.cell_of.clear();
         self.cell_of.reserve(n);
-        let mut counts = vec![0u32; n_cells + 1];
-        for p in points {
-            let cell = self.cell_index(&self.wrap(p));
+        self.start.clear();
+        self.start.resize(n_cells + 1, 0);
+        let mut wrapped = std::mem::take(&mut self.wrapped);
+        wrapped.clear();
+        wrapped.extend(points.iter().map(|p| self.wrap(p)));
+        for p in &wrapped {
+            let cell = self.cell_index(p);
             self.cell_of.push(cell as u32);
-            counts[cell + 1] += 1;
+            self.start[cell + 1] += 1;
         }
+        self.occupied.clear();
         for c in 0..n_cells {
-            counts[c + 1] += counts[c];
+            if self.start[c + 1] > 0 {
+                self.occupied.push(c as u32);
+            }
+            self.start[c + 1] += self.start[c];
         }
-        self.start = counts;
-        let mut next: Vec<u32> = self.start[..n_cells].to_vec();
+        let mut next = std::mem::take(&mut self.next);
+        next.clear();
+        next.extend_from_slice(&self.start[..n_cells]);
         self.order.resize(n, 0);
         self.sorted.resize(n, [0.0; 3]);
-        for (index, p) in points.iter().enumerate() {
+        for (index, p) in wrapped.iter().enumerate() {
             let cell = self.cell_of[index] as usize;
             let slot = next[cell] as usize;
             next[cell] += 1;
             self.order[slot] = index as u32;
-            self.sorted[slot] = self.wrap(p);
+            self.sorted[slot] = *p;
         }
+        self.next = next;
+        self.wrapped = wrapped;
     }
 
     #[inline]
     fn wrap(&self, p: &[f64; 3]) -> [f64; 3] {
         match self.periodic {
-            Some(side) => [
-                p[0].rem_euclid(side),
-                p[1].rem_euclid(side),
-                p[2].rem_euclid(side),
-            ],
+            Some(side) => p.map(|x| wrap_into(x, side)),
             None => *p,
         }
     }
@@ -173,31 +209,39 @@ impl CellList {
     fn cell_index(&self, p: &[f64; 3]) -> usize {
         let mut index = 0;
         for k in (0..3).rev() {
-            let coordinate = ((p[k] - self.origin[k]) / self.cell_side[k]).floor();
+            // Truncation is the floor for the non-negative values kept by the clamp.
+            let coordinate = (p[k] - self.origin[k]) / self.cell_side[k];
             let clamped = coordinate.clamp(0.0, (self.dims[k] - 1) as f64) as usize;
             index = index * self.dims[k] + clamped;
         }
         index
     }
 
-    /// The cell at grid coordinates `(x, y, z)` shifted by `offset`, wrapping when periodic;
-    /// `None` outside an open grid.
+    /// The cell at grid coordinates `(x, y, z)` shifted by `offset`, wrapping when periodic,
+    /// with the shift to add to its points' coordinates to bring them next to the first cell
+    /// (non-zero only across a periodic boundary); `None` outside an open grid.
     #[inline]
-    fn neighbour(&self, cell: [usize; 3], offset: [isize; 3]) -> Option<usize> {
+    fn neighbour(&self, cell: [usize; 3], offset: [isize; 3]) -> Option<(usize, [f64; 3])> {
         let mut index = 0;
+        let mut shift = [0.0; 3];
         for k in (0..3).rev() {
             let moved = cell[k] as isize + offset[k];
             let dim = self.dims[k] as isize;
-            let moved = if self.periodic.is_some() {
-                moved.rem_euclid(dim)
-            } else if moved < 0 || moved >= dim {
-                return None;
-            } else {
-                moved
+            let moved = match self.periodic {
+                Some(side) => {
+                    if moved < 0 {
+                        shift[k] = -side;
+                    } else if moved >= dim {
+                        shift[k] = side;
+                    }
+                    moved.rem_euclid(dim)
+                }
+                None if moved < 0 || moved >= dim => return None,
+                None => moved,
             };
             index = index * self.dims[k] + moved as usize;
         }
-        Some(index)
+        Some((index, shift))
     }
 
     /// Point indices in cell order: slot `s` holds point `order()[s]`.
@@ -228,47 +272,81 @@ impl CellList {
             return;
         }
         let [nx, ny, nz] = self.dims;
-        let mut neighbours = [0usize; 13];
-        for z in 0..nz {
-            for y in 0..ny {
-                for x in 0..nx {
-                    let cell = (z * ny + y) * nx + x;
-                    let (first, last) = (self.start[cell] as usize, self.start[cell + 1] as usize);
-                    if first == last {
+        let mut neighbours = [(0usize, [0.0f64; 3]); 13];
+        for &cell in &self.occupied {
+            let cell = cell as usize;
+            let (x, y, z) = (cell % nx, cell / nx % ny, cell / (nx * ny));
+            let (first, last) = (self.start[cell] as usize, self.start[cell + 1] as usize);
+            let interior =
+                (1..nx - 1).contains(&x) && (1..ny - 1).contains(&y) && (1..nz - 1).contains(&z);
+            if interior {
+                // Cells adjacent along x are adjacent in slot order, so the half shell is five
+                // slot ranges: this cell with the next one along x, and four rows of three
+                // cells (y + 1 at this z; y - 1, y, y + 1 at z + 1).
+                let row_end = self.start[cell + 2] as usize;
+                for a in first..last {
+                    let pa = self.sorted[a];
+                    self.scan(a, pa, a + 1..row_end, cutoff2, &mut visit);
+                }
+                let plane = nx * ny;
+                for row in [
+                    cell + nx,
+                    cell + plane - nx,
+                    cell + plane,
+                    cell + plane + nx,
+                ] {
+                    let range = self.start[row - 1] as usize..self.start[row + 2] as usize;
+                    if range.is_empty() {
                         continue;
                     }
                     for a in first..last {
                         let pa = self.sorted[a];
-                        for b in a + 1..last {
-                            let d = space.delta(&pa, &self.sorted[b]);
-                            let r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-                            if r2 < cutoff2 {
-                                visit(a, b, d, r2);
-                            }
-                        }
-                    }
-                    let mut n_neighbours = 0;
-                    for offset in HALF_SHELL {
-                        if let Some(other) = self.neighbour([x, y, z], offset) {
-                            neighbours[n_neighbours] = other;
-                            n_neighbours += 1;
-                        }
-                    }
-                    for &other in &neighbours[..n_neighbours] {
-                        let (other_first, other_last) =
-                            (self.start[other] as usize, self.start[other + 1] as usize);
-                        for a in first..last {
-                            let pa = self.sorted[a];
-                            for b in other_first..other_last {
-                                let d = space.delta(&pa, &self.sorted[b]);
-                                let r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-                                if r2 < cutoff2 {
-                                    visit(a, b, d, r2);
-                                }
-                            }
-                        }
+                        self.scan(a, pa, range.clone(), cutoff2, &mut visit);
                     }
                 }
+                continue;
+            }
+            // A cell on the faces of a periodic grid: neighbours one by one, with the shift of
+            // the periodic image. (Within the cell no image can be closer: cells are at least
+            // the cutoff wide and at least 3 along each side.)
+            for a in first..last {
+                let pa = self.sorted[a];
+                self.scan(a, pa, a + 1..last, cutoff2, &mut visit);
+            }
+            let mut n_neighbours = 0;
+            for offset in HALF_SHELL {
+                if let Some(found) = self.neighbour([x, y, z], offset) {
+                    neighbours[n_neighbours] = found;
+                    n_neighbours += 1;
+                }
+            }
+            for &(other, shift) in &neighbours[..n_neighbours] {
+                let range = self.start[other] as usize..self.start[other + 1] as usize;
+                for a in first..last {
+                    let pa = self.sorted[a];
+                    let pa = [pa[0] - shift[0], pa[1] - shift[1], pa[2] - shift[2]];
+                    self.scan(a, pa, range.clone(), cutoff2, &mut visit);
+                }
+            }
+        }
+    }
+
+    /// Visit the slots `range` closer than the cutoff to the point `pa` of slot `a`.
+    #[inline(always)]
+    fn scan(
+        &self,
+        a: usize,
+        pa: [f64; 3],
+        range: std::ops::Range<usize>,
+        cutoff2: f64,
+        visit: &mut impl FnMut(usize, usize, [f64; 3], f64),
+    ) {
+        let first = range.start;
+        for (k, pb) in self.sorted[range].iter().enumerate() {
+            let d = [pa[0] - pb[0], pa[1] - pb[1], pa[2] - pb[2]];
+            let r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+            if r2 < cutoff2 {
+                visit(a, first + k, d, r2);
             }
         }
     }
@@ -341,10 +419,15 @@ mod tests {
         cells.build(&[], 1.0, Space::Open);
         assert!(cells.pairs().is_empty());
         // Two clusters far apart: the grid stays small, pairs are found.
-        let points = vec![[0.0, 0.0, 0.0], [0.5, 0.0, 0.0], [1e6, 0.0, 0.0], [1e6, 0.2, 0.0]];
+        let points = vec![
+            [0.0, 0.0, 0.0],
+            [0.5, 0.0, 0.0],
+            [1e6, 0.0, 0.0],
+            [1e6, 0.2, 0.0],
+        ];
         cells.build(&points, 1.0, Space::Open);
         assert_eq!(cells.pairs(), vec![(0, 1), (2, 3)]);
-        assert!(cells.start.len() < 100);
+        assert!(cells.start.len() < 1000, "{}", cells.start.len());
         // All points in one spot.
         let points = vec![[1.0, 1.0, 1.0]; 5];
         cells.build(&points, 1.0, Space::Open);

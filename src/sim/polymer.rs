@@ -1,0 +1,941 @@
+//! An off-lattice bead-spring polymer under overdamped Langevin (Brownian) dynamics.
+//!
+//! Units: lengths in bond lengths (`b = 1`), energies in `kT = 1`, the friction coefficient of a
+//! bead is 1, so a bead diffuses with `D = 1` and time is in `b² ζ / kT`.
+//!
+//! **Energy** (every term optional except the bonds):
+//!
+//! - bonds between consecutive beads of a chain: harmonic, `E = ((r - r0) / w)²` (polychrom's
+//!   convention: a stretch by the "wiggle distance" `w` costs 1 kT), or FENE,
+//!   `E = -K R0² / 2 · ln(1 - (r / R0)²)` (Kremer-Grest: `K = 30`, `R0 = 1.5`, with WCA);
+//! - angle stiffness between consecutive bonds, `E = k (1 - cos θ)` (θ = 0 for a straight chain);
+//! - excluded volume between non-bonded beads, cut off at a finite range:
+//!   - polychrom's polynomial repulsion of height `e` and radius `σ`:
+//!     `E = e (1 + x⁶ (x - 1) / m)` with `x = (6/7) (r/σ)²` and `m = 6⁶ / 7⁷`, equal to `e` at
+//!     contact, 0 with zero slope at `r = σ` (soft: chains can cross when `e` is a few kT);
+//!   - WCA: `E = 4 ε ((σ/r)¹² - (σ/r)⁶) + ε` for `r < 2^(1/6) σ` (hard);
+//! - block-copolymer attraction between beads of the same type (`types`): a smooth well
+//!   `E = -ε` below `r = 1`, rising as `-ε (1 + cos(π (r - 1) / (r_a - 1))) / 2` to 0 at `r_a`
+//!   (added to the repulsion);
+//! - confinement: a spherical wall `E = k (|x| - R)²` outside radius `R`, or a periodic cube
+//!   (minimum-image interactions, coordinates kept unwrapped);
+//! - extra bonds added by the caller (the loops of loop extrusion), harmonic like the chain
+//!   bonds, with their own length and wiggle.
+//!
+//! Bonded neighbours `(i, i + 1)` of a chain do not feel the excluded volume (as in polychrom).
+//!
+//! **Dynamics**: Euler-Maruyama, `x(t + dt) = x(t) + F dt + sqrt(2 dt) ξ` with ξ standard normal
+//! (Marsaglia's polar method on xoshiro256++ uniforms). One polymer is advanced by one thread, so a seed fixes
+//! the trajectory bit for bit whatever the thread count; ensembles run replicas in parallel.
+//!
+//! **Pair forces** come from a [`CellList`] rebuilt every step: O(N), never all pairs.
+//!
+//! With no repulsion ([`Repulsion::None`]) the chain is ideal (a phantom chain: Gaussian statistics
+//! at large separations); with a repulsion and no attraction it is a self-avoiding walk in good
+//! solvent.
+
+use rand::Rng;
+
+use super::cells::{CellList, Space};
+use super::SimRng;
+use crate::error::{Error, Result};
+
+/// Density above which beads of unit diameter cannot be packed (`√2`, face-centred cubic).
+pub const CLOSE_PACKING_DENSITY: f64 = std::f64::consts::SQRT_2;
+
+/// The bonds along each chain.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum BondModel {
+    /// `E = ((r - length) / wiggle)²`.
+    Harmonic {
+        /// Rest length.
+        length: f64,
+        /// Stretch costing 1 kT.
+        wiggle: f64,
+    },
+    /// `E = -K R0² / 2 ln(1 - (r/R0)²)`.
+    Fene {
+        /// `K` in kT / b².
+        stiffness: f64,
+        /// `R0`, the largest extension.
+        max_length: f64,
+    },
+}
+
+/// Excluded volume between non-bonded beads.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Repulsion {
+    /// None: an ideal (phantom) chain.
+    None,
+    /// polychrom's polynomial repulsion: `energy` at contact, 0 from `radius`.
+    Polynomial {
+        /// Height in kT.
+        energy: f64,
+        /// Range.
+        radius: f64,
+    },
+    /// Weeks-Chandler-Andersen.
+    Wca {
+        /// Depth ε in kT.
+        epsilon: f64,
+        /// Diameter σ.
+        sigma: f64,
+    },
+}
+
+impl Repulsion {
+    /// The range beyond which the repulsion is 0.
+    pub fn range(&self) -> f64 {
+        match *self {
+            Repulsion::None => 0.0,
+            Repulsion::Polynomial { radius, .. } => radius,
+            Repulsion::Wca { sigma, .. } => sigma * 2f64.powf(1.0 / 6.0),
+        }
+    }
+}
+
+/// Attraction between beads of the same type (block copolymer).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Attraction {
+    /// The type of every bead; beads of equal type attract each other.
+    pub types: Vec<u8>,
+    /// Well depth ε in kT.
+    pub energy: f64,
+    /// Range `r_a` (> 1).
+    pub radius: f64,
+}
+
+/// Where the polymer lives.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Confinement {
+    /// Free space.
+    None,
+    /// A soft spherical wall at this radius, centred at the origin.
+    Sphere {
+        /// Radius.
+        radius: f64,
+        /// `k` of `E = k (|x| - R)²` outside.
+        stiffness: f64,
+    },
+    /// A periodic cube of this side.
+    Periodic {
+        /// Side.
+        side: f64,
+    },
+}
+
+/// The radius of a sphere holding `n` beads at number `density`.
+pub fn sphere_radius(n: usize, density: f64) -> f64 {
+    (3.0 * n as f64 / (4.0 * std::f64::consts::PI * density)).cbrt()
+}
+
+/// The side of a cube holding `n` beads at number `density`.
+pub fn box_side(n: usize, density: f64) -> f64 {
+    (n as f64 / density).cbrt()
+}
+
+/// The model and the integration step.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PolymerParams {
+    /// Number of beads of each chain (chromosome); beads are numbered chain after chain.
+    pub chains: Vec<usize>,
+    /// Chain bonds.
+    pub bond: BondModel,
+    /// Angle stiffness `k` in kT (0: none).
+    pub angle_stiffness: f64,
+    /// Excluded volume.
+    pub repulsion: Repulsion,
+    /// Optional same-type attraction.
+    pub attraction: Option<Attraction>,
+    /// Confinement.
+    pub confinement: Confinement,
+    /// Time step.
+    pub dt: f64,
+}
+
+impl Default for PolymerParams {
+    /// One chain of 1,000 beads, harmonic bonds (wiggle 0.1), polychrom's repulsion (3 kT,
+    /// 1.05), free space, `dt = 0.002`.
+    fn default() -> Self {
+        Self {
+            chains: vec![1000],
+            bond: BondModel::Harmonic {
+                length: 1.0,
+                wiggle: 0.1,
+            },
+            angle_stiffness: 0.0,
+            repulsion: Repulsion::Polynomial {
+                energy: 3.0,
+                radius: 1.05,
+            },
+            attraction: None,
+            confinement: Confinement::None,
+            dt: 0.002,
+        }
+    }
+}
+
+fn positive(value: f64, what: &str) -> Result<()> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(Error::Invalid(format!(
+            "{what} must be a positive number, got {value}"
+        )))
+    }
+}
+
+impl PolymerParams {
+    /// Total number of beads.
+    pub fn n_beads(&self) -> usize {
+        self.chains.iter().sum()
+    }
+
+    /// Check every parameter, with a message naming the bad one.
+    pub fn check(&self) -> Result<()> {
+        if self.chains.is_empty() || self.chains.contains(&0) {
+            return Err(Error::Invalid(
+                "every chain needs at least one bead".to_string(),
+            ));
+        }
+        if self.n_beads() > u32::MAX as usize / 2 {
+            return Err(Error::Invalid(format!(
+                "{} beads is more than this simulator handles",
+                self.n_beads()
+            )));
+        }
+        match self.bond {
+            BondModel::Harmonic { length, wiggle } => {
+                if !(length.is_finite() && length >= 0.0) {
+                    return Err(Error::Invalid(format!(
+                        "bond length must be 0 or more, got {length}"
+                    )));
+                }
+                positive(wiggle, "bond wiggle distance")?;
+            }
+            BondModel::Fene {
+                stiffness,
+                max_length,
+            } => {
+                positive(stiffness, "FENE stiffness")?;
+                positive(max_length, "FENE maximum length")?;
+            }
+        }
+        if !(self.angle_stiffness.is_finite() && self.angle_stiffness >= 0.0) {
+            return Err(Error::Invalid(format!(
+                "angle stiffness must be 0 or more, got {}",
+                self.angle_stiffness
+            )));
+        }
+        match self.repulsion {
+            Repulsion::None => {}
+            Repulsion::Polynomial { energy, radius } => {
+                positive(energy, "repulsion energy")?;
+                positive(radius, "repulsion radius")?;
+            }
+            Repulsion::Wca { epsilon, sigma } => {
+                positive(epsilon, "WCA epsilon")?;
+                positive(sigma, "WCA sigma")?;
+            }
+        }
+        if let Some(attraction) = &self.attraction {
+            if attraction.types.len() != self.n_beads() {
+                return Err(Error::Invalid(format!(
+                    "{} bead types for {} beads",
+                    attraction.types.len(),
+                    self.n_beads()
+                )));
+            }
+            positive(attraction.energy, "attraction energy")?;
+            if !(attraction.radius.is_finite() && attraction.radius > 1.0) {
+                return Err(Error::Invalid(format!(
+                    "attraction radius must be above 1 (the bead diameter), got {}",
+                    attraction.radius
+                )));
+            }
+        }
+        match self.confinement {
+            Confinement::None => {}
+            Confinement::Sphere { radius, stiffness } => {
+                positive(radius, "confinement radius")?;
+                positive(stiffness, "confinement stiffness")?;
+            }
+            Confinement::Periodic { side } => {
+                positive(side, "box side")?;
+                if side < 2.0 * self.interaction_range() {
+                    return Err(Error::Invalid(format!(
+                        "the periodic box ({side:.3}) must be at least twice the interaction \
+                         range ({:.3}) wide",
+                        self.interaction_range()
+                    )));
+                }
+            }
+        }
+        let density = match self.confinement {
+            Confinement::Sphere { radius, .. } => {
+                self.n_beads() as f64 / (4.0 / 3.0 * std::f64::consts::PI * radius.powi(3))
+            }
+            Confinement::Periodic { side } => self.n_beads() as f64 / side.powi(3),
+            Confinement::None => 0.0,
+        };
+        if density > CLOSE_PACKING_DENSITY {
+            return Err(Error::Invalid(format!(
+                "density {density:.3} beads per unit volume is above close packing ({:.3})",
+                CLOSE_PACKING_DENSITY
+            )));
+        }
+        positive(self.dt, "time step")?;
+        Ok(())
+    }
+
+    /// The longest range of a pair interaction (0 for an ideal chain without attraction).
+    pub fn interaction_range(&self) -> f64 {
+        let attraction = self.attraction.as_ref().map_or(0.0, |a| a.radius);
+        self.repulsion.range().max(attraction)
+    }
+
+    fn space(&self) -> Space {
+        match self.confinement {
+            Confinement::Periodic { side } => Space::Periodic(side),
+            _ => Space::Open,
+        }
+    }
+}
+
+/// Polynomial repulsion constant `m = 6⁶ / 7⁷`.
+const POLY_MIN: f64 = 46656.0 / 823543.0;
+
+/// Energy and `-(dE/dr) / r` of a pair at squared distance `r2` (the force on `a` is
+/// `factor * (x_a - x_b)`).
+#[inline]
+fn pair_terms(repulsion: &Repulsion, attraction: Option<(f64, f64)>, r2: f64) -> (f64, f64) {
+    let mut energy = 0.0;
+    let mut factor = 0.0;
+    match *repulsion {
+        Repulsion::None => {}
+        Repulsion::Polynomial { energy: e, radius } => {
+            let sigma2 = radius * radius;
+            if r2 < sigma2 {
+                let x = 6.0 / 7.0 * r2 / sigma2;
+                let x5 = x * x * x * x * x;
+                let x6 = x5 * x;
+                energy += e * (1.0 + x6 * (x - 1.0) / POLY_MIN);
+                // dE/dr = e/m (7 x⁶ - 6 x⁵) dx/dr, dx/dr = 2 (6/7) r / σ².
+                factor -= e / POLY_MIN * (7.0 * x6 - 6.0 * x5) * 2.0 * (6.0 / 7.0) / sigma2;
+            }
+        }
+        Repulsion::Wca { epsilon, sigma } => {
+            let cut2 = sigma * sigma * 2f64.powf(1.0 / 3.0);
+            if r2 < cut2 {
+                let s2 = sigma * sigma / r2;
+                let s6 = s2 * s2 * s2;
+                energy += 4.0 * epsilon * (s6 * s6 - s6) + epsilon;
+                // -dE/dr / r = 24 ε (2 s¹² - s⁶) / r².
+                factor += 24.0 * epsilon * (2.0 * s6 * s6 - s6) / r2;
+            }
+        }
+    }
+    if let Some((depth, radius)) = attraction {
+        if r2 < radius * radius {
+            if r2 <= 1.0 {
+                energy -= depth;
+            } else {
+                let r = r2.sqrt();
+                let phase = std::f64::consts::PI * (r - 1.0) / (radius - 1.0);
+                energy -= depth * (1.0 + phase.cos()) / 2.0;
+                // dE/dr = depth π sin(phase) / (2 (r_a - 1)) ≥ 0: attractive.
+                let slope = depth * std::f64::consts::PI * phase.sin() / (2.0 * (radius - 1.0));
+                factor -= slope / r;
+            }
+        }
+    }
+    (energy, factor)
+}
+
+/// A polymer and its integrator state.
+#[derive(Clone, Debug)]
+pub struct Polymer {
+    params: PolymerParams,
+    positions: Vec<[f64; 3]>,
+    forces: Vec<[f64; 3]>,
+    chain_of: Vec<u32>,
+    extra_bonds: Vec<(u32, u32)>,
+    extra_bond: (f64, f64),
+    cells: CellList,
+    rng: SimRng,
+    time: f64,
+}
+
+/// A pair of independent standard normals by Marsaglia's polar method (no trigonometry; 27 %
+/// of the uniform pairs are rejected).
+#[inline]
+fn normal_pair(rng: &mut SimRng) -> (f64, f64) {
+    loop {
+        let u = 2.0 * rng.gen::<f64>() - 1.0;
+        let v = 2.0 * rng.gen::<f64>() - 1.0;
+        let s = u * u + v * v;
+        if s < 1.0 && s > 0.0 {
+            let factor = (-2.0 * s.ln() / s).sqrt();
+            return (u * factor, v * factor);
+        }
+    }
+}
+
+fn random_unit(rng: &mut SimRng) -> [f64; 3] {
+    loop {
+        let (a, b) = normal_pair(rng);
+        let (c, _) = normal_pair(rng);
+        let norm = (a * a + b * b + c * c).sqrt();
+        if norm > 1e-12 {
+            return [a / norm, b / norm, c / norm];
+        }
+    }
+}
+
+impl Polymer {
+    /// A polymer whose chains start as random walks of unit steps (kept inside the sphere when
+    /// confined; each chain starts at a random point of the sphere or box), with overlaps
+    /// pushed off for a hard repulsion (see `push_off`).
+    pub fn new(params: PolymerParams, mut rng: SimRng) -> Result<Self> {
+        params.check()?;
+        let n = params.n_beads();
+        let mut positions = Vec::with_capacity(n);
+        let mut chain_of = Vec::with_capacity(n);
+        for (chain, &length) in params.chains.iter().enumerate() {
+            let mut current = match params.confinement {
+                Confinement::Sphere { radius, .. } => {
+                    let direction = random_unit(&mut rng);
+                    let r = radius * rng.gen::<f64>().cbrt() * 0.9;
+                    direction.map(|x| x * r)
+                }
+                Confinement::Periodic { side } => [
+                    rng.gen::<f64>() * side,
+                    rng.gen::<f64>() * side,
+                    rng.gen::<f64>() * side,
+                ],
+                Confinement::None => [0.0; 3],
+            };
+            for bead in 0..length {
+                if bead > 0 {
+                    current = loop {
+                        let step = random_unit(&mut rng);
+                        let next = [
+                            current[0] + step[0],
+                            current[1] + step[1],
+                            current[2] + step[2],
+                        ];
+                        match params.confinement {
+                            Confinement::Sphere { radius, .. }
+                                if next.iter().map(|x| x * x).sum::<f64>() > radius * radius => {}
+                            _ => break next,
+                        }
+                    };
+                }
+                positions.push(current);
+                chain_of.push(chain as u32);
+            }
+        }
+        Self::with_positions(params, positions, chain_of, rng)
+    }
+
+    /// With a hard repulsion (WCA), separate overlapping beads first: run with a soft
+    /// polynomial repulsion of the same range (10 kT) until no two non-bonded beads are closer
+    /// than 0.85 σ (at most 20,000 steps), as Kremer-Grest set-ups push overlaps off with a
+    /// soft potential.
+    fn push_off(&mut self) {
+        let Repulsion::Wca { sigma, .. } = self.params.repulsion else {
+            return;
+        };
+        let hard = self.params.repulsion;
+        self.params.repulsion = Repulsion::Polynomial {
+            energy: 10.0,
+            radius: hard.range(),
+        };
+        for _ in 0..200 {
+            if !self.has_overlap(0.85 * sigma) {
+                break;
+            }
+            self.run(100);
+        }
+        self.params.repulsion = hard;
+    }
+
+    fn has_overlap(&mut self, distance: f64) -> bool {
+        self.cells
+            .build(&self.positions, distance, self.params.space());
+        let order = self.cells.order();
+        let mut found = false;
+        self.cells.for_each_pair(|a, b, _, _| {
+            let (i, j) = (order[a] as usize, order[b] as usize);
+            if !(i.abs_diff(j) == 1 && self.chain_of[i] == self.chain_of[j]) {
+                found = true;
+            }
+        });
+        found
+    }
+
+    /// A polymer at the given bead positions.
+    pub fn from_positions(
+        params: PolymerParams,
+        positions: Vec<[f64; 3]>,
+        rng: SimRng,
+    ) -> Result<Self> {
+        params.check()?;
+        if positions.len() != params.n_beads() {
+            return Err(Error::Invalid(format!(
+                "{} positions for {} beads",
+                positions.len(),
+                params.n_beads()
+            )));
+        }
+        let chain_of = params
+            .chains
+            .iter()
+            .enumerate()
+            .flat_map(|(chain, &length)| std::iter::repeat_n(chain as u32, length))
+            .collect();
+        Self::with_positions(params, positions, chain_of, rng)
+    }
+
+    fn with_positions(
+        params: PolymerParams,
+        positions: Vec<[f64; 3]>,
+        chain_of: Vec<u32>,
+        rng: SimRng,
+    ) -> Result<Self> {
+        let n = positions.len();
+        let mut polymer = Self {
+            params,
+            forces: vec![[0.0; 3]; n],
+            positions,
+            chain_of,
+            extra_bonds: Vec::new(),
+            extra_bond: (1.0, 0.1),
+            cells: CellList::new(),
+            rng,
+            time: 0.0,
+        };
+        polymer.push_off();
+        polymer.time = 0.0;
+        Ok(polymer)
+    }
+
+    /// The parameters.
+    pub fn params(&self) -> &PolymerParams {
+        &self.params
+    }
+
+    /// Bead positions (unwrapped in a periodic box).
+    pub fn positions(&self) -> &[[f64; 3]] {
+        &self.positions
+    }
+
+    /// Simulated time.
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// The space for pair distances (periodic or open).
+    pub fn space(&self) -> Space {
+        self.params.space()
+    }
+
+    /// Replace the extra harmonic bonds (e.g. the loops of loop extrusion) by `bonds`, each
+    /// with rest `length` and `wiggle` (see the module docs).
+    pub fn set_extra_bonds(&mut self, bonds: &[(usize, usize)], length: f64, wiggle: f64) {
+        self.extra_bonds.clear();
+        self.extra_bonds
+            .extend(bonds.iter().map(|&(i, j)| (i as u32, j as u32)));
+        self.extra_bond = (length, wiggle);
+    }
+
+    fn bonded(&self, i: usize, j: usize) -> bool {
+        i.abs_diff(j) == 1 && self.chain_of[i] == self.chain_of[j]
+    }
+
+    /// Compute the forces at the current positions; returns the potential energy.
+    pub fn compute_forces(&mut self) -> f64 {
+        let n = self.positions.len();
+        let mut forces = std::mem::take(&mut self.forces);
+        forces.clear();
+        forces.resize(n, [0.0; 3]);
+        let mut energy = 0.0;
+        // Chain bonds.
+        let bond = self.params.bond;
+        for i in 1..n {
+            if self.chain_of[i] != self.chain_of[i - 1] {
+                continue;
+            }
+            energy += bond_force(&self.positions, &mut forces, i - 1, i, bond);
+        }
+        // Extra bonds.
+        let (length, wiggle) = self.extra_bond;
+        let extra = BondModel::Harmonic { length, wiggle };
+        for &(i, j) in &self.extra_bonds {
+            energy += bond_force(&self.positions, &mut forces, i as usize, j as usize, extra);
+        }
+        // Angles.
+        let k = self.params.angle_stiffness;
+        if k > 0.0 {
+            for i in 1..n.saturating_sub(1) {
+                if self.chain_of[i - 1] == self.chain_of[i + 1] {
+                    energy += angle_force(&self.positions, &mut forces, i, k);
+                }
+            }
+        }
+        // Confinement wall.
+        if let Confinement::Sphere { radius, stiffness } = self.params.confinement {
+            for (p, f) in self.positions.iter().zip(forces.iter_mut()) {
+                let r = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
+                if r > radius {
+                    energy += stiffness * (r - radius).powi(2);
+                    let scale = -2.0 * stiffness * (r - radius) / r;
+                    for k in 0..3 {
+                        f[k] += scale * p[k];
+                    }
+                }
+            }
+        }
+        // Pairs.
+        let range = self.params.interaction_range();
+        if range > 0.0 {
+            let space = self.params.space();
+            self.cells.build(&self.positions, range, space);
+            let repulsion = self.params.repulsion;
+            let attraction = self.params.attraction.as_ref();
+            let order = self.cells.order();
+            let chain_of = &self.chain_of;
+            self.cells.for_each_pair(|a, b, d, r2| {
+                let (i, j) = (order[a] as usize, order[b] as usize);
+                if i.abs_diff(j) == 1 && chain_of[i] == chain_of[j] {
+                    return;
+                }
+                let attract = attraction
+                    .filter(|a| a.types[i] == a.types[j])
+                    .map(|a| (a.energy, a.radius));
+                let (e, factor) = pair_terms(&repulsion, attract, r2);
+                energy += e;
+                // d = x_{slot a} - x_{slot b} = x_i - x_j.
+                for k in 0..3 {
+                    forces[i][k] += factor * d[k];
+                    forces[j][k] -= factor * d[k];
+                }
+            });
+        }
+        self.forces = forces;
+        energy
+    }
+
+    /// The potential energy at the current positions (pairs by brute force; for tests).
+    pub fn energy_brute_force(&self) -> f64 {
+        let mut copy = self.clone();
+        let mut energy = copy.compute_forces();
+        // Replace the cell-list pair energy by an all-pairs sum.
+        let range = self.params.interaction_range();
+        if range > 0.0 {
+            copy.cells
+                .build(&copy.positions, range, copy.params.space());
+            let mut cell_energy = 0.0;
+            let order = copy.cells.order().to_vec();
+            copy.cells.for_each_pair(|a, b, _, r2| {
+                let (i, j) = (order[a] as usize, order[b] as usize);
+                if !self.bonded(i, j) {
+                    let attract = self
+                        .params
+                        .attraction
+                        .as_ref()
+                        .filter(|x| x.types[i] == x.types[j])
+                        .map(|x| (x.energy, x.radius));
+                    cell_energy += pair_terms(&self.params.repulsion, attract, r2).0;
+                }
+            });
+            let mut all = 0.0;
+            let space = self.params.space();
+            for i in 0..self.positions.len() {
+                for j in i + 1..self.positions.len() {
+                    if self.bonded(i, j) {
+                        continue;
+                    }
+                    let d = space.delta(&self.positions[i], &self.positions[j]);
+                    let r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+                    let attract = self
+                        .params
+                        .attraction
+                        .as_ref()
+                        .filter(|x| x.types[i] == x.types[j])
+                        .map(|x| (x.energy, x.radius));
+                    all += pair_terms(&self.params.repulsion, attract, r2).0;
+                }
+            }
+            energy += all - cell_energy;
+        }
+        energy
+    }
+
+    /// The forces of the last [`Polymer::compute_forces`].
+    pub fn forces(&self) -> &[[f64; 3]] {
+        &self.forces
+    }
+
+    /// Advance by one time step.
+    pub fn step(&mut self) {
+        self.compute_forces();
+        let dt = self.params.dt;
+        let noise = (2.0 * dt).sqrt();
+        let rng = &mut self.rng;
+        let mut spare: Option<f64> = None;
+        for (p, f) in self.positions.iter_mut().zip(&self.forces) {
+            let (a, b) = normal_pair(rng);
+            let c = match spare.take() {
+                Some(c) => c,
+                None => {
+                    let (c, d) = normal_pair(rng);
+                    spare = Some(d);
+                    c
+                }
+            };
+            p[0] += f[0] * dt + noise * a;
+            p[1] += f[1] * dt + noise * b;
+            p[2] += f[2] * dt + noise * c;
+        }
+        self.time += dt;
+    }
+
+    /// Advance by `steps` time steps.
+    pub fn run(&mut self, steps: usize) {
+        for _ in 0..steps {
+            self.step();
+        }
+    }
+}
+
+/// Add the force of the bond `(i, j)`; return its energy.
+#[inline]
+fn bond_force(
+    positions: &[[f64; 3]],
+    forces: &mut [[f64; 3]],
+    i: usize,
+    j: usize,
+    bond: BondModel,
+) -> f64 {
+    let (a, b) = (positions[i], positions[j]);
+    let d = [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+    let r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    let r = r2.sqrt();
+    let (energy, factor) = match bond {
+        BondModel::Harmonic { length, wiggle } => {
+            let stretch = r - length;
+            let energy = (stretch / wiggle).powi(2);
+            // -dE/dr / r; at r = 0 with a zero rest length the force is 0 anyway.
+            let factor = if r > 0.0 {
+                -2.0 * stretch / (wiggle * wiggle) / r
+            } else {
+                0.0
+            };
+            (energy, factor)
+        }
+        BondModel::Fene {
+            stiffness,
+            max_length,
+        } => {
+            // Beyond 99 % of R0 the bond is held at 99 % (the energy would be infinite).
+            let ratio2 = (r2 / (max_length * max_length)).min(0.98);
+            let energy = -0.5 * stiffness * max_length * max_length * (1.0 - ratio2).ln();
+            (energy, -stiffness / (1.0 - ratio2))
+        }
+    };
+    for k in 0..3 {
+        forces[i][k] += factor * d[k];
+        forces[j][k] -= factor * d[k];
+    }
+    energy
+}
+
+/// Add the forces of the angle at bead `i` (`E = k (1 - cos θ)`); return its energy.
+#[inline]
+fn angle_force(positions: &[[f64; 3]], forces: &mut [[f64; 3]], i: usize, k: f64) -> f64 {
+    let (p0, p1, p2) = (positions[i - 1], positions[i], positions[i + 1]);
+    let b1 = [p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]];
+    let b2 = [p2[0] - p1[0], p2[1] - p1[1], p2[2] - p1[2]];
+    let l1 = (b1[0] * b1[0] + b1[1] * b1[1] + b1[2] * b1[2]).sqrt();
+    let l2 = (b2[0] * b2[0] + b2[1] * b2[1] + b2[2] * b2[2]).sqrt();
+    if l1 == 0.0 || l2 == 0.0 {
+        return 0.0;
+    }
+    let cos = (b1[0] * b2[0] + b1[1] * b2[1] + b1[2] * b2[2]) / (l1 * l2);
+    // F = k ∇cos θ.
+    for axis in 0..3 {
+        let d_cos_b1 = b2[axis] / (l1 * l2) - cos * b1[axis] / (l1 * l1);
+        let d_cos_b2 = b1[axis] / (l1 * l2) - cos * b2[axis] / (l2 * l2);
+        forces[i - 1][axis] -= k * d_cos_b1;
+        forces[i][axis] += k * (d_cos_b1 - d_cos_b2);
+        forces[i + 1][axis] += k * d_cos_b2;
+    }
+    k * (1.0 - cos)
+}
+
+/// The radius of gyration of `positions`.
+pub fn radius_of_gyration(positions: &[[f64; 3]]) -> f64 {
+    let n = positions.len() as f64;
+    if positions.is_empty() {
+        return 0.0;
+    }
+    let mut centre = [0.0; 3];
+    for p in positions {
+        for k in 0..3 {
+            centre[k] += p[k] / n;
+        }
+    }
+    let sum: f64 = positions
+        .iter()
+        .map(|p| (0..3).map(|k| (p[k] - centre[k]).powi(2)).sum::<f64>())
+        .sum();
+    (sum / n).sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::stream_rng;
+
+    fn params_with(repulsion: Repulsion, confinement: Confinement) -> PolymerParams {
+        PolymerParams {
+            chains: vec![30, 20],
+            repulsion,
+            confinement,
+            angle_stiffness: 2.0,
+            attraction: Some(Attraction {
+                types: (0..50).map(|i| (i / 10 % 2) as u8).collect(),
+                energy: 0.7,
+                radius: 1.5,
+            }),
+            ..PolymerParams::default()
+        }
+    }
+
+    /// The forces are minus the gradient of the energy (central differences), for every term.
+    #[test]
+    fn forces_are_minus_the_energy_gradient() {
+        for (repulsion, confinement, bond) in [
+            (
+                Repulsion::Polynomial {
+                    energy: 3.0,
+                    radius: 1.05,
+                },
+                Confinement::Sphere {
+                    radius: 2.5,
+                    stiffness: 5.0,
+                },
+                BondModel::Harmonic {
+                    length: 1.0,
+                    wiggle: 0.1,
+                },
+            ),
+            (
+                Repulsion::Wca {
+                    epsilon: 1.0,
+                    sigma: 1.0,
+                },
+                Confinement::Periodic { side: 4.0 },
+                BondModel::Fene {
+                    stiffness: 30.0,
+                    max_length: 1.5,
+                },
+            ),
+        ] {
+            let mut params = params_with(repulsion, confinement);
+            params.bond = bond;
+            let mut polymer = Polymer::new(params, stream_rng(3, 0, 0)).unwrap();
+            // Shake off the exact unit bonds so every term is non-trivial.
+            polymer.params.dt = 1e-4;
+            polymer.run(20);
+            polymer.set_extra_bonds(&[(2, 17), (5, 40)], 0.5, 0.2);
+            polymer.compute_forces();
+            let forces = polymer.forces().to_vec();
+            let h = 1e-6;
+            let mut worst: f64 = 0.0;
+            for (bead, force) in forces.iter().enumerate() {
+                for (axis, &component) in force.iter().enumerate() {
+                    let mut plus = polymer.clone();
+                    plus.positions[bead][axis] += h;
+                    let mut minus = polymer.clone();
+                    minus.positions[bead][axis] -= h;
+                    let gradient = (plus.compute_forces() - minus.compute_forces()) / (2.0 * h);
+                    let error = (component + gradient).abs();
+                    worst = worst.max(error / (1.0 + gradient.abs()));
+                }
+            }
+            assert!(worst < 1e-5, "{repulsion:?}: worst relative error {worst}");
+            // The cell-list energy equals the all-pairs energy.
+            let cells = polymer.clone().compute_forces();
+            let all = polymer.energy_brute_force();
+            assert!(
+                (cells - all).abs() < 1e-9 * (1.0 + all.abs()),
+                "{cells} vs {all}"
+            );
+        }
+    }
+
+    #[test]
+    fn polynomial_repulsion_shape() {
+        let repulsion = Repulsion::Polynomial {
+            energy: 3.0,
+            radius: 1.05,
+        };
+        let (at_zero, _) = pair_terms(&repulsion, None, 0.0);
+        assert!((at_zero - 3.0).abs() < 1e-12);
+        let (at_edge, force_at_edge) = pair_terms(&repulsion, None, 1.05 * 1.05 * (1.0 - 1e-12));
+        assert!(at_edge.abs() < 1e-9 && force_at_edge.abs() < 1e-9);
+        let (wca, _) = pair_terms(
+            &Repulsion::Wca {
+                epsilon: 1.0,
+                sigma: 1.0,
+            },
+            None,
+            2f64.powf(1.0 / 3.0) * (1.0 - 1e-12),
+        );
+        assert!(wca.abs() < 1e-9);
+    }
+
+    #[test]
+    fn bad_parameters() {
+        let mut params = PolymerParams {
+            confinement: Confinement::Sphere {
+                radius: sphere_radius(1000, 1.5),
+                stiffness: 5.0,
+            },
+            ..PolymerParams::default()
+        };
+        let err = params.check().unwrap_err().to_string();
+        assert!(err.contains("close packing"), "{err}");
+        params.confinement = Confinement::None;
+        params.chains = vec![];
+        assert!(params.check().is_err());
+        params.chains = vec![10];
+        params.dt = 0.0;
+        assert!(params
+            .check()
+            .unwrap_err()
+            .to_string()
+            .contains("time step"));
+    }
+
+    #[test]
+    fn same_seed_same_trajectory() {
+        let params = params_with(
+            Repulsion::Polynomial {
+                energy: 3.0,
+                radius: 1.05,
+            },
+            Confinement::Sphere {
+                radius: 3.0,
+                stiffness: 5.0,
+            },
+        );
+        let mut a = Polymer::new(params.clone(), stream_rng(9, 0, 0)).unwrap();
+        let mut b = Polymer::new(params, stream_rng(9, 0, 0)).unwrap();
+        a.run(200);
+        b.run(200);
+        assert_eq!(a.positions(), b.positions());
+    }
+}
