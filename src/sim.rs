@@ -20,6 +20,7 @@
 
 pub mod blocks;
 pub mod cells;
+pub mod ensemble;
 pub mod extrusion;
 pub mod polymer;
 

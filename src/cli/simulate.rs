@@ -1,6 +1,9 @@
 //! `contactmap simulate`: synthetic contact maps with a known truth. `simulate blocks` writes a
 //! block-structured Hi-C-like map ([`crate::sim::blocks`]) as a .cool, with its true domains and
-//! boundaries as BED files. (The polymer simulator will be another subcommand.)
+//! boundaries as BED files; `simulate polymer` samples a simulated bead-spring chain
+//! ([`crate::sim::polymer`]) into a .cool, with its boundary elements as BED.
+
+mod polymer;
 
 use std::path::{Path, PathBuf};
 
@@ -28,6 +31,10 @@ pub enum SimulateCommand {
     /// Block-structured Hi-C-like map with known domains (TADs): power-law decay, enriched
     /// domains, optional nesting, coverage biases and dead bins, Poisson counts.
     Blocks(BlocksArgs),
+    /// Bead-spring polymer under Brownian dynamics (excluded volume, confinement, loop
+    /// extrusion, block copolymer): contact maps of conformation ensembles, with the boundary
+    /// elements as truth.
+    Polymer(Box<polymer::PolymerArgs>),
 }
 
 /// Arguments of `contactmap simulate blocks`.
@@ -137,6 +144,7 @@ impl BlocksArgs {
 pub fn run(args: &SimulateArgs) -> Result<()> {
     match &args.command {
         SimulateCommand::Blocks(blocks) => run_blocks(blocks),
+        SimulateCommand::Polymer(args) => polymer::run(args),
     }
 }
 

@@ -11,7 +11,7 @@ use std::path::Path;
 
 use crate::error::{Error, Result};
 
-/// One BED record (the first five columns).
+/// One BED record (the first six columns).
 #[derive(Clone, Debug, PartialEq)]
 pub struct BedRecord {
     /// Chromosome name.
@@ -24,6 +24,8 @@ pub struct BedRecord {
     pub name: Option<String>,
     /// The 5th column, when present and not `.`.
     pub score: Option<f64>,
+    /// The 6th column (strand), when it is `+` or `-`.
+    pub strand: Option<char>,
 }
 
 impl BedRecord {
@@ -35,6 +37,7 @@ impl BedRecord {
             end,
             name: None,
             score: None,
+            strand: None,
         }
     }
 
@@ -100,12 +103,19 @@ fn parse_line(line: &str) -> std::result::Result<Option<BedRecord>, String> {
                 .map_err(|_| format!("score '{text}' is neither '.' nor a number"))?,
         ),
     };
+    let strand = match fields.get(5) {
+        None | Some(&".") => None,
+        Some(&"+") => Some('+'),
+        Some(&"-") => Some('-'),
+        Some(text) => return Err(format!("strand '{text}' is not +, - or .")),
+    };
     Ok(Some(BedRecord {
         chrom: fields[0].to_string(),
         start,
         end,
         name,
         score,
+        strand,
     }))
 }
 
@@ -153,14 +163,16 @@ mod tests {
                     start: 100,
                     end: 200,
                     name: Some("b1".into()),
-                    score: Some(3.5)
+                    score: Some(3.5),
+                    strand: Some('+'),
                 },
                 BedRecord {
                     chrom: "chr2".into(),
                     start: 5,
                     end: 5,
                     name: Some("z".into()),
-                    score: None
+                    score: None,
+                    strand: None,
                 },
             ]
         );

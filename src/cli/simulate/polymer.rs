@@ -1,0 +1,672 @@
+//! `contactmap simulate polymer`: contact maps from ensembles of a simulated bead-spring chain
+//! ([`crate::sim::polymer`], [`crate::sim::ensemble`], [`crate::sim::extrusion`]).
+
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+
+use clap::{Args, ValueEnum};
+
+use crate::cli::output::{write_real, Output};
+use crate::error::{Error, Result};
+use crate::genome::{BinTable, Chrom};
+use crate::io::bed::{read_bed, write_bed_line};
+use crate::io::cool::{write_cool, CoolWriteOptions};
+use crate::io::InMemory;
+use crate::matrix::{CountType, MatrixBuilder};
+use crate::sim::ensemble::{run_ensemble, Ensemble, EnsembleParams, ExtrusionCoupling};
+use crate::sim::extrusion::{BoundaryElement, ExtrusionParams, Orientation};
+use crate::sim::polymer::{
+    box_side, sphere_radius, Attraction, BondModel, Confinement, PolymerParams, Repulsion,
+};
+
+/// Bond models, for `--bonds`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum BondArg {
+    /// harmonic, E = ((r - 1) / wiggle)^2 (polychrom)
+    Harmonic,
+    /// FENE, K = 30, R0 = 1.5 (Kremer-Grest; use with --repulsion wca)
+    Fene,
+}
+
+/// Excluded volume, for `--repulsion`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum RepulsionArg {
+    /// polychrom's polynomial repulsion (soft, --repulsion-energy kT at contact, 0 from 1.05)
+    Polynomial,
+    /// Weeks-Chandler-Andersen (hard, sigma 1, epsilon 1)
+    Wca,
+    /// none: a phantom (ideal) chain
+    None,
+}
+
+/// Confinement, for `--confinement`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ConfinementArg {
+    /// a soft spherical wall holding the beads at --density
+    Sphere,
+    /// a periodic cube at --density
+    Box,
+    /// free space
+    None,
+}
+
+/// Arguments of `contactmap simulate polymer`.
+#[derive(Debug, Args)]
+#[command(after_long_help = "\
+Model (units: bond length 1, kT 1, bead friction 1): chains of beads joined by harmonic (or
+FENE) bonds, optional angle stiffness, excluded volume between non-bonded beads (polychrom's
+soft polynomial repulsion, or WCA), optional attraction between beads of the same type (block
+copolymer, --types), in free space, a soft sphere or a periodic box at --density. Overdamped
+Langevin (Brownian) dynamics, dt = --dt; pair forces through cell lists (O(N) per step).
+--ideal removes the excluded volume (phantom chain); --saw keeps it and frees the chain (good
+solvent, no confinement): the two physics checks.
+
+Loop extrusion (Fudenberg et al. 2016) with --extrusion: loop-extruding factors (one per
+--separation monomers) load at random, extrude both ways one monomer per 1D step (one 1D step
+every --steps-per-move 3D steps), unload after --processivity / 2 steps on average, and stall at
+boundary elements (--ctcf): a + element stops leftward-moving legs, a - element rightward ones
+(convergent rule), . both; capture with --capture, release per step with --release. Each LEF
+holds its two legs together by a harmonic bond.
+
+Ensemble: --replicas independent chains (in parallel), each equilibrated for --equilibration
+steps and then sampled --samples times every --sample-every steps. Beads closer than
+--contact-radius are in contact; contacts are counted in bins of --monomers-per-bin beads. The
+same --seed gives the same files whatever the number of threads.
+
+Outputs:
+  OUT.cool              contact counts; chromosomes chr1..chrK (one per chain), --monomer-bp bp
+                        per bead, so bins are monomers-per-bin x monomer-bp bp
+  --truth-boundaries    BED: the bins holding a boundary element (score tads calls against it
+                        with `contactmap score boundaries`)
+  --truth-domains       BED: the segments between consecutive boundary elements of a chain
+  --conformations       TSV(.gz): replica sample chain bead x y z of every sampled conformation
+  --stats               TSV: replica sample chain radius_of_gyration
+
+Examples:
+  contactmap simulate polymer -o ideal.cool --ideal --chains 200 --replicas 8
+  contactmap simulate polymer -o globule.cool --chains 2000 --density 0.2
+  contactmap simulate polymer -o loops.cool --chains 4000 --density 0.2 --extrusion \\
+      --ctcf 500+,1000-,1500+,2000-,2500.,3000. --processivity 200 --separation 400 \\
+      --monomers-per-bin 10 --truth-boundaries truth.bed
+  contactmap simulate polymer -o ab.cool --chains 2000 --density 0.3 --types A200B200 \\
+      --attraction 0.4")]
+pub struct PolymerArgs {
+    /// Output .cool file.
+    #[arg(short, long, value_name = "OUT.cool")]
+    pub output: PathBuf,
+    /// Beads of each chain (comma separated, one chain = one chromosome).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "1000",
+        value_name = "N,..."
+    )]
+    pub chains: Vec<usize>,
+    /// Base pairs per bead (for the .cool's coordinates).
+    #[arg(long, default_value_t = 1000, value_name = "BP")]
+    pub monomer_bp: u64,
+    /// Beads per bin of the contact map.
+    #[arg(long, default_value_t = 1, value_name = "N")]
+    pub monomers_per_bin: usize,
+    /// Bonds along the chain.
+    #[arg(long, value_enum, default_value = "harmonic")]
+    pub bonds: BondArg,
+    /// Harmonic bond stretch that costs 1 kT.
+    #[arg(long, default_value_t = 0.1, value_name = "LENGTH")]
+    pub bond_wiggle: f64,
+    /// Angle stiffness k of E = k (1 - cos theta), in kT (0: none).
+    #[arg(long, default_value_t = 0.0, value_name = "KT")]
+    pub stiffness: f64,
+    /// Excluded volume.
+    #[arg(long, value_enum, default_value = "polynomial")]
+    pub repulsion: RepulsionArg,
+    /// Height of the polynomial repulsion at contact, in kT.
+    #[arg(long, default_value_t = 3.0, value_name = "KT")]
+    pub repulsion_energy: f64,
+    /// Ideal (phantom) chain: no excluded volume (same as --repulsion none).
+    #[arg(long, conflicts_with_all = ["saw", "repulsion"])]
+    pub ideal: bool,
+    /// Self-avoiding walk check: excluded volume, no attraction, no confinement.
+    #[arg(long, conflicts_with_all = ["density", "types"])]
+    pub saw: bool,
+    /// Bead types, cyclically along each chain: letters with optional run lengths, e.g.
+    /// A200B200 (beads of equal type attract with --attraction).
+    #[arg(long, value_name = "PATTERN")]
+    pub types: Option<String>,
+    /// Attraction between beads of equal type (well depth in kT).
+    #[arg(long, default_value_t = 0.3, value_name = "KT", requires = "types")]
+    pub attraction: f64,
+    /// Range of the attraction.
+    #[arg(long, default_value_t = 1.5, value_name = "LENGTH", requires = "types")]
+    pub attraction_radius: f64,
+    /// Bead density (beads per unit volume) of the confinement.
+    #[arg(long, value_name = "RHO")]
+    pub density: Option<f64>,
+    /// Confinement [default: sphere with --density, else none].
+    #[arg(long, value_enum)]
+    pub confinement: Option<ConfinementArg>,
+    /// Time step [default: 0.002, or 0.0005 with WCA or FENE].
+    #[arg(long, value_name = "DT")]
+    pub dt: Option<f64>,
+    /// Independent replicas (run in parallel).
+    #[arg(long, default_value_t = 8, value_name = "N")]
+    pub replicas: usize,
+    /// Steps before the first sample.
+    #[arg(long, default_value_t = 20_000, value_name = "STEPS")]
+    pub equilibration: usize,
+    /// Steps between samples.
+    #[arg(long, default_value_t = 2_000, value_name = "STEPS")]
+    pub sample_every: usize,
+    /// Samples per replica.
+    #[arg(long, default_value_t = 50, value_name = "N")]
+    pub samples: usize,
+    /// Beads closer than this are in contact.
+    #[arg(long, default_value_t = 1.5, value_name = "LENGTH")]
+    pub contact_radius: f64,
+    /// Seed of every random stream.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Loop extrusion on.
+    #[arg(long)]
+    pub extrusion: bool,
+    /// Boundary elements: a BED file (strand column: + - .) or bead positions such as
+    /// 500+,1000-,1500 (global bead index; + or - orientation, none or . for both).
+    #[arg(long, value_name = "BED|POSITIONS", requires = "extrusion")]
+    pub ctcf: Option<String>,
+    /// Mean loop size grown by a LEF before it unloads, in beads.
+    #[arg(long, default_value_t = 100.0, value_name = "BEADS")]
+    pub processivity: f64,
+    /// Beads per LEF.
+    #[arg(long, default_value_t = 200.0, value_name = "BEADS")]
+    pub separation: f64,
+    /// Probability that a boundary element captures an arriving leg.
+    #[arg(long, default_value_t = 0.9, value_name = "P")]
+    pub capture: f64,
+    /// Probability per 1D step that a captured leg is released.
+    #[arg(long, default_value_t = 0.005, value_name = "P")]
+    pub release: f64,
+    /// 3D steps per 1D extrusion step.
+    #[arg(long, default_value_t = 50, value_name = "STEPS")]
+    pub steps_per_move: usize,
+    /// Write the true boundary bins (BED).
+    #[arg(long, value_name = "BED")]
+    pub truth_boundaries: Option<PathBuf>,
+    /// Write the true domains (BED).
+    #[arg(long, value_name = "BED")]
+    pub truth_domains: Option<PathBuf>,
+    /// Write every sampled conformation (TSV, .gz compresses).
+    #[arg(long, value_name = "FILE")]
+    pub conformations: Option<PathBuf>,
+    /// Write the radius of gyration of every sample (TSV).
+    #[arg(long, value_name = "FILE")]
+    pub stats: Option<PathBuf>,
+}
+
+/// Parse a type pattern such as `A200B200` or `AABB` into one type per bead of a period.
+fn parse_types(pattern: &str) -> Result<Vec<u8>> {
+    let bad = || {
+        Error::Invalid(format!(
+            "bad --types '{pattern}' (expected letters with optional run lengths, e.g. A200B200)"
+        ))
+    };
+    let mut types = Vec::new();
+    let mut letters: Vec<u8> = Vec::new();
+    let mut chars = pattern.trim().chars().peekable();
+    while let Some(c) = chars.next() {
+        if !c.is_ascii_alphabetic() {
+            return Err(bad());
+        }
+        let mut digits = String::new();
+        while let Some(d) = chars.peek().filter(|d| d.is_ascii_digit()) {
+            digits.push(*d);
+            chars.next();
+        }
+        let count: usize = if digits.is_empty() {
+            1
+        } else {
+            digits.parse().map_err(|_| bad())?
+        };
+        let upper = c.to_ascii_uppercase() as u8;
+        let id = match letters.iter().position(|&l| l == upper) {
+            Some(id) => id,
+            None => {
+                letters.push(upper);
+                letters.len() - 1
+            }
+        } as u8;
+        types.extend(std::iter::repeat_n(id, count));
+    }
+    if types.is_empty() {
+        return Err(bad());
+    }
+    Ok(types)
+}
+
+/// Boundary elements from a BED file or a position list (see `--ctcf`).
+fn parse_ctcf(
+    text: &str,
+    chains: &[usize],
+    monomer_bp: u64,
+    capture: f64,
+    release: f64,
+) -> Result<Vec<BoundaryElement>> {
+    let element = |position: usize, orientation: Orientation| BoundaryElement {
+        position,
+        orientation,
+        capture,
+        release,
+    };
+    let orientation = |strand: Option<char>| match strand {
+        Some('+') => Orientation::Forward,
+        Some('-') => Orientation::Reverse,
+        _ => Orientation::Both,
+    };
+    let path = Path::new(text);
+    if path.exists() {
+        let mut elements = Vec::new();
+        for record in read_bed(path)? {
+            let chain = record
+                .chrom
+                .strip_prefix("chr")
+                .and_then(|k| k.parse::<usize>().ok())
+                .filter(|&k| k >= 1 && k <= chains.len())
+                .ok_or_else(|| {
+                    Error::Invalid(format!(
+                        "{}: chromosome '{}' is not one of the simulated chains chr1..chr{}",
+                        path.display(),
+                        record.chrom,
+                        chains.len()
+                    ))
+                })?;
+            let offset: usize = chains[..chain - 1].iter().sum();
+            let bead = (record.start / monomer_bp) as usize;
+            if bead >= chains[chain - 1] {
+                return Err(Error::Invalid(format!(
+                    "{}: boundary element at {}:{} is beyond the chain ({} bp)",
+                    path.display(),
+                    record.chrom,
+                    record.start,
+                    chains[chain - 1] as u64 * monomer_bp
+                )));
+            }
+            elements.push(element(offset + bead, orientation(record.strand)));
+        }
+        return Ok(elements);
+    }
+    text.split(',')
+        .filter(|token| !token.trim().is_empty())
+        .map(|token| {
+            let token = token.trim();
+            let (number, strand) = match token.chars().last() {
+                Some(c @ ('+' | '-')) => (&token[..token.len() - 1], Some(c)),
+                Some('.') => (&token[..token.len() - 1], None),
+                _ => (token, None),
+            };
+            let position: usize = number.parse().map_err(|_| {
+                Error::Invalid(format!(
+                    "bad --ctcf element '{token}' (expected a bead index with an optional + or \
+                     -, or an existing BED file)"
+                ))
+            })?;
+            Ok(element(position, orientation(strand)))
+        })
+        .collect()
+}
+
+impl PolymerArgs {
+    /// The library's parameters, checked before any work.
+    pub fn params(&self) -> Result<EnsembleParams> {
+        let n: usize = self.chains.iter().sum();
+        let repulsion_kind = if self.ideal {
+            RepulsionArg::None
+        } else {
+            self.repulsion
+        };
+        let repulsion = match repulsion_kind {
+            RepulsionArg::Polynomial => Repulsion::Polynomial {
+                energy: self.repulsion_energy,
+                radius: 1.05,
+            },
+            RepulsionArg::Wca => Repulsion::Wca {
+                epsilon: 1.0,
+                sigma: 1.0,
+            },
+            RepulsionArg::None => Repulsion::None,
+        };
+        let bond = match self.bonds {
+            BondArg::Harmonic => BondModel::Harmonic {
+                length: 1.0,
+                wiggle: self.bond_wiggle,
+            },
+            BondArg::Fene => BondModel::Fene {
+                stiffness: 30.0,
+                max_length: 1.5,
+            },
+        };
+        let kind = match (self.confinement, self.density) {
+            (Some(kind), _) => kind,
+            (None, Some(_)) => ConfinementArg::Sphere,
+            (None, None) => ConfinementArg::None,
+        };
+        let density = || {
+            self.density
+                .ok_or_else(|| Error::Invalid("--confinement sphere or box needs --density".into()))
+        };
+        let confinement = match kind {
+            ConfinementArg::None => Confinement::None,
+            ConfinementArg::Sphere => {
+                let density = density()?;
+                check_density(density)?;
+                Confinement::Sphere {
+                    radius: sphere_radius(n, density),
+                    stiffness: 5.0,
+                }
+            }
+            ConfinementArg::Box => {
+                let density = density()?;
+                check_density(density)?;
+                Confinement::Periodic {
+                    side: box_side(n, density),
+                }
+            }
+        };
+        let attraction = match &self.types {
+            None => None,
+            Some(pattern) => {
+                let period = parse_types(pattern)?;
+                let types = self
+                    .chains
+                    .iter()
+                    .flat_map(|&length| (0..length).map(|k| period[k % period.len()]))
+                    .collect();
+                Some(Attraction {
+                    types,
+                    energy: self.attraction,
+                    radius: self.attraction_radius,
+                })
+            }
+        };
+        let hard = matches!(repulsion, Repulsion::Wca { .. }) || self.bonds == BondArg::Fene;
+        let polymer = PolymerParams {
+            chains: self.chains.clone(),
+            bond,
+            angle_stiffness: self.stiffness,
+            repulsion,
+            attraction,
+            confinement,
+            dt: self.dt.unwrap_or(if hard { 0.0005 } else { 0.002 }),
+        };
+        let extrusion = if self.extrusion {
+            let mut start = 0;
+            let chains = self
+                .chains
+                .iter()
+                .map(|&length| {
+                    let range = start..start + length;
+                    start += length;
+                    range
+                })
+                .collect();
+            let elements = match &self.ctcf {
+                Some(text) => parse_ctcf(
+                    text,
+                    &self.chains,
+                    self.monomer_bp,
+                    self.capture,
+                    self.release,
+                )?,
+                None => Vec::new(),
+            };
+            Some(ExtrusionCoupling {
+                params: ExtrusionParams {
+                    chains,
+                    processivity: self.processivity,
+                    separation: self.separation,
+                    elements,
+                },
+                steps_per_move: self.steps_per_move,
+                bond_length: 0.5,
+                bond_wiggle: 0.2,
+            })
+        } else {
+            None
+        };
+        let params = EnsembleParams {
+            polymer,
+            replicas: self.replicas,
+            equilibration_steps: self.equilibration,
+            sample_every: self.sample_every,
+            samples: self.samples,
+            contact_radius: self.contact_radius,
+            monomers_per_bin: self.monomers_per_bin,
+            seed: self.seed,
+            extrusion,
+            keep_conformations: self.conformations.is_some(),
+        };
+        if self.monomer_bp == 0 {
+            return Err(Error::Invalid("--monomer-bp must be at least 1".into()));
+        }
+        params.check()?;
+        Ok(params)
+    }
+}
+
+fn check_density(density: f64) -> Result<()> {
+    if density.is_finite() && density > 0.0 {
+        Ok(())
+    } else {
+        Err(Error::Invalid(format!(
+            "--density must be a positive number, got {density}"
+        )))
+    }
+}
+
+/// The bin table: one chromosome per chain.
+fn bin_table(args: &PolymerArgs) -> Result<BinTable> {
+    let chroms = args
+        .chains
+        .iter()
+        .enumerate()
+        .map(|(k, &length)| Chrom::new(format!("chr{}", k + 1), length as u64 * args.monomer_bp))
+        .collect();
+    BinTable::fixed(chroms, args.monomers_per_bin as u64 * args.monomer_bp)
+}
+
+/// Run `contactmap simulate polymer`.
+pub fn run(args: &PolymerArgs) -> Result<()> {
+    if args.output.as_os_str() == "-" {
+        return Err(Error::Invalid(
+            "simulate writes a .cool file: give a file name to -o, not '-'".into(),
+        ));
+    }
+    let params = args.params()?;
+    let bins = bin_table(args)?;
+    let bar = if std::io::stderr().is_terminal() {
+        let bar = indicatif::ProgressBar::new(params.replicas as u64);
+        bar.set_message("simulating replicas");
+        bar
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
+    let ensemble = run_ensemble(&params, &|_| bar.inc(1))?;
+    bar.finish_and_clear();
+    let mut builder = MatrixBuilder::new(bins.clone(), CountType::Integer);
+    for &(bin1, bin2, count) in &ensemble.pixels {
+        builder.push(bin1 as u64, bin2 as u64, count as f64)?;
+    }
+    let reader = InMemory::new("simulate polymer".into(), builder.build());
+    write_cool(&reader, &args.output, &CoolWriteOptions::default())?;
+    write_truth(args, &params, &bins)?;
+    if let Some(path) = &args.conformations {
+        write_conformations(path, &params, &ensemble)?;
+    }
+    if let Some(path) = &args.stats {
+        let mut out = Output::open(Some(path))?;
+        let mut text = b"replica\tsample\tchain\tradius_of_gyration\n".to_vec();
+        for (index, radii) in ensemble.radii_of_gyration.iter().enumerate() {
+            for (chain, &rg) in radii.iter().enumerate() {
+                text.extend_from_slice(
+                    format!(
+                        "{}\t{}\t{}\t",
+                        index / params.samples,
+                        index % params.samples,
+                        chain + 1
+                    )
+                    .as_bytes(),
+                );
+                write_real(&mut text, rg);
+                text.push(b'\n');
+            }
+        }
+        out.write_all(&text)?;
+        out.finish()?;
+    }
+    Ok(())
+}
+
+/// The boundary-element bins and the domains between them, as BED.
+fn write_truth(args: &PolymerArgs, params: &EnsembleParams, bins: &BinTable) -> Result<()> {
+    let elements: Vec<usize> = params
+        .extrusion
+        .as_ref()
+        .map(|coupling| {
+            let mut positions: Vec<usize> = coupling
+                .params
+                .elements
+                .iter()
+                .map(|e| e.position)
+                .collect();
+            positions.sort_unstable();
+            positions.dedup();
+            positions
+        })
+        .unwrap_or_default();
+    let (bead_bin, _) = params.bins();
+    let chain_of = |bead: usize| {
+        let mut start = 0;
+        for (k, &length) in params.polymer.chains.iter().enumerate() {
+            if bead < start + length {
+                return (k, start);
+            }
+            start += length;
+        }
+        (params.polymer.chains.len() - 1, start)
+    };
+    let mut line = Vec::new();
+    if let Some(path) = &args.truth_boundaries {
+        let mut out = Output::open(Some(path))?;
+        let mut last = None;
+        for &bead in &elements {
+            let bin = bead_bin[bead] as usize;
+            if last == Some(bin) {
+                continue;
+            }
+            last = Some(bin);
+            let b = bins.bin(bin);
+            line.clear();
+            write_bed_line(
+                &mut line,
+                &bins.chroms()[b.chrom_id].name,
+                b.start,
+                b.end,
+                &[],
+            )
+            .map_err(|e| Error::io(path, e))?;
+            out.write_all(&line)?;
+        }
+        out.finish()?;
+    }
+    if let Some(path) = &args.truth_domains {
+        let mut out = Output::open(Some(path))?;
+        for (k, &length) in params.polymer.chains.iter().enumerate() {
+            let start: usize = params.polymer.chains[..k].iter().sum();
+            let mut cuts: Vec<usize> = vec![0];
+            cuts.extend(
+                elements
+                    .iter()
+                    .filter(|&&bead| chain_of(bead).0 == k)
+                    .map(|&bead| bead - start),
+            );
+            cuts.push(length);
+            cuts.dedup();
+            let chrom = format!("chr{}", k + 1);
+            for pair in cuts.windows(2) {
+                line.clear();
+                write_bed_line(
+                    &mut line,
+                    &chrom,
+                    pair[0] as u64 * args.monomer_bp,
+                    pair[1] as u64 * args.monomer_bp,
+                    &[],
+                )
+                .map_err(|e| Error::io(path, e))?;
+                out.write_all(&line)?;
+            }
+        }
+        out.finish()?;
+    }
+    Ok(())
+}
+
+fn write_conformations(path: &Path, params: &EnsembleParams, ensemble: &Ensemble) -> Result<()> {
+    let mut out = Output::open(Some(path))?;
+    out.write_all(b"replica\tsample\tchain\tbead\tx\ty\tz\n")?;
+    let mut text = Vec::new();
+    for (index, positions) in ensemble.conformations.iter().enumerate() {
+        let mut bead = 0;
+        for (chain, &length) in params.polymer.chains.iter().enumerate() {
+            for k in 0..length {
+                let p = positions[bead];
+                text.clear();
+                text.extend_from_slice(
+                    format!(
+                        "{}\t{}\t{}\t{k}\t{:.4}\t{:.4}\t{:.4}\n",
+                        index / params.samples,
+                        index % params.samples,
+                        chain + 1,
+                        p[0],
+                        p[1],
+                        p[2]
+                    )
+                    .as_bytes(),
+                );
+                out.write_all(&text)?;
+                bead += 1;
+            }
+        }
+    }
+    out.finish()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn type_patterns() {
+        assert_eq!(parse_types("A2B3").unwrap(), vec![0, 0, 1, 1, 1]);
+        assert_eq!(parse_types("ABBA").unwrap(), vec![0, 1, 1, 0]);
+        for bad in ["", "2A", "A-1", "A B"] {
+            assert!(parse_types(bad).is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn ctcf_lists() {
+        let elements = parse_ctcf("10+,20-,30,40.", &[50], 1000, 0.9, 0.01).unwrap();
+        let summary: Vec<(usize, Orientation)> = elements
+            .iter()
+            .map(|e| (e.position, e.orientation))
+            .collect();
+        assert_eq!(
+            summary,
+            vec![
+                (10, Orientation::Forward),
+                (20, Orientation::Reverse),
+                (30, Orientation::Both),
+                (40, Orientation::Both)
+            ]
+        );
+        assert!(parse_ctcf("x+", &[50], 1000, 0.9, 0.01).is_err());
+    }
+}

@@ -1,0 +1,395 @@
+//! Ensembles of polymer conformations turned into contact maps with a known truth.
+//!
+//! Each replica is an independent [`Polymer`] with its own random streams: the 3D dynamics take
+//! `stream_rng(seed, POLYMER_STREAM, replica)` and the loop extrusion
+//! `stream_rng(seed, EXTRUSION_STREAM, replica)`. Replicas run in parallel (rayon), one thread
+//! each; their contact counts are integers summed at the end, so the map is bit-identical for a
+//! seed whatever the number of threads.
+//!
+//! A replica equilibrates for `equilibration_steps`, then takes `samples` conformations, one
+//! every `sample_every` steps. In each conformation every pair of beads `i < j` closer than
+//! `contact_radius` (a cell-list search, minimum image in a periodic box) adds one contact to
+//! the pixel of their bins; bins hold `monomers_per_bin` consecutive beads of one chain (the
+//! last bin of a chain may hold fewer) and never straddle two chains.
+//!
+//! With loop extrusion ([`ExtrusionCoupling`]), the 1D model ([`Extruder`]) advances one step
+//! every `steps_per_move` 3D steps, and its LEF legs become harmonic bonds of the chain (rest
+//! length and wiggle of [`ExtrusionCoupling`]), polychrom's coupling.
+
+use rayon::prelude::*;
+
+use super::cells::CellList;
+use super::extrusion::{Extruder, ExtrusionParams};
+use super::polymer::{radius_of_gyration, Polymer, PolymerParams};
+use super::stream_rng;
+use crate::error::{Error, Result};
+
+/// Stream tag of the 3D dynamics.
+pub const POLYMER_STREAM: u64 = 0x5045_4c59; // "PELY"
+/// Stream tag of the loop extrusion.
+pub const EXTRUSION_STREAM: u64 = 0x4c45_4653; // "LEFS"
+
+/// Loop extrusion coupled to the chain.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ExtrusionCoupling {
+    /// The 1D model.
+    pub params: ExtrusionParams,
+    /// 3D steps per 1D step.
+    pub steps_per_move: usize,
+    /// Rest length of a LEF bond.
+    pub bond_length: f64,
+    /// Wiggle distance of a LEF bond.
+    pub bond_wiggle: f64,
+}
+
+/// What to simulate and sample.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EnsembleParams {
+    /// The polymer model.
+    pub polymer: PolymerParams,
+    /// Independent replicas.
+    pub replicas: usize,
+    /// Steps before the first sample.
+    pub equilibration_steps: usize,
+    /// Steps between samples.
+    pub sample_every: usize,
+    /// Samples per replica.
+    pub samples: usize,
+    /// Two beads closer than this are in contact.
+    pub contact_radius: f64,
+    /// Beads per bin of the contact map.
+    pub monomers_per_bin: usize,
+    /// Seed of every random stream.
+    pub seed: u64,
+    /// Optional loop extrusion.
+    pub extrusion: Option<ExtrusionCoupling>,
+    /// Keep the sampled conformations.
+    pub keep_conformations: bool,
+}
+
+impl EnsembleParams {
+    /// Check the parameters (the polymer's and the extrusion's too), before any work.
+    pub fn check(&self) -> Result<()> {
+        self.polymer.check()?;
+        if self.replicas == 0 {
+            return Err(Error::Invalid("at least one replica is needed".into()));
+        }
+        if self.samples == 0 || self.sample_every == 0 {
+            return Err(Error::Invalid(
+                "samples and steps between samples must be at least 1".into(),
+            ));
+        }
+        if self.monomers_per_bin == 0 {
+            return Err(Error::Invalid("monomers per bin must be at least 1".into()));
+        }
+        if !(self.contact_radius.is_finite() && self.contact_radius > 0.0) {
+            return Err(Error::Invalid(format!(
+                "contact radius must be a positive number, got {}",
+                self.contact_radius
+            )));
+        }
+        if let Some(coupling) = &self.extrusion {
+            coupling
+                .params
+                .check()
+                .map_err(|err| Error::Invalid(format!("loop extrusion: {err}")))?;
+            let n = self.polymer.n_beads();
+            if coupling.params.n_monomers() != n {
+                return Err(Error::Invalid(format!(
+                    "loop extrusion covers {} monomers, the polymer has {n}",
+                    coupling.params.n_monomers()
+                )));
+            }
+            let mut start = 0;
+            for (chain, range) in self.polymer.chains.iter().zip(&coupling.params.chains) {
+                if range.start != start || range.len() != *chain {
+                    return Err(Error::Invalid(
+                        "loop extrusion chains differ from the polymer's chains".into(),
+                    ));
+                }
+                start += chain;
+            }
+            if coupling.steps_per_move == 0 {
+                return Err(Error::Invalid(
+                    "3D steps per extrusion step must be at least 1".into(),
+                ));
+            }
+            if !(coupling.bond_length >= 0.0 && coupling.bond_wiggle > 0.0) {
+                return Err(Error::Invalid(
+                    "LEF bond length must be 0 or more and its wiggle positive".into(),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// The bin of every bead and the number of bins of every chain.
+    pub fn bins(&self) -> (Vec<u32>, Vec<usize>) {
+        let mut bead_bin = Vec::with_capacity(self.polymer.n_beads());
+        let mut per_chain = Vec::with_capacity(self.polymer.chains.len());
+        let mut offset = 0;
+        for &length in &self.polymer.chains {
+            let n_bins = length.div_ceil(self.monomers_per_bin);
+            for bead in 0..length {
+                bead_bin.push((offset + bead / self.monomers_per_bin) as u32);
+            }
+            per_chain.push(n_bins);
+            offset += n_bins;
+        }
+        (bead_bin, per_chain)
+    }
+}
+
+/// The result of [`run_ensemble`].
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Ensemble {
+    /// Bins of each chain.
+    pub bins_per_chain: Vec<usize>,
+    /// `(bin1, bin2, contacts)`, `bin1 <= bin2`, sorted, non-zero.
+    pub pixels: Vec<(u32, u32, u64)>,
+    /// Conformations sampled (replicas × samples).
+    pub n_conformations: usize,
+    /// Radius of gyration of each chain of each sample, replica after replica.
+    pub radii_of_gyration: Vec<Vec<f64>>,
+    /// The sampled conformations, when kept.
+    pub conformations: Vec<Vec<[f64; 3]>>,
+}
+
+struct Replica {
+    pixels: Vec<(u64, u64)>,
+    radii: Vec<Vec<f64>>,
+    conformations: Vec<Vec<[f64; 3]>>,
+}
+
+/// Run the replicas (in parallel) and accumulate their contacts; `progress(replica)` is called
+/// when a replica finishes.
+pub fn run_ensemble(
+    params: &EnsembleParams,
+    progress: &(dyn Fn(usize) + Sync),
+) -> Result<Ensemble> {
+    params.check()?;
+    let (bead_bin, bins_per_chain) = params.bins();
+    let n_bins: u64 = bins_per_chain.iter().sum::<usize>() as u64;
+    let replicas: Vec<Replica> = (0..params.replicas)
+        .into_par_iter()
+        .map(|replica| {
+            let result = run_replica(params, replica, &bead_bin, n_bins);
+            progress(replica);
+            result
+        })
+        .collect::<Result<_>>()?;
+    // Merge the sorted per-replica pixel lists (integer sums: order does not matter).
+    let mut all: Vec<(u64, u64)> = replicas
+        .iter()
+        .flat_map(|replica| replica.pixels.iter().copied())
+        .collect();
+    all.sort_unstable_by_key(|&(key, _)| key);
+    let mut pixels: Vec<(u32, u32, u64)> = Vec::new();
+    for (key, count) in all {
+        let (bin1, bin2) = ((key / n_bins) as u32, (key % n_bins) as u32);
+        match pixels.last_mut() {
+            Some(last) if last.0 == bin1 && last.1 == bin2 => last.2 += count,
+            _ => pixels.push((bin1, bin2, count)),
+        }
+    }
+    let mut ensemble = Ensemble {
+        bins_per_chain,
+        pixels,
+        n_conformations: params.replicas * params.samples,
+        ..Ensemble::default()
+    };
+    for replica in replicas {
+        ensemble.radii_of_gyration.extend(replica.radii);
+        ensemble.conformations.extend(replica.conformations);
+    }
+    Ok(ensemble)
+}
+
+fn run_replica(
+    params: &EnsembleParams,
+    replica: usize,
+    bead_bin: &[u32],
+    n_bins: u64,
+) -> Result<Replica> {
+    let mut polymer = Polymer::new(
+        params.polymer.clone(),
+        stream_rng(params.seed, POLYMER_STREAM, replica as u64),
+    )?;
+    let mut extrusion = match &params.extrusion {
+        Some(coupling) => {
+            let mut rng = stream_rng(params.seed, EXTRUSION_STREAM, replica as u64);
+            let extruder = Extruder::new(&coupling.params, &mut rng)
+                .map_err(|err| Error::Invalid(format!("loop extrusion: {err}")))?;
+            Some((coupling, extruder, rng))
+        }
+        None => None,
+    };
+    let mut steps_done = 0usize;
+    let mut advance = |polymer: &mut Polymer, steps: usize| {
+        for _ in 0..steps {
+            if let Some((coupling, extruder, rng)) = extrusion.as_mut() {
+                if steps_done % coupling.steps_per_move == 0 {
+                    if steps_done > 0 {
+                        extruder.step(rng);
+                    }
+                    polymer.set_extra_bonds(
+                        extruder.legs(),
+                        coupling.bond_length,
+                        coupling.bond_wiggle,
+                    );
+                }
+            }
+            polymer.step();
+            steps_done += 1;
+        }
+    };
+    advance(&mut polymer, params.equilibration_steps);
+    let mut counts: std::collections::HashMap<u64, u64> = std::collections::HashMap::new();
+    let mut cells = CellList::new();
+    let mut radii = Vec::with_capacity(params.samples);
+    let mut conformations = Vec::new();
+    for _ in 0..params.samples {
+        advance(&mut polymer, params.sample_every);
+        let positions = polymer.positions();
+        cells.build(positions, params.contact_radius, polymer.space());
+        let order = cells.order();
+        cells.for_each_pair(|a, b, _, _| {
+            let (i, j) = (order[a] as usize, order[b] as usize);
+            let (x, y) = (bead_bin[i] as u64, bead_bin[j] as u64);
+            let (x, y) = (x.min(y), x.max(y));
+            *counts.entry(x * n_bins + y).or_insert(0) += 1;
+        });
+        let mut start = 0;
+        radii.push(
+            params
+                .polymer
+                .chains
+                .iter()
+                .map(|&length| {
+                    let rg = radius_of_gyration(&positions[start..start + length]);
+                    start += length;
+                    rg
+                })
+                .collect(),
+        );
+        if params.keep_conformations {
+            conformations.push(positions.to_vec());
+        }
+    }
+    let mut pixels: Vec<(u64, u64)> = counts.into_iter().collect();
+    pixels.sort_unstable();
+    Ok(Replica {
+        pixels,
+        radii,
+        conformations,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::polymer::{Confinement, Repulsion};
+
+    fn small(replicas: usize) -> EnsembleParams {
+        EnsembleParams {
+            polymer: PolymerParams {
+                chains: vec![60, 40],
+                confinement: Confinement::Sphere {
+                    radius: crate::sim::polymer::sphere_radius(100, 0.2),
+                    stiffness: 5.0,
+                },
+                ..PolymerParams::default()
+            },
+            replicas,
+            equilibration_steps: 200,
+            sample_every: 50,
+            samples: 5,
+            contact_radius: 1.5,
+            monomers_per_bin: 7,
+            seed: 11,
+            extrusion: Some(ExtrusionCoupling {
+                params: ExtrusionParams {
+                    chains: vec![0..60, 60..100],
+                    processivity: 20.0,
+                    separation: 25.0,
+                    elements: vec![],
+                },
+                steps_per_move: 10,
+                bond_length: 0.5,
+                bond_wiggle: 0.2,
+            }),
+            keep_conformations: true,
+        }
+    }
+
+    /// The pixels equal a naive count over the kept conformations (all pairs), and the bins
+    /// never straddle the two chains.
+    #[test]
+    fn pixels_equal_a_naive_count() {
+        let params = small(3);
+        let ensemble = run_ensemble(&params, &|_| {}).unwrap();
+        assert_eq!(ensemble.bins_per_chain, vec![9, 6]);
+        assert_eq!(ensemble.conformations.len(), 15);
+        let (bead_bin, _) = params.bins();
+        assert_eq!(bead_bin[59], 8);
+        assert_eq!(bead_bin[60], 9);
+        let mut naive = std::collections::BTreeMap::new();
+        for positions in &ensemble.conformations {
+            for i in 0..positions.len() {
+                for j in i + 1..positions.len() {
+                    let d: f64 = (0..3)
+                        .map(|k| (positions[i][k] - positions[j][k]).powi(2))
+                        .sum::<f64>()
+                        .sqrt();
+                    if d < params.contact_radius {
+                        *naive.entry((bead_bin[i], bead_bin[j])).or_insert(0u64) += 1;
+                    }
+                }
+            }
+        }
+        let naive: Vec<(u32, u32, u64)> = naive.into_iter().map(|((a, b), c)| (a, b, c)).collect();
+        assert_eq!(ensemble.pixels, naive);
+        assert_eq!(ensemble.radii_of_gyration.len(), 15);
+    }
+
+    #[test]
+    fn same_seed_same_map_whatever_the_threads() {
+        let params = small(4);
+        let one = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .unwrap()
+            .install(|| run_ensemble(&params, &|_| {}).unwrap());
+        let two = rayon::ThreadPoolBuilder::new()
+            .num_threads(3)
+            .build()
+            .unwrap()
+            .install(|| run_ensemble(&params, &|_| {}).unwrap());
+        assert_eq!(one, two);
+    }
+
+    #[test]
+    fn bad_parameters_before_any_work() {
+        let mut params = small(0);
+        assert!(run_ensemble(&params, &|_| {})
+            .unwrap_err()
+            .to_string()
+            .contains("replica"));
+        params.replicas = 1;
+        params.polymer.repulsion = Repulsion::Polynomial {
+            energy: 3.0,
+            radius: 1.05,
+        };
+        if let Some(coupling) = &mut params.extrusion {
+            coupling
+                .params
+                .elements
+                .push(crate::sim::extrusion::BoundaryElement::permanent(
+                    500,
+                    crate::sim::extrusion::Orientation::Both,
+                ));
+        }
+        let err = run_ensemble(&params, &|_| {}).unwrap_err().to_string();
+        assert!(err.contains("500"), "{err}");
+    }
+}
