@@ -18,6 +18,7 @@
 //! O(mean) and O(1) expected uniforms respectively, and need nothing beyond uniforms and
 //! `ln_gamma`, so no distribution crate is needed.
 
+pub mod analysis;
 pub mod blocks;
 pub mod cells;
 pub mod ensemble;

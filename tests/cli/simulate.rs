@@ -175,3 +175,115 @@ fn bad_parameters_fail_cleanly() {
         assert!(help.contains(text), "help lacks {text}: {help}");
     }
 }
+
+/// `simulate polymer` with two chains, loop extrusion and boundary elements: the .cool's
+/// chromosomes and bins, the truth BEDs, and the same files for the same seed whatever the
+/// number of threads.
+#[test]
+fn polymer_ensemble_files_and_reproducibility() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = |name: &str| dir.path().join(name).to_string_lossy().into_owned();
+    let simulate = |tag: &str, threads: &str| {
+        let cool = path(&format!("{tag}.cool"));
+        let args = [
+            "simulate",
+            "polymer",
+            "-o",
+            &cool,
+            "--chains",
+            "120,80",
+            "--monomer-bp",
+            "2000",
+            "--monomers-per-bin",
+            "10",
+            "--density",
+            "0.3",
+            "--extrusion",
+            "--ctcf",
+            "40+,80-,150.",
+            "--processivity",
+            "30",
+            "--separation",
+            "40",
+            "--steps-per-move",
+            "20",
+            "--replicas",
+            "3",
+            "--equilibration",
+            "500",
+            "--sample-every",
+            "100",
+            "--samples",
+            "4",
+            "--seed",
+            "3",
+            "--truth-boundaries",
+            &path(&format!("{tag}.truth.bed")),
+            "--truth-domains",
+            &path(&format!("{tag}.domains.bed")),
+            "--stats",
+            &path(&format!("{tag}.stats.tsv")),
+        ];
+        let output = std::process::Command::new(env!("CARGO_BIN_EXE_contactmap"))
+            .args(args)
+            .env("RAYON_NUM_THREADS", threads)
+            .output()
+            .unwrap();
+        assert!(
+            output.status.success(),
+            "{}",
+            String::from_utf8_lossy(&output.stderr)
+        );
+        cool
+    };
+    let cool = simulate("a", "1");
+    let info = run_ok(&["info", &cool]);
+    assert!(info.contains("nbins          20"), "{info}");
+    assert!(info.contains("bin-size       20000"), "{info}");
+    let dump = run_ok(&["dump", &cool, "--header"]);
+    assert!(dump.lines().count() > 20);
+    // No bin straddles the chains: chr1 has 12 bins, chr2 8.
+    let chroms = run_ok(&["dump", &cool, "--table", "chroms"]);
+    assert_eq!(chroms, "chr1\t240000\nchr2\t160000\n");
+    assert_eq!(
+        std::fs::read_to_string(path("a.truth.bed")).unwrap(),
+        "chr1\t80000\t100000\nchr1\t160000\t180000\nchr2\t60000\t80000\n"
+    );
+    assert_eq!(
+        std::fs::read_to_string(path("a.domains.bed")).unwrap(),
+        "chr1\t0\t80000\nchr1\t80000\t160000\nchr1\t160000\t240000\n\
+         chr2\t0\t60000\nchr2\t60000\t160000\n"
+    );
+    let stats = std::fs::read_to_string(path("a.stats.tsv")).unwrap();
+    assert_eq!(stats.lines().count(), 1 + 3 * 4 * 2);
+    let again = simulate("b", "2");
+    assert_eq!(
+        run_ok(&["dump", &cool, "--join"]),
+        run_ok(&["dump", &again, "--join"])
+    );
+    assert_eq!(stats, std::fs::read_to_string(path("b.stats.tsv")).unwrap());
+}
+
+/// Bad parameters are refused before any work, with one error line and no output file.
+#[test]
+fn polymer_bad_parameters() {
+    let dir = tempfile::tempdir().unwrap();
+    let cool = dir.path().join("x.cool");
+    let cool = cool.to_str().unwrap();
+    for (extra, expected) in [
+        (&["--density", "2.0"][..], "close packing"),
+        (&["--extrusion", "--ctcf", "40,5000"][..], "5000"),
+        (&["--replicas", "0"][..], "replica"),
+        (&["--types", "A-B"][..], "--types"),
+    ] {
+        let args = [
+            &["simulate", "polymer", "-o", cool, "--chains", "100"][..],
+            extra,
+        ]
+        .concat();
+        let line = run_err(&args);
+        assert!(line.contains(expected), "{extra:?}: {line}");
+        assert!(!Path::new(cool).exists());
+    }
+    let _ = run(&["simulate", "polymer", "--help"]);
+}

@@ -1,0 +1,205 @@
+//! Observables of conformation ensembles, and the closed forms they are checked against.
+//!
+//! - [`contact_probability`]: `P(s)`, the fraction of bead pairs `(i, i + s)` of a chain closer
+//!   than a contact radius, over an ensemble.
+//! - [`ideal_contact_probability`]: the Gaussian-chain (ideal, phantom) closed form for a small
+//!   contact radius `a`: `P(s) ≈ sqrt(6/π) (a/b)³ s^(-3/2)`, with `b²` the mean square bond
+//!   length; [`gaussian_contact_probability`] is the exact Gaussian value `P(|R_s| < a)` for
+//!   `<R_s²> = s b²`, which the small-`a` form approximates when `a² ≪ s b²`.
+//! - [`loglog_slope`]: the least-squares slope of `log y` against `log x` (a scaling exponent).
+//! - [`mean_square_bond_length`].
+
+/// `P(s)` for `s = 0..=max_s` (index `s`; `P(0) = 1`): over every conformation and every chain
+/// (`chains` holds the chain lengths, beads numbered chain after chain), the fraction of pairs
+/// `(i, i + s)` of one chain whose distance is below `radius`.
+pub fn contact_probability(
+    conformations: &[Vec<[f64; 3]>],
+    chains: &[usize],
+    radius: f64,
+    max_s: usize,
+) -> Vec<f64> {
+    let mut contacts = vec![0u64; max_s + 1];
+    let mut pairs = vec![0u64; max_s + 1];
+    let radius2 = radius * radius;
+    for positions in conformations {
+        let mut start = 0;
+        for &length in chains {
+            let chain = &positions[start..start + length];
+            for s in 0..=max_s.min(length.saturating_sub(1)) {
+                for i in 0..length - s {
+                    let (a, b) = (chain[i], chain[i + s]);
+                    let d2 = (a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2);
+                    pairs[s] += 1;
+                    if d2 < radius2 {
+                        contacts[s] += 1;
+                    }
+                }
+            }
+            start += length;
+        }
+    }
+    contacts
+        .iter()
+        .zip(&pairs)
+        .map(|(&c, &p)| if p == 0 { 0.0 } else { c as f64 / p as f64 })
+        .collect()
+}
+
+/// `sqrt(6/π) (a/b)³ s^(-3/2)`: the contact probability of beads `s` apart on an ideal chain
+/// with mean square bond length `b²`, for a contact radius `a` small against `b sqrt(s)`.
+pub fn ideal_contact_probability(s: f64, a: f64, b: f64) -> f64 {
+    (6.0 / std::f64::consts::PI).sqrt() * (a / b).powi(3) * s.powf(-1.5)
+}
+
+/// The exact probability that a Gaussian vector with `<R²> = s b²` is shorter than `a`.
+pub fn gaussian_contact_probability(s: f64, a: f64, b: f64) -> f64 {
+    let sigma = b * (s / 3.0).sqrt();
+    let x = a / sigma;
+    statrs::function::erf::erf(x / std::f64::consts::SQRT_2)
+        - (2.0 / std::f64::consts::PI).sqrt() * x * (-x * x / 2.0).exp()
+}
+
+/// The least-squares slope of `ln y` against `ln x` over the points with `x, y > 0`.
+pub fn loglog_slope(points: &[(f64, f64)]) -> f64 {
+    let logs: Vec<(f64, f64)> = points
+        .iter()
+        .filter(|&&(x, y)| x > 0.0 && y > 0.0)
+        .map(|&(x, y)| (x.ln(), y.ln()))
+        .collect();
+    let n = logs.len() as f64;
+    let mean_x = logs.iter().map(|p| p.0).sum::<f64>() / n;
+    let mean_y = logs.iter().map(|p| p.1).sum::<f64>() / n;
+    let sxy: f64 = logs.iter().map(|p| (p.0 - mean_x) * (p.1 - mean_y)).sum();
+    let sxx: f64 = logs.iter().map(|p| (p.0 - mean_x).powi(2)).sum();
+    sxy / sxx
+}
+
+/// The mean square length of the bonds `(i, i + 1)` of every chain of every conformation.
+pub fn mean_square_bond_length(conformations: &[Vec<[f64; 3]>], chains: &[usize]) -> f64 {
+    let (mut sum, mut count) = (0.0, 0usize);
+    for positions in conformations {
+        let mut start = 0;
+        for &length in chains {
+            for i in start + 1..start + length {
+                let (a, b) = (positions[i - 1], positions[i]);
+                sum += (a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2);
+                count += 1;
+            }
+            start += length;
+        }
+    }
+    sum / count.max(1) as f64
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::ensemble::{run_ensemble, EnsembleParams};
+    use crate::sim::polymer::{radius_of_gyration, BondModel, Polymer, PolymerParams, Repulsion};
+    use crate::sim::stream_rng;
+
+    #[test]
+    fn closed_forms() {
+        // The small-radius form is the limit of the exact Gaussian value.
+        let exact = gaussian_contact_probability(1e4, 1.0, 1.0);
+        let approx = ideal_contact_probability(1e4, 1.0, 1.0);
+        assert!((exact / approx - 1.0).abs() < 1e-3, "{exact} {approx}");
+        let points: Vec<(f64, f64)> = (1..20)
+            .map(|x| (x as f64, 3.0 * (x as f64).powf(-1.7)))
+            .collect();
+        assert!((loglog_slope(&points) + 1.7).abs() < 1e-12);
+    }
+
+    /// The ideal (phantom) chain, started squeezed to a third of its size so that only the
+    /// dynamics can bring it to equilibrium: the Rg exponent across N, the P(s) slope, and the
+    /// closed form. (Reduced sampling; `scripts/sim_physics.sh` measures the acceptance
+    /// figures with longer runs.)
+    #[test]
+    fn ideal_chain_scaling() {
+        let mut rg2 = Vec::new();
+        let mut p_s = Vec::new();
+        let mut b2 = 0.0;
+        for n in [16usize, 32, 64] {
+            let polymer = PolymerParams {
+                chains: vec![n],
+                bond: BondModel::Harmonic {
+                    length: 1.0,
+                    wiggle: 0.3,
+                },
+                repulsion: Repulsion::None,
+                dt: 0.01,
+                ..PolymerParams::default()
+            };
+            let params = EnsembleParams {
+                polymer: polymer.clone(),
+                replicas: 8,
+                equilibration_steps: 0,
+                sample_every: 1000,
+                samples: 60,
+                contact_radius: 1.5,
+                monomers_per_bin: 1,
+                seed: 5,
+                extrusion: None,
+                keep_conformations: true,
+            };
+            // Check that a squeezed start does expand (the dynamics work) before sampling.
+            let mut squeezed = Polymer::new(polymer, stream_rng(5, 1, n as u64)).unwrap();
+            let start = radius_of_gyration(squeezed.positions());
+            let positions: Vec<[f64; 3]> = squeezed
+                .positions()
+                .iter()
+                .map(|p| p.map(|x| 0.3 * x))
+                .collect();
+            squeezed = Polymer::from_positions(
+                squeezed.params().clone(),
+                positions,
+                stream_rng(6, 1, n as u64),
+            )
+            .unwrap();
+            squeezed.run(20_000);
+            assert!(
+                radius_of_gyration(squeezed.positions()) > 0.6 * start.min((n as f64 / 6.0).sqrt())
+            );
+            let ensemble = run_ensemble(&params, &|_| {}).unwrap();
+            let mean_rg2 = ensemble
+                .radii_of_gyration
+                .iter()
+                .map(|r| r[0] * r[0])
+                .sum::<f64>()
+                / ensemble.radii_of_gyration.len() as f64;
+            rg2.push((n as f64, mean_rg2));
+            if n == 64 {
+                p_s = contact_probability(&ensemble.conformations, &[n], 1.0, 40);
+                b2 = mean_square_bond_length(&ensemble.conformations, &[n]);
+            }
+        }
+        let nu = loglog_slope(&rg2) / 2.0;
+        assert!((nu - 0.5).abs() < 0.04, "ideal Rg exponent {nu}");
+        // The slope over s = 5..40 against the slope of the exact Gaussian closed form over the
+        // same s (which tends to -3/2 as a² / (s b²) -> 0).
+        let points: Vec<(f64, f64)> = (5..=40).map(|s| (s as f64, p_s[s])).collect();
+        let slope = loglog_slope(&points);
+        let gaussian: Vec<(f64, f64)> = (5..=40)
+            .map(|s| {
+                (
+                    s as f64,
+                    gaussian_contact_probability(s as f64, 1.0, b2.sqrt()),
+                )
+            })
+            .collect();
+        let expected = loglog_slope(&gaussian);
+        assert!((expected + 1.5).abs() < 0.1, "{expected}");
+        assert!(
+            (slope - expected).abs() < 0.08,
+            "ideal P(s) slope {slope} vs {expected}"
+        );
+        for s in [10usize, 20, 30] {
+            let exact = gaussian_contact_probability(s as f64, 1.0, b2.sqrt());
+            assert!(
+                (p_s[s] / exact - 1.0).abs() < 0.2,
+                "P({s}) = {} vs {exact}",
+                p_s[s]
+            );
+        }
+    }
+}
