@@ -65,6 +65,14 @@ step "Its TADs by insulation (raw counts: the simulated map has no bias to balan
   "$cm" tads "$work/blocks.cool" --raw --window 200k -o "$work/blocks_insulation.tsv" --boundaries "$work/calls.bed"
 step "Boundary calls scored against the truth (precision, recall, F1 within one bin)" \
   "$cm" score boundaries --truth "$work/truth.bed" "$work/calls.bed"
+step "A simulated polymer: 1,000 beads in a sphere, loop extrusion stalled at 4 boundary elements (Brownian dynamics, 4 replicas in parallel)" \
+  "$cm" simulate polymer -o "$work/polymer.cool" --chains 1000 --density 0.2 --extrusion \
+  --ctcf 200,400,600,800 --capture 0.99 --release 0.002 --processivity 200 --separation 100 \
+  --steps-per-move 200 --monomers-per-bin 10 --replicas 4 --equilibration 20000 \
+  --sample-every 1000 --samples 20 --seed 1 --truth-boundaries "$work/polymer.truth.bed"
+step "Its TADs by insulation, scored against the boundary elements" \
+  "$cm" tads "$work/polymer.cool" --raw --window 100k -o "$work/polymer.ins.tsv" --boundaries "$work/polymer.calls.bed"
+"$cm" score boundaries --truth "$work/polymer.truth.bed" "$work/polymer.calls.bed"
 step "Protein: true contacts of a structure (Cb-Cb < 8 A, Ca for Gly) as CASP RR" \
   "$cm" contacts data/protein/1aapA/1aapA.pdb -o "$work/1aapA.true.rr"
 head -4 "$work/1aapA.true.rr"
