@@ -185,6 +185,16 @@ fn positive(value: f64, what: &str) -> Result<()> {
     }
 }
 
+fn non_negative(value: f64, what: &str) -> Result<()> {
+    if value.is_finite() && value >= 0.0 {
+        Ok(())
+    } else {
+        Err(Error::Invalid(format!(
+            "{what} must be 0 or more, got {value}"
+        )))
+    }
+}
+
 impl PolymerParams {
     /// Total number of beads.
     pub fn n_beads(&self) -> usize {
@@ -206,11 +216,7 @@ impl PolymerParams {
         }
         match self.bond {
             BondModel::Harmonic { length, wiggle } => {
-                if !(length.is_finite() && length >= 0.0) {
-                    return Err(Error::Invalid(format!(
-                        "bond length must be 0 or more, got {length}"
-                    )));
-                }
+                non_negative(length, "bond length")?;
                 positive(wiggle, "bond wiggle distance")?;
             }
             BondModel::Fene {
@@ -221,12 +227,7 @@ impl PolymerParams {
                 positive(max_length, "FENE maximum length")?;
             }
         }
-        if !(self.angle_stiffness.is_finite() && self.angle_stiffness >= 0.0) {
-            return Err(Error::Invalid(format!(
-                "angle stiffness must be 0 or more, got {}",
-                self.angle_stiffness
-            )));
-        }
+        non_negative(self.angle_stiffness, "angle stiffness")?;
         match self.repulsion {
             Repulsion::None => {}
             Repulsion::Polynomial { energy, radius } => {
