@@ -22,7 +22,8 @@
 //! - extra bonds added by the caller (the loops of loop extrusion), harmonic like the chain
 //!   bonds, with their own length and wiggle.
 //!
-//! Bonded neighbours `(i, i + 1)` of a chain do not feel the excluded volume (as in polychrom).
+//! Bonded neighbours `(i, i + 1)` of a chain do not feel the pair potential (as in polychrom);
+//! [`PolymerParams::excluded_neighbours`] widens this to `|i - j| <= k`.
 //!
 //! **Dynamics**: Euler-Maruyama, `x(t + dt) = x(t) + F dt + sqrt(2 dt) ξ` with ξ standard normal
 //! (Marsaglia's polar method on xoshiro256++ uniforms). One polymer is advanced by one thread, so a seed fixes
@@ -149,6 +150,9 @@ pub struct PolymerParams {
     pub attraction: Option<Attraction>,
     /// Confinement.
     pub confinement: Confinement,
+    /// Beads at most this far apart along a chain do not feel the pair potential (1: bonded
+    /// neighbours only, polychrom's choice).
+    pub excluded_neighbours: usize,
     /// Time step.
     pub dt: f64,
 }
@@ -170,6 +174,7 @@ impl Default for PolymerParams {
             },
             attraction: None,
             confinement: Confinement::None,
+            excluded_neighbours: 1,
             dt: 0.002,
         }
     }
@@ -468,7 +473,7 @@ impl Polymer {
         let mut found = false;
         self.cells.for_each_pair(|a, b, _, _| {
             let (i, j) = (order[a] as usize, order[b] as usize);
-            if !(i.abs_diff(j) == 1 && self.chain_of[i] == self.chain_of[j]) {
+            if !self.bonded(i, j) {
                 found = true;
             }
         });
@@ -550,8 +555,9 @@ impl Polymer {
         self.extra_bond = (length, wiggle);
     }
 
+    /// Whether `i` and `j` are too close along one chain to feel the pair potential.
     fn bonded(&self, i: usize, j: usize) -> bool {
-        i.abs_diff(j) == 1 && self.chain_of[i] == self.chain_of[j]
+        i.abs_diff(j) <= self.params.excluded_neighbours && self.chain_of[i] == self.chain_of[j]
     }
 
     /// Compute the forces at the current positions; returns the potential energy.
@@ -606,9 +612,10 @@ impl Polymer {
             let attraction = self.params.attraction.as_ref();
             let order = self.cells.order();
             let chain_of = &self.chain_of;
+            let excluded = self.params.excluded_neighbours;
             self.cells.for_each_pair(|a, b, d, r2| {
                 let (i, j) = (order[a] as usize, order[b] as usize);
-                if i.abs_diff(j) == 1 && chain_of[i] == chain_of[j] {
+                if i.abs_diff(j) <= excluded && chain_of[i] == chain_of[j] {
                     return;
                 }
                 let attract = attraction

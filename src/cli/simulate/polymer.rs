@@ -123,6 +123,10 @@ pub struct PolymerArgs {
     /// Height of the polynomial repulsion at contact, in kT.
     #[arg(long, default_value_t = 3.0, value_name = "KT")]
     pub repulsion_energy: f64,
+    /// Beads at most this far apart along a chain do not feel the pair potential (1: bonded
+    /// neighbours only, as polychrom).
+    #[arg(long, default_value_t = 1, value_name = "K")]
+    pub exclude_neighbours: usize,
     /// Ideal (phantom) chain: no excluded volume (same as --repulsion none).
     #[arg(long, conflicts_with_all = ["saw", "repulsion"])]
     pub ideal: bool,
@@ -394,6 +398,7 @@ impl PolymerArgs {
             repulsion,
             attraction,
             confinement,
+            excluded_neighbours: self.exclude_neighbours,
             dt: self.dt.unwrap_or(if hard { 0.0005 } else { 0.002 }),
         };
         let extrusion = if self.extrusion {
