@@ -308,6 +308,14 @@ impl PolymerParams {
     }
 }
 
+/// The attraction well `(depth, range)` between beads `i` and `j`, when they are of one type.
+#[inline]
+fn same_type_well(attraction: Option<&Attraction>, i: usize, j: usize) -> Option<(f64, f64)> {
+    attraction
+        .filter(|a| a.types[i] == a.types[j])
+        .map(|a| (a.energy, a.radius))
+}
+
 /// Polynomial repulsion constant `m = 6⁶ / 7⁷`.
 const POLY_MIN: f64 = 46656.0 / 823543.0;
 
@@ -618,9 +626,7 @@ impl Polymer {
                 if i.abs_diff(j) <= excluded && chain_of[i] == chain_of[j] {
                     return;
                 }
-                let attract = attraction
-                    .filter(|a| a.types[i] == a.types[j])
-                    .map(|a| (a.energy, a.radius));
+                let attract = same_type_well(attraction, i, j);
                 let (e, factor) = pair_terms(&repulsion, attract, r2);
                 energy += e;
                 // d = x_{slot a} - x_{slot b} = x_i - x_j.
@@ -648,12 +654,7 @@ impl Polymer {
             copy.cells.for_each_pair(|a, b, _, r2| {
                 let (i, j) = (order[a] as usize, order[b] as usize);
                 if !self.bonded(i, j) {
-                    let attract = self
-                        .params
-                        .attraction
-                        .as_ref()
-                        .filter(|x| x.types[i] == x.types[j])
-                        .map(|x| (x.energy, x.radius));
+                    let attract = same_type_well(self.params.attraction.as_ref(), i, j);
                     cell_energy += pair_terms(&self.params.repulsion, attract, r2).0;
                 }
             });
@@ -666,12 +667,7 @@ impl Polymer {
                     }
                     let d = space.delta(&self.positions[i], &self.positions[j]);
                     let r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-                    let attract = self
-                        .params
-                        .attraction
-                        .as_ref()
-                        .filter(|x| x.types[i] == x.types[j])
-                        .map(|x| (x.energy, x.radius));
+                    let attract = same_type_well(self.params.attraction.as_ref(), i, j);
                     all += pair_terms(&self.params.repulsion, attract, r2).0;
                 }
             }
