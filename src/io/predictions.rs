@@ -31,7 +31,6 @@
 
 use std::io::Read;
 use std::path::Path;
-use std::str::FromStr;
 
 use crate::error::{Error, Result};
 
@@ -113,26 +112,6 @@ pub enum PredictionFormat {
     Evfold,
     /// GREMLIN table with its header.
     Gremlin,
-}
-
-impl FromStr for PredictionFormat {
-    type Err = Error;
-
-    fn from_str(name: &str) -> Result<Self> {
-        match name.to_ascii_lowercase().as_str() {
-            "rr" | "casp" => Ok(Self::Rr),
-            "matrix" | "mat" | "ccmpred" => Ok(Self::Matrix),
-            "table" | "pairs" => Ok(Self::Table),
-            "npz" | "trrosetta" => Ok(Self::Npz),
-            "npy" => Ok(Self::Npy),
-            "evfold" | "evcouplings" => Ok(Self::Evfold),
-            "gremlin" => Ok(Self::Gremlin),
-            _ => Err(Error::Invalid(format!(
-                "unknown prediction format '{name}' (expected rr, matrix, table, npz, npy, \
-                 evfold or gremlin)"
-            ))),
-        }
-    }
 }
 
 const RR_KEYWORDS: &[&str] = &[

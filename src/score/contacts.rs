@@ -349,18 +349,6 @@ impl TrueContacts {
         }
         (counts, total)
     }
-
-    /// Number of pairs of observed residues whose separation is in `range`.
-    pub fn n_pairs(&self, range: SeparationRange) -> usize {
-        let n = self.numbers.len();
-        (0..n)
-            .map(|a| {
-                (a + 1..n)
-                    .filter(|&b| range.contains(self.numbers[a], self.numbers[b]))
-                    .count()
-            })
-            .sum()
-    }
 }
 
 /// How `L * f` becomes a list size.

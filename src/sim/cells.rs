@@ -56,8 +56,6 @@ pub struct CellList {
     cell_of: Vec<u32>,
     /// Cells holding at least one point, ascending.
     occupied: Vec<u32>,
-    /// Index offsets of the half-shell neighbours (valid for interior cells).
-    stencil: [isize; 13],
     next: Vec<u32>,
     wrapped: Vec<[f64; 3]>,
     brute_force: bool,
@@ -149,17 +147,13 @@ impl CellList {
                 }
                 let dims = dims_for(side);
                 // One empty layer of cells around the grid: every occupied cell is interior,
-                // so its neighbours are at fixed index offsets.
+                // so its half shell lies in the grid (the row ranges of `for_each_pair`).
                 for k in 0..3 {
                     self.dims[k] = dims[k] as usize + 2;
                     self.cell_side[k] = side;
                     self.origin[k] = low[k] - side;
                 }
             }
-        }
-        let [nx, ny, _] = self.dims;
-        for (slot, offset) in self.stencil.iter_mut().zip(HALF_SHELL) {
-            *slot = offset[0] + nx as isize * (offset[1] + ny as isize * offset[2]);
         }
         let n_cells = self.dims[0] * self.dims[1] * self.dims[2];
         self.cell_of.clear();
