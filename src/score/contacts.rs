@@ -499,6 +499,20 @@ pub fn normalize_pairs(pairs: &[(i32, i32, f64)]) -> Vec<(i32, i32, f64)> {
     normalized
 }
 
+/// The pairs of `prediction` whose separation is in `range`, made `i < j` and deduplicated
+/// ([`normalize_pairs`]), sorted by score, descending and stably (equal scores keep the
+/// prediction's order): steps 1 and 3 of the module docs, shared with
+/// [`crate::score::overlap`].
+pub fn rank_pairs(prediction: &Prediction, range: SeparationRange) -> Vec<(i32, i32, f64)> {
+    let mut pairs: Vec<(i32, i32, f64)> = normalize_pairs(&prediction.pairs)
+        .into_iter()
+        .filter(|&(i, j, _)| range.contains(i, j))
+        .collect();
+    // NaN scores were dropped, so the comparison is total.
+    pairs.sort_by(|a, b| b.2.partial_cmp(&a.2).unwrap_or(std::cmp::Ordering::Equal));
+    pairs
+}
+
 /// Score `prediction` against `truth` (see the module docs).
 pub fn score_contacts(
     truth: &TrueContacts,
@@ -520,15 +534,13 @@ pub fn score_contacts(
         TargetLength::Observed => truth.n_observed(),
         TargetLength::Residues(n) => n,
     };
-    // (score, distance: None when a residue is unobserved)
-    let mut ranked: Vec<(f64, Option<f64>)> = normalize_pairs(&prediction.pairs)
+    // (score, distance: None when a residue is unobserved), still in rank order: dropping
+    // pairs after a stable sort leaves the same order as dropping them before.
+    let ranked: Vec<(f64, Option<f64>)> = rank_pairs(prediction, params.range)
         .into_iter()
-        .filter(|&(i, j, _)| params.range.contains(i, j))
         .map(|(i, j, score)| (score, truth.distance(i, j)))
         .filter(|(_, distance)| distance.is_some() || !params.drop_unobserved)
         .collect();
-    // Stable and descending; NaN scores were dropped, so the comparison is total.
-    ranked.sort_by(|a, b| b.0.partial_cmp(&a.0).unwrap_or(std::cmp::Ordering::Equal));
     let definition = *truth.definition();
     let is_true = |distance: &Option<f64>| distance.is_some_and(|d| definition.is_contact(d));
     let n_true = truth.n_contacts(params.range);

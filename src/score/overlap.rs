@@ -1,7 +1,7 @@
 //! Two contact predictions compared with each other, without a structure: how much their top
 //! lists agree.
 //!
-//! Each prediction is prepared as for scoring ([`crate::score::contacts::normalize_pairs`]:
+//! Each prediction is prepared as for scoring ([`crate::score::contacts::rank_pairs`]:
 //! pairs made `i < j`, self pairs and NaN scores dropped, duplicates keeping their highest
 //! score), restricted to a separation range and sorted by score, descending and stably. The top
 //! `k` pairs of each are compared as sets: the overlap is their intersection, and the Jaccard
@@ -10,7 +10,7 @@
 
 use std::collections::HashSet;
 
-use super::contacts::{normalize_pairs, Prediction, SeparationRange};
+use super::contacts::{rank_pairs, Prediction, SeparationRange};
 
 /// The agreement of two top lists.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -29,12 +29,10 @@ pub struct Overlap {
 
 /// The pairs `(i, j)`, `i < j`, of `prediction` in `range`, best first (see the module docs).
 pub fn ranked_pairs(prediction: &Prediction, range: SeparationRange) -> Vec<(i32, i32)> {
-    let mut pairs: Vec<(i32, i32, f64)> = normalize_pairs(&prediction.pairs)
+    rank_pairs(prediction, range)
         .into_iter()
-        .filter(|&(i, j, _)| range.contains(i, j))
-        .collect();
-    pairs.sort_by(|a, b| b.2.partial_cmp(&a.2).unwrap_or(std::cmp::Ordering::Equal));
-    pairs.into_iter().map(|(i, j, _)| (i, j)).collect()
+        .map(|(i, j, _)| (i, j))
+        .collect()
 }
 
 /// The overlap of the top `k` of two ranked lists ([`ranked_pairs`]).

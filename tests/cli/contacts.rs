@@ -192,40 +192,38 @@ fn npz_and_npy_predictions() {
 
 #[test]
 fn coneva_and_conkit_conventions() {
-    let rows = scores(&[
-        "--structure",
-        &protein("1aapA/1aapA.pdb"),
-        &protein("1aapA/1aapA.rr"),
-        "--ranges",
-        "long",
-        "--length",
-        "observed",
-        "--rounding",
-        "half-up",
-    ]);
-    let percentages: Vec<f64> = precisions(&rows)
-        .iter()
-        .map(|p| (p * 10000.0).round() / 100.0)
-        .collect();
-    assert_close(&percentages, &[83.33, 81.82, 46.43, 30.36], 1e-9);
-    let rows = scores(&[
-        "--structure",
-        &protein("toxd/toxd.pdb"),
-        &protein("toxd/toxd.mat"),
-        "--fasta",
-        &protein("toxd/toxd.fasta"),
-        "--ranges",
-        "long",
-        "--length",
-        "observed",
-        "--rounding",
-        "half-up",
-    ]);
-    let percentages: Vec<f64> = precisions(&rows)
-        .iter()
-        .map(|p| (p * 10000.0).round() / 100.0)
-        .collect();
-    assert_close(&percentages, &[100.0, 83.33, 58.62, 37.93], 1e-9);
+    // coneva.pl prints percentages with 2 decimals; L = observed residues, k rounded half up.
+    let coneva = |inputs: &[&str]| -> Vec<f64> {
+        let conventions = [
+            "--ranges",
+            "long",
+            "--length",
+            "observed",
+            "--rounding",
+            "half-up",
+        ];
+        let rows = scores(&[inputs, &conventions[..]].concat());
+        precisions(&rows)
+            .iter()
+            .map(|p| (p * 10000.0).round() / 100.0)
+            .collect()
+    };
+    let (pdb, rr) = (protein("1aapA/1aapA.pdb"), protein("1aapA/1aapA.rr"));
+    assert_close(
+        &coneva(&["--structure", &pdb, &rr]),
+        &[83.33, 81.82, 46.43, 30.36],
+        1e-9,
+    );
+    let (pdb, mat, fasta) = (
+        protein("toxd/toxd.pdb"),
+        protein("toxd/toxd.mat"),
+        protein("toxd/toxd.fasta"),
+    );
+    assert_close(
+        &coneva(&["--structure", &pdb, &mat, "--fasta", &fasta]),
+        &[100.0, 83.33, 58.62, 37.93],
+        1e-9,
+    );
 
     // ConKit documentation: toxd, d <= 8, separation >= 5, top 29, 59, 88.
     let rows = scores(&[
