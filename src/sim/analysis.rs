@@ -9,6 +9,8 @@
 //! - [`loglog_slope`]: the least-squares slope of `log y` against `log x` (a scaling exponent).
 //! - [`mean_square_bond_length`].
 
+use super::polymer::chain_ranges;
+
 /// `P(s)` for `s = 0..=max_s` (index `s`; `P(0) = 1`): over every conformation and every chain
 /// (`chains` holds the chain lengths, beads numbered chain after chain), the fraction of pairs
 /// `(i, i + s)` of one chain whose distance is below `radius`.
@@ -22,9 +24,9 @@ pub fn contact_probability(
     let mut pairs = vec![0u64; max_s + 1];
     let radius2 = radius * radius;
     for positions in conformations {
-        let mut start = 0;
-        for &length in chains {
-            let chain = &positions[start..start + length];
+        for range in chain_ranges(chains) {
+            let length = range.len();
+            let chain = &positions[range];
             for s in 0..=max_s.min(length.saturating_sub(1)) {
                 for i in 0..length - s {
                     let (a, b) = (chain[i], chain[i + s]);
@@ -35,7 +37,6 @@ pub fn contact_probability(
                     }
                 }
             }
-            start += length;
         }
     }
     contacts
@@ -78,14 +79,12 @@ pub fn loglog_slope(points: &[(f64, f64)]) -> f64 {
 pub fn mean_square_bond_length(conformations: &[Vec<[f64; 3]>], chains: &[usize]) -> f64 {
     let (mut sum, mut count) = (0.0, 0usize);
     for positions in conformations {
-        let mut start = 0;
-        for &length in chains {
-            for i in start + 1..start + length {
-                let (a, b) = (positions[i - 1], positions[i]);
+        for range in chain_ranges(chains) {
+            for pair in positions[range].windows(2) {
+                let (a, b) = (pair[0], pair[1]);
                 sum += (a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2);
                 count += 1;
             }
-            start += length;
         }
     }
     sum / count.max(1) as f64

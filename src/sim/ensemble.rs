@@ -100,14 +100,10 @@ impl EnsembleParams {
                     coupling.params.n_monomers()
                 )));
             }
-            let mut start = 0;
-            for (chain, range) in self.polymer.chains.iter().zip(&coupling.params.chains) {
-                if range.start != start || range.len() != *chain {
-                    return Err(Error::Invalid(
-                        "loop extrusion chains differ from the polymer's chains".into(),
-                    ));
-                }
-                start += chain;
+            if coupling.params.chains != self.polymer.chain_ranges() {
+                return Err(Error::Invalid(
+                    "loop extrusion chains differ from the polymer's chains".into(),
+                ));
             }
             if coupling.steps_per_move == 0 {
                 return Err(Error::Invalid(
@@ -121,6 +117,38 @@ impl EnsembleParams {
             }
         }
         Ok(())
+    }
+
+    /// The beads holding a boundary element, sorted, each once (none without extrusion).
+    pub fn boundary_beads(&self) -> Vec<usize> {
+        let mut beads: Vec<usize> = self
+            .extrusion
+            .iter()
+            .flat_map(|coupling| coupling.params.elements.iter().map(|e| e.position))
+            .collect();
+        beads.sort_unstable();
+        beads.dedup();
+        beads
+    }
+
+    /// The true domains: for each chain (by index), the bead ranges between its consecutive
+    /// boundary elements and its ends, counted from the chain's first bead.
+    pub fn true_domains(&self) -> Vec<(usize, std::ops::Range<usize>)> {
+        let elements = self.boundary_beads();
+        let mut domains = Vec::new();
+        for (chain, range) in self.polymer.chain_ranges().into_iter().enumerate() {
+            let mut cuts = vec![0];
+            cuts.extend(
+                elements
+                    .iter()
+                    .filter(|bead| range.contains(bead))
+                    .map(|bead| bead - range.start),
+            );
+            cuts.push(range.len());
+            cuts.dedup();
+            domains.extend(cuts.windows(2).map(|pair| (chain, pair[0]..pair[1])));
+        }
+        domains
     }
 
     /// The bin of every bead and the number of bins of every chain.
@@ -259,17 +287,12 @@ fn run_replica(
             let (x, y) = (x.min(y), x.max(y));
             *counts.entry(x * n_bins + y).or_insert(0) += 1;
         });
-        let mut start = 0;
         radii.push(
             params
                 .polymer
-                .chains
-                .iter()
-                .map(|&length| {
-                    let rg = radius_of_gyration(&positions[start..start + length]);
-                    start += length;
-                    rg
-                })
+                .chain_ranges()
+                .into_iter()
+                .map(|range| radius_of_gyration(&positions[range]))
                 .collect(),
         );
         if params.keep_conformations {

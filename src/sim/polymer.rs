@@ -125,6 +125,18 @@ pub enum Confinement {
     },
 }
 
+/// The bead indices of chains of the given lengths, numbered chain after chain.
+pub fn chain_ranges(lengths: &[usize]) -> Vec<std::ops::Range<usize>> {
+    let mut start = 0;
+    lengths
+        .iter()
+        .map(|&length| {
+            start += length;
+            start - length..start
+        })
+        .collect()
+}
+
 /// The radius of a sphere holding `n` beads at number `density`.
 pub fn sphere_radius(n: usize, density: f64) -> f64 {
     (3.0 * n as f64 / (4.0 * std::f64::consts::PI * density)).cbrt()
@@ -204,6 +216,11 @@ impl PolymerParams {
     /// Total number of beads.
     pub fn n_beads(&self) -> usize {
         self.chains.iter().sum()
+    }
+
+    /// The bead indices of each chain ([`chain_ranges`]).
+    pub fn chain_ranges(&self) -> Vec<std::ops::Range<usize>> {
+        chain_ranges(&self.chains)
     }
 
     /// Check every parameter, with a message naming the bad one.

@@ -16,7 +16,8 @@ use crate::matrix::{CountType, MatrixBuilder};
 use crate::sim::ensemble::{run_ensemble, Ensemble, EnsembleParams, ExtrusionCoupling};
 use crate::sim::extrusion::{BoundaryElement, ExtrusionParams, Orientation};
 use crate::sim::polymer::{
-    box_side, sphere_radius, Attraction, BondModel, Confinement, PolymerParams, Repulsion,
+    box_side, chain_ranges, sphere_radius, Attraction, BondModel, Confinement, PolymerParams,
+    Repulsion,
 };
 
 /// Bond models, for `--bonds`.
@@ -282,7 +283,7 @@ fn parse_ctcf(
                         chains.len()
                     ))
                 })?;
-            let offset: usize = chains[..chain - 1].iter().sum();
+            let offset = chain_ranges(chains)[chain - 1].start;
             let bead = (record.start / monomer_bp) as usize;
             if bead >= chains[chain - 1] {
                 return Err(Error::Invalid(format!(
@@ -402,16 +403,7 @@ impl PolymerArgs {
             dt: self.dt.unwrap_or(if hard { 0.0005 } else { 0.002 }),
         };
         let extrusion = if self.extrusion {
-            let mut start = 0;
-            let chains = self
-                .chains
-                .iter()
-                .map(|&length| {
-                    let range = start..start + length;
-                    start += length;
-                    range
-                })
-                .collect();
+            let chains = chain_ranges(&self.chains);
             let elements = match &self.ctcf {
                 Some(text) => parse_ctcf(
                     text,
@@ -531,82 +523,33 @@ pub fn run(args: &PolymerArgs) -> Result<()> {
 
 /// The boundary-element bins and the domains between them, as BED.
 fn write_truth(args: &PolymerArgs, params: &EnsembleParams, bins: &BinTable) -> Result<()> {
-    let elements: Vec<usize> = params
-        .extrusion
-        .as_ref()
-        .map(|coupling| {
-            let mut positions: Vec<usize> = coupling
-                .params
-                .elements
-                .iter()
-                .map(|e| e.position)
-                .collect();
-            positions.sort_unstable();
-            positions.dedup();
-            positions
-        })
-        .unwrap_or_default();
-    let (bead_bin, _) = params.bins();
-    let chain_of = |bead: usize| {
-        let mut start = 0;
-        for (k, &length) in params.polymer.chains.iter().enumerate() {
-            if bead < start + length {
-                return (k, start);
-            }
-            start += length;
-        }
-        (params.polymer.chains.len() - 1, start)
-    };
-    let mut line = Vec::new();
     if let Some(path) = &args.truth_boundaries {
+        let (bead_bin, _) = params.bins();
+        let mut element_bins: Vec<usize> = params
+            .boundary_beads()
+            .into_iter()
+            .map(|bead| bead_bin[bead] as usize)
+            .collect();
+        element_bins.dedup();
+        let rows = element_bins
+            .into_iter()
+            .map(|bin| (bin, bin + 1, Vec::new()));
+        super::write_bins_bed(path, bins, rows)?;
+    }
+    if let Some(path) = &args.truth_domains {
         let mut out = Output::open(Some(path))?;
-        let mut last = None;
-        for &bead in &elements {
-            let bin = bead_bin[bead] as usize;
-            if last == Some(bin) {
-                continue;
-            }
-            last = Some(bin);
-            let b = bins.bin(bin);
+        let mut line = Vec::new();
+        for (chain, beads) in params.true_domains() {
             line.clear();
             write_bed_line(
                 &mut line,
-                &bins.chroms()[b.chrom_id].name,
-                b.start,
-                b.end,
+                &bins.chroms()[chain].name,
+                beads.start as u64 * args.monomer_bp,
+                beads.end as u64 * args.monomer_bp,
                 &[],
             )
             .map_err(|e| Error::io(path, e))?;
             out.write_all(&line)?;
-        }
-        out.finish()?;
-    }
-    if let Some(path) = &args.truth_domains {
-        let mut out = Output::open(Some(path))?;
-        for (k, &length) in params.polymer.chains.iter().enumerate() {
-            let start: usize = params.polymer.chains[..k].iter().sum();
-            let mut cuts: Vec<usize> = vec![0];
-            cuts.extend(
-                elements
-                    .iter()
-                    .filter(|&&bead| chain_of(bead).0 == k)
-                    .map(|&bead| bead - start),
-            );
-            cuts.push(length);
-            cuts.dedup();
-            let chrom = format!("chr{}", k + 1);
-            for pair in cuts.windows(2) {
-                line.clear();
-                write_bed_line(
-                    &mut line,
-                    &chrom,
-                    pair[0] as u64 * args.monomer_bp,
-                    pair[1] as u64 * args.monomer_bp,
-                    &[],
-                )
-                .map_err(|e| Error::io(path, e))?;
-                out.write_all(&line)?;
-            }
         }
         out.finish()?;
     }
@@ -618,10 +561,8 @@ fn write_conformations(path: &Path, params: &EnsembleParams, ensemble: &Ensemble
     out.write_all(b"replica\tsample\tchain\tbead\tx\ty\tz\n")?;
     let mut text = Vec::new();
     for (index, positions) in ensemble.conformations.iter().enumerate() {
-        let mut bead = 0;
-        for (chain, &length) in params.polymer.chains.iter().enumerate() {
-            for k in 0..length {
-                let p = positions[bead];
+        for (chain, range) in params.polymer.chain_ranges().into_iter().enumerate() {
+            for (k, p) in positions[range].iter().enumerate() {
                 text.clear();
                 text.extend_from_slice(
                     format!(
@@ -636,7 +577,6 @@ fn write_conformations(path: &Path, params: &EnsembleParams, ensemble: &Ensemble
                     .as_bytes(),
                 );
                 out.write_all(&text)?;
-                bead += 1;
             }
         }
     }
