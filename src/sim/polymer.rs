@@ -591,6 +591,14 @@ impl Polymer {
         let mut forces = std::mem::take(&mut self.forces);
         forces.clear();
         forces.resize(n, [0.0; 3]);
+        let energy = self.bonded_forces(&mut forces) + self.pair_forces(&mut forces);
+        self.forces = forces;
+        energy
+    }
+
+    /// Add the forces of the chain bonds, extra bonds, angles and wall; return their energy.
+    fn bonded_forces(&self, forces: &mut [[f64; 3]]) -> f64 {
+        let n = self.positions.len();
         let mut energy = 0.0;
         // Chain bonds.
         let bond = self.params.bond;
@@ -598,20 +606,20 @@ impl Polymer {
             if self.chain_of[i] != self.chain_of[i - 1] {
                 continue;
             }
-            energy += bond_force(&self.positions, &mut forces, i - 1, i, bond);
+            energy += bond_force(&self.positions, forces, i - 1, i, bond);
         }
         // Extra bonds.
         let (length, wiggle) = self.extra_bond;
         let extra = BondModel::Harmonic { length, wiggle };
         for &(i, j) in &self.extra_bonds {
-            energy += bond_force(&self.positions, &mut forces, i as usize, j as usize, extra);
+            energy += bond_force(&self.positions, forces, i as usize, j as usize, extra);
         }
         // Angles.
         let k = self.params.angle_stiffness;
         if k > 0.0 {
             for i in 1..n.saturating_sub(1) {
                 if self.chain_of[i - 1] == self.chain_of[i + 1] {
-                    energy += angle_force(&self.positions, &mut forces, i, k);
+                    energy += angle_force(&self.positions, forces, i, k);
                 }
             }
         }
@@ -628,7 +636,12 @@ impl Polymer {
                 }
             }
         }
-        // Pairs.
+        energy
+    }
+
+    /// Add the pair forces (through the cell list); return their energy.
+    fn pair_forces(&mut self, forces: &mut [[f64; 3]]) -> f64 {
+        let mut energy = 0.0;
         let range = self.params.interaction_range();
         if range > 0.0 {
             let space = self.params.space();
@@ -652,43 +665,6 @@ impl Polymer {
                     forces[j][k] -= factor * d[k];
                 }
             });
-        }
-        self.forces = forces;
-        energy
-    }
-
-    /// The potential energy at the current positions (pairs by brute force; for tests).
-    pub fn energy_brute_force(&self) -> f64 {
-        let mut copy = self.clone();
-        let mut energy = copy.compute_forces();
-        // Replace the cell-list pair energy by an all-pairs sum.
-        let range = self.params.interaction_range();
-        if range > 0.0 {
-            copy.cells
-                .build(&copy.positions, range, copy.params.space());
-            let mut cell_energy = 0.0;
-            let order = copy.cells.order().to_vec();
-            copy.cells.for_each_pair(|a, b, _, r2| {
-                let (i, j) = (order[a] as usize, order[b] as usize);
-                if !self.bonded(i, j) {
-                    let attract = same_type_well(self.params.attraction.as_ref(), i, j);
-                    cell_energy += pair_terms(&self.params.repulsion, attract, r2).0;
-                }
-            });
-            let mut all = 0.0;
-            let space = self.params.space();
-            for i in 0..self.positions.len() {
-                for j in i + 1..self.positions.len() {
-                    if self.bonded(i, j) {
-                        continue;
-                    }
-                    let d = space.delta(&self.positions[i], &self.positions[j]);
-                    let r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-                    let attract = same_type_well(self.params.attraction.as_ref(), i, j);
-                    all += pair_terms(&self.params.repulsion, attract, r2).0;
-                }
-            }
-            energy += all - cell_energy;
         }
         energy
     }
@@ -834,6 +810,30 @@ mod tests {
         }
     }
 
+    /// The energy with the pair terms summed over all pairs (no cell list).
+    fn all_pairs_energy(polymer: &Polymer) -> f64 {
+        let mut scratch = vec![[0.0; 3]; polymer.positions.len()];
+        let mut energy = polymer.bonded_forces(&mut scratch);
+        let space = polymer.params.space();
+        let attraction = polymer.params.attraction.as_ref();
+        for i in 0..polymer.positions.len() {
+            for j in i + 1..polymer.positions.len() {
+                if polymer.bonded(i, j) {
+                    continue;
+                }
+                let d = space.delta(&polymer.positions[i], &polymer.positions[j]);
+                let r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+                energy += pair_terms(
+                    &polymer.params.repulsion,
+                    same_type_well(attraction, i, j),
+                    r2,
+                )
+                .0;
+            }
+        }
+        energy
+    }
+
     /// The forces are minus the gradient of the energy (central differences), for every term.
     #[test]
     fn forces_are_minus_the_energy_gradient() {
@@ -889,7 +889,7 @@ mod tests {
             assert!(worst < 1e-5, "{repulsion:?}: worst relative error {worst}");
             // The cell-list energy equals the all-pairs energy.
             let cells = polymer.clone().compute_forces();
-            let all = polymer.energy_brute_force();
+            let all = all_pairs_energy(&polymer);
             assert!(
                 (cells - all).abs() < 1e-9 * (1.0 + all.abs()),
                 "{cells} vs {all}"
