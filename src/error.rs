@@ -110,6 +110,16 @@ impl Error {
         }
     }
 
+    /// Name `path` in an [`Error::Invalid`] message (`path: message`), for checks that do not
+    /// know which file their input came from; every other error already names its file and is
+    /// returned unchanged.
+    pub fn in_file(self, path: &std::path::Path) -> Self {
+        match self {
+            Error::Invalid(message) => Error::Invalid(format!("{}: {message}", path.display())),
+            other => other,
+        }
+    }
+
     /// True when the error is a closed output pipe (`contactmap dump ... | head`), which the
     /// binary treats as success.
     pub fn is_broken_pipe(&self) -> bool {

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use clap::{Args, ValueEnum};
 
 use crate::cli::output::{write_real, Output};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::io::predictions::read_fasta;
 use crate::io::structure::{read_structure, Chain};
 use crate::score::contacts::{
@@ -95,7 +95,7 @@ pub fn read_chain(structure: &Path, chain: Option<&str>) -> Result<Chain> {
     let parsed = read_structure(structure)?;
     Ok(parsed
         .chain(chain)
-        .map_err(|err| Error::Invalid(format!("{}: {err}", structure.display())))?
+        .map_err(|err| err.in_file(structure))?
         .clone())
 }
 
@@ -114,7 +114,7 @@ pub fn place_chain(
         (Some(_), RegisterArg::Align) => RegisterMode::Alignment,
     };
     let register = register(chain, sequence.unwrap_or_default(), mode)
-        .map_err(|err| Error::Invalid(format!("{}: {err}", structure.display())))?;
+        .map_err(|err| err.in_file(structure))?;
     Ok((register.renumber(chain), Some(register)))
 }
 
@@ -124,8 +124,7 @@ pub fn measure(
     chain: &Chain,
     definition: &DefinitionArgs,
 ) -> Result<TrueContacts> {
-    TrueContacts::from_chain(chain, definition.definition())
-        .map_err(|err| Error::Invalid(format!("{}: {err}", structure.display())))
+    TrueContacts::from_chain(chain, definition.definition()).map_err(|err| err.in_file(structure))
 }
 
 /// Arguments of `contactmap contacts`.

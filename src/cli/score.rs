@@ -554,19 +554,12 @@ fn load_prediction(
     if let Some(sequence) = fasta {
         prediction = prediction
             .with_sequence(sequence)
-            .map_err(|err| in_file(path, err))?;
+            .map_err(|err| err.in_file(path))?;
     }
     if let Some(sequence) = &mut prediction.sequence {
         sequence.make_ascii_uppercase();
     }
     Ok(prediction)
-}
-
-fn in_file(path: &Path, err: Error) -> Error {
-    match err {
-        Error::Invalid(message) => Error::Invalid(format!("{}: {message}", path.display())),
-        other => other,
-    }
 }
 
 fn score_one(
@@ -604,7 +597,7 @@ fn score_one(
             curve: *curve_size,
         };
         let score =
-            score_contacts(&placed.truth, prediction, &params).map_err(|err| in_file(path, err))?;
+            score_contacts(&placed.truth, prediction, &params).map_err(|err| err.in_file(path))?;
         scores.push((named.clone(), labels.clone(), score));
     }
     Ok(PredictionReport {
@@ -878,7 +871,7 @@ fn run_contacts(args: &ContactsScoreArgs) -> Result<()> {
             Some(index) => index,
             None => {
                 let placed = place(args, &chain, prediction.sequence.as_deref())
-                    .map_err(|err| in_file(path, err))?;
+                    .map_err(|err| err.in_file(path))?;
                 // The table shows the register; other outputs get it on standard error.
                 let table_on_stdout = !(args.tsv || args.json || args.out.is_some());
                 if let Some(register) = placed.register.as_ref().filter(|_| !table_on_stdout) {

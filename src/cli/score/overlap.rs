@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use super::{aligned, real, ListArgs, NamedRange, PredictionFormatArg};
+use super::{aligned, max_sep_text, real, ListArgs, NamedRange, PredictionFormatArg};
 use crate::cli::output::Output;
 use crate::error::{Error, Result};
 use crate::io::predictions::{read_fasta, read_prediction};
@@ -76,7 +76,7 @@ pub fn run(args: &OverlapArgs) -> Result<()> {
         if let Some(sequence) = &fasta {
             prediction = prediction
                 .with_sequence(sequence)
-                .map_err(|err| super::in_file(path, err))?;
+                .map_err(|err| err.in_file(path))?;
         }
         predictions.push(prediction);
     }
@@ -140,10 +140,7 @@ pub fn run(args: &OverlapArgs) -> Result<()> {
                 args.second.display(),
                 named.name,
                 named.range.min,
-                named
-                    .range
-                    .max
-                    .map_or_else(|| "inf".to_string(), |max| max.to_string()),
+                max_sep_text(&named.range),
                 result.k,
                 result.n_first,
                 result.n_second,
