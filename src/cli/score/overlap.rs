@@ -80,40 +80,38 @@ pub fn run(args: &OverlapArgs) -> Result<()> {
         }
         predictions.push(prediction);
     }
-    let length = match (
-        args.length,
-        &predictions[0].sequence,
-        &predictions[1].sequence,
-    ) {
-        (Some(0), _, _) => return Err(Error::Invalid("--length must be positive".into())),
-        (Some(length), _, _) => length,
-        (None, Some(a), Some(b)) if !a.eq_ignore_ascii_case(b) => {
-            return Err(Error::Invalid(format!(
-                "{} and {} carry different sequences ({} and {} residues): they are not \
-                 predictions for the same target",
-                args.first.display(),
-                args.second.display(),
+    // What each file says of its target: the length of its sequence, else its matrix size.
+    let implied: Vec<Option<usize>> = predictions
+        .iter()
+        .map(|p| p.sequence.as_ref().map(|s| s.chars().count()).or(p.length))
+        .collect();
+    let different = |what: String| {
+        Error::Invalid(format!(
+            "{} and {} {what}: they are not predictions for the same target",
+            args.first.display(),
+            args.second.display()
+        ))
+    };
+    if let (Some(a), Some(b)) = (&predictions[0].sequence, &predictions[1].sequence) {
+        if !a.eq_ignore_ascii_case(b) {
+            return Err(different(format!(
+                "carry different sequences ({} and {} residues)",
                 a.len(),
                 b.len()
-            )))
+            )));
         }
-        (None, Some(sequence), _) | (None, None, Some(sequence)) => sequence.chars().count(),
-        (None, None, None) => match (predictions[0].length, predictions[1].length) {
-            (Some(a), Some(b)) if a != b => {
-                return Err(Error::Invalid(format!(
-                    "{} covers {a} residues and {} {b}: they are not predictions for the same \
-                     target",
-                    args.first.display(),
-                    args.second.display()
-                )))
-            }
-            (Some(n), _) | (None, Some(n)) => n,
-            (None, None) => {
-                return Err(Error::Invalid(
-                    "L is unknown: give the target sequence (--fasta) or --length".into(),
-                ))
-            }
-        },
+    }
+    if let (Some(a), Some(b)) = (implied[0], implied[1]) {
+        if a != b {
+            return Err(different(format!("cover {a} and {b} residues")));
+        }
+    }
+    let length = match args.length {
+        Some(0) => return Err(Error::Invalid("--length must be positive".into())),
+        Some(length) => length,
+        None => implied[0].or(implied[1]).ok_or_else(|| {
+            Error::Invalid("L is unknown: give the target sequence (--fasta) or --length".into())
+        })?,
     };
     let rounding: Rounding = args.lists.rounding.into();
     let mut results: Vec<(&NamedRange, &str, Overlap)> = Vec::new();
