@@ -629,5 +629,12 @@ fn overlap_of_two_predictions() {
     assert!(
         line.contains("not predictions for the same target"),
         "{line}"
-    );
+    ); // A matrix (59 residues) against an RR file carrying a 56-residue sequence.
+    let line = run_err(&[
+        "score",
+        "overlap",
+        &protein("toxd/toxd.mat"),
+        &protein("1aapA/1aapA.rr"),
+    ]);
+    assert!(line.contains("cover 59 and 56 residues"), "{line}");
 }
