@@ -46,14 +46,35 @@ def simulate(name, n, mode, replicas, every, samples, equilibration=0, extra=())
         "--bond-wiggle", 0.3, "--dt", 0.01, "--replicas", replicas,
         "--equilibration", equilibration, "--sample-every", every, "--samples", samples,
         "--stats", stats, "--conformations", conf, "--seed", 1, *extra)
-    rg2 = [float(line.split("\t")[3]) ** 2 for line in open(stats).read().splitlines()[1:]]
+    per_replica = {}
+    for line in open(stats).read().splitlines()[1:]:
+        fields = line.split("\t")
+        per_replica.setdefault(fields[0], []).append(float(fields[3]) ** 2)
+    rg2 = [sum(v) / len(v) for v in per_replica.values()]
     confs = {}
     with gzip.open(conf, "rt") as f:
         next(f)
         for line in f:
             r, s, _, bead, x, y, z = line.split("\t")
             confs.setdefault((r, s), []).append((float(x), float(y), float(z)))
-    return sum(rg2) / len(rg2), list(confs.values())
+    return sum(rg2) / len(rg2), list(confs.values()), rg2
+
+
+def exponent(runs, sizes):
+    """Rg exponent: half the log-log slope of <Rg^2> over N, with a jackknife error over replicas."""
+    nu = slope([(n, runs[n][0]) for n in sizes]) / 2
+    k = min(len(runs[n][2]) for n in sizes)
+    leave = []
+    for drop in range(k):
+        means = {n: sum(v for i, v in enumerate(runs[n][2]) if i != drop) / (len(runs[n][2]) - 1) for n in sizes}
+        leave.append(slope([(n, means[n]) for n in sizes]) / 2)
+    mean = sum(leave) / k
+    return nu, math.sqrt((k - 1) / k * sum((x - mean) ** 2 for x in leave))
+
+
+def standard_error(values):
+    m = sum(values) / len(values)
+    return math.sqrt(sum((v - m) ** 2 for v in values) / (len(values) - 1) / len(values))
 
 
 def contact_probability(confs, radius, max_s, margin=0):
@@ -98,10 +119,11 @@ for n in (16, 32, 64, 128):
     # Many replicas of the longest chain: its long-range contacts are rare.
     replicas = 64 if n == 128 else 16
     ideal[n] = simulate(f"ideal{n}", n, "--ideal", replicas, every, max(4, int(24 * SCALE)))
-nu = slope([(n, r[0]) for n, r in ideal.items()]) / 2
-report.append(f"ideal chain: Rg exponent over N = 16..128: {nu:.4f} (expected 0.5 +- 0.02)")
-for n, (rg2, _) in ideal.items():
-    report.append(f"  N = {n}: <Rg^2> = {rg2:.3f} (N b^2 / 6 = {n * bond2(ideal[n][1]) / 6:.3f})")
+nu, err = exponent(ideal, (16, 32, 64, 128))
+report.append(f"ideal chain: Rg exponent over N = 16..128: {nu:.4f} +- {err:.4f} (expected 0.5 +- 0.02)")
+for n, (rg2, c, per) in ideal.items():
+    report.append(f"  N = {n}: <Rg^2> = {rg2:.3f} +- {standard_error(per):.3f} "
+                  f"(<b^2> (N^2 - 1) / 6N = {(n * n - 1) * bond2(c) / (6 * n):.3f})")
 confs = ideal[128][1]
 b = math.sqrt(bond2(confs))
 p = contact_probability(confs, 1.0, 100)
@@ -115,19 +137,20 @@ for s in (20, 40, 80):
     report.append(f"  P({s}) = {p[s]:.5f}; closed form sqrt(6/pi)(a/b)^3 s^-1.5 = {closed_form(s, 1.0, b):.5f} "
                   f"(ratio {p[s] / closed_form(s, 1.0, b):.3f}); exact Gaussian {gaussian(s, 1.0, b):.5f}")
 
-# Excluded volume, dilute good solvent: equilibrate from the random walk for ~3 swollen Rouse
-# times (N Ree^2 / (3 pi^2) with Ree^2 ~ 1.3 N^1.18), sample every half of one.
+# Excluded volume, dilute good solvent (--saw: repulsion 0.6 kT, radius 0.8): equilibrate from
+# the random walk for ~3 swollen Rouse times (N Ree^2 / (3 pi^2) with Ree^2 ~ 1.3 N^1.18, an
+# overestimate here), sample every quarter of one (the P(s) needs many conformations).
 saw = {}
 for n in (16, 32, 64, 128):
     tau = n * 1.3 * n ** 1.18 / 30
-    every = max(1000, int(tau / 2 / 0.01))
-    saw[n] = simulate(f"saw{n}", n, "--saw", 16, every, max(4, int(24 * SCALE)), equilibration=6 * every)
-nu = slope([(n, r[0]) for n, r in saw.items()]) / 2
-nu_large = slope([(n, r[0]) for n, r in saw.items() if n >= 32]) / 2
-report.append(f"excluded volume: Rg exponent over N = 16..128: {nu:.4f}; over N = 32..128: {nu_large:.4f} "
-              "(expected 0.588 +- 0.02)")
-for n, (rg2, _) in saw.items():
-    report.append(f"  N = {n}: <Rg^2> = {rg2:.3f}")
+    every = max(1000, int(tau / 4 / 0.01))
+    saw[n] = simulate(f"saw{n}", n, "--saw", 32, every, max(8, int(48 * SCALE)), equilibration=12 * every)
+nu, err = exponent(saw, (16, 32, 64, 128))
+nu_large, err_large = exponent(saw, (32, 64, 128))
+report.append(f"excluded volume: Rg exponent over N = 16..128: {nu:.4f} +- {err:.4f}; over N = 32..128: "
+              f"{nu_large:.4f} +- {err_large:.4f} (expected 0.588 +- 0.02)")
+for n, (rg2, _, per) in saw.items():
+    report.append(f"  N = {n}: <Rg^2> = {rg2:.3f} +- {standard_error(per):.3f}")
 confs = saw[128][1]
 p = contact_probability(confs, 1.5, 40, margin=32)
 fit = slope([(s, p[s]) for s in range(10, 41)])

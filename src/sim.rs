@@ -4,8 +4,12 @@
 //!   optionally nested) with enriched contacts, per-bin coverage biases and dead bins, Poisson
 //!   counts. The true domains and boundaries come with the map.
 //!
-//! A polymer simulator (chain, cell lists, loop extrusion, contacts from conformations) will live
-//! beside it in later modules.
+//! - the polymer simulator: [`polymer`] (a bead-spring chain under Brownian dynamics), [`cells`]
+//!   (the cell lists of its pair forces and contacts), [`extrusion`] (1D loop extrusion),
+//!   [`ensemble`] (replicas in parallel, sampled into a binned contact map) and [`analysis`]
+//!   (P(s), radii of gyration and the closed forms they are checked against);
+//! - [`reference`]: a Monte Carlo sampler of the same chain's equilibrium, against which the
+//!   dynamics are checked.
 //!
 //! Reproducibility: every random process takes an explicit seed; independent streams (per
 //! chromosome row, per purpose) are seeded from it by [`stream_seed`], so results never depend
@@ -24,6 +28,7 @@ pub mod cells;
 pub mod ensemble;
 pub mod extrusion;
 pub mod polymer;
+pub mod reference;
 
 pub use blocks::{block_map, BlockMap, BlockMapParams};
 

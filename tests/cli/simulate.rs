@@ -275,6 +275,11 @@ fn polymer_bad_parameters() {
         (&["--extrusion", "--ctcf", "40,5000"][..], "5000"),
         (&["--replicas", "0"][..], "replica"),
         (&["--types", "A-B"][..], "--types"),
+        (
+            &["--repulsion", "wca", "--repulsion-energy", "2"][..],
+            "polynomial repulsion",
+        ),
+        (&["--repulsion-radius", "0"][..], "repulsion radius"),
     ] {
         let args = [
             &["simulate", "polymer", "-o", cool, "--chains", "100"][..],

@@ -59,8 +59,10 @@ FENE) bonds, optional angle stiffness, excluded volume between non-bonded beads 
 soft polynomial repulsion, or WCA), optional attraction between beads of the same type (block
 copolymer, --types), in free space, a soft sphere or a periodic box at --density. Overdamped
 Langevin (Brownian) dynamics, dt = --dt; pair forces through cell lists (O(N) per step).
---ideal removes the excluded volume (phantom chain); --saw keeps it and frees the chain (good
-solvent, no confinement): the two physics checks.
+--ideal removes the excluded volume (phantom chain); --saw frees the chain (good solvent, no
+confinement) with a weaker repulsion (0.6 kT, radius 0.8) at which chains of a few tens of beads
+already swell as self-avoiding walks (Rg ~ N^0.588; polychrom's 3 kT / 1.05 swells short chains
+more, Rg ~ N^0.62 at N = 64-128): the two physics checks (docs/simulation.md).
 
 Loop extrusion (Fudenberg et al. 2016) with --extrusion: loop-extruding factors (one per
 --separation monomers) load at random, extrude both ways one monomer per 1D step (one 1D step
@@ -121,17 +123,22 @@ pub struct PolymerArgs {
     /// Excluded volume.
     #[arg(long, value_enum, default_value = "polynomial")]
     pub repulsion: RepulsionArg,
-    /// Height of the polynomial repulsion at contact, in kT.
-    #[arg(long, default_value_t = 3.0, value_name = "KT")]
-    pub repulsion_energy: f64,
+    /// Height of the polynomial repulsion at contact, in kT [default: 3, polychrom's; 0.6 with
+    /// --saw].
+    #[arg(long, value_name = "KT")]
+    pub repulsion_energy: Option<f64>,
+    /// Range of the polynomial repulsion [default: 1.05, polychrom's; 0.8 with --saw].
+    #[arg(long, value_name = "LENGTH")]
+    pub repulsion_radius: Option<f64>,
     /// Beads at most this far apart along a chain do not feel the pair potential (1: bonded
     /// neighbours only, as polychrom).
     #[arg(long, default_value_t = 1, value_name = "K")]
     pub exclude_neighbours: usize,
     /// Ideal (phantom) chain: no excluded volume (same as --repulsion none).
-    #[arg(long, conflicts_with_all = ["saw", "repulsion"])]
+    #[arg(long, conflicts_with_all = ["saw", "repulsion", "repulsion_energy", "repulsion_radius"])]
     pub ideal: bool,
-    /// Self-avoiding walk check: excluded volume, no attraction, no confinement.
+    /// Self-avoiding walk check: free chains in good solvent (no attraction, no confinement),
+    /// with the polynomial repulsion at 0.6 kT and radius 0.8 unless given.
     #[arg(long, conflicts_with_all = ["density", "types"])]
     pub saw: bool,
     /// Bead types, cyclically along each chain: letters with optional run lengths, e.g.
@@ -327,11 +334,30 @@ impl PolymerArgs {
         } else {
             self.repulsion
         };
+        if repulsion_kind != RepulsionArg::Polynomial
+            && (self.repulsion_energy.is_some() || self.repulsion_radius.is_some())
+        {
+            return Err(Error::Invalid(
+                "--repulsion-energy and --repulsion-radius shape the polynomial repulsion: they \
+                 do not apply with --repulsion wca or none"
+                    .into(),
+            ));
+        }
         let repulsion = match repulsion_kind {
-            RepulsionArg::Polynomial => Repulsion::Polynomial {
-                energy: self.repulsion_energy,
-                radius: 1.05,
-            },
+            RepulsionArg::Polynomial => {
+                let default = if self.saw {
+                    Repulsion::SAW
+                } else {
+                    Repulsion::POLYCHROM
+                };
+                let Repulsion::Polynomial { energy, radius } = default else {
+                    unreachable!("the default repulsions are polynomial")
+                };
+                Repulsion::Polynomial {
+                    energy: self.repulsion_energy.unwrap_or(energy),
+                    radius: self.repulsion_radius.unwrap_or(radius),
+                }
+            }
             RepulsionArg::Wca => Repulsion::Wca {
                 epsilon: 1.0,
                 sigma: 1.0,

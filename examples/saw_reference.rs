@@ -1,0 +1,75 @@
+//! Equilibrium radius of gyration of a free bead-spring chain by Monte Carlo
+//! ([`contactmap::sim::reference::ChainSampler`]), for choosing and checking the excluded volume
+//! of `contactmap simulate polymer`.
+//!
+//! usage: cargo run --release --example saw_reference -- ENERGY RADIUS SWEEPS N...
+//!
+//! Harmonic bonds of wiggle 0.3 (as scripts/sim_physics.py), polychrom's polynomial repulsion of
+//! height ENERGY (kT) and range RADIUS between beads two or more apart. For each N: `<Rg²>` with
+//! its standard error over 16 independent chains of SWEEPS sweeps (after SWEEPS / 5 of burn-in),
+//! and the local exponent `ν = ln(Rg²(N) / Rg²(N')) / (2 ln(N / N'))` from the previous N.
+
+use contactmap::sim::polymer::{radius_of_gyration, BondModel, Repulsion};
+use contactmap::sim::reference::ChainSampler;
+use contactmap::sim::SimRng;
+use rand::SeedableRng;
+use rayon::prelude::*;
+
+const CHAINS: u64 = 16;
+
+fn mean_rg2(n: usize, repulsion: Repulsion, sweeps: usize, seed: u64) -> f64 {
+    let bond = BondModel::Harmonic {
+        length: 1.0,
+        wiggle: 0.3,
+    };
+    let rng = SimRng::seed_from_u64(seed);
+    let mut sampler = ChainSampler::new(n, bond, repulsion, 1, rng).expect("at least 3 beads");
+    for _ in 0..sweeps / 5 {
+        sampler.sweep();
+    }
+    let mut total = 0.0;
+    for _ in 0..sweeps {
+        sampler.sweep();
+        total += radius_of_gyration(sampler.positions()).powi(2);
+    }
+    total / sweeps as f64
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let numbers: Option<Vec<f64>> = args.iter().map(|a| a.parse().ok()).collect();
+    let Some(numbers) = numbers.filter(|v| v.len() >= 4) else {
+        eprintln!("usage: saw_reference ENERGY RADIUS SWEEPS N...");
+        std::process::exit(2);
+    };
+    let repulsion = Repulsion::Polynomial {
+        energy: numbers[0],
+        radius: numbers[1],
+    };
+    let sweeps = numbers[2] as usize;
+    println!("N\tRg2\tstandard_error\tlocal_nu\tlocal_nu_error");
+    let mut previous: Option<(f64, f64, f64)> = None;
+    for &n in &numbers[3..] {
+        let means: Vec<f64> = (0..CHAINS)
+            .into_par_iter()
+            .map(|chain| mean_rg2(n as usize, repulsion, sweeps, chain))
+            .collect();
+        let mean = means.iter().sum::<f64>() / CHAINS as f64;
+        let error = (means.iter().map(|m| (m - mean).powi(2)).sum::<f64>()
+            / ((CHAINS - 1) * CHAINS) as f64)
+            .sqrt();
+        let (nu, nu_error) = match previous {
+            Some((m, rg2, e)) => {
+                let log_ratio = (n / m).ln();
+                let relative = ((error / mean).powi(2) + (e / rg2).powi(2)).sqrt();
+                (
+                    format!("{:.4}", (mean / rg2).ln() / log_ratio / 2.0),
+                    format!("{:.4}", relative / log_ratio / 2.0),
+                )
+            }
+            None => (String::new(), String::new()),
+        };
+        println!("{n}\t{mean:.4}\t{error:.4}\t{nu}\t{nu_error}");
+        previous = Some((n, mean, error));
+    }
+}
