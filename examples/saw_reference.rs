@@ -7,7 +7,10 @@
 //! Harmonic bonds of wiggle 0.3 (as scripts/sim_physics.py), polychrom's polynomial repulsion of
 //! height ENERGY (kT) and range RADIUS between beads two or more apart. For each N: `<Rg²>` with
 //! its standard error over 16 independent chains of SWEEPS sweeps (after SWEEPS / 5 of burn-in),
-//! and the local exponent `ν = ln(Rg²(N) / Rg²(N')) / (2 ln(N / N'))` from the previous N.
+//! the local exponent `ν = ln(Rg²(N) / Rg²(N')) / (2 ln(N / N'))` from the previous N, and (for
+//! N ≥ 96) the log-log slope of the interior contact probability P(s) over s = 10..40, for pairs
+//! at least N/4 beads from the chain ends in contact below a distance of 1.5 (as
+//! scripts/sim_physics.py measures it on the dynamics).
 
 use contactmap::sim::polymer::{radius_of_gyration, BondModel, Repulsion};
 use contactmap::sim::reference::ChainSampler;
@@ -17,7 +20,11 @@ use rayon::prelude::*;
 
 const CHAINS: u64 = 16;
 
-fn mean_rg2(n: usize, repulsion: Repulsion, sweeps: usize, seed: u64) -> f64 {
+const CONTACT_RADIUS: f64 = 1.5;
+const MAX_S: usize = 40;
+
+/// `<Rg²>` and the interior contact counts per separation of one chain.
+fn sample(n: usize, repulsion: Repulsion, sweeps: usize, seed: u64) -> (f64, Vec<f64>) {
     let bond = BondModel::Harmonic {
         length: 1.0,
         wiggle: 0.3,
@@ -27,12 +34,40 @@ fn mean_rg2(n: usize, repulsion: Repulsion, sweeps: usize, seed: u64) -> f64 {
     for _ in 0..sweeps / 5 {
         sampler.sweep();
     }
+    let margin = n / 4;
     let mut total = 0.0;
+    let mut hits = vec![0.0; MAX_S + 1];
     for _ in 0..sweeps {
         sampler.sweep();
-        total += radius_of_gyration(sampler.positions()).powi(2);
+        let x = sampler.positions();
+        total += radius_of_gyration(x).powi(2);
+        for (s, hit) in hits.iter_mut().enumerate().skip(1) {
+            for i in margin..n.saturating_sub(s + margin) {
+                let d2: f64 = (0..3).map(|k| (x[i][k] - x[i + s][k]).powi(2)).sum();
+                if d2 < CONTACT_RADIUS * CONTACT_RADIUS {
+                    *hit += 1.0;
+                }
+            }
+        }
     }
-    total / sweeps as f64
+    (total / sweeps as f64, hits)
+}
+
+/// Least-squares slope of ln P(s) over ln s for s = 10..40.
+fn interior_slope(hits: &[f64]) -> Option<f64> {
+    let points: Vec<(f64, f64)> = (10..=MAX_S)
+        .filter(|&s| hits[s] > 0.0)
+        .map(|s| ((s as f64).ln(), hits[s].ln()))
+        .collect();
+    if points.len() < MAX_S - 9 {
+        return None;
+    }
+    let count = points.len() as f64;
+    let mx = points.iter().map(|p| p.0).sum::<f64>() / count;
+    let my = points.iter().map(|p| p.1).sum::<f64>() / count;
+    let sxy: f64 = points.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+    let sxx: f64 = points.iter().map(|p| (p.0 - mx).powi(2)).sum();
+    Some(sxy / sxx)
 }
 
 fn main() {
@@ -47,13 +82,29 @@ fn main() {
         radius: numbers[1],
     };
     let sweeps = numbers[2] as usize;
-    println!("N\tRg2\tstandard_error\tlocal_nu\tlocal_nu_error");
+    println!("N\tRg2\tstandard_error\tlocal_nu\tlocal_nu_error\tinterior_ps_slope");
     let mut previous: Option<(f64, f64, f64)> = None;
     for &n in &numbers[3..] {
-        let means: Vec<f64> = (0..CHAINS)
+        let n_beads = n as usize;
+        let samples: Vec<(f64, Vec<f64>)> = (0..CHAINS)
             .into_par_iter()
-            .map(|chain| mean_rg2(n as usize, repulsion, sweeps, chain))
+            .map(|chain| sample(n_beads, repulsion, sweeps, chain))
             .collect();
+        let means: Vec<f64> = samples.iter().map(|s| s.0).collect();
+        // Contacts per pair at each separation (the interior pairs number N - s - 2 margin).
+        let contact_probability: Vec<f64> = (0..=MAX_S)
+            .map(|s| {
+                let pairs = n_beads.saturating_sub(s + 2 * (n_beads / 4));
+                let hits: f64 = samples.iter().map(|x| x.1[s]).sum();
+                if pairs == 0 {
+                    0.0
+                } else {
+                    hits / pairs as f64
+                }
+            })
+            .collect();
+        let slope =
+            interior_slope(&contact_probability).map_or(String::new(), |v| format!("{v:.3}"));
         let mean = means.iter().sum::<f64>() / CHAINS as f64;
         let error = (means.iter().map(|m| (m - mean).powi(2)).sum::<f64>()
             / ((CHAINS - 1) * CHAINS) as f64)
@@ -69,7 +120,7 @@ fn main() {
             }
             None => (String::new(), String::new()),
         };
-        println!("{n}\t{mean:.4}\t{error:.4}\t{nu}\t{nu_error}");
+        println!("{n}\t{mean:.4}\t{error:.4}\t{nu}\t{nu_error}\t{slope}");
         previous = Some((n, mean, error));
     }
 }
