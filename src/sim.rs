@@ -8,7 +8,7 @@
 //!   (the cell lists of its pair forces and contacts), [`extrusion`] (1D loop extrusion),
 //!   [`ensemble`] (replicas in parallel, sampled into a binned contact map) and [`analysis`]
 //!   (P(s), radii of gyration and the closed forms they are checked against);
-//! - [`reference`]: a Monte Carlo sampler of the same chain's equilibrium, against which the
+//! - [`mod@reference`]: a Monte Carlo sampler of the same chain's equilibrium, against which the
 //!   dynamics are checked.
 //!
 //! Reproducibility: every random process takes an explicit seed; independent streams (per

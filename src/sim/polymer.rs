@@ -103,6 +103,21 @@ impl Repulsion {
         radius: 0.8,
     };
 
+    /// This repulsion with the height and range of a polynomial repulsion replaced where given
+    /// (other repulsions are returned unchanged).
+    pub fn with_polynomial(self, energy: Option<f64>, radius: Option<f64>) -> Self {
+        match self {
+            Repulsion::Polynomial {
+                energy: e,
+                radius: r,
+            } => Repulsion::Polynomial {
+                energy: energy.unwrap_or(e),
+                radius: radius.unwrap_or(r),
+            },
+            other => other,
+        }
+    }
+
     /// The range beyond which the repulsion is 0.
     pub fn range(&self) -> f64 {
         match *self {

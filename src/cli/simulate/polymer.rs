@@ -344,20 +344,12 @@ impl PolymerArgs {
             ));
         }
         let repulsion = match repulsion_kind {
-            RepulsionArg::Polynomial => {
-                let default = if self.saw {
-                    Repulsion::SAW
-                } else {
-                    Repulsion::POLYCHROM
-                };
-                let Repulsion::Polynomial { energy, radius } = default else {
-                    unreachable!("the default repulsions are polynomial")
-                };
-                Repulsion::Polynomial {
-                    energy: self.repulsion_energy.unwrap_or(energy),
-                    radius: self.repulsion_radius.unwrap_or(radius),
-                }
+            RepulsionArg::Polynomial => if self.saw {
+                Repulsion::SAW
+            } else {
+                Repulsion::POLYCHROM
             }
+            .with_polynomial(self.repulsion_energy, self.repulsion_radius),
             RepulsionArg::Wca => Repulsion::Wca {
                 epsilon: 1.0,
                 sigma: 1.0,
@@ -639,5 +631,33 @@ mod tests {
             ]
         );
         assert!(parse_ctcf("x+", &[50], 1000, 0.9, 0.01).is_err());
+    }
+
+    #[derive(clap::Parser)]
+    struct Command {
+        #[command(flatten)]
+        args: PolymerArgs,
+    }
+
+    fn repulsion(extra: &[&str]) -> Repulsion {
+        let argv = [&["simulate", "-o", "x.cool"][..], extra].concat();
+        let command = <Command as clap::Parser>::try_parse_from(argv).unwrap();
+        command.args.params().unwrap().polymer.repulsion
+    }
+
+    #[test]
+    fn repulsion_defaults_and_overrides() {
+        let polynomial = |energy, radius| Repulsion::Polynomial { energy, radius };
+        assert_eq!(repulsion(&[]), polynomial(3.0, 1.05));
+        assert_eq!(repulsion(&["--saw"]), polynomial(0.6, 0.8));
+        assert_eq!(
+            repulsion(&["--saw", "--repulsion-energy", "2"]),
+            polynomial(2.0, 0.8)
+        );
+        assert_eq!(
+            repulsion(&["--repulsion-radius", "1.2"]),
+            polynomial(3.0, 1.2)
+        );
+        assert_eq!(repulsion(&["--ideal"]), Repulsion::None);
     }
 }
