@@ -12,6 +12,7 @@
 //! at least N/4 beads from the chain ends in contact below a distance of 1.5 (as
 //! scripts/sim_physics.py measures it on the dynamics).
 
+use contactmap::sim::analysis::{contact_probability, loglog_slope};
 use contactmap::sim::polymer::{radius_of_gyration, BondModel, Repulsion};
 use contactmap::sim::reference::ChainSampler;
 use contactmap::sim::SimRng;
@@ -23,7 +24,8 @@ const CHAINS: u64 = 16;
 const CONTACT_RADIUS: f64 = 1.5;
 const MAX_S: usize = 40;
 
-/// `<Rg²>` and the interior contact counts per separation of one chain.
+/// `<Rg²>` of one chain and its interior contact probability `P(s)`, `s = 0..=MAX_S` (pairs at
+/// least N/4 beads from the ends; empty when the interior is not longer than `MAX_S`).
 fn sample(n: usize, repulsion: Repulsion, sweeps: usize, seed: u64) -> (f64, Vec<f64>) {
     let bond = BondModel::Harmonic {
         length: 1.0,
@@ -34,40 +36,23 @@ fn sample(n: usize, repulsion: Repulsion, sweeps: usize, seed: u64) -> (f64, Vec
     for _ in 0..sweeps / 5 {
         sampler.sweep();
     }
-    let margin = n / 4;
-    let mut total = 0.0;
-    let mut hits = vec![0.0; MAX_S + 1];
+    let interior = n / 4..n - n / 4;
+    let with_interior = interior.len() > MAX_S;
+    let mut rg2 = 0.0;
+    let mut probability = vec![0.0; if with_interior { MAX_S + 1 } else { 0 }];
     for _ in 0..sweeps {
         sampler.sweep();
         let x = sampler.positions();
-        total += radius_of_gyration(x).powi(2);
-        for (s, hit) in hits.iter_mut().enumerate().skip(1) {
-            for i in margin..n.saturating_sub(s + margin) {
-                let d2: f64 = (0..3).map(|k| (x[i][k] - x[i + s][k]).powi(2)).sum();
-                if d2 < CONTACT_RADIUS * CONTACT_RADIUS {
-                    *hit += 1.0;
-                }
+        rg2 += radius_of_gyration(x).powi(2) / sweeps as f64;
+        if with_interior {
+            let part = [x[interior.clone()].to_vec()];
+            let p = contact_probability(&part, &[interior.len()], CONTACT_RADIUS, MAX_S);
+            for (total, value) in probability.iter_mut().zip(p) {
+                *total += value / sweeps as f64;
             }
         }
     }
-    (total / sweeps as f64, hits)
-}
-
-/// Least-squares slope of ln P(s) over ln s for s = 10..40.
-fn interior_slope(hits: &[f64]) -> Option<f64> {
-    let points: Vec<(f64, f64)> = (10..=MAX_S)
-        .filter(|&s| hits[s] > 0.0)
-        .map(|s| ((s as f64).ln(), hits[s].ln()))
-        .collect();
-    if points.len() < MAX_S - 9 {
-        return None;
-    }
-    let count = points.len() as f64;
-    let mx = points.iter().map(|p| p.0).sum::<f64>() / count;
-    let my = points.iter().map(|p| p.1).sum::<f64>() / count;
-    let sxy: f64 = points.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
-    let sxx: f64 = points.iter().map(|p| (p.0 - mx).powi(2)).sum();
-    Some(sxy / sxx)
+    (rg2, probability)
 }
 
 fn main() {
@@ -91,20 +76,14 @@ fn main() {
             .map(|chain| sample(n_beads, repulsion, sweeps, chain))
             .collect();
         let means: Vec<f64> = samples.iter().map(|s| s.0).collect();
-        // Contacts per pair at each separation (the interior pairs number N - s - 2 margin).
-        let contact_probability: Vec<f64> = (0..=MAX_S)
-            .map(|s| {
-                let pairs = n_beads.saturating_sub(s + 2 * (n_beads / 4));
-                let hits: f64 = samples.iter().map(|x| x.1[s]).sum();
-                if pairs == 0 {
-                    0.0
-                } else {
-                    hits / pairs as f64
-                }
-            })
-            .collect();
-        let slope =
-            interior_slope(&contact_probability).map_or(String::new(), |v| format!("{v:.3}"));
+        let slope = if samples[0].1.is_empty() {
+            String::new()
+        } else {
+            let points: Vec<(f64, f64)> = (10..=MAX_S)
+                .map(|s| (s as f64, samples.iter().map(|x| x.1[s]).sum::<f64>()))
+                .collect();
+            format!("{:.3}", loglog_slope(&points))
+        };
         let mean = means.iter().sum::<f64>() / CHAINS as f64;
         let error = (means.iter().map(|m| (m - mean).powi(2)).sum::<f64>()
             / ((CHAINS - 1) * CHAINS) as f64)

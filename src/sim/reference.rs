@@ -28,7 +28,6 @@ pub struct ChainSampler {
     positions: Vec<[f64; 3]>,
     trial: Vec<[f64; 3]>,
     rng: SimRng,
-    pivots: (u64, u64),
 }
 
 fn distance2(a: [f64; 3], b: [f64; 3]) -> f64 {
@@ -86,18 +85,12 @@ impl ChainSampler {
             trial: positions.clone(),
             positions,
             rng,
-            pivots: (0, 0),
         })
     }
 
     /// The bead positions.
     pub fn positions(&self) -> &[[f64; 3]] {
         &self.positions
-    }
-
-    /// The fraction of pivot moves accepted so far.
-    pub fn pivot_acceptance(&self) -> f64 {
-        self.pivots.0 as f64 / self.pivots.1.max(1) as f64
     }
 
     fn pair(&self, i: usize, j: usize, a: [f64; 3], b: [f64; 3]) -> f64 {
@@ -142,9 +135,7 @@ impl ChainSampler {
                     - self.pair(i, j, self.positions[i], self.positions[j]);
             }
         }
-        self.pivots.1 += 1;
         if self.accept(delta) {
-            self.pivots.0 += 1;
             for i in moved {
                 self.positions[i] = self.trial[i];
             }
