@@ -445,17 +445,9 @@ mod tests {
                 sums[(j - i) as usize] += c;
             }
             let points: Vec<(f64, f64)> = (1..=100)
-                .map(|d| {
-                    let mean = sums[d] / (600 - d) as f64;
-                    (((d + 1) as f64).ln(), mean.ln())
-                })
+                .map(|d| ((d + 1) as f64, sums[d] / (600 - d) as f64))
                 .collect();
-            let n = points.len() as f64;
-            let mx = points.iter().map(|p| p.0).sum::<f64>() / n;
-            let my = points.iter().map(|p| p.1).sum::<f64>() / n;
-            let sxy: f64 = points.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
-            let sxx: f64 = points.iter().map(|p| (p.0 - mx).powi(2)).sum();
-            let slope = sxy / sxx;
+            let slope = crate::sim::analysis::loglog_slope(&points);
             assert!((slope + alpha).abs() < 0.05, "alpha {alpha}: slope {slope}");
         }
     }
