@@ -18,6 +18,7 @@
 
 pub mod bed;
 pub mod cool;
+pub mod hdf5_guard;
 pub mod hic;
 pub mod predictions;
 pub mod structure;

@@ -8,7 +8,14 @@ use std::process::ExitCode;
 
 use clap::Parser;
 
+/// A libhdf5 metadata read that never returns (a corrupt file): one line, exit 2.
+fn hdf5_timed_out(message: &str) {
+    eprintln!("contactmap: error: {message}");
+    std::process::exit(2);
+}
+
 fn main() -> ExitCode {
+    contactmap::io::hdf5_guard::set_timeout_handler(hdf5_timed_out);
     let cli = contactmap::cli::Cli::parse();
     match contactmap::cli::run(cli) {
         Ok(()) => ExitCode::SUCCESS,

@@ -7,6 +7,8 @@ mod balance;
 mod contacts;
 #[path = "cli/convert.rs"]
 mod convert;
+#[path = "cli/cool.rs"]
+mod cool;
 #[path = "cli/dump.rs"]
 mod dump;
 #[path = "cli/errors.rs"]

@@ -37,7 +37,7 @@ use hdf5::types::{TypeDescriptor, VarLenAscii, VarLenUnicode};
 
 use crate::error::{Error, Result};
 use crate::genome::{Bin, BinTable, Chrom};
-use crate::io::{MatrixInfo, MatrixReader};
+use crate::io::{hdf5_guard, MatrixInfo, MatrixReader};
 use crate::matrix::{CountType, PixelBlock, Weights};
 use chunks::Column;
 pub use writer::{write_cool, write_mcool, CoolWriteOptions};
@@ -103,7 +103,10 @@ fn open_file(path: &str) -> Result<hdf5::File> {
     if let Err(e) = std::fs::metadata(path) {
         return Err(Error::io(path, e));
     }
-    file_builder().open(path).map_err(|e| {
+    crate::io::hdf5_guard::guarded(path, "the file's superblock and root group", || {
+        file_builder().open(path)
+    })
+    .map_err(|e| {
         Error::format(
             path,
             format!("not a readable HDF5 file (truncated or corrupt?): {e}"),
@@ -281,13 +284,15 @@ impl CoolReader {
     /// `divisive_weights` attribute when present; else cooler's rule (KR, VC and VC_SQRT are
     /// divisive by name); else SCALE written by hic2cool (Juicer's SCALE vector is divisive).
     fn is_divisive(&self, name: &str, dataset: &hdf5::Dataset) -> bool {
-        if let Ok(attr) = dataset.attr("divisive_weights") {
-            if let Ok(value) = attr.read_scalar::<bool>() {
-                return value;
-            }
-            if let Ok(value) = attr.read_scalar::<i64>() {
-                return value != 0;
-            }
+        let stored =
+            hdf5_guard::guarded(&self.path, &format!("bins/{name}/divisive_weights"), || {
+                let attr = dataset.attr("divisive_weights").ok()?;
+                attr.read_scalar::<bool>()
+                    .ok()
+                    .or_else(|| attr.read_scalar::<i64>().ok().map(|v| v != 0))
+            });
+        if let Some(value) = stored {
+            return value;
         }
         let by_hic2cool = self
             .attribute_str("generated-by")
@@ -536,44 +541,46 @@ fn read_strings(path: &str, dataset: &hdf5::Dataset, name: &str) -> Result<Vec<S
         .and_then(|t| t.to_descriptor())
         .map_err(|e| Error::hdf5(path, format!("reading the type of {name}"), e))?;
     let err = |e| Error::hdf5(path, format!("reading {name}"), e);
-    let strings: Vec<String> = match descriptor {
-        TypeDescriptor::VarLenUnicode => dataset
-            .read_raw::<VarLenUnicode>()
-            .map_err(err)?
-            .iter()
-            .map(|s| s.as_str().to_string())
-            .collect(),
-        TypeDescriptor::VarLenAscii => dataset
-            .read_raw::<VarLenAscii>()
-            .map_err(err)?
-            .iter()
-            .map(|s| s.as_str().to_string())
-            .collect(),
-        TypeDescriptor::FixedAscii(_) | TypeDescriptor::FixedUnicode(_) => dataset
-            .read_raw::<hdf5::types::FixedAscii<1024>>()
-            .or_else(|_| {
-                dataset
-                    .read_raw::<hdf5::types::FixedUnicode<1024>>()
-                    .map(|v| {
-                        v.iter()
-                            .map(|s| {
-                                hdf5::types::FixedAscii::from_ascii(s.as_bytes())
-                                    .unwrap_or_default()
-                            })
-                            .collect()
-                    })
-            })
-            .map_err(err)?
-            .iter()
-            .map(|s| s.as_str().trim_end_matches('\0').to_string())
-            .collect(),
-        other => {
-            return Err(Error::format(
-                path,
-                format!("{name} has type {other:?}; expected strings"),
-            ))
-        }
-    };
+    let strings: Vec<String> = hdf5_guard::guarded(path, name, || -> Result<Vec<String>> {
+        Ok(match descriptor {
+            TypeDescriptor::VarLenUnicode => dataset
+                .read_raw::<VarLenUnicode>()
+                .map_err(err)?
+                .iter()
+                .map(|s| s.as_str().to_string())
+                .collect(),
+            TypeDescriptor::VarLenAscii => dataset
+                .read_raw::<VarLenAscii>()
+                .map_err(err)?
+                .iter()
+                .map(|s| s.as_str().to_string())
+                .collect(),
+            TypeDescriptor::FixedAscii(_) | TypeDescriptor::FixedUnicode(_) => dataset
+                .read_raw::<hdf5::types::FixedAscii<1024>>()
+                .or_else(|_| {
+                    dataset
+                        .read_raw::<hdf5::types::FixedUnicode<1024>>()
+                        .map(|v| {
+                            v.iter()
+                                .map(|s| {
+                                    hdf5::types::FixedAscii::from_ascii(s.as_bytes())
+                                        .unwrap_or_default()
+                                })
+                                .collect()
+                        })
+                })
+                .map_err(err)?
+                .iter()
+                .map(|s| s.as_str().trim_end_matches('\0').to_string())
+                .collect(),
+            other => {
+                return Err(Error::format(
+                    path,
+                    format!("{name} has type {other:?}; expected strings"),
+                ))
+            }
+        })
+    })?;
     Ok(strings)
 }
 
@@ -648,15 +655,17 @@ fn read_bins(
 /// Read every attribute of `location` as JSON (numbers, strings, booleans, arrays); attributes of
 /// other types are shown as a type description.
 fn read_attributes(path: &str, location: &hdf5::Group) -> Vec<(String, serde_json::Value)> {
-    let _ = path;
-    let Ok(names) = location.attr_names() else {
+    let Ok(names) = hdf5_guard::guarded(path, "the attribute names", || location.attr_names())
+    else {
         return Vec::new();
     };
     names
         .into_iter()
         .filter_map(|name| {
-            let attr = location.attr(&name).ok()?;
-            Some((name, attribute_value(&attr)))
+            hdf5_guard::guarded(path, &format!("attribute '{name}'"), || {
+                let attr = location.attr(&name).ok()?;
+                Some((name.clone(), attribute_value(&attr)))
+            })
         })
         .collect()
 }

@@ -1,0 +1,178 @@
+//! A deadline for libhdf5's metadata reads, so that a corrupt HDF5 file can never hang the tool.
+//!
+//! libhdf5 trusts the bytes of a file's metadata. Some corruptions make it loop forever: a global
+//! heap collection whose free-space object (index 0) records a size of 0 makes
+//! `H5HG__cache_heap_deserialize` (libhdf5 2.2.0, the newest release) spin without advancing,
+//! and every variable-length string attribute of the file (cooler's `format`, `bin-type`,
+//! `storage-mode`, ...) is read through that heap. The loop runs inside libhdf5, behind its global
+//! lock: no Rust code can interrupt it.
+//!
+//! So every libhdf5 call that reads a file's metadata (opening the file, attributes, string
+//! datasets: small reads that take milliseconds on any healthy file) runs through [`guarded`],
+//! which registers a deadline with one watchdog thread. When a call outlives its deadline the
+//! watchdog calls the handler installed with [`set_timeout_handler`]: the `contactmap` binary's
+//! prints one error line naming the file and what was being read, and exits with status 2 (libhdf5
+//! registers no exit handler: hdf5-metno calls `H5dont_atexit`). Library users who install no
+//! handler keep libhdf5's behaviour. Bulk reads (pixel and bin columns) are not guarded: their time
+//! grows with the file, and contactmap's own chunk reader bounds them.
+//!
+//! The deadline is [`DEFAULT_TIMEOUT`], or `CONTACTMAP_HDF5_TIMEOUT` seconds when that variable is
+//! set (for very slow network file systems).
+
+use std::collections::BTreeMap;
+use std::sync::{Condvar, Mutex, OnceLock};
+use std::time::{Duration, Instant};
+
+/// The deadline of one guarded metadata call when `CONTACTMAP_HDF5_TIMEOUT` is not set.
+pub const DEFAULT_TIMEOUT: Duration = Duration::from_secs(5);
+
+/// What the watchdog calls with its message when a guarded call outlives its deadline.
+pub type TimeoutHandler = fn(&str);
+
+static HANDLER: OnceLock<TimeoutHandler> = OnceLock::new();
+
+/// Install the function called when a guarded libhdf5 call outlives its deadline (once per
+/// process; later calls are ignored). It receives a message naming the file and the read.
+pub fn set_timeout_handler(handler: TimeoutHandler) {
+    let _ = HANDLER.set(handler);
+}
+
+/// The deadline of each guarded call: `CONTACTMAP_HDF5_TIMEOUT` (seconds) or [`DEFAULT_TIMEOUT`].
+pub fn timeout() -> Duration {
+    static TIMEOUT: OnceLock<Duration> = OnceLock::new();
+    *TIMEOUT.get_or_init(|| {
+        std::env::var("CONTACTMAP_HDF5_TIMEOUT")
+            .ok()
+            .and_then(|v| v.trim().parse::<f64>().ok())
+            .filter(|s| s.is_finite() && *s > 0.0)
+            .map_or(DEFAULT_TIMEOUT, Duration::from_secs_f64)
+    })
+}
+
+#[derive(Default)]
+struct Pending {
+    next_id: u64,
+    /// Active calls: id -> (deadline, message).
+    calls: BTreeMap<u64, (Instant, String)>,
+}
+
+struct Watchdog {
+    pending: Mutex<Pending>,
+    wake: Condvar,
+}
+
+fn watchdog() -> &'static Watchdog {
+    static WATCHDOG: OnceLock<&'static Watchdog> = OnceLock::new();
+    WATCHDOG.get_or_init(|| {
+        let dog: &'static Watchdog = Box::leak(Box::new(Watchdog {
+            pending: Mutex::new(Pending::default()),
+            wake: Condvar::new(),
+        }));
+        std::thread::Builder::new()
+            .name("hdf5-watchdog".into())
+            .spawn(move || dog.watch())
+            .expect("the HDF5 watchdog thread could not be started");
+        dog
+    })
+}
+
+impl Watchdog {
+    fn watch(&self) {
+        let mut pending = self.pending.lock().unwrap_or_else(|e| e.into_inner());
+        loop {
+            let earliest = pending
+                .calls
+                .iter()
+                .min_by_key(|(_, (deadline, _))| *deadline)
+                .map(|(&id, (deadline, message))| (id, *deadline, message.clone()));
+            match earliest {
+                None => {
+                    pending = self.wake.wait(pending).unwrap_or_else(|e| e.into_inner());
+                }
+                Some((id, deadline, message)) => {
+                    let now = Instant::now();
+                    if now < deadline {
+                        pending = self
+                            .wake
+                            .wait_timeout(pending, deadline - now)
+                            .unwrap_or_else(|e| e.into_inner())
+                            .0;
+                        continue;
+                    }
+                    pending.calls.remove(&id);
+                    drop(pending);
+                    if let Some(handler) = HANDLER.get() {
+                        handler(&message);
+                    }
+                    pending = self.pending.lock().unwrap_or_else(|e| e.into_inner());
+                }
+            }
+        }
+    }
+}
+
+/// Run `call`, a libhdf5 read of `what` in the file `path`, under the metadata deadline
+/// ([`timeout`]): if it has not returned by then, the installed handler is called with
+/// `"PATH: HDF5 reading WHAT did not finish within N s: ..."`.
+pub fn guarded<T>(path: &str, what: &str, call: impl FnOnce() -> T) -> T {
+    guarded_for(timeout(), path, what, call)
+}
+
+fn guarded_for<T>(limit: Duration, path: &str, what: &str, call: impl FnOnce() -> T) -> T {
+    let dog = watchdog();
+    let message = format!(
+        "{path}: HDF5 reading {what} did not finish within {} s: the file's metadata is corrupt \
+         (libhdf5 loops on it); `contactmap validate` checks a file, and \
+         CONTACTMAP_HDF5_TIMEOUT=SECONDS allows slower file systems more time",
+        limit.as_secs_f64()
+    );
+    let id = {
+        let mut pending = dog.pending.lock().unwrap_or_else(|e| e.into_inner());
+        let id = pending.next_id;
+        pending.next_id += 1;
+        pending.calls.insert(id, (Instant::now() + limit, message));
+        id
+    };
+    dog.wake.notify_one();
+    let result = call();
+    dog.pending
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .calls
+        .remove(&id);
+    result
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::atomic::{AtomicUsize, Ordering};
+
+    static FIRED: AtomicUsize = AtomicUsize::new(0);
+    static LAST: Mutex<String> = Mutex::new(String::new());
+
+    fn record(message: &str) {
+        FIRED.fetch_add(1, Ordering::SeqCst);
+        *LAST.lock().unwrap() = message.to_string();
+    }
+
+    #[test]
+    fn a_slow_call_fires_the_handler_once_and_a_fast_one_never() {
+        set_timeout_handler(record);
+        let before = FIRED.load(Ordering::SeqCst);
+        let value = guarded_for(Duration::from_millis(500), "fast.cool", "attrs", || 7);
+        assert_eq!(value, 7);
+        std::thread::sleep(Duration::from_millis(700));
+        assert_eq!(FIRED.load(Ordering::SeqCst), before, "a fast call fired");
+        guarded_for(
+            Duration::from_millis(50),
+            "slow.cool",
+            "attribute 'format'",
+            || std::thread::sleep(Duration::from_millis(400)),
+        );
+        std::thread::sleep(Duration::from_millis(100));
+        assert_eq!(FIRED.load(Ordering::SeqCst), before + 1);
+        let last = LAST.lock().unwrap().clone();
+        assert!(last.starts_with("slow.cool: HDF5 reading attribute 'format' did not finish"));
+    }
+}
