@@ -79,6 +79,25 @@ pub trait MatrixReader {
         sink: &mut dyn FnMut(&PixelBlock) -> Result<()>,
     ) -> Result<()>;
 
+    /// True when the file stores both triangles of its matrix (cooler `storage-mode: square`):
+    /// [`MatrixReader::read_pixels`] then hands out the upper triangle only (what cooltools'
+    /// expected and insulation use), [`MatrixReader::read_stored_pixels`] every stored pixel.
+    fn stores_both_triangles(&self) -> bool {
+        false
+    }
+
+    /// Stream every stored pixel of `rows x cols`, sorted by `(bin1, bin2)`: the lower triangle
+    /// too where the file stores it ([`MatrixReader::stores_both_triangles`]); otherwise the same
+    /// as [`MatrixReader::read_pixels`].
+    fn read_stored_pixels(
+        &self,
+        rows: Range<usize>,
+        cols: Range<usize>,
+        sink: &mut dyn FnMut(&PixelBlock) -> Result<()>,
+    ) -> Result<()> {
+        self.read_pixels(rows, cols, sink)
+    }
+
     /// Number of stored pixels and sum of their counts (streams every pixel unless the format
     /// stores both).
     fn totals(&self) -> Result<(u64, f64)> {

@@ -77,6 +77,22 @@ impl PixelBlock {
         self.count.clear();
     }
 
+    /// Keep only the pixels of the upper triangle (`bin2 >= bin1`).
+    pub fn retain_upper(&mut self) {
+        let mut kept = 0;
+        for k in 0..self.len() {
+            if self.bin2[k] >= self.bin1[k] {
+                self.bin1[kept] = self.bin1[k];
+                self.bin2[kept] = self.bin2[k];
+                self.count[kept] = self.count[k];
+                kept += 1;
+            }
+        }
+        self.bin1.truncate(kept);
+        self.bin2.truncate(kept);
+        self.count.truncate(kept);
+    }
+
     /// Keep only the pixels whose `bin2` lies in `cols`.
     pub fn retain_cols(&mut self, cols: &Range<u64>) {
         let mut kept = 0;

@@ -66,6 +66,10 @@ pub struct CoolReader {
     bin1: Column,
     bin2: Column,
     count: Column,
+    /// `storage-mode: square`: both triangles are stored.
+    square: bool,
+    /// Remarks on the layout for `info` (an index one entry short, ...).
+    layout_notes: Vec<String>,
 }
 
 /// What a URI without a group points to in an HDF5 file.
@@ -171,6 +175,18 @@ impl CoolReader {
                     .map_err(|e| Error::hdf5(path, format!("opening group {g}"), e))?
             }
         };
+        if group_path.is_none() && !group.link_exists("chroms") {
+            let legacy = legacy_levels(path, &group);
+            if !legacy.is_empty() {
+                return Err(Error::format(
+                    path,
+                    format!(
+                        "this is a legacy multi-resolution cooler (cooler 0.6-0.7, numbered groups): choose a level with {path}::/N (available: {})",
+                        legacy.join(", ")
+                    ),
+                ));
+            }
+        }
         for needed in ["chroms", "bins", "pixels", "indexes"] {
             if !group.link_exists(needed) {
                 return Err(Error::format(
@@ -206,7 +222,19 @@ impl CoolReader {
             .find(|(k, _)| k == "bin-size")
             .and_then(|(_, v)| v.as_u64());
         let (bins, weight_columns) = read_bins(path, &group, chroms, bin_size_hint)?;
-        let bin1_offsets = read_int_column(path, &group, "indexes/bin1_offset")?;
+        let mut bin1_offsets = read_int_column(path, &group, "indexes/bin1_offset")?;
+        let mut layout_notes = Vec::new();
+        let bin1 = Column::open(&group, "pixels/bin1_id", path)?;
+        if bin1_offsets.len() == bins.n_bins() && bin1_offsets.last() <= Some(&(bin1.len() as i64))
+        {
+            // hic2cool 0.3-0.4 wrote the index without its closing entry; cooler reads such
+            // files, and the missing entry can only be the number of pixels.
+            bin1_offsets.push(bin1.len() as i64);
+            layout_notes.push(format!(
+                "indexes/bin1_offset has {} entries, one short (hic2cool 0.3-0.4): the closing entry is taken as nnz",
+                bins.n_bins()
+            ));
+        }
         if bin1_offsets.len() != bins.n_bins() + 1 {
             return Err(Error::format(
                 path,
@@ -217,7 +245,6 @@ impl CoolReader {
                 ),
             ));
         }
-        let bin1 = Column::open(&group, "pixels/bin1_id", path)?;
         let bin2 = Column::open(&group, "pixels/bin2_id", path)?;
         let count = Column::open(&group, "pixels/count", path)?;
         let nnz = count.len();
@@ -242,7 +269,17 @@ impl CoolReader {
                 format!("indexes/bin1_offset is not a valid index of the {nnz} pixels"),
             ));
         }
+        let square = attributes
+            .iter()
+            .any(|(k, v)| k == "storage-mode" && v.as_str() == Some("square"));
+        if square {
+            layout_notes.push(
+                "storage-mode square: both triangles are stored; contactmap reads the upper triangle (as cooltools' expected and insulation do); the lower triangle is not read yet".to_string(),
+            );
+        }
         Ok(CoolReader {
+            square,
+            layout_notes,
             uri: uri.to_string(),
             path: path.to_string(),
             raw: chunks::open_raw(Path::new(path))?,
@@ -300,7 +337,29 @@ impl CoolReader {
         DIVISIVE_BY_NAME.contains(&name) || (by_hic2cool && name == HIC2COOL_SCALE)
     }
 
-    /// Read pixels `lo..hi` of the pixel table.
+    /// The end of the block of pixels that starts at `start` (a row boundary): about
+    /// [`BLOCK_PIXELS`] pixels, ending on a row boundary so that each row is checked (and sorted,
+    /// for legacy files) whole; a row longer than a block is read whole.
+    fn block_end(&self, start: usize, hi: usize) -> usize {
+        let target = (start + BLOCK_PIXELS).min(hi);
+        if target == hi {
+            return hi;
+        }
+        let offsets = &self.bin1_offsets;
+        let next = offsets.partition_point(|&o| o as usize <= target);
+        let boundary = offsets[next - 1] as usize;
+        if boundary > start {
+            boundary
+        } else {
+            offsets.get(next).map_or(hi, |&o| (o as usize).min(hi))
+        }
+    }
+
+    /// Read pixels `lo..hi` of the pixel table (`lo` and `hi` on row boundaries) and check them
+    /// against the index: every pixel in its `bin1_offset` row, bin ids in range, no pixel below
+    /// the diagonal (unless the file stores both triangles), no pixel stored twice. Rows whose
+    /// `bin2_id` are not sorted (legacy cooler 0.6-0.7 multires levels, which cooler reads) are
+    /// sorted here.
     fn read_block(&self, lo: usize, hi: usize) -> Result<PixelBlock> {
         let ((bin1, bin2), count) = rayon::join(
             || {
@@ -311,29 +370,133 @@ impl CoolReader {
             },
             || self.count.read::<f64>(&self.raw, lo, hi),
         );
-        let (bin1, bin2, count) = (bin1?, bin2?, count?);
+        let (bin1, mut bin2, mut count) = (bin1?, bin2?, count?);
         let n_bins = self.bins.n_bins() as i64;
-        let bad = bin1
-            .iter()
-            .zip(&bin2)
-            .position(|(&i, &j)| i < 0 || j < 0 || i >= n_bins || j >= n_bins || i > j);
-        if let Some(k) = bad {
-            return Err(Error::format(
-                &self.path,
-                format!(
-                    "pixel {}: (bin1_id {}, bin2_id {}) is out of range for {} bins or below the diagonal",
-                    lo + k,
-                    bin1[k],
-                    bin2[k],
-                    n_bins
-                ),
-            ));
+        let offsets = &self.bin1_offsets;
+        let mut row = offsets.partition_point(|&o| o as usize <= lo) - 1;
+        let mut k = 0;
+        while k < bin1.len() {
+            while offsets[row + 1] as usize <= lo + k {
+                row += 1;
+            }
+            let row_end = (offsets[row + 1] as usize).min(hi) - lo;
+            let wrong_row = bin1[k..row_end].iter().position(|&b| b != row as i64);
+            if let Some(at) = wrong_row {
+                let at = k + at;
+                return Err(Error::format(
+                    &self.path,
+                    format!(
+                        "pixel {}: bin1_id {} where indexes/bin1_offset puts row {row}: the pixels are not sorted by bin1_id or the index is wrong (`contactmap validate` reports, `--repair` rebuilds)",
+                        lo + at,
+                        bin1[at]
+                    ),
+                ));
+            }
+            let low = if self.square { 0 } else { row as i64 };
+            let bad = bin2[k..row_end]
+                .iter()
+                .position(|&j| j < low || j >= n_bins);
+            if let Some(at) = bad {
+                let at = k + at;
+                return Err(Error::format(
+                    &self.path,
+                    format!(
+                        "pixel {}: (bin1_id {}, bin2_id {}) is out of range for {} bins or below the diagonal",
+                        lo + at,
+                        bin1[at],
+                        bin2[at],
+                        n_bins
+                    ),
+                ));
+            }
+            let row_bin2 = &mut bin2[k..row_end];
+            if !row_bin2.windows(2).all(|w| w[0] < w[1]) {
+                let mut order: Vec<usize> = (0..row_bin2.len()).collect();
+                order.sort_by_key(|&m| row_bin2[m]);
+                let sorted_bin2: Vec<i64> = order.iter().map(|&m| row_bin2[m]).collect();
+                if let Some(dup) = sorted_bin2.windows(2).position(|w| w[0] == w[1]) {
+                    let (a, b) = (
+                        order[dup].min(order[dup + 1]),
+                        order[dup].max(order[dup + 1]),
+                    );
+                    return Err(Error::format(
+                        &self.path,
+                        format!(
+                            "pixels {} and {} are both (bin1_id {row}, bin2_id {}): a pixel stored twice (`contactmap validate --repair` sums duplicates)",
+                            lo + k + a,
+                            lo + k + b,
+                            sorted_bin2[dup]
+                        ),
+                    ));
+                }
+                let row_count = &count[k..row_end];
+                let sorted_count: Vec<f64> = order.iter().map(|&m| row_count[m]).collect();
+                row_bin2.copy_from_slice(&sorted_bin2);
+                count[k..row_end].copy_from_slice(&sorted_count);
+            }
+            k = row_end;
         }
         Ok(PixelBlock {
             bin1: bin1.into_iter().map(|v| v as u64).collect(),
             bin2: bin2.into_iter().map(|v| v as u64).collect(),
             count,
         })
+    }
+
+    /// Stream the stored pixels of `rows x cols` (both triangles for square storage, where
+    /// `upper_only` keeps `bin2 >= bin1`).
+    fn stream(
+        &self,
+        rows: Range<usize>,
+        cols: Range<usize>,
+        upper_only: bool,
+        sink: &mut dyn FnMut(&PixelBlock) -> Result<()>,
+    ) -> Result<()> {
+        let n_bins = self.bins.n_bins();
+        let rows = rows.start.min(n_bins)..rows.end.min(n_bins);
+        if rows.is_empty() || cols.is_empty() {
+            return Ok(());
+        }
+        let lo = self.bin1_offsets[rows.start] as usize;
+        let hi = self.bin1_offsets[rows.end] as usize;
+        let whole_rows = cols.start == 0 && cols.end >= n_bins;
+        let cols64 = cols.start as u64..cols.end as u64;
+        let mut start = lo;
+        // Read the next block while the sink consumes the current one.
+        let mut current = if start < hi {
+            Some(self.read_block(start, self.block_end(start, hi))?)
+        } else {
+            None
+        };
+        while let Some(mut block) = current.take() {
+            start += block.len();
+            let end = self.block_end(start, hi);
+            let (next, consumed) = std::thread::scope(|scope| {
+                let reader = scope.spawn(|| {
+                    (start < hi)
+                        .then(|| self.read_block(start, end))
+                        .transpose()
+                });
+                if !whole_rows {
+                    block.retain_cols(&cols64);
+                }
+                if upper_only && self.square {
+                    block.retain_upper();
+                }
+                let consumed = if block.is_empty() {
+                    Ok(())
+                } else {
+                    sink(&block)
+                };
+                let next = reader.join().unwrap_or_else(|_| {
+                    Err(Error::Invalid("the pixel reading thread panicked".into()))
+                });
+                (next, consumed)
+            });
+            consumed?;
+            current = next?;
+        }
+        Ok(())
     }
 }
 
@@ -416,6 +579,7 @@ impl MatrixReader for CoolReader {
                 }
             }
         }
+        notes.extend(self.layout_notes.iter().cloned());
         if !self.attributes.iter().any(|(k, _)| k == "format") {
             notes.push("old cooler without a 'format' attribute".to_string());
         }
@@ -433,51 +597,33 @@ impl MatrixReader for CoolReader {
         cols: Range<usize>,
         sink: &mut dyn FnMut(&PixelBlock) -> Result<()>,
     ) -> Result<()> {
-        let n_bins = self.bins.n_bins();
-        let rows = rows.start.min(n_bins)..rows.end.min(n_bins);
-        if rows.is_empty() || cols.is_empty() {
-            return Ok(());
-        }
-        let lo = self.bin1_offsets[rows.start] as usize;
-        let hi = self.bin1_offsets[rows.end] as usize;
-        let whole_rows = cols.start == 0 && cols.end >= n_bins;
-        let cols64 = cols.start as u64..cols.end as u64;
-        let mut start = lo;
-        // Read the next block while the sink consumes the current one.
-        let mut current = if start < hi {
-            Some(self.read_block(start, (start + BLOCK_PIXELS).min(hi))?)
-        } else {
-            None
-        };
-        while let Some(mut block) = current.take() {
-            start += block.len();
-            let end = (start + BLOCK_PIXELS).min(hi);
-            let (next, consumed) = std::thread::scope(|scope| {
-                let reader = scope.spawn(|| {
-                    (start < hi)
-                        .then(|| self.read_block(start, end))
-                        .transpose()
-                });
-                if !whole_rows {
-                    block.retain_cols(&cols64);
-                }
-                let consumed = if block.is_empty() {
-                    Ok(())
-                } else {
-                    sink(&block)
-                };
-                let next = reader.join().unwrap_or_else(|_| {
-                    Err(Error::Invalid("the pixel reading thread panicked".into()))
-                });
-                (next, consumed)
-            });
-            consumed?;
-            current = next?;
-        }
-        Ok(())
+        self.stream(rows, cols, true, sink)
+    }
+
+    fn stores_both_triangles(&self) -> bool {
+        self.square
+    }
+
+    fn read_stored_pixels(
+        &self,
+        rows: Range<usize>,
+        cols: Range<usize>,
+        sink: &mut dyn FnMut(&PixelBlock) -> Result<()>,
+    ) -> Result<()> {
+        self.stream(rows, cols, false, sink)
     }
 
     fn totals(&self) -> Result<(u64, f64)> {
+        if self.square {
+            let n = self.bins.n_bins();
+            let (mut nnz, mut sum) = (0u64, 0.0f64);
+            self.read_pixels(0..n, 0..n, &mut |block| {
+                nnz += block.len() as u64;
+                sum += block.count.iter().sum::<f64>();
+                Ok(())
+            })?;
+            return Ok((nnz, sum));
+        }
         let nnz = self.count.len();
         let mut sum = 0.0;
         let mut lo = 0;
@@ -492,6 +638,36 @@ impl MatrixReader for CoolReader {
         }
         Ok((nnz as u64, sum))
     }
+}
+
+/// The numbered groups (`/0`, `/1`, ...) of a legacy cooler 0.6-0.7 multi-resolution file that
+/// hold a cooler, each as `N (BIN-SIZE bp)`, in numeric order.
+fn legacy_levels(path: &str, root: &hdf5::Group) -> Vec<String> {
+    let Ok(names) = hdf5_guard::guarded(path, "the root group's members", || root.member_names())
+    else {
+        return Vec::new();
+    };
+    let mut levels: Vec<(u64, String)> = names
+        .iter()
+        .filter_map(|name| {
+            let level: u64 = name.parse().ok()?;
+            let group = root.group(name).ok()?;
+            group.link_exists("pixels").then_some(())?;
+            let size = read_attributes(path, &group)
+                .into_iter()
+                .find(|(k, _)| k == "bin-size")
+                .and_then(|(_, v)| v.as_u64());
+            Some((
+                level,
+                match size {
+                    Some(size) => format!("{level} ({size} bp)"),
+                    None => level.to_string(),
+                },
+            ))
+        })
+        .collect();
+    levels.sort();
+    levels.into_iter().map(|(_, text)| text).collect()
 }
 
 fn read_int_column(path: &str, group: &hdf5::Group, name: &str) -> Result<Vec<i64>> {
