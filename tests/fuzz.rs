@@ -149,4 +149,11 @@ fn known_npy_header_in_message() {
 #[ignore = "F-NPY-1: a .npy shape whose product overflows usize panics (src/io/predictions.rs parse_npy)"]
 fn known_npy_shape_overflow() {
     replay("npy", SEED, &[1, 3, 43]);
+    replay("npy", 2, &[4079, 7548, 9739]);
+}
+
+#[test]
+#[ignore = "F-HIC-2: a corrupt chromosome name is quoted raw in the error message, which then spans several lines (src/io/hic.rs)"]
+fn known_hic_name_in_message() {
+    replay("hic", 3, &[283]);
 }
