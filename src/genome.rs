@@ -45,8 +45,10 @@ pub struct Bin {
 /// The genome-wide bin table: chromosomes cut into fixed-size or variable-size bins.
 ///
 /// Bins are sorted by chromosome (in chromosome-table order), then by start; they tile each
-/// chromosome without gaps or overlaps. Fixed bins are `bin_size_bp` long except the last of each
-/// chromosome, which ends at the chromosome's end.
+/// chromosome's covered span without gaps or overlaps. The span is normally the whole chromosome;
+/// a matrix cut out of a chromosome (HiCExplorer writes such files, cooler and cooltools compute on
+/// them) covers `first start .. last end` only. Fixed bins are `bin_size_bp` long except the last of
+/// each chromosome, which ends at the span's end.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct BinTable {
     chroms: Vec<Chrom>,
@@ -56,20 +58,47 @@ pub struct BinTable {
     /// Starts of every bin (used for variable bins; for fixed bins, computed on the fly).
     starts: Vec<u64>,
     ends: Vec<u64>,
+    /// The part of each chromosome the bins cover (`0..length_bp` unless the matrix is a cut).
+    spans: Vec<Range<u64>>,
 }
 
 impl BinTable {
     /// Chromosomes cut into bins of `bin_size_bp` base pairs.
     pub fn fixed(chroms: Vec<Chrom>, bin_size_bp: u64) -> Result<Self> {
+        let spans = chroms.iter().map(|c| 0..c.length_bp).collect();
+        BinTable::fixed_spans(chroms, bin_size_bp, spans)
+    }
+
+    /// Chromosomes cut into bins of `bin_size_bp` base pairs over `spans[c]` only: the bins of
+    /// chromosome `c` start at `spans[c].start` and the last ends at `spans[c].end` (a matrix cut
+    /// out of the chromosomes). An empty span gives the chromosome no bins.
+    pub fn fixed_spans(
+        chroms: Vec<Chrom>,
+        bin_size_bp: u64,
+        spans: Vec<Range<u64>>,
+    ) -> Result<Self> {
         if bin_size_bp == 0 {
             return Err(Error::Invalid("bin size must be positive".into()));
         }
         check_chrom_names(&chroms)?;
+        if spans.len() != chroms.len() {
+            return Err(Error::Invalid(format!(
+                "{} chromosome spans for {} chromosomes",
+                spans.len(),
+                chroms.len()
+            )));
+        }
         let mut chrom_offsets = Vec::with_capacity(chroms.len() + 1);
         let mut n = 0usize;
-        for chrom in &chroms {
+        for (chrom, span) in chroms.iter().zip(&spans) {
+            if span.end > chrom.length_bp || span.start > span.end {
+                return Err(Error::Invalid(format!(
+                    "bins of {} over {}-{}: not within the chromosome's {} bp",
+                    chrom.name, span.start, span.end, chrom.length_bp
+                )));
+            }
             chrom_offsets.push(n);
-            n += chrom.length_bp.div_ceil(bin_size_bp) as usize;
+            n += (span.end - span.start).div_ceil(bin_size_bp) as usize;
         }
         chrom_offsets.push(n);
         Ok(BinTable {
@@ -78,18 +107,21 @@ impl BinTable {
             chrom_offsets,
             starts: Vec::new(),
             ends: Vec::new(),
+            spans,
         })
     }
 
     /// A table of variable-size bins given as `(chrom_id, start, end)` in genome order.
     ///
-    /// The bins must tile each chromosome: the first starts at 0, each starts where the previous
-    /// ended and the last ends at the chromosome's length.
+    /// The bins must tile a span of each chromosome: each starts where the previous ended. The
+    /// span is normally the whole chromosome (the first bin starts at 0 and the last ends at the
+    /// chromosome's length); a cut-out matrix may start later and end earlier.
     pub fn variable(chroms: Vec<Chrom>, bins: &[Bin]) -> Result<Self> {
         check_chrom_names(&chroms)?;
         let mut chrom_offsets = vec![0usize; chroms.len() + 1];
         let mut starts = Vec::with_capacity(bins.len());
         let mut ends = Vec::with_capacity(bins.len());
+        let mut spans: Vec<Range<u64>> = vec![0..0; chroms.len()];
         let mut previous: Option<Bin> = None;
         for (index, bin) in bins.iter().enumerate() {
             if bin.chrom_id >= chroms.len() {
@@ -106,7 +138,11 @@ impl BinTable {
                         "bin {index}: bins are not sorted by chromosome"
                     )))
                 }
-                _ => 0,
+                // The first bin of a chromosome may start anywhere (a cut-out matrix).
+                _ => {
+                    spans[bin.chrom_id] = bin.start..bin.start;
+                    bin.start
+                }
             };
             if bin.start != expected_start || bin.end <= bin.start {
                 return Err(Error::Invalid(format!(
@@ -129,6 +165,7 @@ impl BinTable {
             }
             starts.push(bin.start);
             ends.push(bin.end);
+            spans[bin.chrom_id].end = bin.end;
             previous = Some(*bin);
         }
         Ok(BinTable {
@@ -137,6 +174,7 @@ impl BinTable {
             chrom_offsets,
             starts,
             ends,
+            spans,
         })
     }
 
@@ -149,7 +187,8 @@ impl BinTable {
         let variable = BinTable::variable(chroms, bins)?;
         let largest = bins.iter().map(|b| b.end - b.start).max();
         if let Some(size) = bin_size_hint.filter(|&s| s > 0).or(largest) {
-            let fixed = BinTable::fixed(variable.chroms.clone(), size)?;
+            let fixed =
+                BinTable::fixed_spans(variable.chroms.clone(), size, variable.spans.clone())?;
             if fixed.n_bins() == bins.len() && fixed.iter().zip(bins).all(|(a, b)| a == *b) {
                 return Ok(fixed);
             }
@@ -193,6 +232,20 @@ impl BinTable {
         self.chrom_offsets[chrom_id]..self.chrom_offsets[chrom_id + 1]
     }
 
+    /// The part of chromosome `chrom_id` its bins cover: `0..length_bp` unless the matrix was
+    /// cut out of the chromosome (empty when the chromosome has no bins).
+    pub fn span(&self, chrom_id: usize) -> Range<u64> {
+        self.spans[chrom_id].clone()
+    }
+
+    /// True when some chromosome's bins do not cover it whole (a cut-out matrix).
+    pub fn is_cut(&self) -> bool {
+        self.chroms
+            .iter()
+            .zip(&self.spans)
+            .any(|(c, s)| s.start != 0 || s.end != c.length_bp)
+    }
+
     /// The chromosome of bin `bin_id`.
     pub fn chrom_of(&self, bin_id: usize) -> usize {
         // partition_point gives the first chromosome whose offset is > bin_id.
@@ -205,11 +258,12 @@ impl BinTable {
         match self.bin_size_bp {
             Some(size) => {
                 let local = (bin_id - self.chrom_offsets[chrom_id]) as u64;
-                let start = local * size;
+                let span = &self.spans[chrom_id];
+                let start = span.start + local * size;
                 Bin {
                     chrom_id,
                     start,
-                    end: (start + size).min(self.chroms[chrom_id].length_bp),
+                    end: (start + size).min(span.end),
                 }
             }
             None => Bin {
@@ -225,14 +279,18 @@ impl BinTable {
         (0..self.n_bins()).map(|bin_id| self.bin(bin_id))
     }
 
-    /// The bin of chromosome `chrom_id` that contains position `pos_bp` (clamped to the last bin).
+    /// The bin of chromosome `chrom_id` that contains position `pos_bp` (clamped to the first and
+    /// the last bin).
     pub fn bin_at(&self, chrom_id: usize, pos_bp: u64) -> usize {
         let range = self.chrom_bins(chrom_id);
         if range.is_empty() {
             return range.start;
         }
         match self.bin_size_bp {
-            Some(size) => (range.start + (pos_bp / size) as usize).min(range.end - 1),
+            Some(size) => {
+                let local = pos_bp.saturating_sub(self.spans[chrom_id].start) / size;
+                (range.start + local as usize).min(range.end - 1)
+            }
             None => {
                 let ends = &self.ends[range.clone()];
                 (range.start + ends.partition_point(|&e| e <= pos_bp)).min(range.end - 1)
@@ -292,6 +350,17 @@ impl BinTable {
                 format!("start {start} is not before end {end}"),
             ));
         }
+        // The bins overlapping start..end; none when the region lies outside a cut-out span.
+        let span = &self.spans[chrom_id];
+        let range = self.chrom_bins(chrom_id);
+        if start >= span.end || end <= span.start {
+            let at = if end <= span.start {
+                range.start
+            } else {
+                range.end
+            };
+            return Ok(at..at);
+        }
         let lo = self.bin_at(chrom_id, start);
         let hi = self.bin_at(chrom_id, end - 1) + 1;
         Ok(lo..hi)
@@ -304,6 +373,11 @@ impl BinTable {
 
     /// Coarsen a fixed table to `factor` times its bin size.
     pub fn coarsen(&self, factor: u64) -> Result<BinTable> {
+        if self.is_cut() {
+            return Err(Error::Invalid(
+                "bin tables that do not cover whole chromosomes cannot be coarsened".into(),
+            ));
+        }
         match self.bin_size_bp {
             Some(size) if factor > 0 => BinTable::fixed(self.chroms.clone(), size * factor),
             _ => Err(Error::Invalid(
@@ -483,6 +557,44 @@ mod tests {
     }
 
     #[test]
+    fn a_cut_out_table_covers_its_span_only() {
+        // chr1 cut to 250..1000 in bins of 100, chr2 whole.
+        let chroms = vec![Chrom::new("chr1", 1050), Chrom::new("chr2", 300)];
+        let bins: Vec<Bin> = [(250, 350), (350, 450), (450, 550), (550, 650), (650, 750)]
+            .iter()
+            .chain(&[(750, 850), (850, 950), (950, 1000)])
+            .map(|&(start, end)| Bin {
+                chrom_id: 0,
+                start,
+                end,
+            })
+            .chain((0..3).map(|i| Bin {
+                chrom_id: 1,
+                start: i * 100,
+                end: i * 100 + 100,
+            }))
+            .collect();
+        let t = BinTable::from_bins(chroms.clone(), &bins, Some(100)).unwrap();
+        assert_eq!(t.bin_size_bp(), Some(100));
+        assert!(t.is_cut());
+        assert_eq!(t.span(0), 250..1000);
+        assert_eq!(t.chrom_offsets(), &[0, 8, 11]);
+        assert_eq!(t.iter().collect::<Vec<_>>(), bins);
+        // Overlap, as cooler's region query: nothing outside the span.
+        assert_eq!(t.parse_region_bins("chr1:0-250").unwrap(), 0..0);
+        assert_eq!(t.parse_region_bins("chr1:1000-1050").unwrap(), 8..8);
+        assert_eq!(t.parse_region_bins("chr1:0-260").unwrap(), 0..1);
+        assert_eq!(t.parse_region_bins("chr1:340-360").unwrap(), 0..2);
+        assert_eq!(t.parse_region_bins("chr1").unwrap(), 0..8);
+        assert!(t.coarsen(2).is_err());
+        // The same bins given as a variable table agree.
+        let v = BinTable::variable(chroms, &bins).unwrap();
+        assert_eq!(v.span(0), 250..1000);
+        assert_eq!(v.parse_region_bins("chr1:0-250").unwrap(), 0..0);
+        assert_eq!(v.parse_region_bins("chr1:340-360").unwrap(), 0..2);
+    }
+
+    #[test]
     fn regions_select_overlapping_bins() {
         let t = table();
         assert_eq!(t.parse_region_bins("chr1").unwrap(), 0..11);
@@ -531,12 +643,29 @@ mod tests {
         assert_eq!(t.bin_size_bp(), None);
         assert_eq!(t.bin_at(0, 5), 1);
         assert_eq!(t.chrom_of(2), 1);
-        let gap = [Bin {
+        let gap = [
+            Bin {
+                chrom_id: 0,
+                start: 0,
+                end: 4,
+            },
+            Bin {
+                chrom_id: 0,
+                start: 5,
+                end: 10,
+            },
+        ];
+        assert!(BinTable::variable(chroms.clone(), &gap).is_err());
+        // A late first bin is a cut-out matrix, not a gap.
+        let late = [Bin {
             chrom_id: 0,
             start: 1,
             end: 10,
         }];
-        assert!(BinTable::variable(chroms.clone(), &gap).is_err());
+        assert_eq!(
+            BinTable::variable(chroms.clone(), &late).unwrap().span(0),
+            1..10
+        );
         let fixed = [
             Bin {
                 chrom_id: 0,

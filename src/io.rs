@@ -67,6 +67,13 @@ pub trait MatrixReader {
     /// The weight column `name`, in cooler's multiplicative convention.
     fn weights(&self, name: &str) -> Result<Weights>;
 
+    /// The weight column `name` as the file stores it: divisive columns (Juicer's convention)
+    /// not inverted, as `cooler dump -t bins` prints them. Only for showing; compute with
+    /// [`MatrixReader::weights`].
+    fn stored_weights(&self, name: &str) -> Result<Weights> {
+        self.weights(name)
+    }
+
     /// Format and attributes, for `info`.
     fn info(&self) -> MatrixInfo;
 
@@ -369,6 +376,40 @@ pub fn load_pixels(reader: &dyn MatrixReader, max_memory_bytes: u64) -> Result<L
             .extend(block)
             .map_err(|e| Error::format(reader.source(), e.to_string()))
     })?;
+    Ok(LoadedPixels::Memory(pixels))
+}
+
+/// The pixels balancing reads: [`load_pixels`], except for files that store both triangles
+/// (cooler `storage-mode: square`), whose stored pixels are all loaded and folded onto the upper
+/// triangle as cooler's balance counts them ([`Pixels::from_folded`]). Those are held in memory
+/// whatever `max_memory_bytes`, which they must fit.
+pub fn load_pixels_for_balancing(
+    reader: &dyn MatrixReader,
+    max_memory_bytes: u64,
+) -> Result<LoadedPixels<'_>> {
+    if !reader.stores_both_triangles() {
+        return load_pixels(reader, max_memory_bytes);
+    }
+    let n = reader.bins().n_bins();
+    let mut pixels: Vec<(u32, u32, f64)> = Vec::new();
+    reader.read_stored_pixels(0..n, 0..n, &mut |block| {
+        if (pixels.len() + block.len()) as u64 * BYTES_PER_PIXEL > max_memory_bytes {
+            return Err(Error::format(
+                reader.source(),
+                format!(
+                    "balancing a matrix stored in both triangles (storage-mode square) holds its \
+                     pixels in memory: more than the {max_memory_bytes} bytes allowed; raise \
+                     --max-memory"
+                ),
+            ));
+        }
+        pixels.extend(
+            (0..block.len()).map(|k| (block.bin1[k] as u32, block.bin2[k] as u32, block.count[k])),
+        );
+        Ok(())
+    })?;
+    let pixels = Pixels::from_folded(reader.bins().clone(), reader.count_type(), pixels)
+        .map_err(|e| Error::format(reader.source(), e.to_string()))?;
     Ok(LoadedPixels::Memory(pixels))
 }
 

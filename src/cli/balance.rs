@@ -12,7 +12,7 @@ use crate::cli::InputArgs;
 use crate::error::{Error, Result};
 use crate::genome::BinTable;
 use crate::io::cool::store::{check_target, store_weights, AttrValue};
-use crate::io::{self, default_memory_budget, load_pixels, parse_memory_size, FileKind};
+use crate::io::{self, default_memory_budget, parse_memory_size, FileKind};
 use crate::matrix::Weights;
 
 /// Balancing methods, for `--method`.
@@ -163,7 +163,7 @@ pub fn run(args: &BalanceArgs) -> Result<()> {
     let (result, bins, params_used) = {
         let reader = io::open_matrix(&args.uri, &args.input.to_options()?)?;
         let params = params(args, reader.bins())?;
-        let pixels = load_pixels(reader.as_ref(), budget)?;
+        let pixels = io::load_pixels_for_balancing(reader.as_ref(), budget)?;
         let result = balance(&pixels, &params)?;
         (result, reader.bins().clone(), params)
     };
@@ -300,7 +300,9 @@ fn read_blacklist(path: &Path, bins: &BinTable) -> Result<Vec<usize>> {
                 format!("no chromosome '{chrom}' in this matrix"),
             ));
         };
-        let end = end.min(bins.chroms()[chrom_id].length_bp);
+        // Bins cover the chromosome's span only (all of it unless the matrix is a cut).
+        let span = bins.span(chrom_id);
+        let (start, end) = (start.max(span.start), end.min(span.end));
         if start >= end || bins.chrom_bins(chrom_id).is_empty() {
             continue;
         }

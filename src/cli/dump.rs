@@ -15,7 +15,7 @@ use crate::matrix::{CountType, PixelBlock};
 /// Which table to print.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum Table {
-    /// bin1_id bin2_id count (upper triangle, as stored)
+    /// bin1_id bin2_id count (as stored: upper triangle, both for storage-mode square)
     Pixels,
     /// chrom start end [weight columns]
     Bins,
@@ -29,8 +29,15 @@ pub enum Table {
 Output follows `cooler dump`: no header unless -H, tab-separated, counts as integers when they
 are integers, other numbers with the printf format of --float-format (default %g, 6 significant
 digits; use --float-format .17g to print every digit), missing values (masked bins) as --na-rep.
-Only the stored upper triangle is printed: with --region R and --region2 R2, the pixels with
-bin1 in R and bin2 in R2 and bin1 <= bin2.
+Pixels are printed as stored, as cooler dump prints them: the upper triangle (bin1 <= bin2) of
+symmetric matrices, both triangles of coolers with storage-mode square. With --region R and
+--region2 R2, the stored pixels with bin1 in R and bin2 in R2.
+
+-t bins prints the weight columns as stored in the file, as cooler dump does: Juicer's divisive
+columns (KR, VC, VC_SQRT written by hic2cool or contactmap, marked divisive_weights) hold the
+values counts are divided by. Wherever weights are applied (--balanced, balance, expected, tads,
+normalize) such columns are inverted first, so balanced = count * w1 * w2 always holds for the
+weights in use.
 
 Examples:
   contactmap dump data/cooler_test_file.mcool::/resolutions/100000 | head
@@ -102,7 +109,7 @@ fn dump_bins(reader: &dyn MatrixReader, args: &DumpArgs, out: &mut Output) -> Re
     let weights = reader
         .weight_names()
         .iter()
-        .map(|name| reader.weights(name))
+        .map(|name| reader.stored_weights(name))
         .collect::<Result<Vec<_>>>()?;
     let range = match &args.region {
         Some(region) => bins.parse_region_bins(region)?,
@@ -181,7 +188,7 @@ fn dump_pixels(reader: &dyn MatrixReader, args: &DumpArgs, out: &mut Output) -> 
         header.push(b'\n');
         out.write_all(&header)?;
     }
-    reader.read_pixels(rows, cols, &mut |block| {
+    reader.read_stored_pixels(rows, cols, &mut |block| {
         let pieces: Vec<Vec<u8>> = (0..block.len())
             .step_by(FORMAT_TASK_PIXELS)
             .collect::<Vec<_>>()

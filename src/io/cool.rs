@@ -317,6 +317,43 @@ impl CoolReader {
             .and_then(|(_, v)| v.as_str())
     }
 
+    /// The values of weight column `name` as stored, and whether the column is divisive.
+    fn stored_weight_values(&self, name: &str) -> Result<(Vec<f64>, bool)> {
+        if !self.weight_columns.iter().any(|c| c == name) {
+            return Err(Error::format(
+                &self.uri,
+                format!(
+                    "no weight column '{name}' in the bin table (available: {})",
+                    if self.weight_columns.is_empty() {
+                        "none".to_string()
+                    } else {
+                        self.weight_columns.join(", ")
+                    }
+                ),
+            ));
+        }
+        let dataset_path = format!("bins/{name}");
+        let dataset = self
+            .group
+            .dataset(&dataset_path)
+            .map_err(|e| Error::hdf5(&self.path, format!("opening {dataset_path}"), e))?;
+        let values = dataset
+            .read_raw::<f64>()
+            .map_err(|e| Error::hdf5(&self.path, format!("reading {dataset_path}"), e))?;
+        if values.len() != self.bins.n_bins() {
+            return Err(Error::format(
+                &self.path,
+                format!(
+                    "{dataset_path} has {} values for {} bins",
+                    values.len(),
+                    self.bins.n_bins()
+                ),
+            ));
+        }
+        let divisive = self.is_divisive(name, &dataset);
+        Ok((values, divisive))
+    }
+
     /// True when weight column `name` holds divisive values that must be inverted: the column's
     /// `divisive_weights` attribute when present; else cooler's rule (KR, VC and VC_SQRT are
     /// divisive by name); else SCALE written by hic2cool (Juicer's SCALE vector is divisive).
@@ -522,38 +559,8 @@ impl MatrixReader for CoolReader {
     }
 
     fn weights(&self, name: &str) -> Result<Weights> {
-        if !self.weight_columns.iter().any(|c| c == name) {
-            return Err(Error::format(
-                &self.uri,
-                format!(
-                    "no weight column '{name}' in the bin table (available: {})",
-                    if self.weight_columns.is_empty() {
-                        "none".to_string()
-                    } else {
-                        self.weight_columns.join(", ")
-                    }
-                ),
-            ));
-        }
-        let dataset_path = format!("bins/{name}");
-        let dataset = self
-            .group
-            .dataset(&dataset_path)
-            .map_err(|e| Error::hdf5(&self.path, format!("opening {dataset_path}"), e))?;
-        let values = dataset
-            .read_raw::<f64>()
-            .map_err(|e| Error::hdf5(&self.path, format!("reading {dataset_path}"), e))?;
-        if values.len() != self.bins.n_bins() {
-            return Err(Error::format(
-                &self.path,
-                format!(
-                    "{dataset_path} has {} values for {} bins",
-                    values.len(),
-                    self.bins.n_bins()
-                ),
-            ));
-        }
-        if self.is_divisive(name, &dataset) {
+        let (values, divisive) = self.stored_weight_values(name)?;
+        if divisive {
             Ok(Weights::from_divisive(
                 name,
                 &values,
@@ -566,6 +573,15 @@ impl MatrixReader for CoolReader {
                 provenance: None,
             })
         }
+    }
+
+    fn stored_weights(&self, name: &str) -> Result<Weights> {
+        let (values, _) = self.stored_weight_values(name)?;
+        Ok(Weights {
+            name: name.to_string(),
+            values,
+            provenance: None,
+        })
     }
 
     fn info(&self) -> MatrixInfo {

@@ -156,6 +156,41 @@ impl Pixels {
         Ok(())
     }
 
+    /// The pixels of a matrix stored in both triangles (cooler `storage-mode: square`), folded
+    /// onto the upper triangle as cooler's balance sees them: a pixel `(i, j)` with `i > j` becomes
+    /// `(j, i)` and is kept beside the stored `(j, i)`, not summed with it, so that each stored
+    /// pixel counts once in a row's sum and once in its number of nonzero pixels (cooler's
+    /// `bincount(bin1) + bincount(bin2)` over the stored pixels). The result is sorted by
+    /// `(bin1, bin2)` with such keys repeated; only the balancers read it.
+    pub fn from_folded(
+        bins: BinTable,
+        count_type: CountType,
+        mut pixels: Vec<(u32, u32, f64)>,
+    ) -> Result<Self> {
+        let n_bins = bins.n_bins();
+        if let Some(&(i, j, _)) = pixels
+            .iter()
+            .find(|&&(i, j, _)| i as usize >= n_bins || j as usize >= n_bins)
+        {
+            return Err(Error::Invalid(format!(
+                "pixel ({i}, {j}) is out of range ({n_bins} bins)"
+            )));
+        }
+        for pixel in &mut pixels {
+            if pixel.0 > pixel.1 {
+                (pixel.0, pixel.1) = (pixel.1, pixel.0);
+            }
+        }
+        pixels.par_sort_by_key(|&(i, j, _)| (i, j));
+        let mut out = Pixels::with_capacity(bins, count_type, pixels.len())?;
+        for (i, j, count) in pixels {
+            out.bin1.push(i);
+            out.bin2.push(j);
+            out.count.push(count);
+        }
+        Ok(out)
+    }
+
     /// All pixels as one slice.
     pub fn as_slice(&self) -> PixelSlice<'_> {
         PixelSlice {
