@@ -15,11 +15,15 @@
 //! | [`Dense`](TextFormat::Dense) | a square `n_bins x n_bins` matrix of numbers, one row per line | `--bins BED`, or `--chrom-sizes FILE --bin-size N` |
 //!
 //! BG2 and COO tables may start with one header line (a first data line whose first position or
-//! bin id and whose count are both not numbers is skipped). Each BG2 pixel must name a bin of the table exactly: a known chromosome, a
-//! start that is a bin start and the end of that bin. Pixels may come in any order and in either
-//! triangle: lower-triangle pixels are mirrored and duplicates summed (see
-//! [`MatrixBuilder`](crate::matrix::MatrixBuilder)). Counts must be finite and non-negative; the matrix gets
-//! [`CountType::Integer`](crate::matrix::CountType::Integer) when every count is a whole number, [`CountType::Float`](crate::matrix::CountType::Float) otherwise.
+//! bin id and whose count are both not numbers is skipped). Each BG2 pixel must name a bin of the
+//! table exactly: a known chromosome, a start that is a bin start and the end of that bin. Pixels
+//! may come in any order and in either triangle: lower-triangle pixels are mirrored and duplicates
+//! summed (see [`MatrixBuilder`](crate::matrix::MatrixBuilder)). Counts must be finite and
+//! non-negative. A pixel listed with a count of 0 is kept as an explicit pixel, as
+//! `cooler load -f bg2` and `cooler load -f coo` keep it (cooler 0.11); a dense matrix has no
+//! explicit pixels (its zeros are absent pixels), and binned pairs count at least 1 per pixel. The
+//! matrix gets [`CountType::Integer`](crate::matrix::CountType::Integer) when every count is a whole
+//! number, [`CountType::Float`](crate::matrix::CountType::Float) otherwise.
 //!
 //! A dense matrix must be symmetric: its upper triangle is read and every lower-triangle value must
 //! equal its mirror (to a relative tolerance of 1e-9, so that matrices printed from floating-point

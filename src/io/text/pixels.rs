@@ -5,7 +5,7 @@ use std::collections::HashMap;
 use super::lines::{first_fields, parse_count, parse_number, parse_u64, show, Fields, LineReader};
 use crate::error::{Error, Result};
 use crate::genome::BinTable;
-use crate::matrix::{ContactMatrix, CountType, MatrixBuilder};
+use crate::matrix::{ContactMatrix, CountType, MatrixBuilder, ZeroCounts};
 
 /// Relative tolerance of the symmetry check of dense matrices.
 const DENSE_SYMMETRY_TOLERANCE: f64 = 1e-9;
@@ -24,14 +24,15 @@ fn push_pixel(
     builder.push(bin1, bin2, count)
 }
 
-/// Finish a builder with the count type the counts call for.
+/// Finish a builder with the count type the counts call for, keeping the pixels listed with a
+/// count of 0 (`cooler load -f bg2` and `-f coo` store them; a dense matrix pushes none).
 fn finish(mut builder: MatrixBuilder, all_whole: bool) -> ContactMatrix {
     builder.set_count_type(if all_whole {
         CountType::Integer
     } else {
         CountType::Float
     });
-    builder.build()
+    builder.build_with(ZeroCounts::Keep)
 }
 
 /// Finds the bin of a `(chrom, start, end)` triple, checking that it is exactly a bin.
@@ -459,6 +460,41 @@ mod tests {
                 assert_eq!(message, "expected 3 rows (one per bin), found 2")
             }
             other => panic!("expected a format error, got {other:?}"),
+        }
+    }
+
+    /// `data/text/bg2_zeros.bg2.gz`: 715 pixels touching chr21, 179 of them listed with a count of
+    /// 0, a third written in the lower triangle; `bg2_zeros.cooler-dump.coo` is `cooler dump` of
+    /// `cooler load -f bg2` of it (cooler 0.11, scripts/fixtures/bg2_zeros.py).
+    #[test]
+    fn zero_counts_are_kept_as_cooler_load_keeps_them() {
+        let data = concat!(env!("CARGO_MANIFEST_DIR"), "/data/text/");
+        let dump = std::fs::read_to_string(format!("{data}bg2_zeros.cooler-dump.coo")).unwrap();
+        let reference: Vec<(u64, u64, f64)> = dump
+            .lines()
+            .map(|line| {
+                let f: Vec<&str> = line.split('\t').collect();
+                (
+                    f[0].parse().unwrap(),
+                    f[1].parse().unwrap(),
+                    f[2].parse().unwrap(),
+                )
+            })
+            .collect();
+        assert_eq!(reference.len(), 715);
+        assert_eq!(reference.iter().filter(|p| p.2 == 0.0).count(), 179);
+        let bg2 = read_matrix(&format!("{data}bg2_zeros.bg2.gz"), &bins_options()).unwrap();
+        let coo =
+            read_matrix(&format!("{data}bg2_zeros.cooler-dump.coo"), &bins_options()).unwrap();
+        for matrix in [&bg2, &coo] {
+            let pixels = matrix.all_pixels();
+            let ours: Vec<(u64, u64, f64)> = (0..pixels.len())
+                .map(|k| (pixels.bin1[k], pixels.bin2[k], pixels.count[k]))
+                .collect();
+            assert_eq!(ours, reference);
+            assert_eq!(matrix.nnz(), 715);
+            assert_eq!(matrix.sum(), 1086.0);
+            assert_eq!(matrix.count_type(), CountType::Integer);
         }
     }
 }
