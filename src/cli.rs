@@ -13,6 +13,7 @@ pub mod progress;
 pub mod score;
 pub mod simulate;
 pub mod tads;
+pub mod warnings;
 
 use std::path::PathBuf;
 

@@ -17,7 +17,7 @@ use ndarray::Array2;
 
 use crate::error::{Error, Result};
 use crate::genome::BinTable;
-pub use builder::MatrixBuilder;
+pub use builder::{MatrixBuilder, ZeroCounts};
 pub use pixels::{PixelSlice, PixelSource, Pixels};
 
 /// How counts are stored: integers (raw read counts) or floating point (already normalised).

@@ -7,6 +7,7 @@ use clap::{Args, ValueEnum};
 
 use crate::cli::expected::{read_view, read_weights};
 use crate::cli::output::{write_real, write_u64, Output};
+use crate::cli::warnings::Warnings;
 use crate::cli::InputArgs;
 use crate::error::{Error, Result};
 use crate::expected::View;
@@ -173,15 +174,33 @@ pub fn run(args: &TadsArgs) -> Result<()> {
         None => View::chromosomes(&bins),
     };
     let largest = windows.iter().copied().max().unwrap_or(bin_size);
+    // Printed only once the outputs are written: a warning never comes before an error.
+    let mut warnings = Warnings::new();
     if args.method != MethodArg::Armatus {
-        check_region_lengths(&view, (largest / bin_size) as usize, largest, explicit_view)?;
+        check_region_lengths(
+            &view,
+            (largest / bin_size) as usize,
+            largest,
+            explicit_view,
+            &mut warnings,
+        )?;
     }
     let pixels = LoadedPixels::Streamed(StreamedPixels::new(reader.as_ref()));
     let weights = weights.as_deref();
     let calls = match args.method {
-        MethodArg::Insulation => run_insulation(args, &pixels, weights, &view, &windows)?,
+        MethodArg::Insulation => {
+            run_insulation(args, &pixels, weights, &view, &windows, &mut warnings)?
+        }
         MethodArg::Directionality => run_directionality(args, &pixels, weights, &view, &windows)?,
-        MethodArg::Topdom => run_topdom(args, &pixels, weights, &view, windows[0], bin_size)?,
+        MethodArg::Topdom => run_topdom(
+            args,
+            &pixels,
+            weights,
+            &view,
+            windows[0],
+            bin_size,
+            &mut warnings,
+        )?,
         MethodArg::Armatus => run_armatus(args, &pixels, weights, &view, bin_size)?,
     };
     let track = calls.track(&bins);
@@ -198,12 +217,13 @@ pub fn run(args: &TadsArgs) -> Result<()> {
             &domains_bed(&bins, &calls.domains, &calls.label),
         )?;
     }
-    eprintln!(
-        "contactmap: {}: {} boundaries, {} domains",
+    warnings.note(format!(
+        "{}: {} boundaries, {} domains",
         calls.label,
         calls.boundaries.len(),
         calls.domains.len()
-    );
+    ));
+    warnings.print();
     Ok(())
 }
 
@@ -278,6 +298,7 @@ fn check_region_lengths(
     window_bins: usize,
     window_bp: u64,
     explicit_view: bool,
+    warnings: &mut Warnings,
 ) -> Result<()> {
     let short = regions_shorter_than(view, window_bins);
     if short.is_empty() {
@@ -290,10 +311,10 @@ fn check_region_lengths(
             list_names(&short)
         )));
     }
-    eprintln!(
-        "contactmap: warning: {} shorter than the {window_bp} bp window: truncated diamonds (as cooltools)",
+    warnings.push(format!(
+        "{} shorter than the {window_bp} bp window: truncated diamonds (as cooltools)",
         list_names(&short)
-    );
+    ));
     Ok(())
 }
 
@@ -311,6 +332,7 @@ fn run_insulation(
     weights: Option<&[f64]>,
     view: &View,
     windows: &[u64],
+    warnings: &mut Warnings,
 ) -> Result<Calls> {
     let threshold = parse_threshold(args)?;
     let min_dist_bad_bin = args.min_dist_bad_bin.unwrap_or(0);
@@ -337,12 +359,12 @@ fn run_insulation(
     let boundaries = table.boundaries(bed_track);
     let domains = domains_between(view, &boundaries, 1);
     for track in &table.tracks {
-        eprintln!(
-            "contactmap: window {}: {} boundaries (strength cutoff {})",
+        warnings.note(format!(
+            "window {}: {} boundaries (strength cutoff {})",
             track.window_bp,
             track.is_boundary.iter().filter(|&&b| b).count(),
             track.cutoff
-        );
+        ));
     }
     Ok(Calls {
         label: format!("insulation_{}", windows[bed_track]),
@@ -388,6 +410,7 @@ fn run_topdom(
     view: &View,
     window_bp: u64,
     bin_size: u64,
+    warnings: &mut Warnings,
 ) -> Result<Calls> {
     let params = TopDomParams {
         window_bins: (window_bp / bin_size) as usize,
@@ -398,11 +421,11 @@ fn run_topdom(
     let mut regions = Vec::with_capacity(bands.len());
     for (band, region) in bands.iter().zip(view.regions()) {
         if band.n_bins < 2 * params.window_bins {
-            eprintln!(
-                "contactmap: warning: {} has fewer than {} bins: skipped by TopDom",
+            warnings.push(format!(
+                "{} has fewer than {} bins: skipped by TopDom",
                 region.name,
                 2 * params.window_bins
-            );
+            ));
             continue;
         }
         regions.push(topdom(band, &params)?);

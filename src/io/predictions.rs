@@ -573,7 +573,25 @@ fn f16_to_f64(bits: u16) -> f64 {
     }
 }
 
+/// `text` from a file, fit for a one-line message: control and non-ASCII characters escaped,
+/// cut after [`QUOTE_CHARS`] characters (with `...`).
+fn quote(text: &str) -> String {
+    let mut escaped: String = text.escape_default().take(QUOTE_CHARS + 1).collect();
+    if escaped.chars().count() > QUOTE_CHARS {
+        escaped = escaped.chars().take(QUOTE_CHARS).collect();
+        escaped.push_str("...");
+    }
+    format!("'{escaped}'")
+}
+
+/// The most characters of file content that [`quote`] keeps.
+const QUOTE_CHARS: usize = 40;
+
 /// Decode a `.npy` array of little-endian `f2`, `f4` or `f8` values in C order.
+///
+/// The header is checked before anything is allocated from it: the shape's product must fit a
+/// `usize` and the data after the header must hold that many values. Messages never quote the
+/// header as it is: what they cite from it is escaped and cut short.
 pub fn parse_npy(bytes: &[u8], path: &Path) -> Result<NpyArray> {
     let bad = |message: String| Error::format(path, message);
     if !bytes.starts_with(b"\x93NUMPY") || bytes.len() < 10 {
@@ -588,46 +606,78 @@ pub fn parse_npy(bytes: &[u8], path: &Path) -> Result<NpyArray> {
         version => return Err(bad(format!("unsupported .npy version {version}"))),
     };
     let data_start = header_start + header_length;
-    let header = bytes
-        .get(header_start..data_start)
-        .and_then(|header| std::str::from_utf8(header).ok())
-        .ok_or_else(|| bad("truncated .npy header".into()))?;
+    let header = bytes.get(header_start..data_start).ok_or_else(|| {
+        bad(format!(
+            "truncated .npy header: it claims {header_length} bytes, the file has {} after the \
+             preamble",
+            bytes.len() - header_start.min(bytes.len())
+        ))
+    })?;
+    let header = std::str::from_utf8(header).map_err(|e| {
+        bad(format!(
+            "the .npy header is not text (byte {})",
+            e.valid_up_to()
+        ))
+    })?;
     let descr = header_value(header, "descr").unwrap_or("");
-    if header_value(header, "fortran_order") != Some("False") {
-        return Err(bad(format!(
-            ".npy array in Fortran order is not supported (header {header})"
-        )));
+    match header_value(header, "fortran_order") {
+        Some("False") => {}
+        Some("True") => return Err(bad(".npy array in Fortran order is not supported".into())),
+        Some(other) => {
+            return Err(bad(format!(
+                "the .npy header's 'fortran_order' is {}, expected True or False",
+                quote(other)
+            )))
+        }
+        None => return Err(bad("the .npy header has no 'fortran_order' entry".into())),
     }
     let shape = header_value(header, "shape")
-        .ok_or_else(|| bad(format!("no shape in the .npy header {}", header.trim())))?
+        .ok_or_else(|| bad("the .npy header has no 'shape' entry".into()))?
         .split(',')
         .map(str::trim)
         .filter(|dim| !dim.is_empty())
         .map(|dim| {
             dim.parse::<usize>()
-                .map_err(|_| bad(format!("bad .npy shape dimension '{dim}'")))
+                .map_err(|_| bad(format!("bad .npy shape dimension {}", quote(dim))))
         })
         .collect::<Result<Vec<usize>>>()?;
-    let n_values: usize = shape.iter().product();
-    let data = &bytes[data_start..];
     let width = match descr {
         "<f2" => 2,
         "<f4" => 4,
         "<f8" => 8,
         other => {
             return Err(bad(format!(
-                ".npy dtype '{other}' is not supported (expected <f2, <f4 or <f8)"
+                ".npy dtype {} is not supported (expected <f2, <f4 or <f8)",
+                quote(other)
             )))
         }
     };
-    if data.len() < n_values * width {
-        return Err(bad(format!(
-            "truncated .npy data: shape {shape:?} needs {} bytes, found {}",
-            n_values * width,
-            data.len()
-        )));
-    }
-    let values = data[..n_values * width]
+    let data = &bytes[data_start..];
+    // An empty dimension makes an empty array, whatever the others say.
+    let n_bytes = if shape.contains(&0) {
+        Some(0)
+    } else {
+        shape
+            .iter()
+            .try_fold(width, |product: usize, &dim| product.checked_mul(dim))
+    };
+    let n_bytes = match n_bytes {
+        Some(n) if n <= data.len() => n,
+        Some(n) => {
+            return Err(bad(format!(
+                "truncated .npy data: shape {shape:?} needs {n} bytes, found {}",
+                data.len()
+            )))
+        }
+        None => {
+            return Err(bad(format!(
+                ".npy shape {shape:?} is too large: its size overflows (the file holds {} bytes \
+                 of data)",
+                data.len()
+            )))
+        }
+    };
+    let values = data[..n_bytes]
         .chunks_exact(width)
         .map(|chunk| match width {
             2 => f16_to_f64(u16::from_le_bytes([chunk[0], chunk[1]])),
@@ -652,7 +702,11 @@ pub fn parse_npz(bytes: &[u8], path: &Path) -> Result<Prediction> {
             path,
             format!(
                 "no 'dist' array (trRosetta distogram) in the .npz; it holds: {}",
-                names.join(", ")
+                names
+                    .iter()
+                    .map(|name| quote(name))
+                    .collect::<Vec<_>>()
+                    .join(", ")
             ),
         ));
     };
@@ -907,6 +961,138 @@ mod tests {
         let err = parse_npz(buffer.get_ref(), Path::new("x.npz")).unwrap_err();
         assert!(err.to_string().contains("no 'dist' array"), "{err}");
         assert!(err.to_string().contains("omega.npy"), "{err}");
+    }
+
+    /// A version-1 `.npy` with `header` (padded with spaces and a newline) and `data`.
+    fn npy(header: &str, data: &[u8]) -> Vec<u8> {
+        let mut header = header.to_string();
+        while (10 + header.len() + 1) % 64 != 0 {
+            header.push(' ');
+        }
+        header.push('\n');
+        let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
+        bytes.extend_from_slice(&(header.len() as u16).to_le_bytes());
+        bytes.extend_from_slice(header.as_bytes());
+        bytes.extend_from_slice(data);
+        bytes
+    }
+
+    fn npy_error(bytes: &[u8]) -> String {
+        let message = parse_npy(bytes, Path::new("m.npy"))
+            .unwrap_err()
+            .to_string();
+        assert!(message.starts_with("m.npy: "), "{message}");
+        assert!(!message.contains('\n'), "{message}");
+        message
+    }
+
+    #[test]
+    fn npy_shapes_are_checked_against_the_data_before_allocating() {
+        let data: Vec<u8> = [1.0f64, 2.0, 3.0, 4.0]
+            .iter()
+            .flat_map(|v| v.to_le_bytes())
+            .collect();
+        let header = |shape: &str| {
+            format!("{{'descr': '<f8', 'fortran_order': False, 'shape': ({shape}), }}")
+        };
+        let array = parse_npy(&npy(&header("2, 2"), &data), Path::new("m.npy")).unwrap();
+        assert_eq!(array.shape, vec![2, 2]);
+        assert_eq!(array.values, vec![1.0, 2.0, 3.0, 4.0]);
+        // An empty dimension is an empty array, however large the others.
+        let empty = parse_npy(
+            &npy(&header(&format!("0, {}", usize::MAX)), &[]),
+            Path::new("e"),
+        );
+        assert_eq!(empty.unwrap().values, Vec::<f64>::new());
+        // The fuzz findings F-NPY-1: products that overflow usize, in 8-byte values or in count.
+        let max = usize::MAX;
+        for shape in [
+            format!("{max}, {max}, 1"),
+            format!("{}, 4", i64::MAX),
+            "4294967296, 4294967296, 1".to_string(),
+        ] {
+            let message = npy_error(&npy(&header(&shape), &data));
+            assert!(message.contains("is too large"), "{message}");
+        }
+        // A product that fits but that the file does not hold.
+        let message = npy_error(&npy(&header("3, 3"), &data));
+        assert!(message.contains("needs 72 bytes, found 32"), "{message}");
+        // The same through the distance-map and .npz readers.
+        let bytes = npy(&header(&format!("{max}, {max}, 1")), &data);
+        let err = parse_distance_npy(&bytes, Path::new("d.npy")).unwrap_err();
+        assert!(err.to_string().contains("is too large"), "{err}");
+    }
+
+    #[test]
+    fn npy_header_problems_are_said_without_quoting_the_header() {
+        let data = [0u8; 8];
+        let message = npy_error(&npy(
+            "{'descr': '<f8', 'fortran_order': True, 'shape': (1,), }",
+            &data,
+        ));
+        assert_eq!(
+            message,
+            "m.npy: .npy array in Fortran order is not supported"
+        );
+        // F-NPY-2: a damaged fortran_order key used to be reported as Fortran order, with the
+        // raw header (newline and all) in the message.
+        let message = npy_error(&npy(
+            "{'descr': '<f8', 'fortran_ordeR': False, 'shape': (1,), }",
+            &data,
+        ));
+        assert_eq!(
+            message,
+            "m.npy: the .npy header has no 'fortran_order' entry"
+        );
+        let message = npy_error(&npy(
+            "{'descr': '<f8', 'fortran_order': Fa\nlse\u{7f}, 'shape': (1,), }",
+            &data,
+        ));
+        assert_eq!(
+            message,
+            "m.npy: the .npy header's 'fortran_order' is 'Fa\\nlse\\u{7f}', expected True or False"
+        );
+        let message = npy_error(&npy(
+            "{'descr': '<f8', 'fortran_order': False, 'shapE': (1,), }",
+            &data,
+        ));
+        assert_eq!(message, "m.npy: the .npy header has no 'shape' entry");
+        // What is quoted from the header is escaped and cut after 40 characters.
+        let long = "x\n".repeat(30);
+        let message = npy_error(&npy(
+            &format!("{{'descr': '<f8', 'fortran_order': False, 'shape': (1, {long}), }}"),
+            &data,
+        ));
+        assert_eq!(
+            message,
+            format!(
+                "m.npy: bad .npy shape dimension '{}...'",
+                "x\\n".repeat(13) + "x"
+            )
+        );
+        let message = npy_error(&npy(
+            "{'descr': '\u{e9}\t', 'fortran_order': False, 'shape': (1,), }",
+            &data,
+        ));
+        assert_eq!(
+            message,
+            "m.npy: .npy dtype '\\u{e9}\\t' is not supported (expected <f2, <f4 or <f8)"
+        );
+        // A header longer than the file, and one that is not text.
+        let mut bytes = npy(
+            "{'descr': '<f8', 'fortran_order': False, 'shape': (1,), }",
+            &[],
+        );
+        bytes.truncate(40);
+        let message = npy_error(&bytes);
+        assert!(message.contains("truncated .npy header"), "{message}");
+        let mut bytes = npy(
+            "{'descr': '<f8', 'fortran_order': False, 'shape': (1,), }",
+            &data,
+        );
+        bytes[12] = 0xff;
+        let message = npy_error(&bytes);
+        assert_eq!(message, "m.npy: the .npy header is not text (byte 2)");
     }
 
     #[test]

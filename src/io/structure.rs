@@ -295,14 +295,34 @@ fn element_from_name(name: &str) -> String {
         .unwrap_or_default()
 }
 
-fn parse_coordinate(text: &str, path: &Path, line: u64, what: &str) -> Result<f64> {
-    text.trim().parse::<f64>().map_err(|_| {
-        Error::parse(
+/// A coordinate of `atom` (described on error only): a finite number. `NaN` and `inf` parse as
+/// floats but would silently drop the atom's contacts (every distance comparison fails), so they
+/// are refused, naming the atom.
+fn parse_coordinate(
+    text: &str,
+    path: &Path,
+    line: u64,
+    what: &str,
+    atom: impl Fn() -> String,
+) -> Result<f64> {
+    let text = text.trim();
+    match text.parse::<f64>() {
+        Ok(value) if value.is_finite() => Ok(value),
+        Ok(_) => Err(Error::parse(
             path,
             line,
-            format!("{what} '{}' is not a number", text.trim()),
-        )
-    })
+            format!(
+                "{what} of {} is '{}': coordinates must be finite numbers",
+                atom(),
+                text.escape_default()
+            ),
+        )),
+        Err(_) => Err(Error::parse(
+            path,
+            line,
+            format!("{what} '{}' is not a number", text.escape_default()),
+        )),
+    }
 }
 
 /// Parse PDB `ATOM` / `HETATM` records (fixed columns) of the first model.
@@ -338,10 +358,17 @@ pub fn parse_pdb(text: &str, path: &Path) -> Result<Structure> {
             )
         })?;
         let insertion = field(26, 27).chars().next().filter(|c| *c != ' ');
+        let atom = || {
+            format!(
+                "atom {name} of {residue_name} {number_text}{} chain '{}'",
+                insertion.map(String::from).unwrap_or_default(),
+                field(21, 22).trim()
+            )
+        };
         let xyz = [
-            parse_coordinate(field(30, 38), path, line_number, "x (columns 31-38)")?,
-            parse_coordinate(field(38, 46), path, line_number, "y (columns 39-46)")?,
-            parse_coordinate(field(46, 54), path, line_number, "z (columns 47-54)")?,
+            parse_coordinate(field(30, 38), path, line_number, "x (columns 31-38)", atom)?,
+            parse_coordinate(field(38, 46), path, line_number, "y (columns 39-46)", atom)?,
+            parse_coordinate(field(46, 54), path, line_number, "z (columns 47-54)", atom)?,
         ];
         let element = match field(76, 78).trim() {
             "" => element_from_name(&name),
@@ -517,10 +544,18 @@ pub fn parse_mmcif(text: &str, path: &Path) -> Result<Structure> {
                 .map(|column| row[column])
                 .filter(|symbol| *symbol != "?" && *symbol != ".")
                 .map_or_else(|| element_from_name(&name), str::to_ascii_uppercase);
+            let atom = || {
+                format!(
+                    "atom {name} of {} {residue_number}{} chain '{}'",
+                    row[residue_name],
+                    insertion_code.map(String::from).unwrap_or_default(),
+                    row[chain]
+                )
+            };
             let xyz = [
-                parse_coordinate(row[x], path, row_line, "Cartn_x")?,
-                parse_coordinate(row[y], path, row_line, "Cartn_y")?,
-                parse_coordinate(row[z], path, row_line, "Cartn_z")?,
+                parse_coordinate(row[x], path, row_line, "Cartn_x", atom)?,
+                parse_coordinate(row[y], path, row_line, "Cartn_y", atom)?,
+                parse_coordinate(row[z], path, row_line, "Cartn_z", atom)?,
             ];
             builder.push(AtomRecord {
                 chain: row[chain],
@@ -632,6 +667,54 @@ ENDMDL
         let text = "data_x\nloop_\n_atom_site.group_PDB\n_atom_site.Cartn_x\n";
         let err = parse_mmcif(text, Path::new("bad.cif")).unwrap_err();
         assert!(err.to_string().contains("Cartn_y"), "{err}");
+    }
+
+    #[test]
+    fn non_finite_coordinates_are_errors_naming_the_atom() {
+        // Rust parses "nan" and "inf" as floats; every distance to such an atom compares false,
+        // which would silently drop its contacts.
+        let text = "\
+ATOM      1  N   ALA A  10       1.000   2.000   3.000  1.00  0.00           N
+ATOM      2  CA  GLY A  10A      5.000     NaN   5.000  1.00  0.00           C
+";
+        let err = parse_pdb(text, Path::new("nan.pdb")).unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "nan.pdb:2: y (columns 39-46) of atom CA of GLY 10A chain 'A' is 'NaN': coordinates \
+             must be finite numbers"
+        );
+        let text = "\
+ATOM      1  N   ALA A  10      -inf     2.000   3.000  1.00  0.00           N
+";
+        let err = parse_pdb(text, Path::new("inf.pdb")).unwrap_err();
+        assert!(
+            err.to_string().starts_with(
+                "inf.pdb:1: x (columns 31-38) of atom N of ALA 10 chain 'A' is '-inf'"
+            ),
+            "{err}"
+        );
+        let cif = |z: &str| {
+            format!(
+                "data_x\nloop_\n_atom_site.group_PDB\n_atom_site.auth_atom_id\n\
+                 _atom_site.auth_comp_id\n_atom_site.auth_asym_id\n_atom_site.auth_seq_id\n\
+                 _atom_site.Cartn_x\n_atom_site.Cartn_y\n_atom_site.Cartn_z\n\
+                 ATOM CA ALA B 7 1.0 2.0 3.0\nATOM CB ALA B 7 1.0 2.0 {z}\n"
+            )
+        };
+        let structure = parse_mmcif(&cif("4.5"), Path::new("ok.cif")).unwrap();
+        assert_eq!(
+            structure.chain(Some("B")).unwrap().residues[0]
+                .atom("CB")
+                .unwrap()
+                .xyz,
+            [1.0, 2.0, 4.5]
+        );
+        let err = parse_mmcif(&cif("infinity"), Path::new("inf.cif")).unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "inf.cif:12: Cartn_z of atom CB of ALA 7 chain 'B' is 'infinity': coordinates must \
+             be finite numbers"
+        );
     }
 
     #[test]

@@ -1,11 +1,23 @@
 //! Build a [`ContactMatrix`] from `(bin1, bin2, count)` triplets.
 //!
 //! Pixels may come in any order and either triangle; the builder mirrors lower-triangle pixels to
-//! the upper triangle, sorts, sums duplicates and drops pixels whose summed count is zero.
+//! the upper triangle, sorts and sums duplicates. What happens to pixels whose summed count is
+//! zero is the caller's choice ([`ZeroCounts`]): a reader of a pixel table keeps them, as
+//! `cooler load` does, while [`MatrixBuilder::build`] drops them.
 
 use crate::error::{Error, Result};
 use crate::genome::BinTable;
 use crate::matrix::{ContactMatrix, CountType, Weights};
+
+/// What [`MatrixBuilder::build_with`] does with a pixel whose summed count is zero.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ZeroCounts {
+    /// Leave it out of the matrix (a computed matrix, where a zero is no contact).
+    Drop,
+    /// Store it as a pixel of count 0 (a pixel table that lists it explicitly, as `cooler load`
+    /// keeps it).
+    Keep,
+}
 
 /// Collects triplets, then builds an immutable [`ContactMatrix`].
 #[derive(Debug)]
@@ -69,8 +81,15 @@ impl MatrixBuilder {
         self.triplets.len()
     }
 
-    /// Sort, sum duplicates, drop zeros and build the CSR matrix.
-    pub fn build(mut self) -> ContactMatrix {
+    /// Sort, sum duplicates, drop the pixels whose summed count is zero and build the CSR matrix:
+    /// [`build_with`](Self::build_with) with [`ZeroCounts::Drop`].
+    pub fn build(self) -> ContactMatrix {
+        self.build_with(ZeroCounts::Drop)
+    }
+
+    /// Sort, sum duplicates, keep or drop the pixels whose summed count is zero as `zeros` says,
+    /// and build the CSR matrix.
+    pub fn build_with(mut self, zeros: ZeroCounts) -> ContactMatrix {
         self.triplets.sort_unstable_by_key(|&(i, j, _)| (i, j));
         let n_bins = self.bins.n_bins();
         let mut row_offsets = vec![0usize; n_bins + 1];
@@ -88,7 +107,7 @@ impl MatrixBuilder {
         }
         let mut kept = 0;
         for k in 0..counts.len() {
-            if counts[k] != 0.0 {
+            if zeros == ZeroCounts::Keep || counts[k] != 0.0 {
                 rows[kept] = rows[k];
                 bin2[kept] = bin2[k];
                 counts[kept] = counts[k];
@@ -112,5 +131,36 @@ impl MatrixBuilder {
             count_type: self.count_type,
             weights: self.weights,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::genome::Chrom;
+
+    /// Zero-count pixels in both triangles, one of them pushed twice, and one non-zero pixel.
+    fn with_zeros() -> MatrixBuilder {
+        let bins = BinTable::fixed(vec![Chrom::new("a", 30)], 10).unwrap();
+        let mut builder = MatrixBuilder::new(bins, CountType::Integer);
+        for (i, j, c) in [(0, 1, 0.0), (1, 0, 0.0), (2, 2, 3.0), (0, 0, 0.0)] {
+            builder.push(i, j, c).unwrap();
+        }
+        builder
+    }
+
+    #[test]
+    fn zero_pixels_are_dropped_or_kept_as_the_caller_says() {
+        let dropped = with_zeros().build_with(ZeroCounts::Drop);
+        let pixels = dropped.all_pixels();
+        assert_eq!(
+            (pixels.bin1, pixels.bin2, pixels.count),
+            (vec![2], vec![2], vec![3.0])
+        );
+        assert_eq!(with_zeros().build(), dropped);
+        let kept = with_zeros().build_with(ZeroCounts::Keep).all_pixels();
+        assert_eq!(kept.bin1, vec![0, 0, 2]);
+        assert_eq!(kept.bin2, vec![0, 1, 2]);
+        assert_eq!(kept.count, vec![0.0, 0.0, 3.0]);
     }
 }

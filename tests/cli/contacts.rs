@@ -638,3 +638,49 @@ fn overlap_of_two_predictions() {
     ]);
     assert!(line.contains("cover 59 and 56 residues"), "{line}");
 }
+
+#[test]
+fn non_finite_coordinates_and_huge_npy_shapes_are_one_error_line() {
+    let dir = tempfile::tempdir().unwrap();
+    // toxd.pdb with the CB of PRO 2 at x = nan (line 347): an error, not a missing contact.
+    let pdb = std::fs::read_to_string(protein("toxd/toxd.pdb")).unwrap();
+    let original = "ATOM      9  CB  PRO A   2      12.617";
+    assert!(pdb.contains(original));
+    let nan = write(
+        dir.path(),
+        "nan.pdb",
+        &pdb.replace(original, "ATOM      9  CB  PRO A   2         nan"),
+    );
+    let line = run_err(&["contacts", &nan]);
+    assert_eq!(
+        line,
+        format!(
+            "contactmap: error: {nan}:347: x (columns 31-38) of atom CB of PRO 2 chain 'A' is \
+             'nan': coordinates must be finite numbers"
+        )
+    );
+    // 1guuA.predicted.npy with a shape whose size overflows (fuzz finding F-NPY-1).
+    let mut npy = std::fs::read(protein("1guuA/1guuA.predicted.npy")).unwrap();
+    let header = String::from_utf8(npy[10..128].to_vec()).unwrap();
+    let max = u64::MAX;
+    let huge = format!("({max}, {max}, 1)");
+    let mutated = header.replace("(50, 50, 1)", &huge);
+    let mutated = mutated.replacen(&" ".repeat(huge.len() - "(50, 50, 1)".len()), "", 1);
+    assert_eq!(mutated.len(), header.len());
+    npy.splice(10..128, mutated.bytes());
+    let path = dir.path().join("huge.npy");
+    std::fs::write(&path, &npy).unwrap();
+    let path = path.to_string_lossy().into_owned();
+    let line = run_err(&[
+        "score",
+        "contacts",
+        "--structure",
+        &protein("1guuA/1guuA.pdb"),
+        &path,
+    ]);
+    assert!(
+        line.starts_with(&format!("contactmap: error: {path}: .npy shape ["))
+            && line.contains("is too large"),
+        "{line}"
+    );
+}

@@ -1,6 +1,6 @@
 //! `contactmap convert`: round trips and coarsening against independent references.
 
-use crate::{data, run_ok};
+use crate::{data, run_err, run_ok};
 
 #[test]
 fn cool_to_cool_round_trips_pixels_bins_and_weights() {
@@ -107,4 +107,78 @@ fn variable_bins_round_trip_through_cool() {
     let info: serde_json::Value = serde_json::from_str(&run_ok(&["info", "--json", out])).unwrap();
     assert_eq!(info["bin-type"], "variable");
     assert_eq!(info["format-version"], 3);
+}
+
+#[test]
+fn errors_in_the_input_pixels_name_the_input_and_the_pixel() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = |name: &str| dir.path().join(name).to_str().unwrap().to_string();
+    let write = |name: &str, text: &str| {
+        std::fs::write(path(name), text).unwrap();
+        path(name)
+    };
+    let sizes = write("small.sizes", "chr1\t100\nchr2\t50\n");
+    // A whole count past i32::MAX: the matrix has integer counts, which cooler stores as int32.
+    let big = write("big.bg2", "chr1\t0\t10\tchr2\t10\t20\t3000000000\n");
+    let out = path("out.cool");
+    let line = run_err(&[
+        "convert",
+        &big,
+        &out,
+        "--chrom-sizes",
+        &sizes,
+        "--bin-size",
+        "10",
+    ]);
+    assert_eq!(
+        line,
+        format!(
+            "contactmap: error: {big}: pixel (0, 11) chr1:0-10 x chr2:10-20: count 3000000000 \
+             does not fit cooler's int32 count column (whole numbers from -2147483648 to \
+             2147483647)"
+        )
+    );
+    // A chromosome name cooler cannot store, refused before anything is written.
+    let sizes = write("utf8.sizes", "chr1\t100\nchr\u{e9}\t50\n");
+    let bg2 = write("utf8.bg2", "chr1\t0\t10\tchr1\t0\t10\t1\n");
+    let line = run_err(&[
+        "convert",
+        &bg2,
+        &out,
+        "--chrom-sizes",
+        &sizes,
+        "--bin-size",
+        "10",
+    ]);
+    assert_eq!(
+        line,
+        format!(
+            "contactmap: error: {bg2}: chromosome 2 'chr\\u{{e9}}' cannot be written to a .cool: \
+             cooler's chromosome names must be ASCII and at most 255 bytes long"
+        )
+    );
+    // A chromosome past cooler's int32 lengths (fuzz finding F-HIC-1, there from a .hic header).
+    let sizes = write("long.sizes", "chr1\t100\nchr17\t3000000000\n");
+    let bg2 = write("long.bg2", "chr1\t0\t100\tchr1\t0\t100\t1\n");
+    let line = run_err(&[
+        "convert",
+        &bg2,
+        &out,
+        "--chrom-sizes",
+        &sizes,
+        "--bin-size",
+        "1000000000",
+    ]);
+    assert_eq!(
+        line,
+        format!(
+            "contactmap: error: {bg2}: chromosome chr17 (3000000000 bp) is too long for cooler's \
+             int32 lengths (at most 2147483647 bp)"
+        )
+    );
+    assert!(std::fs::read_dir(dir.path()).unwrap().all(|e| !e
+        .unwrap()
+        .file_name()
+        .to_string_lossy()
+        .starts_with("out")));
 }

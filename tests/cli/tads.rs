@@ -240,6 +240,36 @@ fn a_region_shorter_than_the_window_is_an_error_or_a_warning() {
     );
 }
 
+#[test]
+fn a_warning_never_precedes_the_error_of_a_failed_command() {
+    // chrMito is shorter than 100 kb (a warning on success), and --bed-window names no window:
+    // the error comes after the length check, yet it is the only line printed (run_err checks).
+    let message = run_err(&[
+        "tads",
+        &data(YEAST),
+        "--window",
+        "100k",
+        "--bed-window",
+        "50k",
+    ]);
+    assert!(
+        message.contains("--bed-window 50k is not one of the --window values"),
+        "{message}"
+    );
+    // An output that cannot be written, after a successful computation: its error alone.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("missing").join("insulation.tsv");
+    let message = run_err(&[
+        "tads",
+        &data(YEAST),
+        "--window",
+        "100k",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(message.contains("missing"), "{message}");
+}
+
 /// F1 of `tads ARGS` on a balanced synthetic block map against its true boundaries.
 fn synthetic_f1(dir: &std::path::Path, depth: &str, seed: &str, args: &[&str]) -> f64 {
     let map = dir.join(format!("map_{depth}_{seed}.cool"));

@@ -154,3 +154,21 @@ fn truncated_gzip_text_fails_cleanly() {
         }
     }
 }
+
+#[test]
+fn bg2_zero_counts_survive_conversion_to_cool_as_in_cooler_load() {
+    // data/text/bg2_zeros.cooler-dump.coo is `cooler dump` of `cooler load -f bg2` of the input:
+    // 715 pixels, 179 of them with a count of 0.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("zeros.cool");
+    let out = out.to_str().unwrap();
+    run_ok(&[
+        "convert",
+        &data("text/bg2_zeros.bg2.gz"),
+        out,
+        "--bins",
+        &data("hg19.bins.2000kb.bed.gz"),
+    ]);
+    let expected = std::fs::read_to_string(data("text/bg2_zeros.cooler-dump.coo")).unwrap();
+    assert_eq!(run_ok(&["dump", out]), expected);
+}

@@ -33,6 +33,7 @@ pub fn write_cool(
     path: &Path,
     options: &CoolWriteOptions,
 ) -> Result<()> {
+    check_chroms(reader)?;
     with_temporary(path, |tmp| {
         let file = super::file_builder()
             .create(tmp)
@@ -40,7 +41,7 @@ pub fn write_cool(
         let root = file
             .as_group()
             .map_err(|e| Error::hdf5(tmp, "opening the root group", e))?;
-        let mut writer = GroupWriter::create(tmp, &root, reader.bins(), reader.count_type())?;
+        let mut writer = GroupWriter::create(tmp, &root, reader, reader.bins())?;
         let n = reader.bins().n_bins();
         reader.read_pixels(0..n, 0..n, &mut |block| writer.append(block))?;
         let weights = selected_weights(reader, options)?;
@@ -80,6 +81,7 @@ pub fn write_mcool(
             )));
         }
     }
+    check_chroms(reader)?;
     with_temporary(path, |tmp| {
         let file = super::file_builder()
             .create(tmp)
@@ -97,7 +99,7 @@ pub fn write_mcool(
                 .map_err(|e| Error::hdf5(tmp, format!("creating /resolutions/{r}"), e))?;
             let bins = base_bins.coarsen(r / base)?;
             let coarsener = Coarsener::new(base_bins, &bins);
-            let writer = GroupWriter::create(tmp, &level_group, &bins, reader.count_type())?;
+            let writer = GroupWriter::create(tmp, &level_group, reader, &bins)?;
             levels.push((r, coarsener, writer));
         }
         let n = base_bins.n_bins();
@@ -170,8 +172,22 @@ impl Coarsener {
     /// Add fine pixels (sorted by fine bin1, hence by coarse bin1).
     fn push(&mut self, block: &PixelBlock, writer: &mut GroupWriter) -> Result<()> {
         for k in 0..block.len() {
-            let i = self.coarse_of[block.bin1[k] as usize];
-            let j = self.coarse_of[block.bin2[k] as usize];
+            let coarse = |bin: u64| {
+                usize::try_from(bin)
+                    .ok()
+                    .and_then(|b| self.coarse_of.get(b))
+            };
+            let (Some(&i), Some(&j)) = (coarse(block.bin1[k]), coarse(block.bin2[k])) else {
+                return Err(Error::format(
+                    &writer.source,
+                    format!(
+                        "pixel ({}, {}) is out of range ({} bins)",
+                        block.bin1[k],
+                        block.bin2[k],
+                        self.coarse_of.len()
+                    ),
+                ));
+            };
             if self.row != Some(i) {
                 self.flush(writer)?;
                 self.row = Some(i);
@@ -203,6 +219,8 @@ impl Coarsener {
 /// Writes one cooler group, streaming pixel blocks into resizable chunked datasets.
 struct GroupWriter {
     path: PathBuf,
+    /// The input's name, for errors in its pixels.
+    source: String,
     group: hdf5::Group,
     bins: BinTable,
     count_type: CountType,
@@ -216,12 +234,15 @@ struct GroupWriter {
 }
 
 impl GroupWriter {
+    /// A writer into `group` of the pixels of `reader` over `bins` (the reader's own bins or a
+    /// coarser table of them).
     fn create(
         path: &Path,
         group: &hdf5::Group,
+        reader: &dyn MatrixReader,
         bins: &BinTable,
-        count_type: CountType,
     ) -> Result<Self> {
+        let count_type = reader.count_type();
         let err = |what: &str| {
             let what = what.to_string();
             move |e| Error::hdf5(path, what, e)
@@ -260,6 +281,7 @@ impl GroupWriter {
         };
         Ok(GroupWriter {
             path: path.to_path_buf(),
+            source: reader.source().to_string(),
             group: group.clone(),
             bins: bins.clone(),
             count_type,
@@ -287,16 +309,23 @@ impl GroupWriter {
         for k in 0..block.len() {
             let key = (block.bin1[k], block.bin2[k]);
             if key.0 > key.1 || key.1 >= n_bins {
-                return Err(Error::Invalid(format!(
-                    "pixel ({}, {}) is below the diagonal or out of range ({n_bins} bins)",
-                    key.0, key.1
-                )));
+                return Err(Error::format(
+                    &self.source,
+                    format!(
+                        "pixel ({}, {}) is below the diagonal or out of range ({n_bins} bins)",
+                        key.0, key.1
+                    ),
+                ));
             }
             if self.last.is_some_and(|last| last >= key) {
-                return Err(Error::Invalid(format!(
-                    "pixels are not sorted by (bin1, bin2) or are duplicated at ({}, {})",
-                    key.0, key.1
-                )));
+                return Err(Error::format(
+                    &self.source,
+                    format!(
+                        "pixels are not sorted by (bin1, bin2) or are duplicated at pixel {}: a \
+                         .cool needs them sorted and unique",
+                        pixel_name(&self.bins, key.0, key.1)
+                    ),
+                ));
             }
             self.last = Some(key);
             self.row_counts[key.0 as usize] += 1;
@@ -321,10 +350,16 @@ impl GroupWriter {
                 let mut counts = Vec::with_capacity(block.len());
                 for (k, &c) in block.count.iter().enumerate() {
                     if c.fract() != 0.0 || c < i32::MIN as f64 || c > i32::MAX as f64 {
-                        return Err(Error::Invalid(format!(
-                            "pixel ({}, {}): count {c} does not fit cooler's int32 count column",
-                            block.bin1[k], block.bin2[k]
-                        )));
+                        return Err(Error::format(
+                            &self.source,
+                            format!(
+                                "pixel {}: count {c} does not fit cooler's int32 count column \
+                                 (whole numbers from {} to {})",
+                                pixel_name(&self.bins, block.bin1[k], block.bin2[k]),
+                                i32::MIN,
+                                i32::MAX
+                            ),
+                        ));
                     }
                     counts.push(c as i32);
                 }
@@ -357,18 +392,8 @@ impl GroupWriter {
             .map_err(err("creating chroms"))?;
         let names: Vec<&str> = bins.chroms().iter().map(|c| c.name.as_str()).collect();
         write_fixed_strings(path, &chroms, "name", &names)?;
-        let lengths = bins
-            .chroms()
-            .iter()
-            .map(|c| {
-                i32::try_from(c.length_bp).map_err(|_| {
-                    Error::Invalid(format!(
-                        "chromosome {} is too long for cooler's int32 lengths",
-                        c.name
-                    ))
-                })
-            })
-            .collect::<Result<Vec<i32>>>()?;
+        // check_chroms refused any length past i32::MAX before the file was created
+        let lengths: Vec<i32> = bins.chroms().iter().map(|c| c.length_bp as i32).collect();
         write_column(path, &chroms, "length", &lengths)?;
         // bins
         let bins_group = group.create_group("bins").map_err(err("creating bins"))?;
@@ -384,12 +409,15 @@ impl GroupWriter {
         write_column(path, &bins_group, "end", &ends)?;
         for w in weights {
             if w.values.len() != bins.n_bins() {
-                return Err(Error::Invalid(format!(
-                    "weight column '{}' has {} values for {} bins",
-                    w.name,
-                    w.values.len(),
-                    bins.n_bins()
-                )));
+                return Err(Error::format(
+                    &self.source,
+                    format!(
+                        "weight column '{}' has {} values for {} bins",
+                        w.name,
+                        w.values.len(),
+                        bins.n_bins()
+                    ),
+                ));
             }
             // cooler divides by KR / VC / VC_SQRT whatever their attributes say: store those divisive.
             let divisive = super::DIVISIVE_BY_NAME.contains(&w.name.as_str());
@@ -493,6 +521,55 @@ fn write_column<T: hdf5::H5Type>(
         .map_err(|e| Error::hdf5(path, format!("writing {name}"), e))
 }
 
+/// The chromosomes of `reader` fit cooler's `chroms` columns (names ASCII and at most 255 bytes
+/// long, lengths within int32): checked before anything is written, naming the input and the
+/// chromosome.
+fn check_chroms(reader: &dyn MatrixReader) -> Result<()> {
+    for (id, chrom) in reader.bins().chroms().iter().enumerate() {
+        if chrom.name.len() > 255 || !chrom.name.is_ascii() {
+            return Err(Error::format(
+                reader.source(),
+                format!(
+                    "chromosome {} '{}' cannot be written to a .cool: cooler's chromosome names \
+                     must be ASCII and at most 255 bytes long",
+                    id + 1,
+                    chrom.name.escape_default()
+                ),
+            ));
+        }
+        if i32::try_from(chrom.length_bp).is_err() {
+            return Err(Error::format(
+                reader.source(),
+                format!(
+                    "chromosome {} ({} bp) is too long for cooler's int32 lengths (at most {} bp)",
+                    chrom.name.escape_default(),
+                    chrom.length_bp,
+                    i32::MAX
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// A pixel as `(bin1, bin2) chrom:start-end x chrom:start-end` (bin ids alone when out of range).
+fn pixel_name(bins: &BinTable, bin1: u64, bin2: u64) -> String {
+    let n_bins = bins.n_bins() as u64;
+    if bin1 >= n_bins || bin2 >= n_bins {
+        return format!("({bin1}, {bin2})");
+    }
+    let region = |id: u64| {
+        let bin = bins.bin(id as usize);
+        format!(
+            "{}:{}-{}",
+            bins.chroms()[bin.chrom_id].name,
+            bin.start,
+            bin.end
+        )
+    };
+    format!("({bin1}, {bin2}) {} x {}", region(bin1), region(bin2))
+}
+
 fn write_fixed_strings(
     path: &Path,
     group: &hdf5::Group,
@@ -501,13 +578,17 @@ fn write_fixed_strings(
 ) -> Result<()> {
     let longest = values.iter().map(|s| s.len()).max().unwrap_or(1);
     if longest > 255 || !values.iter().all(|s| s.is_ascii()) {
-        return Err(Error::Invalid(format!(
-            "chromosome names must be ASCII and at most 255 bytes long (found '{}')",
-            values
-                .iter()
-                .find(|s| s.len() > 255 || !s.is_ascii())
-                .unwrap_or(&"")
-        )));
+        return Err(Error::format(
+            path,
+            format!(
+                "{name}: strings must be ASCII and at most 255 bytes long (found '{}')",
+                values
+                    .iter()
+                    .find(|s| s.len() > 255 || !s.is_ascii())
+                    .unwrap_or(&"")
+                    .escape_default()
+            ),
+        ));
     }
     macro_rules! write_as {
         ($n:literal) => {{
@@ -515,7 +596,7 @@ fn write_fixed_strings(
                 .iter()
                 .map(|s| FixedAscii::<$n>::from_ascii(s.as_bytes()))
                 .collect::<std::result::Result<Vec<_>, _>>()
-                .map_err(|e| Error::Invalid(format!("chromosome name: {e}")))?;
+                .map_err(|e| Error::format(path, format!("{name}: {e}")))?;
             write_column(path, group, name, &fixed).map(|_| ())
         }};
     }
@@ -528,9 +609,12 @@ fn write_fixed_strings(
 }
 
 fn write_str_attr(path: &Path, location: &hdf5::Location, name: &str, value: &str) -> Result<()> {
-    let value: VarLenUnicode = value
-        .parse()
-        .map_err(|e| Error::Invalid(format!("attribute {name}: {e}")))?;
+    let value: VarLenUnicode = value.parse().map_err(|e| {
+        Error::format(
+            path,
+            format!("attribute {name} '{}': {e}", value.escape_default()),
+        )
+    })?;
     location
         .new_attr::<VarLenUnicode>()
         .create(name)
@@ -580,6 +664,130 @@ fn civil_from_days(days: i64) -> (i64, u32, u32) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::genome::Chrom;
+    use crate::io::MatrixInfo;
+
+    /// A reader that hands out its pixels as listed, in one block (sorted or not).
+    struct Listed {
+        bins: BinTable,
+        pixels: Vec<(u64, u64, f64)>,
+    }
+
+    impl MatrixReader for Listed {
+        fn source(&self) -> &str {
+            "listed.bg2"
+        }
+        fn bins(&self) -> &BinTable {
+            &self.bins
+        }
+        fn count_type(&self) -> CountType {
+            CountType::Integer
+        }
+        fn weight_names(&self) -> Vec<String> {
+            Vec::new()
+        }
+        fn weights(&self, name: &str) -> Result<Weights> {
+            Err(Error::Invalid(format!("no weight column '{name}'")))
+        }
+        fn info(&self) -> MatrixInfo {
+            MatrixInfo::default()
+        }
+        fn read_pixels(
+            &self,
+            _rows: std::ops::Range<usize>,
+            _cols: std::ops::Range<usize>,
+            sink: &mut dyn FnMut(&PixelBlock) -> Result<()>,
+        ) -> Result<()> {
+            let mut block = PixelBlock::with_capacity(self.pixels.len());
+            for &(bin1, bin2, count) in &self.pixels {
+                block.push(bin1, bin2, count);
+            }
+            sink(&block)
+        }
+    }
+
+    /// The message of writing `pixels` to a .cool and an .mcool, checking that neither the
+    /// output nor a temporary is left behind and that both give the same message.
+    fn write_error(pixels: Vec<(u64, u64, f64)>) -> String {
+        let bins = BinTable::fixed(vec![Chrom::new("chr1", 30), Chrom::new("chr2", 20)], 10)
+            .expect("bins");
+        let reader = Listed { bins, pixels };
+        let dir = tempfile::TempDir::new().expect("temporary directory");
+        let cool = write_cool(
+            &reader,
+            &dir.path().join("out.cool"),
+            &CoolWriteOptions::default(),
+        )
+        .unwrap_err()
+        .to_string();
+        let mcool = write_mcool(
+            &reader,
+            &dir.path().join("out.mcool"),
+            &[10],
+            &CoolWriteOptions::default(),
+        )
+        .unwrap_err()
+        .to_string();
+        assert_eq!(cool, mcool);
+        assert_eq!(std::fs::read_dir(dir.path()).expect("listing").count(), 0);
+        cool
+    }
+
+    #[test]
+    fn pixel_errors_name_the_input_and_the_pixel() {
+        let sorted = vec![(0, 0, 1.0), (0, 3, 2.0), (1, 4, 3.0)];
+        let bins = BinTable::fixed(vec![Chrom::new("chr1", 30), Chrom::new("chr2", 20)], 10)
+            .expect("bins");
+        let dir = tempfile::TempDir::new().expect("temporary directory");
+        let path = dir.path().join("ok.cool");
+        let reader = Listed {
+            bins,
+            pixels: sorted,
+        };
+        write_cool(&reader, &path, &CoolWriteOptions::default()).expect("sorted pixels");
+        assert_eq!(
+            write_error(vec![(0, 3, 2.0), (0, 0, 1.0), (1, 4, 3.0)]),
+            "listed.bg2: pixels are not sorted by (bin1, bin2) or are duplicated at pixel (0, 0) \
+             chr1:0-10 x chr1:0-10: a .cool needs them sorted and unique"
+        );
+        assert_eq!(
+            write_error(vec![(0, 0, 1.0), (1, 4, 3.0), (1, 4, 3.0)]),
+            "listed.bg2: pixels are not sorted by (bin1, bin2) or are duplicated at pixel (1, 4) \
+             chr1:10-20 x chr2:10-20: a .cool needs them sorted and unique"
+        );
+        assert_eq!(
+            write_error(vec![(0, 0, 1.0), (3, 2, 1.0)]),
+            "listed.bg2: pixel (3, 2) is below the diagonal or out of range (5 bins)"
+        );
+        assert_eq!(
+            write_error(vec![(0, 0, 1.0), (0, 5, 1.0)]),
+            "listed.bg2: pixel (0, 5) is below the diagonal or out of range (5 bins)"
+        );
+        // Out of range while coarsening (an .mcool with a coarser level).
+        let bins = BinTable::fixed(vec![Chrom::new("chr1", 30), Chrom::new("chr2", 20)], 10)
+            .expect("bins");
+        let reader = Listed {
+            bins,
+            pixels: vec![(0, 0, 1.0), (0, 7, 1.0)],
+        };
+        let error = write_mcool(
+            &reader,
+            &dir.path().join("out.mcool"),
+            &[20],
+            &CoolWriteOptions::default(),
+        )
+        .unwrap_err();
+        assert_eq!(
+            error.to_string(),
+            "listed.bg2: pixel (0, 7) is out of range (5 bins)"
+        );
+        assert!(!dir.path().join("out.mcool").exists());
+        assert_eq!(
+            write_error(vec![(0, 0, 1.5)]),
+            "listed.bg2: pixel (0, 0) chr1:0-10 x chr1:0-10: count 1.5 does not fit cooler's \
+             int32 count column (whole numbers from -2147483648 to 2147483647)"
+        );
+    }
 
     #[test]
     fn civil_dates_match_known_days() {
