@@ -1,0 +1,449 @@
+//! Tests of the `.hic` reader: the real fixtures against hictkpy's figures, synthetic files from
+//! [`super::synthetic`] against the pixels they were written from, and corrupt files.
+
+use std::collections::BTreeMap;
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+
+use super::synthetic::{synthetic, write_hic};
+use super::*;
+use crate::error::Result;
+use crate::io::MatrixReader;
+use crate::matrix::CountType;
+
+const TEST_FILE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data/hic_test_file.hic");
+
+type Triplets = Vec<(u64, u64, f64)>;
+
+/// Every pixel of `rows x cols`, checking the stream's order and triangle on the way.
+fn dump(reader: &HicReader, rows: Range<usize>, cols: Range<usize>) -> Triplets {
+    let mut out: Triplets = Vec::new();
+    reader
+        .read_pixels(rows, cols, &mut |block| {
+            assert!(!block.is_empty());
+            for k in 0..block.len() {
+                out.push((block.bin1[k], block.bin2[k], block.count[k]));
+            }
+            Ok(())
+        })
+        .unwrap();
+    for pair in out.windows(2) {
+        assert!(
+            (pair[0].0, pair[0].1) < (pair[1].0, pair[1].1),
+            "not sorted: {pair:?}"
+        );
+    }
+    assert!(out.iter().all(|p| p.0 <= p.1));
+    out
+}
+
+fn filter(all: &Triplets, rows: &Range<usize>, cols: &Range<usize>) -> Triplets {
+    all.iter()
+        .copied()
+        .filter(|p| rows.contains(&(p.0 as usize)) && cols.contains(&(p.1 as usize)))
+        .collect()
+}
+
+fn test_file() -> HicReader {
+    HicReader::open(Path::new(TEST_FILE), None).unwrap()
+}
+
+#[test]
+fn reads_the_bin_table_and_metadata() {
+    let reader = test_file();
+    let bins = reader.bins();
+    // hictkpy.File(path, 100000): nbins 1380, nchroms 8, chromosomes() in this order
+    assert_eq!(bins.n_bins(), 1380);
+    let names: Vec<&str> = bins.chroms().iter().map(|c| c.name.as_str()).collect();
+    assert_eq!(
+        names,
+        ["chr2L", "chr2R", "chr3L", "chr3R", "chr4", "chrX", "chrY", "chrM"]
+    );
+    assert_eq!(bins.chroms()[0].length_bp, 23_513_712);
+    assert_eq!(
+        bins.chrom_offsets(),
+        &[0, 236, 489, 771, 1092, 1106, 1342, 1379, 1380]
+    );
+    assert_eq!(bins.bin_size_bp(), Some(100_000));
+    assert_eq!(reader.resolutions(), &[100_000]);
+    assert_eq!(reader.version(), 9);
+    assert_eq!(reader.count_type(), CountType::Integer);
+    assert_eq!(reader.weight_names(), ["ICE"]);
+    let info = reader.info();
+    assert_eq!(info.format, "hic (version 9)");
+    assert_eq!(info.resolutions, [100_000]);
+    assert!(info.notes[0].contains("divisive"));
+    assert!(info
+        .attributes
+        .iter()
+        .any(|(k, v)| k == "software" && v.as_str() == Some("Juicer Tools Version 3.30.00")));
+}
+
+#[test]
+fn whole_genome_totals_match_hictkpy() {
+    // hictkpy.File(path, 100000).fetch(): nnz() 890384, sum() 119208613
+    let reader = test_file();
+    let all = dump(&reader, 0..1380, 0..1380);
+    assert_eq!(all.len(), 890_384);
+    assert_eq!(all.iter().map(|p| p.2).sum::<f64>(), 119_208_613.0);
+    assert_eq!(reader.totals().unwrap(), (890_384, 119_208_613.0));
+}
+
+#[test]
+fn chromosome_query_matches_hictkpy() {
+    // hictkpy: f.fetch("chr2L"): nnz() 27733, sum() 19968156
+    let reader = test_file();
+    let chr2l = reader.bins().parse_region_bins("chr2L").unwrap();
+    let pixels = dump(&reader, chr2l.clone(), chr2l);
+    assert_eq!(pixels.len(), 27_733);
+    assert_eq!(pixels.iter().map(|p| p.2).sum::<f64>(), 19_968_156.0);
+}
+
+#[test]
+fn pixel_values_match_hictkpy() {
+    let reader = test_file();
+    let all = dump(&reader, 0..1380, 0..1380);
+    let get = |i: u64, j: u64| {
+        all.iter()
+            .find(|p| p.0 == i && p.1 == j)
+            .map_or(0.0, |p| p.2)
+    };
+    // f.fetch("chr2L:0-300000").to_numpy() = [[101360 29915 4996] [29915 145946 29754] ...]
+    assert_eq!(get(0, 0), 101_360.0);
+    assert_eq!(get(0, 1), 29_915.0);
+    assert_eq!(get(0, 2), 4_996.0);
+    assert_eq!(get(1, 1), 145_946.0);
+    assert_eq!(get(2, 2), 115_171.0);
+    // f.fetch("chr2L:0-200000", "chr3R:1000000-1200000").to_numpy() = [[11 4] [11 10]];
+    // chr3R starts at bin 771
+    assert_eq!(get(0, 781), 11.0);
+    assert_eq!(get(0, 782), 4.0);
+    assert_eq!(get(1, 781), 11.0);
+    assert_eq!(get(1, 782), 10.0);
+}
+
+#[test]
+fn region_queries_equal_filtering_the_full_dump() {
+    let reader = test_file();
+    let all = dump(&reader, 0..1380, 0..1380);
+    let bins = reader.bins();
+    let region = |r: &str| bins.parse_region_bins(r).unwrap();
+    let queries = [
+        (region("chr2L:1M-5M"), region("chr2L:1M-5M")),
+        (region("chr2L:3M-4M"), region("chr3R:10M-20M")),
+        (region("chr3R:10M-20M"), region("chr2L:3M-4M")),
+        (region("chrX"), region("chrX:5M-6M")),
+        (10..800, 300..1200),
+        (1000..1380, 0..1380),
+        (500..501, 0..1380),
+        (1379..1380, 1379..1380),
+        (700..700, 0..1380),
+    ];
+    for (rows, cols) in queries {
+        let expected = filter(&all, &rows, &cols);
+        assert_eq!(
+            dump(&reader, rows.clone(), cols.clone()),
+            expected,
+            "{rows:?} x {cols:?}"
+        );
+    }
+}
+
+#[test]
+fn ice_weights_match_hictkpy_and_the_mcool() {
+    let reader = test_file();
+    let weights = reader.weights("ICE").unwrap();
+    assert_eq!(weights.values.len(), 1380);
+    assert!(weights.provenance.as_deref().unwrap().contains("divisive"));
+    // hictkpy f.weights("ICE")[[0, 1, 2, 500, 1000, 1370]] (divisive):
+    let divisive = [
+        382.85430908,
+        446.75976562,
+        349.08926392,
+        209.37458801,
+        161.76849365,
+        0.93698156,
+    ];
+    // cooler_test_file.mcool::/resolutions/100000 bins/weight at the same bins (multiplicative):
+    let mcool = [
+        0.00261196, 0.00223834, 0.0028646, 0.00477613, 0.00618167, 1.06725689,
+    ];
+    for (k, &bin) in [0usize, 1, 2, 500, 1000, 1370].iter().enumerate() {
+        let w = weights.values[bin];
+        assert!((w * divisive[k] - 1.0).abs() < 1e-7, "bin {bin}: {w}");
+        assert!((w / mcool[k] - 1.0).abs() < 1e-5, "bin {bin}: {w}");
+    }
+    // chrM (bin 1379) has no ICE vector; hictkpy gives NaN for 61 bins
+    assert!(weights.values[1379].is_nan());
+    assert_eq!(weights.values.iter().filter(|w| w.is_nan()).count(), 61);
+    assert!(reader
+        .weights("KR")
+        .unwrap_err()
+        .to_string()
+        .contains("available: ICE"));
+}
+
+#[test]
+fn resolution_choice_is_checked() {
+    let error = HicReader::open(Path::new(TEST_FILE), Some(5_000)).unwrap_err();
+    let message = error.to_string();
+    assert!(message.contains("hic_test_file.hic"), "{message}");
+    assert!(
+        message.contains("5000") && message.contains("100000"),
+        "{message}"
+    );
+    let reader = HicReader::open(Path::new(TEST_FILE), Some(100_000)).unwrap();
+    assert_eq!(reader.resolution(), 100_000);
+    assert_eq!(
+        HicReader::list_resolutions(Path::new(TEST_FILE)).unwrap(),
+        [100_000]
+    );
+}
+
+/// Open, stream every pixel and read every weight vector.
+fn read_everything(path: &Path) -> Result<()> {
+    let reader = HicReader::open(path, None)?;
+    let n = reader.bins().n_bins();
+    reader.read_pixels(0..n, 0..n, &mut |_| Ok(()))?;
+    reader.totals()?;
+    if n < 10_000_000 {
+        for name in reader.weight_names() {
+            reader.weights(&name)?;
+        }
+    }
+    Ok(())
+}
+
+#[test]
+fn truncated_files_are_errors() {
+    let bytes = std::fs::read(TEST_FILE).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let len = bytes.len();
+    for n in [
+        0,
+        3,
+        10,
+        100,
+        283,
+        1000,
+        343_990,
+        len / 2,
+        len - 5_000,
+        len - 100,
+        len - 1,
+    ] {
+        let path = dir.path().join(format!("truncated_{n}.hic"));
+        std::fs::write(&path, &bytes[..n]).unwrap();
+        let error = read_everything(&path).expect_err(&format!("{n} bytes"));
+        let message = error.to_string();
+        assert!(message.contains(&format!("truncated_{n}.hic")), "{message}");
+    }
+}
+
+#[test]
+fn corrupt_bytes_never_panic() {
+    let bytes = std::fs::read(TEST_FILE).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("corrupt.hic");
+    let mut state = 0x2545_F491_4F6C_DD1Du64;
+    let mut next = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        state
+    };
+    for _ in 0..40 {
+        let mut copy = bytes.clone();
+        for _ in 0..4 {
+            let at = (next() % copy.len() as u64) as usize;
+            copy[at] = next() as u8;
+        }
+        std::fs::write(&path, &copy).unwrap();
+        let _ = read_everything(&path);
+    }
+}
+
+fn write_temp(dir: &tempfile::TempDir, name: &str, bytes: &[u8]) -> PathBuf {
+    let path = dir.path().join(name);
+    std::fs::write(&path, bytes).unwrap();
+    path
+}
+
+fn as_triplets(pixels: &BTreeMap<(u64, u64), f32>) -> Triplets {
+    pixels
+        .iter()
+        .map(|(&(i, j), &v)| (i, j, f64::from(v)))
+        .collect()
+}
+
+#[test]
+fn synthetic_files_round_trip_at_every_resolution() {
+    let dir = tempfile::tempdir().unwrap();
+    for version in [8, 9] {
+        let s = synthetic(version);
+        let path = write_temp(&dir, &format!("v{version}.hic"), &write_hic(&s));
+        let error = HicReader::open(&path, None).unwrap_err().to_string();
+        assert!(error.contains("2 resolutions (10, 20)"), "{error}");
+        assert_eq!(HicReader::list_resolutions(&path).unwrap(), [10, 20]);
+        for (resolution, pixels, norms) in &s.levels {
+            let reader = HicReader::open(&path, Some(*resolution)).unwrap();
+            assert_eq!(reader.version(), version);
+            assert_eq!(reader.resolutions(), &[10, 20]);
+            let n = reader.bins().n_bins();
+            assert_eq!(
+                n,
+                if *resolution == 10 {
+                    37 + 23 + 5
+                } else {
+                    19 + 12 + 3
+                }
+            );
+            let expected = as_triplets(pixels);
+            assert!(expected.len() > 150, "{}", expected.len());
+            assert_eq!(
+                dump(&reader, 0..n, 0..n),
+                expected,
+                "v{version} at {resolution}"
+            );
+            // Bands of one block row: rotated blocks deep off the diagonal span many bands.
+            let mut banded = HicReader::open(&path, Some(*resolution)).unwrap();
+            banded.band_budget_bytes = 1;
+            assert_eq!(dump(&banded, 0..n, 0..n), expected);
+            let mut n_calls = 0;
+            banded
+                .read_pixels(0..n, 0..n, &mut |_| {
+                    n_calls += 1;
+                    Ok(())
+                })
+                .unwrap();
+            assert!(n_calls >= n / 4, "{n_calls} bands");
+            let sum: f64 = expected.iter().map(|p| p.2).sum();
+            assert_eq!(reader.totals().unwrap(), (expected.len() as u64, sum));
+
+            let mut names: Vec<&str> = norms.iter().map(|v| v.0).collect();
+            names.dedup();
+            assert_eq!(reader.weight_names(), names);
+            for name in names {
+                let weights = reader.weights(name).unwrap();
+                let mut expected = Vec::new();
+                for chrom in 0..3 {
+                    let n_bins = reader.bins().chrom_bins(chrom).len();
+                    match norms.iter().find(|v| v.0 == name && v.1 == chrom) {
+                        Some(v) => expected.extend(v.2.iter().map(|&d| {
+                            if d > 0.0 {
+                                1.0 / f64::from(d as f32)
+                            } else {
+                                f64::NAN
+                            }
+                        })),
+                        None => expected.extend(std::iter::repeat_n(f64::NAN, n_bins)),
+                    }
+                }
+                assert_eq!(weights.values.len(), expected.len());
+                for (w, e) in weights.values.iter().zip(&expected) {
+                    let both_nan = w.is_nan() && e.is_nan();
+                    assert!(both_nan || (w / e - 1.0).abs() < 1e-12, "{w} {e}");
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn synthetic_files_hold_every_block_layout() {
+    // The writer's choices that the round-trip tests rely on: several blocks per matrix,
+    // rotated blocks at several depths (version 9), dense and list-of-rows blocks.
+    let dir = tempfile::tempdir().unwrap();
+    for version in [8, 9] {
+        let path = write_temp(&dir, "layout.hic", &write_hic(&synthetic(version)));
+        let reader = HicReader::open(&path, Some(10)).unwrap();
+        let intra = reader.matrix_index(0, 0).unwrap().unwrap();
+        let inter = reader.matrix_index(0, 1).unwrap().unwrap();
+        assert_eq!(intra.block_bin_count, 4);
+        assert_eq!(intra.block_column_count, 10);
+        for index in [&intra, &inter] {
+            assert!(index.blocks.len() > 8);
+            assert!(index.blocks.iter().any(|b| b.number % 4 == 1)); // dense
+            assert!(index.blocks.iter().any(|b| b.number % 4 == 2)); // list of rows
+        }
+        let depths: std::collections::BTreeSet<u64> =
+            intra.blocks.iter().map(|b| b.number / 10).collect();
+        if version == 9 {
+            assert_eq!(depths.into_iter().collect::<Vec<_>>(), [0, 1, 2]);
+        } else {
+            assert!(depths.len() >= 9); // grid rows
+        }
+        assert!(reader.matrix_index(0, 2).unwrap().is_some());
+    }
+}
+
+#[test]
+fn synthetic_region_queries_match_a_naive_filter() {
+    use proptest::test_runner::{Config, TestRunner};
+    let dir = tempfile::tempdir().unwrap();
+    for (version, budget) in [
+        (8, BAND_BUDGET_BYTES),
+        (8, 1),
+        (9, BAND_BUDGET_BYTES),
+        (9, 1),
+    ] {
+        let s = synthetic(version);
+        let path = write_temp(&dir, &format!("v{version}.hic"), &write_hic(&s));
+        let mut reader = HicReader::open(&path, Some(10)).unwrap();
+        reader.band_budget_bytes = budget; // 1: bands of one block row (4 bins)
+        let all = as_triplets(&s.levels[0].1);
+        let n = reader.bins().n_bins();
+        let mut runner = TestRunner::new(Config::with_cases(150));
+        runner
+            .run(&(0..=n, 0..=n, 0..=n, 0..=n), |(a, b, c, d)| {
+                let rows = a.min(b)..a.max(b);
+                let cols = c.min(d)..c.max(d);
+                let got = dump(&reader, rows.clone(), cols.clone());
+                proptest::prop_assert_eq!(got, filter(&all, &rows, &cols));
+                Ok(())
+            })
+            .unwrap();
+    }
+}
+
+#[test]
+fn other_versions_are_rejected() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut bytes = write_hic(&synthetic(8));
+    bytes[4..8].copy_from_slice(&7i32.to_le_bytes());
+    let path = write_temp(&dir, "v7.hic", &bytes);
+    let message = HicReader::open(&path, None).unwrap_err().to_string();
+    assert!(
+        message.contains("version 7") && message.contains("v7.hic"),
+        "{message}"
+    );
+    let path = write_temp(&dir, "text.hic", b"chr1\t0\t100\n");
+    assert!(HicReader::open(&path, None).is_err());
+}
+
+#[test]
+fn corrupt_blocks_name_the_block() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = synthetic(9);
+    let clean = write_hic(&s);
+    let path = write_temp(&dir, "clean.hic", &clean);
+    let reader = HicReader::open(&path, Some(10)).unwrap();
+    let index = reader.matrix_index(0, 0).unwrap().unwrap();
+    let entry = index.blocks[0];
+    let mut bytes = clean.clone();
+    for b in &mut bytes[entry.position as usize + 2..(entry.position + entry.size) as usize] {
+        *b = !*b;
+    }
+    let path = write_temp(&dir, "corrupt.hic", &bytes);
+    let reader = HicReader::open(&path, Some(10)).unwrap();
+    let n = reader.bins().n_bins();
+    let message = reader
+        .read_pixels(0..n, 0..n, &mut |_| Ok(()))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        message.contains(&format!("block {} of c1-c1", entry.number)),
+        "{message}"
+    );
+    assert!(reader.totals().is_err());
+}
