@@ -18,6 +18,10 @@ pub(super) const READ_CHUNK_BYTES: usize = 64 << 10;
 /// Longest string (chromosome name, attribute value) accepted.
 pub(super) const MAX_STRING_BYTES: usize = 16 << 20;
 
+/// Longest chromosome accepted, in base pairs: hictk keeps chromosome lengths as 32-bit unsigned
+/// integers, and version 8 files store them as 32-bit signed ones.
+pub(super) const MAX_CHROM_LENGTH_BP: i64 = u32::MAX as i64;
+
 /// The parsed header.
 pub(super) struct Header {
     pub(super) version: i32,
@@ -233,6 +237,12 @@ pub(super) fn read_header(reader: &mut SeqReader) -> Result<Header> {
     let n_chroms = reader.i32("the number of chromosomes")?;
     let length_bytes = if version >= 9 { 8 } else { 4 };
     let n_chroms = reader.count(i64::from(n_chroms), 1 + length_bytes, "the chromosome list")?;
+    if n_chroms == 0 {
+        return Err(Error::format(
+            path,
+            "the number of chromosomes in the header is 0: the file is corrupt",
+        ));
+    }
     let mut chroms = Vec::with_capacity(n_chroms);
     for _ in 0..n_chroms {
         let name = reader.string("a chromosome name")?;
@@ -246,6 +256,16 @@ pub(super) fn read_header(reader: &mut SeqReader) -> Result<Header> {
             return Err(Error::format(
                 path,
                 format!("chromosome '{name}' has a negative length {length}"),
+            ));
+        }
+        if length > MAX_CHROM_LENGTH_BP {
+            return Err(Error::format(
+                path,
+                format!(
+                    "the length of chromosome '{name}' in the header, {length} bp, is more than \
+                     {MAX_CHROM_LENGTH_BP} (Juicer and hictk hold chromosome lengths in 32 bits): \
+                     the file is corrupt"
+                ),
             ));
         }
         chroms.push(Chrom::new(name, length as u64));

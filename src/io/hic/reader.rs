@@ -23,6 +23,10 @@ use crate::matrix::{CountType, PixelBlock, Weights};
 
 /// Compressed bytes of blocks decoded per band of rows; bounds the memory of a pixel query.
 pub const BAND_BUDGET_BYTES: u64 = 4 << 20;
+/// Bins accepted at one resolution whatever the file's size (2^24: a 3.1 Gbp genome at 200 bp).
+pub(super) const MIN_BIN_ALLOWANCE: u64 = 1 << 24;
+/// Bins accepted per byte of file beyond [`MIN_BIN_ALLOWANCE`].
+pub(super) const BINS_PER_FILE_BYTE: u64 = 16;
 /// Pixels handed to the sink per call.
 const SINK_BLOCK_PIXELS: usize = 1 << 16;
 /// Bands with more pixels than this are sorted in parallel.
@@ -78,12 +82,7 @@ impl HicReader {
                 ))
             }
             None if resolutions.len() == 1 => resolutions[0],
-            None if resolutions.is_empty() => {
-                return Err(Error::format(
-                    path,
-                    "the .hic file has no base-pair resolution",
-                ))
-            }
+            None if resolutions.is_empty() => return Err(no_base_pair_resolution(path)),
             None => {
                 return Err(Error::format(
                     path,
@@ -109,11 +108,14 @@ impl HicReader {
             .collect();
         let bins = BinTable::fixed(chroms, resolution)
             .map_err(|e| Error::format(path, format!("chromosome table: {e}")))?;
-        if bins.n_bins() as u64 > u64::from(u32::MAX) {
+        let max_bins = max_bins(file_len);
+        if bins.n_bins() as u64 > max_bins {
             return Err(Error::format(
                 path,
                 format!(
-                    "{} bins at resolution {resolution}: more than this reader supports (2^32)",
+                    "the chromosome lengths in the header make {} bins at resolution \
+                     {resolution}, more than a file of {file_len} bytes can hold data for (at \
+                     most {max_bins}): the header is corrupt",
                     bins.n_bins()
                 ),
             ));
@@ -174,6 +176,9 @@ impl HicReader {
         let mut resolutions = header.resolutions;
         resolutions.sort_unstable();
         resolutions.dedup();
+        if resolutions.is_empty() {
+            return Err(no_base_pair_resolution(path));
+        }
         Ok(resolutions)
     }
 
@@ -670,6 +675,27 @@ fn sort_band(pixels: Vec<Pixel>, first_row: u64, n_rows: usize) -> Vec<Pixel> {
 
 fn overlaps(a: &Range<u64>, b: &Range<u64>) -> bool {
     a.start < b.end && b.start < a.end && !a.is_empty() && !b.is_empty()
+}
+
+/// The error for a file with fragment resolutions only.
+fn no_base_pair_resolution(path: &Path) -> Error {
+    Error::format(
+        path,
+        "the .hic file has no base-pair resolution (only fragment resolutions, which this \
+         reader does not read)",
+    )
+}
+
+/// The most bins a `.hic` file of `file_len` bytes may declare at one resolution: every bin of a
+/// real file costs it bytes (normalisation vectors hold one value per bin, blocks hold the
+/// contacts), so a header that claims far more bins than the file has bytes is corrupt.
+/// [`MIN_BIN_ALLOWANCE`] bins are always accepted, so that sparse files of large genomes at fine
+/// resolutions open; [`BINS_PER_FILE_BYTE`] bins per byte of file beyond that, and never more
+/// than 2^32 (bins are 32-bit in pixel keys).
+pub(super) fn max_bins(file_len: u64) -> u64 {
+    MIN_BIN_ALLOWANCE
+        .max(file_len.saturating_mul(BINS_PER_FILE_BYTE))
+        .min(1 << 32)
 }
 
 /// `1000, 5000, 10000`.

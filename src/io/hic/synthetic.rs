@@ -238,32 +238,52 @@ pub(super) fn encode_block(version: i32, number: u64, records: &[(u64, u64, f32)
 }
 
 pub(super) fn write_hic(s: &Synthetic) -> Vec<u8> {
+    write_hic_with_offsets(s).0
+}
+
+/// Where [`write_hic_with_offsets`] wrote some header, footer and index fields, by name.
+pub(super) type Offsets = std::collections::HashMap<&'static str, u64>;
+
+/// The file, and the offsets of the fields that size allocations or loops in a reader (the
+/// first occurrence of each), for corruption tests.
+pub(super) fn write_hic_with_offsets(s: &Synthetic) -> (Vec<u8>, Offsets) {
     let version = s.version;
     let mut out = Out::default();
+    let mut at = Offsets::new();
+    let mut mark = |name: &'static str, offset: u64| {
+        at.entry(name).or_insert(offset);
+    };
     out.0.extend(b"HIC\0");
     out.i32(version.into());
     let footer_slot = out.len();
+    mark("footer_position", out.len());
     out.i64(0);
+    mark("genome_id", out.len());
     out.string("synthetic");
     let index_slot = out.len();
     if version >= 9 {
         out.i64(0);
         out.i64(0);
     }
+    mark("n_attributes", out.len());
     out.i32(2);
     out.string("software");
     out.string("contactmap test writer");
     out.string("hicFileScalingFactor");
     out.string("1.0");
+    mark("n_chroms", out.len());
     out.i32(s.chroms.len() as i64 + 1);
     out.string("All");
     out.int_or_long(version, 1);
     for chrom in &s.chroms {
         out.string(&chrom.name);
+        mark("chrom_length", out.len());
         out.int_or_long(version, chrom.length_bp as i64);
     }
+    mark("n_resolutions", out.len());
     out.i32(s.levels.len() as i64);
     for level in &s.levels {
+        mark("resolution", out.len());
         out.i32(level.0 as i64);
     }
     out.i32(0); // fragment resolutions
@@ -335,6 +355,7 @@ pub(super) fn write_hic(s: &Synthetic) -> Vec<u8> {
             let start = out.len();
             out.i32(c1 as i64 + 1);
             out.i32(c2 as i64 + 1);
+            mark("n_levels", out.len());
             out.i32(metadata.len() as i64);
             for (level, resolution, columns, sum, entries) in metadata {
                 out.string("BP");
@@ -344,12 +365,18 @@ pub(super) fn write_hic(s: &Synthetic) -> Vec<u8> {
                 out.f32(0.0);
                 out.f32(0.0);
                 out.i32(resolution as i64);
+                mark("block_bin_count", out.len());
                 out.i32(size as i64);
+                mark("block_column_count", out.len());
                 out.i32(columns as i64);
+                mark("n_blocks", out.len());
                 out.i32(entries.len() as i64);
                 for (number, position, bytes) in entries {
+                    mark("block_number", out.len());
                     out.i32(number as i64);
+                    mark("block_position", out.len());
                     out.i64(position as i64);
+                    mark("block_size", out.len());
                     out.i32(bytes as i64);
                 }
             }
@@ -361,20 +388,25 @@ pub(super) fn write_hic(s: &Synthetic) -> Vec<u8> {
     let footer = out.len();
     out.patch_i64(footer_slot, footer as i64);
     out.int_or_long(version, 0); // nBytes, patched below
+    mark("master_n_entries", out.len());
     out.i32(master.len() as i64);
     for (key, position, bytes) in &master {
         out.string(key);
+        mark("master_position", out.len());
         out.i64(*position as i64);
         out.i32(*bytes as i64);
     }
+    mark("expected_n_vectors", out.len());
     out.i32(s.levels.len() as i64);
     for (resolution, _, _) in &s.levels {
         out.string("BP");
         out.i32(*resolution as i64);
+        mark("expected_n_values", out.len());
         out.int_or_long(version, 3);
         for v in [10.0, 5.0, 2.5] {
             out.value(version, v);
         }
+        mark("expected_n_factors", out.len());
         out.i32(1);
         out.i32(1);
         out.value(version, 1.5);
@@ -385,6 +417,7 @@ pub(super) fn write_hic(s: &Synthetic) -> Vec<u8> {
     } else {
         out.patch_i32(footer, n_bytes as i64);
     }
+    mark("norm_expected_n_vectors", out.len());
     out.i32(s.levels.len() as i64);
     for (resolution, _, _) in &s.levels {
         out.string("VC");
@@ -401,6 +434,7 @@ pub(super) fn write_hic(s: &Synthetic) -> Vec<u8> {
         .iter()
         .flat_map(|(r, _, norms)| norms.iter().map(move |(n, c, v)| (*r, *n, *c, v)))
         .collect();
+    mark("norm_index_n_entries", out.len());
     out.i32(vectors.len() as i64 + 1);
     let mut slots = Vec::new();
     for &(resolution, name, chrom, values) in &vectors {
@@ -408,6 +442,7 @@ pub(super) fn write_hic(s: &Synthetic) -> Vec<u8> {
         out.i32(chrom as i64 + 1);
         out.string("BP");
         out.i32(resolution as i64);
+        mark("norm_vector_position", out.len());
         slots.push(out.len());
         out.i64(0);
         let (count_bytes, value_bytes) = if version >= 9 { (8, 4) } else { (4, 8) };
@@ -430,10 +465,11 @@ pub(super) fn write_hic(s: &Synthetic) -> Vec<u8> {
     for (slot, &(_, _, _, values)) in slots.into_iter().zip(&vectors) {
         out.patch_i64(slot, out.len() as i64);
         // one trailing value more than there are bins, as some writers leave
+        mark("norm_vector_n_values", out.len());
         out.int_or_long(version, values.len() as i64 + 1);
         for &v in values.iter().chain([0.0].iter()) {
             out.value(version, v);
         }
     }
-    out.0
+    (out.0, at)
 }

@@ -447,3 +447,162 @@ fn corrupt_blocks_name_the_block() {
     );
     assert!(reader.totals().is_err());
 }
+
+/// Overwrite the field at `offset` with `value`, `width` bytes little-endian.
+fn patch(bytes: &mut [u8], offset: u64, width: usize, value: i64) {
+    let at = offset as usize;
+    match width {
+        4 => bytes[at..at + 4].copy_from_slice(&i32::try_from(value).unwrap().to_le_bytes()),
+        8 => bytes[at..at + 8].copy_from_slice(&value.to_le_bytes()),
+        _ => unreachable!("fields are 4 or 8 bytes"),
+    }
+}
+
+#[test]
+fn corrupt_sizes_and_offsets_are_named_errors() {
+    use super::synthetic::write_hic_with_offsets;
+    let dir = tempfile::tempdir().unwrap();
+    for version in [8, 9] {
+        let (clean, at) = write_hic_with_offsets(&synthetic(version));
+        let long = if version >= 9 { 8 } else { 4 };
+        // (field, width, bad value, what the message must say besides the value)
+        let mut cases: Vec<(&str, usize, i64, &str)> = vec![
+            ("n_attributes", 4, i32::MAX.into(), "header attributes"),
+            ("n_chroms", 4, i32::MAX.into(), "chromosome list"),
+            ("n_chroms", 4, 0, "number of chromosomes"),
+            ("chrom_length", long, -5, "negative length"),
+            ("n_resolutions", 4, i32::MAX.into(), "resolution list"),
+            ("resolution", 4, 0, "resolution"),
+            ("resolution", 4, -3, "resolution"),
+            ("footer_position", 8, i64::MAX, "footer position"),
+            ("footer_position", 8, -1, "footer position"),
+            ("master_n_entries", 4, i32::MAX.into(), "master index"),
+            ("master_position", 8, 1 << 40, "outside the file"),
+            ("n_levels", 4, i32::MAX.into(), "matrix record"),
+            ("block_bin_count", 4, -1, "block bin count"),
+            ("block_column_count", 4, 0, "block column count"),
+            ("n_blocks", 4, i32::MAX.into(), "matrix record"),
+            ("block_number", 4, -7, "block -7"),
+            ("block_position", 8, 1 << 40, "past the end of the file"),
+            ("block_position", 8, -9, "position -9"),
+            ("block_size", 4, i32::MAX.into(), "past the end of the file"),
+            (
+                "norm_index_n_entries",
+                4,
+                i32::MAX.into(),
+                "normalisation vector index",
+            ),
+            ("norm_vector_position", 8, 1 << 40, "normalisation vector"),
+            (
+                "norm_vector_n_values",
+                long,
+                i32::MAX.into(),
+                "normalisation vector",
+            ),
+        ];
+        if version >= 9 {
+            cases.push(("chrom_length", 8, 175_921_883_957_872, "chromosome 'c1'"));
+        } else {
+            // version 9 files point at the vector index; version 8 ones are read past these
+            cases.push(("expected_n_vectors", 4, i32::MAX.into(), "expected values"));
+            cases.push(("expected_n_values", 4, i32::MAX.into(), "expected values"));
+            cases.push(("expected_n_factors", 4, i32::MAX.into(), "expected values"));
+            cases.push(("norm_expected_n_vectors", 4, -2, "normalised expected"));
+        }
+        for (field, width, value, said) in cases {
+            let mut bytes = clean.clone();
+            patch(&mut bytes, at[field], width, value);
+            let name = format!("v{version}_{field}_{value}.hic");
+            let path = write_temp(&dir, &name, &bytes);
+            let result = HicReader::open(&path, Some(10)).and_then(|reader| {
+                let n = reader.bins().n_bins();
+                reader.read_pixels(0..n, 0..n, &mut |_| Ok(()))?;
+                for name in reader.weight_names() {
+                    reader.weights(&name)?;
+                }
+                Ok(())
+            });
+            let error = result.expect_err(&name);
+            let message = error.to_string();
+            assert!(
+                matches!(error, crate::error::Error::Format { .. }),
+                "{name}: {message}"
+            );
+            assert!(
+                message.contains(&name) && message.contains(&value.to_string()),
+                "{name}: {message}"
+            );
+            assert!(message.contains(said), "{name}: {message}");
+        }
+    }
+}
+
+#[test]
+fn header_bins_are_bounded_by_the_file_size() {
+    use super::header::MAX_CHROM_LENGTH_BP;
+    use super::reader::{max_bins, BINS_PER_FILE_BYTE, MIN_BIN_ALLOWANCE};
+    // The bound: never more than the allowance or 16 bins per byte, never past 32-bit bins.
+    for len in [0, 1, 1000, 1 << 20, 1 << 30, 1 << 40, u64::MAX] {
+        let bound = max_bins(len);
+        assert!(bound <= MIN_BIN_ALLOWANCE.max(len.saturating_mul(BINS_PER_FILE_BYTE)));
+        assert!((MIN_BIN_ALLOWANCE..=1 << 32).contains(&bound));
+    }
+    // A small file whose chromosomes are as long as a header may say: refused before any
+    // per-bin allocation, naming the bins and the file size.
+    let dir = tempfile::tempdir().unwrap();
+    for version in [8, 9] {
+        // version 8 stores lengths as int32
+        let longest = if version >= 9 {
+            MAX_CHROM_LENGTH_BP as u64
+        } else {
+            i32::MAX as u64
+        };
+        let mut s = synthetic(version);
+        for chrom in &mut s.chroms {
+            chrom.length_bp = longest;
+        }
+        let bytes = write_hic(&s);
+        let path = write_temp(&dir, "long.hic", &bytes);
+        let n_bins = 3 * longest.div_ceil(10);
+        assert!(n_bins > max_bins(bytes.len() as u64));
+        let message = HicReader::open(&path, Some(10)).unwrap_err().to_string();
+        assert!(
+            message.contains(&format!("{n_bins} bins"))
+                && message.contains(&format!("{} bytes", bytes.len())),
+            "{message}"
+        );
+        // At the coarser resolution of a real genome's worth of bins the same lengths open.
+        let mut s = synthetic(version);
+        s.chroms[0].length_bp = longest;
+        s.levels.retain(|level| level.0 == 20);
+        for level in &mut s.levels {
+            level.0 = 1_000;
+            level.2.clear();
+        }
+        let path = write_temp(&dir, "long_ok.hic", &write_hic(&s));
+        let reader = HicReader::open(&path, None).unwrap();
+        assert_eq!(
+            reader.bins().n_bins() as u64,
+            longest.div_ceil(1_000) + 1 + 1
+        );
+    }
+}
+
+#[test]
+fn fragment_only_files_are_a_clear_error() {
+    let dir = tempfile::tempdir().unwrap();
+    for version in [8, 9] {
+        let (mut bytes, at) = super::synthetic::write_hic_with_offsets(&synthetic(version));
+        patch(&mut bytes, at["n_resolutions"], 4, 0);
+        // no base-pair resolution: the next field (the first resolution, 10) is read as the
+        // number of fragment resolutions, as in a file with fragment resolutions only
+        let path = write_temp(&dir, "frag.hic", &bytes);
+        for error in [
+            HicReader::list_resolutions(&path).unwrap_err(),
+            HicReader::open(&path, None).unwrap_err(),
+        ] {
+            let message = error.to_string();
+            assert!(message.contains("no base-pair resolution"), "{message}");
+        }
+    }
+}
