@@ -292,6 +292,20 @@ pub fn write_count(out: &mut Vec<u8>, value: f64, integer: bool, format: &FloatF
     }
 }
 
+/// Print the warnings a reader gathered while it was read ([`crate::io::MatrixReader::warnings`]:
+/// records it dropped, for instance) on standard error, one `contactmap: warning:` line each.
+/// Commands call it once, after their work and their outputs are complete, so that a warning
+/// never precedes an error.
+pub fn print_reader_warnings(warnings: Vec<String>) {
+    use std::io::Write as _;
+    let mut stderr = std::io::stderr().lock();
+    for warning in warnings {
+        if writeln!(stderr, "contactmap: warning: {warning}").is_err() {
+            return;
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

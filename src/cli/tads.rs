@@ -204,6 +204,7 @@ pub fn run(args: &TadsArgs) -> Result<()> {
         calls.boundaries.len(),
         calls.domains.len()
     );
+    super::output::print_reader_warnings(reader.warnings());
     Ok(())
 }
 

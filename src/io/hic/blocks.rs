@@ -27,12 +27,14 @@ pub(super) struct BlockEntry {
     pub(super) size: u64,
 }
 
-/// A pixel while a band is assembled: `bin1 << 32 | bin2`, and the count as stored (a `short` or
-/// a `float`, both exact in `f32`).
+/// A pixel while a band is assembled: `bin1 << 32 | bin2`, the count as stored (a `short` or a
+/// `float`, both exact in `f32`), and whether it was stored in the lower triangle of an
+/// intra-chromosomal matrix (record `(x, y)` with `x > y`, mirrored to `bin1 <= bin2`).
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Pixel {
     pub(super) key: u64,
     pub(super) count: f32,
+    pub(super) mirrored: bool,
 }
 
 impl Pixel {
@@ -48,6 +50,8 @@ impl Pixel {
 /// How the blocks of one matrix are decoded and filtered.
 pub(super) struct PairPlan {
     pub(super) label: String,
+    /// The bin-table chromosomes of the matrix, `(chrom1, chrom2)`.
+    pub(super) chroms: (usize, usize),
     pub(super) index: Arc<MatrixIndex>,
     pub(super) intra: bool,
     /// Version 9 intra-chromosomal blocks: rotated along the diagonal.
@@ -201,14 +205,28 @@ impl BlockCursor<'_> {
     }
 }
 
+/// What [`decode_block`] found besides the pixels it kept.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct BlockStats {
+    /// Records past the last bin of their chromosome (dropped, as hictk and hic2cool drop them).
+    pub(super) past_end: u64,
+    /// The first such record, `(x, y)` in the matrix's own bins.
+    pub(super) first_past_end: Option<(i64, i64)>,
+    /// Intra-chromosomal records in the lower triangle (`x > y`), mirrored.
+    pub(super) lower: u64,
+    /// Intra-chromosomal records in the upper triangle off the diagonal (`x < y`).
+    pub(super) upper: u64,
+}
+
 /// Decode an inflated block of a version 8 / 9 file into `out` (only pixels in the plan's
-/// rectangle, with `bin1 <= bin2`).
+/// rectangle, with `bin1 <= bin2`). Records past the end of their chromosome are dropped and
+/// counted in the returned [`BlockStats`]; records at negative bins are an error.
 pub(super) fn decode_block(
     data: &[u8],
     version: i32,
     plan: &PairPlan,
     out: &mut Vec<Pixel>,
-) -> std::result::Result<(), String> {
+) -> std::result::Result<BlockStats, String> {
     let mut cursor = BlockCursor { data, pos: 0 };
     let n_records = cursor.i32()?;
     if n_records < 0 {
@@ -225,21 +243,30 @@ pub(super) fn decode_block(
     let representation = cursor.u8()?;
     out.reserve((n_records as usize).min(cursor.remaining() / 2));
 
+    let mut stats = BlockStats::default();
     let mut emit = |x: i64, y: i64, count: f32| -> std::result::Result<(), String> {
-        if x < 0 || y < 0 || x as u64 >= plan.n1 || y as u64 >= plan.n2 {
-            return Err(format!(
-                "record at bins ({x}, {y}) lies outside the {} x {} matrix",
-                plan.n1, plan.n2
-            ));
+        if x < 0 || y < 0 {
+            return Err(format!("record at negative bins ({x}, {y})"));
+        }
+        if x as u64 >= plan.n1 || y as u64 >= plan.n2 {
+            stats.past_end += 1;
+            stats.first_past_end.get_or_insert((x, y));
+            return Ok(());
         }
         let (mut bin1, mut bin2) = (plan.offset1 + x as u64, plan.offset2 + y as u64);
-        if bin1 > bin2 {
+        let mirrored = bin1 > bin2;
+        if mirrored {
             std::mem::swap(&mut bin1, &mut bin2);
+        }
+        if plan.intra {
+            stats.lower += u64::from(mirrored);
+            stats.upper += u64::from(bin1 < bin2 && !mirrored);
         }
         if plan.keep_rows.contains(&bin1) && plan.keep_cols.contains(&bin2) {
             out.push(Pixel {
                 key: (bin1 << 32) | bin2,
                 count,
+                mirrored,
             });
         }
         Ok(())
@@ -304,5 +331,5 @@ pub(super) fn decode_block(
             ))
         }
     }
-    Ok(())
+    Ok(stats)
 }

@@ -22,6 +22,21 @@ pub(super) const MAX_STRING_BYTES: usize = 16 << 20;
 /// integers, and version 8 files store them as 32-bit signed ones.
 pub(super) const MAX_CHROM_LENGTH_BP: i64 = u32::MAX as i64;
 
+/// `text` (a name or other bytes read from the file) made safe to quote in a one-line message:
+/// control characters (a newline among them) and Unicode line and paragraph separators are
+/// escaped as Rust escapes them (`\n`, `\u{1b}`), everything else is kept.
+pub(super) fn printable(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        if c.is_control() || c == '\u{2028}' || c == '\u{2029}' {
+            out.extend(c.escape_default());
+        } else {
+            out.push(c);
+        }
+    }
+    out
+}
+
 /// The parsed header.
 pub(super) struct Header {
     pub(super) version: i32,
@@ -231,7 +246,10 @@ pub(super) fn read_header(reader: &mut SeqReader) -> Result<Header> {
     let mut attributes = Vec::with_capacity(n_attributes);
     for _ in 0..n_attributes {
         let key = reader.string("a header attribute key")?;
-        let value = reader.string(&format!("the value of header attribute '{key}'"))?;
+        let value = reader.string(&format!(
+            "the value of header attribute '{}'",
+            printable(&key)
+        ))?;
         attributes.push((key, value));
     }
     let n_chroms = reader.i32("the number of chromosomes")?;
@@ -246,7 +264,8 @@ pub(super) fn read_header(reader: &mut SeqReader) -> Result<Header> {
     let mut chroms = Vec::with_capacity(n_chroms);
     for _ in 0..n_chroms {
         let name = reader.string("a chromosome name")?;
-        let what = format!("the length of chromosome '{name}'");
+        let quoted = printable(&name);
+        let what = format!("the length of chromosome '{quoted}'");
         let length = if version >= 9 {
             reader.i64(&what)?
         } else {
@@ -255,14 +274,14 @@ pub(super) fn read_header(reader: &mut SeqReader) -> Result<Header> {
         if length < 0 {
             return Err(Error::format(
                 path,
-                format!("chromosome '{name}' has a negative length {length}"),
+                format!("chromosome '{quoted}' has a negative length {length}"),
             ));
         }
         if length > MAX_CHROM_LENGTH_BP {
             return Err(Error::format(
                 path,
                 format!(
-                    "the length of chromosome '{name}' in the header, {length} bp, is more than \
+                    "the length of chromosome '{quoted}' in the header, {length} bp, is more than \
                      {MAX_CHROM_LENGTH_BP} (Juicer and hictk hold chromosome lengths in 32 bits): \
                      the file is corrupt"
                 ),

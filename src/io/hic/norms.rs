@@ -1,7 +1,7 @@
 //! Normalisation vectors (their index in the footer and their values) and the expected-value
 //! sections of the footer, which are skipped.
 
-use super::header::{Header, SeqReader};
+use super::header::{printable, Header, SeqReader};
 use super::reader::HicReader;
 use crate::error::{Error, Result};
 use crate::genome::Chrom;
@@ -22,7 +22,11 @@ impl HicReader {
         chrom: &Chrom,
         n_bins: usize,
     ) -> Result<Vec<f64>> {
-        let what = format!("the {} normalisation vector of {}", vector.name, chrom.name);
+        let what = format!(
+            "the {} normalisation vector of {}",
+            printable(&vector.name),
+            printable(&chrom.name)
+        );
         let mut reader = SeqReader::new(&self.file, &self.path, self.file_len, vector.position);
         let n_values = if self.version >= 9 {
             reader.i64(&what)?
@@ -116,12 +120,13 @@ pub(super) fn read_norm_index(
         let chrom_name = usize::try_from(chrom)
             .ok()
             .and_then(|c| header.chroms.get(c))
-            .map(|c| c.name.clone());
+            .map(|c| printable(&c.name));
         let Some(chrom_name) = chrom_name else {
             return Err(Error::format(
                 reader.path,
                 format!(
-                    "{what}: the {name} vector names chromosome index {chrom}, not in the header"
+                    "{what}: the {} vector names chromosome index {chrom}, not in the header",
+                    printable(&name)
                 ),
             ));
         };
@@ -133,8 +138,9 @@ pub(super) fn read_norm_index(
             return Err(Error::format(
                 reader.path,
                 format!(
-                    "the {name} normalisation vector of {chrom_name} (offset {position}, {n_bytes} \
+                    "the {} normalisation vector of {chrom_name} (offset {position}, {n_bytes} \
                      bytes) lies outside the file ({} bytes): the file is truncated or corrupt",
+                    printable(&name),
                     reader.file_len
                 ),
             ));

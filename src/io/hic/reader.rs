@@ -1,7 +1,7 @@
 //! [`HicReader`]: opening a `.hic` file at one resolution, planning which blocks a query needs,
 //! and streaming their pixels band by band (see the module root for the method).
 
-use std::collections::HashMap;
+use std::collections::{BTreeMap, HashMap};
 use std::fs::File;
 use std::io::ErrorKind;
 use std::ops::Range;
@@ -12,9 +12,9 @@ use std::sync::{Arc, Mutex};
 use rayon::prelude::*;
 
 use super::blocks::{
-    decode_block, inflate, BlockEntry, MatrixIndex, PairPlan, Pixel, BLOCK_ENTRY_BYTES,
+    decode_block, inflate, BlockEntry, BlockStats, MatrixIndex, PairPlan, Pixel, BLOCK_ENTRY_BYTES,
 };
-use super::header::{read_footer, read_header, SeqReader};
+use super::header::{printable, read_footer, read_header, SeqReader};
 use super::norms::NormVector;
 use crate::error::{Error, Result};
 use crate::genome::{BinTable, Chrom};
@@ -31,6 +31,10 @@ pub(super) const BINS_PER_FILE_BYTE: u64 = 16;
 const SINK_BLOCK_PIXELS: usize = 1 << 16;
 /// Bands with more pixels than this are sorted in parallel.
 const PARALLEL_SORT_MIN_PIXELS: usize = 1 << 16;
+
+/// Records past the end of a chromosome by block, `(chrom1, chrom2, block number)`: how many,
+/// and the first one `(x, y)`.
+type PastEnd = BTreeMap<(usize, usize, u64), (u64, (i64, i64))>;
 
 /// An open `.hic` file at one base-pair resolution.
 #[derive(Debug)]
@@ -59,6 +63,10 @@ pub struct HicReader {
     pub(super) matrix_cache: Mutex<HashMap<(usize, usize), Arc<MatrixIndex>>>,
     /// Compressed bytes per band ([`BAND_BUDGET_BYTES`]; smaller in tests, to get many bands).
     pub(super) band_budget_bytes: u64,
+    /// Blocks decoded so far that hold records past the end of their chromosome, by
+    /// `(chrom1, chrom2, block number)`: how many, and the first one `(x, y)`. Keyed by block so
+    /// that a block decoded twice counts once.
+    pub(super) past_end: Mutex<PastEnd>,
 }
 
 impl HicReader {
@@ -106,8 +114,12 @@ impl HicReader {
             .iter()
             .map(|&i| header.chroms[i].clone())
             .collect();
-        let bins = BinTable::fixed(chroms, resolution)
-            .map_err(|e| Error::format(path, format!("chromosome table: {e}")))?;
+        let bins = BinTable::fixed(chroms, resolution).map_err(|e| {
+            Error::format(
+                path,
+                format!("chromosome table: {}", printable(&e.to_string())),
+            )
+        })?;
         let max_bins = max_bins(file_len);
         if bins.n_bins() as u64 > max_bins {
             return Err(Error::format(
@@ -164,6 +176,7 @@ impl HicReader {
             norm_names,
             matrix_cache: Mutex::new(HashMap::new()),
             band_budget_bytes: BAND_BUDGET_BYTES,
+            past_end: Mutex::new(BTreeMap::new()),
         })
     }
 
@@ -200,7 +213,11 @@ impl HicReader {
     /// `chr2L-chr2R`, for messages.
     fn pair_label(&self, chrom1: usize, chrom2: usize) -> String {
         let chroms = self.bins.chroms();
-        format!("{}-{}", chroms[chrom1].name, chroms[chrom2].name)
+        format!(
+            "{}-{}",
+            printable(&chroms[chrom1].name),
+            printable(&chroms[chrom2].name)
+        )
     }
 
     /// The block index of the matrix of bin-table chromosomes `chrom1 <= chrom2`, read on first
@@ -336,6 +353,7 @@ impl HicReader {
         let bins2 = self.bins.chrom_bins(chrom2);
         Ok(Some(PairPlan {
             label: self.pair_label(chrom1, chrom2),
+            chroms: (chrom1, chrom2),
             index,
             intra: chrom1 == chrom2,
             rotated: chrom1 == chrom2 && self.version >= 9,
@@ -348,8 +366,14 @@ impl HicReader {
         }))
     }
 
-    /// Read, inflate and decode one block, appending its pixels in the plan's rectangle to `out`.
-    fn decode_into(&self, plan: &PairPlan, entry: &BlockEntry, out: &mut Vec<Pixel>) -> Result<()> {
+    /// Read, inflate and decode one block, appending its pixels in the plan's rectangle to `out`;
+    /// records past the end of a chromosome are dropped and noted for [`MatrixReader::warnings`].
+    fn decode_into(
+        &self,
+        plan: &PairPlan,
+        entry: &BlockEntry,
+        out: &mut Vec<Pixel>,
+    ) -> Result<BlockStats> {
         let block_error = |message: String| {
             Error::format(
                 &self.path,
@@ -370,7 +394,15 @@ impl HicReader {
                 }
             })?;
         let data = inflate(&compressed).map_err(block_error)?;
-        decode_block(&data, self.version, plan, out).map_err(block_error)
+        let stats = decode_block(&data, self.version, plan, out).map_err(block_error)?;
+        if let Some(first) = stats.first_past_end {
+            let mut past_end = self.past_end.lock().unwrap_or_else(|e| e.into_inner());
+            past_end.insert(
+                (plan.chroms.0, plan.chroms.1, entry.number),
+                (stats.past_end, first),
+            );
+        }
+        Ok(stats)
     }
 
     /// Decode `jobs` in parallel; the result keeps the order of `jobs`.
@@ -482,7 +514,7 @@ impl HicReader {
                 }
             }
             let band_start = chrom_start + (first_band + band as u64) * band_rows;
-            let sorted = sort_band(current, band_start, band_rows as usize);
+            let sorted = once_each(sort_band(current, band_start, band_rows as usize));
             for chunk in sorted.chunks(SINK_BLOCK_PIXELS) {
                 block.clear();
                 for pixel in chunk {
@@ -534,12 +566,13 @@ impl MatrixReader for HicReader {
             let available = if self.norm_names.is_empty() {
                 "none".to_string()
             } else {
-                self.norm_names.join(", ")
+                printable(&self.norm_names.join(", "))
             };
             return Err(Error::format(
                 &self.path,
                 format!(
-                    "no normalisation '{name}' at resolution {} (available: {available})",
+                    "no normalisation '{}' at resolution {} (available: {available})",
+                    printable(name),
                     self.resolution
                 ),
             ));
@@ -624,23 +657,60 @@ impl MatrixReader for HicReader {
             .flat_map(|(id, plan)| plan.index.blocks.iter().map(move |entry| (id, *entry)))
             .collect();
         // Per-block sums in block order, then added in that order: independent of the threads.
-        let per_block: Vec<(u64, f64)> = jobs
+        let per_block: Vec<(u64, f64, BlockStats)> = jobs
             .par_iter()
             .map(|(plan, entry)| {
                 let mut out = Vec::new();
-                self.decode_into(&plans[*plan], entry, &mut out)?;
+                let stats = self.decode_into(&plans[*plan], entry, &mut out)?;
                 let sum = out.iter().map(|p| f64::from(p.count)).sum::<f64>();
-                Ok((out.len() as u64, sum))
+                Ok((out.len() as u64, sum, stats))
             })
             .collect::<Result<_>>()?;
+        // A matrix with records in both triangles may hold a pixel twice: count it once, as
+        // the stream does.
+        let mut triangles = vec![(0u64, 0u64); plans.len()];
+        for ((plan, _), (_, _, stats)) in jobs.iter().zip(&per_block) {
+            triangles[*plan].0 += stats.lower;
+            triangles[*plan].1 += stats.upper;
+        }
+        if triangles
+            .iter()
+            .any(|&(lower, upper)| lower > 0 && upper > 0)
+        {
+            let n = self.bins.n_bins();
+            let (mut nnz, mut sum) = (0u64, 0.0f64);
+            self.read_pixels(0..n, 0..n, &mut |block| {
+                nnz += block.len() as u64;
+                sum += block.count.iter().sum::<f64>();
+                Ok(())
+            })?;
+            return Ok((nnz, sum));
+        }
         Ok(per_block
             .iter()
-            .fold((0, 0.0), |(n, s), &(dn, ds)| (n + dn, s + ds)))
+            .fold((0, 0.0), |(n, s), &(dn, ds, _)| (n + dn, s + ds)))
+    }
+
+    fn warnings(&self) -> Vec<String> {
+        let past_end = self.past_end.lock().unwrap_or_else(|e| e.into_inner());
+        let Some((&(chrom1, chrom2, number), &(_, (x, y)))) = past_end.iter().next() else {
+            return Vec::new();
+        };
+        let total: u64 = past_end.values().map(|v| v.0).sum();
+        vec![format!(
+            "{}: dropped {total} record{} past the end of a chromosome in the blocks read \
+             (the first at bins ({x}, {y}) of block {number} of {}), as hictk and hic2cool \
+             drop them",
+            self.source,
+            if total == 1 { "" } else { "s" },
+            self.pair_label(chrom1, chrom2)
+        )]
     }
 }
 
-/// Sort the pixels of the band of `n_rows` rows from `first_row` by `(bin1, bin2)`: a counting
-/// sort by row, then each row sorted by column (in parallel for large bands).
+/// Sort the pixels of the band of `n_rows` rows from `first_row` by `(bin1, bin2)`, a pixel
+/// stored in the upper triangle before its mirrored twin: a counting sort by row, then each row
+/// sorted by column (in parallel for large bands).
 fn sort_band(pixels: Vec<Pixel>, first_row: u64, n_rows: usize) -> Vec<Pixel> {
     let mut row_starts = vec![0usize; n_rows + 1];
     for pixel in &pixels {
@@ -650,7 +720,14 @@ fn sort_band(pixels: Vec<Pixel>, first_row: u64, n_rows: usize) -> Vec<Pixel> {
         row_starts[row + 1] += row_starts[row];
     }
     let mut next = row_starts.clone();
-    let mut sorted = vec![Pixel { key: 0, count: 0.0 }; pixels.len()];
+    let mut sorted = vec![
+        Pixel {
+            key: 0,
+            count: 0.0,
+            mirrored: false
+        };
+        pixels.len()
+    ];
     for pixel in pixels {
         let slot = &mut next[(pixel.bin1() - first_row) as usize];
         sorted[*slot] = pixel;
@@ -665,11 +742,25 @@ fn sort_band(pixels: Vec<Pixel>, first_row: u64, n_rows: usize) -> Vec<Pixel> {
     }
     if row_starts[n_rows] >= PARALLEL_SORT_MIN_PIXELS {
         rows.par_iter_mut()
-            .for_each(|r| r.sort_unstable_by_key(|p| p.key));
+            .for_each(|r| r.sort_unstable_by_key(|p| (p.key, p.mirrored)));
     } else {
         rows.iter_mut()
-            .for_each(|r| r.sort_unstable_by_key(|p| p.key));
+            .for_each(|r| r.sort_unstable_by_key(|p| (p.key, p.mirrored)));
     }
+    sorted
+}
+
+/// Drop the mirrored lower-triangle record of a pixel that the file also stores in the upper
+/// triangle (some writers store both triangles of intra-chromosomal matrices): each pixel is
+/// read once, from its upper record, which is what hictk returns for `bin1 <= bin2`. `sorted`
+/// comes from [`sort_band`], so a pixel's upper record precedes its mirrored one.
+fn once_each(mut sorted: Vec<Pixel>) -> Vec<Pixel> {
+    let mut previous: Option<u64> = None;
+    sorted.retain(|pixel| {
+        let keep = !(pixel.mirrored && previous == Some(pixel.key));
+        previous = Some(pixel.key);
+        keep
+    });
     sorted
 }
 

@@ -85,7 +85,16 @@ pub(super) struct Synthetic {
     pub(super) levels: Vec<Level>,
     /// Store intra-chromosomal records with x >= y (the other triangle).
     pub(super) intra_lower: bool,
+    /// Store intra-chromosomal off-diagonal pixels in both triangles, the second record with
+    /// [`MIRROR_EXTRA`] added to its count (a reader that keeps it is seen).
+    pub(super) both_triangles: bool,
+    /// Extra records at the first resolution, `(chrom1, chrom2, x, y, count)` in the matrix's own
+    /// bins, written as they are (records past a chromosome's end, for instance).
+    pub(super) extra_records: Vec<(usize, usize, u64, u64, f32)>,
 }
+
+/// What [`Synthetic::both_triangles`] adds to the count of the second record of a pixel.
+pub(super) const MIRROR_EXTRA: f32 = 1000.0;
 
 pub(super) fn synthetic(version: i32) -> Synthetic {
     let chroms = vec![
@@ -156,6 +165,8 @@ pub(super) fn synthetic(version: i32) -> Synthetic {
         block_bin_count: 4,
         levels: vec![(10, pixels, fine_norms), (20, coarse_pixels, coarse_norms)],
         intra_lower: version == 8,
+        both_triangles: false,
+        extra_records: Vec::new(),
     }
 }
 
@@ -340,6 +351,19 @@ pub(super) fn write_hic_with_offsets(s: &Synthetic) -> (Vec<u8>, Offsets) {
                     let number = block_number(rotated, x, y, size, columns);
                     blocks.entry(number).or_default().push((x, y, v));
                     sum += v;
+                    if intra && s.both_triangles && x != y {
+                        let number = block_number(rotated, y, x, size, columns);
+                        blocks
+                            .entry(number)
+                            .or_default()
+                            .push((y, x, v + MIRROR_EXTRA));
+                    }
+                }
+                for &(e1, e2, x, y, v) in &s.extra_records {
+                    if level == 0 && (e1, e2) == (c1, c2) {
+                        let number = block_number(rotated, x, y, size, columns);
+                        blocks.entry(number).or_default().push((x, y, v));
+                    }
                 }
                 let mut entries = Vec::new();
                 for (number, records) in &blocks {

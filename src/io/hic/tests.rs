@@ -606,3 +606,120 @@ fn fragment_only_files_are_a_clear_error() {
         }
     }
 }
+
+#[test]
+fn both_triangles_are_read_once_from_the_upper_records() {
+    use proptest::test_runner::{Config, TestRunner};
+    let dir = tempfile::tempdir().unwrap();
+    for (version, budget) in [
+        (8, BAND_BUDGET_BYTES),
+        (8, 1),
+        (9, BAND_BUDGET_BYTES),
+        (9, 1),
+    ] {
+        let mut s = synthetic(version);
+        s.intra_lower = false;
+        s.both_triangles = true;
+        let path = write_temp(&dir, &format!("both_v{version}.hic"), &write_hic(&s));
+        for (resolution, pixels, _) in &s.levels {
+            let mut reader = HicReader::open(&path, Some(*resolution)).unwrap();
+            reader.band_budget_bytes = budget;
+            let n = reader.bins().n_bins();
+            // each pixel once, with the count of its upper record (the mirrored ones carry
+            // MIRROR_EXTRA more)
+            let all = as_triplets(pixels);
+            assert_eq!(dump(&reader, 0..n, 0..n), all, "v{version} at {resolution}");
+            let sum: f64 = all.iter().map(|p| p.2).sum();
+            assert_eq!(reader.totals().unwrap(), (all.len() as u64, sum));
+            assert!(reader.warnings().is_empty());
+            let mut runner = TestRunner::new(Config::with_cases(40));
+            runner
+                .run(&(0..=n, 0..=n, 0..=n, 0..=n), |(a, b, c, d)| {
+                    let rows = a.min(b)..a.max(b);
+                    let cols = c.min(d)..c.max(d);
+                    let got = dump(&reader, rows.clone(), cols.clone());
+                    proptest::prop_assert_eq!(got, filter(&all, &rows, &cols));
+                    Ok(())
+                })
+                .unwrap();
+        }
+    }
+}
+
+#[test]
+fn records_past_a_chromosome_end_are_dropped_with_one_warning() {
+    let dir = tempfile::tempdir().unwrap();
+    for version in [8, 9] {
+        let mut s = synthetic(version);
+        // c1 has 37 bins at 10 bp, c2 23, c3 5: each record has a bin one or more past the end
+        s.extra_records = vec![
+            (0, 0, 35, 37, 3.0),
+            (0, 0, 38, 40, 5.0),
+            (0, 1, 36, 23, 7.0),
+            (1, 2, 22, 5, 11.0),
+            (2, 2, 4, 6, 13.0),
+        ];
+        let path = write_temp(&dir, &format!("past_v{version}.hic"), &write_hic(&s));
+        let reader = HicReader::open(&path, Some(10)).unwrap();
+        let n = reader.bins().n_bins();
+        let all = as_triplets(&s.levels[0].1);
+        assert_eq!(dump(&reader, 0..n, 0..n), all);
+        let sum: f64 = all.iter().map(|p| p.2).sum();
+        // totals decode every block: all five records are seen, and counted once however many
+        // times their blocks are decoded
+        assert_eq!(reader.totals().unwrap(), (all.len() as u64, sum));
+        assert_eq!(reader.totals().unwrap(), (all.len() as u64, sum));
+        let warnings = reader.warnings();
+        assert_eq!(warnings.len(), 1, "{warnings:?}");
+        assert!(
+            warnings[0].contains(&path.display().to_string())
+                && warnings[0]
+                    .contains("dropped 5 records past the end of a chromosome in the blocks"),
+            "{}",
+            warnings[0]
+        );
+        // the clean file warns of nothing
+        let clean = write_temp(&dir, "clean.hic", &write_hic(&synthetic(version)));
+        let reader = HicReader::open(&clean, Some(10)).unwrap();
+        dump(&reader, 0..n, 0..n);
+        reader.totals().unwrap();
+        assert!(reader.warnings().is_empty());
+    }
+}
+
+#[test]
+fn file_bytes_quoted_in_messages_are_escaped() {
+    let dir = tempfile::tempdir().unwrap();
+    for version in [8, 9] {
+        let mut s = synthetic(version);
+        s.chroms[0].name = "c\n1\u{1b}[31m".into();
+        let (mut bytes, at) = super::synthetic::write_hic_with_offsets(&s);
+        let long = if version >= 9 { 8 } else { 4 };
+        patch(&mut bytes, at["chrom_length"], long, -4);
+        let path = write_temp(&dir, "name.hic", &bytes);
+        let message = HicReader::open(&path, None).unwrap_err().to_string();
+        assert!(
+            !message.contains('\n') && !message.contains('\u{1b}'),
+            "{message}"
+        );
+        assert!(message.contains(r"chromosome 'c\n1\u{1b}[31m' has a negative length -4"));
+        // names also reach block messages through the pair label
+        let mut s = synthetic(version);
+        s.chroms[0].name = "c\r1".into(); // the first matrix written is c1-c1
+        let (mut bytes, at) = super::synthetic::write_hic_with_offsets(&s);
+        patch(&mut bytes, at["block_number"], 4, -7);
+        let path = write_temp(&dir, "label.hic", &bytes);
+        let reader = HicReader::open(&path, Some(10)).unwrap();
+        let n = reader.bins().n_bins();
+        let message = reader
+            .read_pixels(0..n, 0..n, &mut |_| Ok(()))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            !message.contains('\r') && message.contains(r"the block index of c\r1-c\r1: block -7"),
+            "{message}"
+        );
+    }
+    assert_eq!(header::printable("chr1"), "chr1");
+    assert_eq!(header::printable("a\u{2028}b\u{85}"), r"a\u{2028}b\u{85}");
+}
