@@ -16,7 +16,10 @@
 //! the position the header gives). The block index of a chromosome pair is read on first use and
 //! cached. Every length read from the file is checked against the file size before anything is
 //! allocated, so a truncated or corrupt file gives an [`Error::Format`] naming what was being
-//! read, never a panic.
+//! read, never a panic: chromosome lengths above `u32::MAX` (hictk's limit) and headers whose
+//! chromosomes make more bins than the file's size can hold data for are refused before any
+//! per-bin allocation. Names and other file bytes quoted in messages have their control
+//! characters escaped, so a message is always one line.
 //!
 //! A pixel query is answered one row chromosome at a time, in bands of rows sized so that a band
 //! holds about [`BAND_BUDGET_BYTES`] of compressed blocks. For each band, the blocks (of every
@@ -33,7 +36,11 @@
 //! keep their order. Blocks of the matrix of chromosomes `(i, j)`, `i <= j` in file order, hold
 //! records `(x, y)` with `x` a bin of `i` and `y` a bin of `j`, so genome-wide `bin1 =
 //! offset[i] + x` and `bin2 = offset[j] + y`. Intra-chromosomal matrices store one triangle; either
-//! orientation is accepted and pixels are always returned with `bin1 <= bin2`. Version 8 blocks and
+//! orientation is accepted and pixels are always returned with `bin1 <= bin2`. Some writers store
+//! both triangles: a pixel is then read once, from its upper record (`x <= y`, the `bin1 <= bin2`
+//! pixels hictk returns). Records past the last bin of their chromosome are dropped, as hictk and
+//! hic2cool drop them, and counted for [`MatrixReader::warnings`] (one line per file); records at
+//! negative bins are an error. Version 8 blocks and
 //! version 9 inter-chromosomal blocks form a square grid (`block = (y / blockBinCount) *
 //! blockColumnCount + x / blockBinCount`); version 9 intra-chromosomal blocks are rotated, numbered
 //! by position along the diagonal and a depth that doubles away from it.
@@ -55,6 +62,7 @@
 //! opening, query plans, streaming). Tests build files with the test-only `synthetic` writer.
 //!
 //! [`Error::Format`]: crate::error::Error::Format
+//! [`MatrixReader::warnings`]: crate::io::MatrixReader::warnings
 //! [`BinTable::fixed`]: crate::genome::BinTable::fixed
 //! [`Weights::from_divisive`]: crate::matrix::Weights::from_divisive
 //! [`CountType::Integer`]: crate::matrix::CountType::Integer
