@@ -117,6 +117,13 @@ pub trait MatrixReader {
         })?;
         Ok((nnz, sum))
     }
+
+    /// Warnings about the data read so far (records dropped while reading, for instance), one
+    /// line each without the `warning:` prefix; empty for most formats. Commands print them once
+    /// their work has succeeded, so that a warning never precedes an error.
+    fn warnings(&self) -> Vec<String> {
+        Vec::new()
+    }
 }
 
 /// Split `cool.mcool::/resolutions/1000` into the file path and the group path (if any).

@@ -160,12 +160,12 @@ pub fn run(args: &BalanceArgs) -> Result<()> {
         check_target(&args.uri, &args.name, args.force)?;
     }
     // The reader (and the pixels borrowing it) is closed before --store opens the file to write.
-    let (result, bins, params_used) = {
+    let (result, bins, params_used, reader_warnings) = {
         let reader = io::open_matrix(&args.uri, &args.input.to_options()?)?;
         let params = params(args, reader.bins())?;
         let pixels = io::load_pixels_for_balancing(reader.as_ref(), budget)?;
         let result = balance(&pixels, &params)?;
-        (result, reader.bins().clone(), params)
+        (result, reader.bins().clone(), params, reader.warnings())
     };
     if !result.converged {
         let message = format!(
@@ -199,6 +199,7 @@ pub fn run(args: &BalanceArgs) -> Result<()> {
         write_table(&bins, &weights, args.out.as_deref())?;
     }
     eprint!("{}", summary(&params_used, &result, &bins));
+    super::warnings::print_reader_warnings(reader_warnings);
     Ok(())
 }
 

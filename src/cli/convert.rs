@@ -101,7 +101,7 @@ pub fn run(args: &ConvertArgs) -> Result<()> {
         }),
         weight_columns: None,
     };
-    match format {
+    let written = match format {
         OutputFormat::Cool => write_cool(&reader, &args.output, &options),
         OutputFormat::Mcool => {
             let base = reader.bins().bin_size_bp().ok_or_else(|| {
@@ -125,7 +125,10 @@ pub fn run(args: &ConvertArgs) -> Result<()> {
         OutputFormat::Dense => {
             text::write_text(&reader, &path_text(&args.output), TextFormat::Dense)
         }
-    }
+    };
+    written?;
+    super::warnings::print_reader_warnings(reader.warnings());
+    Ok(())
 }
 
 fn path_text(path: &Path) -> String {

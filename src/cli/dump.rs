@@ -87,7 +87,9 @@ pub fn run(args: &DumpArgs) -> Result<()> {
         Table::Bins => dump_bins(reader.as_ref(), args, &mut out)?,
         Table::Pixels => dump_pixels(reader.as_ref(), args, &mut out)?,
     }
-    out.finish()
+    out.finish()?;
+    super::warnings::print_reader_warnings(reader.warnings());
+    Ok(())
 }
 
 fn dump_chroms(bins: &BinTable, args: &DumpArgs, out: &mut Output) -> Result<()> {

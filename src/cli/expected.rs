@@ -183,7 +183,7 @@ pub fn run(args: &ExpectedArgs) -> Result<()> {
         None => LoadedPixels::Streamed(StreamedPixels::new(reader.as_ref())),
     };
     let weights = weights.as_deref();
-    match checked.report {
+    let written = match checked.report {
         Report::Trans => {
             let table = expected_trans(&pixels, weights, &view)?;
             write_text(args, &trans_text(&table))
@@ -215,7 +215,10 @@ pub fn run(args: &ExpectedArgs) -> Result<()> {
             };
             write_text(args, text.as_bytes())
         }
-    }
+    };
+    written?;
+    super::warnings::print_reader_warnings(reader.warnings());
+    Ok(())
 }
 
 /// The cis table (without smoothing: the log-binned analyses use the sums), its log-binned

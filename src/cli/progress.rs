@@ -86,4 +86,8 @@ impl MatrixReader for WithProgress<'_> {
     fn totals(&self) -> Result<(u64, f64)> {
         self.inner.totals()
     }
+
+    fn warnings(&self) -> Vec<String> {
+        self.inner.warnings()
+    }
 }

@@ -223,6 +223,7 @@ pub fn run(args: &TadsArgs) -> Result<()> {
         calls.boundaries.len(),
         calls.domains.len()
     ));
+    warnings.extend(reader.warnings());
     warnings.print();
     Ok(())
 }

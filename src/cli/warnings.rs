@@ -65,6 +65,14 @@ impl Warnings {
     }
 }
 
+/// Print a reader's own warnings (the `.hic` records it dropped, for instance) as warnings; for
+/// commands that have no other warning to hold back. Call it once the command succeeded.
+pub fn print_reader_warnings(messages: Vec<String>) {
+    let mut warnings = Warnings::new();
+    warnings.extend(messages);
+    warnings.print();
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -135,3 +135,153 @@ fn hic_errors_are_clean() {
     let line = run_err(&["dump", "--balanced=KR", &data("hic_test_file.hic")]);
     assert!(line.contains("KR") && line.contains("ICE"), "{line}");
 }
+
+/// A `data/hic_layouts/` reference table of `bin1_id bin2_id count` (hictkpy's fetch, with a
+/// header line), as dump prints it.
+fn layout_pixels(name: &str) -> String {
+    let text = std::fs::read_to_string(data(&format!("hic_layouts/{name}"))).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some("bin1_id\tbin2_id\tcount"));
+    lines.map(|l| format!("{l}\n")).collect()
+}
+
+/// nnz and sum of a `bin1_id bin2_id count` dump.
+fn totals(dump: &str) -> (usize, f64) {
+    let sum = dump
+        .lines()
+        .map(|l| l.split('\t').nth(2).unwrap().parse::<f64>().unwrap())
+        .sum();
+    (dump.lines().count(), sum)
+}
+
+fn info_field(info: &str, key: &str) -> String {
+    info.lines()
+        .find_map(|l| l.strip_prefix(key).filter(|rest| rest.starts_with(' ')))
+        .unwrap_or_else(|| panic!("no {key} in {info}"))
+        .trim()
+        .to_string()
+}
+
+#[test]
+fn hic_storing_both_triangles_is_read_once() {
+    // scripts/fixtures/hic_layouts.py: intra matrices hold every off-diagonal pixel twice, the
+    // lower record with 1000 more; the reference is hictkpy 1.4 on the same pixels stored once
+    // (equal to hictkpy's bin1 <= bin2 pixels of this file).
+    let path = data("hic_layouts/both_triangles.hic");
+    let reference = layout_pixels("both_triangles.pixels.tsv");
+    let out = crate::run(&["dump", &path]);
+    assert!(out.status.success() && out.stderr.is_empty());
+    let dump = String::from_utf8(out.stdout).unwrap();
+    assert_eq!(dump, reference);
+    let (nnz, sum) = totals(&reference);
+    assert_eq!(nnz, 378);
+    let info = run_ok(&["info", &path]);
+    assert_eq!(info_field(&info, "nnz"), nnz.to_string());
+    assert_eq!(info_field(&info, "sum").parse::<f64>().unwrap(), sum);
+    // ICE on it equals cooler's balance of hictkpy's pixels
+    let weights = run_ok(&["balance", &path]);
+    let ours: Vec<f64> = weights
+        .lines()
+        .skip(1)
+        .map(|l| l.split('\t').nth(3).unwrap().parse().unwrap())
+        .collect();
+    let text = std::fs::read_to_string(data("hic_layouts/both_triangles.ice.tsv")).unwrap();
+    let cooler: Vec<f64> = text.lines().skip(1).map(|l| l.parse().unwrap()).collect();
+    assert_eq!(ours.len(), cooler.len());
+    assert!(cooler.iter().any(|w| w.is_nan()) && cooler.iter().any(|w| !w.is_nan()));
+    for (a, b) in ours.iter().zip(&cooler) {
+        assert_eq!(a.is_nan(), b.is_nan(), "{a} vs {b}");
+        if !b.is_nan() {
+            assert!((a - b).abs() <= 1e-6 * b.abs(), "{a} vs {b}");
+        }
+    }
+}
+
+/// The warnings of a successful run, and that they come last on standard error.
+fn warnings_of(args: &[&str]) -> Vec<String> {
+    let out = crate::run(args);
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(out.status.success(), "{args:?}: {stderr}");
+    let lines: Vec<&str> = stderr.lines().collect();
+    let first = lines.iter().position(|l| l.contains("warning:"));
+    let warnings: Vec<String> = lines
+        .iter()
+        .filter(|l| l.contains("warning:"))
+        .map(|l| l.to_string())
+        .collect();
+    if let Some(first) = first {
+        assert_eq!(first + warnings.len(), lines.len(), "{args:?}: {stderr}");
+    }
+    warnings
+}
+
+#[test]
+fn hic_records_past_a_chromosome_end_are_dropped_with_one_warning() {
+    // Five records past the last bin of chr18 / chr19; hictkpy 1.4 drops them.
+    let path = data("hic_layouts/past_end.hic");
+    let reference = layout_pixels("past_end.pixels.tsv");
+    let out = crate::run(&["dump", &path]);
+    assert!(out.status.success());
+    assert_eq!(String::from_utf8(out.stdout).unwrap(), reference);
+    let dir = tempfile::tempdir().unwrap();
+    let cool = dir.path().join("out.cool");
+    let cool = cool.to_str().unwrap();
+    for args in [
+        &["dump", &path][..],
+        &["convert", &path, cool],
+        &["balance", &path],
+        &["expected", "--raw", &path],
+        &["tads", "--raw", "--window", "20M", &path],
+    ] {
+        let warnings = warnings_of(args);
+        assert_eq!(warnings.len(), 1, "{args:?}: {warnings:?}");
+        assert!(
+            warnings[0].starts_with(&format!("contactmap: warning: {path}: dropped "))
+                && warnings[0].contains("past the end of a chromosome"),
+            "{}",
+            warnings[0]
+        );
+    }
+    // the converted file holds hictkpy's pixels
+    assert_eq!(run_ok(&["dump", cool]), reference);
+    // a clean file warns of nothing
+    assert!(warnings_of(&["dump", &data("hic_layouts/both_triangles.hic")]).is_empty());
+}
+
+#[test]
+fn hic_header_with_a_huge_chromosome_fails_in_one_line() {
+    // chr17 of 175,921,883,957,872 bp used to abort with "memory allocation ... failed".
+    let path = data("hic_layouts/huge_chrom.hic");
+    let dir = tempfile::tempdir().unwrap();
+    let cool = dir.path().join("out.cool");
+    let cool = cool.to_str().unwrap();
+    for args in [
+        &["dump", &path][..],
+        &["info", &path],
+        &["balance", &path],
+        &["expected", "--raw", &path],
+        &["tads", "--raw", "--window", "20M", &path],
+        &["convert", &path, cool],
+    ] {
+        let line = run_err(args);
+        assert!(
+            line.contains(&path)
+                && line.contains("length of chromosome 'chr17'")
+                && line.contains("175921883957872"),
+            "{args:?}: {line}"
+        );
+    }
+    assert!(!std::path::Path::new(cool).exists());
+}
+
+#[test]
+fn fragment_only_hic_is_a_clear_error_in_info_and_dump() {
+    let path = data("hic_layouts/fragment_only.hic");
+    for command in ["info", "dump"] {
+        let line = run_err(&[command, &path]);
+        assert!(
+            line.contains(&path) && line.contains("no base-pair resolution"),
+            "{command}: {line}"
+        );
+    }
+}
