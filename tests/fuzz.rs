@@ -5,11 +5,11 @@
 //! and the runner are shared with the campaign driver `examples/fuzz_campaign.rs`; see
 //! `docs/reliability.md`.
 //!
-//! Formats that today's parsers still fail are `#[ignore]`d with the finding's id and reason; so are
-//! the `known_*` replays of the failing mutants the campaigns found (a mutant is reproduced from its
-//! format, campaign seed and index: the fixtures and `fuzz/mutate.rs` must stay as they are for the
-//! indices to keep their meaning). Run them with `cargo test --test fuzz -- --ignored`, and drop the
-//! `ignore` once the finding is fixed (docs/reliability.md lists the findings).
+//! The `known_*` tests replay the failing mutants the campaigns found, all fixed since, as
+//! regression tests (a mutant is reproduced from its format, campaign seed and index: the
+//! fixtures and `fuzz/mutate.rs` must stay as they are for the indices to keep their meaning).
+//! A new finding gets its replay here, `#[ignore]`d with its id until it is fixed
+//! (docs/reliability.md lists the findings).
 
 #[allow(dead_code)]
 #[path = "fuzz/harness.rs"]
@@ -120,7 +120,7 @@ fn fuzz_npz() {
 }
 
 #[test]
-#[ignore = "F-NPY-1: a .npy shape whose product overflows usize panics (src/io/predictions.rs parse_npy: shape.iter().product(), 'attempt to multiply with overflow' in the test build, 'capacity overflow' in release)"]
+// F-NPY-1: fixed (docs/reliability.md).
 fn fuzz_npy() {
     fuzz("npy");
 }
@@ -136,27 +136,27 @@ fn known_mcool_hang() {
 }
 
 #[test]
-#[ignore = "F-HIC-1: convert of a .hic whose chromosome length was corrupted fails with 'chromosome chr17 is too long for cooler's int32 lengths' (or 'chromosome names must be ASCII ...'), a message without the file (src/io/cool/writer.rs)"]
+// F-HIC-1: fixed (docs/reliability.md).
 fn known_hic_convert_message_without_file() {
     replay("hic", 1, &[129]);
     replay("hic", 2, &[442]);
 }
 
 #[test]
-#[ignore = "F-NPY-2: a corrupt .npy header is copied raw into the error message, which then spans several lines (src/io/predictions.rs parse_npy)"]
+// F-NPY-2: fixed (docs/reliability.md).
 fn known_npy_header_in_message() {
     replay("npy", 1, &[183, 296]);
 }
 
 #[test]
-#[ignore = "F-NPY-1: a .npy shape whose product overflows usize panics (src/io/predictions.rs parse_npy)"]
+// F-NPY-1: fixed (docs/reliability.md).
 fn known_npy_shape_overflow() {
     replay("npy", SEED, &[1, 3, 43]);
     replay("npy", 2, &[4079, 7548, 9739]);
 }
 
 #[test]
-#[ignore = "F-HIC-2: a corrupt chromosome name is quoted raw in the error message, which then spans several lines (src/io/hic.rs)"]
+// F-HIC-2: fixed (docs/reliability.md).
 fn known_hic_name_in_message() {
     replay("hic", 3, &[283]);
 }
