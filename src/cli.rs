@@ -13,6 +13,7 @@ pub mod progress;
 pub mod score;
 pub mod simulate;
 pub mod tads;
+pub mod validate;
 pub mod warnings;
 
 use std::path::PathBuf;
@@ -64,6 +65,9 @@ pub enum Command {
     /// True residue contacts of a protein structure (PDB / mmCIF) as CASP RR, or its residue
     /// distance matrix.
     Contacts(contacts::ContactsArgs),
+    /// Check a .cool / .mcool / .hic file end to end (exit 0 valid, 1 invalid, 2 unreadable);
+    /// `--repair OUT` writes a corrected copy of a cooler.
+    Validate(validate::ValidateArgs),
 }
 
 /// Run a parsed command line.
@@ -79,6 +83,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Simulate(args) => simulate::run(&args),
         Command::Score(args) => score::run(&args),
         Command::Contacts(args) => contacts::run(&args),
+        Command::Validate(args) => validate::run(&args),
     }
 }
 

@@ -41,6 +41,7 @@ pub mod normalize;
 pub mod score;
 pub mod sim;
 pub mod tads;
+pub mod validate;
 
 pub use error::{Error, Result};
 pub use genome::{Bin, BinTable, Chrom, Region};

@@ -31,6 +31,8 @@ mod simulate;
 mod tads;
 #[path = "cli/text.rs"]
 mod text;
+#[path = "cli/validate.rs"]
+mod validate;
 
 use std::path::PathBuf;
 use std::process::{Command, Output};
