@@ -29,7 +29,12 @@
 //!   `data * c[i] * c[j]` and the factors are exposed inverted, as the multiplicative column
 //!   `weight` (`1 / c`), so that cooler's balanced value `count * weight[i] * weight[j]` is the
 //!   stored corrected value. Bins whose factor is zero or not finite, and the `nan_bins`, get a
-//!   `NaN` weight; a pixel touching such a bin keeps its stored value.
+//!   `NaN` weight, cooler's mark of a masked bin (hicConvertFormat writes 0 there, which cooler
+//!   and cooltools would take as a valid bin of balanced value 0); a pixel touching such a bin
+//!   keeps its stored value (hicCorrectMatrix leaves no pixel on a masked bin).
+//! - **Corrupt files.** Every dataset's length is checked against `matrix/shape` and against the
+//!   bytes the file holds for it before anything is read, and libhdf5's metadata reads run under
+//!   the [`hdf5_guard`] deadline, so a damaged file is one error naming the file and the dataset.
 //! - **Masked bins.** `nan_bins` are also exposed as their own column `nan_bins` (1 for a kept bin,
 //!   `NaN` for a masked one), so that balanced-value commands given `--weight-name nan_bins` skip
 //!   them as cooler skips `NaN`-weighted bins.
@@ -43,7 +48,7 @@ use hdf5::types::{TypeDescriptor, VarLenAscii, VarLenUnicode};
 
 use crate::error::{Error, Result};
 use crate::genome::{Bin, BinTable, Chrom};
-use crate::io::{MatrixInfo, MatrixReader};
+use crate::io::{hdf5_guard, MatrixInfo, MatrixReader};
 use crate::matrix::{invert_weight, CountType, PixelBlock, Weights};
 
 /// Stored entries read from the file at a time (whole rows; a longer row is read whole).
@@ -59,24 +64,64 @@ pub const NAN_BINS_WEIGHT: &str = "nan_bins";
 /// `intervals`, and none of a cooler's (`pixels`, `bins`, `chroms`, `resolutions`).
 pub fn is_hicexplorer(path: &str) -> Result<bool> {
     let file = open_file(path)?;
-    let has = |name: &str| file.link_exists(name);
-    let group = |name: &str| has(name) && file.group(name).is_ok();
-    let cooler = ["pixels", "bins", "chroms", "resolutions"]
-        .iter()
-        .any(|name| has(name));
-    Ok(!cooler && group("matrix") && group("intervals"))
+    Ok(hdf5_guard::guarded(
+        path,
+        "the root group's members",
+        || {
+            let has = |name: &str| file.link_exists(name);
+            let group = |name: &str| has(name) && file.group(name).is_ok();
+            let cooler = ["pixels", "bins", "chroms", "resolutions"]
+                .iter()
+                .any(|name| has(name));
+            !cooler && group("matrix") && group("intervals")
+        },
+    ))
 }
 
 fn open_file(path: &str) -> Result<hdf5::File> {
     if let Err(e) = std::fs::metadata(path) {
         return Err(Error::io(path, e));
     }
-    crate::io::cool::file_builder().open(path).map_err(|e| {
+    hdf5_guard::guarded(path, "the file's superblock and root group", || {
+        crate::io::cool::file_builder().open(path)
+    })
+    .map_err(|e| {
         Error::format(
             path,
             format!("not a readable HDF5 file (truncated or corrupt?): {e}"),
         )
     })
+}
+
+/// Largest ratio of a dataset's size in memory to the bytes it occupies in the file. Deflate
+/// cannot compress more than about 1032:1 and blosc (as HiCMatrix uses it) about 160:1, so a
+/// dataset claiming more values than that is a corrupt dataspace, refused before any allocation.
+const MAX_EXPANSION: u64 = 4096;
+
+/// Datasets up to this many bytes in memory are read whatever their storage (compact layouts).
+const SMALL_DATASET_BYTES: u64 = 1 << 20;
+
+/// The number of values of `dataset` (`name` in the file `path` of `file_len` bytes), after
+/// checking that the file can hold them: a corrupt dataspace must give an error naming the
+/// dataset, not an allocation of terabytes.
+fn checked_len(path: &str, dataset: &hdf5::Dataset, name: &str, file_len: u64) -> Result<usize> {
+    let (n_values, value_bytes, storage) = hdf5_guard::guarded(path, name, || {
+        let value_bytes = dataset.dtype().map_or(1, |t| t.size());
+        (dataset.size(), value_bytes, dataset.storage_size())
+    });
+    let claimed = (n_values as u64).saturating_mul(value_bytes as u64);
+    if storage > file_len
+        || claimed > SMALL_DATASET_BYTES.saturating_add(MAX_EXPANSION.saturating_mul(storage))
+    {
+        return Err(Error::format(
+            path,
+            format!(
+                "{name} claims {n_values} values ({claimed} bytes) stored in {storage} bytes of a \
+                 {file_len}-byte file: its dataspace or chunk index is corrupt"
+            ),
+        ));
+    }
+    Ok(n_values)
 }
 
 /// An open HiCExplorer `.h5` matrix.
@@ -100,8 +145,11 @@ impl HicExplorerReader {
     /// the datasets agree with one another.
     pub fn open(path: &str) -> Result<HicExplorerReader> {
         let file = open_file(path)?;
+        let file_len = std::fs::metadata(path)
+            .map_err(|e| Error::io(path, e))?
+            .len();
         for group in ["matrix", "intervals"] {
-            if file.group(group).is_err() {
+            if hdf5_guard::guarded(path, group, || file.group(group)).is_err() {
                 return Err(Error::format(
                     path,
                     format!("not a HiCExplorer .h5 matrix: it has no '{group}' group"),
@@ -109,50 +157,69 @@ impl HicExplorerReader {
             }
         }
         let dataset = |name: &str| {
-            file.dataset(name)
+            hdf5_guard::guarded(path, name, || file.dataset(name))
                 .map_err(|e| Error::format(path, format!("missing dataset {name}: {e}")))
         };
-        let bins = read_intervals(path, &file)?;
-        let n_bins = bins.n_bins();
-
-        let shape = read_ints(path, &dataset("matrix/shape")?, "matrix/shape")?;
-        if shape.len() != 2 || shape[0] != shape[1] {
+        // Every length is checked against the others (and against the file's size) before
+        // anything is read from it.
+        let shape_dataset = dataset("matrix/shape")?;
+        let n_shape = checked_len(path, &shape_dataset, "matrix/shape", file_len)?;
+        if n_shape != 2 {
+            return Err(Error::format(
+                path,
+                format!("matrix/shape has {n_shape} values; expected 2 ([n, n])"),
+            ));
+        }
+        let shape = read_ints(path, &shape_dataset, "matrix/shape")?;
+        if shape[0] != shape[1] || shape[0] < 0 {
             return Err(Error::format(
                 path,
                 format!("matrix/shape is {shape:?}; expected a square matrix [n, n]"),
             ));
         }
-        if shape[0] != n_bins as i64 {
+        let n_bins = shape[0] as usize;
+        let expect_len = |name: &str, wanted: usize, what: &str| -> Result<hdf5::Dataset> {
+            let found = dataset(name)?;
+            let n_values = checked_len(path, &found, name, file_len)?;
+            if n_values != wanted {
+                return Err(Error::format(
+                    path,
+                    format!(
+                        "{name} has {n_values} values but matrix/shape {shape:?} needs {wanted} ({what})"
+                    ),
+                ));
+            }
+            Ok(found)
+        };
+        for name in [
+            "intervals/chr_list",
+            "intervals/start_list",
+            "intervals/end_list",
+        ] {
+            expect_len(name, n_bins, "one per bin")?;
+        }
+        let indptr_dataset = expect_len("matrix/indptr", n_bins + 1, "number of bins + 1")?;
+        let bins = read_intervals(path, &file)?;
+        if bins.n_bins() != n_bins {
             return Err(Error::format(
                 path,
                 format!(
-                    "matrix/shape is {shape:?} but intervals/ lists {n_bins} bins: they must agree"
+                    "matrix/shape is {shape:?} but intervals/ lists {} bins: they must agree",
+                    bins.n_bins()
                 ),
             ));
         }
         let data = dataset("matrix/data")?;
+        let nnz = checked_len(path, &data, "matrix/data", file_len)?;
         let indices = dataset("matrix/indices")?;
-        let nnz = data.size();
-        if indices.size() != nnz {
+        let n_indices = checked_len(path, &indices, "matrix/indices", file_len)?;
+        if n_indices != nnz {
             return Err(Error::format(
                 path,
-                format!(
-                    "matrix/indices has {} entries but matrix/data has {nnz}",
-                    indices.size()
-                ),
+                format!("matrix/indices has {n_indices} entries but matrix/data has {nnz}"),
             ));
         }
-        let indptr = read_ints(path, &dataset("matrix/indptr")?, "matrix/indptr")?;
-        if indptr.len() != n_bins + 1 {
-            return Err(Error::format(
-                path,
-                format!(
-                    "matrix/indptr has {} entries; expected {} (number of bins + 1)",
-                    indptr.len(),
-                    n_bins + 1
-                ),
-            ));
-        }
+        let indptr = read_ints(path, &indptr_dataset, "matrix/indptr")?;
         if let Some(k) = indptr.windows(2).position(|w| w[0] > w[1]) {
             return Err(Error::format(
                 path,
@@ -174,31 +241,33 @@ impl HicExplorerReader {
             ));
         }
         let integer_data = matches!(
-            data.dtype().and_then(|t| t.to_descriptor()),
+            hdf5_guard::guarded(path, "the type of matrix/data", || {
+                data.dtype().and_then(|t| t.to_descriptor())
+            }),
             Ok(TypeDescriptor::Integer(_) | TypeDescriptor::Unsigned(_))
         );
 
-        let correction_factors = if file.link_exists("correction_factors") {
-            let values = dataset("correction_factors")?
+        let exists = |name: &str| hdf5_guard::guarded(path, name, || file.link_exists(name));
+        let correction_factors = if exists("correction_factors") {
+            let values = expect_len("correction_factors", n_bins, "one per bin")?
                 .read_raw::<f64>()
                 .map_err(|e| Error::hdf5(path, "reading correction_factors", e))?;
-            if values.len() != n_bins {
-                return Err(Error::format(
-                    path,
-                    format!(
-                        "correction_factors has {} values for {n_bins} bins",
-                        values.len()
-                    ),
-                ));
-            }
             Some(values)
         } else {
             None
         };
-        let has_nan_bins = file.link_exists("nan_bins");
+        let has_nan_bins = exists("nan_bins");
         let mut nan_bins = Vec::new();
         if has_nan_bins {
-            for value in read_ints(path, &dataset("nan_bins")?, "nan_bins")? {
+            let nan_bins_dataset = dataset("nan_bins")?;
+            let n_nan_bins = checked_len(path, &nan_bins_dataset, "nan_bins", file_len)?;
+            if n_nan_bins > n_bins {
+                return Err(Error::format(
+                    path,
+                    format!("nan_bins lists {n_nan_bins} bins, more than the {n_bins} bins"),
+                ));
+            }
+            for value in read_ints(path, &nan_bins_dataset, "nan_bins")? {
                 if value < 0 || value >= n_bins as i64 {
                     return Err(Error::format(
                         path,
@@ -225,8 +294,8 @@ impl HicExplorerReader {
             correction_factors,
             nan_bins,
             has_nan_bins,
-            has_distance_counts: file.link_exists("distance_counts"),
-            attributes: read_string_attributes(&file),
+            has_distance_counts: exists("distance_counts"),
+            attributes: read_string_attributes(path, &file),
         })
     }
 
@@ -484,50 +553,52 @@ fn read_ints(path: &str, dataset: &hdf5::Dataset, name: &str) -> Result<Vec<i64>
 /// variable-length strings.
 fn read_strings(path: &str, dataset: &hdf5::Dataset, name: &str) -> Result<Vec<String>> {
     let err = |e| Error::hdf5(path, format!("reading {name}"), e);
-    let descriptor = dataset
-        .dtype()
-        .and_then(|t| t.to_descriptor())
-        .map_err(|e| Error::hdf5(path, format!("reading the type of {name}"), e))?;
-    let strings = match descriptor {
-        TypeDescriptor::FixedAscii(_) => dataset
-            .read_raw::<hdf5::types::FixedAscii<1024>>()
-            .map_err(err)?
-            .iter()
-            .map(|s| s.as_str().trim_end_matches('\0').to_string())
-            .collect(),
-        TypeDescriptor::FixedUnicode(_) => dataset
-            .read_raw::<hdf5::types::FixedUnicode<1024>>()
-            .map_err(err)?
-            .iter()
-            .map(|s| s.as_str().trim_end_matches('\0').to_string())
-            .collect(),
-        TypeDescriptor::VarLenAscii => dataset
-            .read_raw::<VarLenAscii>()
-            .map_err(err)?
-            .iter()
-            .map(|s| s.as_str().to_string())
-            .collect(),
-        TypeDescriptor::VarLenUnicode => dataset
-            .read_raw::<VarLenUnicode>()
-            .map_err(err)?
-            .iter()
-            .map(|s| s.as_str().to_string())
-            .collect(),
-        other => {
-            return Err(Error::format(
-                path,
-                format!("{name} has type {other:?}; expected strings"),
-            ))
-        }
+    let descriptor = hdf5_guard::guarded(path, name, || {
+        dataset.dtype().and_then(|t| t.to_descriptor())
+    })
+    .map_err(|e| Error::hdf5(path, format!("reading the type of {name}"), e))?;
+    let read = || -> Result<Vec<String>> {
+        Ok(match descriptor {
+            TypeDescriptor::FixedAscii(_) => dataset
+                .read_raw::<hdf5::types::FixedAscii<1024>>()
+                .map_err(err)?
+                .iter()
+                .map(|s| s.as_str().trim_end_matches('\0').to_string())
+                .collect(),
+            TypeDescriptor::FixedUnicode(_) => dataset
+                .read_raw::<hdf5::types::FixedUnicode<1024>>()
+                .map_err(err)?
+                .iter()
+                .map(|s| s.as_str().trim_end_matches('\0').to_string())
+                .collect(),
+            TypeDescriptor::VarLenAscii => dataset
+                .read_raw::<VarLenAscii>()
+                .map_err(err)?
+                .iter()
+                .map(|s| s.as_str().to_string())
+                .collect(),
+            TypeDescriptor::VarLenUnicode => dataset
+                .read_raw::<VarLenUnicode>()
+                .map_err(err)?
+                .iter()
+                .map(|s| s.as_str().to_string())
+                .collect(),
+            other => {
+                return Err(Error::format(
+                    path,
+                    format!("{name} has type {other:?}; expected strings"),
+                ))
+            }
+        })
     };
-    Ok(strings)
+    hdf5_guard::guarded(path, name, read)
 }
 
 /// Read `intervals/` into a bin table: chromosomes in order of first appearance, each as long as
 /// its last bin's end.
 fn read_intervals(path: &str, file: &hdf5::File) -> Result<BinTable> {
     let dataset = |name: &str| {
-        file.dataset(name)
+        hdf5_guard::guarded(path, name, || file.dataset(name))
             .map_err(|e| Error::format(path, format!("missing dataset {name}: {e}")))
     };
     let names = read_strings(path, &dataset("intervals/chr_list")?, "intervals/chr_list")?;
@@ -586,35 +657,42 @@ fn read_intervals(path: &str, file: &hdf5::File) -> Result<BinTable> {
 }
 
 /// The root attributes that PyTables writes as strings (TITLE, VERSION, ...), for `info`.
-fn read_string_attributes(file: &hdf5::File) -> Vec<(String, serde_json::Value)> {
-    let Ok(names) = file.attr_names() else {
+fn read_string_attributes(path: &str, file: &hdf5::File) -> Vec<(String, serde_json::Value)> {
+    let Ok(names) = hdf5_guard::guarded(path, "the attribute names", || file.attr_names()) else {
         return Vec::new();
     };
     let mut attributes = Vec::new();
     for name in names {
-        let Ok(attr) = file.attr(&name) else {
-            continue;
+        let read = || {
+            let Ok(attr) = file.attr(&name) else {
+                return None;
+            };
+            read_string_attribute(&attr)
         };
-        let value = match attr.dtype().and_then(|t| t.to_descriptor()) {
-            Ok(TypeDescriptor::FixedAscii(_)) => attr
-                .read_scalar::<hdf5::types::FixedAscii<4096>>()
-                .ok()
-                .map(|s| s.as_str().trim_end_matches('\0').to_string()),
-            Ok(TypeDescriptor::FixedUnicode(_)) => attr
-                .read_scalar::<hdf5::types::FixedUnicode<4096>>()
-                .ok()
-                .map(|s| s.as_str().trim_end_matches('\0').to_string()),
-            Ok(TypeDescriptor::VarLenUnicode) => attr
-                .read_scalar::<VarLenUnicode>()
-                .ok()
-                .map(|s| s.as_str().to_string()),
-            _ => None,
-        };
-        if let Some(value) = value {
+        if let Some(value) = hdf5_guard::guarded(path, &format!("attribute '{name}'"), read) {
             attributes.push((name, serde_json::Value::from(value)));
         }
     }
     attributes
+}
+
+/// The value of a string attribute; `None` for other types or unreadable values.
+fn read_string_attribute(attr: &hdf5::Attribute) -> Option<String> {
+    match attr.dtype().and_then(|t| t.to_descriptor()) {
+        Ok(TypeDescriptor::FixedAscii(_)) => attr
+            .read_scalar::<hdf5::types::FixedAscii<4096>>()
+            .ok()
+            .map(|s| s.as_str().trim_end_matches('\0').to_string()),
+        Ok(TypeDescriptor::FixedUnicode(_)) => attr
+            .read_scalar::<hdf5::types::FixedUnicode<4096>>()
+            .ok()
+            .map(|s| s.as_str().trim_end_matches('\0').to_string()),
+        Ok(TypeDescriptor::VarLenUnicode) => attr
+            .read_scalar::<VarLenUnicode>()
+            .ok()
+            .map(|s| s.as_str().to_string()),
+        _ => None,
+    }
 }
 
 #[cfg(test)]
@@ -943,6 +1021,34 @@ mod tests {
             "correction_factors",
         );
         damaged("nan_bins.h5", |l| l.nan_bins = Some(vec![7]), "nan_bins");
+    }
+
+    #[test]
+    fn a_dataspace_larger_than_the_file_can_hold_is_refused_before_reading() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = write(&dir, "huge.h5", &layout(false));
+        {
+            // matrix/data and matrix/indices claim 10^10 values each (80 GB) that the file does
+            // not hold: chunked, never written, so they occupy no storage.
+            let file = hdf5::File::open_rw(&path).unwrap();
+            let matrix = file.group("matrix").unwrap();
+            for name in ["data", "indices"] {
+                matrix.unlink(name).unwrap();
+                matrix
+                    .new_dataset::<f64>()
+                    .chunk(1 << 16)
+                    .shape(10_000_000_000usize)
+                    .create(name)
+                    .unwrap();
+            }
+        }
+        let error = HicExplorerReader::open(&path).unwrap_err();
+        let text = error.to_string();
+        assert!(matches!(error, Error::Format { .. }), "{text}");
+        assert!(
+            text.contains(&path) && text.contains("matrix/data claims 10000000000 values"),
+            "{text}"
+        );
     }
 
     #[test]
