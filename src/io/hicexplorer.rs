@@ -33,7 +33,8 @@
 //!   and cooltools would take as a valid bin of balanced value 0); a pixel touching such a bin
 //!   keeps its stored value (hicCorrectMatrix leaves no pixel on a masked bin).
 //! - **Corrupt files.** Every dataset's length is checked against `matrix/shape` and against the
-//!   bytes the file holds for it before anything is read, and libhdf5's metadata reads run under
+//!   bytes the file holds for it, and its filter pipeline is parsed (blosc: only blosclz, the
+//!   codec HiCMatrix uses, is built in), before anything is read; libhdf5's metadata reads run under
 //!   the [`hdf5_guard`] deadline, so a damaged file is one error naming the file and the dataset.
 //! - **Masked bins.** `nan_bins` are also exposed as their own column `nan_bins` (1 for a kept bin,
 //!   `NaN` for a masked one), so that balanced-value commands given `--weight-name nan_bins` skip
@@ -105,10 +106,21 @@ const SMALL_DATASET_BYTES: u64 = 1 << 20;
 /// checking that the file can hold them: a corrupt dataspace must give an error naming the
 /// dataset, not an allocation of terabytes.
 fn checked_len(path: &str, dataset: &hdf5::Dataset, name: &str, file_len: u64) -> Result<usize> {
-    let (n_values, value_bytes, storage) = hdf5_guard::guarded(path, name, || {
+    let (n_values, value_bytes, storage, filters) = hdf5_guard::guarded(path, name, || {
         let value_bytes = dataset.dtype().map_or(1, |t| t.size());
-        (dataset.size(), value_bytes, dataset.storage_size())
+        let filters = dataset.dcpl().and_then(|p| p.get_filters());
+        (dataset.size(), value_bytes, dataset.storage_size(), filters)
     });
+    // hdf5-metno's blosc filter indexes its parameters without checking their number and
+    // dereferences a null name for an unknown compressor code (SIGSEGV on a damaged filter
+    // message): its own parser checks them without crashing, so a pipeline it refuses is refused
+    // here before any chunk goes through the filter.
+    if let Err(e) = filters {
+        return Err(Error::format(
+            path,
+            format!("{name}: unsupported or corrupt filter pipeline ({e})"),
+        ));
+    }
     let claimed = (n_values as u64).saturating_mul(value_bytes as u64);
     if storage > file_len
         || claimed > SMALL_DATASET_BYTES.saturating_add(MAX_EXPANSION.saturating_mul(storage))

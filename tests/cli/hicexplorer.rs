@@ -234,3 +234,31 @@ fn a_shortened_indptr_is_one_error_naming_the_file_and_dataset() {
     run_err(&["convert", path, out.to_str().unwrap()]);
     assert!(!out.exists());
 }
+
+#[test]
+fn an_unknown_blosc_compressor_is_one_error_not_a_crash() {
+    // hdf5-metno's blosc filter dereferences a null name for a compressor code it does not know
+    // (SIGSEGV, found by mutating the fixture): the reader checks each pipeline first.
+    let mut bytes = std::fs::read(data(H5)).unwrap();
+    // Filter description (HDF5 pipeline message v1): id 32001, name length 8, flags, 7 values,
+    // "blosc\0\0\0", then the values; the 7th is the compressor code (0 = blosclz).
+    let header = [0x01, 0x7d, 8, 0, 1, 0, 7, 0];
+    let at = bytes
+        .windows(header.len())
+        .position(|w| w == header)
+        .expect("a blosc filter message");
+    let code = at + header.len() + 8 + 6 * 4;
+    assert_eq!(bytes[code..code + 4], [0, 0, 0, 0]);
+    bytes[code] = 99;
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("codec.h5");
+    std::fs::write(&path, bytes).unwrap();
+    let path = path.to_str().unwrap();
+    for command in ["dump", "info"] {
+        let error = run_err(&[command, path]);
+        assert!(
+            error.contains(path) && error.contains("filter pipeline (invalid blosc complib: 99)"),
+            "{error}"
+        );
+    }
+}
