@@ -7,6 +7,7 @@
 //! | input | how it is recognised | reader |
 //! |---|---|---|
 //! | `.cool`, `file.mcool::/resolutions/N`, `file.cool::/GROUP` | HDF5 magic bytes | [`cool`] |
+//! | HiCExplorer / HiCMatrix `.h5` (CSR `matrix/` + `intervals/`) | HDF5 magic bytes, root groups `matrix` and `intervals`, no cooler group | [`hicexplorer`] |
 //! | Juicer `.hic` v8 / v9 (`file.hic::/resolutions/N` or `file.hic` for its only resolution) | `HIC\0` magic | [`hic`] |
 //! | BG2 / COO pixel tables, pairs, dense matrices (gzip or plain, `-` for stdin) | `--format` or extension | [`text`] |
 //!
@@ -20,6 +21,7 @@ pub mod bed;
 pub mod cool;
 pub mod hdf5_guard;
 pub mod hic;
+pub mod hicexplorer;
 pub mod predictions;
 pub mod structure;
 pub mod tables;
@@ -192,6 +194,9 @@ pub struct OpenOptions {
 pub fn open_matrix(uri: &str, options: &OpenOptions) -> Result<Box<dyn MatrixReader>> {
     let (path, group) = split_uri(uri);
     match detect_kind(path)? {
+        FileKind::Hdf5 if group.is_none() && hicexplorer::is_hicexplorer(path)? => {
+            Ok(Box::new(hicexplorer::HicExplorerReader::open(path)?))
+        }
         FileKind::Hdf5 => Ok(Box::new(cool::CoolReader::open(uri)?)),
         FileKind::Hic => {
             let resolution = match group {

@@ -17,6 +17,8 @@ mod errors;
 mod expected;
 #[path = "cli/hic.rs"]
 mod hic;
+#[path = "cli/hicexplorer.rs"]
+mod hicexplorer;
 #[path = "cli/info.rs"]
 mod info;
 #[path = "cli/normalize.rs"]

@@ -1,0 +1,1071 @@
+//! HiCExplorer's native `.h5` matrices (HiCMatrix's `h5` format): reader.
+//!
+//! Layout (HiCMatrix `hicmatrix/lib/h5.py`, written through PyTables with blosc compression):
+//!
+//! | dataset | content |
+//! |---|---|
+//! | `matrix/{data,indices,indptr,shape}` | a scipy CSR matrix, `shape = (n, n)` |
+//! | `intervals/{chr_list,start_list,end_list,extra_list}` | the `n` bins; `chr_list` fixed-length bytes |
+//! | `nan_bins` (optional) | ids of the bins HiCExplorer masks (filtered out by `hicCorrectMatrix`) |
+//! | `correction_factors` (optional) | `n` divisive factors, shape `(n,)` or `(n, 1)` |
+//! | `distance_counts` (optional) | not read |
+//!
+//! What the reader makes of it, in contactmap's (and cooler's) conventions:
+//!
+//! - **Triangle.** HiCMatrix saves the upper triangle (`triu`) by default; some tools
+//!   (`hicTransform`) save the full symmetric matrix. Pixels are read row by row and only the
+//!   entries with `bin2 >= bin1` are kept: entries below the diagonal are taken as the mirror images
+//!   of those above it. Column indices are sorted within each row (scipy does not guarantee sorted
+//!   rows) and duplicates summed; stored zeros and `NaN`s are dropped, as HiCMatrix does when it
+//!   writes a cooler.
+//! - **Bins.** Intervals are 0-based half-open (`start_list` of the first bin is 0 and each bin
+//!   starts at the previous one's end), as cooler's. Bins may have any size; a table whose bins are
+//!   all the same size but the last of each chromosome is a fixed-size table. Chromosomes come in
+//!   the order of their first bin and must be contiguous. HiCExplorer stores no chromosome lengths:
+//!   each chromosome's length is taken as its last bin's end (`info` says so).
+//! - **Correction.** After `hicCorrectMatrix`, `matrix/data` holds *corrected* values and
+//!   `correction_factors` the divisive factors `c`: `corrected = raw / (c[i] * c[j])`. As
+//!   HiCExplorer's own `hicConvertFormat` to cooler does, counts are restored to
+//!   `data * c[i] * c[j]` and the factors are exposed inverted, as the multiplicative column
+//!   `weight` (`1 / c`), so that cooler's balanced value `count * weight[i] * weight[j]` is the
+//!   stored corrected value. Bins whose factor is zero or not finite, and the `nan_bins`, get a
+//!   `NaN` weight, cooler's mark of a masked bin (hicConvertFormat writes 0 there, which cooler
+//!   and cooltools would take as a valid bin of balanced value 0); a pixel touching such a bin
+//!   keeps its stored value (hicCorrectMatrix leaves no pixel on a masked bin).
+//! - **Corrupt files.** Every dataset's length is checked against `matrix/shape` and against the
+//!   bytes the file holds for it, and its filter pipeline is parsed (blosc: only blosclz, the
+//!   codec HiCMatrix uses, is built in), before anything is read; libhdf5's metadata reads run under
+//!   the [`hdf5_guard`] deadline, so a damaged file is one error naming the file and the dataset.
+//! - **Masked bins.** `nan_bins` are also exposed as their own column `nan_bins` (1 for a kept bin,
+//!   `NaN` for a masked one), so that balanced-value commands given `--weight-name nan_bins` skip
+//!   them as cooler skips `NaN`-weighted bins.
+//!
+//! Memory: `indptr` (one integer per bin) is read at open; pixels are read in blocks of whole rows
+//! holding about [`BLOCK_PIXELS`] stored entries, so a query never holds the whole matrix.
+
+use std::ops::Range;
+
+use hdf5::types::{TypeDescriptor, VarLenAscii, VarLenUnicode};
+
+use crate::error::{Error, Result};
+use crate::genome::{Bin, BinTable, Chrom};
+use crate::io::{hdf5_guard, MatrixInfo, MatrixReader};
+use crate::matrix::{invert_weight, CountType, PixelBlock, Weights};
+
+/// Stored entries read from the file at a time (whole rows; a longer row is read whole).
+pub const BLOCK_PIXELS: usize = 1 << 20;
+
+/// Name of the weight column made from `correction_factors`.
+pub const CORRECTION_WEIGHT: &str = "weight";
+
+/// Name of the weight column made from `nan_bins`.
+pub const NAN_BINS_WEIGHT: &str = "nan_bins";
+
+/// True when the HDF5 file at `path` has HiCExplorer's layout: root groups `matrix` and
+/// `intervals`, and none of a cooler's (`pixels`, `bins`, `chroms`, `resolutions`).
+pub fn is_hicexplorer(path: &str) -> Result<bool> {
+    let file = open_file(path)?;
+    Ok(hdf5_guard::guarded(
+        path,
+        "the root group's members",
+        || {
+            let has = |name: &str| file.link_exists(name);
+            let group = |name: &str| has(name) && file.group(name).is_ok();
+            let cooler = ["pixels", "bins", "chroms", "resolutions"]
+                .iter()
+                .any(|name| has(name));
+            !cooler && group("matrix") && group("intervals")
+        },
+    ))
+}
+
+fn open_file(path: &str) -> Result<hdf5::File> {
+    if let Err(e) = std::fs::metadata(path) {
+        return Err(Error::io(path, e));
+    }
+    hdf5_guard::guarded(path, "the file's superblock and root group", || {
+        crate::io::cool::file_builder().open(path)
+    })
+    .map_err(|e| {
+        Error::format(
+            path,
+            format!("not a readable HDF5 file (truncated or corrupt?): {e}"),
+        )
+    })
+}
+
+/// Largest ratio of a dataset's size in memory to the bytes it occupies in the file. Deflate
+/// cannot compress more than about 1032:1 and blosc (as HiCMatrix uses it) about 160:1, so a
+/// dataset claiming more values than that is a corrupt dataspace, refused before any allocation.
+const MAX_EXPANSION: u64 = 4096;
+
+/// Datasets up to this many bytes in memory are read whatever their storage (compact layouts).
+const SMALL_DATASET_BYTES: u64 = 1 << 20;
+
+/// The number of values of `dataset` (`name` in the file `path` of `file_len` bytes), after
+/// checking that the file can hold them: a corrupt dataspace must give an error naming the
+/// dataset, not an allocation of terabytes.
+fn checked_len(path: &str, dataset: &hdf5::Dataset, name: &str, file_len: u64) -> Result<usize> {
+    let (n_values, value_bytes, storage, filters) = hdf5_guard::guarded(path, name, || {
+        let value_bytes = dataset.dtype().map_or(1, |t| t.size());
+        let filters = dataset.dcpl().and_then(|p| p.get_filters());
+        (dataset.size(), value_bytes, dataset.storage_size(), filters)
+    });
+    // hdf5-metno's blosc filter indexes its parameters without checking their number and
+    // dereferences a null name for an unknown compressor code (SIGSEGV on a damaged filter
+    // message): its own parser checks them without crashing, so a pipeline it refuses is refused
+    // here before any chunk goes through the filter.
+    if let Err(e) = filters {
+        return Err(Error::format(
+            path,
+            format!("{name}: unsupported or corrupt filter pipeline ({e})"),
+        ));
+    }
+    let claimed = (n_values as u64).saturating_mul(value_bytes as u64);
+    if storage > file_len
+        || claimed > SMALL_DATASET_BYTES.saturating_add(MAX_EXPANSION.saturating_mul(storage))
+    {
+        return Err(Error::format(
+            path,
+            format!(
+                "{name} claims {n_values} values ({claimed} bytes) stored in {storage} bytes of a \
+                 {file_len}-byte file: its dataspace or chunk index is corrupt"
+            ),
+        ));
+    }
+    Ok(n_values)
+}
+
+/// An open HiCExplorer `.h5` matrix.
+#[derive(Debug)]
+pub struct HicExplorerReader {
+    path: String,
+    data: hdf5::Dataset,
+    indices: hdf5::Dataset,
+    indptr: Vec<u64>,
+    bins: BinTable,
+    count_type: CountType,
+    correction_factors: Option<Vec<f64>>,
+    nan_bins: Vec<usize>,
+    has_nan_bins: bool,
+    has_distance_counts: bool,
+    attributes: Vec<(String, serde_json::Value)>,
+}
+
+impl HicExplorerReader {
+    /// Open the HiCExplorer matrix at `path`, reading its bins and row index and checking that
+    /// the datasets agree with one another.
+    pub fn open(path: &str) -> Result<HicExplorerReader> {
+        let file = open_file(path)?;
+        let file_len = std::fs::metadata(path)
+            .map_err(|e| Error::io(path, e))?
+            .len();
+        for group in ["matrix", "intervals"] {
+            if hdf5_guard::guarded(path, group, || file.group(group)).is_err() {
+                return Err(Error::format(
+                    path,
+                    format!("not a HiCExplorer .h5 matrix: it has no '{group}' group"),
+                ));
+            }
+        }
+        let dataset = |name: &str| {
+            hdf5_guard::guarded(path, name, || file.dataset(name))
+                .map_err(|e| Error::format(path, format!("missing dataset {name}: {e}")))
+        };
+        // Every length is checked against the others (and against the file's size) before
+        // anything is read from it.
+        let shape_dataset = dataset("matrix/shape")?;
+        let n_shape = checked_len(path, &shape_dataset, "matrix/shape", file_len)?;
+        if n_shape != 2 {
+            return Err(Error::format(
+                path,
+                format!("matrix/shape has {n_shape} values; expected 2 ([n, n])"),
+            ));
+        }
+        let shape = read_ints(path, &shape_dataset, "matrix/shape")?;
+        if shape[0] != shape[1] || shape[0] < 0 {
+            return Err(Error::format(
+                path,
+                format!("matrix/shape is {shape:?}; expected a square matrix [n, n]"),
+            ));
+        }
+        let n_bins = shape[0] as usize;
+        let expect_len = |name: &str, wanted: usize, what: &str| -> Result<hdf5::Dataset> {
+            let found = dataset(name)?;
+            let n_values = checked_len(path, &found, name, file_len)?;
+            if n_values != wanted {
+                return Err(Error::format(
+                    path,
+                    format!(
+                        "{name} has {n_values} values but matrix/shape {shape:?} needs {wanted} ({what})"
+                    ),
+                ));
+            }
+            Ok(found)
+        };
+        for name in [
+            "intervals/chr_list",
+            "intervals/start_list",
+            "intervals/end_list",
+        ] {
+            expect_len(name, n_bins, "one per bin")?;
+        }
+        let indptr_dataset = expect_len("matrix/indptr", n_bins + 1, "number of bins + 1")?;
+        let bins = read_intervals(path, &file)?;
+        if bins.n_bins() != n_bins {
+            return Err(Error::format(
+                path,
+                format!(
+                    "matrix/shape is {shape:?} but intervals/ lists {} bins: they must agree",
+                    bins.n_bins()
+                ),
+            ));
+        }
+        let data = dataset("matrix/data")?;
+        let nnz = checked_len(path, &data, "matrix/data", file_len)?;
+        let indices = dataset("matrix/indices")?;
+        let n_indices = checked_len(path, &indices, "matrix/indices", file_len)?;
+        if n_indices != nnz {
+            return Err(Error::format(
+                path,
+                format!("matrix/indices has {n_indices} entries but matrix/data has {nnz}"),
+            ));
+        }
+        let indptr = read_ints(path, &indptr_dataset, "matrix/indptr")?;
+        if let Some(k) = indptr.windows(2).position(|w| w[0] > w[1]) {
+            return Err(Error::format(
+                path,
+                format!(
+                    "matrix/indptr decreases at row {k} ({} then {}): not a CSR row index",
+                    indptr[k],
+                    indptr[k + 1]
+                ),
+            ));
+        }
+        if indptr.first() != Some(&0) || indptr.last() != Some(&(nnz as i64)) {
+            return Err(Error::format(
+                path,
+                format!(
+                    "matrix/indptr runs from {} to {}; expected 0 to {nnz} (the length of matrix/data)",
+                    indptr.first().copied().unwrap_or(0),
+                    indptr.last().copied().unwrap_or(0)
+                ),
+            ));
+        }
+        let integer_data = matches!(
+            hdf5_guard::guarded(path, "the type of matrix/data", || {
+                data.dtype().and_then(|t| t.to_descriptor())
+            }),
+            Ok(TypeDescriptor::Integer(_) | TypeDescriptor::Unsigned(_))
+        );
+
+        let exists = |name: &str| hdf5_guard::guarded(path, name, || file.link_exists(name));
+        let correction_factors = if exists("correction_factors") {
+            let values = expect_len("correction_factors", n_bins, "one per bin")?
+                .read_raw::<f64>()
+                .map_err(|e| Error::hdf5(path, "reading correction_factors", e))?;
+            Some(values)
+        } else {
+            None
+        };
+        let has_nan_bins = exists("nan_bins");
+        let mut nan_bins = Vec::new();
+        if has_nan_bins {
+            let nan_bins_dataset = dataset("nan_bins")?;
+            let n_nan_bins = checked_len(path, &nan_bins_dataset, "nan_bins", file_len)?;
+            if n_nan_bins > n_bins {
+                return Err(Error::format(
+                    path,
+                    format!("nan_bins lists {n_nan_bins} bins, more than the {n_bins} bins"),
+                ));
+            }
+            for value in read_ints(path, &nan_bins_dataset, "nan_bins")? {
+                if value < 0 || value >= n_bins as i64 {
+                    return Err(Error::format(
+                        path,
+                        format!("nan_bins lists bin {value}, outside the {n_bins} bins"),
+                    ));
+                }
+                nan_bins.push(value as usize);
+            }
+            nan_bins.sort_unstable();
+            nan_bins.dedup();
+        }
+        let count_type = if integer_data && correction_factors.is_none() {
+            CountType::Integer
+        } else {
+            CountType::Float
+        };
+        Ok(HicExplorerReader {
+            path: path.to_string(),
+            data,
+            indices,
+            indptr: indptr.into_iter().map(|v| v as u64).collect(),
+            bins,
+            count_type,
+            correction_factors,
+            nan_bins,
+            has_nan_bins,
+            has_distance_counts: exists("distance_counts"),
+            attributes: read_string_attributes(path, &file),
+        })
+    }
+
+    /// The bins HiCExplorer masks (`nan_bins`), sorted; empty when the file has none.
+    pub fn nan_bins(&self) -> &[usize] {
+        &self.nan_bins
+    }
+
+    /// The divisive correction factors as stored, when the file has them.
+    pub fn correction_factors(&self) -> Option<&[f64]> {
+        self.correction_factors.as_deref()
+    }
+
+    /// The multiplicative weight of each bin: `1 / correction_factor`, `NaN` for masked bins.
+    fn correction_weights(&self, factors: &[f64]) -> Vec<f64> {
+        let mut values: Vec<f64> = factors.iter().map(|&c| invert_weight(c)).collect();
+        for &bin in &self.nan_bins {
+            values[bin] = f64::NAN;
+        }
+        values
+    }
+
+    /// Read the stored entries of rows `rows` (whole rows) as (column, value) per row.
+    fn read_rows(&self, rows: Range<usize>) -> Result<(Vec<i64>, Vec<f64>)> {
+        let lo = self.indptr[rows.start] as usize;
+        let hi = self.indptr[rows.end] as usize;
+        let columns = self
+            .indices
+            .read_slice_1d::<i64, _>(lo..hi)
+            .map_err(|e| Error::hdf5(&self.path, format!("reading matrix/indices[{lo}..{hi}]"), e))?
+            .to_vec();
+        let values = self
+            .data
+            .read_slice_1d::<f64, _>(lo..hi)
+            .map_err(|e| Error::hdf5(&self.path, format!("reading matrix/data[{lo}..{hi}]"), e))?
+            .to_vec();
+        Ok((columns, values))
+    }
+
+    /// Turn the stored entries of one row into sorted upper-triangle pixels within `cols`.
+    fn row_pixels(
+        &self,
+        row: usize,
+        columns: &[i64],
+        values: &[f64],
+        cols: &Range<usize>,
+        scratch: &mut Vec<(u64, f64)>,
+        block: &mut PixelBlock,
+    ) -> Result<()> {
+        let n_bins = self.bins.n_bins();
+        scratch.clear();
+        for (&column, &value) in columns.iter().zip(values) {
+            if column < 0 || column >= n_bins as i64 {
+                return Err(Error::format(
+                    &self.path,
+                    format!(
+                        "matrix/indices: row {row} has column {column}, outside the {n_bins} bins"
+                    ),
+                ));
+            }
+            let column = column as usize;
+            if column >= row && cols.contains(&column) && value != 0.0 && !value.is_nan() {
+                scratch.push((column as u64, value));
+            }
+        }
+        if !scratch.windows(2).all(|w| w[0].0 < w[1].0) {
+            scratch.sort_by_key(|&(column, _)| column);
+        }
+        let factor = |bin: usize| {
+            self.correction_factors
+                .as_ref()
+                .map(|c| c[bin])
+                .filter(|c| c.is_finite() && *c > 0.0)
+        };
+        let row_factor = factor(row);
+        let mut previous: Option<u64> = None;
+        for &(column, value) in scratch.iter() {
+            let count = match (self.correction_factors.is_some(), row_factor) {
+                (false, _) => value,
+                (true, Some(ci)) => match factor(column as usize) {
+                    Some(cj) => value * ci * cj,
+                    None => value,
+                },
+                (true, None) => value,
+            };
+            if previous == Some(column) {
+                if let Some(last) = block.count.last_mut() {
+                    *last += count;
+                }
+            } else {
+                block.push(row as u64, column, count);
+                previous = Some(column);
+            }
+        }
+        Ok(())
+    }
+}
+
+impl MatrixReader for HicExplorerReader {
+    fn source(&self) -> &str {
+        &self.path
+    }
+
+    fn bins(&self) -> &BinTable {
+        &self.bins
+    }
+
+    fn count_type(&self) -> CountType {
+        self.count_type
+    }
+
+    fn weight_names(&self) -> Vec<String> {
+        let mut names = Vec::new();
+        if self.has_nan_bins {
+            names.push(NAN_BINS_WEIGHT.to_string());
+        }
+        if self.correction_factors.is_some() {
+            names.push(CORRECTION_WEIGHT.to_string());
+        }
+        names
+    }
+
+    fn weights(&self, name: &str) -> Result<Weights> {
+        match (name, &self.correction_factors) {
+            (CORRECTION_WEIGHT, Some(factors)) => Ok(Weights {
+                name: name.to_string(),
+                values: self.correction_weights(factors),
+                provenance: Some(
+                    "HiCExplorer correction_factors (divisive), inverted to multiplicative on read"
+                        .to_string(),
+                ),
+            }),
+            (NAN_BINS_WEIGHT, _) if self.has_nan_bins => {
+                let mut values = vec![1.0; self.bins.n_bins()];
+                for &bin in &self.nan_bins {
+                    values[bin] = f64::NAN;
+                }
+                Ok(Weights {
+                    name: name.to_string(),
+                    values,
+                    provenance: Some(
+                        "HiCExplorer nan_bins: NaN for a masked bin, 1 elsewhere".to_string(),
+                    ),
+                })
+            }
+            _ => {
+                let names = self.weight_names();
+                Err(Error::format(
+                    &self.path,
+                    format!(
+                        "no weight column '{name}' (available: {})",
+                        if names.is_empty() {
+                            "none".to_string()
+                        } else {
+                            names.join(", ")
+                        }
+                    ),
+                ))
+            }
+        }
+    }
+
+    fn info(&self) -> MatrixInfo {
+        let mut notes = vec![
+            "HiCExplorer stores no chromosome lengths: each chromosome's length is its last bin's end"
+                .to_string(),
+            "the CSR matrix is read through its upper triangle (bin1 <= bin2); entries below the diagonal (full matrices, as hicTransform saves) are taken as mirror images"
+                .to_string(),
+        ];
+        if self.correction_factors.is_some() {
+            notes.push(
+                "matrix/data holds corrected values: counts are restored as data * c[i] * c[j] from the divisive correction_factors c, which are exposed inverted (1 / c, cooler's multiplicative convention) as the weight column 'weight', as hicConvertFormat does"
+                    .to_string(),
+            );
+        }
+        if self.has_nan_bins {
+            notes.push(format!(
+                "{} nan_bins (bins HiCExplorer masks) are NaN in the weight column 'nan_bins' (1 elsewhere){}",
+                self.nan_bins.len(),
+                if self.correction_factors.is_some() {
+                    " and in 'weight'"
+                } else {
+                    ""
+                }
+            ));
+        }
+        if self.has_distance_counts {
+            notes.push("distance_counts is present and not read".to_string());
+        }
+        MatrixInfo {
+            format: "HiCExplorer h5 (HiCMatrix CSR)".to_string(),
+            attributes: self.attributes.clone(),
+            resolutions: self.bins.bin_size_bp().into_iter().collect(),
+            notes,
+        }
+    }
+
+    fn read_pixels(
+        &self,
+        rows: Range<usize>,
+        cols: Range<usize>,
+        sink: &mut dyn FnMut(&PixelBlock) -> Result<()>,
+    ) -> Result<()> {
+        let n_bins = self.bins.n_bins();
+        let rows = rows.start.min(n_bins)..rows.end.min(n_bins);
+        let cols = cols.start.min(n_bins)..cols.end.min(n_bins);
+        if rows.is_empty() || cols.is_empty() {
+            return Ok(());
+        }
+        let mut block = PixelBlock::with_capacity(BLOCK_PIXELS.min(1 << 16));
+        let mut scratch = Vec::new();
+        let mut first = rows.start;
+        while first < rows.end {
+            // Whole rows holding at most BLOCK_PIXELS stored entries (at least one row).
+            let limit = self.indptr[first] + BLOCK_PIXELS as u64;
+            let mut last = first + 1;
+            while last < rows.end && self.indptr[last + 1] <= limit {
+                last += 1;
+            }
+            let (columns, values) = self.read_rows(first..last)?;
+            let base = self.indptr[first] as usize;
+            for row in first..last {
+                let lo = self.indptr[row] as usize - base;
+                let hi = self.indptr[row + 1] as usize - base;
+                self.row_pixels(
+                    row,
+                    &columns[lo..hi],
+                    &values[lo..hi],
+                    &cols,
+                    &mut scratch,
+                    &mut block,
+                )?;
+            }
+            if block.len() >= BLOCK_PIXELS / 2 {
+                sink(&block)?;
+                block.clear();
+            }
+            first = last;
+        }
+        if !block.is_empty() {
+            sink(&block)?;
+        }
+        Ok(())
+    }
+}
+
+/// Read an integer dataset of any integer width.
+fn read_ints(path: &str, dataset: &hdf5::Dataset, name: &str) -> Result<Vec<i64>> {
+    dataset
+        .read_raw::<i64>()
+        .map_err(|e| Error::hdf5(path, format!("reading {name}"), e))
+}
+
+/// Read a string dataset: fixed-length bytes (PyTables' usual), fixed-length UTF-8 or
+/// variable-length strings.
+fn read_strings(path: &str, dataset: &hdf5::Dataset, name: &str) -> Result<Vec<String>> {
+    let err = |e| Error::hdf5(path, format!("reading {name}"), e);
+    let descriptor = hdf5_guard::guarded(path, name, || {
+        dataset.dtype().and_then(|t| t.to_descriptor())
+    })
+    .map_err(|e| Error::hdf5(path, format!("reading the type of {name}"), e))?;
+    let read = || -> Result<Vec<String>> {
+        Ok(match descriptor {
+            TypeDescriptor::FixedAscii(_) => dataset
+                .read_raw::<hdf5::types::FixedAscii<1024>>()
+                .map_err(err)?
+                .iter()
+                .map(|s| s.as_str().trim_end_matches('\0').to_string())
+                .collect(),
+            TypeDescriptor::FixedUnicode(_) => dataset
+                .read_raw::<hdf5::types::FixedUnicode<1024>>()
+                .map_err(err)?
+                .iter()
+                .map(|s| s.as_str().trim_end_matches('\0').to_string())
+                .collect(),
+            TypeDescriptor::VarLenAscii => dataset
+                .read_raw::<VarLenAscii>()
+                .map_err(err)?
+                .iter()
+                .map(|s| s.as_str().to_string())
+                .collect(),
+            TypeDescriptor::VarLenUnicode => dataset
+                .read_raw::<VarLenUnicode>()
+                .map_err(err)?
+                .iter()
+                .map(|s| s.as_str().to_string())
+                .collect(),
+            other => {
+                return Err(Error::format(
+                    path,
+                    format!("{name} has type {other:?}; expected strings"),
+                ))
+            }
+        })
+    };
+    hdf5_guard::guarded(path, name, read)
+}
+
+/// Read `intervals/` into a bin table: chromosomes in order of first appearance, each as long as
+/// its last bin's end.
+fn read_intervals(path: &str, file: &hdf5::File) -> Result<BinTable> {
+    let dataset = |name: &str| {
+        hdf5_guard::guarded(path, name, || file.dataset(name))
+            .map_err(|e| Error::format(path, format!("missing dataset {name}: {e}")))
+    };
+    let names = read_strings(path, &dataset("intervals/chr_list")?, "intervals/chr_list")?;
+    let starts = read_ints(
+        path,
+        &dataset("intervals/start_list")?,
+        "intervals/start_list",
+    )?;
+    let ends = read_ints(path, &dataset("intervals/end_list")?, "intervals/end_list")?;
+    if names.len() != starts.len() || starts.len() != ends.len() {
+        return Err(Error::format(
+            path,
+            format!(
+                "intervals/chr_list, start_list and end_list differ in length ({}, {}, {})",
+                names.len(),
+                starts.len(),
+                ends.len()
+            ),
+        ));
+    }
+    let mut chroms: Vec<Chrom> = Vec::new();
+    let mut bins = Vec::with_capacity(names.len());
+    for (k, name) in names.into_iter().enumerate() {
+        let (start, end) = (starts[k], ends[k]);
+        if start < 0 || end <= start {
+            return Err(Error::format(
+                path,
+                format!("intervals row {k}: {name}:{start}-{end} is not a valid bin"),
+            ));
+        }
+        let chrom_id = match chroms.last() {
+            Some(last) if last.name == name => chroms.len() - 1,
+            _ => {
+                if chroms.iter().any(|c| c.name == name) {
+                    return Err(Error::format(
+                        path,
+                        format!(
+                            "intervals row {k}: chromosome {name} appears again after other chromosomes; its bins must be contiguous"
+                        ),
+                    ));
+                }
+                chroms.push(Chrom::new(name, 0));
+                chroms.len() - 1
+            }
+        };
+        let chrom = &mut chroms[chrom_id];
+        chrom.length_bp = chrom.length_bp.max(end as u64);
+        bins.push(Bin {
+            chrom_id,
+            start: start as u64,
+            end: end as u64,
+        });
+    }
+    BinTable::from_bins(chroms, &bins, None)
+        .map_err(|e| Error::format(path, format!("intervals: {e}")))
+}
+
+/// The root attributes that PyTables writes as strings (TITLE, VERSION, ...), for `info`.
+fn read_string_attributes(path: &str, file: &hdf5::File) -> Vec<(String, serde_json::Value)> {
+    let Ok(names) = hdf5_guard::guarded(path, "the attribute names", || file.attr_names()) else {
+        return Vec::new();
+    };
+    let mut attributes = Vec::new();
+    for name in names {
+        let read = || {
+            let Ok(attr) = file.attr(&name) else {
+                return None;
+            };
+            read_string_attribute(&attr)
+        };
+        if let Some(value) = hdf5_guard::guarded(path, &format!("attribute '{name}'"), read) {
+            attributes.push((name, serde_json::Value::from(value)));
+        }
+    }
+    attributes
+}
+
+/// The value of a string attribute; `None` for other types or unreadable values.
+fn read_string_attribute(attr: &hdf5::Attribute) -> Option<String> {
+    match attr.dtype().and_then(|t| t.to_descriptor()) {
+        Ok(TypeDescriptor::FixedAscii(_)) => attr
+            .read_scalar::<hdf5::types::FixedAscii<4096>>()
+            .ok()
+            .map(|s| s.as_str().trim_end_matches('\0').to_string()),
+        Ok(TypeDescriptor::FixedUnicode(_)) => attr
+            .read_scalar::<hdf5::types::FixedUnicode<4096>>()
+            .ok()
+            .map(|s| s.as_str().trim_end_matches('\0').to_string()),
+        Ok(TypeDescriptor::VarLenUnicode) => attr
+            .read_scalar::<VarLenUnicode>()
+            .ok()
+            .map(|s| s.as_str().to_string()),
+        _ => None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use hdf5::types::FixedAscii;
+
+    /// What a synthetic file holds; every dataset can be made inconsistent on purpose.
+    struct Layout {
+        chr_list: Vec<&'static str>,
+        start_list: Vec<i64>,
+        end_list: Vec<i64>,
+        data: Vec<f64>,
+        indices: Vec<i64>,
+        indptr: Vec<i64>,
+        shape: Vec<i64>,
+        correction_factors: Option<Vec<f64>>,
+        nan_bins: Option<Vec<i64>>,
+    }
+
+    /// Two chromosomes of 10 bp bins: a (0..40, 4 bins), b (0..25, 3 bins, the last 5 bp).
+    fn bins_layout() -> (Vec<&'static str>, Vec<i64>, Vec<i64>) {
+        (
+            vec!["a", "a", "a", "a", "b", "b", "b"],
+            vec![0, 10, 20, 30, 0, 10, 20],
+            vec![10, 20, 30, 40, 10, 20, 25],
+        )
+    }
+
+    /// A dense symmetric 7 x 7 test matrix with zeros here and there.
+    fn dense() -> Vec<Vec<f64>> {
+        let n = 7;
+        (0..n)
+            .map(|i| {
+                (0..n)
+                    .map(|j| ((i.min(j) * 5 + i.max(j) * 3) % 7) as f64)
+                    .collect()
+            })
+            .collect()
+    }
+
+    /// CSR of `m`: the upper triangle, or the full matrix with each row's columns reversed and
+    /// the first kept entry split into two duplicates (scipy allows both).
+    fn csr(m: &[Vec<f64>], full: bool) -> (Vec<f64>, Vec<i64>, Vec<i64>) {
+        let (mut data, mut indices, mut indptr) = (Vec::new(), Vec::new(), vec![0i64]);
+        for (i, row) in m.iter().enumerate() {
+            let mut entries: Vec<(i64, f64)> = row
+                .iter()
+                .enumerate()
+                .filter(|&(j, &v)| v != 0.0 && (full || j >= i))
+                .map(|(j, &v)| (j as i64, v))
+                .collect();
+            if full {
+                entries.reverse();
+                if let Some(&(j, v)) = entries.first() {
+                    entries[0] = (j, v / 2.0);
+                    entries.push((j, v / 2.0));
+                }
+            }
+            for (j, v) in entries {
+                indices.push(j);
+                data.push(v);
+            }
+            indptr.push(indices.len() as i64);
+        }
+        (data, indices, indptr)
+    }
+
+    fn layout(full: bool) -> Layout {
+        let (chr_list, start_list, end_list) = bins_layout();
+        let (data, indices, indptr) = csr(&dense(), full);
+        Layout {
+            chr_list,
+            start_list,
+            end_list,
+            data,
+            indices,
+            indptr,
+            shape: vec![7, 7],
+            correction_factors: None,
+            nan_bins: None,
+        }
+    }
+
+    fn write(dir: &tempfile::TempDir, name: &str, l: &Layout) -> String {
+        let path = dir.path().join(name);
+        let file = hdf5::File::create(&path).unwrap();
+        let matrix = file.create_group("matrix").unwrap();
+        let intervals = file.create_group("intervals").unwrap();
+        matrix
+            .new_dataset_builder()
+            .with_data(&l.data)
+            .create("data")
+            .unwrap();
+        let indices: Vec<i32> = l.indices.iter().map(|&v| v as i32).collect();
+        matrix
+            .new_dataset_builder()
+            .with_data(&indices)
+            .create("indices")
+            .unwrap();
+        matrix
+            .new_dataset_builder()
+            .with_data(&l.indptr)
+            .create("indptr")
+            .unwrap();
+        matrix
+            .new_dataset_builder()
+            .with_data(&l.shape)
+            .create("shape")
+            .unwrap();
+        let names: Vec<FixedAscii<9>> = l
+            .chr_list
+            .iter()
+            .map(|s| FixedAscii::from_ascii(s.as_bytes()).unwrap())
+            .collect();
+        intervals
+            .new_dataset_builder()
+            .with_data(&names)
+            .create("chr_list")
+            .unwrap();
+        intervals
+            .new_dataset_builder()
+            .with_data(&l.start_list)
+            .create("start_list")
+            .unwrap();
+        intervals
+            .new_dataset_builder()
+            .with_data(&l.end_list)
+            .create("end_list")
+            .unwrap();
+        let extra = vec![1.0; l.start_list.len()];
+        intervals
+            .new_dataset_builder()
+            .with_data(&extra)
+            .create("extra_list")
+            .unwrap();
+        if let Some(cf) = &l.correction_factors {
+            // HiCExplorer stores them as an (n, 1) column.
+            file.new_dataset::<f64>()
+                .shape((cf.len(), 1))
+                .create("correction_factors")
+                .unwrap()
+                .write_raw(cf)
+                .unwrap();
+        }
+        if let Some(nan_bins) = &l.nan_bins {
+            file.new_dataset_builder()
+                .with_data(nan_bins)
+                .create("nan_bins")
+                .unwrap();
+        }
+        path.to_string_lossy().into_owned()
+    }
+
+    fn pixels(
+        reader: &HicExplorerReader,
+        rows: Range<usize>,
+        cols: Range<usize>,
+    ) -> Vec<(u64, u64, f64)> {
+        let mut out = Vec::new();
+        reader
+            .read_pixels(rows, cols, &mut |block| {
+                for k in 0..block.len() {
+                    out.push((block.bin1[k], block.bin2[k], block.count[k]));
+                }
+                Ok(())
+            })
+            .unwrap();
+        out
+    }
+
+    /// The naive reference: every non-zero entry of the upper triangle, row-major.
+    fn naive(m: &[Vec<f64>], factor: impl Fn(usize, usize) -> f64) -> Vec<(u64, u64, f64)> {
+        let mut out = Vec::new();
+        for (i, row) in m.iter().enumerate() {
+            for (j, &value) in row.iter().enumerate().skip(i) {
+                if value != 0.0 {
+                    out.push((i as u64, j as u64, value * factor(i, j)));
+                }
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn upper_and_full_storage_give_the_dense_upper_triangle() {
+        let dir = tempfile::tempdir().unwrap();
+        let expected = naive(&dense(), |_, _| 1.0);
+        for full in [false, true] {
+            let path = write(&dir, &format!("m{full}.h5"), &layout(full));
+            assert!(is_hicexplorer(&path).unwrap());
+            let reader = HicExplorerReader::open(&path).unwrap();
+            assert_eq!(pixels(&reader, 0..7, 0..7), expected, "full = {full}");
+            // Sub-rectangles are the matching part of the whole.
+            let part: Vec<_> = expected
+                .iter()
+                .copied()
+                .filter(|&(i, j, _)| (2..5).contains(&i) && (3..6).contains(&j))
+                .collect();
+            assert_eq!(pixels(&reader, 2..5, 3..6), part);
+            assert_eq!(reader.count_type(), CountType::Float);
+            assert!(reader.weight_names().is_empty());
+        }
+    }
+
+    #[test]
+    fn intervals_become_a_fixed_bin_table_with_lengths_from_the_last_bin() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = write(&dir, "m.h5", &layout(false));
+        let reader = HicExplorerReader::open(&path).unwrap();
+        let bins = reader.bins();
+        assert_eq!(bins.bin_size_bp(), Some(10));
+        let chroms: Vec<(&str, u64)> = bins
+            .chroms()
+            .iter()
+            .map(|c| (c.name.as_str(), c.length_bp))
+            .collect();
+        assert_eq!(chroms, vec![("a", 40), ("b", 25)]);
+        assert_eq!(bins.chrom_offsets(), &[0, 4, 7]);
+    }
+
+    #[test]
+    fn correction_factors_restore_counts_and_become_multiplicative_weights() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut l = layout(false);
+        // Bin 2 is a nan_bin (factor NaN), bin 5 has a zero factor.
+        let c = vec![0.5, 2.0, f64::NAN, 4.0, 1.0, 0.0, 0.25];
+        let usable = |k: usize| c[k].is_finite() && c[k] > 0.0;
+        l.correction_factors = Some(c.clone());
+        l.nan_bins = Some(vec![2]);
+        let path = write(&dir, "c.h5", &l);
+        let reader = HicExplorerReader::open(&path).unwrap();
+        let expected = naive(&dense(), |i, j| {
+            if usable(i) && usable(j) {
+                c[i] * c[j]
+            } else {
+                1.0
+            }
+        });
+        assert_eq!(pixels(&reader, 0..7, 0..7), expected);
+        assert_eq!(reader.weight_names(), vec!["nan_bins", "weight"]);
+        let weight = reader.weights("weight").unwrap().values;
+        for (k, w) in weight.iter().enumerate() {
+            if usable(k) {
+                assert_eq!(*w, 1.0 / c[k]);
+            } else {
+                assert!(w.is_nan(), "bin {k}");
+            }
+        }
+        // Balanced = stored corrected value wherever both weights exist.
+        let m = dense();
+        for (i, j, count) in pixels(&reader, 0..7, 0..7) {
+            let (i, j) = (i as usize, j as usize);
+            if usable(i) && usable(j) {
+                let balanced = count * weight[i] * weight[j];
+                assert!((balanced - m[i][j]).abs() <= 1e-12 * m[i][j]);
+            }
+        }
+        let mask = reader.weights("nan_bins").unwrap().values;
+        assert!(mask[2].is_nan());
+        assert_eq!(mask.iter().filter(|w| **w == 1.0).count(), 6);
+        assert_eq!(reader.nan_bins(), &[2]);
+        assert!(reader.weights("KR").is_err());
+        assert!(reader.info().notes.iter().any(|n| n.contains("1 / c")));
+    }
+
+    /// Open (and read) a damaged file: the error must name the file and the dataset.
+    fn damaged(name: &str, change: impl FnOnce(&mut Layout), dataset: &str) {
+        let dir = tempfile::tempdir().unwrap();
+        let mut l = layout(false);
+        change(&mut l);
+        let path = write(&dir, name, &l);
+        let error = HicExplorerReader::open(&path)
+            .and_then(|r| r.read_pixels(0..7, 0..7, &mut |_| Ok(())))
+            .unwrap_err();
+        assert!(matches!(error, Error::Format { .. }), "{name}: {error}");
+        let text = error.to_string();
+        assert!(
+            text.contains(&path) && text.contains(dataset),
+            "{name}: {text}"
+        );
+    }
+
+    #[test]
+    fn inconsistent_files_are_format_errors_naming_the_dataset() {
+        damaged(
+            "short.h5",
+            |l| {
+                l.indptr.pop();
+            },
+            "matrix/indptr",
+        );
+        damaged(
+            "decreasing.h5",
+            |l| l.indptr[3] = l.indptr[5],
+            "matrix/indptr",
+        );
+        damaged(
+            "end.h5",
+            |l| *l.indptr.last_mut().unwrap() -= 1,
+            "matrix/indptr",
+        );
+        damaged("column.h5", |l| l.indices[4] = 7, "matrix/indices");
+        damaged("negative.h5", |l| l.indices[0] = -1, "matrix/indices");
+        damaged("shape.h5", |l| l.shape = vec![8, 8], "matrix/shape");
+        damaged("square.h5", |l| l.shape = vec![7, 6], "matrix/shape");
+        damaged(
+            "data.h5",
+            |l| {
+                l.data.pop();
+            },
+            "matrix/data",
+        );
+        damaged(
+            "intervals.h5",
+            |l| {
+                l.end_list.pop();
+            },
+            "end_list",
+        );
+        damaged("interleaved.h5", |l| l.chr_list[2] = "b", "chromosome a");
+        damaged("gap.h5", |l| l.start_list[2] = 25, "intervals");
+        damaged(
+            "factors.h5",
+            |l| l.correction_factors = Some(vec![1.0; 6]),
+            "correction_factors",
+        );
+        damaged("nan_bins.h5", |l| l.nan_bins = Some(vec![7]), "nan_bins");
+    }
+
+    #[test]
+    fn a_dataspace_larger_than_the_file_can_hold_is_refused_before_reading() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = write(&dir, "huge.h5", &layout(false));
+        {
+            // matrix/data and matrix/indices claim 10^10 values each (80 GB) that the file does
+            // not hold: chunked, never written, so they occupy no storage.
+            let file = hdf5::File::open_rw(&path).unwrap();
+            let matrix = file.group("matrix").unwrap();
+            for name in ["data", "indices"] {
+                matrix.unlink(name).unwrap();
+                matrix
+                    .new_dataset::<f64>()
+                    .chunk(1 << 16)
+                    .shape(10_000_000_000usize)
+                    .create(name)
+                    .unwrap();
+            }
+        }
+        let error = HicExplorerReader::open(&path).unwrap_err();
+        let text = error.to_string();
+        assert!(matches!(error, Error::Format { .. }), "{text}");
+        assert!(
+            text.contains(&path) && text.contains("matrix/data claims 10000000000 values"),
+            "{text}"
+        );
+    }
+
+    #[test]
+    fn coolers_are_not_taken_for_hicexplorer_files() {
+        let cool = concat!(env!("CARGO_MANIFEST_DIR"), "/data/CN.mm9.10000kb.cool");
+        assert!(!is_hicexplorer(cool).unwrap());
+    }
+}
