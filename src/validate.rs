@@ -105,6 +105,8 @@ pub enum Class {
     Bin1Offset,
     /// `indexes/bin1_offset` with `nbins` entries (hic2cool 0.3 - 0.4): read by cooler.
     LegacyIndex,
+    /// A chromosome whose bins start after 0 (a matrix cut out of it): read by cooler.
+    CutBins,
     /// A pixel bin id outside the bin table.
     BinId,
     /// A pixel with `bin1 > bin2` in symmetric-upper storage.
@@ -119,7 +121,7 @@ pub enum Class {
     Weight,
     /// A coarser resolution that is not the coarsening of the base resolution.
     Coarsening,
-    /// An error while reading a `.hic` resolution.
+    /// An error while reading a `.hic` resolution or a HiCExplorer `.h5` matrix.
     HicRead,
 }
 
@@ -134,6 +136,7 @@ impl Class {
             Class::ChromOffset => "chrom-offset",
             Class::Bin1Offset => "bin1-offset",
             Class::LegacyIndex => "legacy-index",
+            Class::CutBins => "cut-bins",
             Class::BinId => "bin-id",
             Class::LowerTriangle => "lower-triangle",
             Class::Unsorted => "unsorted",
@@ -148,7 +151,7 @@ impl Class {
     /// How serious findings of this class are.
     pub fn severity(self) -> Severity {
         match self {
-            Class::LegacyIndex => Severity::Warning,
+            Class::LegacyIndex | Class::CutBins => Severity::Warning,
             _ => Severity::Error,
         }
     }

@@ -67,7 +67,7 @@ pub(super) fn cooler_groups(
     }
     Err(Error::format(
         path,
-        "this HDF5 file is neither a cooler nor a multi-resolution .mcool (no chroms/bins/pixels/indexes, no /resolutions); HiCExplorer .h5 files are not validated yet",
+        "this HDF5 file is neither a cooler nor a multi-resolution .mcool (no chroms/bins/pixels/indexes, no /resolutions, no HiCExplorer matrix/ and intervals/)",
     ))
 }
 
@@ -86,6 +86,9 @@ pub(super) fn open_hdf5(path: &str) -> Result<hdf5::File> {
 }
 
 pub(super) fn validate_hdf5(path: &str, group: Option<&str>) -> Result<Report> {
+    if group.is_none() && crate::io::hicexplorer::is_hicexplorer(path)? {
+        return validate_hicexplorer(path);
+    }
     let file = open_hdf5(path)?;
     let raw = chunks::open_raw(Path::new(path))?;
     let (format, groups) = cooler_groups(path, &file, group)?;
@@ -587,6 +590,18 @@ impl CoolerCheck<'_> {
                 }
                 current = Some(c);
                 previous_end = 0;
+                if s > 0 && e > s {
+                    // A matrix cut out of the chromosome: cooler and contactmap read it.
+                    self.add(
+                        out,
+                        Class::CutBins,
+                        &format!("bins row {k} ({name})"),
+                        format!(
+                            "the bins of {name} start at {s}, not 0: a matrix cut out of the chromosome (cooler reads it)"
+                        ),
+                    );
+                    previous_end = s;
+                }
             }
             if s != previous_end || e <= s || e > chroms[c].length_bp as i64 {
                 self.add(

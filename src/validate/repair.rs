@@ -26,7 +26,7 @@ pub fn repair(uri: &str, report: &Report, out: &Path) -> Result<RepairOutcome> {
             out.display()
         )));
     }
-    if io::detect_kind(path)? != FileKind::Hdf5 {
+    if io::detect_kind(path)? != FileKind::Hdf5 || report.format.starts_with("hicexplorer") {
         return Ok(RepairOutcome::Refused(vec![
             "only .cool / .mcool files can be repaired".into(),
         ]));
@@ -34,7 +34,7 @@ pub fn repair(uri: &str, report: &Report, out: &Path) -> Result<RepairOutcome> {
     let refused: Vec<String> = report
         .findings
         .iter()
-        .filter(|f| !f.class.is_repairable())
+        .filter(|f| f.class.severity() == Severity::Error && !f.class.is_repairable())
         .map(|f| {
             format!(
                 "{} {} {}: {} (cannot be repaired)",

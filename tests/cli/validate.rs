@@ -10,7 +10,7 @@ use crate::{data, run, run_err, run_ok};
 /// A copy of fixture `name` in a fresh temporary folder.
 fn copy(name: &str) -> (tempfile::TempDir, PathBuf) {
     let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join(name);
+    let path = dir.path().join(Path::new(name).file_name().unwrap());
     std::fs::copy(data(name), &path).unwrap();
     (dir, path)
 }
@@ -157,6 +157,9 @@ fn pristine_fixtures_are_valid() {
         "CN.mm9.multires.hic",
         "yeast.10kb.cool",
         "cooler_variable_bins_test_file.cool",
+        "layouts/square.cool",
+        "hicexplorer/small_test_matrix.h5",
+        "hicexplorer/ICEcorrected_chr3LHet.h5",
     ] {
         let (code, json) = validate_json(Path::new(&data(name)));
         assert_eq!(code, Some(0), "{name}: {json:#}");
@@ -473,4 +476,43 @@ fn unreadable_inputs_and_a_repair_over_the_input_exit_2() {
     let out = run(&["validate", truncated.to_str().unwrap()]);
     assert_ne!(out.status.code(), Some(0));
     assert!(!String::from_utf8_lossy(&out.stderr).contains("panicked"));
+}
+
+#[test]
+fn a_cut_out_bin_table_is_a_warning_not_an_error() {
+    let json = assert_findings(
+        Path::new(&data("layouts/offset_bins.cool")),
+        &[
+            ("cut-bins", "/", "bins row 0 (chrII)"),
+            ("cut-bins", "/", "bins row 50 (chrIII)"),
+        ],
+    );
+    assert_eq!(json["warnings"], 2);
+}
+
+#[test]
+fn a_negative_count_in_a_hicexplorer_matrix_is_found() {
+    let (_dir, path) = copy("hicexplorer/small_test_matrix.h5");
+    let data_path = "matrix/data";
+    let mut values: Vec<i64> = open_rw(&path)
+        .dataset(data_path)
+        .unwrap()
+        .read_raw()
+        .unwrap();
+    values[0] = -5;
+    replace(&path, data_path, &values);
+    let (code, json) = validate_json(&path);
+    assert_eq!(code, Some(1), "{json:#}");
+    assert_eq!(json["format"], "hicexplorer h5");
+    let found = findings(&json);
+    assert_eq!(found.len(), 1, "{json:#}");
+    assert_eq!(found[0].0, "count");
+    assert!(json["findings"][0]["message"]
+        .as_str()
+        .unwrap()
+        .contains("count -5"));
+    // Not repairable: refused, nothing written.
+    let out = path.with_file_name("fixed.cool");
+    assert_eq!(repair(&path, &out).status.code(), Some(1));
+    assert!(!out.exists());
 }
