@@ -60,8 +60,13 @@ to standard output or -o FILE, and a summary (`# converged=... scale=... var=...
 standard error. With --store the column bins/NAME is written into the cooler with cooler's
 attributes (converged, scale, var, tol, min_nnz, min_count, mad_max, ignore_diags, cis_only,
 divisive_weights); an existing column is replaced only with --force. The new column is written
-under a temporary name and swapped in, so a failure leaves the file as it was. Columns named KR, VC
-or VC_SQRT are stored divisive (cooler divides by those names).
+under a temporary name and swapped in, so a failure leaves the file as it was. While storing, the
+file is locked (an advisory lock on .NAME.lock beside it): a second --store on the same file
+refuses at once (exit code 2, file untouched). Columns named KR, VC or VC_SQRT are stored
+divisive (cooler divides by those names).
+
+Counts must be finite and >= 0: a negative, NaN or infinite count in the file stops the command
+(exit code 2) naming the file and the first such pixel.
 
 When the balancing does not converge within --max-iters, a WARNING line goes to standard error
 and the summary says converged=false; the table is still written (exit code 0), as cooler's
