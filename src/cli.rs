@@ -7,6 +7,7 @@ pub mod convert;
 pub mod dump;
 pub mod expected;
 pub mod info;
+pub mod input;
 pub mod normalize;
 pub mod output;
 pub mod progress;

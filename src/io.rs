@@ -341,12 +341,310 @@ pub fn temporary_path(path: &Path) -> Result<PathBuf> {
     let name = path
         .file_name()
         .ok_or_else(|| Error::Invalid(format!("'{}' is not a file name", path.display())))?;
+    remove_stale_temporaries(path, &name.to_string_lossy());
     Ok(path.with_file_name(format!(
         ".{}.{}-{}.tmp",
         name.to_string_lossy(),
         std::process::id(),
         SEQUENCE.fetch_add(1, Ordering::Relaxed)
     )))
+}
+
+/// Remove the temporaries of the output `path` (`.NAME.PID-SEQ.tmp`, see [`temporary_path`])
+/// whose process no longer runs, such as those of a killed `convert`, so that they cannot pile up.
+///
+/// A process is alive while `/proc/PID` exists (Linux). The temporaries of live processes, this
+/// one's included, are never touched; without a readable `/proc` (other systems) nothing is
+/// removed. Only regular files whose whole name has the temporary pattern of this very output are
+/// candidates. Failures are ignored: this is housekeeping, and the write that follows reports
+/// any real problem with the folder.
+fn remove_stale_temporaries(path: &Path, name: &str) {
+    let Some(alive) = process_liveness() else {
+        return;
+    };
+    let folder = match path.parent() {
+        Some(parent) if !parent.as_os_str().is_empty() => parent,
+        _ => Path::new("."),
+    };
+    let Ok(entries) = std::fs::read_dir(folder) else {
+        return;
+    };
+    let prefix = format!(".{name}.");
+    let own = std::process::id();
+    for entry in entries.flatten() {
+        let file_name = entry.file_name();
+        let Some(pid) = file_name
+            .to_str()
+            .and_then(|text| text.strip_prefix(prefix.as_str()))
+            .and_then(|rest| rest.strip_suffix(".tmp"))
+            .and_then(temporary_pid)
+        else {
+            continue;
+        };
+        if pid != own && !alive(pid) && entry.file_type().is_ok_and(|kind| kind.is_file()) {
+            let _ = std::fs::remove_file(entry.path());
+        }
+    }
+}
+
+/// The PID in the `PID-SEQ` part of a temporary name (both decimal numbers), or `None`.
+fn temporary_pid(text: &str) -> Option<u32> {
+    let (pid, sequence) = text.split_once('-')?;
+    let decimal = |s: &str| !s.is_empty() && s.bytes().all(|b| b.is_ascii_digit());
+    if !decimal(pid) || !decimal(sequence) {
+        return None;
+    }
+    pid.parse().ok()
+}
+
+/// A test of whether a process id belongs to a running process, where the system can tell
+/// (`/proc/PID` on Linux, when `/proc` is mounted); `None` elsewhere.
+fn process_liveness() -> Option<fn(u32) -> bool> {
+    if cfg!(target_os = "linux") && Path::new("/proc/self").exists() {
+        Some(|pid| Path::new("/proc").join(pid.to_string()).exists())
+    } else {
+        None
+    }
+}
+
+/// An advisory lock on a file that is modified in place (`balance --store`), held until dropped.
+///
+/// The lock is an exclusive `flock` (Unix; elsewhere none is taken) on a hidden file beside the
+/// target, `.NAME.lock`, so that two processes never write into the same file at once. It is
+/// released, and the lock file removed, when the value is dropped; when the process ends
+/// otherwise (killed), the kernel releases the lock and the next run reuses the left-over file.
+#[derive(Debug)]
+pub struct WriteLock {
+    /// The locked lock file (closing it releases the lock).
+    _file: std::fs::File,
+    /// Its path.
+    path: PathBuf,
+}
+
+impl WriteLock {
+    /// Take the lock for writing into `target`, or fail at once, naming `target`, when another
+    /// process holds it.
+    pub fn acquire(target: &Path) -> Result<WriteLock> {
+        let name = target
+            .file_name()
+            .ok_or_else(|| Error::Invalid(format!("'{}' is not a file name", target.display())))?;
+        let path = target.with_file_name(format!(".{}.lock", name.to_string_lossy()));
+        loop {
+            let file = std::fs::OpenOptions::new()
+                .create(true)
+                .truncate(false)
+                .write(true)
+                .open(&path)
+                .map_err(|e| Error::io(&path, e))?;
+            match try_lock_exclusive(&file) {
+                Ok(true) => {}
+                Ok(false) => {
+                    return Err(Error::format(
+                        target,
+                        format!(
+                            "another process is writing into this file (it holds the lock {}): \
+                             nothing was changed; run again when it has finished",
+                            path.display()
+                        ),
+                    ))
+                }
+                Err(e) => return Err(Error::io(&path, e)),
+            }
+            // A holder that finished between our open and our lock removed the file we locked:
+            // lock the file now at `path` instead, so that two processes never both hold it.
+            if same_file(&file, &path) {
+                return Ok(WriteLock { _file: file, path });
+            }
+        }
+    }
+
+    /// The lock file.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+}
+
+impl Drop for WriteLock {
+    fn drop(&mut self) {
+        // Removed while still locked (a process waiting on the old file then sees that it is no
+        // longer at `path` and retries); the lock goes with the descriptor.
+        if cfg!(unix) {
+            let _ = std::fs::remove_file(&self.path);
+        }
+    }
+}
+
+/// Take an exclusive advisory lock (`flock`) on `file` without waiting: `Ok(false)` when another
+/// open file description holds it. (rustix's `flock`, since `std::fs::File::try_lock` needs Rust
+/// 1.89, above the crate's `rust-version`.)
+#[cfg(unix)]
+fn try_lock_exclusive(file: &std::fs::File) -> std::io::Result<bool> {
+    use rustix::fs::{flock, FlockOperation};
+    match flock(file, FlockOperation::NonBlockingLockExclusive) {
+        Ok(()) => Ok(true),
+        Err(e) if e == rustix::io::Errno::WOULDBLOCK => Ok(false),
+        Err(e) => Err(e.into()),
+    }
+}
+
+/// Elsewhere no lock is taken: [`WriteLock`] only guards against other processes on Unix.
+#[cfg(not(unix))]
+fn try_lock_exclusive(_file: &std::fs::File) -> std::io::Result<bool> {
+    Ok(true)
+}
+
+/// True when the open `file` is the file now at `path`.
+#[cfg(unix)]
+fn same_file(file: &std::fs::File, path: &Path) -> bool {
+    use std::os::unix::fs::MetadataExt;
+    match (file.metadata(), std::fs::metadata(path)) {
+        (Ok(a), Ok(b)) => a.dev() == b.dev() && a.ino() == b.ino(),
+        _ => false,
+    }
+}
+
+/// Without inode numbers the lock file is never removed ([`WriteLock`]'s drop), so the file
+/// at `path` is always the one that was opened.
+#[cfg(not(unix))]
+fn same_file(_file: &std::fs::File, _path: &Path) -> bool {
+    true
+}
+
+/// A reader whose counts are checked as they stream: the first pixel whose count is negative, NaN
+/// or infinite ends the stream with an error naming the file, the pixel's bin ids and
+/// coordinates, and its value.
+///
+/// The analyses (balance, expected, normalize, tads) read through it, so that they never compute
+/// on such counts; `dump` and `info` read the file as it is, so that users can look at them. Text
+/// tables refuse such counts when they are parsed; this adapter does the same for the binary
+/// formats (.cool / .mcool / .hic), one pass over each block's counts as it goes by.
+pub struct CheckedCounts {
+    inner: Box<dyn MatrixReader>,
+}
+
+impl CheckedCounts {
+    /// Check the counts of `inner`.
+    pub fn new(inner: Box<dyn MatrixReader>) -> Self {
+        CheckedCounts { inner }
+    }
+
+    /// Fail on the first count of `block` that is not finite and `>= 0`.
+    fn check(&self, block: &PixelBlock) -> Result<()> {
+        // A branch-free pass over the block; the position is looked for only on failure.
+        let valid = block
+            .count
+            .iter()
+            .fold(true, |ok, c| ok & (0.0..=f64::MAX).contains(c));
+        if valid {
+            return Ok(());
+        }
+        let k = block
+            .count
+            .iter()
+            .position(|c| !(0.0..=f64::MAX).contains(c))
+            .unwrap_or(0);
+        Err(self.bad_count(block.bin1[k], block.bin2[k], block.count[k]))
+    }
+
+    fn bad_count(&self, bin1: u64, bin2: u64, count: f64) -> Error {
+        let bins = self.inner.bins();
+        let place = |bin: u64| match usize::try_from(bin) {
+            Ok(id) if id < bins.n_bins() => {
+                let bin = bins.bin(id);
+                format!(
+                    "{}:{}-{}",
+                    bins.chroms()[bin.chrom_id].name,
+                    bin.start,
+                    bin.end
+                )
+            }
+            _ => "outside the bin table".to_string(),
+        };
+        let problem = if count.is_nan() {
+            "NaN"
+        } else if count.is_infinite() {
+            "infinite"
+        } else {
+            "negative"
+        };
+        Error::format(
+            self.inner.source(),
+            format!(
+                "pixel bin1_id={bin1} bin2_id={bin2} ({} x {}) has a {problem} count ({count}): \
+                 counts must be finite and >= 0 to be analysed (dump shows the pixels as stored)",
+                place(bin1),
+                place(bin2)
+            ),
+        )
+    }
+}
+
+impl MatrixReader for CheckedCounts {
+    fn source(&self) -> &str {
+        self.inner.source()
+    }
+
+    fn bins(&self) -> &BinTable {
+        self.inner.bins()
+    }
+
+    fn count_type(&self) -> CountType {
+        self.inner.count_type()
+    }
+
+    fn weight_names(&self) -> Vec<String> {
+        self.inner.weight_names()
+    }
+
+    fn weights(&self, name: &str) -> Result<Weights> {
+        self.inner.weights(name)
+    }
+
+    fn stored_weights(&self, name: &str) -> Result<Weights> {
+        self.inner.stored_weights(name)
+    }
+
+    fn info(&self) -> MatrixInfo {
+        self.inner.info()
+    }
+
+    fn read_pixels(
+        &self,
+        rows: Range<usize>,
+        cols: Range<usize>,
+        sink: &mut dyn FnMut(&PixelBlock) -> Result<()>,
+    ) -> Result<()> {
+        self.inner.read_pixels(rows, cols, &mut |block| {
+            self.check(block)?;
+            sink(block)
+        })
+    }
+
+    fn stores_both_triangles(&self) -> bool {
+        self.inner.stores_both_triangles()
+    }
+
+    fn read_stored_pixels(
+        &self,
+        rows: Range<usize>,
+        cols: Range<usize>,
+        sink: &mut dyn FnMut(&PixelBlock) -> Result<()>,
+    ) -> Result<()> {
+        self.inner.read_stored_pixels(rows, cols, &mut |block| {
+            self.check(block)?;
+            sink(block)
+        })
+    }
+
+    /// The inner reader's totals (a sum of stored counts; every pixel is checked when it is
+    /// read).
+    fn totals(&self) -> Result<(u64, f64)> {
+        self.inner.totals()
+    }
+
+    fn warnings(&self) -> Vec<String> {
+        self.inner.warnings()
+    }
 }
 
 /// Read every pixel of `reader` into a [`ContactMatrix`] (with all its weight columns).
@@ -610,6 +908,152 @@ mod tests {
             a.iter().sum::<f64>(),
             2.0 * reader.matrix().sum() - (0..500).map(|i| reader.matrix().get(i, i)).sum::<f64>()
         );
+    }
+
+    /// A PID no process can have: above the kernel's `pid_max`.
+    fn dead_pid() -> u32 {
+        std::fs::read_to_string("/proc/sys/kernel/pid_max")
+            .ok()
+            .and_then(|text| text.trim().parse::<u32>().ok())
+            .unwrap_or(1 << 22)
+            + 1
+    }
+
+    #[test]
+    fn temporary_names_parse() {
+        assert_eq!(temporary_pid("123-0"), Some(123));
+        assert_eq!(temporary_pid("123-45"), Some(123));
+        assert_eq!(temporary_pid("123"), None);
+        assert_eq!(temporary_pid("x.123-0"), None);
+        assert_eq!(temporary_pid("-0"), None);
+        assert_eq!(temporary_pid("12-"), None);
+        assert_eq!(temporary_pid("1+2-3"), None);
+    }
+
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn stale_temporaries_of_dead_processes_are_removed() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("out.cool");
+        let dead = dir.path().join(format!(".out.cool.{}-0.tmp", dead_pid()));
+        let own = dir
+            .path()
+            .join(format!(".out.cool.{}-7.tmp", std::process::id()));
+        // Another output's temporary and a look-alike name are not this output's temporaries.
+        let other = dir.path().join(format!(".out.cool.x.{}-0.tmp", dead_pid()));
+        let unlike = dir
+            .path()
+            .join(format!(".out.cool.{}-0.tmp.keep", dead_pid()));
+        for path in [&dead, &own, &other, &unlike] {
+            std::fs::write(path, b"partial").unwrap();
+        }
+        let tmp = temporary_path(&out).unwrap();
+        assert!(!dead.exists());
+        assert!(own.exists() && other.exists() && unlike.exists());
+        assert_eq!(tmp.parent(), Some(dir.path()));
+        assert!(!tmp.exists());
+    }
+
+    #[test]
+    fn write_lock_is_exclusive_and_released_on_drop() {
+        let dir = tempfile::tempdir().unwrap();
+        let target = dir.path().join("m.cool");
+        std::fs::write(&target, b"x").unwrap();
+        let first = WriteLock::acquire(&target).unwrap();
+        assert_eq!(first.path(), dir.path().join(".m.cool.lock"));
+        let refused = WriteLock::acquire(&target).unwrap_err().to_string();
+        assert!(refused.starts_with(&format!("{}: another process", target.display())));
+        assert!(refused.contains(".m.cool.lock"), "{refused}");
+        drop(first);
+        assert!(!dir.path().join(".m.cool.lock").exists());
+        let second = WriteLock::acquire(&target).unwrap();
+        drop(second);
+    }
+
+    /// A reader that hands out one fixed block.
+    struct OneBlock {
+        bins: BinTable,
+        block: PixelBlock,
+    }
+
+    impl MatrixReader for OneBlock {
+        fn source(&self) -> &str {
+            "one.cool"
+        }
+        fn bins(&self) -> &BinTable {
+            &self.bins
+        }
+        fn count_type(&self) -> CountType {
+            CountType::Float
+        }
+        fn weight_names(&self) -> Vec<String> {
+            Vec::new()
+        }
+        fn weights(&self, name: &str) -> Result<Weights> {
+            Err(Error::Invalid(name.into()))
+        }
+        fn info(&self) -> MatrixInfo {
+            MatrixInfo::default()
+        }
+        fn read_pixels(
+            &self,
+            _rows: Range<usize>,
+            _cols: Range<usize>,
+            sink: &mut dyn FnMut(&PixelBlock) -> Result<()>,
+        ) -> Result<()> {
+            sink(&self.block)
+        }
+        fn warnings(&self) -> Vec<String> {
+            vec![format!("{} pixels", self.block.len())]
+        }
+    }
+
+    #[test]
+    fn checked_counts_name_the_first_bad_pixel() {
+        let bins = BinTable::fixed(vec![Chrom::new("a", 30), Chrom::new("b", 25)], 10).unwrap();
+        for (bad, what) in [
+            (-2.0, "negative count (-2)"),
+            (f64::NAN, "NaN count (NaN)"),
+            (f64::INFINITY, "infinite count (inf)"),
+            (f64::NEG_INFINITY, "infinite count (-inf)"),
+        ] {
+            let mut block = PixelBlock::with_capacity(4);
+            block.push(0, 0, 1.0);
+            block.push(1, 4, bad);
+            block.push(3, 4, -1.0);
+            let reader = CheckedCounts::new(Box::new(OneBlock {
+                bins: bins.clone(),
+                block,
+            }));
+            let mut seen = 0;
+            let error = reader
+                .read_pixels(0..5, 0..5, &mut |b| {
+                    seen += b.len();
+                    Ok(())
+                })
+                .unwrap_err()
+                .to_string();
+            assert_eq!(seen, 0, "a bad block never reaches the sink");
+            assert_eq!(reader.warnings(), vec!["3 pixels".to_string()]);
+            assert!(
+                error.starts_with(&format!(
+                    "one.cool: pixel bin1_id=1 bin2_id=4 (a:10-20 x b:10-20) has a {what}"
+                )),
+                "{error}"
+            );
+        }
+        let mut block = PixelBlock::with_capacity(2);
+        block.push(0, 0, 0.0);
+        block.push(0, 1, f64::MAX);
+        let reader = CheckedCounts::new(Box::new(OneBlock { bins, block }));
+        let mut seen = 0;
+        reader
+            .read_pixels(0..5, 0..5, &mut |b| {
+                seen += b.len();
+                Ok(())
+            })
+            .unwrap();
+        assert_eq!(seen, 2);
     }
 
     #[test]

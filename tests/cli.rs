@@ -25,6 +25,8 @@ mod info;
 mod normalize;
 #[path = "cli/roundtrip.rs"]
 mod roundtrip;
+#[path = "cli/safety.rs"]
+mod safety;
 #[path = "cli/score.rs"]
 mod score;
 #[path = "cli/simulate.rs"]

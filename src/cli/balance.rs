@@ -7,12 +7,13 @@ use std::path::{Path, PathBuf};
 use clap::{Args, ValueEnum};
 
 use crate::balance::{balance, BalanceParams, BalanceResult, Method, Scope};
+use crate::cli::input::open_for_analysis;
 use crate::cli::output::Output;
 use crate::cli::InputArgs;
 use crate::error::{Error, Result};
 use crate::genome::BinTable;
 use crate::io::cool::store::{check_target, store_weights, AttrValue};
-use crate::io::{self, default_memory_budget, parse_memory_size, FileKind};
+use crate::io::{self, default_memory_budget, parse_memory_size, FileKind, WriteLock};
 use crate::matrix::Weights;
 
 /// Balancing methods, for `--method`.
@@ -59,8 +60,13 @@ to standard output or -o FILE, and a summary (`# converged=... scale=... var=...
 standard error. With --store the column bins/NAME is written into the cooler with cooler's
 attributes (converged, scale, var, tol, min_nnz, min_count, mad_max, ignore_diags, cis_only,
 divisive_weights); an existing column is replaced only with --force. The new column is written
-under a temporary name and swapped in, so a failure leaves the file as it was. Columns named KR, VC
-or VC_SQRT are stored divisive (cooler divides by those names).
+under a temporary name and swapped in, so a failure leaves the file as it was. While storing, the
+file is locked (an advisory lock on .NAME.lock beside it): a second --store on the same file
+refuses at once (exit code 2, file untouched). Columns named KR, VC or VC_SQRT are stored
+divisive (cooler divides by those names).
+
+Counts must be finite and >= 0: a negative, NaN or infinite count in the file stops the command
+(exit code 2) naming the file and the first such pixel.
 
 When the balancing does not converge within --max-iters, a WARNING line goes to standard error
 and the summary says converged=false; the table is still written (exit code 0), as cooler's
@@ -149,7 +155,10 @@ pub fn run(args: &BalanceArgs) -> Result<()> {
         Some(text) => parse_memory_size(text)?,
         None => default_memory_budget(),
     };
-    if args.store {
+    // With --store, the file is locked from the check of the column to the end of the store, so
+    // that a second `balance --store` on it refuses at once instead of overwriting the column the
+    // first one reports as stored.
+    let _lock = if args.store {
         let (path, _) = io::split_uri(&args.uri);
         if io::detect_kind(path)? != FileKind::Hdf5 {
             return Err(Error::Invalid(format!(
@@ -157,11 +166,15 @@ pub fn run(args: &BalanceArgs) -> Result<()> {
                 args.uri
             )));
         }
+        let lock = WriteLock::acquire(Path::new(path))?;
         check_target(&args.uri, &args.name, args.force)?;
-    }
+        Some(lock)
+    } else {
+        None
+    };
     // The reader (and the pixels borrowing it) is closed before --store opens the file to write.
     let (result, bins, params_used, reader_warnings) = {
-        let reader = io::open_matrix(&args.uri, &args.input.to_options()?)?;
+        let reader = open_for_analysis(&args.uri, &args.input)?;
         let params = params(args, reader.bins())?;
         let pixels = io::load_pixels_for_balancing(reader.as_ref(), budget)?;
         let result = balance(&pixels, &params)?;

@@ -162,7 +162,7 @@ fn check(args: &ExpectedArgs) -> Result<Checked> {
 /// Run `contactmap expected`.
 pub fn run(args: &ExpectedArgs) -> Result<()> {
     let checked = check(args)?;
-    let reader = io::open_matrix(&args.uri, &args.input.to_options()?)?;
+    let reader = crate::cli::input::open_for_analysis(&args.uri, &args.input)?;
     let weights = if args.raw {
         None
     } else {

@@ -89,7 +89,7 @@ pub fn run(args: &NormalizeArgs) -> Result<()> {
             "normalize writes .cool, .bg2 or .coo outputs".into(),
         ));
     }
-    let reader = io::open_matrix(&args.uri, &args.input.to_options()?)?;
+    let reader = crate::cli::input::open_for_analysis(&args.uri, &args.input)?;
     let bins = reader.bins().clone();
     let weights = if args.raw {
         None

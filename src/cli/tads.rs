@@ -12,7 +12,7 @@ use crate::cli::InputArgs;
 use crate::error::{Error, Result};
 use crate::expected::View;
 use crate::genome::{parse_bp, BinTable};
-use crate::io::{self, LoadedPixels, StreamedPixels};
+use crate::io::{LoadedPixels, StreamedPixels};
 use crate::tads::armatus::{armatus, level_boundaries, ArmatusParams};
 use crate::tads::band::cis_bands;
 use crate::tads::directionality::{directionality, DirectionalityParams, DirectionalityTable};
@@ -154,7 +154,7 @@ pub struct TadsArgs {
 pub fn run(args: &TadsArgs) -> Result<()> {
     // Option values are checked before any file is read.
     parse_threshold(args)?;
-    let reader = io::open_matrix(&args.uri, &args.input.to_options()?)?;
+    let reader = crate::cli::input::open_for_analysis(&args.uri, &args.input)?;
     let bins = reader.bins().clone();
     let bin_size = bins.bin_size_bp().ok_or_else(|| {
         Error::format(
