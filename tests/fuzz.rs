@@ -60,6 +60,11 @@ fn replay(name: &str, seed: u64, indices: &[u64]) {
 }
 
 #[test]
+fn fuzz_h5() {
+    fuzz("h5");
+}
+
+#[test]
 fn fuzz_cool() {
     fuzz("cool");
 }

@@ -21,9 +21,9 @@ use super::mutate::{self, Kind};
 pub const HANG: Duration = Duration::from_secs(10);
 
 /// The formats, in the order of the summary table.
-pub const FORMATS: [&str; 13] = [
+pub const FORMATS: [&str; 14] = [
     "cool", "mcool", "hic", "bg2", "coo", "pairs", "bed", "pdb", "mmcif", "rr", "matrix", "npz",
-    "npy",
+    "npy", "h5",
 ];
 
 /// A fixture to mutate and the commands that read a mutant of it.
@@ -234,6 +234,14 @@ pub fn format(name: &str, aux: &Path) -> Format {
                 vec![],
             )
         }
+        "h5" => (
+            Kind::Binary,
+            vec![
+                raw_seed("hicexplorer/small_test_matrix.h5", "m.h5", matrix("{P}")),
+                raw_seed("hicexplorer/ICEcorrected_chr3LHet.h5", "m.h5", matrix("{P}")),
+            ],
+            vec![],
+        ),
         "hic" => {
             let mut multi = matrix("{P}::/resolutions/10000000");
             multi[0] = strings(&["info", "{P}"]);
