@@ -50,7 +50,7 @@ use crate::error::{Error, Result};
 use crate::genome::{Bin, BinTable, Chrom};
 use crate::io::cool::chunks::{self, Column};
 use crate::io::cool::{self, CoolWriteOptions, BLOCK_PIXELS, DIVISIVE_BY_NAME};
-use crate::io::hdf5_guard::guarded;
+use crate::io::hdf5_guard::{guarded, read_strings};
 use crate::io::hic::HicReader;
 use crate::io::{self, FileKind, InMemory, MatrixReader};
 use crate::matrix::{CountType, MatrixBuilder, Weights};

@@ -699,7 +699,7 @@ fn read_chroms(path: &str, group: &hdf5::Group) -> Result<Vec<Chrom>> {
     let names_dataset = group
         .dataset("chroms/name")
         .map_err(|e| Error::format(path, format!("missing dataset chroms/name: {e}")))?;
-    let names = read_strings(path, &names_dataset, "chroms/name")?;
+    let names = hdf5_guard::read_strings(path, &names_dataset, "chroms/name")?;
     let lengths = read_int_column(path, group, "chroms/length")?;
     if names.len() != lengths.len() {
         return Err(Error::format(
@@ -725,55 +725,6 @@ fn read_chroms(path: &str, group: &hdf5::Group) -> Result<Vec<Chrom>> {
             }
         })
         .collect()
-}
-
-fn read_strings(path: &str, dataset: &hdf5::Dataset, name: &str) -> Result<Vec<String>> {
-    let descriptor = dataset
-        .dtype()
-        .and_then(|t| t.to_descriptor())
-        .map_err(|e| Error::hdf5(path, format!("reading the type of {name}"), e))?;
-    let err = |e| Error::hdf5(path, format!("reading {name}"), e);
-    let strings: Vec<String> = hdf5_guard::guarded(path, name, || -> Result<Vec<String>> {
-        Ok(match descriptor {
-            TypeDescriptor::VarLenUnicode => dataset
-                .read_raw::<VarLenUnicode>()
-                .map_err(err)?
-                .iter()
-                .map(|s| s.as_str().to_string())
-                .collect(),
-            TypeDescriptor::VarLenAscii => dataset
-                .read_raw::<VarLenAscii>()
-                .map_err(err)?
-                .iter()
-                .map(|s| s.as_str().to_string())
-                .collect(),
-            TypeDescriptor::FixedAscii(_) | TypeDescriptor::FixedUnicode(_) => dataset
-                .read_raw::<hdf5::types::FixedAscii<1024>>()
-                .or_else(|_| {
-                    dataset
-                        .read_raw::<hdf5::types::FixedUnicode<1024>>()
-                        .map(|v| {
-                            v.iter()
-                                .map(|s| {
-                                    hdf5::types::FixedAscii::from_ascii(s.as_bytes())
-                                        .unwrap_or_default()
-                                })
-                                .collect()
-                        })
-                })
-                .map_err(err)?
-                .iter()
-                .map(|s| s.as_str().trim_end_matches('\0').to_string())
-                .collect(),
-            other => {
-                return Err(Error::format(
-                    path,
-                    format!("{name} has type {other:?}; expected strings"),
-                ))
-            }
-        })
-    })?;
-    Ok(strings)
 }
 
 /// Columns of `bins/` that are not weights.

@@ -23,6 +23,8 @@ use std::collections::BTreeMap;
 use std::sync::{Condvar, Mutex, OnceLock};
 use std::time::{Duration, Instant};
 
+use crate::error::{Error, Result};
+
 /// The deadline of one guarded metadata call when `CONTACTMAP_HDF5_TIMEOUT` is not set.
 pub const DEFAULT_TIMEOUT: Duration = Duration::from_secs(5);
 
@@ -141,6 +143,53 @@ fn guarded_for<T>(limit: Duration, path: &str, what: &str, call: impl FnOnce() -
         .calls
         .remove(&id);
     result
+}
+
+/// Read a string dataset of any of the types cooler, HiCExplorer (PyTables) and h5py write:
+/// variable-length UTF-8 or ASCII, fixed-length ASCII or UTF-8 (at most 1,024 bytes, trailing
+/// NULs removed), under the deadline. Another type is an error naming `name`.
+pub fn read_strings(path: &str, dataset: &hdf5::Dataset, name: &str) -> Result<Vec<String>> {
+    use hdf5::types::{FixedAscii, FixedUnicode, TypeDescriptor, VarLenAscii, VarLenUnicode};
+    let err = |e| Error::hdf5(path, format!("reading {name}"), e);
+    let descriptor = guarded(path, name, || {
+        dataset.dtype().and_then(|t| t.to_descriptor())
+    })
+    .map_err(|e| Error::hdf5(path, format!("reading the type of {name}"), e))?;
+    guarded(path, name, || -> Result<Vec<String>> {
+        let trimmed = |s: &str| s.trim_end_matches('\0').to_string();
+        Ok(match descriptor {
+            TypeDescriptor::VarLenUnicode => dataset
+                .read_raw::<VarLenUnicode>()
+                .map_err(err)?
+                .iter()
+                .map(|s| s.as_str().to_string())
+                .collect(),
+            TypeDescriptor::VarLenAscii => dataset
+                .read_raw::<VarLenAscii>()
+                .map_err(err)?
+                .iter()
+                .map(|s| s.as_str().to_string())
+                .collect(),
+            TypeDescriptor::FixedAscii(_) => dataset
+                .read_raw::<FixedAscii<1024>>()
+                .map_err(err)?
+                .iter()
+                .map(|s| trimmed(s.as_str()))
+                .collect(),
+            TypeDescriptor::FixedUnicode(_) => dataset
+                .read_raw::<FixedUnicode<1024>>()
+                .map_err(err)?
+                .iter()
+                .map(|s| trimmed(s.as_str()))
+                .collect(),
+            other => {
+                return Err(Error::format(
+                    path,
+                    format!("{name} has type {other:?}; expected strings"),
+                ))
+            }
+        })
+    })
 }
 
 #[cfg(test)]

@@ -45,7 +45,7 @@
 
 use std::ops::Range;
 
-use hdf5::types::{TypeDescriptor, VarLenAscii, VarLenUnicode};
+use hdf5::types::{TypeDescriptor, VarLenUnicode};
 
 use crate::error::{Error, Result};
 use crate::genome::{Bin, BinTable, Chrom};
@@ -561,51 +561,6 @@ fn read_ints(path: &str, dataset: &hdf5::Dataset, name: &str) -> Result<Vec<i64>
         .map_err(|e| Error::hdf5(path, format!("reading {name}"), e))
 }
 
-/// Read a string dataset: fixed-length bytes (PyTables' usual), fixed-length UTF-8 or
-/// variable-length strings.
-fn read_strings(path: &str, dataset: &hdf5::Dataset, name: &str) -> Result<Vec<String>> {
-    let err = |e| Error::hdf5(path, format!("reading {name}"), e);
-    let descriptor = hdf5_guard::guarded(path, name, || {
-        dataset.dtype().and_then(|t| t.to_descriptor())
-    })
-    .map_err(|e| Error::hdf5(path, format!("reading the type of {name}"), e))?;
-    let read = || -> Result<Vec<String>> {
-        Ok(match descriptor {
-            TypeDescriptor::FixedAscii(_) => dataset
-                .read_raw::<hdf5::types::FixedAscii<1024>>()
-                .map_err(err)?
-                .iter()
-                .map(|s| s.as_str().trim_end_matches('\0').to_string())
-                .collect(),
-            TypeDescriptor::FixedUnicode(_) => dataset
-                .read_raw::<hdf5::types::FixedUnicode<1024>>()
-                .map_err(err)?
-                .iter()
-                .map(|s| s.as_str().trim_end_matches('\0').to_string())
-                .collect(),
-            TypeDescriptor::VarLenAscii => dataset
-                .read_raw::<VarLenAscii>()
-                .map_err(err)?
-                .iter()
-                .map(|s| s.as_str().to_string())
-                .collect(),
-            TypeDescriptor::VarLenUnicode => dataset
-                .read_raw::<VarLenUnicode>()
-                .map_err(err)?
-                .iter()
-                .map(|s| s.as_str().to_string())
-                .collect(),
-            other => {
-                return Err(Error::format(
-                    path,
-                    format!("{name} has type {other:?}; expected strings"),
-                ))
-            }
-        })
-    };
-    hdf5_guard::guarded(path, name, read)
-}
-
 /// Read `intervals/` into a bin table: chromosomes in order of first appearance, each as long as
 /// its last bin's end.
 fn read_intervals(path: &str, file: &hdf5::File) -> Result<BinTable> {
@@ -613,7 +568,8 @@ fn read_intervals(path: &str, file: &hdf5::File) -> Result<BinTable> {
         hdf5_guard::guarded(path, name, || file.dataset(name))
             .map_err(|e| Error::format(path, format!("missing dataset {name}: {e}")))
     };
-    let names = read_strings(path, &dataset("intervals/chr_list")?, "intervals/chr_list")?;
+    let names =
+        hdf5_guard::read_strings(path, &dataset("intervals/chr_list")?, "intervals/chr_list")?;
     let starts = read_ints(
         path,
         &dataset("intervals/start_list")?,

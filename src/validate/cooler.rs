@@ -257,38 +257,6 @@ pub(super) fn kind_of(dataset: &hdf5::Dataset) -> Kind {
     }
 }
 
-pub(super) fn read_strings(path: &str, dataset: &hdf5::Dataset, name: &str) -> Result<Vec<String>> {
-    let err = |e| Error::hdf5(path, format!("reading {name}"), e);
-    guarded(path, name, || {
-        Ok(
-            match dataset
-                .dtype()
-                .and_then(|t| t.to_descriptor())
-                .map_err(err)?
-            {
-                TypeDescriptor::VarLenUnicode => dataset
-                    .read_raw::<VarLenUnicode>()
-                    .map_err(err)?
-                    .iter()
-                    .map(|s| s.as_str().to_string())
-                    .collect(),
-                TypeDescriptor::VarLenAscii => dataset
-                    .read_raw::<VarLenAscii>()
-                    .map_err(err)?
-                    .iter()
-                    .map(|s| s.as_str().to_string())
-                    .collect(),
-                _ => dataset
-                    .read_raw::<hdf5::types::FixedAscii<1024>>()
-                    .map_err(err)?
-                    .iter()
-                    .map(|s| s.as_str().trim_end_matches('\0').to_string())
-                    .collect(),
-            },
-        )
-    })
-}
-
 /// The checks of one cooler group.
 pub(super) struct CoolerCheck<'a> {
     pub(super) path: &'a str,

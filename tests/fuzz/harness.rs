@@ -238,7 +238,11 @@ pub fn format(name: &str, aux: &Path) -> Format {
             Kind::Binary,
             vec![
                 raw_seed("hicexplorer/small_test_matrix.h5", "m.h5", matrix("{P}")),
-                raw_seed("hicexplorer/ICEcorrected_chr3LHet.h5", "m.h5", matrix("{P}")),
+                raw_seed(
+                    "hicexplorer/ICEcorrected_chr3LHet.h5",
+                    "m.h5",
+                    matrix("{P}"),
+                ),
             ],
             vec![],
         ),
