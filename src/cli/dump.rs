@@ -34,8 +34,8 @@ symmetric matrices, both triangles of coolers with storage-mode square. With --r
 --region2 R2, the stored pixels with bin1 in R and bin2 in R2.
 
 -t bins prints the weight columns as stored in the file, as cooler dump does: Juicer's divisive
-columns (KR, VC, VC_SQRT written by hic2cool or contactmap, marked divisive_weights) hold the
-values counts are divided by. Wherever weights are applied (--balanced, balance, expected, tads,
+columns (KR, VC, VC_SQRT written by hic2cool or contactmap, columns marked divisive_weights, and
+a .hic file's normalisation vectors) hold the values counts are divided by. Wherever weights are applied (--balanced, balance, expected, tads,
 normalize) such columns are inverted first, so balanced = count * w1 * w2 always holds for the
 weights in use.
 

@@ -40,8 +40,9 @@ fn column(table: &str, name: &str) -> Vec<f64> {
 
 #[test]
 fn hic_ice_vector_inverted_equals_coolers_ice_weight() {
-    // The .hic stores Juicer-style divisive ICE; the mcool's `weight` is cooler's multiplicative
-    // ICE of the same contacts. After inversion they agree to float32 precision (.hic v9 vectors).
+    // The .hic stores Juicer-style divisive ICE (`dump -t bins` prints it as stored); the mcool's
+    // `weight` is cooler's multiplicative ICE of the same contacts. Inverted, they agree to
+    // float32 precision (.hic v9 vectors).
     let args = ["-t", "bins", "-H", "--float-format", ".17g"];
     let hic = run_ok(&[&["dump", &data("hic_test_file.hic")][..], &args[..]].concat());
     let mcool = run_ok(
@@ -54,7 +55,7 @@ fn hic_ice_vector_inverted_equals_coolers_ice_weight() {
     let (ice, weight) = (column(&hic, "ICE"), column(&mcool, "weight"));
     assert_eq!(ice.len(), 1380);
     let mut compared = 0;
-    for (a, b) in ice.iter().zip(&weight) {
+    for (a, b) in ice.iter().map(|v| 1.0 / v).zip(&weight) {
         assert_eq!(a.is_nan(), b.is_nan());
         if !a.is_nan() {
             assert!((a - b).abs() <= 1e-6 * b.abs(), "{a} vs {b}");
@@ -94,11 +95,18 @@ fn hic_to_cool_and_mcool_round_trip() {
     let hic = data("hic_test_file.hic");
     run_ok(&["convert", &hic, cool]);
     assert_eq!(run_ok(&["dump", cool]), run_ok(&["dump", &hic]));
-    let bins = ["-t", "bins", "--float-format", ".17g"];
-    assert_eq!(
-        run_ok(&[&["dump", cool][..], &bins[..]].concat()),
-        run_ok(&[&["dump", &hic][..], &bins[..]].concat())
-    );
+    // The .cool holds ICE multiplicative (cooler multiplies by columns not named KR / VC /
+    // VC_SQRT), the .hic divisive, each printed as stored: one is the other's inverse.
+    let bins = ["-t", "bins", "-H", "--float-format", ".17g"];
+    let ice_cool = column(&run_ok(&[&["dump", cool][..], &bins[..]].concat()), "ICE");
+    let ice_hic = column(&run_ok(&[&["dump", &hic][..], &bins[..]].concat()), "ICE");
+    assert_eq!(ice_cool.len(), ice_hic.len());
+    for (a, b) in ice_cool.iter().zip(&ice_hic) {
+        assert_eq!(a.is_nan(), b.is_nan() || *b == 0.0, "{a} vs divisive {b}");
+        if !a.is_nan() {
+            assert!((a * b - 1.0).abs() < 1e-12, "{a} vs divisive {b}");
+        }
+    }
     let mcool = dir.path().join("from_hic.mcool");
     let mcool = mcool.to_str().unwrap();
     run_ok(&["convert", &hic, mcool, "--resolutions", "100000,1000000"]);

@@ -210,6 +210,40 @@ impl HicReader {
         self.version
     }
 
+    /// The normalisation vector `name` over every bin, as stored (Juicer's divisive values;
+    /// NaN for chromosomes without one).
+    fn stored_norm_vector(&self, name: &str) -> Result<Vec<f64>> {
+        if !self.norm_names.iter().any(|n| n == name) {
+            let available = if self.norm_names.is_empty() {
+                "none".to_string()
+            } else {
+                printable(&self.norm_names.join(", "))
+            };
+            return Err(Error::format(
+                &self.path,
+                format!(
+                    "no normalisation '{}' at resolution {} (available: {available})",
+                    printable(name),
+                    self.resolution
+                ),
+            ));
+        }
+        let mut values = Vec::with_capacity(self.bins.n_bins());
+        for (chrom_id, chrom) in self.bins.chroms().iter().enumerate() {
+            let n_bins = self.bins.chrom_bins(chrom_id).len();
+            let file_chrom = self.file_chrom[chrom_id];
+            match self
+                .norm_vectors
+                .iter()
+                .find(|v| v.name == name && v.file_chrom == file_chrom)
+            {
+                Some(vector) => values.extend(self.read_norm_vector(vector, chrom, n_bins)?),
+                None => values.extend(std::iter::repeat_n(f64::NAN, n_bins)),
+            }
+        }
+        Ok(values)
+    }
+
     /// `chr2L-chr2R`, for messages.
     fn pair_label(&self, chrom1: usize, chrom2: usize) -> String {
         let chroms = self.bins.chroms();
@@ -562,39 +596,20 @@ impl MatrixReader for HicReader {
     }
 
     fn weights(&self, name: &str) -> Result<Weights> {
-        if !self.norm_names.iter().any(|n| n == name) {
-            let available = if self.norm_names.is_empty() {
-                "none".to_string()
-            } else {
-                printable(&self.norm_names.join(", "))
-            };
-            return Err(Error::format(
-                &self.path,
-                format!(
-                    "no normalisation '{}' at resolution {} (available: {available})",
-                    printable(name),
-                    self.resolution
-                ),
-            ));
-        }
-        let mut values = Vec::with_capacity(self.bins.n_bins());
-        for (chrom_id, chrom) in self.bins.chroms().iter().enumerate() {
-            let n_bins = self.bins.chrom_bins(chrom_id).len();
-            let file_chrom = self.file_chrom[chrom_id];
-            match self
-                .norm_vectors
-                .iter()
-                .find(|v| v.name == name && v.file_chrom == file_chrom)
-            {
-                Some(vector) => values.extend(self.read_norm_vector(vector, chrom, n_bins)?),
-                None => values.extend(std::iter::repeat_n(f64::NAN, n_bins)),
-            }
-        }
+        let values = self.stored_norm_vector(name)?;
         Ok(Weights::from_divisive(
             name,
             &values,
             format!(".hic {name} vector (divisive), inverted to multiplicative on read"),
         ))
+    }
+
+    fn stored_weights(&self, name: &str) -> Result<Weights> {
+        Ok(Weights {
+            name: name.to_string(),
+            values: self.stored_norm_vector(name)?,
+            provenance: None,
+        })
     }
 
     fn info(&self) -> MatrixInfo {
