@@ -18,8 +18,9 @@
 //!   of those above it. Column indices are sorted within each row (scipy does not guarantee sorted
 //!   rows) and duplicates summed; stored zeros and `NaN`s are dropped, as HiCMatrix does when it
 //!   writes a cooler.
-//! - **Bins.** Intervals are 0-based half-open (`start_list` of the first bin is 0 and each bin
-//!   starts at the previous one's end), as cooler's. Bins may have any size; a table whose bins are
+//! - **Bins.** Intervals are 0-based half-open, each bin starting at the previous one's end, as
+//!   cooler's; a chromosome's first bin may start after 0 (a matrix cut out of it, which
+//!   HiCExplorer writes), read as [`BinTable`]'s cut spans. Bins may have any size; a table whose bins are
 //!   all the same size but the last of each chromosome is a fixed-size table. Chromosomes come in
 //!   the order of their first bin and must be contiguous. HiCExplorer stores no chromosome lengths:
 //!   each chromosome's length is taken as its last bin's end (`info` says so).
