@@ -81,12 +81,28 @@ fn layouts_cooler_reads_give_the_same_pixels_and_weights() {
     let reference = dump_totals(&base);
     assert_eq!(reference.0, 9159);
     let weights = crate::run_ok(&["balance", &base]);
+    // cooltools expected_cis on base.cool: count.sum 3,513,882 over 138 rows (measured).
+    let expected = crate::run_ok(&["expected", "--raw", &base]);
+    let table = crate::parse_table(&expected);
+    let sum_column = table.header.iter().position(|h| h == "count.sum").unwrap();
+    let total: f64 = table
+        .rows
+        .iter()
+        .filter_map(|r| r[sum_column].parse::<f64>().ok())
+        .filter(|v| !v.is_nan())
+        .sum();
+    assert_eq!((table.rows.len(), total), (138, 3_513_882.0));
     for uri in [
         data("layouts/hic2cool_offsets.cool"),
         format!("{}::/0", data("layouts/legacy_multires.cool")),
     ] {
         assert_eq!(dump_totals(&uri), reference, "{uri}");
         assert_eq!(crate::run_ok(&["balance", &uri]), weights, "{uri}");
+        assert_eq!(
+            crate::run_ok(&["expected", "--raw", &uri]),
+            expected,
+            "{uri}"
+        );
     }
     // The legacy level's rows were shuffled: a region query must still give every pixel.
     let region = |uri: &str| crate::run_ok(&["dump", "-r", "chrII", uri]);
