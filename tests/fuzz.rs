@@ -165,3 +165,10 @@ fn known_npy_shape_overflow() {
 fn known_hic_name_in_message() {
     replay("hic", 3, &[283]);
 }
+
+#[test]
+// F-MCOOL-2: fixed (docs/reliability.md): an attribute string with invalid UTF-8 made convert
+// segfault (hdf5-metno's unchecked `as_str`).
+fn known_mcool_invalid_utf8_attribute() {
+    replay("mcool", 5, &[2720]);
+}

@@ -845,19 +845,25 @@ fn attribute_value(attr: &hdf5::Attribute) -> serde_json::Value {
         TypeDescriptor::VarLenUnicode => attr
             .read_raw::<VarLenUnicode>()
             .ok()
-            .and_then(|v| v.first().map(|s| Value::from(s.as_str())))
+            .and_then(|v| {
+                v.first()
+                    .map(|s| Value::from(hdf5_guard::lossy(s.as_bytes())))
+            })
             .unwrap_or(Value::Null),
         TypeDescriptor::VarLenAscii => attr
             .read_raw::<VarLenAscii>()
             .ok()
-            .and_then(|v| v.first().map(|s| Value::from(s.as_str())))
+            .and_then(|v| {
+                v.first()
+                    .map(|s| Value::from(hdf5_guard::lossy(s.as_bytes())))
+            })
             .unwrap_or(Value::Null),
         TypeDescriptor::FixedAscii(_) | TypeDescriptor::FixedUnicode(_) => attr
             .read_raw::<hdf5::types::FixedAscii<4096>>()
             .ok()
             .and_then(|v| {
                 v.first()
-                    .map(|s| Value::from(s.as_str().trim_end_matches('\0')))
+                    .map(|s| Value::from(hdf5_guard::lossy(s.as_bytes()).trim_end_matches('\0')))
             })
             .unwrap_or(Value::Null),
         other => Value::from(format!("<{other:?}>")),

@@ -145,6 +145,14 @@ fn guarded_for<T>(limit: Duration, path: &str, what: &str, call: impl FnOnce() -
     result
 }
 
+/// Text from bytes stored in an HDF5 string, invalid UTF-8 replaced by U+FFFD. hdf5-metno's
+/// `as_str` on its string types trusts the bytes (`from_utf8_unchecked`): on a corrupt file that
+/// is undefined behaviour (a segfault when the text is formatted), so file strings go through
+/// here instead.
+pub fn lossy(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
 /// Read a string dataset of any of the types cooler, HiCExplorer (PyTables) and h5py write:
 /// variable-length UTF-8 or ASCII, fixed-length ASCII or UTF-8 (at most 1,024 bytes, trailing
 /// NULs removed), under the deadline. Another type is an error naming `name`.
@@ -162,25 +170,25 @@ pub fn read_strings(path: &str, dataset: &hdf5::Dataset, name: &str) -> Result<V
                 .read_raw::<VarLenUnicode>()
                 .map_err(err)?
                 .iter()
-                .map(|s| s.as_str().to_string())
+                .map(|s| lossy(s.as_bytes()))
                 .collect(),
             TypeDescriptor::VarLenAscii => dataset
                 .read_raw::<VarLenAscii>()
                 .map_err(err)?
                 .iter()
-                .map(|s| s.as_str().to_string())
+                .map(|s| lossy(s.as_bytes()))
                 .collect(),
             TypeDescriptor::FixedAscii(_) => dataset
                 .read_raw::<FixedAscii<1024>>()
                 .map_err(err)?
                 .iter()
-                .map(|s| trimmed(s.as_str()))
+                .map(|s| trimmed(&lossy(s.as_bytes())))
                 .collect(),
             TypeDescriptor::FixedUnicode(_) => dataset
                 .read_raw::<FixedUnicode<1024>>()
                 .map_err(err)?
                 .iter()
-                .map(|s| trimmed(s.as_str()))
+                .map(|s| trimmed(&lossy(s.as_bytes())))
                 .collect(),
             other => {
                 return Err(Error::format(

@@ -651,15 +651,23 @@ fn read_string_attribute(attr: &hdf5::Attribute) -> Option<String> {
         Ok(TypeDescriptor::FixedAscii(_)) => attr
             .read_scalar::<hdf5::types::FixedAscii<4096>>()
             .ok()
-            .map(|s| s.as_str().trim_end_matches('\0').to_string()),
+            .map(|s| {
+                hdf5_guard::lossy(s.as_bytes())
+                    .trim_end_matches('\0')
+                    .to_string()
+            }),
         Ok(TypeDescriptor::FixedUnicode(_)) => attr
             .read_scalar::<hdf5::types::FixedUnicode<4096>>()
             .ok()
-            .map(|s| s.as_str().trim_end_matches('\0').to_string()),
+            .map(|s| {
+                hdf5_guard::lossy(s.as_bytes())
+                    .trim_end_matches('\0')
+                    .to_string()
+            }),
         Ok(TypeDescriptor::VarLenUnicode) => attr
             .read_scalar::<VarLenUnicode>()
             .ok()
-            .map(|s| s.as_str().to_string()),
+            .map(|s| hdf5_guard::lossy(s.as_bytes())),
         _ => None,
     }
 }

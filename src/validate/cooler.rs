@@ -216,17 +216,23 @@ pub(super) fn read_attr(path: &str, location: &hdf5::Location, name: &str) -> Op
                 .read_raw::<VarLenUnicode>()
                 .ok()?
                 .first()
-                .map(|s| Attr::Str(s.as_str().to_string())),
+                .map(|s| Attr::Str(crate::io::hdf5_guard::lossy(s.as_bytes()))),
             TypeDescriptor::VarLenAscii => attr
                 .read_raw::<VarLenAscii>()
                 .ok()?
                 .first()
-                .map(|s| Attr::Str(s.as_str().to_string())),
+                .map(|s| Attr::Str(crate::io::hdf5_guard::lossy(s.as_bytes()))),
             TypeDescriptor::FixedAscii(_) | TypeDescriptor::FixedUnicode(_) => attr
                 .read_raw::<hdf5::types::FixedAscii<4096>>()
                 .ok()?
                 .first()
-                .map(|s| Attr::Str(s.as_str().trim_end_matches('\0').to_string())),
+                .map(|s| {
+                    Attr::Str(
+                        crate::io::hdf5_guard::lossy(s.as_bytes())
+                            .trim_end_matches('\0')
+                            .to_string(),
+                    )
+                }),
             _ => None,
         }
     })
