@@ -1,12 +1,12 @@
 //! `contactmap expected`: cis expected as `cooltools expected-cis`, trans expected as
 //! `cooltools expected-trans`, log-binned P(s) with slopes, and power-law exponents.
 
-use std::io::Read;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use clap::Args;
 use rayon::prelude::*;
 
+use crate::cli::input::{read_view, read_weights};
 use crate::cli::output::{write_real, write_u64, Output};
 use crate::cli::InputArgs;
 use crate::error::{Error, Result};
@@ -15,9 +15,9 @@ use crate::expected::powerlaw::{
     default_fit_range, fit_bins, fit_log_binned, FitParams, FitRange, PowerLawReport,
 };
 use crate::expected::{
-    expected_cis, expected_trans, CisExpected, CisParams, Column, RegionSpec, TransExpected, View,
+    expected_cis, expected_trans, CisExpected, CisParams, Column, TransExpected, View,
 };
-use crate::io::{self, LoadedPixels, MatrixReader, StreamedPixels};
+use crate::io::{self, LoadedPixels, StreamedPixels};
 
 /// Arguments of `contactmap expected`.
 #[derive(Debug, Args)]
@@ -251,82 +251,6 @@ fn write_text(args: &ExpectedArgs, text: &[u8]) -> Result<()> {
     let mut out = Output::open(args.out.as_deref())?;
     out.write_all(text)?;
     out.finish()
-}
-
-/// The weight column `name`, or an error listing the available ones.
-pub(crate) fn read_weights(reader: &dyn MatrixReader, name: &str) -> Result<Vec<f64>> {
-    let names = reader.weight_names();
-    if !names.iter().any(|n| n == name) {
-        let available = if names.is_empty() {
-            "it has none".to_string()
-        } else {
-            format!("it has {}", names.join(", "))
-        };
-        return Err(Error::format(
-            reader.source(),
-            format!(
-                "no weight column '{name}' ({available}); use --weight-name NAME, or --raw for raw counts"
-            ),
-        ));
-    }
-    Ok(reader.weights(name)?.values)
-}
-
-/// Read a BED view (`chrom start end [name]`, gzip allowed) and check it against the matrix.
-pub(crate) fn read_view(path: &Path, reader: &dyn MatrixReader) -> Result<View> {
-    let mut bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-    if bytes.starts_with(&[0x1f, 0x8b]) {
-        let mut text = Vec::new();
-        flate2::read::MultiGzDecoder::new(bytes.as_slice())
-            .read_to_end(&mut text)
-            .map_err(|e| Error::io(path, e))?;
-        bytes = text;
-    }
-    let text =
-        String::from_utf8(bytes).map_err(|_| Error::format(path, "not a text (UTF-8) BED file"))?;
-    let mut specs = Vec::new();
-    for (index, line) in text.lines().enumerate() {
-        let line_number = index as u64 + 1;
-        let trimmed = line.trim_end_matches('\r');
-        if trimmed.trim().is_empty()
-            || trimmed.starts_with('#')
-            || trimmed.starts_with("track")
-            || trimmed.starts_with("browser")
-        {
-            continue;
-        }
-        let fields: Vec<&str> = if trimmed.contains('\t') {
-            trimmed.split('\t').collect()
-        } else {
-            trimmed.split_whitespace().collect()
-        };
-        if !(3..=4).contains(&fields.len()) {
-            return Err(Error::parse(
-                path,
-                line_number,
-                format!(
-                    "expected 3 or 4 columns (chrom start end [name]), found {}",
-                    fields.len()
-                ),
-            ));
-        }
-        let number = |text: &str, what: &str| {
-            text.trim().parse::<u64>().map_err(|_| {
-                Error::parse(
-                    path,
-                    line_number,
-                    format!("{what} '{text}' is not a non-negative integer"),
-                )
-            })
-        };
-        specs.push(RegionSpec {
-            chrom: fields[0].trim().to_string(),
-            start_bp: number(fields[1], "start")?,
-            end_bp: number(fields[2], "end")?,
-            name: fields.get(3).map(|n| n.trim().to_string()),
-        });
-    }
-    View::new(reader.bins(), &specs).map_err(|e| Error::format(path, e.to_string()))
 }
 
 /// Parse `MIN-MAX` in bp with optional k / kb / M / Mb / G / Gb suffixes (`100k-10M`).

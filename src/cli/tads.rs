@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
 
-use crate::cli::expected::{read_view, read_weights};
+use crate::cli::input::{read_view, read_weights};
 use crate::cli::output::{write_real, write_u64, Output};
 use crate::cli::warnings::Warnings;
 use crate::cli::InputArgs;
