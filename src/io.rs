@@ -510,6 +510,55 @@ fn same_file(_file: &std::fs::File, _path: &Path) -> bool {
     true
 }
 
+/// Inside `impl MatrixReader for W`, where `self.FIELD` is the wrapped reader: every method but
+/// the pixel reads forwarded to it (totals, the stored pixels' sums, included). An adapter that
+/// changes the pixels (progress, checks) writes only `read_pixels` and `read_stored_pixels`, and a
+/// method added to the trait is forwarded by every adapter at once.
+macro_rules! forward_reader_metadata {
+    ($field:ident) => {
+        fn source(&self) -> &str {
+            self.$field.source()
+        }
+
+        fn bins(&self) -> &$crate::genome::BinTable {
+            self.$field.bins()
+        }
+
+        fn count_type(&self) -> $crate::matrix::CountType {
+            self.$field.count_type()
+        }
+
+        fn weight_names(&self) -> Vec<String> {
+            self.$field.weight_names()
+        }
+
+        fn weights(&self, name: &str) -> $crate::error::Result<$crate::matrix::Weights> {
+            self.$field.weights(name)
+        }
+
+        fn stored_weights(&self, name: &str) -> $crate::error::Result<$crate::matrix::Weights> {
+            self.$field.stored_weights(name)
+        }
+
+        fn info(&self) -> $crate::io::MatrixInfo {
+            self.$field.info()
+        }
+
+        fn stores_both_triangles(&self) -> bool {
+            self.$field.stores_both_triangles()
+        }
+
+        fn totals(&self) -> $crate::error::Result<(u64, f64)> {
+            self.$field.totals()
+        }
+
+        fn warnings(&self) -> Vec<String> {
+            self.$field.warnings()
+        }
+    };
+}
+pub(crate) use forward_reader_metadata;
+
 /// A reader whose counts are checked as they stream: the first pixel whose count is negative, NaN
 /// or infinite ends the stream with an error naming the file, the pixel's bin ids and
 /// coordinates, and its value.
@@ -580,33 +629,7 @@ impl CheckedCounts {
 }
 
 impl MatrixReader for CheckedCounts {
-    fn source(&self) -> &str {
-        self.inner.source()
-    }
-
-    fn bins(&self) -> &BinTable {
-        self.inner.bins()
-    }
-
-    fn count_type(&self) -> CountType {
-        self.inner.count_type()
-    }
-
-    fn weight_names(&self) -> Vec<String> {
-        self.inner.weight_names()
-    }
-
-    fn weights(&self, name: &str) -> Result<Weights> {
-        self.inner.weights(name)
-    }
-
-    fn stored_weights(&self, name: &str) -> Result<Weights> {
-        self.inner.stored_weights(name)
-    }
-
-    fn info(&self) -> MatrixInfo {
-        self.inner.info()
-    }
+    forward_reader_metadata!(inner);
 
     fn read_pixels(
         &self,
@@ -620,10 +643,6 @@ impl MatrixReader for CheckedCounts {
         })
     }
 
-    fn stores_both_triangles(&self) -> bool {
-        self.inner.stores_both_triangles()
-    }
-
     fn read_stored_pixels(
         &self,
         rows: Range<usize>,
@@ -634,16 +653,6 @@ impl MatrixReader for CheckedCounts {
             self.check(block)?;
             sink(block)
         })
-    }
-
-    /// The inner reader's totals (a sum of stored counts; every pixel is checked when it is
-    /// read).
-    fn totals(&self) -> Result<(u64, f64)> {
-        self.inner.totals()
-    }
-
-    fn warnings(&self) -> Vec<String> {
-        self.inner.warnings()
     }
 }
 

@@ -8,8 +8,8 @@
 //! The `known_*` tests replay the failing mutants the campaigns found, all fixed since, as
 //! regression tests (a mutant is reproduced from its format, campaign seed and index: the
 //! fixtures and `fuzz/mutate.rs` must stay as they are for the indices to keep their meaning).
-//! A new finding gets its replay here, `#[ignore]`d with its id until it is fixed
-//! (docs/reliability.md lists the findings).
+//! A new finding is fixed, then gets its replay here under its id (docs/reliability.md lists the
+//! findings).
 
 #[allow(dead_code)]
 #[path = "fuzz/harness.rs"]

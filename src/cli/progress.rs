@@ -7,9 +7,8 @@ use std::ops::Range;
 use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::error::Result;
-use crate::genome::BinTable;
-use crate::io::{MatrixInfo, MatrixReader};
-use crate::matrix::{CountType, PixelBlock, Weights};
+use crate::io::{forward_reader_metadata, MatrixReader};
+use crate::matrix::PixelBlock;
 
 /// A [`MatrixReader`] that advances a progress bar as pixels stream through it.
 pub struct WithProgress<'a> {
@@ -47,29 +46,7 @@ impl Drop for WithProgress<'_> {
 }
 
 impl MatrixReader for WithProgress<'_> {
-    fn source(&self) -> &str {
-        self.inner.source()
-    }
-
-    fn bins(&self) -> &BinTable {
-        self.inner.bins()
-    }
-
-    fn count_type(&self) -> CountType {
-        self.inner.count_type()
-    }
-
-    fn weight_names(&self) -> Vec<String> {
-        self.inner.weight_names()
-    }
-
-    fn weights(&self, name: &str) -> Result<Weights> {
-        self.inner.weights(name)
-    }
-
-    fn info(&self) -> MatrixInfo {
-        self.inner.info()
-    }
+    forward_reader_metadata!(inner);
 
     fn read_pixels(
         &self,
@@ -83,11 +60,15 @@ impl MatrixReader for WithProgress<'_> {
         })
     }
 
-    fn totals(&self) -> Result<(u64, f64)> {
-        self.inner.totals()
-    }
-
-    fn warnings(&self) -> Vec<String> {
-        self.inner.warnings()
+    fn read_stored_pixels(
+        &self,
+        rows: Range<usize>,
+        cols: Range<usize>,
+        sink: &mut dyn FnMut(&PixelBlock) -> Result<()>,
+    ) -> Result<()> {
+        self.inner.read_stored_pixels(rows, cols, &mut |block| {
+            self.bar.inc(block.len() as u64);
+            sink(block)
+        })
     }
 }
