@@ -6,7 +6,8 @@
 //!
 //! - the polymer simulator: [`polymer`] (a bead-spring chain under Brownian dynamics), [`cells`]
 //!   (the cell lists of its pair forces and contacts), [`extrusion`] (1D loop extrusion),
-//!   [`ensemble`] (replicas in parallel, sampled into a binned contact map) and [`analysis`]
+//!   [`ensemble`] (replicas in parallel, sampled into a binned contact map), [`noise`] (counter-based
+//!   Gaussian noise, the same on any thread count and on the GPU) and [`analysis`]
 //!   (P(s), radii of gyration and the closed forms they are checked against);
 //! - [`mod@reference`]: a Monte Carlo sampler of the same chain's equilibrium, against which the
 //!   dynamics are checked.
@@ -27,6 +28,7 @@ pub mod blocks;
 pub mod cells;
 pub mod ensemble;
 pub mod extrusion;
+pub mod noise;
 pub mod polymer;
 pub mod reference;
 
