@@ -191,7 +191,7 @@ fn main() {
                     classes.join(", ")
                 );
             }
-            if n % 500 == 0 || n == total {
+            if n.is_multiple_of(500) || n == total {
                 eprintln!("[{}] {n}/{total}", format.name);
             }
         };

@@ -966,7 +966,7 @@ mod tests {
     /// A version-1 `.npy` with `header` (padded with spaces and a newline) and `data`.
     fn npy(header: &str, data: &[u8]) -> Vec<u8> {
         let mut header = header.to_string();
-        while (10 + header.len() + 1) % 64 != 0 {
+        while !(10 + header.len() + 1).is_multiple_of(64) {
             header.push(' ');
         }
         header.push('\n');

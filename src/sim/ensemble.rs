@@ -18,10 +18,10 @@
 
 use rayon::prelude::*;
 
-use super::cells::CellList;
+use super::cells::{CellList, Space};
 use super::extrusion::{Extruder, ExtrusionParams};
 use super::polymer::{radius_of_gyration, Polymer, PolymerParams};
-use super::stream_rng;
+use super::{stream_rng, SimRng};
 use crate::error::{Error, Result};
 
 /// Stream tag of the 3D dynamics.
@@ -183,29 +183,83 @@ pub struct Ensemble {
     pub conformations: Vec<Vec<[f64; 3]>>,
 }
 
-struct Replica {
+/// What one replica's samples gave.
+pub(crate) struct Replica {
     pixels: Vec<(u64, u64)>,
     radii: Vec<Vec<f64>>,
     conformations: Vec<Vec<[f64; 3]>>,
 }
 
-/// Run the replicas (in parallel) and accumulate their contacts; `progress(replica)` is called
-/// when a replica finishes.
-pub fn run_ensemble(
+/// Counts the contacts, radii of gyration and (when kept) conformations of one replica's
+/// samples; shared by the CPU and GPU backends so both count contacts the same way.
+pub(crate) struct Sampler<'a> {
+    params: &'a EnsembleParams,
+    bead_bin: &'a [u32],
+    n_bins: u64,
+    counts: std::collections::HashMap<u64, u64>,
+    cells: CellList,
+    radii: Vec<Vec<f64>>,
+    conformations: Vec<Vec<[f64; 3]>>,
+}
+
+impl<'a> Sampler<'a> {
+    /// A sampler for bins `bead_bin` (see [`EnsembleParams::bins`]) of `n_bins` bins in all.
+    pub(crate) fn new(params: &'a EnsembleParams, bead_bin: &'a [u32], n_bins: u64) -> Self {
+        Self {
+            params,
+            bead_bin,
+            n_bins,
+            counts: std::collections::HashMap::new(),
+            cells: CellList::new(),
+            radii: Vec::with_capacity(params.samples),
+            conformations: Vec::new(),
+        }
+    }
+
+    /// Count one conformation of the replica.
+    pub(crate) fn sample(&mut self, positions: &[[f64; 3]], space: Space) {
+        let (bead_bin, n_bins, counts) = (self.bead_bin, self.n_bins, &mut self.counts);
+        self.cells
+            .build(positions, self.params.contact_radius, space);
+        let order = self.cells.order();
+        self.cells.for_each_pair(|a, b, _, _| {
+            let (i, j) = (order[a] as usize, order[b] as usize);
+            let (x, y) = (bead_bin[i] as u64, bead_bin[j] as u64);
+            let (x, y) = (x.min(y), x.max(y));
+            *counts.entry(x * n_bins + y).or_insert(0) += 1;
+        });
+        self.radii.push(
+            self.params
+                .polymer
+                .chain_ranges()
+                .into_iter()
+                .map(|range| radius_of_gyration(&positions[range]))
+                .collect(),
+        );
+        if self.params.keep_conformations {
+            self.conformations.push(positions.to_vec());
+        }
+    }
+
+    /// The replica's result.
+    pub(crate) fn finish(self) -> Replica {
+        let mut pixels: Vec<(u64, u64)> = self.counts.into_iter().collect();
+        pixels.sort_unstable();
+        Replica {
+            pixels,
+            radii: self.radii,
+            conformations: self.conformations,
+        }
+    }
+}
+
+/// The ensemble of the replicas' results (in replica order).
+pub(crate) fn assemble(
     params: &EnsembleParams,
-    progress: &(dyn Fn(usize) + Sync),
-) -> Result<Ensemble> {
-    params.check()?;
-    let (bead_bin, bins_per_chain) = params.bins();
+    bins_per_chain: Vec<usize>,
+    replicas: Vec<Replica>,
+) -> Ensemble {
     let n_bins: u64 = bins_per_chain.iter().sum::<usize>() as u64;
-    let replicas: Vec<Replica> = (0..params.replicas)
-        .into_par_iter()
-        .map(|replica| {
-            let result = run_replica(params, replica, &bead_bin, n_bins);
-            progress(replica);
-            result
-        })
-        .collect::<Result<_>>()?;
     // Merge the sorted per-replica pixel lists (integer sums: order does not matter).
     let mut all: Vec<(u64, u64)> = replicas
         .iter()
@@ -230,7 +284,46 @@ pub fn run_ensemble(
         ensemble.radii_of_gyration.extend(replica.radii);
         ensemble.conformations.extend(replica.conformations);
     }
-    Ok(ensemble)
+    ensemble
+}
+
+/// The loop extrusion of one replica: its coupling, 1D model and generator.
+pub(crate) type ReplicaExtrusion<'a> = (&'a ExtrusionCoupling, Extruder, SimRng);
+
+/// The loop extrusion of `replica` (none without extrusion), seeded from its own stream.
+pub(crate) fn replica_extrusion(
+    params: &EnsembleParams,
+    replica: usize,
+) -> Result<Option<ReplicaExtrusion<'_>>> {
+    match &params.extrusion {
+        Some(coupling) => {
+            let mut rng = stream_rng(params.seed, EXTRUSION_STREAM, replica as u64);
+            let extruder = Extruder::new(&coupling.params, &mut rng)
+                .map_err(|err| Error::Invalid(format!("loop extrusion: {err}")))?;
+            Ok(Some((coupling, extruder, rng)))
+        }
+        None => Ok(None),
+    }
+}
+
+/// Run the replicas (in parallel) and accumulate their contacts; `progress(replica)` is called
+/// when a replica finishes.
+pub fn run_ensemble(
+    params: &EnsembleParams,
+    progress: &(dyn Fn(usize) + Sync),
+) -> Result<Ensemble> {
+    params.check()?;
+    let (bead_bin, bins_per_chain) = params.bins();
+    let n_bins: u64 = bins_per_chain.iter().sum::<usize>() as u64;
+    let replicas: Vec<Replica> = (0..params.replicas)
+        .into_par_iter()
+        .map(|replica| {
+            let result = run_replica(params, replica, &bead_bin, n_bins);
+            progress(replica);
+            result
+        })
+        .collect::<Result<_>>()?;
+    Ok(assemble(params, bins_per_chain, replicas))
 }
 
 fn run_replica(
@@ -243,20 +336,12 @@ fn run_replica(
         params.polymer.clone(),
         stream_rng(params.seed, POLYMER_STREAM, replica as u64),
     )?;
-    let mut extrusion = match &params.extrusion {
-        Some(coupling) => {
-            let mut rng = stream_rng(params.seed, EXTRUSION_STREAM, replica as u64);
-            let extruder = Extruder::new(&coupling.params, &mut rng)
-                .map_err(|err| Error::Invalid(format!("loop extrusion: {err}")))?;
-            Some((coupling, extruder, rng))
-        }
-        None => None,
-    };
+    let mut extrusion = replica_extrusion(params, replica)?;
     let mut steps_done = 0usize;
     let mut advance = |polymer: &mut Polymer, steps: usize| {
         for _ in 0..steps {
             if let Some((coupling, extruder, rng)) = extrusion.as_mut() {
-                if steps_done % coupling.steps_per_move == 0 {
+                if steps_done.is_multiple_of(coupling.steps_per_move) {
                     if steps_done > 0 {
                         extruder.step(rng);
                     }
@@ -272,40 +357,12 @@ fn run_replica(
         }
     };
     advance(&mut polymer, params.equilibration_steps);
-    let mut counts: std::collections::HashMap<u64, u64> = std::collections::HashMap::new();
-    let mut cells = CellList::new();
-    let mut radii = Vec::with_capacity(params.samples);
-    let mut conformations = Vec::new();
+    let mut sampler = Sampler::new(params, bead_bin, n_bins);
     for _ in 0..params.samples {
         advance(&mut polymer, params.sample_every);
-        let positions = polymer.positions();
-        cells.build(positions, params.contact_radius, polymer.space());
-        let order = cells.order();
-        cells.for_each_pair(|a, b, _, _| {
-            let (i, j) = (order[a] as usize, order[b] as usize);
-            let (x, y) = (bead_bin[i] as u64, bead_bin[j] as u64);
-            let (x, y) = (x.min(y), x.max(y));
-            *counts.entry(x * n_bins + y).or_insert(0) += 1;
-        });
-        radii.push(
-            params
-                .polymer
-                .chain_ranges()
-                .into_iter()
-                .map(|range| radius_of_gyration(&positions[range]))
-                .collect(),
-        );
-        if params.keep_conformations {
-            conformations.push(positions.to_vec());
-        }
+        sampler.sample(polymer.positions(), polymer.space());
     }
-    let mut pixels: Vec<(u64, u64)> = counts.into_iter().collect();
-    pixels.sort_unstable();
-    Ok(Replica {
-        pixels,
-        radii,
-        conformations,
-    })
+    Ok(sampler.finish())
 }
 
 #[cfg(test)]

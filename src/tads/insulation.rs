@@ -151,7 +151,7 @@ pub(super) fn window_bins(bins: &BinTable, window_bp: u64) -> Result<usize> {
     let bin_size = bins.bin_size_bp().ok_or_else(|| {
         Error::Invalid("the matrix has variable-size bins; windows need a fixed bin size".into())
     })?;
-    if window_bp == 0 || bin_size == 0 || window_bp % bin_size != 0 {
+    if window_bp == 0 || bin_size == 0 || !window_bp.is_multiple_of(bin_size) {
         return Err(Error::Invalid(format!(
             "window {window_bp} bp is not a positive multiple of the bin size {bin_size} bp"
         )));

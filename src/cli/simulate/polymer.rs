@@ -15,6 +15,7 @@ use crate::io::InMemory;
 use crate::matrix::{CountType, MatrixBuilder};
 use crate::sim::ensemble::{run_ensemble, Ensemble, EnsembleParams, ExtrusionCoupling};
 use crate::sim::extrusion::{BoundaryElement, ExtrusionParams, Orientation};
+use crate::sim::gpu::{run_ensemble_gpu, Gpu};
 use crate::sim::polymer::{
     box_side, chain_ranges, sphere_radius, Attraction, BondModel, Confinement, PolymerParams,
     Repulsion,
@@ -51,6 +52,18 @@ pub enum ConfinementArg {
     None,
 }
 
+/// Where to run, for `--device`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum DeviceArg {
+    /// the GPU when a hardware one is usable, else the CPU
+    Auto,
+    /// every CPU core
+    Cpu,
+    /// the GPU (any Vulkan, Metal or DX12 adapter, software drivers such as lavapipe included);
+    /// an error when there is none
+    Gpu,
+}
+
 /// Arguments of `contactmap simulate polymer`.
 #[derive(Debug, Args)]
 #[command(after_long_help = "\
@@ -70,6 +83,11 @@ every --steps-per-move 3D steps), unload after --processivity / 2 steps on avera
 boundary elements (--ctcf): a + element stops leftward-moving legs, a - element rightward ones
 (convergent rule), . both; capture with --capture, release per step with --release. Each LEF
 holds its two legs together by a harmonic bond.
+
+Devices (--device): the CPU backend runs replicas in parallel on every core; the GPU backend
+(WGSL compute shaders through wgpu on Vulkan, Metal or DX12) steps all replicas together as one
+batch of independent chains, so many replicas cost little more than one. Both simulate the same
+model; the GPU in single precision.
 
 Ensemble: --replicas independent chains (in parallel), each equilibrated for --equilibration
 steps and then sampled --samples times every --sample-every steps. Beads closer than
@@ -212,6 +230,11 @@ pub struct PolymerArgs {
     /// Write the radius of gyration of every sample (TSV).
     #[arg(long, value_name = "FILE")]
     pub stats: Option<PathBuf>,
+    /// Where to simulate: auto takes a hardware GPU when one is usable (it says which device it
+    /// used on stderr). The same seed gives the same map on the same kind of device; the CPU and
+    /// the GPU agree in distribution, not bit for bit.
+    #[arg(long, value_enum, default_value = "auto")]
+    pub device: DeviceArg,
 }
 
 /// Parse a type pattern such as `A200B200` or `AABB` into one type per bead of a period.
@@ -503,7 +526,27 @@ pub fn run(args: &PolymerArgs) -> Result<()> {
     } else {
         indicatif::ProgressBar::hidden()
     };
-    let ensemble = run_ensemble(&params, &|_| bar.inc(1))?;
+    let gpu =
+        match args.device {
+            DeviceArg::Cpu => None,
+            DeviceArg::Gpu => Some(Gpu::open(true).map_err(|reason| {
+                Error::Invalid(format!("--device gpu: no usable GPU: {reason}"))
+            })?),
+            DeviceArg::Auto => Gpu::open(false).ok(),
+        };
+    let ensemble = match &gpu {
+        Some(gpu) => {
+            eprintln!("simulate polymer: on the GPU: {}", gpu.description());
+            run_ensemble_gpu(&params, gpu, &|_| bar.inc(1))?
+        }
+        None => {
+            eprintln!(
+                "simulate polymer: on the CPU ({} threads)",
+                rayon::current_num_threads()
+            );
+            run_ensemble(&params, &|_| bar.inc(1))?
+        }
+    };
     bar.finish_and_clear();
     let mut builder = MatrixBuilder::new(bins.clone(), CountType::Integer);
     for &(bin1, bin2, count) in &ensemble.pixels {

@@ -187,7 +187,7 @@ pub(super) fn block_number(rotated: bool, x: u64, y: u64, size: u64, columns: u6
 pub(super) fn encode_block(version: i32, number: u64, records: &[(u64, u64, f32)]) -> Vec<u8> {
     let x0 = records.iter().map(|r| r.0).min().unwrap();
     let y0 = records.iter().map(|r| r.1).min().unwrap();
-    let short = number % 3 != 0
+    let short = !number.is_multiple_of(3)
         && records
             .iter()
             .all(|r| r.2.fract() == 0.0 && r.2.abs() <= 32_767.0);
