@@ -51,6 +51,8 @@ pub struct CellList {
     start: Vec<u32>,
     /// Point index of each slot.
     order: Vec<u32>,
+    /// Slot of each point (the inverse of `order`).
+    slot_of: Vec<u32>,
     /// Coordinates of each slot (wrapped into the box when periodic).
     sorted: Vec<[f64; 3]>,
     cell_of: Vec<u32>,
@@ -179,12 +181,14 @@ impl CellList {
         next.clear();
         next.extend_from_slice(&self.start[..n_cells]);
         self.order.resize(n, 0);
+        self.slot_of.resize(n, 0);
         self.sorted.resize(n, [0.0; 3]);
         for (index, p) in wrapped.iter().enumerate() {
             let cell = self.cell_of[index] as usize;
             let slot = next[cell] as usize;
             next[cell] += 1;
             self.order[slot] = index as u32;
+            self.slot_of[index] = slot as u32;
             self.sorted[slot] = *p;
         }
         self.next = next;
@@ -243,17 +247,52 @@ impl CellList {
         &self.order
     }
 
+    /// Slot of each point: point `i` sits at slot `slot_of()[i]` (the inverse of
+    /// [`CellList::order`]).
+    pub fn slot_of(&self) -> &[u32] {
+        &self.slot_of
+    }
+
+    /// Number of planes of cells along z (1 when the list compares all pairs). Slots are sorted
+    /// by cell with x fastest and z slowest, so each plane holds a contiguous range of slots
+    /// ([`CellList::plane_slots`]).
+    pub fn n_planes(&self) -> usize {
+        self.dims[2]
+    }
+
+    /// The slots of the cells of plane `z` (`z < n_planes()`).
+    pub fn plane_slots(&self, z: usize) -> std::ops::Range<usize> {
+        let plane = self.dims[0] * self.dims[1];
+        self.start[z * plane] as usize..self.start[(z + 1) * plane] as usize
+    }
+
     /// Call `visit(slot_a, slot_b, delta, r2)` once for every pair of slots whose points are
     /// closer than the cutoff (`r2 < cutoff²`), with `delta` the displacement from b to a
-    /// (minimum image). Slots index [`CellList::order`]; pairs come in a fixed order.
+    /// (minimum image). Slots index [`CellList::order`]; pairs come in a fixed order: plane by
+    /// plane, as [`CellList::for_each_pair_in_plane`] visits them.
     pub fn for_each_pair(&self, mut visit: impl FnMut(usize, usize, [f64; 3], f64)) {
+        for z in 0..self.n_planes() {
+            self.for_each_pair_in_plane(z, &mut visit);
+        }
+    }
+
+    /// [`CellList::for_each_pair`] for the pairs whose first slot lies in plane `z`: the second
+    /// slot lies in plane `z` or in the next one, `(z + 1) % n_planes()` (the half shell reaches
+    /// one plane up, wrapping around in a periodic box). Planes can thus be visited in parallel,
+    /// each writing to its own slots and to those of the next plane. The pairs of a plane come
+    /// in a fixed order.
+    pub fn for_each_pair_in_plane(
+        &self,
+        z: usize,
+        mut visit: impl FnMut(usize, usize, [f64; 3], f64),
+    ) {
         let cutoff2 = self.cutoff * self.cutoff;
-        let space = match self.periodic {
-            Some(side) => Space::Periodic(side),
-            None => Space::Open,
-        };
         let n = self.sorted.len();
         if self.brute_force {
+            let space = match self.periodic {
+                Some(side) => Space::Periodic(side),
+                None => Space::Open,
+            };
             for a in 0..n {
                 for b in a + 1..n {
                     let d = space.delta(&self.sorted[a], &self.sorted[b]);
@@ -266,10 +305,15 @@ impl CellList {
             return;
         }
         let [nx, ny, nz] = self.dims;
+        let plane = nx * ny;
+        let first_cell = self.occupied.partition_point(|&c| (c as usize) < z * plane);
+        let last_cell = self
+            .occupied
+            .partition_point(|&c| (c as usize) < (z + 1) * plane);
         let mut neighbours = [(0usize, [0.0f64; 3]); 13];
-        for &cell in &self.occupied {
+        for &cell in &self.occupied[first_cell..last_cell] {
             let cell = cell as usize;
-            let (x, y, z) = (cell % nx, cell / nx % ny, cell / (nx * ny));
+            let (x, y) = (cell % nx, cell / nx % ny);
             let (first, last) = (self.start[cell] as usize, self.start[cell + 1] as usize);
             let interior =
                 (1..nx - 1).contains(&x) && (1..ny - 1).contains(&y) && (1..nz - 1).contains(&z);
@@ -282,7 +326,6 @@ impl CellList {
                     let pa = self.sorted[a];
                     self.scan(a, pa, a + 1..row_end, cutoff2, &mut visit);
                 }
-                let plane = nx * ny;
                 for row in [
                     cell + nx,
                     cell + plane - nx,
@@ -404,6 +447,47 @@ mod tests {
             let mut cells = CellList::new();
             cells.build(&points, cutoff, space);
             prop_assert_eq!(cells.pairs(), brute_force(&points, cutoff, space));
+        }
+    }
+
+    /// The pairs of each plane start in that plane and end in it or in the next one (wrapping
+    /// around), so planes can write their forces apart; `slot_of` inverts `order`.
+    fn check_planes(cells: &CellList) -> Result<(), TestCaseError> {
+        let n_planes = cells.n_planes();
+        let mut covered = 0;
+        for z in 0..n_planes {
+            let own = cells.plane_slots(z);
+            prop_assert_eq!(own.start, covered);
+            covered = own.end;
+            let next = cells.plane_slots((z + 1) % n_planes);
+            let mut outside = None;
+            cells.for_each_pair_in_plane(z, |a, b, _, _| {
+                if !own.contains(&a) || !(own.contains(&b) || next.contains(&b)) {
+                    outside = Some((a, b));
+                }
+            });
+            prop_assert_eq!(outside, None, "plane {}", z);
+        }
+        prop_assert_eq!(covered, cells.order().len());
+        for (slot, &point) in cells.order().iter().enumerate() {
+            prop_assert_eq!(cells.slot_of()[point as usize] as usize, slot);
+        }
+        Ok(())
+    }
+
+    proptest! {
+        #[test]
+        fn planes_write_to_themselves_and_the_next_one(
+            points in points_strategy(),
+            cutoff in 0.3f64..3.0,
+            side in 2.0f64..12.0,
+            periodic: bool,
+        ) {
+            let space = if periodic { Space::Periodic(side) } else { Space::Open };
+            let cutoff = cutoff.min(side / 2.0 - 1e-9);
+            let mut cells = CellList::new();
+            cells.build(&points, cutoff, space);
+            check_planes(&cells)?;
         }
     }
 
