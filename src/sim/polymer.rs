@@ -1230,6 +1230,84 @@ mod tests {
         }
     }
 
+    /// A 20,000-bead system (two chains, angle stiffness, attraction, extrusion-style extra
+    /// bonds) stepped in rayon pools of 1, 2 and 16 threads ends at the same positions bit for
+    /// bit, in a periodic box and in a sphere; its parallel forces equal the serial all-pairs
+    /// Newton's-third-law forces.
+    #[test]
+    fn same_trajectory_on_any_number_of_threads() {
+        let n = 20_000;
+        for confinement in [
+            Confinement::Periodic {
+                side: box_side(n, 0.3),
+            },
+            Confinement::Sphere {
+                radius: sphere_radius(n, 0.3),
+                stiffness: 5.0,
+            },
+        ] {
+            let params = PolymerParams {
+                chains: vec![12_000, 8_000],
+                angle_stiffness: 1.5,
+                attraction: Some(Attraction {
+                    types: (0..n).map(|i| (i / 500 % 2) as u8).collect(),
+                    energy: 0.5,
+                    radius: 1.5,
+                }),
+                confinement,
+                ..PolymerParams::default()
+            };
+            let extra: Vec<(usize, usize)> =
+                (0..n - 300).step_by(400).map(|i| (i, i + 150)).collect();
+            let run = |threads: usize| {
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .unwrap();
+                pool.install(|| {
+                    let mut polymer = Polymer::new(params.clone(), stream_rng(4, 0, 0)).unwrap();
+                    polymer.run(3);
+                    polymer.set_extra_bonds(&extra, 0.5, 0.2);
+                    polymer.run(3);
+                    polymer.compute_forces();
+                    polymer
+                })
+            };
+            let one = run(1);
+            assert_eq!(one.steps_taken(), 6);
+            let bits = |polymer: &Polymer| -> Vec<u64> {
+                polymer
+                    .positions()
+                    .iter()
+                    .flatten()
+                    .map(|x| x.to_bits())
+                    .collect()
+            };
+            for threads in [2, 16] {
+                let other = run(threads);
+                assert!(
+                    bits(&one) == bits(&other),
+                    "{confinement:?}: {threads} threads differ"
+                );
+                let forces = |polymer: &Polymer| -> Vec<u64> {
+                    polymer
+                        .forces()
+                        .iter()
+                        .flatten()
+                        .map(|x| x.to_bits())
+                        .collect()
+                };
+                assert!(forces(&one) == forces(&other));
+            }
+            let (naive, _) = naive_forces(&one);
+            let difference = relative_difference(&naive, one.forces());
+            assert!(
+                difference < 1e-9,
+                "{confinement:?}: forces differ by {difference}"
+            );
+        }
+    }
+
     #[test]
     fn polynomial_repulsion_shape() {
         let repulsion = Repulsion::Polynomial {

@@ -212,6 +212,10 @@ pub struct PolymerArgs {
     /// Write the radius of gyration of every sample (TSV).
     #[arg(long, value_name = "FILE")]
     pub stats: Option<PathBuf>,
+    /// Threads for the replicas and within each chain [default: all cores]. The results do not
+    /// depend on it: the same --seed gives the same files on any number of threads.
+    #[arg(long, value_name = "N")]
+    pub threads: Option<usize>,
 }
 
 /// Parse a type pattern such as `A200B200` or `AABB` into one type per bead of a period.
@@ -494,6 +498,9 @@ pub fn run(args: &PolymerArgs) -> Result<()> {
             "simulate writes a .cool file: give a file name to -o, not '-'".into(),
         ));
     }
+    if args.threads == Some(0) {
+        return Err(Error::Invalid("--threads must be at least 1".into()));
+    }
     let params = args.params()?;
     let bins = bin_table(args)?;
     let bar = if std::io::stderr().is_terminal() {
@@ -503,7 +510,14 @@ pub fn run(args: &PolymerArgs) -> Result<()> {
     } else {
         indicatif::ProgressBar::hidden()
     };
-    let ensemble = run_ensemble(&params, &|_| bar.inc(1))?;
+    let ensemble = match args.threads {
+        None => run_ensemble(&params, &|_| bar.inc(1))?,
+        Some(threads) => rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .map_err(|err| Error::Invalid(format!("--threads {threads}: {err}")))?
+            .install(|| run_ensemble(&params, &|_| bar.inc(1)))?,
+    };
     bar.finish_and_clear();
     let mut builder = MatrixBuilder::new(bins.clone(), CountType::Integer);
     for &(bin1, bin2, count) in &ensemble.pixels {
