@@ -943,14 +943,26 @@ impl Polymer {
         let noise = (2.0 * dt).sqrt();
         let (key, step) = (self.noise_key, self.steps_taken);
         let forces = &self.forces;
+        let advance = |p: &mut [f64; 3], f: [f64; 3], xi: [f64; 3]| {
+            for axis in 0..3 {
+                p[axis] += f[axis] * dt + noise * xi[axis];
+            }
+        };
         for_each_block(parallel, &mut self.positions, |offset, block| {
-            for (k, p) in block.iter_mut().enumerate() {
-                let bead = offset + k;
-                let f = forces[bead];
-                let xi = noise::bead_normals(key, step, bead as u32);
-                for axis in 0..3 {
-                    p[axis] += f[axis] * dt + noise * xi[axis];
+            let end = offset + block.len();
+            let mut lanes = block.chunks_exact_mut(NOISE_LANES);
+            for (k, group) in lanes.by_ref().enumerate() {
+                let first = offset + k * NOISE_LANES;
+                let normals = bead_normals_lanes(key, step, first as u32);
+                for (lane, p) in group.iter_mut().enumerate() {
+                    advance(p, forces[first + lane], normals[lane]);
                 }
+            }
+            let rest = lanes.into_remainder();
+            let first = end - rest.len();
+            for (k, p) in rest.iter_mut().enumerate() {
+                let bead = first + k;
+                advance(p, forces[bead], noise::bead_normals(key, step, bead as u32));
             }
         });
         self.steps_taken += 1;
@@ -963,6 +975,56 @@ impl Polymer {
             self.step();
         }
     }
+}
+
+/// Beads whose noise [`bead_normals_lanes`] draws at once.
+const NOISE_LANES: usize = 4;
+
+/// [`noise::bead_normals`] of the beads `first..first + NOISE_LANES`, the same bits, with the
+/// Threefry-2x32-20 rounds of the eight counters run side by side so the compiler can keep them
+/// in vector registers (the scalar generator is a chain of dependent additions and rotations).
+#[inline]
+fn bead_normals_lanes(key: [u32; 2], step: u64, first: u32) -> [[f64; 3]; NOISE_LANES] {
+    // Random123's Threefry-2x32 constants, as in `noise::threefry2x32`.
+    const ROTATIONS: [u32; 8] = [13, 15, 26, 6, 17, 29, 16, 24];
+    const PARITY: u32 = 0x1BD1_1BDA;
+    const COUNTERS: usize = 2 * NOISE_LANES;
+    let key = [key[0], key[1] ^ (step >> 32) as u32];
+    let schedule = [key[0], key[1], PARITY ^ key[0] ^ key[1]];
+    // Counter lane l is [step, 2 first + l]: beads first.. with their two counters each.
+    let mut x0 = [(step as u32).wrapping_add(schedule[0]); COUNTERS];
+    let mut x1: [u32; COUNTERS] = std::array::from_fn(|lane| {
+        first
+            .wrapping_mul(2)
+            .wrapping_add(lane as u32)
+            .wrapping_add(schedule[1])
+    });
+    for round in 0..20 {
+        let rotation = ROTATIONS[round % 8];
+        for lane in 0..COUNTERS {
+            x0[lane] = x0[lane].wrapping_add(x1[lane]);
+            x1[lane] = x1[lane].rotate_left(rotation) ^ x0[lane];
+        }
+        if round % 4 == 3 {
+            let s = round / 4 + 1;
+            for lane in 0..COUNTERS {
+                x0[lane] = x0[lane].wrapping_add(schedule[s % 3]);
+                x1[lane] = x1[lane]
+                    .wrapping_add(schedule[(s + 1) % 3])
+                    .wrapping_add(s as u32);
+            }
+        }
+    }
+    let uniform = |word: u32| (word as f64 + 0.5) * (1.0 / 4_294_967_296.0);
+    std::array::from_fn(|bead| {
+        let (a, b) = (x0[2 * bead], x1[2 * bead]);
+        let (c, d) = (x0[2 * bead + 1], x1[2 * bead + 1]);
+        let r1 = (-2.0 * uniform(a).ln()).sqrt();
+        let r2 = (-2.0 * uniform(c).ln()).sqrt();
+        let (sin, cos) = (std::f64::consts::TAU * uniform(b)).sin_cos();
+        let cos2 = (std::f64::consts::TAU * uniform(d)).cos();
+        [r1 * cos, r1 * sin, r2 * cos2]
+    })
 }
 
 /// Add the force of the bond `(i, j)`; return its energy.
@@ -1305,6 +1367,23 @@ mod tests {
                 difference < 1e-9,
                 "{confinement:?}: forces differ by {difference}"
             );
+        }
+    }
+
+    #[test]
+    fn lane_noise_equals_the_scalar_noise() {
+        for (key, step) in [
+            ([7, 11], 0u64),
+            ([u32::MAX, 3], 12_345),
+            ([1, 2], (1 << 32) + 5),
+        ] {
+            for first in [0u32, 1, 4093, u32::MAX - 3] {
+                let lanes = bead_normals_lanes(key, step, first);
+                for (lane, normals) in lanes.iter().enumerate() {
+                    let scalar = noise::bead_normals(key, step, first + lane as u32);
+                    assert_eq!(normals.map(f64::to_bits), scalar.map(f64::to_bits));
+                }
+            }
         }
     }
 
