@@ -1,7 +1,8 @@
 //! Criterion bench of the polymer simulator: a 10,000-bead chain with excluded volume
 //! (polychrom's polynomial repulsion, 3 kT, radius 1.05; harmonic bonds, wiggle 0.1) at density
 //! 0.2 in a periodic box (the system of `../shared/tools/openmm_baseline.py`) and in a sphere;
-//! 100 Brownian steps per iteration, one thread. Throughput is in monomer-steps.
+//! 100 Brownian steps per iteration, in a rayon pool of one thread (one chain would otherwise use
+//! every core; `examples/polymer_scaling.rs` measures that). Throughput is in monomer-steps.
 //!
 //! Run: `cargo bench --bench polymer` (goal: 5 million monomer-steps per second per core).
 
@@ -18,6 +19,10 @@ const N: usize = 10_000;
 const STEPS: usize = 100;
 
 fn bench(c: &mut Criterion) {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap();
     let mut group = c.benchmark_group("polymer");
     group.sample_size(10);
     group.throughput(Throughput::Elements((N * STEPS) as u64));
@@ -42,20 +47,22 @@ fn bench(c: &mut Criterion) {
             ..PolymerParams::default()
         };
         let mut polymer = Polymer::new(params, stream_rng(1, 0, 0)).unwrap();
-        polymer.run(200);
-        group.bench_function(name, |b| b.iter(|| polymer.run(STEPS)));
+        pool.install(|| polymer.run(200));
+        group.bench_function(name, |b| b.iter(|| pool.install(|| polymer.run(STEPS))));
         // The pair search alone, on the same conformation.
         let positions = polymer.positions().to_vec();
         let space = polymer.space();
         let mut cells = CellList::new();
         group.bench_function(format!("{name}_cell_list_only"), |b| {
             b.iter(|| {
-                let mut count = 0usize;
-                for _ in 0..STEPS {
-                    cells.build(&positions, 1.05, space);
-                    cells.for_each_pair(|_, _, _, r2| count += (r2 > 0.5) as usize);
-                }
-                count
+                pool.install(|| {
+                    let mut count = 0usize;
+                    for _ in 0..STEPS {
+                        cells.build(&positions, 1.05, space);
+                        cells.for_each_pair(|_, _, _, r2| count += (r2 > 0.5) as usize);
+                    }
+                    count
+                })
             })
         });
     }

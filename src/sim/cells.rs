@@ -16,6 +16,8 @@
 //!   the minimum-image convention, and the grid wraps around. With fewer than 3 cells along the
 //!   side (a box under three cutoffs wide) the list falls back to comparing all pairs.
 
+use rayon::prelude::*;
+
 /// The space the points live in.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Space {
@@ -51,12 +53,15 @@ pub struct CellList {
     start: Vec<u32>,
     /// Point index of each slot.
     order: Vec<u32>,
+    /// Slot of each point (the inverse of `order`).
+    slot_of: Vec<u32>,
     /// Coordinates of each slot (wrapped into the box when periodic).
     sorted: Vec<[f64; 3]>,
     cell_of: Vec<u32>,
     /// Cells holding at least one point, ascending.
     occupied: Vec<u32>,
-    next: Vec<u32>,
+    /// The points of each plane of cells, ascending.
+    plane_points: Vec<Vec<u32>>,
     wrapped: Vec<[f64; 3]>,
     brute_force: bool,
 }
@@ -75,6 +80,36 @@ fn wrap_into(x: f64, side: f64) -> f64 {
 /// Largest number of grid cells per point: cells grow beyond the cutoff in sparse systems, where
 /// visiting many empty cells would cost more than testing a few more distances.
 const CELLS_PER_POINT: f64 = 6.0;
+
+/// Below this many points a list is built on the calling thread alone (the result is the same).
+const PARALLEL_MIN_POINTS: usize = 4096;
+
+/// Points per parallel task when locating points in cells.
+const BLOCK: usize = 1024;
+
+/// One plane's share of a build: its index, its points, and its ranges of `order`, `sorted` and
+/// `start`, with its first slot.
+type PlaneSort<'a> = (
+    usize,
+    (
+        (
+            ((&'a [u32], &'a mut [u32]), &'a mut [[f64; 3]]),
+            &'a mut [u32],
+        ),
+        usize,
+    ),
+);
+
+/// `data` cut into consecutive mutable slices of the given lengths.
+fn split_lengths<T>(mut data: &mut [T], lengths: impl Iterator<Item = usize>) -> Vec<&mut [T]> {
+    let mut parts = Vec::new();
+    for length in lengths {
+        let (head, tail) = data.split_at_mut(length);
+        parts.push(head);
+        data = tail;
+    }
+    parts
+}
 
 /// Offsets of the 13 neighbours of the half shell.
 const HALF_SHELL: [[isize; 3]; 13] = [
@@ -102,6 +137,7 @@ impl CellList {
     /// Sort `points` into cells at least `cutoff` wide (see the module docs).
     pub fn build(&mut self, points: &[[f64; 3]], cutoff: f64, space: Space) {
         let n = points.len();
+        let parallel = n >= PARALLEL_MIN_POINTS && rayon::current_num_threads() > 1;
         self.cutoff = cutoff;
         self.periodic = match space {
             Space::Periodic(side) => Some(side),
@@ -123,14 +159,31 @@ impl CellList {
                 self.cell_side = [width; 3];
             }
             Space::Open => {
-                let mut low = [f64::INFINITY; 3];
-                let mut high = [f64::NEG_INFINITY; 3];
-                for p in points {
-                    for k in 0..3 {
-                        low[k] = low[k].min(p[k]);
-                        high[k] = high[k].max(p[k]);
+                // Minima and maxima are exact in any order.
+                let bounds = |block: &[[f64; 3]]| {
+                    let mut low = [f64::INFINITY; 3];
+                    let mut high = [f64::NEG_INFINITY; 3];
+                    for p in block {
+                        for k in 0..3 {
+                            low[k] = low[k].min(p[k]);
+                            high[k] = high[k].max(p[k]);
+                        }
                     }
-                }
+                    (low, high)
+                };
+                let (mut low, mut high) = if parallel {
+                    points.par_chunks(BLOCK).map(bounds).reduce(
+                        || bounds(&[]),
+                        |(l1, h1), (l2, h2)| {
+                            (
+                                std::array::from_fn(|k| l1[k].min(l2[k])),
+                                std::array::from_fn(|k| h1[k].max(h2[k])),
+                            )
+                        },
+                    )
+                } else {
+                    bounds(points)
+                };
                 if n == 0 {
                     low = [0.0; 3];
                     high = [0.0; 3];
@@ -156,39 +209,121 @@ impl CellList {
             }
         }
         let n_cells = self.dims[0] * self.dims[1] * self.dims[2];
-        self.cell_of.clear();
-        self.cell_of.reserve(n);
+        let plane = self.dims[0] * self.dims[1];
+        let n_planes = self.dims[2];
+        // Wrapped coordinates and cells, point by point.
+        let mut wrapped = std::mem::take(&mut self.wrapped);
+        let mut cell_of = std::mem::take(&mut self.cell_of);
+        wrapped.resize(n, [0.0; 3]);
+        cell_of.resize(n, 0);
+        {
+            let this = &*self;
+            let locate = |(block, (wrapped, cell_of)): (usize, (&mut [[f64; 3]], &mut [u32]))| {
+                let offset = block * BLOCK;
+                for (k, (w, c)) in wrapped.iter_mut().zip(cell_of.iter_mut()).enumerate() {
+                    *w = this.wrap(&points[offset + k]);
+                    *c = this.cell_index(w) as u32;
+                }
+            };
+            if parallel {
+                wrapped
+                    .par_chunks_mut(BLOCK)
+                    .zip(cell_of.par_chunks_mut(BLOCK))
+                    .enumerate()
+                    .for_each(locate);
+            } else {
+                wrapped
+                    .chunks_mut(BLOCK)
+                    .zip(cell_of.chunks_mut(BLOCK))
+                    .enumerate()
+                    .for_each(locate);
+            }
+        }
+        // The points of each plane, ascending (a stable bucket pass).
+        self.plane_points.resize_with(n_planes, Vec::new);
+        for points in &mut self.plane_points {
+            points.clear();
+        }
+        for (index, &cell) in cell_of.iter().enumerate() {
+            self.plane_points[cell as usize / plane].push(index as u32);
+        }
+        // Each plane sorts its points into its cells (a counting sort, stable): its own ranges
+        // of `start`, `order` and `sorted`.
         self.start.clear();
         self.start.resize(n_cells + 1, 0);
-        let mut wrapped = std::mem::take(&mut self.wrapped);
-        wrapped.clear();
-        wrapped.extend(points.iter().map(|p| self.wrap(p)));
-        for p in &wrapped {
-            let cell = self.cell_index(p);
-            self.cell_of.push(cell as u32);
-            self.start[cell + 1] += 1;
-        }
-        self.occupied.clear();
-        for c in 0..n_cells {
-            if self.start[c + 1] > 0 {
-                self.occupied.push(c as u32);
-            }
-            self.start[c + 1] += self.start[c];
-        }
-        let mut next = std::mem::take(&mut self.next);
-        next.clear();
-        next.extend_from_slice(&self.start[..n_cells]);
+        self.start[n_cells] = n as u32;
         self.order.resize(n, 0);
         self.sorted.resize(n, [0.0; 3]);
-        for (index, p) in wrapped.iter().enumerate() {
-            let cell = self.cell_of[index] as usize;
-            let slot = next[cell] as usize;
-            next[cell] += 1;
-            self.order[slot] = index as u32;
-            self.sorted[slot] = *p;
+        let sizes = || self.plane_points.iter().map(Vec::len);
+        let bases: Vec<usize> = sizes()
+            .scan(0, |total, size| {
+                *total += size;
+                Some(*total - size)
+            })
+            .collect();
+        let orders = split_lengths(&mut self.order, sizes());
+        let sorted = split_lengths(&mut self.sorted, sizes());
+        let starts = self.start[..n_cells].chunks_mut(plane.max(1));
+        let (cell_of_ref, wrapped_ref) = (&cell_of, &wrapped);
+        let sort_plane = |(z, ((((members, order), sorted), start), base)): PlaneSort| {
+            let first_cell = z * plane;
+            for &index in members {
+                start[cell_of_ref[index as usize] as usize - first_cell] += 1;
+            }
+            let mut occupied = Vec::new();
+            let mut running = base;
+            for (cell, entry) in start.iter_mut().enumerate() {
+                let count = *entry as usize;
+                if count > 0 {
+                    occupied.push((first_cell + cell) as u32);
+                }
+                *entry = running as u32;
+                running += count;
+            }
+            // `start` as the cursor of each cell, then shifted back one cell.
+            for &index in members {
+                let cell = cell_of_ref[index as usize] as usize - first_cell;
+                let slot = start[cell] as usize - base;
+                start[cell] += 1;
+                order[slot] = index;
+                sorted[slot] = wrapped_ref[index as usize];
+            }
+            for cell in (1..start.len()).rev() {
+                start[cell] = start[cell - 1];
+            }
+            if let Some(entry) = start.first_mut() {
+                *entry = base as u32;
+            }
+            occupied
+        };
+        let tasks = self
+            .plane_points
+            .iter()
+            .map(Vec::as_slice)
+            .zip(orders)
+            .zip(sorted)
+            .zip(starts)
+            .zip(bases)
+            .enumerate();
+        let occupied: Vec<Vec<u32>> = if parallel {
+            tasks
+                .collect::<Vec<_>>()
+                .into_par_iter()
+                .map(sort_plane)
+                .collect()
+        } else {
+            tasks.map(sort_plane).collect()
+        };
+        self.occupied.clear();
+        for cells in occupied {
+            self.occupied.extend_from_slice(&cells);
         }
-        self.next = next;
+        self.slot_of.resize(n, 0);
+        for (slot, &index) in self.order.iter().enumerate() {
+            self.slot_of[index as usize] = slot as u32;
+        }
         self.wrapped = wrapped;
+        self.cell_of = cell_of;
     }
 
     #[inline]
@@ -243,17 +378,52 @@ impl CellList {
         &self.order
     }
 
+    /// Slot of each point: point `i` sits at slot `slot_of()[i]` (the inverse of
+    /// [`CellList::order`]).
+    pub fn slot_of(&self) -> &[u32] {
+        &self.slot_of
+    }
+
+    /// Number of planes of cells along z (1 when the list compares all pairs). Slots are sorted
+    /// by cell with x fastest and z slowest, so each plane holds a contiguous range of slots
+    /// ([`CellList::plane_slots`]).
+    pub fn n_planes(&self) -> usize {
+        self.dims[2]
+    }
+
+    /// The slots of the cells of plane `z` (`z < n_planes()`).
+    pub fn plane_slots(&self, z: usize) -> std::ops::Range<usize> {
+        let plane = self.dims[0] * self.dims[1];
+        self.start[z * plane] as usize..self.start[(z + 1) * plane] as usize
+    }
+
     /// Call `visit(slot_a, slot_b, delta, r2)` once for every pair of slots whose points are
     /// closer than the cutoff (`r2 < cutoff²`), with `delta` the displacement from b to a
-    /// (minimum image). Slots index [`CellList::order`]; pairs come in a fixed order.
+    /// (minimum image). Slots index [`CellList::order`]; pairs come in a fixed order: plane by
+    /// plane, as [`CellList::for_each_pair_in_plane`] visits them.
     pub fn for_each_pair(&self, mut visit: impl FnMut(usize, usize, [f64; 3], f64)) {
+        for z in 0..self.n_planes() {
+            self.for_each_pair_in_plane(z, &mut visit);
+        }
+    }
+
+    /// [`CellList::for_each_pair`] for the pairs whose first slot lies in plane `z`: the second
+    /// slot lies in plane `z` or in the next one, `(z + 1) % n_planes()` (the half shell reaches
+    /// one plane up, wrapping around in a periodic box). Planes can thus be visited in parallel,
+    /// each writing to its own slots and to those of the next plane. The pairs of a plane come
+    /// in a fixed order.
+    pub fn for_each_pair_in_plane(
+        &self,
+        z: usize,
+        mut visit: impl FnMut(usize, usize, [f64; 3], f64),
+    ) {
         let cutoff2 = self.cutoff * self.cutoff;
-        let space = match self.periodic {
-            Some(side) => Space::Periodic(side),
-            None => Space::Open,
-        };
         let n = self.sorted.len();
         if self.brute_force {
+            let space = match self.periodic {
+                Some(side) => Space::Periodic(side),
+                None => Space::Open,
+            };
             for a in 0..n {
                 for b in a + 1..n {
                     let d = space.delta(&self.sorted[a], &self.sorted[b]);
@@ -266,10 +436,15 @@ impl CellList {
             return;
         }
         let [nx, ny, nz] = self.dims;
+        let plane = nx * ny;
+        let first_cell = self.occupied.partition_point(|&c| (c as usize) < z * plane);
+        let last_cell = self
+            .occupied
+            .partition_point(|&c| (c as usize) < (z + 1) * plane);
         let mut neighbours = [(0usize, [0.0f64; 3]); 13];
-        for &cell in &self.occupied {
+        for &cell in &self.occupied[first_cell..last_cell] {
             let cell = cell as usize;
-            let (x, y, z) = (cell % nx, cell / nx % ny, cell / (nx * ny));
+            let (x, y) = (cell % nx, cell / nx % ny);
             let (first, last) = (self.start[cell] as usize, self.start[cell + 1] as usize);
             let interior =
                 (1..nx - 1).contains(&x) && (1..ny - 1).contains(&y) && (1..nz - 1).contains(&z);
@@ -282,7 +457,6 @@ impl CellList {
                     let pa = self.sorted[a];
                     self.scan(a, pa, a + 1..row_end, cutoff2, &mut visit);
                 }
-                let plane = nx * ny;
                 for row in [
                     cell + nx,
                     cell + plane - nx,
@@ -404,6 +578,78 @@ mod tests {
             let mut cells = CellList::new();
             cells.build(&points, cutoff, space);
             prop_assert_eq!(cells.pairs(), brute_force(&points, cutoff, space));
+        }
+    }
+
+    /// The pairs of each plane start in that plane and end in it or in the next one (wrapping
+    /// around), so planes can write their forces apart; `slot_of` inverts `order`.
+    fn check_planes(cells: &CellList) -> Result<(), TestCaseError> {
+        let n_planes = cells.n_planes();
+        let mut covered = 0;
+        for z in 0..n_planes {
+            let own = cells.plane_slots(z);
+            prop_assert_eq!(own.start, covered);
+            covered = own.end;
+            let next = cells.plane_slots((z + 1) % n_planes);
+            let mut outside = None;
+            cells.for_each_pair_in_plane(z, |a, b, _, _| {
+                if !own.contains(&a) || !(own.contains(&b) || next.contains(&b)) {
+                    outside = Some((a, b));
+                }
+            });
+            prop_assert_eq!(outside, None, "plane {}", z);
+        }
+        prop_assert_eq!(covered, cells.order().len());
+        for (slot, &point) in cells.order().iter().enumerate() {
+            prop_assert_eq!(cells.slot_of()[point as usize] as usize, slot);
+        }
+        Ok(())
+    }
+
+    proptest! {
+        #[test]
+        fn planes_write_to_themselves_and_the_next_one(
+            points in points_strategy(),
+            cutoff in 0.3f64..3.0,
+            side in 2.0f64..12.0,
+            periodic: bool,
+        ) {
+            let space = if periodic { Space::Periodic(side) } else { Space::Open };
+            let cutoff = cutoff.min(side / 2.0 - 1e-9);
+            let mut cells = CellList::new();
+            cells.build(&points, cutoff, space);
+            check_planes(&cells)?;
+        }
+    }
+
+    /// A list of 30,000 points built on 2 and 5 threads equals the one built on 1 (slots,
+    /// cells, occupied cells), in open space and in a periodic box.
+    #[test]
+    fn parallel_build_equals_the_serial_build() {
+        use rand::Rng;
+        let mut rng = crate::sim::stream_rng(8, 0, 0);
+        let points: Vec<[f64; 3]> = (0..30_000)
+            .map(|_| [0; 3].map(|_| rng.gen::<f64>() * 60.0 - 10.0))
+            .collect();
+        for space in [Space::Open, Space::Periodic(50.0)] {
+            let build = |threads: usize| {
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .unwrap();
+                let mut cells = CellList::new();
+                pool.install(|| cells.build(&points, 1.05, space));
+                cells
+            };
+            let one = build(1);
+            for threads in [2, 5] {
+                let other = build(threads);
+                assert_eq!(one.order, other.order);
+                assert_eq!(one.start, other.start);
+                assert_eq!(one.occupied, other.occupied);
+                assert_eq!(one.slot_of, other.slot_of);
+                assert!(one.sorted == other.sorted);
+            }
         }
     }
 

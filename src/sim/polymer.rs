@@ -26,18 +26,32 @@
 //! [`PolymerParams::excluded_neighbours`] widens this to `|i - j| <= k`.
 //!
 //! **Dynamics**: Euler-Maruyama, `x(t + dt) = x(t) + F dt + sqrt(2 dt) ξ` with ξ standard normal
-//! (Marsaglia's polar method on xoshiro256++ uniforms). One polymer is advanced by one thread, so a seed fixes
-//! the trajectory bit for bit whatever the thread count; ensembles run replicas in parallel.
+//! from the counter-based generator of [`super::noise`]: bead `i` at step `t` draws
+//! `bead_normals(key, t, i)`, with `key` drawn from the polymer's generator after the initial
+//! conformation and `t` counting every step the polymer took ([`Polymer::steps_taken`], the
+//! push-off of a hard repulsion included). No generator state passes from bead to bead.
 //!
 //! **Pair forces** come from a [`CellList`] rebuilt every step: O(N), never all pairs.
+//!
+//! **Threads**: one chain uses the threads of the current rayon pool (from 4,096 beads; smaller
+//! chains stay on the calling thread), and the trajectory is the same bit for bit whatever their
+//! number, because every bead's force is summed in an order fixed by the conformation alone:
+//! each plane of cells of the cell list is one task that adds the pair forces of its pairs
+//! (Newton's third law) into its own buffer for its slots and a second buffer for the slots of
+//! the next plane (the only other plane its pairs reach), and a slot's pair force is then its
+//! own-plane sum plus the sum spilled from the plane below; bonds and angles are evaluated once
+//! each into per-bead buffers that every bead then sums in a fixed order; extra bonds are added
+//! one after the other; the integration and the noise are per bead.
 //!
 //! With no repulsion ([`Repulsion::None`]) the chain is ideal (a phantom chain: Gaussian statistics
 //! at large separations); with a repulsion and no attraction it is a self-avoiding walk in good
 //! solvent.
 
 use rand::Rng;
+use rayon::prelude::*;
 
 use super::cells::{CellList, Space};
+use super::noise;
 use super::SimRng;
 use crate::error::{Error, Result};
 
@@ -430,8 +444,61 @@ pub struct Polymer {
     extra_bonds: Vec<(u32, u32)>,
     extra_bond: (f64, f64),
     cells: CellList,
-    rng: SimRng,
+    noise_key: [u32; 2],
+    steps_taken: u64,
     time: f64,
+    scratch: Scratch,
+}
+
+/// Work buffers of the force evaluation, kept between steps.
+#[derive(Clone, Debug, Default)]
+struct Scratch {
+    /// Pair forces by slot of the cell list, from the pairs found in the slot's own plane.
+    own: Vec<[f64; 3]>,
+    /// Pair forces by slot, from the pairs found in the plane below the slot's.
+    spill: Vec<[f64; 3]>,
+    /// Per bead `i`: the force of the bond `(i, i + 1)` on `i`, and its energy.
+    bonds: Vec<[f64; 4]>,
+    /// Per bead `i`: the forces of the angle centred on `i` on beads `i - 1`, `i`, `i + 1`,
+    /// and its energy.
+    angles: Vec<[f64; 10]>,
+}
+
+/// A plane's force buffers: its own slots, and the next plane's slots it spills into.
+type PlaneBuffers<'a> = (&'a mut [[f64; 3]], &'a mut [[f64; 3]]);
+
+/// Below this many beads a polymer is stepped on the calling thread alone (the result is the
+/// same bit for bit; splitting a small chain costs more than it saves).
+const PARALLEL_MIN_BEADS: usize = 4096;
+
+/// Beads per parallel task in the per-bead passes.
+const BLOCK: usize = 1024;
+
+/// Call `work(offset, block)` on blocks of `data` (the block starting at bead `offset`), in
+/// parallel when asked; `work` must treat every bead on its own, so the result is the same.
+fn for_each_block<T, F>(parallel: bool, data: &mut [T], work: F)
+where
+    T: Send,
+    F: Fn(usize, &mut [T]) + Sync + Send,
+{
+    if parallel {
+        data.par_chunks_mut(BLOCK)
+            .enumerate()
+            .for_each(|(k, block)| work(k * BLOCK, block));
+    } else {
+        work(0, data);
+    }
+}
+
+/// `data` cut into consecutive mutable slices of the given lengths.
+fn split_lengths<T>(mut data: &mut [T], lengths: impl Iterator<Item = usize>) -> Vec<&mut [T]> {
+    let mut parts = Vec::new();
+    for length in lengths {
+        let (head, tail) = data.split_at_mut(length);
+        parts.push(head);
+        data = tail;
+    }
+    parts
 }
 
 /// A pair of independent standard normals by Marsaglia's polar method (no trigonometry; 27 %
@@ -569,7 +636,7 @@ impl Polymer {
         params: PolymerParams,
         positions: Vec<[f64; 3]>,
         chain_of: Vec<u32>,
-        rng: SimRng,
+        mut rng: SimRng,
     ) -> Result<Self> {
         let n = positions.len();
         let mut polymer = Self {
@@ -580,8 +647,10 @@ impl Polymer {
             extra_bonds: Vec::new(),
             extra_bond: (1.0, 0.1),
             cells: CellList::new(),
-            rng,
+            noise_key: noise::noise_key(&mut rng),
+            steps_taken: 0,
             time: 0.0,
+            scratch: Scratch::default(),
         };
         polymer.push_off();
         polymer.time = 0.0;
@@ -598,9 +667,21 @@ impl Polymer {
         &self.positions
     }
 
-    /// Simulated time.
+    /// Simulated time (from the end of the push-off, if any).
     pub fn time(&self) -> f64 {
         self.time
+    }
+
+    /// The key of this polymer's noise stream ([`noise::bead_normals`]), drawn from its
+    /// generator after the initial conformation.
+    pub fn noise_key(&self) -> [u32; 2] {
+        self.noise_key
+    }
+
+    /// Every step this polymer has taken, the push-off of a hard repulsion included: the
+    /// counter of the next step's noise.
+    pub fn steps_taken(&self) -> u64 {
+        self.steps_taken
     }
 
     /// The space for pair distances (periodic or open).
@@ -622,73 +703,71 @@ impl Polymer {
         i.abs_diff(j) <= self.params.excluded_neighbours && self.chain_of[i] == self.chain_of[j]
     }
 
+    /// Whether this polymer is worth splitting across the threads of the current rayon pool.
+    fn parallel(&self) -> bool {
+        self.positions.len() >= PARALLEL_MIN_BEADS && rayon::current_num_threads() > 1
+    }
+
     /// Compute the forces at the current positions; returns the potential energy.
     pub fn compute_forces(&mut self) -> f64 {
-        let n = self.positions.len();
-        let mut forces = std::mem::take(&mut self.forces);
-        forces.clear();
-        forces.resize(n, [0.0; 3]);
-        let energy = self.bonded_forces(&mut forces) + self.pair_forces(&mut forces);
-        self.forces = forces;
-        energy
+        self.evaluate_forces(true)
     }
 
-    /// Add the forces of the chain bonds, extra bonds, angles and wall; return their energy.
-    fn bonded_forces(&self, forces: &mut [[f64; 3]]) -> f64 {
-        let n = self.positions.len();
-        let mut energy = 0.0;
-        // Chain bonds.
-        let bond = self.params.bond;
-        for i in 1..n {
-            if self.chain_of[i] != self.chain_of[i - 1] {
-                continue;
-            }
-            energy += bond_force(&self.positions, forces, i - 1, i, bond);
+    /// Fill `self.forces`; return the potential energy when `with_energy` (else 0). The sum
+    /// of every bead's force runs in an order fixed by the conformation alone (see the module
+    /// docs), so it is the same bit for bit on any number of threads.
+    fn evaluate_forces(&mut self, with_energy: bool) -> f64 {
+        let parallel = self.parallel();
+        let mut energy = self.pair_forces(parallel);
+        energy += self.extra_bond_forces();
+        energy += self.bonded_forces(parallel, with_energy);
+        if with_energy {
+            energy
+        } else {
+            0.0
         }
-        // Extra bonds.
-        let (length, wiggle) = self.extra_bond;
-        let extra = BondModel::Harmonic { length, wiggle };
-        for &(i, j) in &self.extra_bonds {
-            energy += bond_force(&self.positions, forces, i as usize, j as usize, extra);
-        }
-        // Angles.
-        let k = self.params.angle_stiffness;
-        if k > 0.0 {
-            for i in 1..n.saturating_sub(1) {
-                if self.chain_of[i - 1] == self.chain_of[i + 1] {
-                    energy += angle_force(&self.positions, forces, i, k);
-                }
-            }
-        }
-        // Confinement wall.
-        if let Confinement::Sphere { radius, stiffness } = self.params.confinement {
-            for (p, f) in self.positions.iter().zip(forces.iter_mut()) {
-                let r = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
-                if r > radius {
-                    energy += stiffness * (r - radius).powi(2);
-                    let scale = -2.0 * stiffness * (r - radius) / r;
-                    for k in 0..3 {
-                        f[k] += scale * p[k];
-                    }
-                }
-            }
-        }
-        energy
     }
 
-    /// Add the pair forces (through the cell list); return their energy.
-    fn pair_forces(&mut self, forces: &mut [[f64; 3]]) -> f64 {
-        let mut energy = 0.0;
+    /// Set the forces to the pair forces (through the cell list); return their energy.
+    ///
+    /// Each plane of cells is a task: it visits its pairs ([`CellList::for_each_pair_in_plane`])
+    /// in a fixed order and adds both forces of a pair (Newton's third law) into its own
+    /// buffers: `own` for the slots of its plane, `spill` for those of the next plane. A
+    /// slot's force is then `own + spill`: the same additions in the same order whatever
+    /// thread ran which plane.
+    fn pair_forces(&mut self, parallel: bool) -> f64 {
+        let n = self.positions.len();
         let range = self.params.interaction_range();
-        if range > 0.0 {
-            let space = self.params.space();
-            self.cells.build(&self.positions, range, space);
-            let repulsion = self.params.repulsion;
-            let attraction = self.params.attraction.as_ref();
-            let order = self.cells.order();
-            let chain_of = &self.chain_of;
-            let excluded = self.params.excluded_neighbours;
-            self.cells.for_each_pair(|a, b, d, r2| {
+        if range <= 0.0 {
+            for_each_block(parallel, &mut self.forces, |_, block| {
+                block.fill([0.0; 3]);
+            });
+            return 0.0;
+        }
+        let space = self.params.space();
+        self.cells.build(&self.positions, range, space);
+        let cells = &self.cells;
+        let n_planes = cells.n_planes();
+        let Scratch { own, spill, .. } = &mut self.scratch;
+        own.resize(n, [0.0; 3]);
+        spill.resize(n, [0.0; 3]);
+        let plane_lengths = || (0..n_planes).map(|z| cells.plane_slots(z).len());
+        let own_parts = split_lengths(own, plane_lengths());
+        let mut spill_parts = split_lengths(spill, plane_lengths());
+        // Plane z spills into plane z + 1 (the last one into the first).
+        spill_parts.rotate_left(1);
+        let repulsion = self.params.repulsion;
+        let attraction = self.params.attraction.as_ref();
+        let chain_of = &self.chain_of;
+        let excluded = self.params.excluded_neighbours;
+        let order = cells.order();
+        let plane = |(z, (own, spill)): (usize, PlaneBuffers)| -> f64 {
+            own.fill([0.0; 3]);
+            spill.fill([0.0; 3]);
+            let own_slots = cells.plane_slots(z);
+            let spill_start = cells.plane_slots((z + 1) % n_planes).start;
+            let mut energy = 0.0;
+            cells.for_each_pair_in_plane(z, |a, b, d, r2| {
                 let (i, j) = (order[a] as usize, order[b] as usize);
                 if i.abs_diff(j) <= excluded && chain_of[i] == chain_of[j] {
                     return;
@@ -697,11 +776,156 @@ impl Polymer {
                 let (e, factor) = pair_terms(&repulsion, attract, r2);
                 energy += e;
                 // d = x_{slot a} - x_{slot b} = x_i - x_j.
+                let force = [factor * d[0], factor * d[1], factor * d[2]];
+                let on_a = &mut own[a - own_slots.start];
                 for k in 0..3 {
-                    forces[i][k] += factor * d[k];
-                    forces[j][k] -= factor * d[k];
+                    on_a[k] += force[k];
+                }
+                let on_b = if own_slots.contains(&b) {
+                    &mut own[b - own_slots.start]
+                } else {
+                    &mut spill[b - spill_start]
+                };
+                for k in 0..3 {
+                    on_b[k] -= force[k];
                 }
             });
+            energy
+        };
+        let tasks = own_parts.into_iter().zip(spill_parts).enumerate();
+        let energies: Vec<f64> = if parallel {
+            tasks
+                .collect::<Vec<_>>()
+                .into_par_iter()
+                .map(plane)
+                .collect()
+        } else {
+            tasks.map(plane).collect()
+        };
+        let (own, spill) = (&self.scratch.own, &self.scratch.spill);
+        let slot_of = self.cells.slot_of();
+        for_each_block(parallel, &mut self.forces, |offset, block| {
+            for (k, force) in block.iter_mut().enumerate() {
+                let slot = slot_of[offset + k] as usize;
+                let (a, b) = (own[slot], spill[slot]);
+                *force = [a[0] + b[0], a[1] + b[1], a[2] + b[2]];
+            }
+        });
+        energies.iter().sum()
+    }
+
+    /// Add the forces of the extra bonds, one after the other in their order; return their
+    /// energy.
+    fn extra_bond_forces(&mut self) -> f64 {
+        let (length, wiggle) = self.extra_bond;
+        let extra = BondModel::Harmonic { length, wiggle };
+        let mut energy = 0.0;
+        for &(i, j) in &self.extra_bonds {
+            energy += bond_force(
+                &self.positions,
+                &mut self.forces,
+                i as usize,
+                j as usize,
+                extra,
+            );
+        }
+        energy
+    }
+
+    /// Add the forces of the chain bonds, angles and wall; return their energy when
+    /// `with_energy` (else 0).
+    ///
+    /// Every bond (and angle) is evaluated once into a per-bead buffer, then every bead sums
+    /// the terms that move it in a fixed order: wall, bond to the previous bead, bond to the
+    /// next, then the angles centred on the previous bead, itself and the next.
+    fn bonded_forces(&mut self, parallel: bool, with_energy: bool) -> f64 {
+        let n = self.positions.len();
+        let positions = &self.positions;
+        let chain_of = &self.chain_of;
+        let Scratch { bonds, angles, .. } = &mut self.scratch;
+        bonds.resize(n, [0.0; 4]);
+        let bond = self.params.bond;
+        for_each_block(parallel, bonds, |offset, block| {
+            for (k, entry) in block.iter_mut().enumerate() {
+                let i = offset + k;
+                *entry = if i + 1 < n && chain_of[i] == chain_of[i + 1] {
+                    let (a, b) = (positions[i], positions[i + 1]);
+                    let d = [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+                    let (energy, factor) =
+                        bond_terms(bond, d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+                    [factor * d[0], factor * d[1], factor * d[2], energy]
+                } else {
+                    [0.0; 4]
+                };
+            }
+        });
+        let k_angle = self.params.angle_stiffness;
+        if k_angle > 0.0 {
+            angles.resize(n, [0.0; 10]);
+            for_each_block(parallel, angles, |offset, block| {
+                for (k, entry) in block.iter_mut().enumerate() {
+                    let i = offset + k;
+                    *entry = if i >= 1 && i + 1 < n && chain_of[i - 1] == chain_of[i + 1] {
+                        angle_terms(positions, i, k_angle)
+                    } else {
+                        [0.0; 10]
+                    };
+                }
+            });
+        } else {
+            angles.clear();
+        }
+        let (bonds, angles) = (&*bonds, &*angles);
+        let wall = match self.params.confinement {
+            Confinement::Sphere { radius, stiffness } => Some((radius, stiffness)),
+            _ => None,
+        };
+        for_each_block(parallel, &mut self.forces, |offset, block| {
+            for (k, force) in block.iter_mut().enumerate() {
+                let i = offset + k;
+                if let Some((radius, stiffness)) = wall {
+                    let p = positions[i];
+                    let r = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
+                    if r > radius {
+                        let scale = -2.0 * stiffness * (r - radius) / r;
+                        for axis in 0..3 {
+                            force[axis] += scale * p[axis];
+                        }
+                    }
+                }
+                if i > 0 {
+                    for axis in 0..3 {
+                        force[axis] -= bonds[i - 1][axis];
+                    }
+                }
+                for axis in 0..3 {
+                    force[axis] += bonds[i][axis];
+                }
+                if !angles.is_empty() {
+                    for axis in 0..3 {
+                        if i > 0 {
+                            force[axis] += angles[i - 1][6 + axis];
+                        }
+                        force[axis] += angles[i][3 + axis];
+                        if i + 1 < n {
+                            force[axis] += angles[i + 1][axis];
+                        }
+                    }
+                }
+            }
+        });
+        if !with_energy {
+            return 0.0;
+        }
+        let mut energy: f64 = bonds.iter().map(|b| b[3]).sum();
+        energy += angles.iter().map(|a| a[9]).sum::<f64>();
+        if let Some((radius, stiffness)) = wall {
+            for p in positions {
+                let r = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
+                if r > radius {
+                    energy += stiffness * (r - radius).powi(2);
+                }
+            }
         }
         energy
     }
@@ -711,27 +935,37 @@ impl Polymer {
         &self.forces
     }
 
-    /// Advance by one time step.
+    /// Advance by one time step: Euler-Maruyama with the noise of this step's counter.
     pub fn step(&mut self) {
-        self.compute_forces();
+        self.evaluate_forces(false);
+        let parallel = self.parallel();
         let dt = self.params.dt;
         let noise = (2.0 * dt).sqrt();
-        let rng = &mut self.rng;
-        let mut spare: Option<f64> = None;
-        for (p, f) in self.positions.iter_mut().zip(&self.forces) {
-            let (a, b) = normal_pair(rng);
-            let c = match spare.take() {
-                Some(c) => c,
-                None => {
-                    let (c, d) = normal_pair(rng);
-                    spare = Some(d);
-                    c
+        let (key, step) = (self.noise_key, self.steps_taken);
+        let forces = &self.forces;
+        let advance = |p: &mut [f64; 3], f: [f64; 3], xi: [f64; 3]| {
+            for axis in 0..3 {
+                p[axis] += f[axis] * dt + noise * xi[axis];
+            }
+        };
+        for_each_block(parallel, &mut self.positions, |offset, block| {
+            let end = offset + block.len();
+            let mut lanes = block.chunks_exact_mut(NOISE_LANES);
+            for (k, group) in lanes.by_ref().enumerate() {
+                let first = offset + k * NOISE_LANES;
+                let normals = bead_normals_lanes(key, step, first as u32);
+                for (lane, p) in group.iter_mut().enumerate() {
+                    advance(p, forces[first + lane], normals[lane]);
                 }
-            };
-            p[0] += f[0] * dt + noise * a;
-            p[1] += f[1] * dt + noise * b;
-            p[2] += f[2] * dt + noise * c;
-        }
+            }
+            let rest = lanes.into_remainder();
+            let first = end - rest.len();
+            for (k, p) in rest.iter_mut().enumerate() {
+                let bead = first + k;
+                advance(p, forces[bead], noise::bead_normals(key, step, bead as u32));
+            }
+        });
+        self.steps_taken += 1;
         self.time += dt;
     }
 
@@ -741,6 +975,56 @@ impl Polymer {
             self.step();
         }
     }
+}
+
+/// Beads whose noise [`bead_normals_lanes`] draws at once.
+const NOISE_LANES: usize = 4;
+
+/// [`noise::bead_normals`] of the beads `first..first + NOISE_LANES`, the same bits, with the
+/// Threefry-2x32-20 rounds of the eight counters run side by side so the compiler can keep them
+/// in vector registers (the scalar generator is a chain of dependent additions and rotations).
+#[inline]
+fn bead_normals_lanes(key: [u32; 2], step: u64, first: u32) -> [[f64; 3]; NOISE_LANES] {
+    // Random123's Threefry-2x32 constants, as in `noise::threefry2x32`.
+    const ROTATIONS: [u32; 8] = [13, 15, 26, 6, 17, 29, 16, 24];
+    const PARITY: u32 = 0x1BD1_1BDA;
+    const COUNTERS: usize = 2 * NOISE_LANES;
+    let key = [key[0], key[1] ^ (step >> 32) as u32];
+    let schedule = [key[0], key[1], PARITY ^ key[0] ^ key[1]];
+    // Counter lane l is [step, 2 first + l]: beads first.. with their two counters each.
+    let mut x0 = [(step as u32).wrapping_add(schedule[0]); COUNTERS];
+    let mut x1: [u32; COUNTERS] = std::array::from_fn(|lane| {
+        first
+            .wrapping_mul(2)
+            .wrapping_add(lane as u32)
+            .wrapping_add(schedule[1])
+    });
+    for round in 0..20 {
+        let rotation = ROTATIONS[round % 8];
+        for lane in 0..COUNTERS {
+            x0[lane] = x0[lane].wrapping_add(x1[lane]);
+            x1[lane] = x1[lane].rotate_left(rotation) ^ x0[lane];
+        }
+        if round % 4 == 3 {
+            let s = round / 4 + 1;
+            for lane in 0..COUNTERS {
+                x0[lane] = x0[lane].wrapping_add(schedule[s % 3]);
+                x1[lane] = x1[lane]
+                    .wrapping_add(schedule[(s + 1) % 3])
+                    .wrapping_add(s as u32);
+            }
+        }
+    }
+    let uniform = |word: u32| (word as f64 + 0.5) * (1.0 / 4_294_967_296.0);
+    std::array::from_fn(|bead| {
+        let (a, b) = (x0[2 * bead], x1[2 * bead]);
+        let (c, d) = (x0[2 * bead + 1], x1[2 * bead + 1]);
+        let r1 = (-2.0 * uniform(a).ln()).sqrt();
+        let r2 = (-2.0 * uniform(c).ln()).sqrt();
+        let (sin, cos) = (std::f64::consts::TAU * uniform(b)).sin_cos();
+        let cos2 = (std::f64::consts::TAU * uniform(d)).cos();
+        [r1 * cos, r1 * sin, r2 * cos2]
+    })
 }
 
 /// Add the force of the bond `(i, j)`; return its energy.
@@ -790,27 +1074,30 @@ pub(super) fn bond_terms(bond: BondModel, r2: f64) -> (f64, f64) {
     }
 }
 
-/// Add the forces of the angle at bead `i` (`E = k (1 - cos θ)`); return its energy.
+/// The angle at bead `i` (`E = k (1 - cos θ)`): its forces on beads `i - 1`, `i` and `i + 1`
+/// (three components each) and its energy.
 #[inline]
-fn angle_force(positions: &[[f64; 3]], forces: &mut [[f64; 3]], i: usize, k: f64) -> f64 {
+fn angle_terms(positions: &[[f64; 3]], i: usize, k: f64) -> [f64; 10] {
     let (p0, p1, p2) = (positions[i - 1], positions[i], positions[i + 1]);
     let b1 = [p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]];
     let b2 = [p2[0] - p1[0], p2[1] - p1[1], p2[2] - p1[2]];
     let l1 = (b1[0] * b1[0] + b1[1] * b1[1] + b1[2] * b1[2]).sqrt();
     let l2 = (b2[0] * b2[0] + b2[1] * b2[1] + b2[2] * b2[2]).sqrt();
+    let mut terms = [0.0; 10];
     if l1 == 0.0 || l2 == 0.0 {
-        return 0.0;
+        return terms;
     }
     let cos = (b1[0] * b2[0] + b1[1] * b2[1] + b1[2] * b2[2]) / (l1 * l2);
     // F = k ∇cos θ.
     for axis in 0..3 {
         let d_cos_b1 = b2[axis] / (l1 * l2) - cos * b1[axis] / (l1 * l1);
         let d_cos_b2 = b1[axis] / (l1 * l2) - cos * b2[axis] / (l2 * l2);
-        forces[i - 1][axis] -= k * d_cos_b1;
-        forces[i][axis] += k * (d_cos_b1 - d_cos_b2);
-        forces[i + 1][axis] += k * d_cos_b2;
+        terms[axis] = -k * d_cos_b1;
+        terms[3 + axis] = k * (d_cos_b1 - d_cos_b2);
+        terms[6 + axis] = k * d_cos_b2;
     }
-    k * (1.0 - cos)
+    terms[9] = k * (1.0 - cos);
+    terms
 }
 
 /// The radius of gyration of `positions`.
@@ -852,28 +1139,89 @@ mod tests {
         }
     }
 
-    /// The energy with the pair terms summed over all pairs (no cell list).
-    fn all_pairs_energy(polymer: &Polymer) -> f64 {
-        let mut scratch = vec![[0.0; 3]; polymer.positions.len()];
-        let mut energy = polymer.bonded_forces(&mut scratch);
-        let space = polymer.params.space();
-        let attraction = polymer.params.attraction.as_ref();
-        for i in 0..polymer.positions.len() {
-            for j in i + 1..polymer.positions.len() {
+    /// The forces and energy the serial way, as a reference: every pair of beads (no cell
+    /// list) and every bond, angle and wall term added to both its beads as it comes
+    /// (Newton's third law).
+    fn naive_forces(polymer: &Polymer) -> (Vec<[f64; 3]>, f64) {
+        let positions = &polymer.positions;
+        let n = positions.len();
+        let mut forces = vec![[0.0; 3]; n];
+        let mut energy = 0.0;
+        let add = |forces: &mut Vec<[f64; 3]>, i: usize, j: usize, factor: f64, d: [f64; 3]| {
+            for k in 0..3 {
+                forces[i][k] += factor * d[k];
+                forces[j][k] -= factor * d[k];
+            }
+        };
+        let params = &polymer.params;
+        for i in 1..n {
+            if polymer.chain_of[i] == polymer.chain_of[i - 1] {
+                let d = Space::Open.delta(&positions[i - 1], &positions[i]);
+                let (e, factor) = bond_terms(params.bond, d.iter().map(|x| x * x).sum());
+                energy += e;
+                add(&mut forces, i - 1, i, factor, d);
+            }
+        }
+        let (length, wiggle) = polymer.extra_bond;
+        for &(i, j) in &polymer.extra_bonds {
+            let (i, j) = (i as usize, j as usize);
+            let d = Space::Open.delta(&positions[i], &positions[j]);
+            let extra = BondModel::Harmonic { length, wiggle };
+            let (e, factor) = bond_terms(extra, d.iter().map(|x| x * x).sum());
+            energy += e;
+            add(&mut forces, i, j, factor, d);
+        }
+        if params.angle_stiffness > 0.0 {
+            for i in 1..n.saturating_sub(1) {
+                if polymer.chain_of[i - 1] == polymer.chain_of[i + 1] {
+                    let terms = angle_terms(positions, i, params.angle_stiffness);
+                    for k in 0..3 {
+                        forces[i - 1][k] += terms[k];
+                        forces[i][k] += terms[3 + k];
+                        forces[i + 1][k] += terms[6 + k];
+                    }
+                    energy += terms[9];
+                }
+            }
+        }
+        if let Confinement::Sphere { radius, stiffness } = params.confinement {
+            for (p, f) in positions.iter().zip(forces.iter_mut()) {
+                let r = p.iter().map(|x| x * x).sum::<f64>().sqrt();
+                if r > radius {
+                    energy += stiffness * (r - radius).powi(2);
+                    for k in 0..3 {
+                        f[k] -= 2.0 * stiffness * (r - radius) / r * p[k];
+                    }
+                }
+            }
+        }
+        let space = params.space();
+        let attraction = params.attraction.as_ref();
+        for i in 0..n {
+            for j in i + 1..n {
                 if polymer.bonded(i, j) {
                     continue;
                 }
-                let d = space.delta(&polymer.positions[i], &polymer.positions[j]);
+                let d = space.delta(&positions[i], &positions[j]);
                 let r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-                energy += pair_terms(
-                    &polymer.params.repulsion,
-                    same_type_well(attraction, i, j),
-                    r2,
-                )
-                .0;
+                let (e, factor) =
+                    pair_terms(&params.repulsion, same_type_well(attraction, i, j), r2);
+                energy += e;
+                add(&mut forces, i, j, factor, d);
             }
         }
-        energy
+        (forces, energy)
+    }
+
+    /// The largest difference between two force fields, relative to the largest force.
+    fn relative_difference(a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
+        let scale = a.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
+        let worst = a
+            .iter()
+            .flatten()
+            .zip(b.iter().flatten())
+            .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+        worst / scale.max(1e-300)
     }
 
     /// The forces are minus the gradient of the energy (central differences), for every term.
@@ -929,13 +1277,113 @@ mod tests {
                 }
             }
             assert!(worst < 1e-5, "{repulsion:?}: worst relative error {worst}");
-            // The cell-list energy equals the all-pairs energy.
+            // The cell-list energy and forces equal the all-pairs ones.
             let cells = polymer.clone().compute_forces();
-            let all = all_pairs_energy(&polymer);
+            let (all_forces, all) = naive_forces(&polymer);
             assert!(
                 (cells - all).abs() < 1e-9 * (1.0 + all.abs()),
                 "{cells} vs {all}"
             );
+            let difference = relative_difference(&all_forces, &forces);
+            assert!(
+                difference < 1e-9,
+                "{repulsion:?}: forces differ by {difference}"
+            );
+        }
+    }
+
+    /// A 20,000-bead system (two chains, angle stiffness, attraction, extrusion-style extra
+    /// bonds) stepped in rayon pools of 1, 2 and 16 threads ends at the same positions bit for
+    /// bit, in a periodic box and in a sphere; its parallel forces equal the serial all-pairs
+    /// Newton's-third-law forces.
+    #[test]
+    fn same_trajectory_on_any_number_of_threads() {
+        let n = 20_000;
+        for confinement in [
+            Confinement::Periodic {
+                side: box_side(n, 0.3),
+            },
+            Confinement::Sphere {
+                radius: sphere_radius(n, 0.3),
+                stiffness: 5.0,
+            },
+        ] {
+            let params = PolymerParams {
+                chains: vec![12_000, 8_000],
+                angle_stiffness: 1.5,
+                attraction: Some(Attraction {
+                    types: (0..n).map(|i| (i / 500 % 2) as u8).collect(),
+                    energy: 0.5,
+                    radius: 1.5,
+                }),
+                confinement,
+                ..PolymerParams::default()
+            };
+            let extra: Vec<(usize, usize)> =
+                (0..n - 300).step_by(400).map(|i| (i, i + 150)).collect();
+            let run = |threads: usize| {
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .unwrap();
+                pool.install(|| {
+                    let mut polymer = Polymer::new(params.clone(), stream_rng(4, 0, 0)).unwrap();
+                    polymer.run(3);
+                    polymer.set_extra_bonds(&extra, 0.5, 0.2);
+                    polymer.run(3);
+                    polymer.compute_forces();
+                    polymer
+                })
+            };
+            let one = run(1);
+            assert_eq!(one.steps_taken(), 6);
+            let bits = |polymer: &Polymer| -> Vec<u64> {
+                polymer
+                    .positions()
+                    .iter()
+                    .flatten()
+                    .map(|x| x.to_bits())
+                    .collect()
+            };
+            for threads in [2, 16] {
+                let other = run(threads);
+                assert!(
+                    bits(&one) == bits(&other),
+                    "{confinement:?}: {threads} threads differ"
+                );
+                let forces = |polymer: &Polymer| -> Vec<u64> {
+                    polymer
+                        .forces()
+                        .iter()
+                        .flatten()
+                        .map(|x| x.to_bits())
+                        .collect()
+                };
+                assert!(forces(&one) == forces(&other));
+            }
+            let (naive, _) = naive_forces(&one);
+            let difference = relative_difference(&naive, one.forces());
+            assert!(
+                difference < 1e-9,
+                "{confinement:?}: forces differ by {difference}"
+            );
+        }
+    }
+
+    #[test]
+    fn lane_noise_equals_the_scalar_noise() {
+        for (key, step) in [
+            ([7, 11], 0u64),
+            ([u32::MAX, 3], 12_345),
+            ([1, 2], (1 << 32) + 5),
+        ] {
+            for first in [0u32, 1, 4093, u32::MAX - 3] {
+                let lanes = bead_normals_lanes(key, step, first);
+                for (lane, normals) in lanes.iter().enumerate() {
+                    let scalar = noise::bead_normals(key, step, first + lane as u32);
+                    assert_eq!(normals.map(f64::to_bits), scalar.map(f64::to_bits));
+                }
+            }
         }
     }
 

@@ -292,3 +292,80 @@ fn polymer_bad_parameters() {
     }
     let _ = run(&["simulate", "polymer", "--help"]);
 }
+
+/// `simulate polymer --threads 1 / 2 / 16` on chains long enough to be split across threads
+/// (5,000 and 4,200 beads; extrusion, attraction and angle stiffness on): byte-identical pixel
+/// dumps and statistics. `--threads 0` is refused.
+#[test]
+fn polymer_same_files_on_any_number_of_threads() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = |name: &str| dir.path().join(name).to_string_lossy().into_owned();
+    let simulate = |threads: &str| {
+        let (cool, stats) = (
+            path(&format!("{threads}.cool")),
+            path(&format!("{threads}.tsv")),
+        );
+        let args = [
+            "simulate",
+            "polymer",
+            "-o",
+            &cool,
+            "--chains",
+            "5000,4200",
+            "--monomers-per-bin",
+            "50",
+            "--density",
+            "0.2",
+            "--confinement",
+            "box",
+            "--stiffness",
+            "1",
+            "--types",
+            "A100B100",
+            "--attraction",
+            "0.3",
+            "--extrusion",
+            "--ctcf",
+            "1000+,3000-,6000.",
+            "--steps-per-move",
+            "5",
+            "--replicas",
+            "2",
+            "--equilibration",
+            "20",
+            "--sample-every",
+            "10",
+            "--samples",
+            "2",
+            "--seed",
+            "11",
+            "--stats",
+            &stats,
+            "--threads",
+            threads,
+        ];
+        run_ok(&args);
+        (
+            run_ok(&["dump", &cool, "--join"]),
+            std::fs::read_to_string(&stats).unwrap(),
+        )
+    };
+    let (dump, stats) = simulate("1");
+    assert!(dump.lines().count() > 100, "{dump}");
+    assert_eq!(stats.lines().count(), 1 + 2 * 2 * 2);
+    for threads in ["2", "16"] {
+        let (other_dump, other_stats) = simulate(threads);
+        assert!(other_dump == dump, "--threads {threads}: another map");
+        assert_eq!(other_stats, stats, "--threads {threads}");
+    }
+    let line = run_err(&[
+        "simulate",
+        "polymer",
+        "-o",
+        &path("zero.cool"),
+        "--threads",
+        "0",
+    ]);
+    assert!(line.contains("--threads"), "{line}");
+    assert!(!Path::new(&path("zero.cool")).exists());
+}

@@ -230,6 +230,10 @@ pub struct PolymerArgs {
     /// Write the radius of gyration of every sample (TSV).
     #[arg(long, value_name = "FILE")]
     pub stats: Option<PathBuf>,
+    /// Threads for the replicas and within each chain [default: all cores]. The results do not
+    /// depend on it: the same --seed gives the same files on any number of threads.
+    #[arg(long, value_name = "N")]
+    pub threads: Option<usize>,
     /// Where to simulate: auto takes a hardware GPU when one is usable (it says which device it
     /// used on stderr). The same seed gives the same map on the same kind of device; the CPU and
     /// the GPU agree in distribution, not bit for bit.
@@ -517,6 +521,9 @@ pub fn run(args: &PolymerArgs) -> Result<()> {
             "simulate writes a .cool file: give a file name to -o, not '-'".into(),
         ));
     }
+    if args.threads == Some(0) {
+        return Err(Error::Invalid("--threads must be at least 1".into()));
+    }
     let params = args.params()?;
     let bins = bin_table(args)?;
     let bar = if std::io::stderr().is_terminal() {
@@ -534,18 +541,31 @@ pub fn run(args: &PolymerArgs) -> Result<()> {
             })?),
             DeviceArg::Auto => Gpu::open(false).ok(),
         };
-    let ensemble = match &gpu {
+    let pool = match args.threads {
+        None => None,
+        Some(threads) => Some(
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .map_err(|err| Error::Invalid(format!("--threads {threads}: {err}")))?,
+        ),
+    };
+    let simulate = || match &gpu {
         Some(gpu) => {
             eprintln!("simulate polymer: on the GPU: {}", gpu.description());
-            run_ensemble_gpu(&params, gpu, &|_| bar.inc(1))?
+            run_ensemble_gpu(&params, gpu, &|_| bar.inc(1))
         }
         None => {
             eprintln!(
                 "simulate polymer: on the CPU ({} threads)",
                 rayon::current_num_threads()
             );
-            run_ensemble(&params, &|_| bar.inc(1))?
+            run_ensemble(&params, &|_| bar.inc(1))
         }
+    };
+    let ensemble = match &pool {
+        Some(pool) => pool.install(simulate)?,
+        None => simulate()?,
     };
     bar.finish_and_clear();
     let mut builder = MatrixBuilder::new(bins.clone(), CountType::Integer);
