@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Physics checks of `contactmap simulate polymer` (the acceptance figures of the simulator).
 
-usage: scripts/sim_physics.py [BINARY] [WORKDIR] [--quick] [--only ideal|saw|extrusion]
+usage: scripts/sim_physics.py [BINARY] [WORKDIR] [--quick] [--only ideal|saw|extrusion] [--device cpu|gpu]
 
 Runs the simulator through its command line and measures, with the Python standard library:
   ideal chain (--ideal): Rg exponent across N, P(s) slope over a decade of s, P(s) against the
@@ -21,11 +21,15 @@ import os
 import subprocess
 import sys
 
-positional = [a for k, a in enumerate(sys.argv[1:], 1) if not a.startswith("--") and sys.argv[k - 1] != "--only"]
+positional = [a for k, a in enumerate(sys.argv[1:], 1)
+              if not a.startswith("--") and sys.argv[k - 1] not in ("--only", "--device")]
 binary = positional[0] if positional else "target/release/contactmap"
 work = positional[1] if len(positional) > 1 else "sim_physics"
 quick = "--quick" in sys.argv
 only = sys.argv[sys.argv.index("--only") + 1] if "--only" in sys.argv else None
+# Every simulation runs on this device (`simulate polymer --device`): the same checks for the CPU
+# and the GPU backends.
+device = sys.argv[sys.argv.index("--device") + 1] if "--device" in sys.argv else "cpu"
 os.makedirs(work, exist_ok=True)
 SCALE = 0.25 if quick else 1.0
 
@@ -49,7 +53,8 @@ def simulate(name, n, mode, replicas, every, samples, equilibration=0, conformat
     run("simulate", "polymer", mode, "--chains", n, "-o", os.path.join(work, f"{name}.cool"),
         "--bond-wiggle", 0.3, "--dt", 0.01, "--replicas", replicas,
         "--equilibration", equilibration, "--sample-every", every, "--samples", samples,
-        "--stats", stats, "--seed", 1, *(["--conformations", conf] if conformations else []))
+        "--stats", stats, "--seed", 1, "--device", device,
+        *(["--conformations", conf] if conformations else []))
     per_replica = {}
     for line in open(stats).read().splitlines()[1:]:
         fields = line.split("\t")
@@ -198,7 +203,7 @@ def extrusion_checks():
         "--ctcf", ",".join(str(200 * k) for k in range(1, 10)), "--capture", 0.99, "--release", 0.002,
         "--processivity", 200, "--separation", 100, "--steps-per-move", 200, "--monomers-per-bin", 10,
         "--truth-boundaries", truth, "--replicas", 8, "--equilibration", 40000, "--sample-every", 1000,
-        "--samples", max(10, int(50 * SCALE)), "--seed", 1)
+        "--samples", max(10, int(50 * SCALE)), "--seed", 1, "--device", device)
     run("tads", cool, "--raw", "--window", "100k", "-o", os.path.join(work, "extrusion.insulation.tsv"),
         "--boundaries", calls)
     scores = subprocess.run([binary, "score", "boundaries", "--truth", truth, calls], check=True,

@@ -1015,15 +1015,13 @@ fn bead_normals_lanes(key: [u32; 2], step: u64, first: u32) -> [[f64; 3]; NOISE_
             }
         }
     }
-    let uniform = |word: u32| (word as f64 + 0.5) * (1.0 / 4_294_967_296.0);
     std::array::from_fn(|bead| {
-        let (a, b) = (x0[2 * bead], x1[2 * bead]);
-        let (c, d) = (x0[2 * bead + 1], x1[2 * bead + 1]);
-        let r1 = (-2.0 * uniform(a).ln()).sqrt();
-        let r2 = (-2.0 * uniform(c).ln()).sqrt();
-        let (sin, cos) = (std::f64::consts::TAU * uniform(b)).sin_cos();
-        let cos2 = (std::f64::consts::TAU * uniform(d)).cos();
-        [r1 * cos, r1 * sin, r2 * cos2]
+        noise::normals_from_words([
+            x0[2 * bead],
+            x1[2 * bead],
+            x0[2 * bead + 1],
+            x1[2 * bead + 1],
+        ])
     })
 }
 
