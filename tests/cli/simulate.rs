@@ -369,3 +369,65 @@ fn polymer_same_files_on_any_number_of_threads() {
     assert!(line.contains("--threads"), "{line}");
     assert!(!Path::new(&path("zero.cool")).exists());
 }
+
+/// `--device`: the CPU says so; the GPU (lavapipe in CI) writes a map with the same bins, or,
+/// where no GPU exists and none is required, fails with exit code 2 and says why.
+#[test]
+fn polymer_device_choice() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = |name: &str| dir.path().join(name).to_string_lossy().into_owned();
+    let args = |device: &'static str, cool: &str| {
+        let list = [
+            "simulate",
+            "polymer",
+            "-o",
+            cool,
+            "--chains",
+            "80,40",
+            "--density",
+            "0.3",
+            "--replicas",
+            "3",
+            "--equilibration",
+            "200",
+            "--sample-every",
+            "100",
+            "--samples",
+            "3",
+            "--monomers-per-bin",
+            "10",
+            "--device",
+            device,
+        ];
+        list.iter().map(|s| s.to_string()).collect::<Vec<_>>()
+    };
+    let (cpu, gpu) = (path("cpu.cool"), path("gpu.cool"));
+    let cpu_args = args("cpu", &cpu);
+    let out = run(&cpu_args.iter().map(String::as_str).collect::<Vec<_>>());
+    assert!(out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("simulate polymer: on the CPU"), "{stderr}");
+    let gpu_args = args("gpu", &gpu);
+    let out = run(&gpu_args.iter().map(String::as_str).collect::<Vec<_>>());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    if out.status.success() {
+        assert!(stderr.contains("simulate polymer: on the GPU"), "{stderr}");
+        let bins = |cool: &str| run_ok(&["dump", "-t", "bins", cool]);
+        assert_eq!(bins(&gpu), bins(&cpu));
+        let total = |cool: &str| -> u64 {
+            run_ok(&["dump", cool])
+                .lines()
+                .map(|line| line.split('\t').nth(2).unwrap().parse::<u64>().unwrap())
+                .sum()
+        };
+        assert!(total(&gpu) > 0);
+    } else {
+        assert!(
+            std::env::var_os("CONTACTMAP_REQUIRE_GPU").is_none(),
+            "a GPU is required: {stderr}"
+        );
+        assert_eq!(out.status.code(), Some(2), "{stderr}");
+        assert!(stderr.contains("--device gpu: no usable GPU"), "{stderr}");
+        assert!(!Path::new(&gpu).exists());
+    }
+}
