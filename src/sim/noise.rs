@@ -11,11 +11,13 @@
 //! Layout (the GPU shader `sim/gpu/shaders/noise.wgsl` implements the same words):
 //!
 //! - key: `[k0, k1]` from a replica's generator ([`noise_key`]), with `k1 ^= step >> 32`;
-//! - counters `[step as u32, 2 · bead]` and `[step as u32, 2 · bead + 1]` give four words
-//!   `a, b, c, d`;
+//! - beads go in groups of four, `g = bead / 4`; the counters `[step as u32, 6g + k]`,
+//!   `k = 0..6`, give six word pairs `(a_k, b_k)`;
 //! - uniforms `u = (w >> 8 + ½) / 2²⁴` lie in (0, 1) (never 0: the logarithm is finite);
-//! - normals `r₁ cos 2πu_b, r₁ sin 2πu_b, r₂ cos 2πu_d` with `r = √(-2 ln u_a)`, `√(-2 ln u_c)`,
-//!   in single precision on the CPU as on the GPU (the transform in double precision cost a fifth
+//! - each pair gives two normals by Box-Muller, `r_k cos 2πu(b_k)` and `r_k sin 2πu(b_k)` with
+//!   `r_k = √(-2 ln u(a_k))`: twelve normals per group, of which bead `4g + l` takes the three
+//!   `3l, 3l + 1, 3l + 2` (a bead needs two pairs; a group of four needs six, not eight);
+//! - the transform is single precision on the CPU as on the GPU (double precision cost a fifth
 //!   of a CPU step; single precision only trims the tails beyond 5.9 σ, a chance of 4·10⁻⁹ per
 //!   draw).
 
@@ -28,7 +30,8 @@ const ROTATIONS: [u32; 8] = [13, 15, 26, 6, 17, 29, 16, 24];
 /// Threefry's key-schedule parity constant.
 const PARITY: u32 = 0x1BD1_1BDA;
 
-/// Threefry-2x32 with 20 rounds: the two random words of `counter` under `key`.
+/// Threefry-2x32 with 20 rounds: the two random words of `counter` under `key` (the reference
+/// for the lanes version, checked against Random123's known answers).
 #[inline]
 pub fn threefry2x32(key: [u32; 2], counter: [u32; 2]) -> [u32; 2] {
     let schedule = [key[0], key[1], PARITY ^ key[0] ^ key[1]];
@@ -54,13 +57,49 @@ pub fn noise_key(rng: &mut SimRng) -> [u32; 2] {
     [word as u32, (word >> 32) as u32]
 }
 
-/// The four random words of `bead` at `step`.
+/// Beads per group sharing the six Box-Muller pairs of their counters.
+pub const GROUP: usize = 4;
+
+/// Threefry-2x32-20 on several counters side by side (the same words as [`threefry2x32`]), so
+/// the compiler can keep the lanes in vector registers.
+#[inline]
+fn threefry_lanes<const L: usize>(key: [u32; 2], counters: [[u32; 2]; L]) -> [[u32; 2]; L] {
+    let schedule = [key[0], key[1], PARITY ^ key[0] ^ key[1]];
+    let mut x0: [u32; L] = std::array::from_fn(|l| counters[l][0].wrapping_add(schedule[0]));
+    let mut x1: [u32; L] = std::array::from_fn(|l| counters[l][1].wrapping_add(schedule[1]));
+    for round in 0..20 {
+        let rotation = ROTATIONS[round % 8];
+        for lane in 0..L {
+            x0[lane] = x0[lane].wrapping_add(x1[lane]);
+            x1[lane] = x1[lane].rotate_left(rotation) ^ x0[lane];
+        }
+        if round % 4 == 3 {
+            let s = round / 4 + 1;
+            for lane in 0..L {
+                x0[lane] = x0[lane].wrapping_add(schedule[s % 3]);
+                x1[lane] = x1[lane]
+                    .wrapping_add(schedule[(s + 1) % 3])
+                    .wrapping_add(s as u32);
+            }
+        }
+    }
+    std::array::from_fn(|lane| [x0[lane], x1[lane]])
+}
+
+/// The key of `step` (its high word folded into the key).
+#[inline]
+fn step_key(key: [u32; 2], step: u64) -> [u32; 2] {
+    [key[0], key[1] ^ (step >> 32) as u32]
+}
+
+/// The four random words of `bead` at `step`: the two Box-Muller pairs its normals come from.
 #[inline]
 pub fn bead_words(key: [u32; 2], step: u64, bead: u32) -> [u32; 4] {
-    let key = [key[0], key[1] ^ (step >> 32) as u32];
-    let low = step as u32;
-    let [a, b] = threefry2x32(key, [low, bead.wrapping_mul(2)]);
-    let [c, d] = threefry2x32(key, [low, bead.wrapping_mul(2).wrapping_add(1)]);
+    let first = 6 * (bead / 4) + 3 * (bead % 4) / 2;
+    let [[a, b], [c, d]] = threefry_lanes(
+        step_key(key, step),
+        [[step as u32, first], [step as u32, first + 1]],
+    );
     [a, b, c, d]
 }
 
@@ -70,20 +109,44 @@ fn uniform(word: u32) -> f32 {
     ((word >> 8) as f32 + 0.5) * (1.0 / 16_777_216.0)
 }
 
-/// Three independent standard normals from four random words (Box-Muller, single precision).
+/// The two normals of a Box-Muller pair of words.
 #[inline]
-pub fn normals_from_words([a, b, c, d]: [u32; 4]) -> [f64; 3] {
-    let r1 = (-2.0 * uniform(a).ln()).sqrt();
-    let r2 = (-2.0 * uniform(c).ln()).sqrt();
+fn box_muller([a, b]: [u32; 2]) -> [f32; 2] {
+    let r = (-2.0 * uniform(a).ln()).sqrt();
     let (sin, cos) = (std::f32::consts::TAU * uniform(b)).sin_cos();
-    let cos2 = (std::f32::consts::TAU * uniform(d)).cos();
-    [(r1 * cos) as f64, (r1 * sin) as f64, (r2 * cos2) as f64]
+    [r * cos, r * sin]
 }
 
 /// Three independent standard normals for `bead` at `step`.
 #[inline]
 pub fn bead_normals(key: [u32; 2], step: u64, bead: u32) -> [f64; 3] {
-    normals_from_words(bead_words(key, step, bead))
+    let [a, b, c, d] = bead_words(key, step, bead);
+    let [n0, n1] = box_muller([a, b]);
+    let [n2, n3] = box_muller([c, d]);
+    // Bead 4g + l starts at normal 3l: the first of its first pair when l is even.
+    let normals = if bead.is_multiple_of(2) {
+        [n0, n1, n2]
+    } else {
+        [n1, n2, n3]
+    };
+    normals.map(f64::from)
+}
+
+/// The normals of the four beads `4 group .. 4 group + 4` at `step` ([`bead_normals`] of each,
+/// the same bits), from the group's six pairs at once.
+#[inline]
+pub fn group_normals(key: [u32; 2], step: u64, group: u32) -> [[f64; 3]; GROUP] {
+    let pairs = threefry_lanes(
+        step_key(key, step),
+        std::array::from_fn::<_, 6, _>(|k| [step as u32, 6 * group + k as u32]),
+    );
+    let normals: [[f32; 2]; 6] = pairs.map(box_muller);
+    std::array::from_fn(|lane| {
+        std::array::from_fn(|k| {
+            let index = 3 * lane + k;
+            f64::from(normals[index / 2][index % 2])
+        })
+    })
 }
 
 #[cfg(test)]
@@ -147,6 +210,30 @@ mod tests {
             (tail as f64 - expected).abs() < 5.0 * (expected * (1.0 - p)).sqrt(),
             "{tail} draws beyond 3 sigma, expected {expected}"
         );
+    }
+
+    #[test]
+    fn lanes_and_groups_give_the_scalar_words() {
+        let key = [0xdead_beef, 0x0bad_cafe];
+        for step in [0u64, 77, (5u64 << 32) + 3] {
+            for group in [0u32, 1, 12_345, (u32::MAX / 2) / 4] {
+                let normals = group_normals(key, step, group);
+                for lane in 0..GROUP as u32 {
+                    let bead = 4 * group + lane;
+                    let words = bead_words(key, step, bead);
+                    let stepped = [key[0], key[1] ^ (step >> 32) as u32];
+                    let first = 6 * group + 3 * lane / 2;
+                    let [a, b] = threefry2x32(stepped, [step as u32, first]);
+                    let [c, d] = threefry2x32(stepped, [step as u32, first + 1]);
+                    assert_eq!(words, [a, b, c, d]);
+                    let scalar = bead_normals(key, step, bead);
+                    assert_eq!(
+                        scalar.map(f64::to_bits),
+                        normals[lane as usize].map(f64::to_bits)
+                    );
+                }
+            }
+        }
     }
 
     #[test]

@@ -978,51 +978,14 @@ impl Polymer {
 }
 
 /// Beads whose noise [`bead_normals_lanes`] draws at once.
-const NOISE_LANES: usize = 4;
+const NOISE_LANES: usize = noise::GROUP;
 
-/// [`noise::bead_normals`] of the beads `first..first + NOISE_LANES`, the same bits, with the
-/// Threefry-2x32-20 rounds of the eight counters run side by side so the compiler can keep them
-/// in vector registers (the scalar generator is a chain of dependent additions and rotations).
+/// [`noise::bead_normals`] of the beads `first..first + NOISE_LANES` (`first` a multiple of
+/// [`NOISE_LANES`]), the same bits, from their group's words at once ([`noise::group_normals`]).
 #[inline]
 fn bead_normals_lanes(key: [u32; 2], step: u64, first: u32) -> [[f64; 3]; NOISE_LANES] {
-    // Random123's Threefry-2x32 constants, as in `noise::threefry2x32`.
-    const ROTATIONS: [u32; 8] = [13, 15, 26, 6, 17, 29, 16, 24];
-    const PARITY: u32 = 0x1BD1_1BDA;
-    const COUNTERS: usize = 2 * NOISE_LANES;
-    let key = [key[0], key[1] ^ (step >> 32) as u32];
-    let schedule = [key[0], key[1], PARITY ^ key[0] ^ key[1]];
-    // Counter lane l is [step, 2 first + l]: beads first.. with their two counters each.
-    let mut x0 = [(step as u32).wrapping_add(schedule[0]); COUNTERS];
-    let mut x1: [u32; COUNTERS] = std::array::from_fn(|lane| {
-        first
-            .wrapping_mul(2)
-            .wrapping_add(lane as u32)
-            .wrapping_add(schedule[1])
-    });
-    for round in 0..20 {
-        let rotation = ROTATIONS[round % 8];
-        for lane in 0..COUNTERS {
-            x0[lane] = x0[lane].wrapping_add(x1[lane]);
-            x1[lane] = x1[lane].rotate_left(rotation) ^ x0[lane];
-        }
-        if round % 4 == 3 {
-            let s = round / 4 + 1;
-            for lane in 0..COUNTERS {
-                x0[lane] = x0[lane].wrapping_add(schedule[s % 3]);
-                x1[lane] = x1[lane]
-                    .wrapping_add(schedule[(s + 1) % 3])
-                    .wrapping_add(s as u32);
-            }
-        }
-    }
-    std::array::from_fn(|bead| {
-        noise::normals_from_words([
-            x0[2 * bead],
-            x1[2 * bead],
-            x0[2 * bead + 1],
-            x1[2 * bead + 1],
-        ])
-    })
+    debug_assert_eq!(first as usize % NOISE_LANES, 0);
+    noise::group_normals(key, step, first / NOISE_LANES as u32)
 }
 
 /// Add the force of the bond `(i, j)`; return its energy.

@@ -32,12 +32,15 @@ fn threefry(key: vec2<u32>, ctr: vec2<u32>) -> vec2<u32> {
     return x;
 }
 
-// The four words of `bead` at the step (lo, hi): counters (lo, 2 bead) and (lo, 2 bead + 1)
-// under the key whose second word is xored with the step's high word.
+// The four words of `bead` at the step (lo, hi): the two Box-Muller pairs its normals come
+// from. Beads go in groups of four, g = bead / 4, whose counters (lo, 6 g + k), k = 0..6, give
+// twelve normals; bead 4 g + l takes normals 3 l, 3 l + 1, 3 l + 2. The key's second word is
+// xored with the step's high word.
 fn bead_words(key: vec2<u32>, step_lo: u32, step_hi: u32, bead: u32) -> vec4<u32> {
     let k = vec2<u32>(key.x, key.y ^ step_hi);
-    let ab = threefry(k, vec2<u32>(step_lo, bead * 2u));
-    let cd = threefry(k, vec2<u32>(step_lo, bead * 2u + 1u));
+    let first = 6u * (bead / 4u) + 3u * (bead % 4u) / 2u;
+    let ab = threefry(k, vec2<u32>(step_lo, first));
+    let cd = threefry(k, vec2<u32>(step_lo, first + 1u));
     return vec4<u32>(ab, cd);
 }
 
@@ -45,12 +48,19 @@ fn unit_uniform(w: u32) -> f32 {
     return (f32(w >> 8u) + 0.5) * (1.0 / 16777216.0);
 }
 
-// Three standard normals (Box-Muller on the four words).
+fn box_muller(a: u32, b: u32) -> vec2<f32> {
+    let r = sqrt(-2.0 * log(unit_uniform(a)));
+    let t = 6.283185307179586 * unit_uniform(b);
+    return vec2<f32>(r * cos(t), r * sin(t));
+}
+
+// Three standard normals of `bead` (the first of its first pair when the bead is even).
 fn bead_normals(key: vec2<u32>, step_lo: u32, step_hi: u32, bead: u32) -> vec3<f32> {
     let w = bead_words(key, step_lo, step_hi, bead);
-    let r1 = sqrt(-2.0 * log(unit_uniform(w.x)));
-    let r2 = sqrt(-2.0 * log(unit_uniform(w.z)));
-    let t1 = 6.283185307179586 * unit_uniform(w.y);
-    let t2 = 6.283185307179586 * unit_uniform(w.w);
-    return vec3<f32>(r1 * cos(t1), r1 * sin(t1), r2 * cos(t2));
+    let first = box_muller(w.x, w.y);
+    let second = box_muller(w.z, w.w);
+    if (bead & 1u) == 0u {
+        return vec3<f32>(first, second.x);
+    }
+    return vec3<f32>(first.y, second);
 }
