@@ -653,6 +653,72 @@ mod tests {
         }
     }
 
+    /// Everything a build leaves behind: equal for two lists holding the same points.
+    fn assert_same_list(reused: &CellList, fresh: &CellList) -> Result<(), TestCaseError> {
+        prop_assert_eq!(reused.dims, fresh.dims);
+        prop_assert_eq!(reused.brute_force, fresh.brute_force);
+        prop_assert_eq!(&reused.order, &fresh.order);
+        prop_assert_eq!(&reused.slot_of, &fresh.slot_of);
+        prop_assert_eq!(&reused.start, &fresh.start);
+        prop_assert_eq!(&reused.occupied, &fresh.occupied);
+        prop_assert!(reused.sorted == fresh.sorted);
+        prop_assert_eq!(reused.plane_points.len(), fresh.plane_points.len());
+        Ok(())
+    }
+
+    proptest! {
+        /// A list built once with one cutoff (and other points, maybe another space) and then
+        /// rebuilt with another equals a fresh list, slot for slot, and finds the brute-force
+        /// pairs: nothing sized for the first build survives into the second (issue 12).
+        #[test]
+        fn rebuilding_with_another_cutoff_equals_a_fresh_list(
+            first_points in points_strategy(),
+            points in points_strategy(),
+            first_cutoff in 0.3f64..3.0,
+            cutoff in 0.3f64..3.0,
+            side in 2.0f64..12.0,
+            first_periodic: bool,
+            periodic: bool,
+        ) {
+            let space_of = |periodic| if periodic { Space::Periodic(side) } else { Space::Open };
+            let (first_space, space) = (space_of(first_periodic), space_of(periodic));
+            let first_cutoff = first_cutoff.min(side / 2.0 - 1e-9);
+            let cutoff = cutoff.min(side / 2.0 - 1e-9);
+            let mut reused = CellList::new();
+            reused.build(&first_points, first_cutoff, first_space);
+            reused.build(&points, cutoff, space);
+            let mut fresh = CellList::new();
+            fresh.build(&points, cutoff, space);
+            assert_same_list(&reused, &fresh)?;
+            prop_assert_eq!(reused.pairs(), brute_force(&points, cutoff, space));
+            check_planes(&reused)?;
+        }
+    }
+
+    /// The push-off of issue 12 as fixed cases: 800 points in a periodic box of side 12.6,
+    /// built at the overlap distance 0.85 and then at the WCA range 2^(1/6) (and back), and
+    /// the same in open space and with a list reused many times.
+    #[test]
+    fn alternating_cutoffs_equal_fresh_lists() {
+        use rand::Rng;
+        let mut rng = crate::sim::stream_rng(12, 0, 0);
+        let side = (800.0f64 / 0.4).cbrt();
+        let points: Vec<[f64; 3]> = (0..800)
+            .map(|_| [0; 3].map(|_| rng.gen::<f64>() * side * 1.5 - side / 4.0))
+            .collect();
+        let wca = 2f64.powf(1.0 / 6.0);
+        let mut reused = CellList::new();
+        for space in [Space::Periodic(side), Space::Open] {
+            for cutoff in [0.85, wca, 0.85, 3.0, wca, 0.5, wca] {
+                reused.build(&points, cutoff, space);
+                let mut fresh = CellList::new();
+                fresh.build(&points, cutoff, space);
+                assert_same_list(&reused, &fresh).unwrap();
+                assert_eq!(reused.pairs(), brute_force(&points, cutoff, space));
+            }
+        }
+    }
+
     #[test]
     fn sparse_and_degenerate_inputs() {
         let mut cells = CellList::new();
