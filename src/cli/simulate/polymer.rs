@@ -175,7 +175,7 @@ pub struct PolymerArgs {
     /// Confinement [default: sphere with --density, else none].
     #[arg(long, value_enum)]
     pub confinement: Option<ConfinementArg>,
-    /// Time step [default: 0.002, or 0.0005 with WCA or FENE].
+    /// Time step [default: 0.002, or 0.0002 with WCA or FENE].
     #[arg(long, value_name = "DT")]
     pub dt: Option<f64>,
     /// Independent replicas (run in parallel).
@@ -445,7 +445,7 @@ impl PolymerArgs {
             attraction,
             confinement,
             excluded_neighbours: self.exclude_neighbours,
-            dt: self.dt.unwrap_or(if hard { 0.0005 } else { 0.002 }),
+            dt: self.dt.unwrap_or(if hard { 0.0002 } else { 0.002 }),
         };
         let extrusion = if self.extrusion {
             let chains = chain_ranges(&self.chains);

@@ -114,7 +114,7 @@ fn one_step_equals_the_cpu_forces_and_noise() {
         confinement: Confinement::Periodic {
             side: box_side(2 * n, 0.4),
         },
-        dt: 0.0005,
+        dt: 0.0002,
         ..PolymerParams::default()
     };
     let free = PolymerParams {
