@@ -101,7 +101,10 @@ type PlaneSort<'a> = (
 );
 
 /// `data` cut into consecutive mutable slices of the given lengths.
-fn split_lengths<T>(mut data: &mut [T], lengths: impl Iterator<Item = usize>) -> Vec<&mut [T]> {
+pub(super) fn split_lengths<T>(
+    mut data: &mut [T],
+    lengths: impl Iterator<Item = usize>,
+) -> Vec<&mut [T]> {
     let mut parts = Vec::new();
     for length in lengths {
         let (head, tail) = data.split_at_mut(length);

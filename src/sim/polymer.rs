@@ -58,7 +58,7 @@
 use rand::Rng;
 use rayon::prelude::*;
 
-use super::cells::{CellList, Space};
+use super::cells::{split_lengths, CellList, Space};
 use super::noise;
 use super::SimRng;
 use crate::error::{Error, Result};
@@ -496,17 +496,6 @@ where
     } else {
         work(0, data);
     }
-}
-
-/// `data` cut into consecutive mutable slices of the given lengths.
-fn split_lengths<T>(mut data: &mut [T], lengths: impl Iterator<Item = usize>) -> Vec<&mut [T]> {
-    let mut parts = Vec::new();
-    for length in lengths {
-        let (head, tail) = data.split_at_mut(length);
-        parts.push(head);
-        data = tail;
-    }
-    parts
 }
 
 /// A pair of independent standard normals by Marsaglia's polar method (no trigonometry; 27 %
