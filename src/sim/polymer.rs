@@ -1335,7 +1335,8 @@ mod tests {
             ([u32::MAX, 3], 12_345),
             ([1, 2], (1 << 32) + 5),
         ] {
-            for first in [0u32, 1, 4093, u32::MAX - 3] {
+            // Lanes start at multiples of NOISE_LANES (the blocks of `step` are 1,024 beads).
+            for first in [0u32, 4, 4092, u32::MAX / 2 - 3] {
                 let lanes = bead_normals_lanes(key, step, first);
                 for (lane, normals) in lanes.iter().enumerate() {
                     let scalar = noise::bead_normals(key, step, first + lane as u32);
