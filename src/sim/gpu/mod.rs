@@ -10,7 +10,7 @@
 //!   `advance` has every bead sum its own
 //!   forces (chain and extra bonds, angles, wall, and pair forces over the 27 neighbour cells)
 //!   and move by Euler-Maruyama with counter-based noise ([`crate::sim::noise`], the same
-//!   Threefry words as the CPU). Up to [`system::MAX_BATCH`] steps are recorded per submission.
+//!   Threefry words as the CPU). Up to 512 steps are recorded per submission.
 //! - **Determinism**: each bead's pair forces are summed in fixed point (1/4096 kT/b; one pair's
 //!   force capped at 1,000 kT/b per axis, reached only by deeply overlapping WCA beads), so the
 //!   sum does not depend on the order beads land in their cells: the same seed gives the same
