@@ -17,6 +17,11 @@ pub(crate) fn block_on<F: Future>(future: F) -> F::Output {
     }
 }
 
+/// The native backends tried (no GL, no WebGPU).
+const BACKENDS: wgpu::Backends = wgpu::Backends::VULKAN
+    .union(wgpu::Backends::METAL)
+    .union(wgpu::Backends::DX12);
+
 /// An open GPU: the device and its queue.
 pub struct Gpu {
     pub(crate) device: wgpu::Device,
@@ -39,10 +44,10 @@ impl Gpu {
     /// was usable (no driver, no adapter, only a software one, device creation failed).
     pub fn open(accept_software: bool) -> Result<Gpu, String> {
         let mut descriptor = wgpu::InstanceDescriptor::new_without_display_handle();
-        descriptor.backends = wgpu::Backends::VULKAN | wgpu::Backends::METAL | wgpu::Backends::DX12;
+        descriptor.backends = BACKENDS;
         descriptor.flags = wgpu::InstanceFlags::empty();
         let instance = wgpu::Instance::new(descriptor);
-        let adapters = block_on(instance.enumerate_adapters(descriptor_backends()));
+        let adapters = block_on(instance.enumerate_adapters(BACKENDS));
         if adapters.is_empty() {
             return Err(
                 "no GPU adapter (no Vulkan, Metal or DX12 driver found; on Linux install the \
@@ -102,8 +107,4 @@ impl Gpu {
     pub fn is_software(&self) -> bool {
         self.info.device_type == wgpu::DeviceType::Cpu
     }
-}
-
-fn descriptor_backends() -> wgpu::Backends {
-    wgpu::Backends::VULKAN | wgpu::Backends::METAL | wgpu::Backends::DX12
 }

@@ -196,6 +196,11 @@ fn param_words(
     ]
 }
 
+/// Index of `slots` in the `Params` words.
+const SLOTS_WORD: usize = 5;
+/// Index of `cutoff2` (0: no pair forces) in the `Params` words.
+const CUTOFF2_WORD: usize = 11;
+
 fn bytes(words: &[u32]) -> Vec<u8> {
     words.iter().flat_map(|w| w.to_le_bytes()).collect()
 }
@@ -564,7 +569,7 @@ impl<'g> GpuSystem<'g> {
             self.n_total as u64 * POSITION_BYTES,
         );
         let mut current = self.current;
-        let pairs = self.words[11] != 0;
+        let pairs = self.words[CUTOFF2_WORD] != 0;
         let mut pass = encoder.begin_compute_pass(&Default::default());
         for k in 0..steps {
             pass.set_bind_group(
@@ -631,7 +636,7 @@ impl<'g> GpuSystem<'g> {
             mapped_at_creation: false,
         });
         self.slots = slots;
-        self.words[5] = slots;
+        self.words[SLOTS_WORD] = slots;
         let queue = &self.gpu.queue;
         queue.write_buffer(&self.params, 0, &bytes(&self.words));
         let mut encoder = device.create_command_encoder(&Default::default());

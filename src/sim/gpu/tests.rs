@@ -17,7 +17,7 @@ use crate::sim::polymer::{
 };
 
 /// The GPU, or `None` (with the reason printed) when there is none and none is required.
-pub(crate) fn test_gpu() -> Option<&'static Gpu> {
+fn test_gpu() -> Option<&'static Gpu> {
     static GPU: OnceLock<Result<Gpu, String>> = OnceLock::new();
     let gpu = GPU.get_or_init(|| {
         let gpu = Gpu::open(true);
