@@ -10,6 +10,7 @@ pub mod info;
 pub mod input;
 pub mod normalize;
 pub mod output;
+pub mod plot;
 pub mod progress;
 pub mod score;
 pub mod simulate;
@@ -69,6 +70,9 @@ pub enum Command {
     /// Check a .cool / .mcool / .hic file end to end (exit 0 valid, 1 invalid, 2 unreadable);
     /// `--repair OUT` writes a corrected copy of a cooler.
     Validate(validate::ValidateArgs),
+    /// Figures as PNG or SVG: `plot map` (contact-map heatmaps, square or 45-degree, with
+    /// domains, loops and tracks).
+    Plot(plot::PlotArgs),
 }
 
 /// Run a parsed command line.
@@ -85,6 +89,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Score(args) => score::run(&args),
         Command::Contacts(args) => contacts::run(&args),
         Command::Validate(args) => validate::run(&args),
+        Command::Plot(args) => plot::run(&args),
     }
 }
 

@@ -11,6 +11,7 @@
 //!   [`balance`] (ICE, VC, KR), [`expected`] (P(s), power laws), [`normalize`] (observed /
 //!   expected), [`tads`] (insulation, directionality, TopDom, Armatus), [`score`] (calls against
 //!   a truth);
+//! - [`plot`] draws figures (heatmaps, P(s) curves, protein contact maps) as PNG or SVG;
 //! - [`sim`] makes synthetic maps with a known truth (block-structured maps with TADs).
 //!
 //! Coordinates are 0-based and half-open; weights are multiplicative (cooler's convention).
@@ -38,6 +39,7 @@ pub mod genome;
 pub mod io;
 pub mod matrix;
 pub mod normalize;
+pub mod plot;
 pub mod score;
 pub mod sim;
 pub mod tads;

@@ -5,13 +5,18 @@
 //! count is refused (exit 2, naming the file and the first such pixel) instead of being computed
 //! on; `dump`, `info` and `convert` open files as they are.
 
+use std::collections::HashMap;
 use std::io::Read;
+use std::ops::Range;
 use std::path::Path;
 
 use crate::cli::InputArgs;
 use crate::error::{Error, Result};
 use crate::expected::view::{RegionSpec, View};
+use crate::genome::BinTable;
+use crate::io::tables::Table;
 use crate::io::{self, CheckedCounts, MatrixReader};
+use crate::normalize::DiagonalCurve;
 
 /// Open the matrix at `uri` (with the text-input options `input`) for an analysis: its counts are
 /// checked as they stream.
@@ -94,4 +99,55 @@ pub fn read_view(path: &Path, reader: &dyn MatrixReader) -> Result<View> {
         });
     }
     View::new(reader.bins(), &specs).map_err(|e| Error::format(path, e.to_string()))
+}
+
+/// Per-chromosome curves (for o/e) from column `column` of the cooltools expected-cis table at
+/// `path` (regions named by chromosome).
+pub fn read_expected_curves(
+    path: &str,
+    bins: &BinTable,
+    column: &str,
+) -> Result<Vec<DiagonalCurve>> {
+    let table = &Table::read(path)?;
+    let (c1, c2) = (table.column("region1")?, table.column("region2")?);
+    let (dist, n_valid, value) = (
+        table.column("dist")?,
+        table.column("n_valid")?,
+        table.column(column)?,
+    );
+    let mut curves: HashMap<usize, DiagonalCurve> = HashMap::new();
+    for row in 0..table.len() {
+        let (r1, r2) = (table.text(row, c1), table.text(row, c2));
+        if r1 != r2 {
+            continue;
+        }
+        let chrom = bins.chrom_id(r1).ok_or_else(|| {
+            Error::format(
+                table.path(),
+                format!("region '{r1}' is not a chromosome of the matrix (regions must be whole chromosomes)"),
+            )
+        })?;
+        let range: Range<usize> = bins.chrom_bins(chrom);
+        let curve = curves.entry(chrom).or_insert_with(|| DiagonalCurve {
+            expected: vec![f64::NAN; range.len()],
+            n_valid: vec![0.0; range.len()],
+            bins: range.clone(),
+        });
+        let d = table.number(row, dist)?;
+        if !(d >= 0.0 && d.fract() == 0.0 && (d as usize) < range.len()) {
+            return Err(Error::format(
+                table.path(),
+                format!(
+                    "row {}: dist {d} is not a diagonal of {r1} ({} bins)",
+                    row + 1,
+                    range.len()
+                ),
+            ));
+        }
+        curve.expected[d as usize] = table.number(row, value)?;
+        curve.n_valid[d as usize] = table.number(row, n_valid)?;
+    }
+    let mut curves: Vec<DiagonalCurve> = curves.into_values().collect();
+    curves.sort_by_key(|c| c.bins.start);
+    Ok(curves)
 }

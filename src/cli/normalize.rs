@@ -1,7 +1,6 @@
 //! `contactmap normalize`: observed / expected maps (o/e, log2 o/e, z-score) as a .cool or a text
 //! table.
 
-use std::collections::HashMap;
 use std::ops::Range;
 use std::path::PathBuf;
 
@@ -13,11 +12,10 @@ use crate::cli::InputArgs;
 use crate::error::{Error, Result};
 use crate::genome::BinTable;
 use crate::io::cool::{write_cool, CoolWriteOptions};
-use crate::io::tables::Table;
 use crate::io::text::{write_text, TextFormat};
 use crate::io::{self, MatrixInfo, MatrixReader};
 use crate::matrix::{CountType, PixelBlock, Weights};
-use crate::normalize::{DiagonalCurve, Method, Normalizer};
+use crate::normalize::{Method, Normalizer};
 
 /// Normalisation methods.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -121,7 +119,7 @@ pub fn run(args: &NormalizeArgs) -> Result<()> {
                 }
                 .to_string()
             });
-            curves_from_table(&Table::read(path)?, &bins, &column)?
+            crate::cli::input::read_expected_curves(path, &bins, &column)?
         }
         None => {
             let pixels = pixels.as_ref().expect("loaded when no --expected");
@@ -153,51 +151,6 @@ pub fn run(args: &NormalizeArgs) -> Result<()> {
         OutputFormat::Bg2 => write_text(&progress, &out, TextFormat::Bg2),
         _ => write_text(&progress, &out, TextFormat::Coo),
     }
-}
-
-/// Per-chromosome curves from a cooltools expected-cis table (regions named by chromosome).
-fn curves_from_table(table: &Table, bins: &BinTable, column: &str) -> Result<Vec<DiagonalCurve>> {
-    let (c1, c2) = (table.column("region1")?, table.column("region2")?);
-    let (dist, n_valid, value) = (
-        table.column("dist")?,
-        table.column("n_valid")?,
-        table.column(column)?,
-    );
-    let mut curves: HashMap<usize, DiagonalCurve> = HashMap::new();
-    for row in 0..table.len() {
-        let (r1, r2) = (table.text(row, c1), table.text(row, c2));
-        if r1 != r2 {
-            continue;
-        }
-        let chrom = bins.chrom_id(r1).ok_or_else(|| {
-            Error::format(
-                table.path(),
-                format!("region '{r1}' is not a chromosome of the matrix (regions must be whole chromosomes)"),
-            )
-        })?;
-        let range: Range<usize> = bins.chrom_bins(chrom);
-        let curve = curves.entry(chrom).or_insert_with(|| DiagonalCurve {
-            expected: vec![f64::NAN; range.len()],
-            n_valid: vec![0.0; range.len()],
-            bins: range.clone(),
-        });
-        let d = table.number(row, dist)?;
-        if !(d >= 0.0 && d.fract() == 0.0 && (d as usize) < range.len()) {
-            return Err(Error::format(
-                table.path(),
-                format!(
-                    "row {}: dist {d} is not a diagonal of {r1} ({} bins)",
-                    row + 1,
-                    range.len()
-                ),
-            ));
-        }
-        curve.expected[d as usize] = table.number(row, value)?;
-        curve.n_valid[d as usize] = table.number(row, n_valid)?;
-    }
-    let mut curves: Vec<DiagonalCurve> = curves.into_values().collect();
-    curves.sort_by_key(|c| c.bins.start);
-    Ok(curves)
 }
 
 /// A reader whose pixels are the normalised values of another reader's.

@@ -64,6 +64,71 @@ pub fn read_bed(path: &Path) -> Result<Vec<BedRecord>> {
     Ok(records)
 }
 
+/// One BEDPE record: a pair of intervals (a loop: `chrom1 start1 end1 chrom2 start2 end2 ...`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct BedpeRecord {
+    /// First anchor.
+    pub first: BedRecord,
+    /// Second anchor.
+    pub second: BedRecord,
+}
+
+/// Read the BEDPE file at `path` (plain or gzip): the first six columns of each line; a header
+/// line whose coordinates are not numbers (`chrom1 start1 end1 ...`, as HiCCUPS and cooltools
+/// write) and `#` comments are skipped. Errors name the file and the 1-based line.
+pub fn read_bedpe(path: &Path) -> Result<Vec<BedpeRecord>> {
+    let reader = crate::io::open_text(path)?;
+    let mut records = Vec::new();
+    for (index, line) in reader.lines().enumerate() {
+        let line_no = index as u64 + 1;
+        let line = line.map_err(|e| Error::io(path, e))?;
+        let line = line.trim_end_matches('\r');
+        let trimmed = line.trim_start();
+        if trimmed.is_empty() || trimmed.starts_with('#') || trimmed.starts_with("track") {
+            continue;
+        }
+        let fields: Vec<&str> = if line.contains('\t') {
+            line.split('\t').map(str::trim).collect()
+        } else {
+            line.split_whitespace().collect()
+        };
+        if fields.len() < 6 {
+            return Err(Error::parse(
+                path,
+                line_no,
+                format!(
+                    "expected at least 6 columns (chrom1 start1 end1 chrom2 start2 end2), found {}",
+                    fields.len()
+                ),
+            ));
+        }
+        if records.is_empty()
+            && fields[1].parse::<u64>().is_err()
+            && fields[4].parse::<u64>().is_err()
+        {
+            continue; // header line
+        }
+        let anchor =
+            |chrom: &str, start: &str, end: &str| -> std::result::Result<BedRecord, String> {
+                let coordinate = |what: &str, text: &str| {
+                    text.parse::<u64>()
+                        .map_err(|_| format!("{what} '{text}' is not a non-negative whole number"))
+                };
+                let (start, end) = (coordinate("start", start)?, coordinate("end", end)?);
+                if start > end {
+                    return Err(format!("start {start} is after end {end}"));
+                }
+                Ok(BedRecord::new(chrom, start, end))
+            };
+        let first =
+            anchor(fields[0], fields[1], fields[2]).map_err(|m| Error::parse(path, line_no, m))?;
+        let second =
+            anchor(fields[3], fields[4], fields[5]).map_err(|m| Error::parse(path, line_no, m))?;
+        records.push(BedpeRecord { first, second });
+    }
+    Ok(records)
+}
+
 /// Parse one line; `Ok(None)` for lines that hold no record (blank, comment, track, browser).
 fn parse_line(line: &str) -> std::result::Result<Option<BedRecord>, String> {
     let line = line.trim_end_matches('\r');

@@ -109,6 +109,102 @@ impl Table {
     }
 }
 
+/// One row of a track: an interval and a value.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TrackRow {
+    /// Chromosome.
+    pub chrom: String,
+    /// Start in bp.
+    pub start: u64,
+    /// End in bp.
+    pub end: u64,
+    /// The value (NaN for `nan`, `NA`, empty).
+    pub value: f64,
+}
+
+/// Read a per-bin track: a table whose first three columns are `chrom start end` (a cooltools
+/// insulation table, a `contactmap tads` output, a bedGraph) and the value in `column`, named by
+/// its header or given as a 1-based number. A file whose first line has numeric 2nd and 3rd
+/// fields has no header (bedGraph; `column` must then be a number).
+pub fn read_track(path: &std::path::Path, column: &str) -> Result<Vec<TrackRow>> {
+    let label = path.display().to_string();
+    let reader = crate::io::open_text(path)?;
+    let mut index: Option<usize> = None;
+    let mut rows = Vec::new();
+    let numbered = column
+        .parse::<usize>()
+        .ok()
+        .filter(|&n| n >= 1)
+        .map(|n| n - 1);
+    for (line_index, line) in reader.lines().enumerate() {
+        let line_no = line_index as u64 + 1;
+        let line = line.map_err(|e| Error::io(path, e))?;
+        let line = line.trim_end_matches('\r');
+        if line.trim().is_empty() || line.starts_with('#') || line.starts_with("track") {
+            continue;
+        }
+        let fields: Vec<&str> = line.split('\t').collect();
+        if index.is_none() {
+            let headerless = fields.len() >= 3
+                && fields[1].trim().parse::<u64>().is_ok()
+                && fields[2].trim().parse::<u64>().is_ok();
+            if headerless {
+                index = Some(numbered.ok_or_else(|| {
+                    Error::format(
+                        path,
+                        format!("has no header line: give the track column as a number (e.g. {label}:4)"),
+                    )
+                })?);
+            } else {
+                let found = fields.iter().position(|h| h.trim() == column).or(numbered);
+                index = Some(found.ok_or_else(|| {
+                    Error::format(
+                        path,
+                        format!("no column '{column}' (columns: {})", fields.join(", ")),
+                    )
+                })?);
+                continue;
+            }
+        }
+        let at = index.expect("set above");
+        if fields.len() <= at.max(2) {
+            return Err(Error::parse(
+                path,
+                line_no,
+                format!(
+                    "expected at least {} tab-separated fields, found {}",
+                    at.max(2) + 1,
+                    fields.len()
+                ),
+            ));
+        }
+        let coordinate = |text: &str| {
+            text.trim().parse::<u64>().map_err(|_| {
+                Error::parse(path, line_no, format!("'{text}' is not a position in bp"))
+            })
+        };
+        let text = fields[at].trim();
+        let value = if text.is_empty() || text.eq_ignore_ascii_case("nan") || text == "NA" {
+            f64::NAN
+        } else {
+            text.parse().map_err(|_| {
+                Error::parse(
+                    path,
+                    line_no,
+                    format!("'{text}' in the track column is not a number"),
+                )
+            })?
+        };
+        rows.push(TrackRow {
+            chrom: fields[0].trim().to_string(),
+            start: coordinate(fields[1])?,
+            end: coordinate(fields[2])?,
+            value,
+        });
+    }
+    Ok(rows)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1,0 +1,498 @@
+//! `contactmap plot map`: a contact-map heatmap of a region or a pair of regions.
+
+use std::ops::Range;
+use std::path::PathBuf;
+
+use clap::Args;
+
+use super::{write_figure, FigureArgs};
+use crate::cli::input::{open_for_analysis, read_weights};
+use crate::cli::InputArgs;
+use crate::error::{Error, Result};
+use crate::genome::{BinTable, Region};
+use crate::io::bed::{read_bed, read_bedpe};
+use crate::io::tables::read_track;
+use crate::io::{LoadedPixels, MatrixReader, StreamedPixels};
+use crate::normalize::{Method, Normalizer};
+use crate::plot::heatmap::{percentile_limits, AxisCells, CellGrid};
+use crate::plot::map::{
+    draw_map, GenomicSpan, MapFigure, MapLayout, MapStyle, MapView, Overlays, Track,
+};
+use crate::plot::{ColorMap, ColorScale, Rgb, ScaleKind};
+
+/// Arguments of `contactmap plot map`.
+#[derive(Debug, Args)]
+#[command(after_long_help = "\
+Values: balanced counts (count * w1 * w2 with the `weight` column, or --balanced COLUMN) unless
+--raw; --oe divides by the expected of each diagonal (cooltools expected-cis balanced.avg or
+count.avg, computed on the fly over whole chromosomes, or read from --expected), leaving out
+the --ignore-diags first diagonals.
+
+Drawing: the map takes the figure's width; when the region has more bins than the map has
+pixels, each pixel shows the mean of the bins it covers (unstored pixels count as zeros; pairs
+of masked bins are left out), so the image never needs the full matrix in memory. Colours: a log
+scale (--linear for a linear one) between --vmin and --vmax, by default the --percentiles of the
+drawn values (0,100: their minimum and maximum; positive values only on a log scale; o/e limits
+are made symmetric around 1). Colour maps: fall (cooltools' default for Hi-C), blues,
+acidblues, afmhot, RdBu, bwr, viridis, magma, inferno, plasma, Greys, gray, Reds, YlOrRd, each
+reversed with _r; the default is fall, RdBu_r with --oe. Masked bins (NaN) are drawn in
+--nan-color with a swatch under the colour bar; values at or below zero on a log scale take the
+lowest colour.
+
+--triangle rotates the upper triangle by 45 degrees: the diagonal along the bottom, the distance
+between the two bins up to --depth (default: a quarter of the region). Overlays: --domains BED
+(outlined squares, or triangles), --boundaries BED (marks across the diagonal at each
+boundary's middle), --loops BEDPE (squares around each loop, both triangles when the anchors
+are on one chromosome). --track FILE:COLUMN draws a line panel under the map (several stack):
+FILE is a per-bin table starting `chrom start end` (a cooltools or `contactmap tads` insulation
+table, a directionality table, an eigenvector table, a bedGraph), COLUMN a header name or a
+1-based column number, and its rows over the region must be the map's bins.
+
+Examples:
+  contactmap plot map data/yeast.10kb.cool -r chrIV:200k-800k -o map.png
+  contactmap plot map in.mcool::/resolutions/10000 -r chr2L:5M-10M --triangle --depth 1M \\
+      --domains domains.bed --track insulation.tsv:log2_insulation_score_100000 -o tads.svg
+  contactmap plot map in.cool -r chr1 --oe -o oe.png
+  contactmap plot map in.cool -r chr1 --region2 chr2 --raw --cmap viridis -o trans.png")]
+pub struct MapArgs {
+    /// Matrix URI: file.cool, file.mcool::/resolutions/N, file.hic[::/resolutions/N], text table.
+    pub uri: String,
+    /// Region of the rows (and of the columns without --region2): chrom or chrom:start-end.
+    #[arg(short, long)]
+    pub region: String,
+    /// Region of the columns (another part of the genome, another chromosome).
+    #[arg(long, value_name = "REGION")]
+    pub region2: Option<String>,
+    /// Raw counts (no balancing).
+    #[arg(long, conflicts_with = "balanced")]
+    pub raw: bool,
+    /// Balance with this weight column (default `weight`, cooler's ICE weights).
+    #[arg(long, value_name = "COLUMN", num_args = 0..=1, default_missing_value = "weight")]
+    pub balanced: Option<String>,
+    /// Observed / expected instead of contacts.
+    #[arg(long)]
+    pub oe: bool,
+    /// Read the expected from this cooltools expected-cis table (with --oe).
+    #[arg(long, value_name = "TSV", requires = "oe")]
+    pub expected: Option<String>,
+    /// Column of --expected (default balanced.avg, or count.avg with --raw).
+    #[arg(long, value_name = "NAME", requires = "expected")]
+    pub expected_column: Option<String>,
+    /// Diagonals left out of o/e (as cooltools).
+    #[arg(long, default_value_t = 2, value_name = "N")]
+    pub ignore_diags: usize,
+    /// Linear colour scale (default: log).
+    #[arg(long)]
+    pub linear: bool,
+    /// Value of the lowest colour.
+    #[arg(long, allow_negative_numbers = true)]
+    pub vmin: Option<f64>,
+    /// Value of the highest colour.
+    #[arg(long, allow_negative_numbers = true)]
+    pub vmax: Option<f64>,
+    /// Percentiles of the drawn values giving the colour limits when --vmin / --vmax are absent.
+    #[arg(
+        long,
+        value_name = "LOW,HIGH",
+        value_delimiter = ',',
+        default_value = "0,100"
+    )]
+    pub percentiles: Vec<f64>,
+    /// Colour map (see below; `_r` reverses).
+    #[arg(long, value_name = "NAME")]
+    pub cmap: Option<String>,
+    /// Colour of NaN (masked) bins: #rrggbb or a name.
+    #[arg(long, value_name = "COLOUR", default_value = "lightgrey")]
+    pub nan_color: String,
+    /// The 45-degree view, for TAD figures.
+    #[arg(long)]
+    pub triangle: bool,
+    /// Largest distance shown by --triangle (e.g. 2Mb; default: a quarter of the region).
+    #[arg(long, value_name = "BP", requires = "triangle")]
+    pub depth: Option<String>,
+    /// Domains to outline (BED).
+    #[arg(long, value_name = "BED")]
+    pub domains: Option<PathBuf>,
+    /// Boundaries to mark (BED).
+    #[arg(long, value_name = "BED")]
+    pub boundaries: Option<PathBuf>,
+    /// Loops to outline (BEDPE).
+    #[arg(long, value_name = "BEDPE")]
+    pub loops: Option<PathBuf>,
+    /// A track panel under the map: FILE:COLUMN (repeat for several).
+    #[arg(long, value_name = "FILE:COLUMN")]
+    pub track: Vec<String>,
+    /// Output, size, dpi, title.
+    #[command(flatten)]
+    pub figure: FigureArgs,
+    /// Options for text inputs.
+    #[command(flatten)]
+    pub input: InputArgs,
+}
+
+/// Default figure width in inches.
+const DEFAULT_WIDTH_IN: f64 = 6.0;
+
+/// Run `contactmap plot map`.
+pub fn run(args: &MapArgs) -> Result<()> {
+    let figure = args.figure.check(DEFAULT_WIDTH_IN)?;
+    let colour_map =
+        ColorMap::by_name(
+            args.cmap
+                .as_deref()
+                .unwrap_or(if args.oe { "RdBu_r" } else { "fall" }),
+        )?;
+    let nan = Rgb::parse(&args.nan_color).ok_or_else(|| {
+        Error::Invalid(format!(
+            "--nan-color '{}' is not a colour (#rrggbb, #rgb or a name such as lightgrey)",
+            args.nan_color
+        ))
+    })?;
+    if args.percentiles.len() != 2
+        || !(0.0..=100.0).contains(&args.percentiles[0])
+        || !(args.percentiles[0] < args.percentiles[1] && args.percentiles[1] <= 100.0)
+    {
+        return Err(Error::Invalid(
+            "--percentiles takes LOW,HIGH with 0 <= LOW < HIGH <= 100".into(),
+        ));
+    }
+    let reader = open_for_analysis(&args.uri, &args.input)?;
+    let bins = reader.bins().clone();
+    let rows = region_bins(&bins, &args.region, reader.source())?;
+    let cols = match &args.region2 {
+        Some(text) => region_bins(&bins, text, reader.source())?,
+        None => rows.clone(),
+    };
+    let row_span = span(&bins, &rows);
+    let col_span = span(&bins, &cols);
+    let same_chrom = row_span.chrom == col_span.chrom;
+    let view = if args.triangle {
+        if rows != cols {
+            return Err(Error::Invalid(
+                "--triangle draws one region: leave out --region2".into(),
+            ));
+        }
+        let length = col_span.end_bp - col_span.start_bp;
+        let depth = match &args.depth {
+            Some(text) => crate::genome::parse_bp(text)
+                .map_err(|m| Error::Invalid(format!("--depth '{text}': {m}")))?,
+            None => length.div_ceil(4),
+        };
+        if depth == 0 {
+            return Err(Error::Invalid("--depth must be positive".into()));
+        }
+        MapView::Triangle {
+            depth_bp: depth.min(length),
+        }
+    } else {
+        MapView::Square
+    };
+    if args.oe && !same_chrom {
+        return Err(Error::Invalid(
+            "--oe needs both regions on one chromosome (the expected is per diagonal)".into(),
+        ));
+    }
+    let weight_name = args.balanced.as_deref().unwrap_or("weight");
+    let weights = if args.raw {
+        None
+    } else {
+        Some(read_weights(reader.as_ref(), weight_name)?)
+    };
+    let normalizer = if args.oe {
+        Some(oe_normalizer(args, reader.as_ref(), weights.clone())?)
+    } else {
+        None
+    };
+
+    let overlays = read_overlays(args, &row_span, &col_span)?;
+    let tracks = args
+        .track
+        .iter()
+        .map(|spec| read_map_track(spec, &bins, &cols, &col_span))
+        .collect::<Result<Vec<_>>>()?;
+
+    let layout = MapLayout::new(
+        figure.width_px,
+        figure.height_px,
+        figure.dpi,
+        view,
+        &row_span,
+        &col_span,
+        tracks.len(),
+    );
+    let (max_rows, max_cols) = match view {
+        MapView::Square => (layout.map_height_px(), layout.map_width_px()),
+        MapView::Triangle { .. } => (layout.map_width_px(), layout.map_width_px()),
+    };
+    let valid = |bin: usize| weights.as_ref().is_none_or(|w| w[bin].is_finite());
+    let mut grid = CellGrid::new(
+        AxisCells::new(rows.clone(), max_rows),
+        AxisCells::new(cols.clone(), max_cols),
+        &valid,
+        if args.oe { args.ignore_diags } else { 0 },
+        same_chrom,
+    );
+    fill_grid(
+        reader.as_ref(),
+        &mut grid,
+        weights.as_deref(),
+        normalizer.as_ref(),
+    )?;
+
+    let scale = colour_scale(args, &grid.values(), &args.region)?;
+    let colour_label = if args.oe {
+        "observed / expected".to_string()
+    } else if args.raw {
+        "contacts".to_string()
+    } else if weight_name == "weight" {
+        "balanced contacts".to_string()
+    } else {
+        format!("contacts balanced by {weight_name}")
+    };
+    let style = MapStyle {
+        colour_map,
+        scale,
+        nan,
+        colour_label,
+        title: args.figure.title.clone().unwrap_or_default(),
+    };
+    let svg = draw_map(&MapFigure {
+        layout: &layout,
+        view,
+        grid: &grid,
+        rows: &row_span,
+        cols: &col_span,
+        style: &style,
+        overlays: &overlays,
+        tracks: &tracks,
+    })?;
+    write_figure(&svg, &figure, &args.figure)?;
+    crate::cli::warnings::print_reader_warnings(reader.warnings());
+    Ok(())
+}
+
+/// The bins of region `text`, which must hold at least one.
+fn region_bins(bins: &BinTable, text: &str, source: &str) -> Result<Range<usize>> {
+    let range = bins.region_bins(&Region::parse(text)?)?;
+    if range.is_empty() {
+        return Err(Error::region(
+            text,
+            format!("no bins of {source} in this region (empty region)"),
+        ));
+    }
+    Ok(range)
+}
+
+/// The genomic span of a range of bins.
+fn span(bins: &BinTable, range: &Range<usize>) -> GenomicSpan {
+    let (first, last) = (bins.bin(range.start), bins.bin(range.end - 1));
+    GenomicSpan {
+        chrom: bins.chroms()[first.chrom_id].name.clone(),
+        start_bp: first.start,
+        end_bp: last.end,
+    }
+}
+
+/// The o/e transform: the expected of every chromosome, computed or read.
+fn oe_normalizer(
+    args: &MapArgs,
+    reader: &dyn MatrixReader,
+    weights: Option<Vec<f64>>,
+) -> Result<Normalizer> {
+    let bins = reader.bins();
+    let curves = match &args.expected {
+        Some(path) => {
+            let column = args.expected_column.clone().unwrap_or_else(|| {
+                if args.raw {
+                    "count.avg"
+                } else {
+                    "balanced.avg"
+                }
+                .to_string()
+            });
+            crate::cli::input::read_expected_curves(path, bins, &column)?
+        }
+        None => {
+            let pixels = LoadedPixels::Streamed(StreamedPixels::new(reader));
+            crate::expected::cis_curves(&pixels, weights.as_deref(), args.ignore_diags)?
+        }
+    };
+    Normalizer::new(Method::Oe, bins.n_bins(), weights, curves)
+}
+
+/// Stream the pixels of the grid's rectangle into it (both triangles: a stored pixel `(i, j)`
+/// fills `(i, j)` and `(j, i)` where the rectangle holds them).
+fn fill_grid(
+    reader: &dyn MatrixReader,
+    grid: &mut CellGrid,
+    weights: Option<&[f64]>,
+    normalizer: Option<&Normalizer>,
+) -> Result<()> {
+    let rows = grid.rows.bins.clone();
+    let cols = grid.cols.bins.clone();
+    let value = |block: &crate::matrix::PixelBlock| -> Result<crate::matrix::PixelBlock> {
+        match (normalizer, weights) {
+            (Some(n), _) => n.apply(block),
+            (None, Some(w)) => {
+                let mut out = block.clone();
+                for k in 0..out.len() {
+                    out.count[k] *= w[out.bin1[k] as usize] * w[out.bin2[k] as usize];
+                }
+                Ok(out)
+            }
+            (None, None) => Ok(block.clone()),
+        }
+    };
+    let symmetric = rows == cols;
+    reader.read_pixels(rows.clone(), cols.clone(), &mut |block| {
+        let block = value(block)?;
+        for k in 0..block.len() {
+            let (i, j) = (block.bin1[k] as usize, block.bin2[k] as usize);
+            grid.add(i, j, block.count[k]);
+            if symmetric && i != j {
+                grid.add(j, i, block.count[k]);
+            }
+        }
+        Ok(())
+    })?;
+    if !symmetric {
+        // The lower triangle of the rectangle: stored as (col, row) with col < row.
+        reader.read_pixels(cols.clone(), rows.clone(), &mut |block| {
+            let block = value(block)?;
+            for k in 0..block.len() {
+                let (i, j) = (block.bin1[k] as usize, block.bin2[k] as usize);
+                if i != j {
+                    grid.add(j, i, block.count[k]);
+                }
+            }
+            Ok(())
+        })?;
+    }
+    Ok(())
+}
+
+/// The colour scale from the options and the drawn values.
+fn colour_scale(args: &MapArgs, values: &[f64], region: &str) -> Result<ColorScale> {
+    let kind = if args.linear {
+        ScaleKind::Linear
+    } else {
+        ScaleKind::Log
+    };
+    let (vmin, vmax) = match (args.vmin, args.vmax) {
+        (Some(a), Some(b)) => (a, b),
+        (low, high) => {
+            let limits = percentile_limits(
+                values,
+                kind == ScaleKind::Log,
+                args.percentiles[0],
+                args.percentiles[1],
+            )
+            .ok_or_else(|| {
+                Error::region(
+                    region,
+                    format!(
+                        "no {}values to draw (the region holds no contacts); give --vmin and --vmax to draw it anyway",
+                        if kind == ScaleKind::Log { "positive " } else { "" }
+                    ),
+                )
+            })?;
+            let (mut a, mut b) = limits;
+            if args.oe && low.is_none() && high.is_none() {
+                if kind == ScaleKind::Log {
+                    let m = a.ln().abs().max(b.ln().abs()).max(1e-3);
+                    (a, b) = ((-m).exp(), m.exp());
+                } else {
+                    let m = (a - 1.0).abs().max((b - 1.0).abs()).max(1e-3);
+                    (a, b) = (1.0 - m, 1.0 + m);
+                }
+            }
+            if a == b {
+                // One value everywhere: widen the range around it.
+                (a, b) = match kind {
+                    ScaleKind::Log => (a / 2.0, b * 2.0),
+                    ScaleKind::Linear => (a - 0.5, b + 0.5),
+                };
+            }
+            (low.unwrap_or(a), high.unwrap_or(b))
+        }
+    };
+    ColorScale::new(kind, vmin, vmax)
+}
+
+/// Domains, boundaries and loops on the drawn regions.
+fn read_overlays(args: &MapArgs, rows: &GenomicSpan, cols: &GenomicSpan) -> Result<Overlays> {
+    let on = |span: &GenomicSpan, chrom: &str, start: u64, end: u64| {
+        chrom == span.chrom && start < span.end_bp && end > span.start_bp
+    };
+    let intervals = |path: &Option<PathBuf>| -> Result<Vec<(u64, u64)>> {
+        Ok(match path {
+            Some(path) => read_bed(path)?
+                .into_iter()
+                .filter(|r| {
+                    on(rows, &r.chrom, r.start, r.end) || on(cols, &r.chrom, r.start, r.end)
+                })
+                .map(|r| (r.start, r.end))
+                .collect(),
+            None => Vec::new(),
+        })
+    };
+    let mut loops = Vec::new();
+    if let Some(path) = &args.loops {
+        for record in read_bedpe(path)? {
+            let (a, b) = (&record.first, &record.second);
+            if on(rows, &a.chrom, a.start, a.end) && on(cols, &b.chrom, b.start, b.end) {
+                loops.push([a.start, a.end, b.start, b.end]);
+            } else if on(rows, &b.chrom, b.start, b.end) && on(cols, &a.chrom, a.start, a.end) {
+                loops.push([b.start, b.end, a.start, a.end]);
+            }
+        }
+    }
+    Ok(Overlays {
+        domains: intervals(&args.domains)?,
+        boundaries: intervals(&args.boundaries)?,
+        loops,
+    })
+}
+
+/// A `FILE:COLUMN` track over the columns' bins.
+fn read_map_track(
+    spec: &str,
+    bins: &BinTable,
+    cols: &Range<usize>,
+    span: &GenomicSpan,
+) -> Result<Track> {
+    let (path, column) = spec.rsplit_once(':').ok_or_else(|| {
+        Error::Invalid(format!(
+            "--track '{spec}': expected FILE:COLUMN (a header name or a 1-based column number)"
+        ))
+    })?;
+    let rows: Vec<_> = read_track(std::path::Path::new(path), column)?
+        .into_iter()
+        .filter(|r| r.chrom == span.chrom && r.start < span.end_bp && r.end > span.start_bp)
+        .collect();
+    let matches = rows.len() == cols.len()
+        && rows.iter().zip(cols.clone()).all(|(row, bin)| {
+            let bin = bins.bin(bin);
+            row.start == bin.start && row.end == bin.end
+        });
+    if !matches {
+        let bin_size = bins
+            .bin_size_bp()
+            .map_or(String::new(), |b| format!(" of {b} bp"));
+        return Err(Error::format(
+            path,
+            format!(
+                "track column '{column}' has {} rows in {}:{}-{}, where the map has {} bins{bin_size}: a track must hold one row per bin of the map (same resolution)",
+                rows.len(),
+                span.chrom,
+                span.start_bp,
+                span.end_bp,
+                cols.len()
+            ),
+        ));
+    }
+    Ok(Track {
+        label: column.to_string(),
+        intervals: rows.iter().map(|r| (r.start, r.end, r.value)).collect(),
+    })
+}

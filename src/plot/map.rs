@@ -1,0 +1,499 @@
+//! The contact-map figure: a square heatmap of a region (or of two regions, rows and columns)
+//! or its 45-degree rotation up to a depth, with a colour bar, genomic axes, overlays (domains,
+//! boundaries, loops) and line tracks aligned under the map.
+//!
+//! Layout in points (scaled by `dpi / 72`): the map fills the width left by the tick labels
+//! and the colour bar; its height follows the spans (square for one region; `depth / 2` over
+//! the span for the triangle, whose vertical axis is the distance `j - i` between the two
+//! bins, but at least 0.15 of the width: a shallow triangle is stretched upwards to stay
+//! readable, as HiCExplorer's fixed track heights do); each track is a 50-point panel below. The map's edges are snapped to whole pixels so
+//! that raster cells land on pixels.
+
+use crate::error::Result;
+use crate::plot::axes::{
+    self, colour_bar, genomic_unit, linear_ticks, Axes, AxisScale, Side, Theme,
+};
+use crate::plot::colormap::{ColorMap, ColorScale};
+use crate::plot::heatmap::CellGrid;
+use crate::plot::svg::{Anchor, Baseline, Rgb, Stroke, Svg, TextStyle};
+
+/// A genomic interval shown along an axis.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct GenomicSpan {
+    /// Chromosome name.
+    pub chrom: String,
+    /// Start in bp (the first bin's start).
+    pub start_bp: u64,
+    /// End in bp (the last bin's end).
+    pub end_bp: u64,
+}
+
+impl GenomicSpan {
+    fn length(&self) -> f64 {
+        (self.end_bp - self.start_bp) as f64
+    }
+
+    fn scale(&self) -> AxisScale {
+        AxisScale::Linear {
+            min: self.start_bp as f64,
+            max: self.end_bp as f64,
+        }
+    }
+
+    /// Ticks in bp labelled in the span's unit, and the axis label (`chr2L (Mb)`).
+    fn ticks(&self) -> (Vec<(f64, String)>, String) {
+        let (unit, name) = genomic_unit(self.length());
+        let values = linear_ticks(self.start_bp as f64 / unit, self.end_bp as f64 / unit, 5);
+        let step = if values.len() > 1 {
+            values[1] - values[0]
+        } else {
+            1.0
+        };
+        let ticks = values
+            .iter()
+            .map(|&v| (v * unit, axes::format_tick(v, step)))
+            .collect();
+        (ticks, format!("{} ({name})", self.chrom))
+    }
+}
+
+/// Square map or 45-degree view.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum MapView {
+    /// Rows down, columns across.
+    Square,
+    /// The upper triangle rotated so that the diagonal is horizontal, up to `depth_bp`.
+    Triangle {
+        /// Largest distance `j - i` shown, in bp.
+        depth_bp: u64,
+    },
+}
+
+/// A line track: values over intervals of the column chromosome.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Track {
+    /// Name shown in the panel.
+    pub label: String,
+    /// `(start_bp, end_bp, value)`, sorted; NaN breaks the line.
+    pub intervals: Vec<(u64, u64, f64)>,
+}
+
+/// Features drawn on the map.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Overlays {
+    /// Domains `(start_bp, end_bp)`: squares on the diagonal (triangles in the 45-degree view).
+    pub domains: Vec<(u64, u64)>,
+    /// Boundaries `(start_bp, end_bp)`: marks across the diagonal at their middle.
+    pub boundaries: Vec<(u64, u64)>,
+    /// Loops: `(start1, end1, start2, end2)` anchors in bp (row anchor, column anchor).
+    pub loops: Vec<[u64; 4]>,
+}
+
+/// Colours and labels of the map.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MapStyle {
+    /// Colour map.
+    pub colour_map: ColorMap,
+    /// Colour scale.
+    pub scale: ColorScale,
+    /// Colour of NaN cells (masked bins, no valid pair).
+    pub nan: Rgb,
+    /// Label of the colour bar.
+    pub colour_label: String,
+    /// Title above the map (empty: none).
+    pub title: String,
+}
+
+/// Colour of domain and loop outlines.
+pub const DOMAIN_COLOUR: Rgb = Rgb(0, 114, 178);
+/// Colour of boundary marks.
+pub const BOUNDARY_COLOUR: Rgb = Rgb(0, 158, 115);
+/// Colour of track lines.
+pub const TRACK_COLOUR: Rgb = Rgb(31, 119, 180);
+
+/// Where everything goes, in pixels.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MapLayout {
+    /// Figure width.
+    pub width_px: usize,
+    /// Figure height.
+    pub height_px: usize,
+    /// Dots per inch.
+    pub dpi: f64,
+    /// The map's axes (for the triangle: x along the genome, y the distance up).
+    pub map: Axes,
+    /// The track panels, top to bottom.
+    pub tracks: Vec<Axes>,
+}
+
+impl MapLayout {
+    /// The layout of a figure `width_px` wide (and at most `max_height_px` high, if given).
+    pub fn new(
+        width_px: usize,
+        max_height_px: Option<usize>,
+        dpi: f64,
+        view: MapView,
+        rows: &GenomicSpan,
+        cols: &GenomicSpan,
+        n_tracks: usize,
+    ) -> MapLayout {
+        let theme = Theme::new(dpi);
+        let (left, right, top, bottom) = (
+            theme.px(66.0),
+            theme.px(84.0),
+            theme.px(24.0),
+            theme.px(46.0),
+        );
+        let (track_height, track_gap) = (theme.px(50.0), theme.px(6.0));
+        let tracks_height = n_tracks as f64 * (track_height + track_gap);
+        let mut map_width = (width_px as f64 - left - right).max(theme.px(40.0)).floor();
+        let aspect = match view {
+            MapView::Square => (rows.length() / cols.length()).clamp(0.25, 4.0),
+            MapView::Triangle { depth_bp } => {
+                (depth_bp as f64 / 2.0 / cols.length()).clamp(0.15, 1.0)
+            }
+        };
+        let mut map_height = (map_width * aspect).floor();
+        if let Some(max_height) = max_height_px {
+            let room = (max_height as f64 - top - bottom - tracks_height).floor();
+            if map_height > room && room > theme.px(20.0) {
+                map_height = room;
+                map_width = (map_height / aspect).floor().min(map_width);
+            }
+        }
+        let map = Axes {
+            x: left.round(),
+            y: top.round(),
+            width: map_width.max(1.0),
+            height: map_height.max(1.0),
+            x_scale: cols.scale(),
+            y_scale: match view {
+                MapView::Square => rows.scale(),
+                MapView::Triangle { depth_bp } => AxisScale::Linear {
+                    min: 0.0,
+                    max: depth_bp as f64,
+                },
+            },
+            y_down: view == MapView::Square,
+        };
+        // A colour bar needs some height beside a flat triangle.
+        let bar_room = theme.px(90.0);
+        let map_bottom = map.y + map.height.max(bar_room);
+        let mut tracks = Vec::new();
+        let mut y = map_bottom + track_gap;
+        for _ in 0..n_tracks {
+            tracks.push(Axes {
+                x: map.x,
+                y: y.round(),
+                width: map.width,
+                height: track_height.round(),
+                x_scale: cols.scale(),
+                y_scale: AxisScale::Linear { min: 0.0, max: 1.0 },
+                y_down: false,
+            });
+            y += track_height + track_gap;
+        }
+        let content_bottom = tracks.last().map_or(map_bottom, |t| t.y + t.height);
+        let height_px = (content_bottom + bottom).ceil() as usize;
+        MapLayout {
+            width_px,
+            height_px: max_height_px.map_or(height_px, |h| h.max(height_px)),
+            dpi,
+            map,
+            tracks,
+        }
+    }
+
+    /// Pixels along the map's width (cells of the raster across).
+    pub fn map_width_px(&self) -> usize {
+        self.map.width as usize
+    }
+
+    /// Pixels along the map's height.
+    pub fn map_height_px(&self) -> usize {
+        self.map.height as usize
+    }
+}
+
+/// Everything the map figure shows.
+#[derive(Clone, Debug)]
+pub struct MapFigure<'a> {
+    /// The layout (from [`MapLayout::new`]).
+    pub layout: &'a MapLayout,
+    /// Square or triangle.
+    pub view: MapView,
+    /// The cell grid, filled (rows x columns; the same region twice for the triangle).
+    pub grid: &'a CellGrid,
+    /// The rows' span.
+    pub rows: &'a GenomicSpan,
+    /// The columns' span.
+    pub cols: &'a GenomicSpan,
+    /// Colours and labels.
+    pub style: &'a MapStyle,
+    /// Domains, boundaries and loops.
+    pub overlays: &'a Overlays,
+    /// Tracks under the map.
+    pub tracks: &'a [Track],
+}
+
+/// Draw the figure.
+pub fn draw_map(figure: &MapFigure<'_>) -> Result<Svg> {
+    let layout = figure.layout;
+    let theme = Theme::new(layout.dpi);
+    let mut svg = Svg::new(layout.width_px, layout.height_px, layout.dpi);
+    let map = layout.map;
+    let style = figure.style;
+    let image = match figure.view {
+        MapView::Square => figure
+            .grid
+            .image(&style.colour_map, &style.scale, style.nan),
+        MapView::Triangle { depth_bp } => {
+            let bin_bp = figure.cols.length() / figure.grid.rows.bins.len() as f64;
+            figure.grid.triangle_image(
+                layout.map_width_px(),
+                layout.map_height_px(),
+                depth_bp as f64 / bin_bp,
+                &style.colour_map,
+                &style.scale,
+                (style.nan, Rgb::WHITE),
+            )
+        }
+    };
+    svg.image(map.x, map.y, map.width, map.height, &image)?;
+    map.clip(&mut svg);
+    draw_overlays(&mut svg, &theme, &map, figure);
+    svg.end_group();
+    map.frame(&mut svg, &theme);
+
+    // Axes: the column span along the bottom (of the map or of the last track).
+    let (col_ticks, col_label) = figure.cols.ticks();
+    let has_tracks = !figure.tracks.is_empty();
+    if has_tracks {
+        map.ticks(&mut svg, &theme, Side::Bottom, &unlabelled(&col_ticks), &[]);
+    } else {
+        let depth = map.ticks(&mut svg, &theme, Side::Bottom, &col_ticks, &[]);
+        map.label(&mut svg, &theme, Side::Bottom, depth, &col_label);
+    }
+    match figure.view {
+        MapView::Square => {
+            let (row_ticks, row_label) = figure.rows.ticks();
+            let depth = map.ticks(&mut svg, &theme, Side::Left, &row_ticks, &[]);
+            map.label(&mut svg, &theme, Side::Left, depth, &row_label);
+        }
+        MapView::Triangle { depth_bp } => {
+            let (unit, name) = genomic_unit(depth_bp as f64);
+            let target = (map.height / theme.px(28.0)).floor().max(1.0) as usize;
+            let values = linear_ticks(0.0, depth_bp as f64 / unit, target);
+            let step = if values.len() > 1 {
+                values[1] - values[0]
+            } else {
+                1.0
+            };
+            let ticks: Vec<(f64, String)> = values
+                .iter()
+                .map(|&v| (v * unit, axes::format_tick(v, step)))
+                .collect();
+            let depth = map.ticks(&mut svg, &theme, Side::Left, &ticks, &[]);
+            map.label(
+                &mut svg,
+                &theme,
+                Side::Left,
+                depth,
+                &format!("distance ({name})"),
+            );
+        }
+    }
+    if !style.title.is_empty() {
+        svg.text(
+            map.x + map.width / 2.0,
+            map.y - theme.px(6.0),
+            &style.title,
+            &TextStyle::new(theme.label_font(), Anchor::Middle, Baseline::Bottom),
+        );
+    }
+
+    // Colour bar beside the map, and the NaN swatch under it.
+    let bar_height = map.height.max(theme.px(90.0)).min(theme.px(260.0));
+    let bar = (
+        map.x + map.width + theme.px(10.0),
+        map.y,
+        theme.px(10.0),
+        (bar_height - theme.px(16.0)).round(),
+    );
+    colour_bar(
+        &mut svg,
+        &theme,
+        bar,
+        &style.colour_map,
+        &style.scale,
+        &style.colour_label,
+    )?;
+    let swatch_y = bar.1 + bar.3 + theme.px(5.0);
+    svg.rect(
+        bar.0,
+        swatch_y,
+        bar.2,
+        theme.px(8.0),
+        Some(style.nan),
+        Some(theme.frame_stroke()),
+    );
+    svg.text(
+        bar.0 + bar.2 + theme.px(5.5),
+        swatch_y + theme.px(4.0),
+        "NaN",
+        &TextStyle::new(theme.font(), Anchor::Start, Baseline::Middle),
+    );
+
+    for (i, (track, panel)) in figure.tracks.iter().zip(&layout.tracks).enumerate() {
+        let last = i + 1 == figure.tracks.len();
+        draw_track(&mut svg, &theme, panel, track, last.then_some(&col_ticks));
+        if last {
+            let depth = theme.px(3.5) + theme.px(2.0) + theme.font() * 1.1;
+            panel.label(&mut svg, &theme, Side::Bottom, depth, &col_label);
+        }
+    }
+    Ok(svg)
+}
+
+/// The same ticks with empty labels.
+fn unlabelled(ticks: &[(f64, String)]) -> Vec<(f64, String)> {
+    ticks.iter().map(|(v, _)| (*v, String::new())).collect()
+}
+
+fn draw_overlays(svg: &mut Svg, theme: &Theme, map: &Axes, figure: &MapFigure<'_>) {
+    let overlays = figure.overlays;
+    let domain = Stroke::solid(DOMAIN_COLOUR, theme.px(1.2));
+    let boundary = Stroke::solid(BOUNDARY_COLOUR, theme.px(1.5));
+    let same_chrom = figure.rows == figure.cols
+        || (figure.rows.chrom == figure.cols.chrom && figure.view == MapView::Square);
+    let px = |bp: u64| map.px(bp as f64);
+    match figure.view {
+        MapView::Square => {
+            let py = |bp: u64| map.py(bp as f64);
+            if same_chrom {
+                for &(start, end) in &overlays.domains {
+                    svg.rect(
+                        px(start),
+                        py(start),
+                        px(end) - px(start),
+                        py(end) - py(start),
+                        None,
+                        Some(domain),
+                    );
+                }
+                let half = theme.px(5.0);
+                for &(start, end) in &overlays.boundaries {
+                    let middle = (start + end) / 2;
+                    let (x, y) = (px(middle), py(middle));
+                    svg.line(x - half, y + half, x + half, y - half, boundary);
+                }
+            }
+            let least = theme.px(6.0);
+            for &[s1, e1, s2, e2] in &overlays.loops {
+                let mut square = |rows: (u64, u64), cols: (u64, u64)| {
+                    let (x0, x1) = (px(cols.0), px(cols.1));
+                    let (y0, y1) = (map.py(rows.0 as f64), map.py(rows.1 as f64));
+                    let (w, h) = ((x1 - x0).max(least), (y1 - y0).max(least));
+                    let (cx, cy) = ((x0 + x1) / 2.0, (y0 + y1) / 2.0);
+                    svg.rect(cx - w / 2.0, cy - h / 2.0, w, h, None, Some(domain));
+                };
+                square((s1, e1), (s2, e2));
+                if same_chrom {
+                    square((s2, e2), (s1, e1));
+                }
+            }
+        }
+        MapView::Triangle { .. } => {
+            let base = map.y + map.height;
+            let up = |distance: f64| map.py(distance);
+            for &(start, end) in &overlays.domains {
+                let apex = ((start + end) / 2, (end - start) as f64);
+                svg.polyline(
+                    &[
+                        (px(start), base),
+                        (map.px(apex.0 as f64), up(apex.1)),
+                        (px(end), base),
+                    ],
+                    domain,
+                );
+            }
+            for &(start, end) in &overlays.boundaries {
+                let x = px((start + end) / 2);
+                svg.line(x, base, x, base - theme.px(8.0), boundary);
+            }
+            for &[s1, e1, s2, e2] in &overlays.loops {
+                let (m1, m2) = ((s1 + e1) as f64 / 2.0, (s2 + e2) as f64 / 2.0);
+                let (x, y) = (map.px((m1 + m2) / 2.0), up((m2 - m1).abs()));
+                let r = theme.px(4.0);
+                svg.polygon(
+                    &[(x, y - r), (x + r, y), (x, y + r), (x - r, y)],
+                    None,
+                    Some(domain),
+                );
+            }
+        }
+    }
+}
+
+fn draw_track(
+    svg: &mut Svg,
+    theme: &Theme,
+    panel: &Axes,
+    track: &Track,
+    x_ticks: Option<&Vec<(f64, String)>>,
+) {
+    let finite = track
+        .intervals
+        .iter()
+        .map(|t| t.2)
+        .filter(|v| v.is_finite());
+    let (low, high) = finite.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+        (a.min(v), b.max(v))
+    });
+    let (low, high) = if low.is_finite() {
+        let pad = ((high - low) * 0.08).max(1e-9 * high.abs().max(1.0));
+        (low - pad, high + pad)
+    } else {
+        (0.0, 1.0)
+    };
+    let panel = Axes {
+        y_scale: AxisScale::Linear {
+            min: low,
+            max: high,
+        },
+        ..*panel
+    };
+    panel.clip(svg);
+    if low < 0.0 && high > 0.0 {
+        svg.line(
+            panel.x,
+            panel.py(0.0),
+            panel.x + panel.width,
+            panel.py(0.0),
+            Stroke::solid(Rgb(150, 150, 150), theme.px(0.6)).dashed(theme.px(2.0)),
+        );
+    }
+    let points: Vec<(f64, f64)> = track
+        .intervals
+        .iter()
+        .map(|&(start, end, value)| {
+            let middle = (start + end) as f64 / 2.0;
+            (panel.px(middle), panel.py(value))
+        })
+        .collect();
+    svg.polyline(&points, Stroke::solid(TRACK_COLOUR, theme.px(1.0)));
+    svg.end_group();
+    panel.frame(svg, theme);
+    let (y_ticks, _) = panel.y_scale.ticks(3);
+    panel.ticks(svg, theme, Side::Left, &y_ticks, &[]);
+    match x_ticks {
+        Some(ticks) => panel.ticks(svg, theme, Side::Bottom, ticks, &[]),
+        None => panel.ticks(svg, theme, Side::Bottom, &[], &[]),
+    };
+    svg.text(
+        panel.x + theme.px(4.0),
+        panel.y + theme.px(3.0),
+        &track.label,
+        &TextStyle::new(theme.font(), Anchor::Start, Baseline::Top),
+    );
+}
