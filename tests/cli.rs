@@ -23,6 +23,8 @@ mod hicexplorer;
 mod info;
 #[path = "cli/normalize.rs"]
 mod normalize;
+#[path = "cli/plot.rs"]
+mod plot;
 #[path = "cli/roundtrip.rs"]
 mod roundtrip;
 #[path = "cli/safety.rs"]
