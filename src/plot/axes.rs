@@ -199,6 +199,11 @@ pub fn genomic_unit(span_bp: f64) -> (f64, &'static str) {
     }
 }
 
+/// Whether `text` at `size` pixels fits in `room` pixels.
+pub fn text_width_fits(text: &str, size: f64, room: f64) -> bool {
+    text_width(text, size) <= room
+}
+
 /// A rectangle of the figure with a scale on each side.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Axes {

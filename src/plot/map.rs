@@ -111,6 +111,9 @@ pub const BOUNDARY_COLOUR: Rgb = Rgb(0, 158, 115);
 /// Colour of track lines.
 pub const TRACK_COLOUR: Rgb = Rgb(31, 119, 180);
 
+/// Least height of the colour bar (with its NaN swatch), in points.
+const BAR_MIN_PT: f64 = 90.0;
+
 /// Where everything goes, in pixels.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MapLayout {
@@ -176,11 +179,8 @@ impl MapLayout {
             },
             y_down: view == MapView::Square,
         };
-        // A colour bar needs some height beside a flat triangle.
-        let bar_room = theme.px(90.0);
-        let map_bottom = map.y + map.height.max(bar_room);
         let mut tracks = Vec::new();
-        let mut y = map_bottom + track_gap;
+        let mut y = map.y + map.height + track_gap;
         for _ in 0..n_tracks {
             tracks.push(Axes {
                 x: map.x,
@@ -193,8 +193,11 @@ impl MapLayout {
             });
             y += track_height + track_gap;
         }
-        let content_bottom = tracks.last().map_or(map_bottom, |t| t.y + t.height);
-        let height_px = (content_bottom + bottom).ceil() as usize;
+        let content_bottom = tracks.last().map_or(map.y + map.height, |t| t.y + t.height);
+        // The colour bar (beside the map, at least 90 points high) may reach lower than a flat
+        // triangle and its tracks.
+        let bar_bottom = map.y + map.height.max(theme.px(BAR_MIN_PT)) + theme.px(6.0);
+        let height_px = (content_bottom + bottom).max(bar_bottom).ceil() as usize;
         MapLayout {
             width_px,
             height_px: max_height_px.map_or(height_px, |h| h.max(height_px)),
@@ -282,7 +285,7 @@ pub fn draw_map(figure: &MapFigure<'_>) -> Result<Svg> {
         }
         MapView::Triangle { depth_bp } => {
             let (unit, name) = genomic_unit(depth_bp as f64);
-            let target = (map.height / theme.px(28.0)).floor().max(1.0) as usize;
+            let target = (map.height / theme.px(28.0)).floor().max(2.0) as usize;
             let values = linear_ticks(0.0, depth_bp as f64 / unit, target);
             let step = if values.len() > 1 {
                 values[1] - values[0]
@@ -294,13 +297,14 @@ pub fn draw_map(figure: &MapFigure<'_>) -> Result<Svg> {
                 .map(|&v| (v * unit, axes::format_tick(v, step)))
                 .collect();
             let depth = map.ticks(&mut svg, &theme, Side::Left, &ticks, &[]);
-            map.label(
-                &mut svg,
-                &theme,
-                Side::Left,
-                depth,
-                &format!("distance ({name})"),
-            );
+            // A flat triangle gets the short name of the distance (s, as in P(s)).
+            let long = format!("distance ({name})");
+            let label = if axes::text_width_fits(&long, theme.label_font(), map.height) {
+                long
+            } else {
+                format!("s ({name})")
+            };
+            map.label(&mut svg, &theme, Side::Left, depth, &label);
         }
     }
     if !style.title.is_empty() {
@@ -313,7 +317,7 @@ pub fn draw_map(figure: &MapFigure<'_>) -> Result<Svg> {
     }
 
     // Colour bar beside the map, and the NaN swatch under it.
-    let bar_height = map.height.max(theme.px(90.0)).min(theme.px(260.0));
+    let bar_height = map.height.max(theme.px(BAR_MIN_PT)).min(theme.px(260.0));
     let bar = (
         map.x + map.width + theme.px(10.0),
         map.y,
