@@ -5,6 +5,9 @@ cd "$(dirname "$0")/.."
 cm="${CONTACTMAP:-target/release/contactmap}"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
+# Pictures go here (scripts/make_figures.sh points it at docs/figures/demo for the README).
+figs="${DEMO_FIGURES:-demo-figures}"
+mkdir -p "$figs"
 step() { printf '\n\033[1m== %s\033[0m\n$ %s\n' "$1" "${*:2}"; "${@:2}"; }
 
 mcool=data/cooler_test_file.mcool
@@ -50,6 +53,8 @@ step "Its power law: the exponent biologists quote, and piecewise exponents" \
 step "Observed/expected map (balanced), as a cooler" \
   "$cm" normalize "$dm6" "$work/oe.cool" --method oe
 "$cm" dump "$work/oe.cool" -r chr2L:1,000,000-1,300,000 --join -H
+step "Picture: observed/expected of chr2L:5-15 Mb (RdBu_r around 1, log scale)" \
+  "$cm" plot map "$dm6" -r chr2L:5Mb-15Mb --oe -o "$figs/dm6_oe.png"
 step "TADs: diamond insulation at three windows, as cooltools insulation (boundaries and domains as BED)" \
   "$cm" tads "$dm6" --window 300k,500k,1M -o "$work/insulation.tsv" \
   --boundaries "$work/boundaries.bed" --domains "$work/domains.bed"
@@ -57,6 +62,13 @@ head -3 "$work/insulation.tsv" | cut -f1-8
 head -3 "$work/boundaries.bed"
 step "TADs: directionality index with Dixon's HMM domains" \
   "$cm" tads "$dm6" --method directionality --window 500k -o "$work/di.tsv" --domains "$work/di_domains.bed"
+step "Picture: chr2L with its domains and boundaries drawn on the map, the insulation score under it" \
+  "$cm" plot map "$dm6" -r chr2L --domains "$work/domains.bed" --boundaries "$work/boundaries.bed" \
+  --track "$work/insulation.tsv:log2_insulation_score_500000" -o "$figs/dm6_tads.png"
+step "Picture: the 45-degree view to 3 Mb, with insulation and directionality tracks" \
+  "$cm" plot map "$dm6" -r chr2L --triangle --depth 3Mb --boundaries "$work/boundaries.bed" \
+  --track "$work/insulation.tsv:log2_insulation_score_500000" \
+  --track "$work/di.tsv:directionality_index_500000" --width 8 -o "$figs/dm6_triangle.png"
 step "TADs: TopDom" "$cm" tads "$dm6" --method topdom -o "$work/topdom.tsv" --boundaries "$work/topdom.bed"
 step "A synthetic map with known domains (power-law decay, Poisson noise, no coverage bias)" \
   "$cm" simulate blocks -o "$work/blocks.cool" --truth-boundaries "$work/truth.bed" --seed 1
@@ -65,6 +77,9 @@ step "Its TADs by insulation (raw counts: the simulated map has no bias to balan
   "$cm" tads "$work/blocks.cool" --raw --window 200k -o "$work/blocks_insulation.tsv" --boundaries "$work/calls.bed"
 step "Boundary calls scored against the truth (precision, recall, F1 within one bin)" \
   "$cm" score boundaries --truth "$work/truth.bed" "$work/calls.bed"
+step "Picture: the synthetic map, its true boundaries marked on it, the insulation score under it" \
+  "$cm" plot map "$work/blocks.cool" -r chr1:0-8Mb --raw --boundaries "$work/truth.bed" \
+  --track "$work/blocks_insulation.tsv:log2_insulation_score_200000" -o "$figs/blocks_truth.png"
 step "A simulated polymer: 1,000 beads in a sphere, loop extrusion stalled at 4 boundary elements (Brownian dynamics, 4 replicas in parallel)" \
   "$cm" simulate polymer -o "$work/polymer.cool" --chains 1000 --density 0.2 --extrusion \
   --ctcf 200,400,600,800 --capture 0.99 --release 0.002 --processivity 200 --separation 100 \
@@ -73,6 +88,9 @@ step "A simulated polymer: 1,000 beads in a sphere, loop extrusion stalled at 4 
 step "Its TADs by insulation, scored against the boundary elements" \
   "$cm" tads "$work/polymer.cool" --raw --window 100k -o "$work/polymer.ins.tsv" --boundaries "$work/polymer.calls.bed"
 "$cm" score boundaries --truth "$work/polymer.truth.bed" "$work/polymer.calls.bed"
+step "Picture: the simulated polymer's map with its boundary elements (truth) and insulation" \
+  "$cm" plot map "$work/polymer.cool" -r chr1 --raw --boundaries "$work/polymer.truth.bed" \
+  --track "$work/polymer.ins.tsv:log2_insulation_score_100000" -o "$figs/polymer_truth.png"
 step "Protein: true contacts of a structure (Cb-Cb < 8 A, Ca for Gly) as CASP RR" \
   "$cm" contacts data/protein/1aapA/1aapA.pdb -o "$work/1aapA.true.rr"
 head -4 "$work/1aapA.true.rr"
@@ -85,4 +103,5 @@ step "Protein: a structure numbered 151-220 placed on its sequence (register), i
 "$cm" score contacts --structure data/protein/1a8o/1A8O.pdb "$work/1a8o.rr" --ranges long --top L/5,L 2>/dev/null
 step "Protein: two predictions compared without a structure (Jaccard of the top lists)" \
   "$cm" score overlap data/protein/1atzA/1atzA.apc.mat data/protein/1atzA/1atzA.noapc.mat --ranges long
-printf '\nDemo finished.\n'
+printf '\nDemo finished. Pictures: %s/\n' "$figs"
+ls "$figs"

@@ -482,6 +482,21 @@ impl std::fmt::Display for Region {
     }
 }
 
+/// A distance for people: `250 kb`, `1.2 Mb`, `800 bp` (at most two decimals, trailing zeros
+/// dropped).
+pub fn format_bp(value: f64) -> String {
+    let (scaled, unit) = if value.abs() >= 1e6 {
+        (value / 1e6, "Mb")
+    } else if value.abs() >= 1e3 {
+        (value / 1e3, "kb")
+    } else {
+        (value, "bp")
+    };
+    let digits = format!("{scaled:.2}");
+    let trimmed = digits.trim_end_matches('0').trim_end_matches('.');
+    format!("{trimmed} {unit}")
+}
+
 /// Parse a base-pair position such as `1,000,000`, `1_000_000`, `1.5M`, `200kb`.
 pub fn parse_bp(text: &str) -> std::result::Result<u64, String> {
     let cleaned: String = text
@@ -614,6 +629,10 @@ mod tests {
         assert_eq!(parse_bp("200kb").unwrap(), 200_000);
         assert!(parse_bp("abc").is_err());
         assert!(parse_bp("1.5").is_err());
+        assert_eq!(format_bp(1.2e6), "1.2 Mb");
+        assert_eq!(format_bp(250_000.0), "250 kb");
+        assert_eq!(format_bp(800.0), "800 bp");
+        assert_eq!(format_bp(1e7), "10 Mb");
         let r = Region::parse("chr2L:1,000,000-2,000,000").unwrap();
         assert_eq!((r.start, r.end), (Some(1_000_000), Some(2_000_000)));
         assert_eq!(Region::parse("contig:alt").unwrap().chrom, "contig:alt");

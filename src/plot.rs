@@ -11,6 +11,7 @@
 
 pub mod axes;
 pub mod colormap;
+pub mod curves;
 pub mod heatmap;
 pub mod map;
 pub mod render;

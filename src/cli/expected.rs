@@ -6,14 +6,13 @@ use std::path::PathBuf;
 use clap::Args;
 use rayon::prelude::*;
 
+use crate::cli::analysis::{fit_text, headline, parse_fit_range, power_law, PowerLaw};
 use crate::cli::input::{read_view, read_weights};
 use crate::cli::output::{write_real, write_u64, Output};
 use crate::cli::InputArgs;
 use crate::error::{Error, Result};
-use crate::expected::logbin::{logbin_expected, LogBinParams, LogBinned};
-use crate::expected::powerlaw::{
-    default_fit_range, fit_bins, fit_log_binned, FitParams, FitRange, PowerLawReport,
-};
+use crate::expected::logbin::LogBinned;
+use crate::expected::powerlaw::{fit_bins, FitRange, PowerLawReport};
 use crate::expected::{
     expected_cis, expected_trans, CisExpected, CisParams, Column, TransExpected, View,
 };
@@ -140,7 +139,7 @@ fn check(args: &ExpectedArgs) -> Result<Checked> {
             args.smooth_sigma
         )));
     }
-    let fit_range = args.fit_range.as_deref().map(parse_range).transpose()?;
+    let fit_range = args.fit_range.as_deref().map(parse_fit_range).transpose()?;
     let max_memory = args
         .max_memory
         .as_deref()
@@ -193,7 +192,8 @@ pub fn run(args: &ExpectedArgs) -> Result<()> {
             write_text(args, &cis_text(&table))
         }
         Report::LogBin => {
-            let (_, binned, fit) = power_law(&pixels, weights, &view, &checked)?;
+            let PowerLaw { binned, fit, .. } =
+                power_law(&pixels, weights, &view, &checked.params, checked.fit_range)?;
             write_text(args, &logbin_text(&binned))?;
             match fit {
                 Ok(report) => eprintln!("{}", headline(&report)),
@@ -202,7 +202,8 @@ pub fn run(args: &ExpectedArgs) -> Result<()> {
             Ok(())
         }
         Report::Fit { json } => {
-            let (table, binned, fit) = power_law(&pixels, weights, &view, &checked)?;
+            let PowerLaw { table, binned, fit } =
+                power_law(&pixels, weights, &view, &checked.params, checked.fit_range)?;
             let report = fit?;
             let text = if json {
                 let mut text =
@@ -221,79 +222,10 @@ pub fn run(args: &ExpectedArgs) -> Result<()> {
     Ok(())
 }
 
-/// The cis table (without smoothing: the log-binned analyses use the sums), its log-binned
-/// P(s), and the power-law fits over the asked or default range.
-fn power_law(
-    pixels: &LoadedPixels<'_>,
-    weights: Option<&[f64]>,
-    view: &View,
-    checked: &Checked,
-) -> Result<(CisExpected, LogBinned, Result<PowerLawReport>)> {
-    let params = CisParams {
-        smooth: false,
-        aggregate_smoothed: false,
-        ..checked.params
-    };
-    let table = expected_cis(pixels, weights, view, &params)?;
-    let binned = logbin_expected(&table, &LogBinParams::default())?;
-    let range = checked.fit_range.unwrap_or_else(|| {
-        default_fit_range(
-            table.bin_size_bp,
-            params.ignore_diags,
-            view.median_length_bp(),
-        )
-    });
-    let fit = fit_log_binned(&binned, &FitParams::new(range));
-    Ok((table, binned, fit))
-}
-
 fn write_text(args: &ExpectedArgs, text: &[u8]) -> Result<()> {
     let mut out = Output::open(args.out.as_deref())?;
     out.write_all(text)?;
     out.finish()
-}
-
-/// Parse `MIN-MAX` in bp with optional k / kb / M / Mb / G / Gb suffixes (`100k-10M`).
-fn parse_range(text: &str) -> Result<FitRange> {
-    let bad = |why: &str| {
-        Error::Invalid(format!(
-            "--fit-range '{text}': {why} (expected MIN-MAX in bp, e.g. 100k-10M)"
-        ))
-    };
-    let (min, max) = text.split_once('-').ok_or_else(|| bad("no '-'"))?;
-    let parse = |part: &str| -> Result<f64> {
-        let cleaned: String = part
-            .trim()
-            .chars()
-            .filter(|&c| c != ',' && c != '_')
-            .collect::<String>()
-            .to_ascii_lowercase();
-        let (number, multiplier) = [
-            ("gb", 1e9),
-            ("mb", 1e6),
-            ("kb", 1e3),
-            ("g", 1e9),
-            ("m", 1e6),
-            ("k", 1e3),
-            ("bp", 1.0),
-        ]
-        .iter()
-        .find_map(|(suffix, m)| cleaned.strip_suffix(suffix).map(|n| (n.to_string(), *m)))
-        .unwrap_or((cleaned.clone(), 1.0));
-        let value: f64 = number
-            .trim()
-            .parse()
-            .map_err(|_| bad(&format!("'{}' is not a distance", part.trim())))?;
-        Ok(value * multiplier)
-    };
-    let range = FitRange {
-        min_bp: parse(min)?,
-        max_bp: parse(max)?,
-    };
-    if !(range.min_bp > 0.0 && range.max_bp > range.min_bp && range.max_bp.is_finite()) {
-        return Err(bad("MIN must be positive and below MAX"));
-    }
-    Ok(range)
 }
 
 fn write_column(out: &mut Vec<u8>, column: &Column<'_>, row: usize) {
@@ -421,66 +353,6 @@ fn logbin_text(binned: &LogBinned) -> Vec<u8> {
     text
 }
 
-/// A distance for people: `250 kb`, `1.2 Mb`, `800 bp`.
-fn human_bp(value: f64) -> String {
-    let (scaled, unit) = if value >= 1e6 {
-        (value / 1e6, "Mb")
-    } else if value >= 1e3 {
-        (value / 1e3, "kb")
-    } else {
-        (value, "bp")
-    };
-    let digits = format!("{scaled:.2}");
-    let trimmed = digits.trim_end_matches('0').trim_end_matches('.');
-    format!("{trimmed} {unit}")
-}
-
-/// The one-line summary: `P(s) ~ s^-1.08 [95% CI -1.10, -1.06], R² 0.998, 100 kb - 10 Mb`.
-fn headline(report: &PowerLawReport) -> String {
-    let fit = &report.fit;
-    format!(
-        "P(s) ~ s^{:.2} [95% CI {:.2}, {:.2}], R² {:.3}, {} - {} ({} log bins)",
-        fit.alpha,
-        fit.ci95.0,
-        fit.ci95.1,
-        fit.r_squared,
-        human_bp(report.range.min_bp),
-        human_bp(report.range.max_bp),
-        fit.n_points
-    )
-}
-
-fn fit_text(report: &PowerLawReport) -> String {
-    let mut text = headline(report);
-    text.push('\n');
-    let piecewise = &report.piecewise;
-    let breaks: Vec<String> = piecewise
-        .breakpoints_bp
-        .iter()
-        .map(|&b| human_bp(b))
-        .collect();
-    text.push_str(&match breaks.len() {
-        0 => "piecewise: no breakpoint (one power law is best by BIC)\n".to_string(),
-        n => format!(
-            "piecewise: {n} breakpoint{} by BIC, at {}\n",
-            if n == 1 { "" } else { "s" },
-            breaks.join(", ")
-        ),
-    });
-    for segment in &piecewise.segments {
-        text.push_str(&format!(
-            "  {} - {}: s^{:.2} [95% CI {:.2}, {:.2}], {} log bins\n",
-            human_bp(segment.start_bp),
-            human_bp(segment.end_bp),
-            segment.alpha,
-            segment.ci95.0,
-            segment.ci95.1,
-            segment.n_points
-        ));
-    }
-    text
-}
-
 fn fit_json(
     args: &ExpectedArgs,
     table: &CisExpected,
@@ -543,17 +415,6 @@ mod tests {
     use super::*;
 
     #[test]
-    fn ranges_parse_with_units() {
-        let range = parse_range("100k-10M").unwrap();
-        assert_eq!((range.min_bp, range.max_bp), (1e5, 1e7));
-        let range = parse_range("200,000-1.5Mb").unwrap();
-        assert_eq!((range.min_bp, range.max_bp), (2e5, 1.5e6));
-        assert!(parse_range("10M-1M").is_err());
-        assert!(parse_range("abc").is_err());
-        assert!(parse_range("1x-2M").is_err());
-    }
-
-    #[test]
     fn reals_print_shortest() {
         let text = |v: f64| {
             let mut out = Vec::new();
@@ -565,7 +426,5 @@ mod tests {
         assert_eq!(text(1.5e-7), "1.5e-7");
         assert_eq!(text(f64::NAN), "nan");
         assert_eq!(text(0.0), "0");
-        assert_eq!(human_bp(1.2e6), "1.2 Mb");
-        assert_eq!(human_bp(250_000.0), "250 kb");
     }
 }

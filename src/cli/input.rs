@@ -13,6 +13,7 @@ use std::path::Path;
 use crate::cli::InputArgs;
 use crate::error::{Error, Result};
 use crate::expected::view::{RegionSpec, View};
+use crate::expected::CisExpected;
 use crate::genome::BinTable;
 use crate::io::tables::Table;
 use crate::io::{self, CheckedCounts, MatrixReader};
@@ -150,4 +151,132 @@ pub fn read_expected_curves(
     let mut curves: Vec<DiagonalCurve> = curves.into_values().collect();
     curves.sort_by_key(|c| c.bins.start);
     Ok(curves)
+}
+
+/// A cooltools `expected-cis` table (as `cooltools expected-cis` or `contactmap expected` write
+/// it) read back for the P(s) analyses, and the median length of its regions in bp (each region
+/// has one row per diagonal, so its length is its number of rows times the bin size). The
+/// smoothed columns are not read; the averages are the table's own.
+pub fn read_cis_expected(path: &str) -> Result<(CisExpected, f64)> {
+    let table = Table::read(path)?;
+    let (c1, c2) = (table.column("region1")?, table.column("region2")?);
+    let dist_column = table.column("dist")?;
+    let dist_bp_column = table.column("dist_bp")?;
+    let (n_total_column, n_valid_column) = (table.column("n_total")?, table.column("n_valid")?);
+    let count_sum_column = table.column("count.sum")?;
+    let balanced_sum_column = table.column("balanced.sum").ok();
+    let count_avg_column = table.column("count.avg")?;
+    let balanced_avg_column = match balanced_sum_column {
+        Some(_) => Some(table.column("balanced.avg")?),
+        None => None,
+    };
+    if table.is_empty() {
+        return Err(Error::format(path, "the expected table has no rows"));
+    }
+    let bad_row = |row: usize, message: String| Error::parse(path, row as u64 + 2, message);
+    let whole = |row: usize, column: usize| -> Result<u64> {
+        let value = table.number(row, column)?;
+        if value >= 0.0 && value.fract() == 0.0 && value < 2f64.powi(53) {
+            Ok(value as u64)
+        } else {
+            Err(bad_row(
+                row,
+                format!(
+                    "'{}' in column '{}' is not a non-negative integer",
+                    table.text(row, column),
+                    table.header()[column]
+                ),
+            ))
+        }
+    };
+    let mut out = CisExpected {
+        bin_size_bp: 0,
+        region_names: Vec::new(),
+        region: Vec::with_capacity(table.len()),
+        dist: Vec::with_capacity(table.len()),
+        dist_bp: Vec::with_capacity(table.len()),
+        n_total: Vec::with_capacity(table.len()),
+        n_valid: Vec::with_capacity(table.len()),
+        count_sum: Vec::with_capacity(table.len()),
+        balanced_sum: balanced_sum_column.map(|_| Vec::with_capacity(table.len())),
+        count_avg: Vec::with_capacity(table.len()),
+        balanced_avg: balanced_avg_column.map(|_| Vec::with_capacity(table.len())),
+        avg_smoothed: None,
+        avg_smoothed_agg: None,
+    };
+    let mut rows_per_region: Vec<u64> = Vec::new();
+    for row in 0..table.len() {
+        let (r1, r2) = (table.text(row, c1), table.text(row, c2));
+        if r1 != r2 {
+            return Err(bad_row(
+                row,
+                format!("region1 '{r1}' differs from region2 '{r2}': a trans table, not the cis expected (contactmap expected, cooltools expected-cis)"),
+            ));
+        }
+        if out.region_names.last().map(String::as_str) != Some(r1) {
+            if out.region_names.iter().any(|name| name == r1) {
+                return Err(bad_row(
+                    row,
+                    format!("the rows of region '{r1}' are not together"),
+                ));
+            }
+            out.region_names.push(r1.to_string());
+            rows_per_region.push(0);
+        }
+        let region = out.region_names.len() - 1;
+        rows_per_region[region] += 1;
+        let (dist, dist_bp) = (whole(row, dist_column)?, whole(row, dist_bp_column)?);
+        let expected_dist = rows_per_region[region] - 1;
+        if dist != expected_dist {
+            return Err(bad_row(
+                row,
+                format!("dist {dist} where {expected_dist} was expected (one row per diagonal of each region, in order)"),
+            ));
+        }
+        if let Some(size) = dist_bp.checked_div(dist) {
+            if out.bin_size_bp == 0 {
+                out.bin_size_bp = size;
+            }
+            if dist_bp != dist * out.bin_size_bp || out.bin_size_bp == 0 {
+                return Err(bad_row(
+                    row,
+                    format!(
+                        "dist_bp {dist_bp} is not dist {dist} times the bin size {} of the rows above",
+                        out.bin_size_bp
+                    ),
+                ));
+            }
+        }
+        out.region.push(region as u32);
+        out.dist.push(dist);
+        out.dist_bp.push(dist_bp);
+        out.n_total.push(whole(row, n_total_column)?);
+        out.n_valid.push(whole(row, n_valid_column)?);
+        out.count_sum.push(table.number(row, count_sum_column)?);
+        out.count_avg.push(table.number(row, count_avg_column)?);
+        if let (Some(sums), Some(column)) = (out.balanced_sum.as_mut(), balanced_sum_column) {
+            sums.push(table.number(row, column)?);
+        }
+        if let (Some(avgs), Some(column)) = (out.balanced_avg.as_mut(), balanced_avg_column) {
+            avgs.push(table.number(row, column)?);
+        }
+    }
+    if out.bin_size_bp == 0 {
+        return Err(Error::format(
+            path,
+            "every region has a single diagonal: no distances to plot",
+        ));
+    }
+    let mut lengths: Vec<u64> = rows_per_region
+        .iter()
+        .map(|n| n * out.bin_size_bp)
+        .collect();
+    lengths.sort_unstable();
+    let n = lengths.len();
+    let median = if n % 2 == 1 {
+        lengths[n / 2] as f64
+    } else {
+        (lengths[n / 2 - 1] + lengths[n / 2]) as f64 / 2.0
+    };
+    Ok((out, median))
 }

@@ -1,7 +1,8 @@
 //! `contactmap plot`: figures as PNG or SVG. `plot map` draws a contact-map heatmap (square or
-//! 45-degree, with overlays and tracks); the options every figure shares (output, format, size,
+//! 45-degree, with overlays and tracks), `plot expected` P(s) curves; the options every figure shares (output, format, size,
 //! dpi, title) live here.
 
+mod expected;
 mod map;
 
 use std::path::PathBuf;
@@ -27,12 +28,16 @@ pub enum PlotCommand {
     /// log colour scale, square or 45-degree (--triangle), with domains, boundaries, loops and
     /// tracks.
     Map(Box<map::MapArgs>),
+    /// P(s) on log-log axes with its local slope: several samples overlaid, fitted power laws
+    /// with their exponents.
+    Expected(Box<expected::ExpectedPlotArgs>),
 }
 
 /// Run `contactmap plot`.
 pub fn run(args: &PlotArgs) -> Result<()> {
     match &args.command {
         PlotCommand::Map(args) => map::run(args),
+        PlotCommand::Expected(args) => expected::run(args),
     }
 }
 

@@ -101,7 +101,8 @@ impl AxisScale {
     }
 }
 
-/// About `target` evenly spaced round values inside `[min, max]`.
+/// About `target` evenly spaced round values inside `[min, max]`; at least two when the range
+/// is not empty (a finer step is taken when the round step leaves only one inside).
 pub fn linear_ticks(min: f64, max: f64, target: usize) -> Vec<f64> {
     let (low, high) = if min <= max { (min, max) } else { (max, min) };
     let span = high - low;
@@ -128,6 +129,9 @@ pub fn linear_ticks(min: f64, max: f64, target: usize) -> Vec<f64> {
             value
         });
         k += 1.0;
+    }
+    if ticks.len() < 2 && target < 64 {
+        return linear_ticks(min, max, target.max(1) * 2);
     }
     ticks
 }
@@ -533,6 +537,12 @@ mod tests {
         }
         assert_eq!(format_tick(fractional[2], 0.2), "0.6");
         assert_eq!(linear_ticks(1.05e6, 2.95e6, 4), vec![1.5e6, 2e6, 2.5e6]);
+        // A step of 2 would leave only 0 inside (-1.6, 1.6): a finer one gives labels.
+        let ticks = linear_ticks(-1.6, 1.6, 3);
+        assert_eq!(ticks, vec![-1.0, 0.0, 1.0]);
+        let step = ticks[1] - ticks[0];
+        let labels: Vec<String> = ticks.iter().map(|&t| format_tick(t, step)).collect();
+        assert_eq!(labels, ["-1", "0", "1"]);
         assert_eq!(format_tick(2.5, 0.5), "2.5");
         assert_eq!(format_tick(20.0, 10.0), "20");
         assert_eq!(format_tick(0.25, 0.25), "0.25");

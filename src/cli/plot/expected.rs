@@ -1,0 +1,352 @@
+//! `contactmap plot expected`: P(s) curves of several samples on log-log axes with their local
+//! slopes, and the fitted power laws.
+
+use std::path::{Path, PathBuf};
+
+use clap::Args;
+
+use super::{write_figure, FigureArgs};
+use crate::cli::analysis::{headline, parse_fit_range, power_law, power_law_of_table, PowerLaw};
+use crate::cli::input::{open_for_analysis, read_cis_expected, read_view, read_weights};
+use crate::cli::InputArgs;
+use crate::error::{Error, Result};
+use crate::expected::{CisParams, View};
+use crate::genome::format_bp;
+use crate::io::{LoadedPixels, StreamedPixels};
+use crate::plot::axes::{Theme, CURVE_COLOURS};
+use crate::plot::curves::{draw_curves, CurveFigure, Panel, Scale, Series};
+use crate::plot::svg::Stroke;
+
+/// Arguments of `contactmap plot expected`.
+#[derive(Debug, Args)]
+#[command(after_long_help = "\
+Each input is a contact matrix (file.cool, file.mcool::/resolutions/N, file.hic, a text table)
+or a cis expected table (the output of `contactmap expected` or `cooltools expected-cis`,
+recognised by its header `region1 region2 dist ...`). From a matrix, the cis expected is
+computed over whole chromosomes (or --view), balanced unless --raw, leaving out the
+--ignore-diags first diagonals, exactly as `contactmap expected` does.
+
+Upper panel: the log-binned P(s) combined over regions (10 bins per decade, as `contactmap
+expected --logbin` and cooltools' logbin_expected + combine_binned_expected) against the mean
+separation of each bin, on log-log axes. Lower panel (unless --no-slope): its local slope
+d ln P / d ln s (cooltools' smoothed derivative, the slope column of `expected --logbin`).
+--per-region draws every region (chromosome) of each input as its own curve instead of the
+combined one (HiCExplorer hicPlotDistVsCounts draws chromosomes that way).
+
+--fit adds the power law fitted over --fit-range (default: max(ignore-diags, 2) bins to a
+quarter of the median region; the same fit and numbers as `contactmap expected --fit`) as a
+dashed line over the points fitted, with the exponent in the legend, and the exponent as a
+dashed level in the slope panel; the fits are also printed on standard error.
+
+Examples:
+  contactmap plot expected data/cooler_test_file.mcool::/resolutions/100000 --fit -o ps.png
+  contactmap plot expected wt.mcool::/resolutions/10000 ko.mcool::/resolutions/10000 \\
+      --labels WT,KO --fit --fit-range 50k-5M -o ps.svg
+  contactmap expected in.cool -o exp.tsv && contactmap plot expected exp.tsv -o ps.png
+  contactmap plot expected in.cool --per-region --no-slope -o chroms.png")]
+pub struct ExpectedPlotArgs {
+    /// Contact matrices or cis expected tables, one curve each.
+    #[arg(value_name = "URI|TABLE", required = true)]
+    pub inputs: Vec<String>,
+    /// Legend names of the inputs, comma separated (default: the file names).
+    #[arg(long, value_delimiter = ',', value_name = "NAMES")]
+    pub labels: Option<Vec<String>>,
+    /// Draw the fitted power law of each curve, exponent in the legend.
+    #[arg(long)]
+    pub fit: bool,
+    /// Distance range of the fits in bp, e.g. 100k-10M (default: see below).
+    #[arg(long, value_name = "MIN-MAX", requires = "fit")]
+    pub fit_range: Option<String>,
+    /// One curve per region (chromosome) instead of the combined P(s).
+    #[arg(long, conflicts_with = "fit")]
+    pub per_region: bool,
+    /// Leave out the local-slope panel.
+    #[arg(long)]
+    pub no_slope: bool,
+    /// Raw counts for matrix inputs (default: balanced with --weight-name).
+    #[arg(long)]
+    pub raw: bool,
+    /// Weight column for balanced values of matrix inputs.
+    #[arg(long, default_value = "weight", value_name = "COLUMN")]
+    pub weight_name: String,
+    /// BED file of regions for matrix inputs (`chrom start end [name]`).
+    #[arg(long, value_name = "BED")]
+    pub view: Option<PathBuf>,
+    /// Diagonals 0..N left out of the expected of matrix inputs.
+    #[arg(long, default_value_t = 2, value_name = "N")]
+    pub ignore_diags: usize,
+    /// Output, size, dpi, title.
+    #[command(flatten)]
+    pub figure: FigureArgs,
+    /// Options for text inputs.
+    #[command(flatten)]
+    pub input: InputArgs,
+}
+
+/// Default figure width in inches.
+const DEFAULT_WIDTH_IN: f64 = 6.0;
+
+/// One input's P(s).
+struct Sample {
+    label: String,
+    power_law: PowerLaw,
+}
+
+/// Whether `uri` names a cis expected table: a text file whose first line (comments aside)
+/// starts with `region1`. Only the first 64 KiB are looked at, as bytes (a .cool file is not
+/// text).
+fn is_expected_table(uri: &str) -> Result<bool> {
+    use std::io::Read as _;
+    let path = Path::new(uri);
+    if uri.contains("::") || !path.is_file() {
+        return Ok(false);
+    }
+    let mut head = Vec::new();
+    crate::io::open_text(path)?
+        .take(64 << 10)
+        .read_to_end(&mut head)
+        .map_err(|e| Error::io(path, e))?;
+    Ok(head
+        .split(|&b| b == b'\n')
+        .find(|line| !(line.iter().all(u8::is_ascii_whitespace) || line.starts_with(b"#")))
+        .is_some_and(|line| line.starts_with(b"region1\t")))
+}
+
+/// The legend name of an input: the file name without its extensions, and the resolution of
+/// an `::/resolutions/N` URI.
+fn default_label(uri: &str) -> String {
+    let (file, inner) = uri.split_once("::").unwrap_or((uri, ""));
+    let name = Path::new(file)
+        .file_name()
+        .map_or_else(|| file.to_string(), |n| n.to_string_lossy().into_owned());
+    let mut stem = name.as_str();
+    for extension in [".gz", ".tsv", ".txt", ".cool", ".mcool", ".hic", ".h5"] {
+        stem = stem.strip_suffix(extension).unwrap_or(stem);
+    }
+    match inner.rsplit('/').next().and_then(|n| n.parse::<u64>().ok()) {
+        Some(resolution) => format!("{stem} {}", format_bp(resolution as f64)),
+        None => stem.to_string(),
+    }
+}
+
+fn load(
+    uri: &str,
+    args: &ExpectedPlotArgs,
+    fit_range: Option<crate::expected::powerlaw::FitRange>,
+) -> Result<PowerLaw> {
+    if is_expected_table(uri)? {
+        let (table, median_bp) = read_cis_expected(uri)?;
+        return power_law_of_table(table, args.ignore_diags, median_bp, fit_range);
+    }
+    let reader = open_for_analysis(uri, &args.input)?;
+    if reader.bins().bin_size_bp().is_none() {
+        return Err(Error::format(
+            reader.source(),
+            "P(s) needs fixed-size bins (distances are diagonals times the bin size)",
+        ));
+    }
+    let weights = if args.raw {
+        None
+    } else {
+        Some(read_weights(reader.as_ref(), &args.weight_name)?)
+    };
+    let view = match &args.view {
+        Some(path) => read_view(path, reader.as_ref())?,
+        None => View::chromosomes(reader.bins()),
+    };
+    let pixels = LoadedPixels::Streamed(StreamedPixels::new(reader.as_ref()));
+    let params = CisParams {
+        ignore_diags: args.ignore_diags,
+        smooth: false,
+        aggregate_smoothed: false,
+        smooth_sigma_log10: 0.1,
+    };
+    let result = power_law(&pixels, weights.as_deref(), &view, &params, fit_range)?;
+    super::super::warnings::print_reader_warnings(reader.warnings());
+    Ok(result)
+}
+
+/// Run `contactmap plot expected`.
+pub fn run(args: &ExpectedPlotArgs) -> Result<()> {
+    let figure = args.figure.check(DEFAULT_WIDTH_IN)?;
+    let labels = match &args.labels {
+        Some(labels) if labels.len() != args.inputs.len() => {
+            return Err(Error::Invalid(format!(
+                "--labels gives {} name(s) for {} input(s)",
+                labels.len(),
+                args.inputs.len()
+            )))
+        }
+        Some(labels) => labels.clone(),
+        None => args.inputs.iter().map(|uri| default_label(uri)).collect(),
+    };
+    let fit_range = args.fit_range.as_deref().map(parse_fit_range).transpose()?;
+    let mut samples = Vec::with_capacity(args.inputs.len());
+    for (uri, label) in args.inputs.iter().zip(labels) {
+        let power_law = load(uri, args, fit_range)?;
+        if power_law.binned.combined.is_empty() {
+            return Err(Error::Invalid(format!(
+                "{uri}: no distance has enough valid pixels for a P(s) point (cooltools' thresholds: more than 200 valid pixels and a sum above 50 per log bin and region)"
+            )));
+        }
+        if args.fit {
+            match &power_law.fit {
+                Ok(report) => eprintln!("{label}: {}", headline(report)),
+                Err(e) => return Err(Error::Invalid(format!("{uri}: no power-law fit: {e}"))),
+            }
+        }
+        samples.push(Sample { label, power_law });
+    }
+    let theme = Theme::new(figure.dpi);
+    let svg = draw_curves(&ps_figure(&samples, args, &theme, &figure))?;
+    write_figure(&svg, &figure, &args.figure)
+}
+
+/// The panels: P(s) (and fits) above, slopes below.
+fn ps_figure(
+    samples: &[Sample],
+    args: &ExpectedPlotArgs,
+    theme: &Theme,
+    figure: &super::Figure,
+) -> CurveFigure {
+    let line =
+        |index: usize| Stroke::solid(CURVE_COLOURS[index % CURVE_COLOURS.len()], theme.px(1.5));
+    let dashed = |index: usize| line(index).dashed(theme.px(4.0));
+    let mut ps = Vec::new();
+    let mut slopes = Vec::new();
+    let mut colour = 0;
+    for sample in samples {
+        let binned = &sample.power_law.binned;
+        let bin_bp = binned.bin_size_bp as f64;
+        if args.per_region {
+            for (region, name) in binned.region_names.iter().enumerate() {
+                let points: Vec<(f64, f64)> = binned
+                    .by_region
+                    .iter()
+                    .filter(|b| b.region as usize == region)
+                    .map(|b| (b.dist_avg * bin_bp, b.average))
+                    .collect();
+                if points.is_empty() {
+                    continue;
+                }
+                let label = if samples.len() == 1 {
+                    name.clone()
+                } else {
+                    format!("{} {name}", sample.label)
+                };
+                ps.push(Series {
+                    label: Some(label),
+                    points,
+                    stroke: line(colour),
+                });
+                slopes.push(Series {
+                    label: None,
+                    points: binned
+                        .region_slopes
+                        .iter()
+                        .filter(|s| s.region == Some(region as u32))
+                        .map(|s| (s.dist_avg * bin_bp, s.slope))
+                        .collect(),
+                    stroke: line(colour),
+                });
+                colour += 1;
+            }
+            continue;
+        }
+        ps.push(Series {
+            label: Some(sample.label.clone()),
+            points: binned
+                .combined
+                .iter()
+                .map(|b| (b.dist_avg * bin_bp, b.average))
+                .collect(),
+            stroke: line(colour),
+        });
+        slopes.push(Series {
+            label: None,
+            points: binned
+                .slopes
+                .iter()
+                .map(|s| (s.dist_avg * bin_bp, s.slope))
+                .collect(),
+            stroke: line(colour),
+        });
+        if let (true, Ok(report)) = (args.fit, &sample.power_law.fit) {
+            let fit = &report.fit;
+            let at = |s: f64| 10f64.powf(fit.intercept_log10) * s.powf(fit.alpha);
+            ps.push(Series {
+                label: Some(format!(
+                    "fit {}-{}: s^{:.2}",
+                    format_bp(report.range.min_bp),
+                    format_bp(report.range.max_bp),
+                    fit.alpha
+                )),
+                points: vec![
+                    (fit.first_bp, at(fit.first_bp)),
+                    (fit.last_bp, at(fit.last_bp)),
+                ],
+                stroke: dashed(colour),
+            });
+            slopes.push(Series {
+                label: None,
+                points: vec![(fit.first_bp, fit.alpha), (fit.last_bp, fit.alpha)],
+                stroke: dashed(colour),
+            });
+        }
+        colour += 1;
+    }
+    let balanced: Vec<bool> = samples
+        .iter()
+        .map(|s| s.power_law.table.is_balanced())
+        .collect();
+    let y_label = if balanced.iter().all(|&b| b) {
+        "P(s), balanced"
+    } else if balanced.iter().all(|&b| !b) {
+        "P(s), raw counts"
+    } else {
+        "P(s)"
+    };
+    let mut panels = vec![Panel {
+        y_label: y_label.to_string(),
+        y_scale: Scale::Log,
+        series: ps,
+        weight: 2.2,
+        legend: true,
+        min_span: 0.0,
+    }];
+    if !args.no_slope {
+        panels.push(Panel {
+            y_label: "slope".to_string(),
+            y_scale: Scale::Linear,
+            series: slopes,
+            weight: 1.0,
+            legend: false,
+            min_span: 0.5,
+        });
+    }
+    CurveFigure {
+        title: args.figure.title.clone().unwrap_or_default(),
+        x_label: "separation s".to_string(),
+        x_scale: Scale::Log,
+        x_in_bp: true,
+        panels,
+        width_px: figure.width_px,
+        height_px: figure.height_px,
+        dpi: figure.dpi,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn labels_come_from_file_names() {
+        assert_eq!(
+            default_label("data/cooler_test_file.mcool::/resolutions/100000"),
+            "cooler_test_file 100 kb"
+        );
+        assert_eq!(default_label("out/exp.tsv.gz"), "exp");
+        assert_eq!(default_label("yeast.10kb.cool"), "yeast.10kb");
+    }
+}

@@ -1,0 +1,401 @@
+//! Line charts on a shared horizontal axis: panels stacked top to bottom (P(s) on log-log axes
+//! above its local slope, as cooltools' and HiCExplorer's P(s) figures), each with its own
+//! vertical scale, and a legend in the first panel that asks for one.
+//!
+//! Limits follow the data with matplotlib's default margins (5% of the range on each side, in
+//! log space on log axes); a point with a non-finite coordinate (or a non-positive one on a log
+//! axis) breaks its line. Only the bottom panel labels the shared axis.
+
+use crate::error::{Error, Result};
+use crate::genome::format_bp;
+use crate::plot::axes::{legend, log_ticks, Axes, AxisScale, LegendEntry, Side, Theme};
+use crate::plot::svg::{text_width, Anchor, Baseline, Stroke, Svg, TextStyle};
+
+/// One line.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Series {
+    /// Legend text (`None`: not in the legend).
+    pub label: Option<String>,
+    /// `(x, y)` in data units, in drawing order.
+    pub points: Vec<(f64, f64)>,
+    /// Colour, width and dashes.
+    pub stroke: Stroke,
+}
+
+/// Linear or logarithmic.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Scale {
+    /// Linear.
+    Linear,
+    /// Logarithmic (positive values only).
+    Log,
+}
+
+/// One panel of lines.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Panel {
+    /// Vertical axis label.
+    pub y_label: String,
+    /// Vertical scale.
+    pub y_scale: Scale,
+    /// The lines, drawn in order.
+    pub series: Vec<Series>,
+    /// Height relative to the other panels.
+    pub weight: f64,
+    /// Draw the legend of the labelled series in this panel (top right).
+    pub legend: bool,
+    /// Smallest span of a linear vertical axis, around the data's middle (so that a nearly
+    /// constant slope is not blown up to the panel's height).
+    pub min_span: f64,
+}
+
+/// A figure of stacked panels sharing the horizontal axis.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CurveFigure {
+    /// Title above the first panel (empty: none).
+    pub title: String,
+    /// Label of the shared horizontal axis.
+    pub x_label: String,
+    /// Horizontal scale.
+    pub x_scale: Scale,
+    /// Label horizontal log ticks as distances (`10 kb`, `1 Mb`) instead of `10^k`.
+    pub x_in_bp: bool,
+    /// The panels, top to bottom.
+    pub panels: Vec<Panel>,
+    /// Figure width in pixels.
+    pub width_px: usize,
+    /// Figure height in pixels (`None`: the panels' default proportions).
+    pub height_px: Option<usize>,
+    /// Dots per inch.
+    pub dpi: f64,
+}
+
+/// Default height of a panel of weight 1, as a fraction of the axes' width.
+const UNIT_HEIGHT: f64 = 0.25;
+
+/// The data range of `values` on `scale` widened by matplotlib's 5% margins; a single value
+/// gets a range around it.
+pub fn data_limits(values: impl Iterator<Item = f64>, scale: Scale) -> Option<(f64, f64)> {
+    let usable = |v: &f64| v.is_finite() && (scale == Scale::Linear || *v > 0.0);
+    let (mut low, mut high) = (f64::INFINITY, f64::NEG_INFINITY);
+    for v in values.filter(usable) {
+        low = low.min(v);
+        high = high.max(v);
+    }
+    if low > high {
+        return None;
+    }
+    Some(match scale {
+        Scale::Linear => {
+            let pad = if high > low {
+                0.05 * (high - low)
+            } else {
+                0.5 * low.abs().max(1.0)
+            };
+            (low - pad, high + pad)
+        }
+        Scale::Log => {
+            let (l, h) = (low.log10(), high.log10());
+            let pad = if h > l { 0.05 * (h - l) } else { 0.5 };
+            (10f64.powf(l - pad), 10f64.powf(h + pad))
+        }
+    })
+}
+
+fn axis_scale(scale: Scale, (min, max): (f64, f64)) -> AxisScale {
+    match scale {
+        Scale::Linear => AxisScale::Linear { min, max },
+        Scale::Log => AxisScale::Log { min, max },
+    }
+}
+
+/// Ticks of the shared axis: decades as distances when `in_bp` (with `1, 2, 5` times them
+/// when the range is under two decades).
+fn x_ticks(scale: &AxisScale, in_bp: bool) -> (Vec<(f64, String)>, Vec<f64>) {
+    match (scale, in_bp) {
+        (AxisScale::Log { min, max }, true) => {
+            let (major, minor) = log_ticks(*min, *max);
+            let major = major
+                .into_iter()
+                .map(|(value, _)| (value, format_bp(value)))
+                .collect();
+            (major, minor)
+        }
+        _ => scale.ticks(6),
+    }
+}
+
+/// The points of `series` split where they cannot be drawn, in pixels.
+fn segments(axes: &Axes, points: &[(f64, f64)]) -> Vec<Vec<(f64, f64)>> {
+    let mut out = Vec::new();
+    let mut current = Vec::new();
+    for &(x, y) in points {
+        let (px, py) = (axes.px(x), axes.py(y));
+        if px.is_finite() && py.is_finite() {
+            current.push((px, py));
+        } else if !current.is_empty() {
+            out.push(std::mem::take(&mut current));
+        }
+    }
+    if !current.is_empty() {
+        out.push(current);
+    }
+    out
+}
+
+/// Draw the figure.
+pub fn draw_curves(figure: &CurveFigure) -> Result<Svg> {
+    if figure.panels.is_empty() {
+        return Err(Error::Invalid("a figure needs at least one panel".into()));
+    }
+    let theme = Theme::new(figure.dpi);
+    let all_points = || {
+        figure
+            .panels
+            .iter()
+            .flat_map(|p| p.series.iter().flat_map(|s| s.points.iter()))
+    };
+    let x_limits = data_limits(all_points().map(|p| p.0), figure.x_scale)
+        .ok_or_else(|| Error::Invalid("nothing to draw: no point has a usable distance".into()))?;
+    let x_scale = axis_scale(figure.x_scale, x_limits);
+    let mut y_scales = Vec::with_capacity(figure.panels.len());
+    for panel in &figure.panels {
+        let points = panel.series.iter().flat_map(|s| s.points.iter());
+        let mut limits = data_limits(points.map(|p| p.1), panel.y_scale).ok_or_else(|| {
+            Error::Invalid(format!("nothing to draw in the panel '{}'", panel.y_label))
+        })?;
+        if panel.y_scale == Scale::Linear && limits.1 - limits.0 < panel.min_span {
+            let middle = (limits.0 + limits.1) / 2.0;
+            limits = (middle - panel.min_span / 2.0, middle + panel.min_span / 2.0);
+        }
+        y_scales.push(axis_scale(panel.y_scale, limits));
+    }
+    let y_ticks: Vec<_> = y_scales.iter().map(|s| s.ticks(5)).collect();
+
+    // Margins in pixels: tick labels and axis labels measured, the rest in points.
+    let font = theme.font();
+    let widest_y = y_ticks
+        .iter()
+        .flat_map(|(major, _)| major.iter().map(|(_, label)| text_width(label, font)))
+        .fold(0.0, f64::max);
+    let left = (theme.px(8.0) + theme.label_font() * 1.4 + theme.px(6.0) + widest_y).ceil();
+    let (x_major, x_minor) = x_ticks(&x_scale, figure.x_in_bp);
+    let last_x_label = x_major
+        .last()
+        .map_or(0.0, |(_, label)| text_width(label, font));
+    let right = (theme.px(12.0))
+        .max(last_x_label / 2.0 + theme.px(4.0))
+        .ceil();
+    let top = if figure.title.is_empty() {
+        theme.px(10.0)
+    } else {
+        theme.px(10.0) + theme.label_font() * 1.6
+    }
+    .ceil();
+    let bottom = (theme.px(5.5) + font * 1.1 + theme.label_font() * 1.4 + theme.px(8.0)).ceil();
+    let gap = theme.px(8.0).ceil();
+    let width = figure.width_px as f64;
+    let axes_width = width - left - right;
+    if axes_width < theme.px(60.0) {
+        return Err(Error::Invalid(format!(
+            "the figure is too narrow for its axes ({} pixels)",
+            figure.width_px
+        )));
+    }
+    let total_weight: f64 = figure.panels.iter().map(|p| p.weight.max(0.1)).sum();
+    let gaps = gap * (figure.panels.len() - 1) as f64;
+    let panels_height = match figure.height_px {
+        Some(h) => h as f64 - top - bottom - gaps,
+        None => (UNIT_HEIGHT * axes_width * total_weight).round(),
+    };
+    if panels_height < theme.px(30.0) * figure.panels.len() as f64 {
+        return Err(Error::Invalid(format!(
+            "the figure is too short for {} panel(s)",
+            figure.panels.len()
+        )));
+    }
+    let height_px = figure
+        .height_px
+        .unwrap_or((top + panels_height + gaps + bottom).round() as usize);
+    let mut svg = Svg::new(figure.width_px, height_px, figure.dpi);
+
+    let mut y = top;
+    let last = figure.panels.len() - 1;
+    for (index, panel) in figure.panels.iter().enumerate() {
+        let height = (panels_height * panel.weight.max(0.1) / total_weight).round();
+        let axes = Axes {
+            x: left,
+            y,
+            width: axes_width.round(),
+            height,
+            x_scale,
+            y_scale: y_scales[index],
+            y_down: false,
+        };
+        axes.clip(&mut svg);
+        for series in &panel.series {
+            for line in segments(&axes, &series.points) {
+                if line.len() == 1 {
+                    svg.circle(
+                        line[0].0,
+                        line[0].1,
+                        series.stroke.width,
+                        series.stroke.colour,
+                    );
+                } else {
+                    svg.polyline(&line, series.stroke);
+                }
+            }
+        }
+        svg.end_group();
+        axes.frame(&mut svg, &theme);
+        let (major, minor) = &y_ticks[index];
+        let depth = axes.ticks(&mut svg, &theme, Side::Left, major, minor);
+        axes.label(&mut svg, &theme, Side::Left, depth, &panel.y_label);
+        if index == last {
+            let depth = axes.ticks(&mut svg, &theme, Side::Bottom, &x_major, &x_minor);
+            axes.label(&mut svg, &theme, Side::Bottom, depth, &figure.x_label);
+        } else {
+            let marks: Vec<(f64, String)> =
+                x_major.iter().map(|(v, _)| (*v, String::new())).collect();
+            axes.ticks(&mut svg, &theme, Side::Bottom, &marks, &x_minor);
+        }
+        if index == 0 && !figure.title.is_empty() {
+            svg.text(
+                axes.x + axes.width / 2.0,
+                axes.y - theme.px(6.0),
+                &figure.title,
+                &TextStyle::new(theme.label_font(), Anchor::Middle, Baseline::Bottom),
+            );
+        }
+        if panel.legend {
+            let entries: Vec<LegendEntry> = panel
+                .series
+                .iter()
+                .filter_map(|s| {
+                    s.label.as_ref().map(|label| LegendEntry {
+                        stroke: s.stroke,
+                        filled: false,
+                        label: label.clone(),
+                    })
+                })
+                .collect();
+            legend(
+                &mut svg,
+                &theme,
+                axes.x + axes.width - theme.px(6.0),
+                axes.y + theme.px(6.0),
+                &entries,
+            );
+        }
+        y += height + gap;
+    }
+    Ok(svg)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::plot::svg::Rgb;
+
+    #[test]
+    fn limits_have_matplotlib_margins() {
+        let (low, high) = data_limits([1.0, 3.0, f64::NAN].into_iter(), Scale::Linear).unwrap();
+        assert!((low - 0.9).abs() < 1e-12 && (high - 3.1).abs() < 1e-12);
+        let (low, high) = data_limits([10.0, 1e5, 0.0, -1.0].into_iter(), Scale::Log).unwrap();
+        assert!((low.log10() - 0.8).abs() < 1e-12 && (high.log10() - 5.2).abs() < 1e-12);
+        assert!(data_limits([0.0, -2.0].into_iter(), Scale::Log).is_none());
+        let (low, high) = data_limits([2.0].into_iter(), Scale::Linear).unwrap();
+        assert!(low < 2.0 && high > 2.0);
+    }
+
+    #[test]
+    fn distance_ticks_read_as_bp() {
+        let (major, minor) = x_ticks(&AxisScale::Log { min: 5e3, max: 2e7 }, true);
+        let labels: Vec<&str> = major.iter().map(|(_, l)| l.as_str()).collect();
+        assert_eq!(labels, ["10 kb", "100 kb", "1 Mb", "10 Mb"]);
+        assert!(minor.contains(&2e4) && minor.contains(&2e7));
+    }
+
+    #[test]
+    fn lines_break_at_unusable_points() {
+        let axes = Axes {
+            x: 0.0,
+            y: 0.0,
+            width: 100.0,
+            height: 100.0,
+            x_scale: AxisScale::Log {
+                min: 1.0,
+                max: 100.0,
+            },
+            y_scale: AxisScale::Linear { min: 0.0, max: 1.0 },
+            y_down: false,
+        };
+        let points = [
+            (1.0, 0.0),
+            (10.0, 0.5),
+            (0.0, 0.5),
+            (100.0, 1.0),
+            (10.0, f64::NAN),
+        ];
+        let lines = segments(&axes, &points);
+        assert_eq!(lines.len(), 2);
+        assert_eq!(lines[0], vec![(0.0, 100.0), (50.0, 50.0)]);
+        assert_eq!(lines[1], vec![(100.0, 0.0)]);
+    }
+
+    #[test]
+    fn panels_stack_with_the_asked_height() {
+        let series = |points: Vec<(f64, f64)>| Series {
+            label: Some("a".into()),
+            points,
+            stroke: Stroke::solid(Rgb::BLACK, 1.0),
+        };
+        let figure = CurveFigure {
+            title: "t".into(),
+            x_label: "s".into(),
+            x_scale: Scale::Log,
+            x_in_bp: true,
+            panels: vec![
+                Panel {
+                    y_label: "P(s)".into(),
+                    y_scale: Scale::Log,
+                    series: vec![series(vec![(1e4, 1.0), (1e6, 0.01)])],
+                    weight: 2.0,
+                    legend: true,
+                    min_span: 0.0,
+                },
+                Panel {
+                    y_label: "slope".into(),
+                    y_scale: Scale::Linear,
+                    series: vec![series(vec![(1e4, -1.0), (1e6, -1.0)])],
+                    weight: 1.0,
+                    legend: false,
+                    min_span: 1.0,
+                },
+            ],
+            width_px: 600,
+            height_px: Some(450),
+            dpi: 100.0,
+        };
+        let svg = draw_curves(&figure).unwrap();
+        assert_eq!((svg.width_px(), svg.height_px()), (600, 450));
+        let text = svg.finish();
+        assert_eq!(text.matches("<polyline").count(), 2, "{text}");
+        assert!(text.contains(">P(s)</text>") && text.contains(">10 kb</text>"));
+        let default = draw_curves(&CurveFigure {
+            height_px: None,
+            ..figure.clone()
+        })
+        .unwrap();
+        assert!(default.height_px() > 300 && default.height_px() < 600);
+        let empty = CurveFigure {
+            panels: vec![Panel {
+                series: vec![series(vec![(0.0, 1.0)])],
+                ..figure.panels[0].clone()
+            }],
+            ..figure
+        };
+        assert!(draw_curves(&empty).is_err());
+    }
+}
