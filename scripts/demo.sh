@@ -50,6 +50,8 @@ step "Expected P(s) per diagonal (cooltools expected-cis columns)" \
 head -5 "$work/expected.tsv" | cut -f1-9
 step "Its power law: the exponent biologists quote, and piecewise exponents" \
   "$cm" expected "$dm6" --fit
+step "Picture: P(s) with its local slope and the fitted power law (the table above works as input too)" \
+  "$cm" plot expected "$dm6" --fit --labels "dm6 100 kb" -o "$figs/dm6_ps.png"
 step "Observed/expected map (balanced), as a cooler" \
   "$cm" normalize "$dm6" "$work/oe.cool" --method oe
 "$cm" dump "$work/oe.cool" -r chr2L:1,000,000-1,300,000 --join -H
@@ -68,7 +70,7 @@ step "Picture: chr2L with its domains and boundaries drawn on the map, the insul
 step "Picture: the 45-degree view to 3 Mb, with insulation and directionality tracks" \
   "$cm" plot map "$dm6" -r chr2L --triangle --depth 3Mb --boundaries "$work/boundaries.bed" \
   --track "$work/insulation.tsv:log2_insulation_score_500000" \
-  --track "$work/di.tsv:directionality_index_500000" --width 8 -o "$figs/dm6_triangle.png"
+  --track "$work/di.tsv:directionality_index_500000" --width 8 --height 5 -o "$figs/dm6_triangle.png"
 step "TADs: TopDom" "$cm" tads "$dm6" --method topdom -o "$work/topdom.tsv" --boundaries "$work/topdom.bed"
 step "A synthetic map with known domains (power-law decay, Poisson noise, no coverage bias)" \
   "$cm" simulate blocks -o "$work/blocks.cool" --truth-boundaries "$work/truth.bed" --seed 1
@@ -91,6 +93,9 @@ step "Its TADs by insulation, scored against the boundary elements" \
 step "Picture: the simulated polymer's map with its boundary elements (truth) and insulation" \
   "$cm" plot map "$work/polymer.cool" -r chr1 --raw --boundaries "$work/polymer.truth.bed" \
   --track "$work/polymer.ins.tsv:log2_insulation_score_100000" -o "$figs/polymer_truth.png"
+step "Picture: P(s) of the two simulated maps, each with its fitted power law" \
+  "$cm" plot expected "$work/blocks.cool" "$work/polymer.cool" --raw --fit --labels "blocks (simulate blocks)","polymer (simulate polymer)" \
+  -o "$figs/simulated_ps.png"
 step "Protein: true contacts of a structure (Cb-Cb < 8 A, Ca for Gly) as CASP RR" \
   "$cm" contacts data/protein/1aapA/1aapA.pdb -o "$work/1aapA.true.rr"
 head -4 "$work/1aapA.true.rr"

@@ -130,7 +130,8 @@ pub struct MapLayout {
 }
 
 impl MapLayout {
-    /// The layout of a figure `width_px` wide (and at most `max_height_px` high, if given).
+    /// The layout of a figure `width_px` wide (and at most `max_height_px` high, if given: a
+    /// square map shrinks to fit it, a triangle grows or shrinks to fill it).
     pub fn new(
         width_px: usize,
         max_height_px: Option<usize>,
@@ -162,6 +163,9 @@ impl MapLayout {
             if map_height > room && room > theme.px(20.0) {
                 map_height = room;
                 map_width = (map_height / aspect).floor().min(map_width);
+            } else if matches!(view, MapView::Triangle { .. }) && room > map_height {
+                // The triangle's height is a choice, not a geometry: --height stretches it.
+                map_height = room;
             }
         }
         let map = Axes {
@@ -500,4 +504,36 @@ fn draw_track(
         &track.label,
         &TextStyle::new(theme.font(), Anchor::Start, Baseline::Top),
     );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn span(end_bp: u64) -> GenomicSpan {
+        GenomicSpan {
+            chrom: "c".into(),
+            start_bp: 0,
+            end_bp,
+        }
+    }
+
+    #[test]
+    fn a_given_height_stretches_a_triangle_and_bounds_a_square() {
+        let view = MapView::Triangle {
+            depth_bp: 3_000_000,
+        };
+        let (rows, cols) = (span(23_000_000), span(23_000_000));
+        let natural = MapLayout::new(750, None, 100.0, view, &rows, &cols, 1);
+        let tall = MapLayout::new(750, Some(400), 100.0, view, &rows, &cols, 1);
+        assert_eq!(tall.height_px, 400);
+        assert!(tall.map.height > natural.map.height + 100.0);
+        assert_eq!(tall.map.width, natural.map.width);
+        let track = &tall.tracks[0];
+        // Everything fits: the track's bottom and the axis labels under it.
+        assert!(track.y + track.height < 400.0 - 40.0);
+        let square = MapLayout::new(750, Some(400), 100.0, MapView::Square, &rows, &cols, 0);
+        assert_eq!(square.map.width, square.map.height);
+        assert!(square.map.y + square.map.height <= 400.0);
+    }
 }
