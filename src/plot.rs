@@ -13,6 +13,7 @@ pub mod axes;
 pub mod colormap;
 pub mod heatmap;
 pub mod map;
+pub mod protein;
 pub mod render;
 pub mod svg;
 

@@ -25,6 +25,8 @@ mod info;
 mod normalize;
 #[path = "cli/plot.rs"]
 mod plot;
+#[path = "cli/plot_contacts.rs"]
+mod plot_contacts;
 #[path = "cli/roundtrip.rs"]
 mod roundtrip;
 #[path = "cli/safety.rs"]

@@ -1,7 +1,9 @@
 //! `contactmap plot`: figures as PNG or SVG. `plot map` draws a contact-map heatmap (square or
-//! 45-degree, with overlays and tracks); the options every figure shares (output, format, size,
-//! dpi, title) live here.
+//! 45-degree, with overlays and tracks); `plot contacts` a protein contact map with the
+//! predictions coloured true / false positive and the precision curve; the options every
+//! figure shares (output, format, size, dpi, title) live here.
 
+mod contacts;
 mod map;
 
 use std::path::PathBuf;
@@ -27,12 +29,17 @@ pub enum PlotCommand {
     /// log colour scale, square or 45-degree (--triangle), with domains, boundaries, loops and
     /// tracks.
     Map(Box<map::MapArgs>),
+    /// Protein contact map: the true contacts of a structure in grey, the top-L predicted
+    /// pairs coloured true / false positive (ConKit's `plot cmap`), a second prediction in the
+    /// lower triangle, and the precision-vs-list-size curve.
+    Contacts(Box<contacts::ContactsArgs>),
 }
 
 /// Run `contactmap plot`.
 pub fn run(args: &PlotArgs) -> Result<()> {
     match &args.command {
         PlotCommand::Map(args) => map::run(args),
+        PlotCommand::Contacts(args) => contacts::run(args),
     }
 }
 

@@ -336,7 +336,7 @@ fn domains_are_outlined_on_their_bins() {
 }
 
 /// Run a plot that must fail: exit 2, one error line, and no output file.
-fn plot_fails(args: &[&str], dir: &std::path::Path) -> String {
+pub fn plot_fails(args: &[&str], dir: &std::path::Path) -> String {
     let out = dir.join("figure.png");
     let mut all = args.to_vec();
     let out_text = out.to_string_lossy().into_owned();
