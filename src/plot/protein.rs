@@ -419,22 +419,97 @@ fn draw_curve(svg: &mut Svg, theme: &Theme, figure: &ContactFigure, layout: &Con
         })
         .collect();
     svg.end_group();
-    axes::legend(
-        svg,
-        theme,
-        curve.x + curve.width - theme.px(4.0),
-        curve.y + theme.px(4.0),
-        &entries,
-    );
+    let lines: Vec<Vec<(f64, f64)>> = figure
+        .predictions
+        .iter()
+        .map(|layer| {
+            layer
+                .curve_points()
+                .into_iter()
+                .map(|(fraction, precision)| layout.curve_point(fraction, precision))
+                .collect()
+        })
+        .collect();
+    let (right, top) = legend_corner(theme, &curve, &entries, &lines);
+    axes::legend(svg, theme, right, top, &entries);
 }
 
-/// One legend row: swatches and texts left to right from `x`, centred on `y`.
-fn legend_row(svg: &mut Svg, theme: &Theme, x: f64, y: f64, items: &[(Option<Swatch>, String)]) {
+/// Where the curve legend goes: `(right, top)` of the corner of the panel (top right, bottom
+/// left, bottom right, top left, in this order of preference) whose legend box covers the
+/// least of the polylines `lines` (each segment sampled every 2 pixels, so that a steep
+/// segment crossing the box counts). The box's size is the one [`axes::legend`] draws.
+pub fn legend_corner(
+    theme: &Theme,
+    curve: &Axes,
+    entries: &[LegendEntry],
+    lines: &[Vec<(f64, f64)>],
+) -> (f64, f64) {
+    let mut points = Vec::new();
+    for line in lines {
+        points.extend(line.first().copied());
+        for pair in line.windows(2) {
+            let ((x0, y0), (x1, y1)) = (pair[0], pair[1]);
+            let n = ((x1 - x0).hypot(y1 - y0) / 2.0).ceil().clamp(1.0, 1000.0) as u32;
+            for step in 1..=n {
+                let t = f64::from(step) / f64::from(n);
+                points.push((x0 + t * (x1 - x0), y0 + t * (y1 - y0)));
+            }
+        }
+    }
+    let font = theme.font();
+    let (pad, row, line) = (theme.px(4.0), font * 1.45, theme.px(18.0));
+    let widest = entries
+        .iter()
+        .map(|e| text_width(&e.label, font))
+        .fold(0.0, f64::max);
+    let (width, height) = (
+        pad * 3.0 + line + widest,
+        pad * 2.0 + row * entries.len() as f64,
+    );
+    let inset = theme.px(4.0);
+    let (left_edge, right_edge) = (curve.x + inset + width, curve.x + curve.width - inset);
+    let (top_edge, bottom_edge) = (curve.y + inset, curve.y + curve.height - inset - height);
+    let corners = [
+        (right_edge, top_edge),
+        (left_edge, bottom_edge),
+        (right_edge, bottom_edge),
+        (left_edge, top_edge),
+    ];
+    let covered = |&(right, top): &(f64, f64)| {
+        points
+            .iter()
+            .filter(|&&(x, y)| x >= right - width && x <= right && y >= top && y <= top + height)
+            .count()
+    };
+    let mut best = corners[0];
+    let mut fewest = covered(&best);
+    for corner in &corners[1..] {
+        let n = covered(corner);
+        if n < fewest {
+            best = *corner;
+            fewest = n;
+        }
+    }
+    best
+}
+
+/// One legend item: an optional swatch and its text.
+type LegendItem = (Option<Swatch>, String);
+
+/// One legend row: swatches and texts left to right from `x`, centred on `y`; item `n` takes at
+/// least `columns[n]` pixels of text width, so that rows with the same items line up.
+fn legend_row(
+    svg: &mut Svg,
+    theme: &Theme,
+    (x, y): (f64, f64),
+    items: &[LegendItem],
+    columns: &[f64],
+) {
     let font = theme.font();
     let style = TextStyle::new(font, Anchor::Start, Baseline::Middle);
     let size = font * 0.9;
     let mut cursor = x;
-    for (swatch, text) in items {
+    for (index, (swatch, text)) in items.iter().enumerate() {
         if let Some(swatch) = swatch {
             let (cx, r) = (cursor + size / 2.0, size / 2.0);
             match swatch {
@@ -449,7 +524,8 @@ fn legend_row(svg: &mut Svg, theme: &Theme, x: f64, y: f64, items: &[(Option<Swa
             cursor += size + theme.px(3.0);
         }
         svg.text(cursor, y, text, &style);
-        cursor += text_width(text, font) + theme.px(10.0);
+        let width = text_width(text, font).max(columns.get(index).copied().unwrap_or(0.0));
+        cursor += width + theme.px(10.0);
     }
 }
 
@@ -461,54 +537,73 @@ enum Swatch {
     Ring(Rgb),
 }
 
+/// The legend items of a prediction: where it is, its list, TP, FP, (unobserved when any
+/// prediction has some), precision.
+fn prediction_items(index: usize, layer: &PredictionLayer, unobserved: bool) -> Vec<LegendItem> {
+    let side = if index == 0 { "upper" } else { "lower" };
+    let mut items = vec![
+        (
+            None,
+            format!(
+                "{side}: {}, top {} (k = {}):",
+                layer.name, layer.list_label, layer.k
+            ),
+        ),
+        (
+            Some(Swatch::Disc(TRUE_POSITIVE)),
+            format!("TP {}", layer.count(Mark::TruePositive)),
+        ),
+        (
+            Some(Swatch::Disc(FALSE_POSITIVE)),
+            format!("FP {}", layer.count(Mark::FalsePositive)),
+        ),
+    ];
+    if unobserved {
+        items.push((
+            Some(Swatch::Ring(UNOBSERVED)),
+            format!("unobserved {}", layer.count(Mark::Unobserved)),
+        ));
+    }
+    items.push((None, format!("precision {:.3}", layer.precision())));
+    items
+}
+
 fn draw_legend(svg: &mut Svg, theme: &Theme, figure: &ContactFigure, layout: &ContactLayout) {
     let x = layout.map.x;
     let row = layout.legend_row;
     let mut y = layout.legend_top + row / 2.0;
     svg.begin_class("legend");
+    let true_contacts = format!(
+        "true contacts (|i - j| >= {}): {}",
+        figure.min_separation,
+        figure.true_contacts.len()
+    );
     legend_row(
         svg,
         theme,
-        x,
-        y,
-        &[(
-            Some(Swatch::Square(STRUCTURAL)),
-            format!(
-                "true contacts (|i - j| >= {}): {}",
-                figure.min_separation,
-                figure.true_contacts.len()
-            ),
-        )],
+        (x, y),
+        &[(Some(Swatch::Square(STRUCTURAL)), true_contacts)],
+        &[],
     );
-    for (index, layer) in figure.predictions.iter().enumerate().take(2) {
+    let layers = &figure.predictions[..figure.predictions.len().min(2)];
+    let unobserved = layers.iter().any(|l| l.count(Mark::Unobserved) > 0);
+    let rows: Vec<Vec<LegendItem>> = layers
+        .iter()
+        .enumerate()
+        .map(|(index, layer)| prediction_items(index, layer, unobserved))
+        .collect();
+    let n_columns = rows.iter().map(Vec::len).max().unwrap_or(0);
+    let columns: Vec<f64> = (0..n_columns)
+        .map(|c| {
+            rows.iter()
+                .filter_map(|items| items.get(c))
+                .map(|item| text_width(&item.1, theme.font()))
+                .fold(0.0, f64::max)
+        })
+        .collect();
+    for items in &rows {
         y += row;
-        let side = if index == 0 { "upper" } else { "lower" };
-        let mut items = vec![
-            (
-                None,
-                format!(
-                    "{side}: {}, top {} (k = {}):",
-                    layer.name, layer.list_label, layer.k
-                ),
-            ),
-            (
-                Some(Swatch::Disc(TRUE_POSITIVE)),
-                format!("TP {}", layer.count(Mark::TruePositive)),
-            ),
-            (
-                Some(Swatch::Disc(FALSE_POSITIVE)),
-                format!("FP {}", layer.count(Mark::FalsePositive)),
-            ),
-        ];
-        let unobserved = layer.count(Mark::Unobserved);
-        if unobserved > 0 {
-            items.push((
-                Some(Swatch::Ring(UNOBSERVED)),
-                format!("unobserved {unobserved}"),
-            ));
-        }
-        items.push((None, format!("precision {:.3}", layer.precision())));
-        legend_row(svg, theme, x, y, &items);
+        legend_row(svg, theme, (x, y), items, &columns);
     }
     svg.end_group();
 }
@@ -663,6 +758,39 @@ mod tests {
             .filter(|n| n.has_tag_name("rect"))
             .count();
         assert_eq!(grey, 4);
+    }
+
+    #[test]
+    fn the_curve_legend_takes_an_empty_corner() {
+        let theme = Theme::new(100.0);
+        let curve = Axes {
+            x: 100.0,
+            y: 50.0,
+            width: 300.0,
+            height: 300.0,
+            x_scale: AxisScale::Linear { min: 0.0, max: 2.0 },
+            y_scale: AxisScale::Linear { min: 0.0, max: 1.0 },
+            y_down: false,
+        };
+        let entries = [LegendEntry {
+            stroke: Stroke::solid(Rgb::BLACK, 1.0),
+            filled: false,
+            label: "p.mat".into(),
+        }];
+        let inset = theme.px(4.0);
+        // No points: top right.
+        assert_eq!(
+            legend_corner(&theme, &curve, &entries, &[]),
+            (400.0 - inset, 50.0 + inset)
+        );
+        // A curve along the top: bottom left.
+        let top = vec![(100.0, 60.0), (400.0, 60.0)];
+        let (right, top_y) = legend_corner(&theme, &curve, &entries, &[top]);
+        assert!(right < 250.0 && top_y > 250.0, "{right} {top_y}");
+        // A steep segment through the top right box, no vertex inside it: bottom left too.
+        let steep = vec![(360.0, 50.0), (370.0, 350.0)];
+        let (right, top_y) = legend_corner(&theme, &curve, &entries, &[steep]);
+        assert!(right < 250.0 && top_y > 250.0, "{right} {top_y}");
     }
 
     #[test]
