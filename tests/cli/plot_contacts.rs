@@ -232,6 +232,9 @@ fn markers_count_the_true_and_false_positives_of_score_contacts() {
         ("6", "L/5", None),
         ("12", "0.5L", None),
         ("6", "30", None),
+        // NC: k = the 115 true contacts; 5000: more than the 1378 available pairs, all drawn.
+        ("6", "NC", None),
+        ("6", "5000", Some((115, 1378))),
     ] {
         let args = toxd_args(&["--min-sep", min_sep, "--top", top]);
         let svg = plot_svg(&strs(&args));
@@ -486,11 +489,11 @@ fn bad_inputs_fail_with_one_line_and_no_file() {
         ),
         (
             vec!["--structure", &pdb, "--chain", "Z", "--fasta", &fasta, &mat],
-            "Z",
+            "no protein chain 'Z'",
         ),
         (
             vec!["--structure", &pdb, "--fasta", &fasta, &outside],
-            "outside.rr",
+            "outside.rr: predicted pair 5-80 refers to a residue beyond the sequence",
         ),
         (
             vec!["--structure", &pdb, "--fasta", &fasta, &mat, "--top", "L/0"],
