@@ -40,7 +40,8 @@ per prediction: the numbers of `score contacts --curve`. A dashed line marks the
 Residue numbers are the positions in the target sequence (--fasta, or the sequence an RR file
 carries): the chain is placed on it as `score contacts` does (--register; what was done is
 printed on standard error). L is the sequence length, else the size of a matrix, else the
-number of observed residues (--length overrides).
+number of observed residues (--length overrides). Two predictions on different sequences are
+each scored on their own placement; the grey contacts are those of the first.
 
 Examples:
   contactmap plot contacts --structure toxd.pdb --fasta toxd.fasta toxd.mat -o toxd.png
