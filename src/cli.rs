@@ -13,6 +13,7 @@ pub mod normalize;
 pub mod output;
 pub mod plot;
 pub mod progress;
+pub mod protein;
 pub mod score;
 pub mod simulate;
 pub mod tads;

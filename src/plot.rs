@@ -14,6 +14,7 @@ pub mod colormap;
 pub mod curves;
 pub mod heatmap;
 pub mod map;
+pub mod protein;
 pub mod render;
 pub mod svg;
 

@@ -25,6 +25,8 @@ mod info;
 mod normalize;
 #[path = "cli/plot.rs"]
 mod plot;
+#[path = "cli/plot_contacts.rs"]
+mod plot_contacts;
 #[path = "cli/plot_expected.rs"]
 mod plot_expected;
 #[path = "cli/roundtrip.rs"]

@@ -1,131 +1,17 @@
 //! `contactmap contacts`: the true residue contacts of a protein structure as CASP RR rows, or
-//! the full residue distance matrix ([`crate::score::contacts::TrueContacts`]). Also holds the
-//! contact-definition options shared with `contactmap score contacts`.
+//! the full residue distance matrix ([`crate::score::contacts::TrueContacts`]).
 
 use std::io::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
-use clap::{Args, ValueEnum};
+use clap::Args;
 
 use crate::cli::output::{write_real, Output};
+use crate::cli::protein::{measure, place_chain, read_chain, DefinitionArgs, RegisterArg};
 use crate::error::Result;
 use crate::io::predictions::read_fasta;
-use crate::io::structure::{read_structure, Chain};
-use crate::score::contacts::{
-    ContactAtom, ContactDefinition, DistanceTest, SeparationRange, TrueContacts,
-};
-use crate::score::register::{register, Register, RegisterMode};
-
-/// The atoms measured, for `--atom`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum AtomArg {
-    /// Cb-Cb, Ca for glycine (CASP)
-    Cb,
-    /// Ca-Ca
-    Ca,
-    /// closest pair of heavy (non-hydrogen) atoms
-    Heavy,
-}
-
-impl From<AtomArg> for ContactAtom {
-    fn from(arg: AtomArg) -> Self {
-        match arg {
-            AtomArg::Cb => ContactAtom::Cb,
-            AtomArg::Ca => ContactAtom::Ca,
-            AtomArg::Heavy => ContactAtom::Heavy,
-        }
-    }
-}
-
-/// When two residues of the structure are in contact.
-#[derive(Debug, Args, Clone)]
-#[command(next_help_heading = "Contact definition")]
-pub struct DefinitionArgs {
-    /// Atoms whose distance defines a contact.
-    #[arg(long, value_enum, default_value = "cb")]
-    pub atom: AtomArg,
-    /// Distance cutoff in Angstrom.
-    #[arg(long, default_value_t = 8.0, value_name = "ANGSTROM")]
-    pub cutoff: f64,
-    /// A contact is `d <= cutoff` (ConKit) instead of `d < cutoff` (CASP, ConEVA, DISTEVAL).
-    #[arg(long)]
-    pub le: bool,
-}
-
-impl DefinitionArgs {
-    /// The library's contact definition.
-    pub fn definition(&self) -> ContactDefinition {
-        ContactDefinition {
-            atom: self.atom.into(),
-            cutoff_angstrom: self.cutoff,
-            test: if self.le {
-                DistanceTest::LessOrEqual
-            } else {
-                DistanceTest::Less
-            },
-        }
-    }
-
-    /// A short description, e.g. `cb d < 8 A`.
-    pub fn describe(&self) -> String {
-        let atom = match self.atom {
-            AtomArg::Cb => "Cb (Ca for Gly)",
-            AtomArg::Ca => "Ca",
-            AtomArg::Heavy => "closest heavy atoms",
-        };
-        let test = if self.le { "<=" } else { "<" };
-        format!("{atom}, d {test} {} A", self.cutoff)
-    }
-}
-
-/// How `--register` places the structure's residues on the sequence.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum RegisterArg {
-    /// the residue numbers when they agree with the sequence (also with an offset), else a
-    /// sequence alignment
-    Auto,
-    /// always a sequence alignment
-    Align,
-    /// the residue numbers as they are, unchecked
-    Numbering,
-}
-
-/// Read `structure` and select the chain.
-pub fn read_chain(structure: &Path, chain: Option<&str>) -> Result<Chain> {
-    let parsed = read_structure(structure)?;
-    Ok(parsed
-        .chain(chain)
-        .map_err(|err| err.in_file(structure))?
-        .clone())
-}
-
-/// The chain with its residues numbered by their position in `sequence` (see
-/// [`crate::score::register`]), and the register; the chain unchanged without a sequence or
-/// with `--register numbering`.
-pub fn place_chain(
-    structure: &Path,
-    chain: &Chain,
-    sequence: Option<&str>,
-    mode: RegisterArg,
-) -> Result<(Chain, Option<Register>)> {
-    let mode = match (sequence, mode) {
-        (None, _) | (_, RegisterArg::Numbering) => return Ok((chain.clone(), None)),
-        (Some(_), RegisterArg::Auto) => RegisterMode::Auto,
-        (Some(_), RegisterArg::Align) => RegisterMode::Alignment,
-    };
-    let register = register(chain, sequence.unwrap_or_default(), mode)
-        .map_err(|err| err.in_file(structure))?;
-    Ok((register.renumber(chain), Some(register)))
-}
-
-/// The true contacts of a chain read from `structure`.
-pub fn measure(
-    structure: &Path,
-    chain: &Chain,
-    definition: &DefinitionArgs,
-) -> Result<TrueContacts> {
-    TrueContacts::from_chain(chain, definition.definition()).map_err(|err| err.in_file(structure))
-}
+use crate::io::structure::Chain;
+use crate::score::contacts::SeparationRange;
 
 /// Arguments of `contactmap contacts`.
 #[derive(Debug, Args)]

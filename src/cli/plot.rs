@@ -1,7 +1,10 @@
 //! `contactmap plot`: figures as PNG or SVG. `plot map` draws a contact-map heatmap (square or
-//! 45-degree, with overlays and tracks), `plot expected` P(s) curves; the options every figure shares (output, format, size,
+//! 45-degree, with overlays and tracks); `plot expected` P(s) curves with their slopes and power
+//! laws; `plot contacts` a protein contact map with the predictions coloured true / false
+//! positive and the precision curve; the options every figure shares (output, format, size,
 //! dpi, title) live here.
 
+mod contacts;
 mod expected;
 mod map;
 
@@ -31,6 +34,10 @@ pub enum PlotCommand {
     /// P(s) on log-log axes with its local slope: several samples overlaid, fitted power laws
     /// with their exponents.
     Expected(Box<expected::ExpectedPlotArgs>),
+    /// Protein contact map: the true contacts of a structure in grey, the top-L predicted
+    /// pairs coloured true / false positive (ConKit's `plot cmap`), a second prediction in the
+    /// lower triangle, and the precision-vs-list-size curve.
+    Contacts(Box<contacts::ContactsArgs>),
 }
 
 /// Run `contactmap plot`.
@@ -38,6 +45,7 @@ pub fn run(args: &PlotArgs) -> Result<()> {
     match &args.command {
         PlotCommand::Map(args) => map::run(args),
         PlotCommand::Expected(args) => expected::run(args),
+        PlotCommand::Contacts(args) => contacts::run(args),
     }
 }
 

@@ -7,20 +7,21 @@ mod overlap;
 
 use std::path::{Path, PathBuf};
 
-use clap::{Args, Subcommand, ValueEnum};
+use clap::{Args, Subcommand};
 
-use crate::cli::contacts::{measure, place_chain, read_chain, DefinitionArgs, RegisterArg};
 use crate::cli::output::Output;
+use crate::cli::protein::{
+    load_prediction, parse_length, parse_list_size, parse_range, place, read_chain, DefinitionArgs,
+    LabelledSize, LengthChoice, NamedRange, Placed, PredictionFormatArg, RegisterArg,
+    RegisterSummary, RoundingArg,
+};
 use crate::error::{Error, Result};
 use crate::io::bed::{read_bed, BedRecord};
-use crate::io::predictions::{read_fasta, read_prediction, PredictionFormat};
-use crate::io::structure::Chain;
+use crate::io::predictions::read_fasta;
 use crate::score::boundaries::{domain_overlap, score_boundaries};
 use crate::score::contacts::{
-    score_contacts, ContactScore, ListSize, Prediction, Rounding, ScoreParams, SeparationRange,
-    TargetLength, TrueContacts,
+    score_contacts, ContactScore, ListSize, Prediction, ScoreParams, SeparationRange,
 };
-use crate::score::register::RegisterMethod;
 
 /// Arguments of `contactmap score`.
 #[derive(Debug, Args)]
@@ -173,61 +174,6 @@ fn run_boundaries(args: &BoundariesArgs) -> Result<()> {
     let mut out = Output::open(args.out.as_deref())?;
     out.write_all(format!("{header}\n{row}\n").as_bytes())?;
     out.finish()
-}
-
-/// Prediction formats, for `score contacts --format`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum PredictionFormatArg {
-    /// CASP RR (optional header and sequence lines; `i j score`, `i j d1 d2 score` or mode 2
-    /// `i j p b1..b10` rows)
-    Rr,
-    /// square matrix (CCMpred, PSICOV, ccmpred-py; `#` lines skipped)
-    Matrix,
-    /// `i j score` rows (whitespace or commas; plmDCA, PSICOV-style lists)
-    Table,
-    /// trRosetta .npz distogram (score P(d < 8 A))
-    Npz,
-    /// .npy predicted distance map (score: minus the distance)
-    Npy,
-    /// EVfold / EVcouplings `i A j B x score` rows
-    Evfold,
-    /// GREMLIN table with its `i j i_id j_id r_sco s_sco prob` header (score r_sco)
-    Gremlin,
-}
-
-impl From<PredictionFormatArg> for PredictionFormat {
-    fn from(arg: PredictionFormatArg) -> Self {
-        match arg {
-            PredictionFormatArg::Rr => PredictionFormat::Rr,
-            PredictionFormatArg::Matrix => PredictionFormat::Matrix,
-            PredictionFormatArg::Table => PredictionFormat::Table,
-            PredictionFormatArg::Npz => PredictionFormat::Npz,
-            PredictionFormatArg::Npy => PredictionFormat::Npy,
-            PredictionFormatArg::Evfold => PredictionFormat::Evfold,
-            PredictionFormatArg::Gremlin => PredictionFormat::Gremlin,
-        }
-    }
-}
-
-/// Rounding of `L * f`, for `--rounding`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum RoundingArg {
-    /// floor(L f) (CASP, ConKit)
-    Floor,
-    /// floor(L f + 0.5) (ConEVA)
-    HalfUp,
-    /// half to even, Python's round (DISTEVAL)
-    Banker,
-}
-
-impl From<RoundingArg> for Rounding {
-    fn from(arg: RoundingArg) -> Self {
-        match arg {
-            RoundingArg::Floor => Rounding::Floor,
-            RoundingArg::HalfUp => Rounding::HalfUp,
-            RoundingArg::Banker => Rounding::Banker,
-        }
-    }
 }
 
 /// Arguments of `contactmap score contacts`.
@@ -383,105 +329,6 @@ impl ListArgs {
     }
 }
 
-/// A list size with its label as written (`L/5`, `NC`, ...).
-type LabelledSize = (String, ListSize);
-
-/// A named separation range.
-#[derive(Clone, Debug, PartialEq)]
-struct NamedRange {
-    name: String,
-    range: SeparationRange,
-}
-
-fn parse_range(token: &str) -> Result<NamedRange> {
-    let token = token.trim();
-    let bad = || {
-        Error::Invalid(format!(
-            "bad separation range '{token}' (expected short, medium, long, all, MIN-MAX or MIN+)"
-        ))
-    };
-    let number = |text: &str| text.trim().parse::<u32>().map_err(|_| bad());
-    let range = match token.to_ascii_lowercase().as_str() {
-        "short" => SeparationRange::SHORT,
-        "medium" => SeparationRange::MEDIUM,
-        "long" => SeparationRange::LONG,
-        "all" => SeparationRange::ALL,
-        other => {
-            if let Some(min) = other.strip_suffix('+') {
-                SeparationRange::new(number(min)?, None)
-            } else if let Some((min, max)) = other.split_once('-') {
-                let (min, max) = (number(min)?, number(max)?);
-                if max < min {
-                    return Err(bad());
-                }
-                SeparationRange::new(min, Some(max))
-            } else {
-                return Err(bad());
-            }
-        }
-    };
-    Ok(NamedRange {
-        name: token.to_ascii_lowercase(),
-        range,
-    })
-}
-
-fn parse_list_size(token: &str) -> Result<(String, ListSize)> {
-    let token = token.trim();
-    let bad = || {
-        Error::Invalid(format!(
-            "bad list size '{token}' (expected L/10, L, 0.3L, a count N, or NC)"
-        ))
-    };
-    let upper = token.to_ascii_uppercase();
-    let size = if upper == "NC" {
-        ListSize::TrueContacts
-    } else if upper == "L" {
-        ListSize::Fraction(1.0)
-    } else if let Some(divisor) = upper.strip_prefix("L/") {
-        let divisor: f64 = divisor.parse().map_err(|_| bad())?;
-        if !(divisor.is_finite() && divisor > 0.0) {
-            return Err(bad());
-        }
-        ListSize::Fraction(1.0 / divisor)
-    } else if let Some(fraction) = upper.strip_suffix('L') {
-        let fraction: f64 = fraction.trim_end_matches('*').parse().map_err(|_| bad())?;
-        if !(fraction.is_finite() && fraction >= 0.0) {
-            return Err(bad());
-        }
-        ListSize::Fraction(fraction)
-    } else {
-        ListSize::Count(token.parse().map_err(|_| bad())?)
-    };
-    Ok((token.to_string(), size))
-}
-
-/// What L is, as asked on the command line.
-#[derive(Clone, Copy, Debug, PartialEq)]
-enum LengthChoice {
-    /// Sequence when there is one, else observed.
-    Auto,
-    Fixed(TargetLength),
-}
-
-fn parse_length(text: Option<&str>) -> Result<LengthChoice> {
-    Ok(match text.map(str::trim) {
-        None => LengthChoice::Auto,
-        Some(text) => match text.to_ascii_lowercase().as_str() {
-            "sequence" | "seq" => LengthChoice::Fixed(TargetLength::Sequence),
-            "observed" => LengthChoice::Fixed(TargetLength::Observed),
-            other => match other.parse::<usize>() {
-                Ok(n) if n > 0 => LengthChoice::Fixed(TargetLength::Residues(n)),
-                _ => {
-                    return Err(Error::Invalid(format!(
-                        "bad --length '{text}' (expected sequence, observed or a positive number)"
-                    )))
-                }
-            },
-        },
-    })
-}
-
 /// The scores of one prediction.
 struct PredictionReport {
     path: String,
@@ -493,73 +340,12 @@ struct PredictionReport {
     scores: Vec<(NamedRange, Vec<String>, ContactScore)>,
 }
 
-/// What the register step did, for the outputs.
-#[derive(Clone, Debug)]
-struct RegisterSummary {
-    method: &'static str,
-    offset: Option<i32>,
-    placed: usize,
-    identical: usize,
-    residues: usize,
-    text: String,
-}
-
 /// What to compute for each prediction.
 struct Plan {
     ranges: Vec<NamedRange>,
     sizes: Vec<(String, ListSize)>,
     length: LengthChoice,
     curve_size: Option<ListSize>,
-}
-
-/// The chain placed on one sequence, and its true contacts.
-struct Placed {
-    truth: TrueContacts,
-    register: Option<RegisterSummary>,
-}
-
-fn place(args: &ContactsScoreArgs, chain: &Chain, sequence: Option<&str>) -> Result<Placed> {
-    let (placed, register) = place_chain(&args.structure, chain, sequence, args.register)?;
-    let truth = measure(&args.structure, &placed, &args.definition).map_err(|err| match err {
-        Error::Invalid(message) if sequence.is_none() => Error::Invalid(format!(
-            "{message} (give the target sequence with --fasta to place the residues on it)"
-        )),
-        other => other,
-    })?;
-    Ok(Placed {
-        truth,
-        register: register.map(|register| RegisterSummary {
-            method: match register.method {
-                RegisterMethod::Numbering { .. } => "numbering",
-                RegisterMethod::Alignment => "alignment",
-            },
-            offset: match register.method {
-                RegisterMethod::Numbering { offset } => Some(offset),
-                RegisterMethod::Alignment => None,
-            },
-            placed: register.pairs.len(),
-            identical: register.identical,
-            residues: register.n_residues,
-            text: register.describe(chain),
-        }),
-    })
-}
-
-fn load_prediction(
-    path: &Path,
-    args: &ContactsScoreArgs,
-    fasta: Option<&str>,
-) -> Result<Prediction> {
-    let mut prediction = read_prediction(path, args.format.map(Into::into))?;
-    if let Some(sequence) = fasta {
-        prediction = prediction
-            .with_sequence(sequence)
-            .map_err(|err| err.in_file(path))?;
-    }
-    if let Some(sequence) = &mut prediction.sequence {
-        sequence.make_ascii_uppercase();
-    }
-    Ok(prediction)
 }
 
 fn score_one(
@@ -575,16 +361,7 @@ fn score_one(
         length,
         curve_size,
     } = plan;
-    let (target_length, length_source) = match *length {
-        LengthChoice::Auto if prediction.sequence.is_some() => (TargetLength::Sequence, "sequence"),
-        LengthChoice::Auto => match prediction.length {
-            Some(n) => (TargetLength::Residues(n), "matrix size"),
-            None => (TargetLength::Observed, "observed"),
-        },
-        LengthChoice::Fixed(TargetLength::Sequence) => (TargetLength::Sequence, "sequence"),
-        LengthChoice::Fixed(TargetLength::Observed) => (TargetLength::Observed, "observed"),
-        LengthChoice::Fixed(fixed) => (fixed, "given"),
-    };
+    let (target_length, length_source) = length.resolve(prediction);
     let labels: Vec<String> = sizes.iter().map(|(label, _)| label.clone()).collect();
     let mut scores = Vec::with_capacity(ranges.len());
     for named in ranges {
@@ -863,15 +640,21 @@ fn run_contacts(args: &ContactsScoreArgs) -> Result<()> {
     let mut placements: Vec<(Option<String>, Placed)> = Vec::new();
     let mut reports = Vec::with_capacity(args.predictions.len());
     for path in &args.predictions {
-        let prediction = load_prediction(path, args, fasta.as_deref())?;
+        let prediction = load_prediction(path, args.format, fasta.as_deref())?;
         let index = match placements
             .iter()
             .position(|(sequence, _)| *sequence == prediction.sequence)
         {
             Some(index) => index,
             None => {
-                let placed = place(args, &chain, prediction.sequence.as_deref())
-                    .map_err(|err| err.in_file(path))?;
+                let placed = place(
+                    &args.structure,
+                    &chain,
+                    prediction.sequence.as_deref(),
+                    args.register,
+                    &args.definition,
+                )
+                .map_err(|err| err.in_file(path))?;
                 // The table shows the register; other outputs get it on standard error.
                 let table_on_stdout = !(args.tsv || args.json || args.out.is_some());
                 if let Some(register) = placed.register.as_ref().filter(|_| !table_on_stdout) {
@@ -945,39 +728,5 @@ mod tests {
         assert_eq!(median_width(&calls), Some(10));
         assert_eq!(median_width(&[]), None);
         assert_eq!(median_width(&[record(5, 5)]), None);
-    }
-
-    #[test]
-    fn range_list_size_and_length_parsing() {
-        assert_eq!(parse_range("long").unwrap().range, SeparationRange::LONG);
-        assert_eq!(
-            parse_range("12-23").unwrap().range,
-            SeparationRange::new(12, Some(23))
-        );
-        assert_eq!(
-            parse_range("5+").unwrap().range,
-            SeparationRange::new(5, None)
-        );
-        for bad in ["", "9-3", "x", "5", "-3"] {
-            assert!(parse_range(bad).is_err(), "{bad}");
-        }
-        assert_eq!(parse_list_size("L/5").unwrap().1, ListSize::Fraction(0.2));
-        assert_eq!(parse_list_size("L").unwrap().1, ListSize::Fraction(1.0));
-        assert_eq!(parse_list_size("1.5L").unwrap().1, ListSize::Fraction(1.5));
-        assert_eq!(parse_list_size("30").unwrap().1, ListSize::Count(30));
-        assert_eq!(parse_list_size("nc").unwrap().1, ListSize::TrueContacts);
-        for bad in ["L/0", "xL", "-1", "L/"] {
-            assert!(parse_list_size(bad).is_err(), "{bad}");
-        }
-        assert_eq!(parse_length(None).unwrap(), LengthChoice::Auto);
-        assert_eq!(
-            parse_length(Some("observed")).unwrap(),
-            LengthChoice::Fixed(TargetLength::Observed)
-        );
-        assert_eq!(
-            parse_length(Some("70")).unwrap(),
-            LengthChoice::Fixed(TargetLength::Residues(70))
-        );
-        assert!(parse_length(Some("0")).is_err());
     }
 }

@@ -414,6 +414,19 @@ impl Svg {
         );
     }
 
+    /// A circle outline (an open marker).
+    pub fn circle_outline(&mut self, x: f64, y: f64, radius: f64, stroke: Stroke) {
+        let _ = write!(
+            self.body,
+            r#"<circle cx="{}" cy="{}" r="{}""#,
+            num(x),
+            num(y),
+            num(radius)
+        );
+        self.paint(None, Some(stroke));
+        self.body.push_str("/>\n");
+    }
+
     /// A text at `(x, y)`. A `^` followed by a number (`10^5`) is written as a superscript.
     pub fn text(&mut self, x: f64, y: f64, text: &str, style: &TextStyle) {
         let anchor = match style.anchor {
@@ -500,6 +513,12 @@ impl Svg {
     /// [`Svg::end_group`].
     pub fn begin_transform(&mut self, transform: &str) {
         let _ = writeln!(self.body, r#"<g transform="{}">"#, escape(transform));
+    }
+
+    /// Start a group with a `class` attribute, naming what it holds for readers of the SVG
+    /// (tests, style sheets); close it with [`Svg::end_group`].
+    pub fn begin_class(&mut self, class: &str) {
+        let _ = writeln!(self.body, r#"<g class="{}">"#, escape(class));
     }
 
     /// Close a group.

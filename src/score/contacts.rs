@@ -513,13 +513,56 @@ pub fn rank_pairs(prediction: &Prediction, range: SeparationRange) -> Vec<(i32, 
     pairs
 }
 
-/// Score `prediction` against `truth` (see the module docs).
-pub fn score_contacts(
+/// A predicted pair in rank order, with what the structure says of it ([`ranked_predictions`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RankedPair {
+    /// First residue (`i < j`), in the prediction's numbering.
+    pub i: i32,
+    /// Second residue.
+    pub j: i32,
+    /// The prediction's score.
+    pub score: f64,
+    /// Distance in the structure in Angstrom; `None` when a residue is not observed.
+    pub distance_angstrom: Option<f64>,
+    /// Whether the pair is a true contact (never for an unobserved pair).
+    pub is_contact: bool,
+}
+
+/// The pairs [`score_contacts`] ranks: steps 1-3 of the module docs, pairs outside `range`
+/// dropped, and pairs with an unobserved residue dropped when `drop_unobserved`; the top `k`
+/// of the result are a top-`k` list.
+pub fn ranked_predictions(
     truth: &TrueContacts,
     prediction: &Prediction,
-    params: &ScoreParams,
-) -> Result<ContactScore> {
-    let length = match params.length {
+    range: SeparationRange,
+    drop_unobserved: bool,
+) -> Vec<RankedPair> {
+    let definition = *truth.definition();
+    // Dropping pairs after a stable sort leaves the same order as dropping them before.
+    rank_pairs(prediction, range)
+        .into_iter()
+        .map(|(i, j, score)| {
+            let distance_angstrom = truth.distance(i, j);
+            RankedPair {
+                i,
+                j,
+                score,
+                distance_angstrom,
+                is_contact: distance_angstrom.is_some_and(|d| definition.is_contact(d)),
+            }
+        })
+        .filter(|pair| pair.distance_angstrom.is_some() || !drop_unobserved)
+        .collect()
+}
+
+/// `L` as `length` says: the prediction's sequence length (an error without one), the observed
+/// residues of `truth`, or a given number.
+pub fn target_length(
+    truth: &TrueContacts,
+    prediction: &Prediction,
+    length: TargetLength,
+) -> Result<usize> {
+    match length {
         TargetLength::Sequence => prediction
             .sequence
             .as_ref()
@@ -530,26 +573,40 @@ pub fn score_contacts(
                      (FASTA) or take L from the observed residues"
                         .into(),
                 )
-            })?,
-        TargetLength::Observed => truth.n_observed(),
-        TargetLength::Residues(n) => n,
-    };
-    // (score, distance: None when a residue is unobserved), still in rank order: dropping
-    // pairs after a stable sort leaves the same order as dropping them before.
-    let ranked: Vec<(f64, Option<f64>)> = rank_pairs(prediction, params.range)
-        .into_iter()
-        .map(|(i, j, score)| (score, truth.distance(i, j)))
-        .filter(|(_, distance)| distance.is_some() || !params.drop_unobserved)
-        .collect();
+            }),
+        TargetLength::Observed => Ok(truth.n_observed()),
+        TargetLength::Residues(n) => Ok(n),
+    }
+}
+
+/// `k` of a list size: `L * fraction` rounded, a count, or `n_true` (step 4 of the module
+/// docs).
+pub fn list_length(size: ListSize, length: usize, rounding: Rounding, n_true: usize) -> usize {
+    match size {
+        ListSize::Fraction(fraction) => rounding.apply(length as f64 * fraction),
+        ListSize::Count(count) => count,
+        ListSize::TrueContacts => n_true,
+    }
+}
+
+/// Score `prediction` against `truth` (see the module docs).
+pub fn score_contacts(
+    truth: &TrueContacts,
+    prediction: &Prediction,
+    params: &ScoreParams,
+) -> Result<ContactScore> {
+    let length = target_length(truth, prediction, params.length)?;
+    // (score, distance: None when a residue is unobserved), still in rank order.
+    let ranked: Vec<(f64, Option<f64>)> =
+        ranked_predictions(truth, prediction, params.range, params.drop_unobserved)
+            .into_iter()
+            .map(|pair| (pair.score, pair.distance_angstrom))
+            .collect();
     let definition = *truth.definition();
     let is_true = |distance: &Option<f64>| distance.is_some_and(|d| definition.is_contact(d));
     let n_true = truth.n_contacts(params.range);
     let (all_bins, n_pairs) = truth.distance_histogram(params.range);
-    let list_size = |size: ListSize| match size {
-        ListSize::Fraction(fraction) => params.rounding.apply(length as f64 * fraction),
-        ListSize::Count(count) => count,
-        ListSize::TrueContacts => n_true,
-    };
+    let list_size = |size: ListSize| list_length(size, length, params.rounding, n_true);
     let lists = params
         .list_sizes
         .iter()

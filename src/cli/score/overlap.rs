@@ -5,8 +5,9 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use super::{aligned, max_sep_text, real, ListArgs, NamedRange, PredictionFormatArg};
+use super::{aligned, max_sep_text, real, ListArgs};
 use crate::cli::output::Output;
+use crate::cli::protein::{NamedRange, PredictionFormatArg};
 use crate::error::{Error, Result};
 use crate::io::predictions::{read_fasta, read_prediction};
 use crate::score::contacts::{ListSize, Rounding};

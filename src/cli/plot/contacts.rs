@@ -1,0 +1,218 @@
+//! `contactmap plot contacts`: a protein contact map with the true contacts of a structure and
+//! the top-ranked predicted pairs coloured true / false positive, and the precision curve
+//! ([`crate::plot::protein`]).
+
+use std::path::PathBuf;
+
+use clap::Args;
+
+use super::{write_figure, FigureArgs};
+use crate::cli::protein::{
+    load_prediction, parse_length, parse_list_size, place, read_chain, DefinitionArgs,
+    PredictionFormatArg, RegisterArg, RoundingArg,
+};
+use crate::error::{Error, Result};
+use crate::io::predictions::read_fasta;
+use crate::plot::protein::{draw_contacts, ContactFigure, ContactLayout, Mark, PredictionLayer};
+use crate::score::contacts::{
+    list_length, ranked_predictions, score_contacts, ScoreParams, SeparationRange,
+};
+
+/// Arguments of `contactmap plot contacts`.
+#[derive(Debug, Args)]
+#[command(after_long_help = "\
+The figure of ConKit's `conkit-plot cmap` with a reference structure, and the precision curve:
+
+Left: the residue x residue map (row i down, column j right). Light grey squares: the true
+contacts of the structure with |i - j| >= --min-sep, in both triangles (Cb-Cb < 8 A by default;
+--atom, --cutoff, --le). Circles: the top-k pairs of the prediction (k from --top, default L) in
+the upper triangle, dark navy for a true positive, pink-red for a false positive (ConKit's
+colours); a second prediction is drawn mirrored in the lower triangle. The pairs are those
+`score contacts` ranks, with the same options: i < j, duplicates keep their highest score, pairs
+closer than --min-sep dropped, and pairs with a residue not observed in the structure dropped
+before ranking (--keep-unobserved lists them as open grey circles; they count as false). The
+legend under the panels gives the counts and precision = TP / listed pairs, the numbers of
+`score contacts --min-sep N --top SIZE`.
+
+Right: precision against the list size k / L, for k = 1 to --curve-max (default 2L), one line
+per prediction: the numbers of `score contacts --curve`. A dashed line marks the map's k.
+
+Residue numbers are the positions in the target sequence (--fasta, or the sequence an RR file
+carries): the chain is placed on it as `score contacts` does (--register; what was done is
+printed on standard error). L is the sequence length, else the size of a matrix, else the
+number of observed residues (--length overrides). Two predictions on different sequences are
+each scored on their own placement; the grey contacts are those of the first.
+
+Examples:
+  contactmap plot contacts --structure toxd.pdb --fasta toxd.fasta toxd.mat -o toxd.png
+  contactmap plot contacts --structure 1aap.pdb 1aapA.rr --top L/2 -o 1aap.svg
+  contactmap plot contacts --structure 1guu.pdb --fasta 1guu.fasta 1guu.npz ccmpred.mat \\
+      --top L --min-sep 24 --title '1guu, long range' -o compare.png")]
+pub struct ContactsArgs {
+    /// The structure with the true contacts (.pdb / .ent or .cif / .mmcif, optionally .gz).
+    #[arg(long, value_name = "PDB|CIF")]
+    pub structure: PathBuf,
+    /// Chain of the structure (author chain id; default: the first protein chain).
+    #[arg(long)]
+    pub chain: Option<String>,
+    /// The prediction (upper triangle), and optionally a second one (lower triangle).
+    #[arg(value_name = "PRED", required = true, num_args = 1..=2)]
+    pub predictions: Vec<PathBuf>,
+    /// Target sequence (FASTA, first record): gives L and checks the residue numbers.
+    #[arg(long, value_name = "FILE")]
+    pub fasta: Option<PathBuf>,
+    /// Prediction format (default: detected from the content of each file).
+    #[arg(long, value_enum)]
+    pub format: Option<PredictionFormatArg>,
+    /// How the structure's residues are placed on the prediction's sequence.
+    #[arg(long, value_enum, default_value = "auto")]
+    pub register: RegisterArg,
+    /// The list size drawn: L, L/5, 0.5L, a count N, or NC.
+    #[arg(long, default_value = "L", value_name = "SIZE")]
+    pub top: String,
+    /// Smallest sequence separation |i - j| of the true contacts and of the listed pairs.
+    #[arg(long, default_value_t = 6, value_name = "N")]
+    pub min_sep: u32,
+    /// L: sequence, observed or a number [default: sequence when there is one, else the
+    /// matrix size, else observed].
+    #[arg(long, value_name = "sequence|observed|N")]
+    pub length: Option<String>,
+    /// Rounding of L * fraction.
+    #[arg(long, value_enum, default_value = "floor")]
+    pub rounding: RoundingArg,
+    /// List pairs with a residue not observed in the structure (open circles, never true).
+    #[arg(long)]
+    pub keep_unobserved: bool,
+    /// Largest list size of the precision curve (2L, L, a count N ...).
+    #[arg(long, default_value = "2L", value_name = "SIZE")]
+    pub curve_max: String,
+    /// The contact definition.
+    #[command(flatten)]
+    pub definition: DefinitionArgs,
+    /// Output, size, dpi, title.
+    #[command(flatten)]
+    pub figure: FigureArgs,
+}
+
+/// Default figure width in inches (two panels).
+const DEFAULT_WIDTH_IN: f64 = 9.0;
+
+/// File name of a path, for the legend.
+fn display_name(path: &std::path::Path) -> String {
+    path.file_name().map_or_else(
+        || path.display().to_string(),
+        |name| name.to_string_lossy().into_owned(),
+    )
+}
+
+/// Run `contactmap plot contacts`.
+pub fn run(args: &ContactsArgs) -> Result<()> {
+    let figure_options = args.figure.check(DEFAULT_WIDTH_IN)?;
+    let (list_label, list_size) =
+        parse_list_size(&args.top).map_err(|err| prefixed("--top", err))?;
+    let (_, curve_size) =
+        parse_list_size(&args.curve_max).map_err(|err| prefixed("--curve-max", err))?;
+    let length = parse_length(args.length.as_deref())?;
+    let fasta = args.fasta.as_deref().map(read_fasta).transpose()?;
+    let chain = read_chain(&args.structure, args.chain.as_deref())?;
+    let range = SeparationRange::new(args.min_sep, None);
+
+    let mut layers = Vec::with_capacity(args.predictions.len());
+    let mut true_contacts = None;
+    let (mut first, mut last) = (i32::MAX, i32::MIN);
+    for path in &args.predictions {
+        let prediction = load_prediction(path, args.format, fasta.as_deref())?;
+        let placed = place(
+            &args.structure,
+            &chain,
+            prediction.sequence.as_deref(),
+            args.register,
+            &args.definition,
+        )
+        .map_err(|err| err.in_file(path))?;
+        if let Some(register) = &placed.register {
+            eprintln!("{}: {}", path.display(), register.text);
+        }
+        let (target_length, _) = length.resolve(&prediction);
+        let params = ScoreParams {
+            range,
+            length: target_length,
+            rounding: args.rounding.into(),
+            list_sizes: vec![list_size],
+            drop_unobserved: !args.keep_unobserved,
+            curve: Some(curve_size),
+        };
+        let score =
+            score_contacts(&placed.truth, &prediction, &params).map_err(|err| err.in_file(path))?;
+        let k = list_length(list_size, score.length, params.rounding, score.n_true);
+        let pairs: Vec<(i32, i32, Mark)> =
+            ranked_predictions(&placed.truth, &prediction, range, params.drop_unobserved)
+                .into_iter()
+                .take(k)
+                .map(|pair| {
+                    let mark = match (pair.distance_angstrom, pair.is_contact) {
+                        (None, _) => Mark::Unobserved,
+                        (Some(_), true) => Mark::TruePositive,
+                        (Some(_), false) => Mark::FalsePositive,
+                    };
+                    (pair.i, pair.j, mark)
+                })
+                .collect();
+        // The residue range: the sequence (or matrix) 1..=L when there is one, and every
+        // observed or drawn residue.
+        if prediction.sequence.is_some() || prediction.length.is_some() {
+            first = first.min(1);
+            last = last.max(i32::try_from(score.length).unwrap_or(i32::MAX));
+        }
+        let numbers = placed.truth.numbers();
+        if let (Some(&low), Some(&high)) = (numbers.first(), numbers.last()) {
+            first = first.min(low);
+            last = last.max(high);
+        }
+        for &(i, j, _) in &pairs {
+            first = first.min(i);
+            last = last.max(j);
+        }
+        if true_contacts.is_none() {
+            true_contacts = Some(placed.truth.contacts(range));
+        }
+        layers.push(PredictionLayer {
+            name: display_name(path),
+            list_label: list_label.clone(),
+            k,
+            pairs,
+            length: score.length,
+            curve: score.curve,
+            curve_max_k: list_length(curve_size, score.length, params.rounding, score.n_true),
+        });
+    }
+    if first > last {
+        return Err(Error::Invalid(format!(
+            "{}: no observed residue to draw",
+            args.structure.display()
+        )));
+    }
+    let figure = ContactFigure {
+        residues: (first, last),
+        true_contacts: true_contacts.unwrap_or_default(),
+        min_separation: args.min_sep,
+        predictions: layers,
+        title: args.figure.title.clone().unwrap_or_default(),
+    };
+    let layout = ContactLayout::new(
+        figure_options.width_px,
+        figure_options.height_px,
+        figure_options.dpi,
+        &figure,
+    );
+    let svg = draw_contacts(&figure, &layout)?;
+    write_figure(&svg, &figure_options, &args.figure)
+}
+
+/// An invalid-value error with the option's name in front.
+fn prefixed(option: &str, err: Error) -> Error {
+    match err {
+        Error::Invalid(message) => Error::Invalid(format!("{option}: {message}")),
+        other => other,
+    }
+}
