@@ -103,6 +103,9 @@ step "Protein: CCMpred and RR predictions scored against their structures (CASP 
   "$cm" score contacts --structure data/protein/toxd/toxd.pdb data/protein/toxd/toxd.mat \
   --fasta data/protein/toxd/toxd.fasta --ranges long
 "$cm" score contacts --structure data/protein/1aapA/1aapA.pdb data/protein/1aapA/1aapA.rr --ranges long
+step "Picture: the toxd contact map, top-L CCMpred pairs coloured true / false positive, and the precision curve" \
+  "$cm" plot contacts --structure data/protein/toxd/toxd.pdb --fasta data/protein/toxd/toxd.fasta \
+  data/protein/toxd/toxd.mat -o "$figs/toxd_contacts.png"
 step "Protein: a structure numbered 151-220 placed on its sequence (register), its own contacts score 1" \
   "$cm" contacts data/protein/1a8o/1A8O.cif --fasta data/protein/1a8o/1A8O.fasta -o "$work/1a8o.rr"
 "$cm" score contacts --structure data/protein/1a8o/1A8O.pdb "$work/1a8o.rr" --ranges long --top L/5,L 2>/dev/null
