@@ -7,14 +7,14 @@ use clap::Args;
 use rayon::prelude::*;
 
 use crate::cli::analysis::{fit_text, headline, parse_fit_range, power_law, PowerLaw};
-use crate::cli::input::{read_view, read_weights};
+use crate::cli::input::weights_and_view;
 use crate::cli::output::{write_real, write_u64, Output};
 use crate::cli::InputArgs;
 use crate::error::{Error, Result};
 use crate::expected::logbin::LogBinned;
 use crate::expected::powerlaw::{fit_bins, FitRange, PowerLawReport};
 use crate::expected::{
-    expected_cis, expected_trans, CisExpected, CisParams, Column, TransExpected, View,
+    expected_cis, expected_trans, CisExpected, CisParams, Column, TransExpected,
 };
 use crate::io::{self, LoadedPixels, StreamedPixels};
 
@@ -162,15 +162,12 @@ fn check(args: &ExpectedArgs) -> Result<Checked> {
 pub fn run(args: &ExpectedArgs) -> Result<()> {
     let checked = check(args)?;
     let reader = crate::cli::input::open_for_analysis(&args.uri, &args.input)?;
-    let weights = if args.raw {
-        None
-    } else {
-        Some(read_weights(reader.as_ref(), &args.weight_name)?)
-    };
-    let view = match &args.view {
-        Some(path) => read_view(path, reader.as_ref())?,
-        None => View::chromosomes(reader.bins()),
-    };
+    let (weights, view) = weights_and_view(
+        reader.as_ref(),
+        args.raw,
+        &args.weight_name,
+        args.view.as_deref(),
+    )?;
     if reader.bins().bin_size_bp().is_none() {
         return Err(Error::format(
             reader.source(),

@@ -45,6 +45,26 @@ pub fn read_weights(reader: &dyn MatrixReader, name: &str) -> Result<Vec<f64>> {
     Ok(reader.weights(name)?.values)
 }
 
+/// The inputs of an analysis besides the pixels: the weight column `weight_name` (none for raw
+/// counts) and the view (the BED file `view`, or whole chromosomes).
+pub fn weights_and_view(
+    reader: &dyn MatrixReader,
+    raw: bool,
+    weight_name: &str,
+    view: Option<&Path>,
+) -> Result<(Option<Vec<f64>>, View)> {
+    let weights = if raw {
+        None
+    } else {
+        Some(read_weights(reader, weight_name)?)
+    };
+    let view = match view {
+        Some(path) => read_view(path, reader)?,
+        None => View::chromosomes(reader.bins()),
+    };
+    Ok((weights, view))
+}
+
 /// Read a BED view (`chrom start end [name]`, gzip allowed) and check it against the matrix.
 pub fn read_view(path: &Path, reader: &dyn MatrixReader) -> Result<View> {
     let mut bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
@@ -103,12 +123,15 @@ pub fn read_view(path: &Path, reader: &dyn MatrixReader) -> Result<View> {
 }
 
 /// Per-chromosome curves (for o/e) from column `column` of the cooltools expected-cis table at
-/// `path` (regions named by chromosome).
+/// `path` (regions named by chromosome); the default column is `balanced.avg`, or `count.avg`
+/// for raw counts.
 pub fn read_expected_curves(
     path: &str,
     bins: &BinTable,
-    column: &str,
+    column: Option<&str>,
+    raw: bool,
 ) -> Result<Vec<DiagonalCurve>> {
+    let column = column.unwrap_or(if raw { "count.avg" } else { "balanced.avg" });
     let table = &Table::read(path)?;
     let (c1, c2) = (table.column("region1")?, table.column("region2")?);
     let (dist, n_valid, value) = (

@@ -110,17 +110,12 @@ pub fn run(args: &NormalizeArgs) -> Result<()> {
         None
     };
     let curves = match &args.expected {
-        Some(path) => {
-            let column = args.expected_column.clone().unwrap_or_else(|| {
-                if args.raw {
-                    "count.avg"
-                } else {
-                    "balanced.avg"
-                }
-                .to_string()
-            });
-            crate::cli::input::read_expected_curves(path, &bins, &column)?
-        }
+        Some(path) => crate::cli::input::read_expected_curves(
+            path,
+            &bins,
+            args.expected_column.as_deref(),
+            args.raw,
+        )?,
         None => {
             let pixels = pixels.as_ref().expect("loaded when no --expected");
             crate::expected::cis_curves(pixels, weights.as_deref(), args.ignore_diags)?

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
 
-use crate::cli::input::{read_view, read_weights};
+use crate::cli::input::weights_and_view;
 use crate::cli::output::{write_real, write_u64, Output};
 use crate::cli::warnings::Warnings;
 use crate::cli::InputArgs;
@@ -163,16 +163,13 @@ pub fn run(args: &TadsArgs) -> Result<()> {
         )
     })?;
     let windows = windows_bp(args, bin_size)?;
-    let weights = if args.raw {
-        None
-    } else {
-        Some(read_weights(reader.as_ref(), &args.weight_name)?)
-    };
     let explicit_view = args.view.is_some();
-    let view = match &args.view {
-        Some(path) => read_view(path, reader.as_ref())?,
-        None => View::chromosomes(&bins),
-    };
+    let (weights, view) = weights_and_view(
+        reader.as_ref(),
+        args.raw,
+        &args.weight_name,
+        args.view.as_deref(),
+    )?;
     let largest = windows.iter().copied().max().unwrap_or(bin_size);
     // Printed only once the outputs are written: a warning never comes before an error.
     let mut warnings = Warnings::new();

@@ -7,10 +7,10 @@ use clap::Args;
 
 use super::{write_figure, FigureArgs};
 use crate::cli::analysis::{headline, parse_fit_range, power_law, power_law_of_table, PowerLaw};
-use crate::cli::input::{open_for_analysis, read_cis_expected, read_view, read_weights};
+use crate::cli::input::{open_for_analysis, read_cis_expected, weights_and_view};
 use crate::cli::InputArgs;
 use crate::error::{Error, Result};
-use crate::expected::{CisParams, View};
+use crate::expected::CisParams;
 use crate::genome::format_bp;
 use crate::io::{LoadedPixels, StreamedPixels};
 use crate::plot::axes::{Theme, CURVE_COLOURS};
@@ -145,15 +145,12 @@ fn load(
             "P(s) needs fixed-size bins (distances are diagonals times the bin size)",
         ));
     }
-    let weights = if args.raw {
-        None
-    } else {
-        Some(read_weights(reader.as_ref(), &args.weight_name)?)
-    };
-    let view = match &args.view {
-        Some(path) => read_view(path, reader.as_ref())?,
-        None => View::chromosomes(reader.bins()),
-    };
+    let (weights, view) = weights_and_view(
+        reader.as_ref(),
+        args.raw,
+        &args.weight_name,
+        args.view.as_deref(),
+    )?;
     let pixels = LoadedPixels::Streamed(StreamedPixels::new(reader.as_ref()));
     let params = CisParams {
         ignore_diags: args.ignore_diags,
