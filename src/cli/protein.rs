@@ -4,7 +4,7 @@
 //! (`--register`), prediction formats and loading with `--fasta`, and the parsing of separation
 //! ranges, list sizes (`L/5`, `0.5L`, `30`, `NC`) and `--length`.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
 
@@ -89,6 +89,27 @@ pub enum RegisterArg {
     Align,
     /// the residue numbers as they are, unchecked
     Numbering,
+}
+
+/// The structure and how predictions are read and placed on it: the options `score contacts`
+/// and `plot contacts` share.
+#[derive(Debug, Args)]
+pub struct TargetArgs {
+    /// The structure with the true contacts (.pdb / .ent or .cif / .mmcif, optionally .gz).
+    #[arg(long, value_name = "PDB|CIF")]
+    pub structure: PathBuf,
+    /// Chain of the structure (author chain id; default: the first protein chain).
+    #[arg(long)]
+    pub chain: Option<String>,
+    /// Target sequence (FASTA, first record): gives L and checks the residue numbers.
+    #[arg(long, value_name = "FILE")]
+    pub fasta: Option<PathBuf>,
+    /// Prediction format (default: detected from the content of each file).
+    #[arg(long, value_enum)]
+    pub format: Option<PredictionFormatArg>,
+    /// How the structure's residues are placed on the prediction's sequence.
+    #[arg(long, value_enum, default_value = "auto")]
+    pub register: RegisterArg,
 }
 
 /// Read `structure` and select the chain.

@@ -12,8 +12,7 @@ use clap::{Args, Subcommand};
 use crate::cli::output::Output;
 use crate::cli::protein::{
     load_prediction, parse_length, parse_list_size, parse_range, place, read_chain, DefinitionArgs,
-    LabelledSize, LengthChoice, NamedRange, Placed, PredictionFormatArg, RegisterArg,
-    RegisterSummary, RoundingArg,
+    LabelledSize, LengthChoice, NamedRange, Placed, RegisterSummary, RoundingArg, TargetArgs,
 };
 use crate::error::{Error, Result};
 use crate::io::bed::{read_bed, BedRecord};
@@ -235,24 +234,12 @@ Other tools' conventions:
   ConEVA:    --length observed --rounding half-up --ranges long
   DISTEVAL:  --rounding banker --ranges 12+,24+ --top L/5,NC")]
 pub struct ContactsScoreArgs {
-    /// The structure with the true contacts (.pdb / .ent or .cif / .mmcif, optionally .gz).
-    #[arg(long, value_name = "PDB|CIF")]
-    pub structure: PathBuf,
-    /// Chain of the structure (author chain id; default: the first protein chain).
-    #[arg(long)]
-    pub chain: Option<String>,
+    /// The structure, its chain, the target sequence, the prediction format and the register.
+    #[command(flatten)]
+    pub target: TargetArgs,
     /// Prediction files, scored one by one against the same structure.
     #[arg(value_name = "PRED", required = true)]
     pub predictions: Vec<PathBuf>,
-    /// Target sequence (FASTA, first record): gives L and checks the residue numbers.
-    #[arg(long, value_name = "FILE")]
-    pub fasta: Option<PathBuf>,
-    /// Prediction format (default: detected from the content of each file).
-    #[arg(long, value_enum)]
-    pub format: Option<PredictionFormatArg>,
-    /// How the structure's residues are placed on the prediction's sequence.
-    #[arg(long, value_enum, default_value = "auto")]
-    pub register: RegisterArg,
     /// Separation ranges and list sizes.
     #[command(flatten)]
     pub lists: ListArgs,
@@ -474,7 +461,7 @@ fn write_json(args: &ContactsScoreArgs, reports: &[PredictionReport]) -> String 
             let length = report.scores.first().map(|(_, _, score)| score.length);
             json!({
                 "prediction": report.path,
-                "structure": args.structure.display().to_string(),
+                "structure": args.target.structure.display().to_string(),
                 "contact_definition": args.definition.describe(),
                 "n_observed": report.n_observed,
                 "register": report.register.as_ref().map(|register| json!({
@@ -540,7 +527,7 @@ fn write_table(args: &ContactsScoreArgs, chain: &str, reports: &[PredictionRepor
             "{}\n  structure {} chain {}: {} observed residues; contacts {}\n  L = {length} ({}), \
              rounding {}, unobserved pairs {}\n",
             report.path,
-            args.structure.display(),
+            args.target.structure.display(),
             if chain.is_empty() { "(blank)" } else { chain },
             report.n_observed,
             args.definition.describe(),
@@ -634,13 +621,13 @@ fn run_contacts(args: &ContactsScoreArgs) -> Result<()> {
         length,
         curve_size,
     };
-    let fasta = args.fasta.as_deref().map(read_fasta).transpose()?;
-    let chain = read_chain(&args.structure, args.chain.as_deref())?;
+    let fasta = args.target.fasta.as_deref().map(read_fasta).transpose()?;
+    let chain = read_chain(&args.target.structure, args.target.chain.as_deref())?;
     // One placement per distinct sequence (usually one for all predictions).
     let mut placements: Vec<(Option<String>, Placed)> = Vec::new();
     let mut reports = Vec::with_capacity(args.predictions.len());
     for path in &args.predictions {
-        let prediction = load_prediction(path, args.format, fasta.as_deref())?;
+        let prediction = load_prediction(path, args.target.format, fasta.as_deref())?;
         let index = match placements
             .iter()
             .position(|(sequence, _)| *sequence == prediction.sequence)
@@ -648,10 +635,10 @@ fn run_contacts(args: &ContactsScoreArgs) -> Result<()> {
             Some(index) => index,
             None => {
                 let placed = place(
-                    &args.structure,
+                    &args.target.structure,
                     &chain,
                     prediction.sequence.as_deref(),
-                    args.register,
+                    args.target.register,
                     &args.definition,
                 )
                 .map_err(|err| err.in_file(path))?;

@@ -8,8 +8,8 @@ use clap::Args;
 
 use super::{write_figure, FigureArgs};
 use crate::cli::protein::{
-    load_prediction, parse_length, parse_list_size, place, read_chain, DefinitionArgs,
-    PredictionFormatArg, RegisterArg, RoundingArg,
+    load_prediction, parse_length, parse_list_size, place, read_chain, DefinitionArgs, RoundingArg,
+    TargetArgs,
 };
 use crate::error::{Error, Result};
 use crate::io::predictions::read_fasta;
@@ -49,24 +49,12 @@ Examples:
   contactmap plot contacts --structure 1guu.pdb --fasta 1guu.fasta 1guu.npz ccmpred.mat \\
       --top L --min-sep 24 --title '1guu, long range' -o compare.png")]
 pub struct ContactsArgs {
-    /// The structure with the true contacts (.pdb / .ent or .cif / .mmcif, optionally .gz).
-    #[arg(long, value_name = "PDB|CIF")]
-    pub structure: PathBuf,
-    /// Chain of the structure (author chain id; default: the first protein chain).
-    #[arg(long)]
-    pub chain: Option<String>,
+    /// The structure, its chain, the target sequence, the prediction format and the register.
+    #[command(flatten)]
+    pub target: TargetArgs,
     /// The prediction (upper triangle), and optionally a second one (lower triangle).
     #[arg(value_name = "PRED", required = true, num_args = 1..=2)]
     pub predictions: Vec<PathBuf>,
-    /// Target sequence (FASTA, first record): gives L and checks the residue numbers.
-    #[arg(long, value_name = "FILE")]
-    pub fasta: Option<PathBuf>,
-    /// Prediction format (default: detected from the content of each file).
-    #[arg(long, value_enum)]
-    pub format: Option<PredictionFormatArg>,
-    /// How the structure's residues are placed on the prediction's sequence.
-    #[arg(long, value_enum, default_value = "auto")]
-    pub register: RegisterArg,
     /// The list size drawn: L, L/5, 0.5L, a count N, or NC.
     #[arg(long, default_value = "L", value_name = "SIZE")]
     pub top: String,
@@ -113,20 +101,20 @@ pub fn run(args: &ContactsArgs) -> Result<()> {
     let (_, curve_size) =
         parse_list_size(&args.curve_max).map_err(|err| prefixed("--curve-max", err))?;
     let length = parse_length(args.length.as_deref())?;
-    let fasta = args.fasta.as_deref().map(read_fasta).transpose()?;
-    let chain = read_chain(&args.structure, args.chain.as_deref())?;
+    let fasta = args.target.fasta.as_deref().map(read_fasta).transpose()?;
+    let chain = read_chain(&args.target.structure, args.target.chain.as_deref())?;
     let range = SeparationRange::new(args.min_sep, None);
 
     let mut layers = Vec::with_capacity(args.predictions.len());
     let mut true_contacts = None;
     let (mut first, mut last) = (i32::MAX, i32::MIN);
     for path in &args.predictions {
-        let prediction = load_prediction(path, args.format, fasta.as_deref())?;
+        let prediction = load_prediction(path, args.target.format, fasta.as_deref())?;
         let placed = place(
-            &args.structure,
+            &args.target.structure,
             &chain,
             prediction.sequence.as_deref(),
-            args.register,
+            args.target.register,
             &args.definition,
         )
         .map_err(|err| err.in_file(path))?;
@@ -189,7 +177,7 @@ pub fn run(args: &ContactsArgs) -> Result<()> {
     if first > last {
         return Err(Error::Invalid(format!(
             "{}: no observed residue to draw",
-            args.structure.display()
+            args.target.structure.display()
         )));
     }
     let figure = ContactFigure {
