@@ -1,4 +1,4 @@
-//! `contactmap balance`: ICE as `cooler balance`, VC, VC_SQRT and KR as Juicer; weights to a TSV
+//! `contactmap balance`: ICE as `cooler balance`, VC, VC_SQRT, KR and SCALE as Juicer; weights to a TSV
 //! or stored into the cooler.
 
 use std::io::BufRead;
@@ -27,6 +27,8 @@ pub enum MethodArg {
     VcSqrt,
     /// Knight-Ruiz, as Juicer
     Kr,
+    /// SCALE, Juicer's default normalisation (matrix balancing with row filtering)
+    Scale,
 }
 
 impl From<MethodArg> for Method {
@@ -36,6 +38,7 @@ impl From<MethodArg> for Method {
             MethodArg::Vc => Method::Vc,
             MethodArg::VcSqrt => Method::VcSqrt,
             MethodArg::Kr => Method::Kr,
+            MethodArg::Scale => Method::Scale,
         }
     }
 }
@@ -50,8 +53,12 @@ weights are rescaled so that balanced rows sum to 1, as cooler does.
 
 VC, VC-SQRT and KR follow Juicer: no filter (the filter options still apply when given), the
 diagonal included, the divisive vector scaled so that the balanced matrix sums to the raw one;
-KR uses Juicer's tolerance 1e-6 and its rules for dropping rows that cannot be balanced. Juicer's
-own KR / VC / VC_SQRT vectors (the columns hic2cool writes) are per chromosome: use --cis-only to
+KR uses Juicer's tolerance 1e-6 and its rules for dropping rows that cannot be balanced. SCALE
+(Juicer's default normalisation) iterates a row / column scaling from the square root of the VC
+vector, with Juicer's tolerance 5e-4 on the vector and 5 times it on the balanced row sums, leaving
+out the rows with the fewest nonzero pixels when an attempt stalls (100 iterations per attempt,
+300 in all); as Juicer, the last vector is kept even when it did not converge. Juicer's own KR /
+VC / VC_SQRT / SCALE vectors (the columns hic2cool writes) are per chromosome: use --cis-only to
 reproduce them (without it, Juicer's GW_ vectors).
 
 Weights are multiplicative (balanced = count * w1 * w2), NaN for masked bins. Without --store they
@@ -83,6 +90,7 @@ Examples:
   contactmap balance data/cooler_test_file.mcool::/resolutions/100000 --cis-only
   contactmap balance copy.cool --store --force --name weight
   contactmap balance data/cooler_test_file.mcool::/resolutions/100000 --method kr --cis-only
+  contactmap balance data/cooler_test_file.mcool::/resolutions/100000 --method scale --cis-only
   contactmap balance big.cool --blacklist gaps.bed --max-memory 2G -o w.tsv.gz")]
 pub struct BalanceArgs {
     /// Matrix URI: file.cool, file.mcool::/resolutions/N; .hic and text tables too, without --store.
@@ -111,11 +119,12 @@ pub struct BalanceArgs {
     /// Mask the bins overlapping the regions of this BED file (chrom start end).
     #[arg(long, value_name = "BED")]
     pub blacklist: Option<PathBuf>,
-    /// Convergence tolerance: variance of the marginals (ICE, default 1e-5) or residual (KR,
-    /// default 1e-6).
+    /// Convergence tolerance: variance of the marginals (ICE, default 1e-5), residual (KR,
+    /// default 1e-6) or change of the vector (SCALE, default 5e-4).
     #[arg(long)]
     pub tol: Option<f64>,
-    /// Iteration limit (ICE iterations; KR Newton iterations per try). Default 200.
+    /// Iteration limit (ICE iterations; KR Newton iterations per try; SCALE iterations per
+    /// attempt). Default 200 (SCALE: 100).
     #[arg(long, value_name = "N")]
     pub max_iters: Option<usize>,
     /// Balance each chromosome on its intra-chromosomal pixels only.

@@ -120,7 +120,7 @@ fn ice_reproduces_the_weight_columns_cooler_stored() {
 }
 
 #[test]
-fn vc_vc_sqrt_and_kr_per_chromosome_equal_juicers_vectors() {
+fn vc_vc_sqrt_kr_and_scale_per_chromosome_equal_juicers_vectors() {
     // hic2cool stored Juicer's divisive vectors, which `dump -t bins` prints as stored: inverted
     // here to multiplicative weights (0 marks a masked bin).
     let stored = run_ok(&[
@@ -148,7 +148,12 @@ fn vc_vc_sqrt_and_kr_per_chromosome_equal_juicers_vectors() {
             fields.join("\t") + "\n"
         })
         .collect();
-    for (method, column_name) in [("vc", "VC"), ("vc-sqrt", "VC_SQRT"), ("kr", "KR")] {
+    for (method, column_name) in [
+        ("vc", "VC"),
+        ("vc-sqrt", "VC_SQRT"),
+        ("kr", "KR"),
+        ("scale", "SCALE"),
+    ] {
         let ours = run_ok(&["balance", &data(DM6), "--method", method, "--cis-only"]);
         assert_weights_match(&ours, &stored, column_name, 1e-9);
     }
@@ -189,6 +194,7 @@ fn streamed_pixels_give_the_same_weights_as_in_memory() {
         vec!["--cis-only"],
         vec!["--method", "kr"],
         vec!["--method", "vc"],
+        vec!["--method", "scale", "--cis-only"],
     ] {
         let mut args = vec!["balance", uri.as_str()];
         args.extend(&flags);
