@@ -9,6 +9,7 @@ pub mod dump;
 pub mod expected;
 pub mod info;
 pub mod input;
+pub mod merge;
 pub mod normalize;
 pub mod output;
 pub mod plot;
@@ -51,8 +52,11 @@ pub enum Command {
     Dump(dump::DumpArgs),
     /// Convert between formats: .hic / .cool / text / pairs -> .cool, .mcool or text.
     Convert(convert::ConvertArgs),
-    /// Balance a matrix (ICE as cooler, VC, VC_SQRT, KR): weights to a TSV or stored with --store.
+    /// Balance a matrix (ICE as cooler, VC, VC_SQRT, KR, SCALE): weights to a TSV or stored
+    /// with --store.
     Balance(balance::BalanceArgs),
+    /// Sum maps on the same bins (replicates, simulation replicas) into a .cool or .mcool.
+    Merge(merge::MergeArgs),
     /// Distance-decay expected P(s) as cooltools expected-cis / expected-trans, log-binned P(s),
     /// power-law exponents.
     Expected(expected::ExpectedArgs),
@@ -73,7 +77,8 @@ pub enum Command {
     /// `--repair OUT` writes a corrected copy of a cooler.
     Validate(validate::ValidateArgs),
     /// Figures as PNG or SVG: `plot map` (contact-map heatmaps, square or 45-degree, with
-    /// domains, loops and tracks).
+    /// domains, loops and tracks), `plot expected` (P(s) and power laws), `plot contacts`
+    /// (protein contact maps).
     Plot(plot::PlotArgs),
 }
 
@@ -84,6 +89,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Dump(args) => dump::run(&args),
         Command::Convert(args) => convert::run(&args),
         Command::Balance(args) => balance::run(&args),
+        Command::Merge(args) => merge::run(&args),
         Command::Expected(args) => expected::run(&args),
         Command::Normalize(args) => normalize::run(&args),
         Command::Tads(args) => tads::run(&args),

@@ -22,6 +22,7 @@ pub mod cool;
 pub mod hdf5_guard;
 pub mod hic;
 pub mod hicexplorer;
+pub mod merged;
 pub mod predictions;
 pub mod structure;
 pub mod tables;

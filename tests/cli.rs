@@ -21,6 +21,8 @@ mod hic;
 mod hicexplorer;
 #[path = "cli/info.rs"]
 mod info;
+#[path = "cli/merge.rs"]
+mod merge;
 #[path = "cli/normalize.rs"]
 mod normalize;
 #[path = "cli/plot.rs"]

@@ -204,3 +204,79 @@ proptest! {
         }
     }
 }
+
+/// 2-4 random matrices on the same random bins.
+fn same_bins_matrices() -> impl Strategy<Value = Vec<ContactMatrix>> {
+    (
+        prop::collection::vec(1u64..300, 1..4),
+        5u64..40,
+        any::<bool>(),
+    )
+        .prop_flat_map(|(lengths, bin_size, integer)| {
+            let chroms: Vec<Chrom> = lengths
+                .iter()
+                .enumerate()
+                .map(|(i, &l)| Chrom::new(format!("chr{}", i + 1), l))
+                .collect();
+            let bins = BinTable::fixed(chroms, bin_size).unwrap();
+            let n = bins.n_bins() as u64;
+            let lists = prop::collection::vec(
+                prop::collection::vec((0..n, 0..n, 1u32..1000), 0..150),
+                2..5,
+            );
+            (Just(bins), Just(integer), lists)
+        })
+        .prop_map(|(bins, integer, lists)| {
+            let count_type = if integer {
+                CountType::Integer
+            } else {
+                CountType::Float
+            };
+            lists
+                .into_iter()
+                .map(|triplets| {
+                    let mut builder = MatrixBuilder::new(bins.clone(), count_type);
+                    for (i, j, c) in triplets {
+                        let c = if integer { c as f64 } else { c as f64 / 7.0 };
+                        builder.push(i, j, c).unwrap();
+                    }
+                    builder.build()
+                })
+                .collect()
+        })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 32, ..ProptestConfig::default() })]
+
+    /// `merge` writes the sum of its inputs: the merged .cool read back equals the sum of the
+    /// inputs' dense matrices, pixel by pixel.
+    #[test]
+    fn merged_maps_are_the_sum(maps in same_bins_matrices()) {
+        let dir = tempfile::tempdir().unwrap();
+        let readers: Vec<InMemory> = maps
+            .iter()
+            .enumerate()
+            .map(|(k, m)| InMemory::new(format!("m{k}"), m.clone()))
+            .collect();
+        let merged = contactmap::io::merged::MergedReader::new(
+            readers.iter().map(|r| r as &dyn MatrixReader).collect(),
+        )
+        .unwrap();
+        let cool = dir.path().join("merged.cool");
+        write_cool(&merged, &cool, &CoolWriteOptions::default()).unwrap();
+        let back = load_matrix(&CoolReader::open(cool.to_str().unwrap()).unwrap()).unwrap();
+        prop_assert_eq!(back.count_type(), maps[0].count_type());
+        let n = maps[0].bins().n_bins();
+        let mut expected = maps[0].dense(0..n, 0..n);
+        for m in &maps[1..] {
+            expected = expected + m.dense(0..n, 0..n);
+        }
+        let got = back.dense(0..n, 0..n);
+        for i in 0..n {
+            for j in 0..n {
+                prop_assert!((got[[i, j]] - expected[[i, j]]).abs() <= 1e-9 * expected[[i, j]].abs());
+            }
+        }
+    }
+}

@@ -1,0 +1,116 @@
+//! `contactmap merge`: the sum of several maps on the same bins (replicates, simulation replicas)
+//! as a .cool or .mcool, streamed.
+
+use std::path::PathBuf;
+
+use clap::Args;
+
+use crate::cli::convert::{parse_resolutions, OutputFormat};
+use crate::cli::InputArgs;
+use crate::error::{Error, Result};
+use crate::io::cool::{write_cool, write_mcool, CoolWriteOptions};
+use crate::io::merged::MergedReader;
+use crate::io::{self, MatrixReader};
+
+/// Arguments of `contactmap merge`.
+#[derive(Debug, Args)]
+#[command(after_long_help = "\
+Every input must have the same chromosomes (names and lengths, in the same order) and the same
+bins; a pixel of the output is the sum of that pixel over the inputs (as `cooler merge`). Inputs
+are any matrix contactmap reads (.cool, .mcool::/resolutions/N, .hic, text tables); the output is
+a .cool, or an .mcool with --resolutions (as `convert`). Counts stay integers when every input's
+are. Weight columns are not carried over: balance the merged file (`contactmap balance OUT
+--store`).
+
+The pixels are streamed in bands of rows from every input at once, so memory follows the band
+(a few million pixels), not the files. The output is written under a temporary name and renamed
+when complete.
+
+Examples:
+  contactmap merge rep1.cool rep2.cool rep3.cool -o merged.cool
+  contactmap merge a.mcool::/resolutions/10000 b.mcool::/resolutions/10000 -o ab.mcool \\
+      --resolutions 10000N
+  contactmap merge replica_*.cool -o ensemble.cool")]
+pub struct MergeArgs {
+    /// The maps to sum (at least one).
+    #[arg(value_name = "URI", required = true)]
+    pub inputs: Vec<String>,
+    /// Output: FILE.cool, or FILE.mcool (with --resolutions).
+    #[arg(short, long, value_name = "FILE")]
+    pub out: PathBuf,
+    /// Resolutions of an .mcool output (a list, or BASE N / BASE B progressions, as `convert`).
+    #[arg(long, value_delimiter = ',', value_name = "LIST")]
+    pub resolutions: Vec<String>,
+    /// `genome-assembly` attribute of the output (default: the first input's).
+    #[arg(long)]
+    pub assembly: Option<String>,
+    /// Options for text inputs.
+    #[command(flatten)]
+    pub input_args: InputArgs,
+}
+
+/// Run `contactmap merge`.
+pub fn run(args: &MergeArgs) -> Result<()> {
+    let name = args.out.to_string_lossy().to_ascii_lowercase();
+    let format = if name.ends_with(".mcool") {
+        OutputFormat::Mcool
+    } else if name.ends_with(".cool") {
+        OutputFormat::Cool
+    } else {
+        return Err(Error::Invalid(format!(
+            "--out {}: merge writes .cool or .mcool (give one of those extensions)",
+            args.out.display()
+        )));
+    };
+    if format == OutputFormat::Cool && !args.resolutions.is_empty() {
+        return Err(Error::Invalid(
+            "--resolutions needs an .mcool output".into(),
+        ));
+    }
+    let options = args.input_args.to_options()?;
+    let opened: Vec<Box<dyn MatrixReader>> = args
+        .inputs
+        .iter()
+        .map(|uri| io::open_matrix(uri, &options))
+        .collect::<Result<_>>()?;
+    let assembly = args.assembly.clone().or_else(|| {
+        opened[0]
+            .info()
+            .attributes
+            .iter()
+            .find(|(k, _)| k == "genome-assembly")
+            .and_then(|(_, v)| v.as_str())
+            .filter(|id| !id.is_empty() && *id != "unknown")
+            .map(str::to_string)
+    });
+    let reader = MergedReader::new(opened.iter().map(|r| r.as_ref()).collect())?;
+    let write_options = CoolWriteOptions {
+        assembly,
+        weight_columns: Some(Vec::new()),
+    };
+    match format {
+        OutputFormat::Mcool => {
+            let base = reader.bins().bin_size_bp().ok_or_else(|| {
+                Error::Invalid(".mcool needs fixed-size bins; these maps have variable bins".into())
+            })?;
+            let longest = reader
+                .bins()
+                .chroms()
+                .iter()
+                .map(|c| c.length_bp)
+                .max()
+                .unwrap_or(base);
+            let resolutions = if args.resolutions.is_empty() {
+                vec![base]
+            } else {
+                parse_resolutions(&args.resolutions, base, longest)?
+            };
+            write_mcool(&reader, &args.out, &resolutions, &write_options)?;
+        }
+        _ => write_cool(&reader, &args.out, &write_options)?,
+    }
+    for reader in &opened {
+        super::warnings::print_reader_warnings(reader.warnings());
+    }
+    Ok(())
+}
