@@ -25,6 +25,7 @@
 //! `int32` with an `enum_path` attribute pointing to `/chroms/name`, a layout cooler reads
 //! natively. Output goes to a temporary file renamed into place when complete.
 
+mod chunk_writer;
 pub mod chunks;
 pub mod store;
 mod writer;

@@ -4,6 +4,7 @@ use std::path::{Path, PathBuf};
 
 use hdf5::types::{FixedAscii, VarLenUnicode};
 
+use super::chunk_writer::{ChunkValue, ChunkedColumn};
 use crate::error::{Error, Result};
 use crate::genome::BinTable;
 use crate::io::MatrixReader;
@@ -216,6 +217,12 @@ impl Coarsener {
     }
 }
 
+/// The count column: cooler's `int32` for integer counts, else `float64`.
+enum CountColumn {
+    Integer(ChunkedColumn<i32>),
+    Float(ChunkedColumn<f64>),
+}
+
 /// Writes one cooler group, streaming pixel blocks into resizable chunked datasets.
 struct GroupWriter {
     path: PathBuf,
@@ -224,9 +231,9 @@ struct GroupWriter {
     group: hdf5::Group,
     bins: BinTable,
     count_type: CountType,
-    bin1: hdf5::Dataset,
-    bin2: hdf5::Dataset,
-    count: hdf5::Dataset,
+    bin1: ChunkedColumn<i64>,
+    bin2: ChunkedColumn<i64>,
+    count: CountColumn,
     n_pixels: usize,
     row_counts: Vec<u64>,
     sum: f64,
@@ -265,19 +272,36 @@ impl GroupWriter {
                 .create(name)
                 .map_err(err(&format!("creating pixels/{name}")))
         };
-        let bin1 = column("bin1_id", true)?;
-        let bin2 = column("bin2_id", true)?;
+        fn chunked<T: ChunkValue>(
+            path: &Path,
+            name: &str,
+            dataset: hdf5::Dataset,
+        ) -> ChunkedColumn<T> {
+            ChunkedColumn::new(
+                path,
+                &format!("pixels/{name}"),
+                dataset,
+                PIXEL_CHUNK,
+                DEFLATE_LEVEL,
+            )
+        }
+        let bin1 = chunked(path, "bin1_id", column("bin1_id", true)?);
+        let bin2 = chunked(path, "bin2_id", column("bin2_id", true)?);
         let count = match count_type {
-            CountType::Integer => pixels
-                .new_dataset_builder()
-                .empty::<i32>()
-                .shape(0..)
-                .chunk(PIXEL_CHUNK)
-                .shuffle()
-                .deflate(DEFLATE_LEVEL)
-                .create("count")
-                .map_err(err("creating pixels/count"))?,
-            CountType::Float => column("count", false)?,
+            CountType::Integer => CountColumn::Integer(chunked(
+                path,
+                "count",
+                pixels
+                    .new_dataset_builder()
+                    .empty::<i32>()
+                    .shape(0..)
+                    .chunk(PIXEL_CHUNK)
+                    .shuffle()
+                    .deflate(DEFLATE_LEVEL)
+                    .create("count")
+                    .map_err(err("creating pixels/count"))?,
+            )),
+            CountType::Float => CountColumn::Float(chunked(path, "count", column("count", false)?)),
         };
         Ok(GroupWriter {
             path: path.to_path_buf(),
@@ -293,11 +317,6 @@ impl GroupWriter {
             sum: 0.0,
             last: None,
         })
-    }
-
-    fn hdf5_err(&self, what: &str) -> impl FnOnce(hdf5::Error) -> Error + '_ {
-        let what = what.to_string();
-        move |e| Error::hdf5(&self.path, what, e)
     }
 
     /// Append sorted pixels.
@@ -330,23 +349,11 @@ impl GroupWriter {
             self.last = Some(key);
             self.row_counts[key.0 as usize] += 1;
         }
-        let lo = self.n_pixels;
-        let hi = lo + block.len();
-        for dataset in [&self.bin1, &self.bin2, &self.count] {
-            dataset
-                .resize(hi)
-                .map_err(self.hdf5_err("resizing pixel columns"))?;
-        }
-        let bin1: Vec<i64> = block.bin1.iter().map(|&b| b as i64).collect();
-        let bin2: Vec<i64> = block.bin2.iter().map(|&b| b as i64).collect();
-        self.bin1
-            .write_slice(&bin1, lo..hi)
-            .map_err(self.hdf5_err("writing pixels/bin1_id"))?;
-        self.bin2
-            .write_slice(&bin2, lo..hi)
-            .map_err(self.hdf5_err("writing pixels/bin2_id"))?;
-        match self.count_type {
-            CountType::Integer => {
+        let hi = self.n_pixels + block.len();
+        self.bin1.extend(block.bin1.iter().map(|&b| b as i64))?;
+        self.bin2.extend(block.bin2.iter().map(|&b| b as i64))?;
+        match &mut self.count {
+            CountColumn::Integer(column) => {
                 let mut counts = Vec::with_capacity(block.len());
                 for (k, &c) in block.count.iter().enumerate() {
                     if c.fract() != 0.0 || c < i32::MIN as f64 || c > i32::MAX as f64 {
@@ -363,14 +370,9 @@ impl GroupWriter {
                     }
                     counts.push(c as i32);
                 }
-                self.count
-                    .write_slice(&counts, lo..hi)
-                    .map_err(self.hdf5_err("writing pixels/count"))?;
+                column.extend(counts)?;
             }
-            CountType::Float => self
-                .count
-                .write_slice(&block.count, lo..hi)
-                .map_err(self.hdf5_err("writing pixels/count"))?,
+            CountColumn::Float(column) => column.extend(block.count.iter().copied())?,
         }
         self.sum += block.count.iter().sum::<f64>();
         self.n_pixels = hi;
@@ -378,7 +380,13 @@ impl GroupWriter {
     }
 
     /// Write chroms, bins (with `weights`), indexes and attributes.
-    fn finish(self, weights: &[Weights], options: &CoolWriteOptions) -> Result<()> {
+    fn finish(mut self, weights: &[Weights], options: &CoolWriteOptions) -> Result<()> {
+        self.bin1.finish()?;
+        self.bin2.finish()?;
+        match &mut self.count {
+            CountColumn::Integer(column) => column.finish()?,
+            CountColumn::Float(column) => column.finish()?,
+        };
         let path = self.path.as_path();
         let group = &self.group;
         let err = |what: &str| {
