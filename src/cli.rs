@@ -20,6 +20,8 @@ pub mod simulate;
 pub mod tads;
 pub mod validate;
 pub mod warnings;
+pub mod weights;
+pub mod zoomify;
 
 use std::path::PathBuf;
 
@@ -57,6 +59,8 @@ pub enum Command {
     Balance(balance::BalanceArgs),
     /// Sum maps on the same bins (replicates, simulation replicas) into a .cool or .mcool.
     Merge(merge::MergeArgs),
+    /// Multi-resolution .mcool from a cooler, as cooler zoomify (optionally balanced per level).
+    Zoomify(zoomify::ZoomifyArgs),
     /// Distance-decay expected P(s) as cooltools expected-cis / expected-trans, log-binned P(s),
     /// power-law exponents.
     Expected(expected::ExpectedArgs),
@@ -90,6 +94,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Convert(args) => convert::run(&args),
         Command::Balance(args) => balance::run(&args),
         Command::Merge(args) => merge::run(&args),
+        Command::Zoomify(args) => zoomify::run(&args),
         Command::Expected(args) => expected::run(&args),
         Command::Normalize(args) => normalize::run(&args),
         Command::Tads(args) => tads::run(&args),

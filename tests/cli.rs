@@ -45,6 +45,8 @@ mod tads;
 mod text;
 #[path = "cli/validate.rs"]
 mod validate;
+#[path = "cli/zoomify.rs"]
+mod zoomify;
 
 use std::path::PathBuf;
 use std::process::{Command, Output};

@@ -9,10 +9,11 @@ use clap::{Args, ValueEnum};
 use crate::balance::{balance, BalanceParams, BalanceResult, Method, Scope};
 use crate::cli::input::open_for_analysis;
 use crate::cli::output::Output;
+use crate::cli::weights::stored_attributes;
 use crate::cli::InputArgs;
 use crate::error::{Error, Result};
 use crate::genome::BinTable;
-use crate::io::cool::store::{check_target, store_weights, AttrValue};
+use crate::io::cool::store::{check_target, store_weights};
 use crate::io::{self, default_memory_budget, parse_memory_size, FileKind, WriteLock};
 use crate::matrix::Weights;
 
@@ -214,7 +215,7 @@ pub fn run(args: &BalanceArgs) -> Result<()> {
         store_weights(
             &args.uri,
             &weights,
-            &attributes(&params_used, &result),
+            &stored_attributes(&params_used, &result),
             args.force,
         )?;
     } else {
@@ -352,62 +353,6 @@ fn unconverged_detail(result: &BalanceResult, bins: &BinTable, tol: f64) -> Stri
         }
         None => format!("var={:e}, tol={tol:e}", result.var),
     }
-}
-
-/// An integral value as an integer attribute (cooler stores its integer options as int64).
-fn number_attr(value: f64) -> AttrValue {
-    if value.fract() == 0.0 && value.abs() < 9e15 {
-        AttrValue::Int(value as i64)
-    } else {
-        AttrValue::Float(value)
-    }
-}
-
-/// cooler's attributes of a stored weight column.
-fn attributes(params: &BalanceParams, result: &BalanceResult) -> Vec<(String, AttrValue)> {
-    let mut attrs = vec![
-        ("tol".to_string(), AttrValue::Float(params.tol)),
-        ("min_nnz".to_string(), AttrValue::Int(params.min_nnz as i64)),
-        ("min_count".to_string(), number_attr(params.min_count)),
-        ("mad_max".to_string(), number_attr(params.mad_max)),
-        (
-            "cis_only".to_string(),
-            AttrValue::Bool(params.scope == Scope::Cis),
-        ),
-        (
-            "ignore_diags".to_string(),
-            AttrValue::Int(params.ignore_diags as i64),
-        ),
-    ];
-    match &result.per_chrom {
-        Some(per_chrom) => {
-            attrs.push((
-                "scale".to_string(),
-                AttrValue::Floats(per_chrom.iter().map(|g| g.scale).collect()),
-            ));
-            attrs.push((
-                "converged".to_string(),
-                AttrValue::Bools(per_chrom.iter().map(|g| g.converged).collect()),
-            ));
-            attrs.push((
-                "var".to_string(),
-                AttrValue::Floats(per_chrom.iter().map(|g| g.var).collect()),
-            ));
-        }
-        None => {
-            attrs.push(("scale".to_string(), AttrValue::Float(result.scale)));
-            attrs.push(("converged".to_string(), AttrValue::Bool(result.converged)));
-            attrs.push(("var".to_string(), AttrValue::Float(result.var)));
-        }
-    }
-    if params.scope == Scope::Trans {
-        attrs.push(("trans_only".to_string(), AttrValue::Bool(true)));
-    }
-    attrs.push((
-        "method".to_string(),
-        AttrValue::Str(params.method.name().to_string()),
-    ));
-    attrs
 }
 
 /// Write `chrom start end NAME` with a header line.

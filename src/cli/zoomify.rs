@@ -1,0 +1,209 @@
+//! `contactmap zoomify`: a multi-resolution .mcool from a cooler (or any matrix), as `cooler
+//! zoomify` / `hictk zoomify`, with every level optionally balanced.
+
+use std::path::{Path, PathBuf};
+
+use clap::Args;
+
+use crate::balance::{balance, BalanceParams};
+use crate::cli::convert::parse_resolutions;
+use crate::cli::weights::stored_attributes;
+use crate::cli::InputArgs;
+use crate::error::{Error, Result};
+use crate::io::cool::store::store_weights;
+use crate::io::cool::{write_mcool, CoolReader, CoolWriteOptions};
+use crate::io::{self, default_memory_budget, MatrixReader};
+use crate::matrix::Weights;
+
+/// Arguments of `contactmap zoomify`.
+#[derive(Debug, Args)]
+#[command(after_long_help = "\
+Each level sums the input's pixels into coarser bins (the same pixels as `cooler zoomify`), all
+levels in one pass over the input; the pixel columns are compressed on every core. Resolutions
+(-r), as cooler zoomify: a comma-separated list of bin sizes, or progressions: B (the default:
+the input's bin size, doubled up to the longest chromosome), N (steps 1-2-5), 5000B, 5000N (from
+5000), 4DN (1000,2000,5000N); each must be a multiple of the input's bin size.
+
+--balance balances every level with ICE exactly as `cooler balance` does with its defaults
+(ignore 2 diagonals, MAD-max 5, min-nnz 10, tol 1e-5, 200 iterations) and stores the column
+`weight` with cooler's attributes, as `cooler zoomify --balance` (the input's resolution keeps the
+input's own `weight` column when it has one, as cooler does); a level that does not converge
+is stored with converged=false and a warning, as cooler's default does. Use `contactmap balance
+OUT::/resolutions/N --store --force` for other balancing of a level.
+
+The output (default: the input's name with .mcool) is written under a temporary name and renamed
+when complete.
+
+Examples:
+  contactmap zoomify in.cool                                # in.mcool, B progression
+  contactmap zoomify in.cool -r 10000,20000,50000,100000 --balance -o out.mcool
+  contactmap zoomify in.cool -r 10000N -o out.mcool")]
+pub struct ZoomifyArgs {
+    /// The input: file.cool, file.mcool::/resolutions/N, .hic, text tables.
+    pub input: String,
+    /// Output .mcool (default: the input's name with .mcool).
+    #[arg(short, long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+    /// Resolutions: a list, or B / N progressions (see below).
+    #[arg(
+        short,
+        long,
+        value_delimiter = ',',
+        value_name = "LIST",
+        default_value = "B"
+    )]
+    pub resolutions: Vec<String>,
+    /// Balance every level (ICE, cooler's defaults) and store it as `weight`.
+    #[arg(long)]
+    pub balance: bool,
+    /// Copy the pixels of a level into memory for balancing when they fit SIZE (e.g. 4G).
+    #[arg(long, value_name = "SIZE")]
+    pub max_memory: Option<String>,
+    /// `genome-assembly` attribute (default: the input's).
+    #[arg(long)]
+    pub assembly: Option<String>,
+    /// Options for text inputs.
+    #[command(flatten)]
+    pub input_args: InputArgs,
+}
+
+/// The default output: the input's file name with `.mcool`.
+fn default_output(input: &str) -> PathBuf {
+    let (path, _) = io::split_uri(input);
+    let path = Path::new(path);
+    let stem = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let stem = stem
+        .strip_suffix(".gz")
+        .unwrap_or(&stem)
+        .rsplit_once('.')
+        .map_or(stem.as_str(), |(s, _)| s)
+        .to_string();
+    path.with_file_name(format!("{stem}.mcool"))
+}
+
+/// cooler's progressions without a start (`B`, `N`) start at `base`; `4DN` is
+/// `1000,2000,5000N`.
+fn expand_tokens(items: &[String], base: u64) -> Vec<String> {
+    let mut out = Vec::new();
+    for item in items {
+        match item.trim() {
+            "B" | "b" => out.push(format!("{base}B")),
+            "N" | "n" => out.push(format!("{base}N")),
+            "4DN" | "4dn" => out.extend(["1000", "2000", "5000N"].map(String::from)),
+            other => out.push(other.to_string()),
+        }
+    }
+    out
+}
+
+/// Run `contactmap zoomify`.
+pub fn run(args: &ZoomifyArgs) -> Result<()> {
+    let out = args
+        .out
+        .clone()
+        .unwrap_or_else(|| default_output(&args.input));
+    if !out
+        .to_string_lossy()
+        .to_ascii_lowercase()
+        .ends_with(".mcool")
+    {
+        return Err(Error::Invalid(format!(
+            "--out {}: zoomify writes an .mcool",
+            out.display()
+        )));
+    }
+    let budget = match &args.max_memory {
+        Some(text) => io::parse_memory_size(text)?,
+        None => default_memory_budget(),
+    };
+    let resolutions = {
+        let reader = io::open_matrix(&args.input, &args.input_args.to_options()?)?;
+        let base = reader.bins().bin_size_bp().ok_or_else(|| {
+            Error::format(
+                reader.source(),
+                "zoomify needs fixed-size bins; this matrix has variable bins",
+            )
+        })?;
+        let longest = reader
+            .bins()
+            .chroms()
+            .iter()
+            .map(|c| c.length_bp)
+            .max()
+            .unwrap_or(base);
+        let resolutions =
+            parse_resolutions(&expand_tokens(&args.resolutions, base), base, longest)?;
+        let options = CoolWriteOptions {
+            assembly: args.assembly.clone().or_else(|| {
+                reader
+                    .info()
+                    .attributes
+                    .iter()
+                    .find(|(k, _)| k == "genome-assembly")
+                    .and_then(|(_, v)| v.as_str())
+                    .filter(|id| !id.is_empty() && *id != "unknown")
+                    .map(str::to_string)
+            }),
+            weight_columns: None,
+        };
+        write_mcool(reader.as_ref(), &out, &resolutions, &options)?;
+        super::warnings::print_reader_warnings(reader.warnings());
+        resolutions
+    };
+    if args.balance {
+        for &resolution in &resolutions {
+            balance_level(&out, resolution, budget)?;
+        }
+    }
+    Ok(())
+}
+
+/// ICE with cooler's defaults on one level, stored as `weight` (replacing a copied one).
+fn balance_level(out: &Path, resolution: u64, budget: u64) -> Result<()> {
+    let uri = format!("{}::/resolutions/{resolution}", out.display());
+    let params = BalanceParams::default();
+    let result = {
+        let reader = CoolReader::open(&uri)?;
+        if reader.weight_names().iter().any(|n| n == "weight") {
+            // The input's own column, copied at its resolution: kept, as cooler zoomify does.
+            return Ok(());
+        }
+        let pixels = io::load_pixels_for_balancing(&reader as &dyn MatrixReader, budget)?;
+        balance(&pixels, &params)?
+    };
+    if !result.converged {
+        eprintln!(
+            "contactmap: WARNING: {uri}: ICE did not converge within {} iterations (var={:e}); storing the weights with converged=false",
+            params.max_iters, result.var
+        );
+    }
+    let weights = Weights {
+        name: "weight".into(),
+        values: result.weights.clone(),
+        provenance: None,
+    };
+    store_weights(&uri, &weights, &stored_attributes(&params, &result), true)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn outputs_and_progressions_follow_cooler() {
+        assert_eq!(default_output("dir/a.cool"), PathBuf::from("dir/a.mcool"));
+        assert_eq!(
+            default_output("x.mcool::/resolutions/1000"),
+            PathBuf::from("x.mcool")
+        );
+        let items = |v: &[&str]| v.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+        assert_eq!(expand_tokens(&items(&["B"]), 10), items(&["10B"]));
+        assert_eq!(
+            expand_tokens(&items(&["4DN", "7"]), 1000),
+            items(&["1000", "2000", "5000N", "7"])
+        );
+    }
+}
