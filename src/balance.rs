@@ -655,6 +655,39 @@ fn product<S: PixelSource>(
     })
 }
 
+/// A balancing problem that needs one matrix-vector product at a time (KR, SCALE): one per
+/// group, all groups sharing each pass over the pixels.
+trait ProductGroup {
+    /// Whether the group has its result.
+    fn is_done(&self) -> bool;
+    /// Put the vector the group needs multiplied into `u` (its bins; zero elsewhere).
+    fn request(&self, u: &mut [f64]);
+    /// Take the product (the group is number `group` of the layout).
+    fn feed(&mut self, product: &Product, group: usize);
+}
+
+/// Step every group until all are done, one pass over the pixels per product.
+fn solve_groups<S: PixelSource, G: ProductGroup>(
+    source: &S,
+    layout: &Layout,
+    filter: PixelFilter<'_>,
+    groups: &mut [G],
+) -> Result<()> {
+    while groups.iter().any(|g| !g.is_done()) {
+        let mut u = vec![0.0; layout.n_bins];
+        for g in groups.iter() {
+            g.request(&mut u);
+        }
+        let product = product(source, layout, filter, &u)?;
+        for (index, g) in groups.iter_mut().enumerate() {
+            if !g.is_done() {
+                g.feed(&product, index);
+            }
+        }
+    }
+    Ok(())
+}
+
 /// numpy's median (the mean of the two middle values for an even count; `NaN` when empty).
 fn median(values: &mut [f64]) -> f64 {
     let n = values.len();
@@ -1055,6 +1088,49 @@ mod tests {
     }
 
     /// A small random symmetric "Hi-C-like" matrix: decaying with distance, some empty bins.
+    /// Balance `pixels`, then check per group: converged, the balanced total equals the raw one
+    /// (Juicer's sum factor), and every balanced row is within `tolerance` of their mean.
+    fn check_balanced(
+        bins: &BinTable,
+        dense: &[Vec<f64>],
+        pixels: &Pixels,
+        params: &BalanceParams,
+        tolerance: f64,
+    ) -> std::result::Result<(), TestCaseError> {
+        let got = balance(pixels, params).unwrap();
+        prop_assert!(got.converged);
+        let w = &got.weights;
+        let groups: Vec<Vec<usize>> = if params.scope == Scope::Cis {
+            (0..bins.n_chroms())
+                .map(|c| bins.chrom_bins(c).collect())
+                .collect()
+        } else {
+            vec![(0..bins.n_bins()).collect()]
+        };
+        for group in groups {
+            let valid: Vec<usize> = group.iter().copied().filter(|&i| !w[i].is_nan()).collect();
+            prop_assert!(!valid.is_empty());
+            let rows: Vec<f64> = valid
+                .iter()
+                .map(|&i| valid.iter().map(|&j| dense[i][j] * w[i] * w[j]).sum())
+                .collect();
+            let total: f64 = rows.iter().sum();
+            let raw: f64 = valid
+                .iter()
+                .map(|&i| valid.iter().map(|&j| dense[i][j]).sum::<f64>())
+                .sum();
+            prop_assert!((total - raw).abs() <= 1e-9 * raw);
+            let mean = total / rows.len() as f64;
+            for r in rows {
+                prop_assert!(
+                    (r - mean).abs() <= tolerance * mean,
+                    "row {r} vs mean {mean}"
+                );
+            }
+        }
+        Ok(())
+    }
+
     fn random_matrix(n: usize, seed: u64, empty: &[usize]) -> Vec<Vec<f64>> {
         let mut state = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15).wrapping_add(1);
         let mut next = move || {
@@ -1124,29 +1200,7 @@ mod tests {
                 scope: if cis { Scope::Cis } else { Scope::GenomeWide },
                 ..BalanceParams::juicer(Method::Kr)
             };
-            let got = balance(&pixels, &params).unwrap();
-            prop_assert!(got.converged);
-            let w = &got.weights;
-            let groups: Vec<Vec<usize>> = if cis {
-                (0..bins.n_chroms()).map(|c| bins.chrom_bins(c).collect()).collect()
-            } else {
-                vec![(0..n).collect()]
-            };
-            for group in groups {
-                let valid: Vec<usize> = group.iter().copied().filter(|&i| !w[i].is_nan()).collect();
-                prop_assert!(!valid.is_empty());
-                let rows: Vec<f64> = valid
-                    .iter()
-                    .map(|&i| valid.iter().map(|&j| dense[i][j] * w[i] * w[j]).sum())
-                    .collect();
-                let total: f64 = rows.iter().sum();
-                let raw: f64 = valid.iter().map(|&i| valid.iter().map(|&j| dense[i][j]).sum::<f64>()).sum();
-                prop_assert!((total - raw).abs() <= 1e-9 * raw);
-                let mean = total / rows.len() as f64;
-                for r in rows {
-                    prop_assert!((r - mean).abs() <= 1e-5 * mean, "row {r} vs mean {mean}");
-                }
-            }
+            check_balanced(&bins, &dense, &pixels, &params, 1e-5)?;
         }
     }
 
@@ -1167,31 +1221,8 @@ mod tests {
                 scope: if cis { Scope::Cis } else { Scope::GenomeWide },
                 ..BalanceParams::juicer(Method::Scale)
             };
-            let got = balance(&pixels, &params).unwrap();
-            prop_assert!(got.converged);
-            let w = &got.weights;
-            let groups: Vec<Vec<usize>> = if cis {
-                (0..bins.n_chroms()).map(|c| bins.chrom_bins(c).collect()).collect()
-            } else {
-                vec![(0..n).collect()]
-            };
-            for group in groups {
-                let valid: Vec<usize> = group.iter().copied().filter(|&i| !w[i].is_nan()).collect();
-                prop_assert!(!valid.is_empty());
-                let rows: Vec<f64> = valid
-                    .iter()
-                    .map(|&i| valid.iter().map(|&j| dense[i][j] * w[i] * w[j]).sum())
-                    .collect();
-                let total: f64 = rows.iter().sum();
-                let raw: f64 = valid.iter().map(|&i| valid.iter().map(|&j| dense[i][j]).sum::<f64>()).sum();
-                // The sum factor keeps the total; the rows are balanced to SCALE's row-sum
-                // tolerance (5 tol = 0.25%).
-                prop_assert!((total - raw).abs() <= 1e-9 * raw);
-                let mean = total / rows.len() as f64;
-                for r in rows {
-                    prop_assert!((r - mean).abs() <= 5.0 * scale::SCALE_TOL * mean, "row {r} vs mean {mean}");
-                }
-            }
+            // The rows are balanced to SCALE's row-sum tolerance (5 tol = 0.25%).
+            check_balanced(&bins, &dense, &pixels, &params, 5.0 * scale::SCALE_TOL)?;
         }
     }
 

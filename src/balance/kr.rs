@@ -5,8 +5,8 @@
 use std::cmp::Ordering;
 
 use super::{
-    juicer_filter, product, row_sums, sum_factor, BalanceParams, BalanceResult, GroupStats, Layout,
-    Product,
+    juicer_filter, row_sums, solve_groups, sum_factor, BalanceParams, BalanceResult, GroupStats,
+    Layout, Product, ProductGroup,
 };
 use crate::error::Result;
 use crate::matrix::PixelSource;
@@ -266,6 +266,7 @@ struct KrGroup {
     state: KrState,
     n_products: usize,
     residual: f64,
+    params: BalanceParams,
 }
 
 enum KrState {
@@ -293,6 +294,7 @@ impl KrGroup {
             },
             n_products: 0,
             residual: f64::NAN,
+            params: params.clone(),
         };
         group.rows = group.rows_above(0.0);
         group.start(params);
@@ -331,7 +333,7 @@ impl KrGroup {
     }
 
     /// Put the vector this group needs multiplied into `u` (genome-wide, zero elsewhere).
-    fn request(&self, u: &mut [f64]) {
+    fn request_product(&self, u: &mut [f64]) {
         match &self.state {
             KrState::Solving(solver) => {
                 for (&b, value) in self.rows.iter().zip(solver.request()) {
@@ -347,7 +349,7 @@ impl KrGroup {
         }
     }
 
-    fn is_done(&self) -> bool {
+    fn finished(&self) -> bool {
         matches!(self.state, KrState::Done { .. })
     }
 
@@ -366,7 +368,7 @@ impl KrGroup {
         self.start(params);
     }
 
-    fn feed(&mut self, product: &Product, group: usize, params: &BalanceParams) {
+    fn take_product(&mut self, product: &Product, group: usize, params: &BalanceParams) {
         let state = std::mem::replace(
             &mut self.state,
             KrState::Done {
@@ -428,6 +430,21 @@ impl KrGroup {
     }
 }
 
+impl ProductGroup for KrGroup {
+    fn is_done(&self) -> bool {
+        self.finished()
+    }
+
+    fn request(&self, u: &mut [f64]) {
+        self.request_product(u);
+    }
+
+    fn feed(&mut self, product: &Product, group: usize) {
+        let params = self.params.clone();
+        self.take_product(product, group, &params);
+    }
+}
+
 pub(super) fn kr<S: PixelSource>(
     source: &S,
     params: &BalanceParams,
@@ -441,18 +458,7 @@ pub(super) fn kr<S: PixelSource>(
         .iter()
         .map(|r| KrGroup::new(r.clone(), sums[r.clone()].to_vec(), params))
         .collect();
-    while groups.iter().any(|g| !g.is_done()) {
-        let mut u = vec![0.0; layout.n_bins];
-        for g in &groups {
-            g.request(&mut u);
-        }
-        let product = product(source, layout, filter, &u)?;
-        for (index, g) in groups.iter_mut().enumerate() {
-            if !g.is_done() {
-                g.feed(&product, index, params);
-            }
-        }
-    }
+    solve_groups(source, layout, filter, &mut groups)?;
     let mut weights = vec![f64::NAN; layout.n_bins];
     let mut stats = Vec::with_capacity(groups.len());
     for g in groups {

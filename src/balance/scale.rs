@@ -27,7 +27,9 @@
 //! the raw one; the multiplicative weight is its inverse. All arithmetic is in `f64`, as Juicer's
 //! (the fraction `p` in `f32`, as Juicer's).
 
-use super::{product, sum_factor, BalanceParams, GroupStats, Layout, PixelFilter, Product};
+use super::{
+    solve_groups, sum_factor, BalanceParams, GroupStats, Layout, PixelFilter, Product, ProductGroup,
+};
 use crate::error::Result;
 use crate::matrix::PixelSource;
 
@@ -150,12 +152,8 @@ impl ScaleGroup {
         self.sorted_nnz[index.min(n0 - 1)]
     }
 
-    pub(super) fn is_done(&self) -> bool {
-        self.step == Step::Done
-    }
-
     /// Put the vector this group needs multiplied into `u` (genome-wide, zero elsewhere).
-    pub(super) fn request(&self, u: &mut [f64]) {
+    fn request_product(&self, u: &mut [f64]) {
         let target = &mut u[self.range.clone()];
         match self.step {
             Step::RowSums => target.fill(1.0),
@@ -208,7 +206,7 @@ impl ScaleGroup {
         self.step = Step::Column;
     }
 
-    pub(super) fn feed(&mut self, product: &Product, group: usize) {
+    fn take_product(&mut self, product: &Product, group: usize) {
         let au = &product.au[self.range.clone()];
         match self.step {
             Step::RowSums => {
@@ -353,6 +351,20 @@ impl ScaleGroup {
     }
 }
 
+impl ProductGroup for ScaleGroup {
+    fn is_done(&self) -> bool {
+        self.step == Step::Done
+    }
+
+    fn request(&self, u: &mut [f64]) {
+        self.request_product(u);
+    }
+
+    fn feed(&mut self, product: &Product, group: usize) {
+        self.take_product(product, group);
+    }
+}
+
 /// The largest `f(item)` over the rows in use (0 when there is none).
 fn max_over_rows<T>(bad: &[bool], items: impl Iterator<Item = T>, f: impl Fn(T) -> f64) -> f64 {
     items
@@ -378,18 +390,7 @@ pub(super) fn scale<S: PixelSource>(
             ScaleGroup::new(r, counts, params)
         })
         .collect();
-    while groups.iter().any(|g| !g.is_done()) {
-        let mut u = vec![0.0; layout.n_bins];
-        for g in &groups {
-            g.request(&mut u);
-        }
-        let product = product(source, layout, filter, &u)?;
-        for (index, g) in groups.iter_mut().enumerate() {
-            if !g.is_done() {
-                g.feed(&product, index);
-            }
-        }
-    }
+    solve_groups(source, layout, filter, &mut groups)?;
     let mut weights = vec![f64::NAN; layout.n_bins];
     let mut stats = Vec::with_capacity(groups.len());
     for g in groups {

@@ -88,17 +88,10 @@ pub fn run(args: &ConvertArgs) -> Result<()> {
     let opened = io::open_matrix(&args.input, &args.input_args.to_options()?)?;
     let reader = WithProgress::new(opened.as_ref(), "converting")?;
     let options = CoolWriteOptions {
-        assembly: args.assembly.clone().or_else(|| {
-            reader
-                .info()
-                .attributes
-                .iter()
-                .find(|(k, _)| k == "genome-assembly" || k == "genome_id")
-                .and_then(|(_, v)| v.as_str())
-                // a .hic genome id may be a chrom.sizes path rather than an assembly name
-                .filter(|id| !id.contains('/') && !id.is_empty())
-                .map(str::to_string)
-        }),
+        assembly: args
+            .assembly
+            .clone()
+            .or_else(|| crate::cli::input::input_assembly(&reader)),
         weight_columns: None,
     };
     let written = match format {

@@ -303,3 +303,16 @@ pub fn read_cis_expected(path: &str) -> Result<(CisExpected, f64)> {
     };
     Ok((out, median))
 }
+
+/// The genome assembly an input names (`genome-assembly` of a cooler, the genome id of a .hic),
+/// for the outputs made from it; `None` when unknown or when the id is a chrom.sizes path.
+pub fn input_assembly(reader: &dyn MatrixReader) -> Option<String> {
+    reader
+        .info()
+        .attributes
+        .iter()
+        .find(|(k, _)| k == "genome-assembly" || k == "genome_id")
+        .and_then(|(_, v)| v.as_str())
+        .filter(|id| !id.is_empty() && *id != "unknown" && !id.contains('/'))
+        .map(str::to_string)
+}

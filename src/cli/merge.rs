@@ -73,16 +73,10 @@ pub fn run(args: &MergeArgs) -> Result<()> {
         .iter()
         .map(|uri| io::open_matrix(uri, &options))
         .collect::<Result<_>>()?;
-    let assembly = args.assembly.clone().or_else(|| {
-        opened[0]
-            .info()
-            .attributes
-            .iter()
-            .find(|(k, _)| k == "genome-assembly")
-            .and_then(|(_, v)| v.as_str())
-            .filter(|id| !id.is_empty() && *id != "unknown")
-            .map(str::to_string)
-    });
+    let assembly = args
+        .assembly
+        .clone()
+        .or_else(|| crate::cli::input::input_assembly(opened[0].as_ref()));
     let reader = MergedReader::new(opened.iter().map(|r| r.as_ref()).collect())?;
     let write_options = CoolWriteOptions {
         assembly,

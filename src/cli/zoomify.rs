@@ -137,16 +137,10 @@ pub fn run(args: &ZoomifyArgs) -> Result<()> {
         let resolutions =
             parse_resolutions(&expand_tokens(&args.resolutions, base), base, longest)?;
         let options = CoolWriteOptions {
-            assembly: args.assembly.clone().or_else(|| {
-                reader
-                    .info()
-                    .attributes
-                    .iter()
-                    .find(|(k, _)| k == "genome-assembly")
-                    .and_then(|(_, v)| v.as_str())
-                    .filter(|id| !id.is_empty() && *id != "unknown")
-                    .map(str::to_string)
-            }),
+            assembly: args
+                .assembly
+                .clone()
+                .or_else(|| crate::cli::input::input_assembly(reader.as_ref())),
             weight_columns: None,
         };
         write_mcool(reader.as_ref(), &out, &resolutions, &options)?;
