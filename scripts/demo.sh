@@ -28,8 +28,8 @@ if [ -f "$hic" ]; then
 fi
 step "Dump a region, balanced with cooler's ICE weights, with coordinates" \
   "$cm" dump "$mcool::/resolutions/100000" -r chr2L:1,000,000-1,300,000 --join --balanced -H
-step "Build a multi-resolution file (sums pixels into coarser bins)" \
-  "$cm" convert "$mcool::/resolutions/100000" "$work/zoom.mcool" --resolutions 100000N
+step "Zoom levels balanced one by one, as cooler zoomify --balance (pixels summed into coarser bins)" \
+  "$cm" zoomify "$mcool::/resolutions/100000" -r 100000N --balance -o "$work/zoom.mcool"
 "$cm" info "$work/zoom.mcool"
 if [ -f data/hg19.GM12878-MboI.pairs.subsample.sorted.txt.gz ]; then
   "$cm" dump -t chroms data/hg19.GM12878-MboI.matrix.2000kb.cool > "$work/hg19.sizes"
@@ -41,6 +41,8 @@ dm6="$mcool::/resolutions/100000"
 step "Balance with ICE exactly as cooler (weights to a table; --store writes them into the file)" \
   "$cm" balance "$dm6" -o "$work/weights.tsv"
 head -4 "$work/weights.tsv"
+step "SCALE, Juicer's default normalisation, per chromosome: the vectors Juicer stored (chrY does not converge, in Juicer either; its vector is kept, as Juicer does)" \
+  "$cm" balance "$dm6" --method scale --cis-only -o "$work/scale.tsv"
 cp "$mcool" "$work/dm6.mcool"
 step "Store the weights in a copy of the file, as a column named ice" \
   "$cm" balance "$work/dm6.mcool::/resolutions/100000" --store --name ice
@@ -87,14 +89,21 @@ step "A simulated polymer: 1,000 beads in a sphere, loop extrusion stalled at 4 
   --ctcf 200,400,600,800 --capture 0.99 --release 0.002 --processivity 200 --separation 100 \
   --steps-per-move 200 --monomers-per-bin 10 --replicas 4 --equilibration 20000 \
   --sample-every 1000 --samples 20 --seed 1 --truth-boundaries "$work/polymer.truth.bed"
+step "A second ensemble with another seed, merged with the first: more contacts, the same truth" \
+  "$cm" simulate polymer -o "$work/polymer2.cool" --chains 1000 --density 0.2 --extrusion \
+  --ctcf 200,400,600,800 --capture 0.99 --release 0.002 --processivity 200 --separation 100 \
+  --steps-per-move 200 --monomers-per-bin 10 --replicas 4 --equilibration 20000 \
+  --sample-every 1000 --samples 20 --seed 2
+"$cm" merge "$work/polymer.cool" "$work/polymer2.cool" -o "$work/polymer.merged.cool"
+"$cm" info "$work/polymer.merged.cool" | grep -E "nnz|sum"
 step "Its TADs by insulation, scored against the boundary elements" \
-  "$cm" tads "$work/polymer.cool" --raw --window 100k -o "$work/polymer.ins.tsv" --boundaries "$work/polymer.calls.bed"
+  "$cm" tads "$work/polymer.merged.cool" --raw --window 100k -o "$work/polymer.ins.tsv" --boundaries "$work/polymer.calls.bed"
 "$cm" score boundaries --truth "$work/polymer.truth.bed" "$work/polymer.calls.bed"
-step "Picture: the simulated polymer's map with its boundary elements (truth) and insulation" \
-  "$cm" plot map "$work/polymer.cool" -r chr1 --raw --boundaries "$work/polymer.truth.bed" \
+step "Picture: the merged polymer ensembles' map with its boundary elements (truth) and insulation" \
+  "$cm" plot map "$work/polymer.merged.cool" -r chr1 --raw --boundaries "$work/polymer.truth.bed" \
   --track "$work/polymer.ins.tsv:log2_insulation_score_100000" -o "$figs/polymer_truth.png"
 step "Picture: P(s) of the two simulated maps, each with its fitted power law" \
-  "$cm" plot expected "$work/blocks.cool" "$work/polymer.cool" --raw --fit --labels "blocks (simulate blocks)","polymer (simulate polymer)" \
+  "$cm" plot expected "$work/blocks.cool" "$work/polymer.merged.cool" --raw --fit --labels "blocks (simulate blocks)","polymer (simulate polymer)" \
   -o "$figs/simulated_ps.png"
 step "Protein: true contacts of a structure (Cb-Cb < 8 A, Ca for Gly) as CASP RR" \
   "$cm" contacts data/protein/1aapA/1aapA.pdb -o "$work/1aapA.true.rr"
