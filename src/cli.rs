@@ -30,9 +30,10 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 use crate::error::Result;
 use crate::io::{text::TextFormat, OpenOptions};
 
-/// Hi-C contact maps: inspect, dump and convert (.cool, .mcool, .hic, text, pairs), balance (ICE,
-/// VC, KR), distance-decay expected and its power law, observed / expected maps, TADs;
-/// simulated maps with known TADs and boundary scoring.
+/// Contact maps: inspect, dump, convert, zoomify and merge Hi-C maps (.cool, .mcool, .hic, text,
+/// pairs), balance them (ICE, VC, KR, SCALE), distance-decay expected and its power law, observed /
+/// expected maps, TADs, pictures; protein contact predictions scored against structures;
+/// simulated maps (block maps, polymer ensembles) with a known truth.
 ///
 /// Matrices are named by URI: `file.cool`, `file.mcool::/resolutions/10000`, `file.hic` (or
 /// `file.hic::/resolutions/10000` when it has several resolutions), or a text table
@@ -69,7 +70,8 @@ pub enum Command {
     /// TAD boundaries and domains: insulation (as cooltools), directionality + HMM, TopDom,
     /// Armatus.
     Tads(tads::TadsArgs),
-    /// Simulated maps with a known truth: `simulate blocks` (block-structured map with TADs).
+    /// Simulated maps with a known truth: `simulate blocks` (block-structured map with TADs),
+    /// `simulate polymer` (bead-spring polymer ensembles with loop extrusion, CPU or GPU).
     Simulate(simulate::SimulateArgs),
     /// Score calls against a truth: `score boundaries` (TAD boundaries and domains), `score
     /// contacts` (protein residue-contact predictions against a structure).
