@@ -9,6 +9,7 @@ pub mod dump;
 pub mod expected;
 pub mod info;
 pub mod input;
+pub mod matrix_output;
 pub mod merge;
 pub mod normalize;
 pub mod output;

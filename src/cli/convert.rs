@@ -2,29 +2,15 @@
 
 use std::path::{Path, PathBuf};
 
-use clap::{Args, ValueEnum};
+use clap::Args;
 
+use crate::cli::matrix_output::{format_from_extension, mcool_resolutions, OutputFormat};
 use crate::cli::progress::WithProgress;
 use crate::cli::InputArgs;
 use crate::error::{Error, Result};
 use crate::io::cool::{write_cool, write_mcool, CoolWriteOptions};
 use crate::io::text::{self, TextFormat};
 use crate::io::{self, FileKind, MatrixReader};
-
-/// Output formats.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum OutputFormat {
-    /// single-resolution cooler (format-version 3)
-    Cool,
-    /// multi-resolution cooler (one group per resolution under /resolutions)
-    Mcool,
-    /// chrom1 start1 end1 chrom2 start2 end2 count (cooler dump --join)
-    Bg2,
-    /// bin1_id bin2_id count (cooler dump)
-    Coo,
-    /// square dense matrix (small matrices only)
-    Dense,
-}
 
 /// Arguments of `contactmap convert`.
 #[derive(Debug, Args)]
@@ -97,20 +83,7 @@ pub fn run(args: &ConvertArgs) -> Result<()> {
     let written = match format {
         OutputFormat::Cool => write_cool(&reader, &args.output, &options),
         OutputFormat::Mcool => {
-            let base = reader.bins().bin_size_bp().ok_or_else(|| {
-                Error::Invalid(format!(
-                    "{}: .mcool needs fixed-size bins; this matrix has variable bins",
-                    args.input
-                ))
-            })?;
-            let longest = reader
-                .bins()
-                .chroms()
-                .iter()
-                .map(|c| c.length_bp)
-                .max()
-                .unwrap_or(base);
-            let resolutions = parse_resolutions(&args.resolutions, base, longest)?;
+            let resolutions = mcool_resolutions(reader.bins(), &args.input, &args.resolutions)?;
             write_mcool(&reader, &args.output, &resolutions, &options)
         }
         OutputFormat::Bg2 => text::write_text(&reader, &path_text(&args.output), TextFormat::Bg2),
@@ -126,114 +99,4 @@ pub fn run(args: &ConvertArgs) -> Result<()> {
 
 fn path_text(path: &Path) -> String {
     path.to_string_lossy().into_owned()
-}
-
-/// The output format named by the extension of `path` (a `.gz` suffix aside).
-pub fn format_from_extension(path: &Path) -> Result<OutputFormat> {
-    let name = path.to_string_lossy().to_ascii_lowercase();
-    let name = name.strip_suffix(".gz").unwrap_or(&name);
-    let format = if name.ends_with(".mcool") {
-        OutputFormat::Mcool
-    } else if name.ends_with(".cool") {
-        OutputFormat::Cool
-    } else if name.ends_with(".bg2") || name.ends_with(".bedpe") {
-        OutputFormat::Bg2
-    } else if name.ends_with(".coo") || name.ends_with(".pixels") {
-        OutputFormat::Coo
-    } else if name.ends_with(".dense") || name.ends_with(".matrix") || name.ends_with(".mat") {
-        OutputFormat::Dense
-    } else {
-        return Err(Error::Invalid(format!(
-            "cannot tell the output format from '{}': use an extension (.cool, .mcool, .bg2, .coo, .dense) or --to",
-            path.display()
-        )));
-    };
-    Ok(format)
-}
-
-/// Expand `--resolutions` (numbers, `BASE`N and `BASE`B progressions) into a sorted list.
-pub fn parse_resolutions(items: &[String], base: u64, longest_bp: u64) -> Result<Vec<u64>> {
-    let nice = |start: u64| {
-        let mut out = Vec::new();
-        let mut decade = 1u64;
-        while start.saturating_mul(decade) <= longest_bp.max(start) {
-            for step in [1, 2, 5] {
-                let r = start.saturating_mul(decade).saturating_mul(step);
-                if r <= longest_bp.max(start) {
-                    out.push(r);
-                }
-            }
-            decade = decade.saturating_mul(10);
-        }
-        out
-    };
-    let doubling = |start: u64| {
-        let mut out = Vec::new();
-        let mut r = start;
-        while r <= longest_bp.max(start) {
-            out.push(r);
-            r = r.saturating_mul(2);
-        }
-        out
-    };
-    let mut resolutions = Vec::new();
-    if items.is_empty() {
-        resolutions = nice(base);
-    }
-    for item in items {
-        let item = item.trim();
-        let bad = || {
-            Error::Invalid(format!(
-                "--resolutions: '{item}' is not a resolution (a bin size in bp, or BASE N / BASE B)"
-            ))
-        };
-        if let Some(start) = item.strip_suffix(['N', 'n']) {
-            resolutions.extend(nice(start.parse().map_err(|_| bad())?));
-        } else if let Some(start) = item.strip_suffix(['B', 'b']) {
-            resolutions.extend(doubling(start.parse().map_err(|_| bad())?));
-        } else {
-            resolutions.push(item.parse().map_err(|_| bad())?);
-        }
-    }
-    resolutions.sort_unstable();
-    resolutions.dedup();
-    for &r in &resolutions {
-        if r == 0 || r % base != 0 {
-            return Err(Error::Invalid(format!(
-                "--resolutions: {r} is not a multiple of the input's bin size {base}"
-            )));
-        }
-    }
-    Ok(resolutions)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn resolution_lists_and_progressions() {
-        let list = |items: &[&str]| {
-            parse_resolutions(
-                &items.iter().map(|s| s.to_string()).collect::<Vec<_>>(),
-                1000,
-                30_000,
-            )
-        };
-        assert_eq!(
-            list(&["1000", "5000", "2000"]).unwrap(),
-            vec![1000, 2000, 5000]
-        );
-        assert_eq!(
-            list(&["1000N"]).unwrap(),
-            vec![1000, 2000, 5000, 10000, 20000]
-        );
-        assert_eq!(
-            list(&["1000B"]).unwrap(),
-            vec![1000, 2000, 4000, 8000, 16000]
-        );
-        assert_eq!(list(&[]).unwrap(), vec![1000, 2000, 5000, 10000, 20000]);
-        assert!(list(&["1500"]).is_err());
-        assert!(list(&["abc"]).is_err());
-    }
 }

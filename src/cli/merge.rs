@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use crate::cli::convert::{parse_resolutions, OutputFormat};
+use crate::cli::matrix_output::{fixed_bin_size, mcool_resolutions, OutputFormat};
 use crate::cli::InputArgs;
 use crate::error::{Error, Result};
 use crate::io::cool::{write_cool, write_mcool, CoolWriteOptions};
@@ -84,20 +84,10 @@ pub fn run(args: &MergeArgs) -> Result<()> {
     };
     match format {
         OutputFormat::Mcool => {
-            let base = reader.bins().bin_size_bp().ok_or_else(|| {
-                Error::Invalid(".mcool needs fixed-size bins; these maps have variable bins".into())
-            })?;
-            let longest = reader
-                .bins()
-                .chroms()
-                .iter()
-                .map(|c| c.length_bp)
-                .max()
-                .unwrap_or(base);
             let resolutions = if args.resolutions.is_empty() {
-                vec![base]
+                vec![fixed_bin_size(reader.bins(), reader.source())?]
             } else {
-                parse_resolutions(&args.resolutions, base, longest)?
+                mcool_resolutions(reader.bins(), reader.source(), &args.resolutions)?
             };
             write_mcool(&reader, &args.out, &resolutions, &write_options)?;
         }

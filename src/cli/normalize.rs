@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
 
-use crate::cli::convert::OutputFormat;
+use crate::cli::matrix_output::OutputFormat;
 use crate::cli::progress::WithProgress;
 use crate::cli::InputArgs;
 use crate::error::{Error, Result};
@@ -80,7 +80,7 @@ pub struct NormalizeArgs {
 pub fn run(args: &NormalizeArgs) -> Result<()> {
     let format = match args.to {
         Some(format) => format,
-        None => crate::cli::convert::format_from_extension(&args.output)?,
+        None => crate::cli::matrix_output::format_from_extension(&args.output)?,
     };
     if matches!(format, OutputFormat::Mcool | OutputFormat::Dense) {
         return Err(Error::Invalid(

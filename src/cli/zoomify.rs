@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 
 use crate::balance::{balance, BalanceParams};
-use crate::cli::convert::parse_resolutions;
+use crate::cli::matrix_output::mcool_resolutions;
 use crate::cli::weights::stored_attributes;
 use crate::cli::InputArgs;
 use crate::error::{Error, Result};
@@ -84,21 +84,6 @@ fn default_output(input: &str) -> PathBuf {
     path.with_file_name(format!("{stem}.mcool"))
 }
 
-/// cooler's progressions without a start (`B`, `N`) start at `base`; `4DN` is
-/// `1000,2000,5000N`.
-fn expand_tokens(items: &[String], base: u64) -> Vec<String> {
-    let mut out = Vec::new();
-    for item in items {
-        match item.trim() {
-            "B" | "b" => out.push(format!("{base}B")),
-            "N" | "n" => out.push(format!("{base}N")),
-            "4DN" | "4dn" => out.extend(["1000", "2000", "5000N"].map(String::from)),
-            other => out.push(other.to_string()),
-        }
-    }
-    out
-}
-
 /// Run `contactmap zoomify`.
 pub fn run(args: &ZoomifyArgs) -> Result<()> {
     let out = args
@@ -121,21 +106,7 @@ pub fn run(args: &ZoomifyArgs) -> Result<()> {
     };
     let resolutions = {
         let reader = io::open_matrix(&args.input, &args.input_args.to_options()?)?;
-        let base = reader.bins().bin_size_bp().ok_or_else(|| {
-            Error::format(
-                reader.source(),
-                "zoomify needs fixed-size bins; this matrix has variable bins",
-            )
-        })?;
-        let longest = reader
-            .bins()
-            .chroms()
-            .iter()
-            .map(|c| c.length_bp)
-            .max()
-            .unwrap_or(base);
-        let resolutions =
-            parse_resolutions(&expand_tokens(&args.resolutions, base), base, longest)?;
+        let resolutions = mcool_resolutions(reader.bins(), reader.source(), &args.resolutions)?;
         let options = CoolWriteOptions {
             assembly: args
                 .assembly
@@ -187,17 +158,11 @@ mod tests {
     use super::*;
 
     #[test]
-    fn outputs_and_progressions_follow_cooler() {
+    fn the_default_output_is_the_input_named_mcool() {
         assert_eq!(default_output("dir/a.cool"), PathBuf::from("dir/a.mcool"));
         assert_eq!(
             default_output("x.mcool::/resolutions/1000"),
             PathBuf::from("x.mcool")
-        );
-        let items = |v: &[&str]| v.iter().map(|s| s.to_string()).collect::<Vec<_>>();
-        assert_eq!(expand_tokens(&items(&["B"]), 10), items(&["10B"]));
-        assert_eq!(
-            expand_tokens(&items(&["4DN", "7"]), 1000),
-            items(&["1000", "2000", "5000N", "7"])
         );
     }
 }
