@@ -1088,16 +1088,25 @@ mod tests {
     }
 
     /// A small random symmetric "Hi-C-like" matrix: decaying with distance, some empty bins.
-    /// Balance `pixels`, then check per group: converged, the balanced total equals the raw one
-    /// (Juicer's sum factor), and every balanced row is within `tolerance` of their mean.
+    /// Balance a random dense matrix on chromosomes of `sizes` bins with Juicer's parameters for
+    /// `method` (per chromosome when `cis`), then check per group: converged, the balanced total
+    /// equals the raw one (Juicer's sum factor), and every balanced row is within `tolerance` of
+    /// their mean.
     fn check_balanced(
-        bins: &BinTable,
-        dense: &[Vec<f64>],
-        pixels: &Pixels,
-        params: &BalanceParams,
+        seed: u64,
+        sizes: &[u64],
+        cis: bool,
+        method: Method,
         tolerance: f64,
     ) -> std::result::Result<(), TestCaseError> {
-        let got = balance(pixels, params).unwrap();
+        let bins = bins_for(sizes);
+        let dense = random_matrix(bins.n_bins(), seed, &[]);
+        let pixels = pixels_from_dense(bins.clone(), &dense);
+        let params = BalanceParams {
+            scope: if cis { Scope::Cis } else { Scope::GenomeWide },
+            ..BalanceParams::juicer(method)
+        };
+        let got = balance(&pixels, &params).unwrap();
         prop_assert!(got.converged);
         let w = &got.weights;
         let groups: Vec<Vec<usize>> = if params.scope == Scope::Cis {
@@ -1192,15 +1201,7 @@ mod tests {
             sizes in proptest::collection::vec(4u64..14, 1..3),
             cis in any::<bool>(),
         ) {
-            let bins = bins_for(&sizes);
-            let n = bins.n_bins();
-            let dense = random_matrix(n, seed, &[]);
-            let pixels = pixels_from_dense(bins.clone(), &dense);
-            let params = BalanceParams {
-                scope: if cis { Scope::Cis } else { Scope::GenomeWide },
-                ..BalanceParams::juicer(Method::Kr)
-            };
-            check_balanced(&bins, &dense, &pixels, &params, 1e-5)?;
+            check_balanced(seed, &sizes, cis, Method::Kr, 1e-5)?;
         }
     }
 
@@ -1213,16 +1214,8 @@ mod tests {
             sizes in proptest::collection::vec(4u64..14, 1..3),
             cis in any::<bool>(),
         ) {
-            let bins = bins_for(&sizes);
-            let n = bins.n_bins();
-            let dense = random_matrix(n, seed, &[]);
-            let pixels = pixels_from_dense(bins.clone(), &dense);
-            let params = BalanceParams {
-                scope: if cis { Scope::Cis } else { Scope::GenomeWide },
-                ..BalanceParams::juicer(Method::Scale)
-            };
             // The rows are balanced to SCALE's row-sum tolerance (5 tol = 0.25%).
-            check_balanced(&bins, &dense, &pixels, &params, 5.0 * scale::SCALE_TOL)?;
+            check_balanced(seed, &sizes, cis, Method::Scale, 5.0 * scale::SCALE_TOL)?;
         }
     }
 

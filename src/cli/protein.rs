@@ -112,6 +112,38 @@ pub struct TargetArgs {
     pub register: RegisterArg,
 }
 
+impl TargetArgs {
+    /// The target sequence (`--fasta`, when given) and the chain of the structure.
+    pub fn read(&self) -> Result<(Option<String>, Chain)> {
+        let fasta = self
+            .fasta
+            .as_deref()
+            .map(crate::io::predictions::read_fasta)
+            .transpose()?;
+        let chain = read_chain(&self.structure, self.chain.as_deref())?;
+        Ok((fasta, chain))
+    }
+
+    /// `chain` placed on the sequence of `prediction` (read from `path`, named in errors) and
+    /// its true contacts under `definition`.
+    pub fn place(
+        &self,
+        chain: &Chain,
+        prediction: &Prediction,
+        path: &Path,
+        definition: &DefinitionArgs,
+    ) -> Result<Placed> {
+        place(
+            &self.structure,
+            chain,
+            prediction.sequence.as_deref(),
+            self.register,
+            definition,
+        )
+        .map_err(|err| err.in_file(path))
+    }
+}
+
 /// Read `structure` and select the chain.
 pub fn read_chain(structure: &Path, chain: Option<&str>) -> Result<Chain> {
     let parsed = read_structure(structure)?;

@@ -11,12 +11,11 @@ use clap::{Args, Subcommand};
 
 use crate::cli::output::Output;
 use crate::cli::protein::{
-    load_prediction, parse_length, parse_list_size, parse_range, place, read_chain, DefinitionArgs,
-    LabelledSize, LengthChoice, NamedRange, Placed, RegisterSummary, RoundingArg, TargetArgs,
+    load_prediction, parse_length, parse_list_size, parse_range, DefinitionArgs, LabelledSize,
+    LengthChoice, NamedRange, Placed, RegisterSummary, RoundingArg, TargetArgs,
 };
 use crate::error::{Error, Result};
 use crate::io::bed::{read_bed, BedRecord};
-use crate::io::predictions::read_fasta;
 use crate::score::boundaries::{domain_overlap, score_boundaries};
 use crate::score::contacts::{
     score_contacts, ContactScore, ListSize, Prediction, ScoreParams, SeparationRange,
@@ -621,8 +620,7 @@ fn run_contacts(args: &ContactsScoreArgs) -> Result<()> {
         length,
         curve_size,
     };
-    let fasta = args.target.fasta.as_deref().map(read_fasta).transpose()?;
-    let chain = read_chain(&args.target.structure, args.target.chain.as_deref())?;
+    let (fasta, chain) = args.target.read()?;
     // One placement per distinct sequence (usually one for all predictions).
     let mut placements: Vec<(Option<String>, Placed)> = Vec::new();
     let mut reports = Vec::with_capacity(args.predictions.len());
@@ -634,14 +632,9 @@ fn run_contacts(args: &ContactsScoreArgs) -> Result<()> {
         {
             Some(index) => index,
             None => {
-                let placed = place(
-                    &args.target.structure,
-                    &chain,
-                    prediction.sequence.as_deref(),
-                    args.target.register,
-                    &args.definition,
-                )
-                .map_err(|err| err.in_file(path))?;
+                let placed = args
+                    .target
+                    .place(&chain, &prediction, path, &args.definition)?;
                 // The table shows the register; other outputs get it on standard error.
                 let table_on_stdout = !(args.tsv || args.json || args.out.is_some());
                 if let Some(register) = placed.register.as_ref().filter(|_| !table_on_stdout) {

@@ -8,11 +8,9 @@ use clap::Args;
 
 use super::{write_figure, FigureArgs};
 use crate::cli::protein::{
-    load_prediction, parse_length, parse_list_size, place, read_chain, DefinitionArgs, RoundingArg,
-    TargetArgs,
+    load_prediction, parse_length, parse_list_size, DefinitionArgs, RoundingArg, TargetArgs,
 };
 use crate::error::{Error, Result};
-use crate::io::predictions::read_fasta;
 use crate::plot::protein::{draw_contacts, ContactFigure, ContactLayout, Mark, PredictionLayer};
 use crate::score::contacts::{
     list_length, ranked_predictions, score_contacts, ScoreParams, SeparationRange,
@@ -101,8 +99,7 @@ pub fn run(args: &ContactsArgs) -> Result<()> {
     let (_, curve_size) =
         parse_list_size(&args.curve_max).map_err(|err| prefixed("--curve-max", err))?;
     let length = parse_length(args.length.as_deref())?;
-    let fasta = args.target.fasta.as_deref().map(read_fasta).transpose()?;
-    let chain = read_chain(&args.target.structure, args.target.chain.as_deref())?;
+    let (fasta, chain) = args.target.read()?;
     let range = SeparationRange::new(args.min_sep, None);
 
     let mut layers = Vec::with_capacity(args.predictions.len());
@@ -110,14 +107,9 @@ pub fn run(args: &ContactsArgs) -> Result<()> {
     let (mut first, mut last) = (i32::MAX, i32::MIN);
     for path in &args.predictions {
         let prediction = load_prediction(path, args.target.format, fasta.as_deref())?;
-        let placed = place(
-            &args.target.structure,
-            &chain,
-            prediction.sequence.as_deref(),
-            args.target.register,
-            &args.definition,
-        )
-        .map_err(|err| err.in_file(path))?;
+        let placed = args
+            .target
+            .place(&chain, &prediction, path, &args.definition)?;
         if let Some(register) = &placed.register {
             eprintln!("{}: {}", path.display(), register.text);
         }
