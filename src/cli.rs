@@ -7,6 +7,7 @@ pub mod contacts;
 pub mod convert;
 pub mod dump;
 pub mod expected;
+pub mod hic_output;
 pub mod info;
 pub mod input;
 pub mod matrix_output;

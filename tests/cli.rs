@@ -17,6 +17,8 @@ mod errors;
 mod expected;
 #[path = "cli/hic.rs"]
 mod hic;
+#[path = "cli/hic_writer.rs"]
+mod hic_writer;
 #[path = "cli/hicexplorer.rs"]
 mod hicexplorer;
 #[path = "cli/info.rs"]

@@ -1,32 +1,43 @@
-//! `contactmap convert`: any supported input to .cool, .mcool or a text table.
+//! `contactmap convert`: any supported input to .cool, .mcool, .hic or a text table.
 
 use std::path::{Path, PathBuf};
 
 use clap::Args;
 
+use crate::cli::hic_output::{parse_normalizations, report_unconverged, write_hic};
 use crate::cli::matrix_output::{format_from_extension, mcool_resolutions, OutputFormat};
 use crate::cli::progress::WithProgress;
 use crate::cli::InputArgs;
 use crate::error::{Error, Result};
 use crate::io::cool::{write_cool, write_mcool, CoolWriteOptions};
+use crate::io::hic::HicWriteOptions;
 use crate::io::text::{self, TextFormat};
 use crate::io::{self, FileKind, MatrixReader};
 
 /// Arguments of `contactmap convert`.
 #[derive(Debug, Args)]
 #[command(after_long_help = "\
-The output format follows the extension of OUT (.cool, .mcool, .bg2, .coo, .dense, each text one
-optionally .gz) or --to. Files are written under a temporary name and renamed when complete.
+The output format follows the extension of OUT (.cool, .mcool, .hic, .bg2, .coo, .dense, each
+text one optionally .gz) or --to. Files are written under a temporary name and renamed when
+complete.
 
-Resolutions for .mcool: a list (10000,50000,100000) or a progression from a base: 10000N for
+Resolutions for .mcool and .hic: a list (10000,50000,100000) or a progression from a base: 10000N for
 10000, 20000, 50000, 100000, 200000, ... (steps 1-2-5) and 10000B for 10000, 20000, 40000, ...
 (steps of 2), up to the length of the longest chromosome. Each must be a multiple of the input's
 bin size. Default: the input's bin size followed by its N progression. Coarser levels are summed
 from the input in a single pass, as `cooler zoomify` would make them.
 
+A .hic is Juicer's version 9, as Juicebox, straw and hictk read it: every resolution, the `All`
+whole-genome view, and per resolution and chromosome the normalisation vectors of
+--normalizations (default VC, VC_SQRT, KR, SCALE, computed as `balance --method M --cis-only`
+computes them, Juicer's way) with Juicer's expected values, raw and normalised. Chromosomes where
+KR or SCALE does not converge keep their vector and are listed on standard error. Memory: the
+open blocks while streaming, then one chromosome's intra-chromosomal pixels at a time.
+
 Examples:
   contactmap convert data/hic_test_file.hic out.cool
   contactmap convert in.cool out.mcool --resolutions 100000,200000,500000,1000000
+  contactmap convert in.mcool::/resolutions/5000 out.hic --resolutions 5000N --genome hg38
   contactmap convert pairs.txt.gz out.cool --bin-size 2000000 --chrom-sizes hg19.sizes --pairs-columns 1,2,4,5
   contactmap convert in.mcool::/resolutions/100000 - --to bg2 | gzip > out.bg2.gz")]
 pub struct ConvertArgs {
@@ -40,9 +51,21 @@ pub struct ConvertArgs {
     /// Resolutions of an .mcool output: a comma-separated list, or BASE N / BASE B progressions.
     #[arg(long, value_delimiter = ',', value_name = "LIST")]
     pub resolutions: Vec<String>,
-    /// genome-assembly attribute written into .cool / .mcool outputs.
-    #[arg(long)]
+    /// genome-assembly attribute written into .cool / .mcool outputs (the genome id of a .hic).
+    #[arg(long, visible_alias = "genome")]
     pub assembly: Option<String>,
+    /// Normalisations stored in a .hic, per resolution and chromosome: VC, VC_SQRT, KR, SCALE,
+    /// ICE, or none.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        value_name = "LIST",
+        default_value = "VC,VC_SQRT,KR,SCALE"
+    )]
+    pub normalizations: Vec<String>,
+    /// zlib level of .hic blocks (0-9).
+    #[arg(long, default_value_t = 6, value_parser = clap::value_parser!(u32).range(0..=9))]
+    pub compression_level: u32,
     /// Options for text inputs (--bin-size bins pairs).
     #[command(flatten)]
     pub input_args: InputArgs,
@@ -60,17 +83,22 @@ pub fn run(args: &ConvertArgs) -> Result<()> {
             "--bin-size bins text and pairs inputs; to coarsen a .cool or .hic matrix, write an .mcool with --resolutions".into(),
         ));
     }
-    if !args.resolutions.is_empty() && format != OutputFormat::Mcool {
+    if !args.resolutions.is_empty() && !matches!(format, OutputFormat::Mcool | OutputFormat::Hic) {
         return Err(Error::Invalid(
-            "--resolutions applies to .mcool outputs only".into(),
+            "--resolutions applies to .mcool and .hic outputs only".into(),
         ));
     }
-    if args.output.as_os_str() == "-" && matches!(format, OutputFormat::Cool | OutputFormat::Mcool)
+    if args.output.as_os_str() == "-"
+        && matches!(
+            format,
+            OutputFormat::Cool | OutputFormat::Mcool | OutputFormat::Hic
+        )
     {
         return Err(Error::Invalid(
-            ".cool and .mcool outputs need a file path, not '-'".into(),
+            ".cool, .mcool and .hic outputs need a file path, not '-'".into(),
         ));
     }
+    let methods = parse_normalizations(&args.normalizations)?;
     let opened = io::open_matrix(&args.input, &args.input_args.to_options()?)?;
     let reader = WithProgress::new(opened.as_ref(), "converting")?;
     let options = CoolWriteOptions {
@@ -85,6 +113,16 @@ pub fn run(args: &ConvertArgs) -> Result<()> {
         OutputFormat::Mcool => {
             let resolutions = mcool_resolutions(reader.bins(), &args.input, &args.resolutions)?;
             write_mcool(&reader, &args.output, &resolutions, &options)
+        }
+        OutputFormat::Hic => {
+            let resolutions = mcool_resolutions(reader.bins(), &args.input, &args.resolutions)?;
+            let hic_options = HicWriteOptions {
+                genome_id: options.assembly.clone().unwrap_or_else(|| "unknown".into()),
+                compression_level: args.compression_level,
+                ..HicWriteOptions::default()
+            };
+            write_hic(&reader, &args.output, &resolutions, &methods, &hic_options)
+                .map(report_unconverged)
         }
         OutputFormat::Bg2 => text::write_text(&reader, &path_text(&args.output), TextFormat::Bg2),
         OutputFormat::Coo => text::write_text(&reader, &path_text(&args.output), TextFormat::Coo),

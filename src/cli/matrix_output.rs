@@ -1,5 +1,5 @@
 //! The matrix files several commands write (`convert`, `merge`, `zoomify`, `normalize`): the
-//! output format named by a file's extension, and the resolutions of an .mcool.
+//! output format named by a file's extension, and the resolutions of an .mcool or .hic.
 
 use std::path::Path;
 
@@ -15,6 +15,8 @@ pub enum OutputFormat {
     Cool,
     /// multi-resolution cooler (one group per resolution under /resolutions)
     Mcool,
+    /// Juicer .hic (version 9), every resolution, with normalisation and expected vectors
+    Hic,
     /// chrom1 start1 end1 chrom2 start2 end2 count (cooler dump --join)
     Bg2,
     /// bin1_id bin2_id count (cooler dump)
@@ -29,6 +31,8 @@ pub fn format_from_extension(path: &Path) -> Result<OutputFormat> {
     let name = name.strip_suffix(".gz").unwrap_or(&name);
     let format = if name.ends_with(".mcool") {
         OutputFormat::Mcool
+    } else if name.ends_with(".hic") {
+        OutputFormat::Hic
     } else if name.ends_with(".cool") {
         OutputFormat::Cool
     } else if name.ends_with(".bg2") || name.ends_with(".bedpe") {
@@ -39,7 +43,7 @@ pub fn format_from_extension(path: &Path) -> Result<OutputFormat> {
         OutputFormat::Dense
     } else {
         return Err(Error::Invalid(format!(
-            "cannot tell the output format from '{}': use an extension (.cool, .mcool, .bg2, .coo, .dense) or --to",
+            "cannot tell the output format from '{}': use an extension (.cool, .mcool, .hic, .bg2, .coo, .dense) or --to",
             path.display()
         )));
     };

@@ -82,7 +82,10 @@ pub fn run(args: &NormalizeArgs) -> Result<()> {
         Some(format) => format,
         None => crate::cli::matrix_output::format_from_extension(&args.output)?,
     };
-    if matches!(format, OutputFormat::Mcool | OutputFormat::Dense) {
+    if matches!(
+        format,
+        OutputFormat::Mcool | OutputFormat::Hic | OutputFormat::Dense
+    ) {
         return Err(Error::Invalid(
             "normalize writes .cool, .bg2 or .coo outputs".into(),
         ));

@@ -1,4 +1,4 @@
-//! Juicer `.hic` reader (format versions 8 and 9).
+//! Juicer `.hic` reader (format versions 8 and 9) and writer (version 9, [`HicWriter`]).
 //!
 //! A `.hic` file (Durand et al. 2016, "Juicer provides a one-click system for analyzing
 //! loop-resolution Hi-C experiments", *Cell Systems* 3:95) stores, for every pair of chromosomes and
@@ -71,8 +71,11 @@ mod blocks;
 mod header;
 mod norms;
 mod reader;
+mod writer;
 
+pub use norms::HicExpected;
 pub use reader::{HicReader, BAND_BUDGET_BYTES};
+pub use writer::{HicBodyStats, HicNormVector, HicWriteOptions, HicWriter, BATCH_RECORDS};
 
 #[cfg(test)]
 mod synthetic;

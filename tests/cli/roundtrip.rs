@@ -7,6 +7,7 @@ use proptest::prelude::*;
 
 use contactmap::genome::{BinTable, Chrom};
 use contactmap::io::cool::{write_cool, write_mcool, CoolReader, CoolWriteOptions};
+use contactmap::io::hic::{HicReader, HicWriteOptions, HicWriter};
 use contactmap::io::text::{read_matrix, write_text, TextFormat};
 use contactmap::io::{load_matrix, InMemory, MatrixReader, OpenOptions};
 use contactmap::matrix::{ContactMatrix, CountType, MatrixBuilder, Weights};
@@ -139,6 +140,40 @@ proptest! {
         for (k, ((ci, cj), value)) in expected.iter().enumerate() {
             prop_assert_eq!((got.bin1[k] as usize, got.bin2[k] as usize), (*ci, *cj));
             prop_assert!((got.count[k] - value).abs() <= 1e-9 * value.abs());
+        }
+    }
+
+    /// The .hic writer at every resolution, with blocks of 1 to 6 bins (many blocks, depths along
+    /// the diagonal, dense and list-of-rows blocks, short and float values), read back by our
+    /// reader: the pixels of a naive coarsening of the triplets, counts rounded to float32.
+    #[test]
+    fn hic_round_trips_every_resolution((matrix, triplets) in matrices(), block in 1u64..7, factor in 2u64..4, whole_genome in any::<bool>()) {
+        let dir = tempfile::tempdir().unwrap();
+        let source = InMemory::new("random".into(), matrix.clone());
+        let path = dir.path().join("m.hic");
+        let base = matrix.bins().bin_size_bp().unwrap();
+        let options = HicWriteOptions { block_bin_count: block, whole_genome, ..HicWriteOptions::default() };
+        let mut writer = HicWriter::create(&path, matrix.bins(), &[base, factor * base], &options).unwrap();
+        writer.write_matrices(&source).unwrap();
+        writer.write_footer(&[], &[], &[]).unwrap();
+        drop(writer);
+        for resolution in [base, factor * base] {
+            let reader = HicReader::open(&path, Some(resolution)).unwrap();
+            let coarse = BinTable::fixed(matrix.bins().chroms().to_vec(), resolution).unwrap();
+            prop_assert_eq!(reader.bins(), &coarse);
+            let mut expected: BTreeMap<(usize, usize), f64> = BTreeMap::new();
+            for &(i, j, v) in &triplets {
+                let (bi, bj) = (matrix.bins().bin(i as usize), matrix.bins().bin(j as usize));
+                let (ci, cj) = (coarse.bin_at(bi.chrom_id, bi.start), coarse.bin_at(bj.chrom_id, bj.start));
+                *expected.entry((ci.min(cj), ci.max(cj))).or_default() += v;
+            }
+            let got = load_matrix(&reader).unwrap().all_pixels();
+            prop_assert_eq!(got.len(), expected.len());
+            for (k, ((ci, cj), value)) in expected.iter().enumerate() {
+                prop_assert_eq!((got.bin1[k] as usize, got.bin2[k] as usize), (*ci, *cj));
+                // float32 storage (sums of reals may round either way of a float32 tie)
+                prop_assert!((got.count[k] - value).abs() <= 2e-7 * value.abs(), "{} {}", got.count[k], value);
+            }
         }
     }
 

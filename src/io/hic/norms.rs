@@ -1,5 +1,5 @@
 //! Normalisation vectors (their index in the footer and their values) and the expected-value
-//! sections of the footer, which are skipped.
+//! sections of the footer (skipped on open, read on demand by [`HicReader::expected_values`]).
 
 use super::header::{printable, Header, SeqReader};
 use super::reader::HicReader;
@@ -54,6 +54,117 @@ impl HicReader {
                 .map(|b| f64::from_le_bytes([b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7]]))
                 .collect()
         })
+    }
+}
+
+/// One expected-value vector of the footer at the open resolution.
+#[derive(Clone, Debug, PartialEq)]
+pub struct HicExpected {
+    /// `NONE` for the expected values of the raw counts, else the normalisation's name.
+    pub normalization: String,
+    /// Bin size.
+    pub bin_size_bp: u64,
+    /// Expected value at each distance in bins.
+    pub values: Vec<f64>,
+    /// Chromosome scale factors by chromosome name (the reader divides `values` by them).
+    pub chrom_scale_factors: Vec<(String, f64)>,
+}
+
+impl HicReader {
+    /// The expected-value vectors the footer stores at the open resolution (base pairs): the raw
+    /// one (`NONE`) and the normalised ones, in file order.
+    pub fn expected_values(&self) -> Result<Vec<HicExpected>> {
+        let mut reader =
+            SeqReader::new(&self.file, &self.path, self.file_len, self.footer_position);
+        let what = "the footer";
+        if self.version >= 9 {
+            reader.i64(what)?;
+        } else {
+            reader.i32(what)?;
+        }
+        let n_entries = reader.i32("the master index")?;
+        let n_entries = reader.count(i64::from(n_entries), 16, "the master index")?;
+        for _ in 0..n_entries {
+            reader.string("a master index key")?;
+            reader.skip(12, "the master index")?;
+        }
+        let mut out = self.read_expected_section(&mut reader, false)?;
+        if reader.remaining() > 0 {
+            out.extend(self.read_expected_section(&mut reader, true)?);
+        }
+        Ok(out)
+    }
+
+    fn read_expected_section(
+        &self,
+        reader: &mut SeqReader,
+        normalized: bool,
+    ) -> Result<Vec<HicExpected>> {
+        let what = if normalized {
+            "the normalised expected values"
+        } else {
+            "the expected values"
+        };
+        let version = self.version;
+        let value_bytes: u64 = if version >= 9 { 4 } else { 8 };
+        let value = |reader: &mut SeqReader| -> Result<f64> {
+            if version >= 9 {
+                Ok(f64::from(reader.f32(what)?))
+            } else {
+                Ok(f64::from_le_bytes(reader.array::<8>(what)?))
+            }
+        };
+        let n_vectors = reader.i32(what)?;
+        let n_vectors = reader.count(i64::from(n_vectors), 10, what)?;
+        let mut out = Vec::new();
+        for _ in 0..n_vectors {
+            let normalization = if normalized {
+                reader.string(what)?
+            } else {
+                "NONE".to_string()
+            };
+            let unit = reader.string(what)?;
+            let bin_size = reader.i32(what)?;
+            let n_values = if version >= 9 {
+                reader.i64(what)?
+            } else {
+                i64::from(reader.i32(what)?)
+            };
+            let n_values = reader.count(n_values, value_bytes, what)?;
+            let keep = unit == "BP" && i64::from(bin_size) == self.resolution as i64;
+            let mut values = Vec::new();
+            if keep {
+                values.reserve(n_values);
+                for _ in 0..n_values {
+                    values.push(value(reader)?);
+                }
+            } else {
+                reader.skip(n_values as u64 * value_bytes, what)?;
+            }
+            let n_factors = reader.i32(what)?;
+            let n_factors = reader.count(i64::from(n_factors), 4 + value_bytes, what)?;
+            let mut factors = Vec::new();
+            for _ in 0..n_factors {
+                let chrom = reader.i32(what)?;
+                let factor = value(reader)?;
+                let name = usize::try_from(chrom)
+                    .ok()
+                    .and_then(|f| self.file_chrom.iter().position(|&c| c == f))
+                    .map(|k| self.bins.chroms()[k].name.clone());
+                if let (true, Some(name)) = (keep, name) {
+                    factors.push((name, factor));
+                }
+            }
+            if keep {
+                out.push(HicExpected {
+                    normalization,
+                    bin_size_bp: bin_size as u64,
+                    values,
+                    chrom_scale_factors: factors,
+                });
+            }
+        }
+        Ok(out)
     }
 }
 
