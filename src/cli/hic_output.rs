@@ -1,17 +1,22 @@
 //! Writing a Juicer `.hic` (used by `convert`): the matrices at every resolution, then, read back
 //! from the file being written, the normalisation vectors and expected values Juicer stores.
 //!
-//! Steps: [`HicWriter`] streams the input into blocks at every resolution and closes the file with
-//! a footer that has no vectors yet. Each resolution is then read back one chromosome at a time
+//! Steps: [`HicWriter`] streams the input into blocks at every resolution while Juicer's raw
+//! expected values of every resolution accumulate from the same stream, and closes the file with
+//! a footer that has no normalisation yet. Each resolution is then read back one chromosome at a time
 //! (its intra-chromosomal pixels only, on a bin table of that chromosome alone, so memory follows
-//! the largest chromosome): Juicer's raw expected values accumulate, and each normalisation asked
+//! the largest chromosome) and each normalisation asked
 //! for (VC, VC_SQRT, KR, SCALE by default, with Juicer's parameters: `balance --method M
 //! --cis-only`) is computed and its divisive vector kept (`1 / weight`, NaN for masked bins),
 //! with the expected values of the normalised counts. The footer is then rewritten with all of
 //! them. Every vector is stored, even for a chromosome where KR or SCALE did not converge, and
 //! such chromosomes are reported on standard error.
 
+use std::ops::Range;
 use std::path::Path;
+use std::sync::Mutex;
+
+use rayon::prelude::*;
 
 use crate::balance::{balance, BalanceParams, Method, Scope};
 use crate::error::{Error, Result};
@@ -87,19 +92,21 @@ pub fn write_hic(
     let tmp = io::temporary_path(path)?;
     let written = (|| {
         let mut writer = HicWriter::create(&tmp, reader.bins(), resolutions, options)?;
-        writer.write_matrices(reader)?;
-        writer.write_footer(&[], &[], &[])?;
-        let mut expected = Vec::new();
+        let tap = ExpectedTap::new(reader, writer.resolutions());
+        writer.write_matrices(&tap)?;
+        let expected = tap.finish();
+        writer.write_footer(&expected, &[], &[])?;
         let mut normalized = Vec::new();
         let mut vectors = Vec::new();
         let mut unconverged = Vec::new();
-        for &resolution in &writer.resolutions().to_vec() {
-            let level = HicReader::open(&tmp, Some(resolution))?;
-            let vectors_of_level = juicer_vectors(&level, resolution, methods)?;
-            expected.push(vectors_of_level.expected);
-            normalized.extend(vectors_of_level.normalized);
-            vectors.extend(vectors_of_level.vectors);
-            unconverged.extend(vectors_of_level.unconverged);
+        if !methods.is_empty() {
+            for &resolution in &writer.resolutions().to_vec() {
+                let level = HicReader::open(&tmp, Some(resolution))?;
+                let vectors_of_level = juicer_vectors(&level, resolution, methods)?;
+                normalized.extend(vectors_of_level.normalized);
+                vectors.extend(vectors_of_level.vectors);
+                unconverged.extend(vectors_of_level.unconverged);
+            }
         }
         writer.write_footer(&expected, &normalized, &vectors)?;
         Ok(unconverged)
@@ -116,9 +123,81 @@ pub fn write_hic(
     }
 }
 
+/// A reader that passes its pixels on and adds the intra-chromosomal ones to Juicer's raw
+/// expected values at every resolution (a pixel's distance at resolution `r` is the distance of
+/// its coarse bins).
+struct ExpectedTap<'a> {
+    inner: &'a dyn MatrixReader,
+    /// `(resolution, factor to the input's bins, accumulator)`.
+    levels: Mutex<Vec<(u64, u64, JuicerExpectedBuilder)>>,
+    chrom_of: Vec<u32>,
+}
+
+impl<'a> ExpectedTap<'a> {
+    fn new(inner: &'a dyn MatrixReader, resolutions: &[u64]) -> Self {
+        let bins = inner.bins();
+        let base = bins.bin_size_bp().unwrap_or(1);
+        ExpectedTap {
+            inner,
+            levels: Mutex::new(
+                resolutions
+                    .iter()
+                    .map(|&r| (r, r / base, JuicerExpectedBuilder::new(bins, r)))
+                    .collect(),
+            ),
+            chrom_of: (0..bins.n_bins())
+                .map(|b| bins.chrom_of(b) as u32)
+                .collect(),
+        }
+    }
+
+    fn finish(self) -> Vec<JuicerExpected> {
+        let levels = self.levels.into_inner().unwrap_or_else(|e| e.into_inner());
+        levels
+            .iter()
+            .map(|(_, _, builder)| builder.finish())
+            .collect()
+    }
+}
+
+impl MatrixReader for ExpectedTap<'_> {
+    io::forward_reader_metadata!(inner);
+
+    fn read_pixels(
+        &self,
+        rows: Range<usize>,
+        cols: Range<usize>,
+        sink: &mut dyn FnMut(&PixelBlock) -> Result<()>,
+    ) -> Result<()> {
+        let offsets = self.inner.bins().chrom_offsets();
+        let chrom_of = &self.chrom_of;
+        let levels = &self.levels;
+        self.inner.read_pixels(rows, cols, &mut |block| {
+            let mut levels = levels.lock().unwrap_or_else(|e| e.into_inner());
+            levels.par_iter_mut().for_each(|(_, factor, builder)| {
+                for k in 0..block.len() {
+                    let (b1, b2) = (block.bin1[k] as usize, block.bin2[k] as usize);
+                    let chrom = chrom_of.get(b1).copied();
+                    if chrom.is_none() || chrom != chrom_of.get(b2).copied() {
+                        continue;
+                    }
+                    let chrom = chrom.unwrap_or_default() as usize;
+                    let offset = offsets[chrom];
+                    let (x, y) = (
+                        (b1 - offset) as u64 / *factor,
+                        (b2 - offset) as u64 / *factor,
+                    );
+                    builder.add(chrom, y.abs_diff(x) as usize, block.count[k]);
+                }
+            });
+            drop(levels);
+            sink(block)
+        })
+    }
+}
+
 /// The vectors of one resolution.
 struct LevelVectors {
-    expected: JuicerExpected,
     normalized: Vec<(String, JuicerExpected)>,
     vectors: Vec<HicNormVector>,
     unconverged: Vec<Unconverged>,
@@ -131,7 +210,6 @@ fn juicer_vectors(
     methods: &[Method],
 ) -> Result<LevelVectors> {
     let bins = reader.bins();
-    let mut raw = JuicerExpectedBuilder::new(bins, resolution);
     let mut per_method: Vec<JuicerExpectedBuilder> = methods
         .iter()
         .map(|_| JuicerExpectedBuilder::new(bins, resolution))
@@ -158,13 +236,6 @@ fn juicer_vectors(
             pixels.extend(&shifted)
         })?;
         let slice = pixels.as_slice();
-        for k in 0..slice.len() {
-            raw.add(
-                chrom_id,
-                (slice.bin2[k] - slice.bin1[k]) as usize,
-                slice.count[k],
-            );
-        }
         for (m, &method) in methods.iter().enumerate() {
             let weights = if slice.is_empty() {
                 vec![f64::NAN; range.len()]
@@ -212,7 +283,6 @@ fn juicer_vectors(
         }
     }
     Ok(LevelVectors {
-        expected: raw.finish(),
         normalized: methods
             .iter()
             .zip(&per_method)

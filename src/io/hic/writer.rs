@@ -55,8 +55,11 @@ use crate::matrix::PixelBlock;
 
 use block::{block_coordinates, compress_block, Record};
 
+/// Pixels the resolutions take at a time (a slice of the reader's block).
+const RUN_PIXELS: usize = 1 << 18;
+
 /// Records gathered before a batch of complete blocks is compressed in parallel.
-pub const BATCH_RECORDS: usize = 1 << 22;
+pub const BATCH_RECORDS: usize = 1 << 21;
 
 /// Options of [`HicWriter`].
 #[derive(Clone, Debug)]
@@ -282,45 +285,71 @@ impl HicWriter {
             .then(|| WholeGenome::new(&self.chroms, *self.resolutions.last().unwrap()));
         let mut stats = HicBodyStats::default();
         let mut current: Option<usize> = None;
-        let mut batch = Batch::default();
         let n = self.base_bins.n_bins();
         let source = reader.source().to_string();
+        // (c2, x, y, count) of a run of pixels on one row chromosome, in base bins
+        let mut run: Vec<(usize, u64, u64, f64)> = Vec::new();
         reader.read_pixels(0..n, 0..n, &mut |pixels: &PixelBlock| {
-            for k in 0..pixels.len() {
-                let (b1, b2, count) = (pixels.bin1[k], pixels.bin2[k], pixels.count[k]);
-                let (Some(&c1), Some(&c2)) = (chrom_of.get(b1 as usize), chrom_of.get(b2 as usize))
-                else {
-                    return Err(Error::format(
+            let mut start = 0;
+            while start < pixels.len() {
+                let out_of_range = |k: usize| {
+                    Error::format(
                         &source,
-                        format!("pixel ({b1}, {b2}) is out of range ({n} bins)"),
-                    ));
+                        format!(
+                            "pixel ({}, {}) is out of range ({n} bins)",
+                            pixels.bin1[k], pixels.bin2[k]
+                        ),
+                    )
                 };
-                let (c1, c2) = (c1 as usize, c2 as usize);
+                let chrom = |bin: u64| chrom_of.get(bin as usize).map(|&c| c as usize);
+                let c1 = chrom(pixels.bin1[start]).ok_or_else(|| out_of_range(start))?;
                 if current != Some(c1) {
                     if let Some(previous) = current {
-                        self.finish_chrom(previous, &mut levels, &mut batch, &mut stats)?;
+                        self.finish_chrom(previous, &mut levels, &mut stats)?;
                     }
                     for level in levels.iter_mut() {
                         level.start_chrom(c1);
                     }
                     current = Some(c1);
                 }
-                let (x, y) = (b1 - offsets[c1], b2 - offsets[c2]);
-                for level in levels.iter_mut() {
-                    level.add(c2, x / level.factor, y / level.factor, count, &mut batch);
+                run.clear();
+                let mut end = start;
+                while end < pixels.len()
+                    && end - start < RUN_PIXELS
+                    && chrom(pixels.bin1[end]) == Some(c1)
+                {
+                    let (b1, b2) = (pixels.bin1[end], pixels.bin2[end]);
+                    let c2 = chrom(b2).ok_or_else(|| out_of_range(end))?;
+                    run.push((c2, b1 - offsets[c1], b2 - offsets[c2], pixels.count[end]));
+                    end += 1;
                 }
-                if let Some(whole) = whole.as_mut() {
-                    whole.add(c1, x * base, c2, y * base, count);
+                // every resolution (and the All matrix) takes the run on its own core
+                rayon::join(
+                    || {
+                        levels.par_iter_mut().for_each(|level| {
+                            for &(c2, x, y, count) in &run {
+                                level.add(c2, x / level.factor, y / level.factor, count);
+                            }
+                        })
+                    },
+                    || {
+                        if let Some(whole) = whole.as_mut() {
+                            for &(c2, x, y, count) in &run {
+                                whole.add(c1, x * base, c2, y * base, count);
+                            }
+                        }
+                    },
+                );
+                stats.n_pixels_read += run.len() as u64;
+                start = end;
+                if levels.iter().map(|l| l.n_closed_records).sum::<usize>() >= BATCH_RECORDS {
+                    self.write_batch(&mut levels, &mut stats)?;
                 }
-                stats.n_pixels_read += 1;
-            }
-            if batch.n_records >= BATCH_RECORDS {
-                self.write_batch(&mut batch, &mut levels, &mut stats)?;
             }
             Ok(())
         })?;
         if let Some(previous) = current {
-            self.finish_chrom(previous, &mut levels, &mut batch, &mut stats)?;
+            self.finish_chrom(previous, &mut levels, &mut stats)?;
         }
         if let Some(whole) = whole {
             self.write_whole_genome(whole, &mut stats)?;
@@ -334,13 +363,12 @@ impl HicWriter {
         &mut self,
         c1: usize,
         levels: &mut [Level],
-        batch: &mut Batch,
         stats: &mut HicBodyStats,
     ) -> Result<()> {
         for level in levels.iter_mut() {
-            level.close_all(batch);
+            level.close_all();
         }
-        self.write_batch(batch, levels, stats)?;
+        self.write_batch(levels, stats)?;
         // every chromosome pair (c1, c2) with a block at any resolution
         let mut partners: Vec<usize> = levels
             .iter()
@@ -405,16 +433,15 @@ impl HicWriter {
         Ok(())
     }
 
-    /// Compress the batch's blocks in parallel and write them, in the order they were closed.
-    fn write_batch(
-        &mut self,
-        batch: &mut Batch,
-        levels: &mut [Level],
-        stats: &mut HicBodyStats,
-    ) -> Result<()> {
+    /// Compress the closed blocks in parallel and write them, level by level in the order they
+    /// were closed.
+    fn write_batch(&mut self, levels: &mut [Level], stats: &mut HicBodyStats) -> Result<()> {
         let level_of_compression = self.options.compression_level;
-        let mut blocks = std::mem::take(&mut batch.blocks);
-        batch.n_records = 0;
+        let mut blocks: Vec<ClosedBlock> = Vec::new();
+        for level in levels.iter_mut() {
+            blocks.append(&mut level.closed);
+            level.n_closed_records = 0;
+        }
         let compressed: Vec<Vec<u8>> = blocks
             .par_iter_mut()
             .map(|b| compress_block(&mut b.records, level_of_compression))
@@ -580,13 +607,6 @@ struct ClosedBlock {
     records: Vec<Record>,
 }
 
-/// Complete blocks waiting to be compressed and written.
-#[derive(Default)]
-struct Batch {
-    blocks: Vec<ClosedBlock>,
-    n_records: usize,
-}
-
 /// One resolution's open blocks for the current row chromosome.
 struct Level {
     res_index: usize,
@@ -607,8 +627,15 @@ struct Level {
     /// Block index and sum of each matrix `(c1, c2)` of the current row chromosome.
     index: BTreeMap<usize, Vec<(u64, u64, u64)>>,
     sums: BTreeMap<usize, f64>,
-    /// Block sizes and columns of the current row chromosome's matrices, by `c2`.
-    grids: HashMap<usize, (u64, u64)>,
+    /// Sum of each matrix `(c1, c2)` being streamed, by `c2`.
+    running_sums: Vec<f64>,
+    /// Block size and columns of each matrix `(c1, c2)`, by `c2`.
+    grids: Vec<(u64, u64)>,
+    /// Depth boundaries of the intra-chromosomal matrix ([`depth_bounds`]).
+    intra_depths: Vec<u64>,
+    /// Blocks closed and waiting to be compressed, and their records.
+    closed: Vec<ClosedBlock>,
+    n_closed_records: usize,
 }
 
 #[derive(Default)]
@@ -646,16 +673,17 @@ impl Level {
             band: 0,
             index: BTreeMap::new(),
             sums: BTreeMap::new(),
-            grids: HashMap::new(),
+            running_sums: vec![0.0; chroms.len()],
+            grids: Vec::new(),
+            intra_depths: Vec::new(),
+            closed: Vec::new(),
+            n_closed_records: 0,
         }
     }
 
     /// Block size and number of block columns of matrix `(c1, c2)`: Juicer's grid, its blocks
     /// no larger than the matrix needs.
-    fn grid(&mut self, c1: usize, c2: usize) -> (u64, u64) {
-        if let Some(&grid) = self.grids.get(&c2) {
-            return grid;
-        }
+    fn grid(&self, c1: usize, c2: usize) -> (u64, u64) {
         let (n1, n2) = (self.chrom_bins[c1], self.chrom_bins[c2]);
         let size = self.block_bin_count.min(n1.max(n2) + 1).max(1);
         let columns = if c1 == c2 {
@@ -663,7 +691,6 @@ impl Level {
         } else {
             n1.max(n2) / size + 1
         };
-        self.grids.insert(c2, (size, columns));
         (size, columns)
     }
 
@@ -671,22 +698,33 @@ impl Level {
     fn start_chrom(&mut self, c1: usize) {
         self.c1 = c1;
         self.band = 0;
-        self.grids.clear();
         self.last = None;
+        self.grids = (0..self.chrom_bins.len())
+            .map(|c2| self.grid(c1, c2))
+            .collect();
+        let (size, _) = self.grids[c1];
+        self.intra_depths = depth_bounds(size, self.chrom_bins[c1]);
+        self.running_sums.iter_mut().for_each(|s| *s = 0.0);
     }
 
     /// Add one pixel `(x, y)` of matrix `(c1, c2)` in this level's bins (`c1` the current row
     /// chromosome, `x` non-decreasing).
     #[inline]
-    fn add(&mut self, c2: usize, x: u64, y: u64, value: f64, batch: &mut Batch) {
+    fn add(&mut self, c2: usize, x: u64, y: u64, value: f64) {
         let band = x / self.block_bin_count;
         if band != self.band {
-            self.close_until(x, batch);
+            self.close_until(x);
             self.band = band;
         }
-        let c1 = self.c1;
-        let (size, columns) = self.grid(c1, c2);
-        let (column, number) = block_coordinates(c1 == c2, x, y, size, columns);
+        let (size, columns) = self.grids[c2];
+        let (column, number) = if c2 == self.c1 {
+            // the specification's numbering, its depth looked up instead of a log2 per record
+            let along = (x + y) / 2 / size;
+            let depth = self.intra_depths.partition_point(|&d| d <= y - x) as u64;
+            (along, depth * columns + along)
+        } else {
+            block_coordinates(false, x, y, size, columns)
+        };
         let slot = match self.last {
             Some((lc2, ln, slot)) if lc2 == c2 && ln == number => slot,
             _ => {
@@ -715,37 +753,42 @@ impl Level {
             y: y as u32,
             value,
         });
-        *self.sums.entry(c2).or_insert(0.0) += value;
-        batch.n_records += 1;
+        self.running_sums[c2] += value;
     }
 
-    /// Move the blocks that rows from `x` on cannot reach to the batch.
-    fn close_until(&mut self, x: u64, batch: &mut Batch) {
+    /// Close the blocks that rows from `x` on cannot reach.
+    fn close_until(&mut self, x: u64) {
         for slot in 0..self.slots.len() {
             let block = &mut self.slots[slot];
             if block.in_use && block.complete_from <= x {
-                self.close(slot, batch);
+                self.close(slot);
             }
         }
     }
 
-    /// Move every open block to the batch.
-    fn close_all(&mut self, batch: &mut Batch) {
+    /// Close every open block, and keep the sums of the row chromosome's matrices.
+    fn close_all(&mut self) {
         for slot in 0..self.slots.len() {
             if self.slots[slot].in_use {
-                self.close(slot, batch);
+                self.close(slot);
+            }
+        }
+        for (c2, &sum) in self.running_sums.iter().enumerate() {
+            if sum != 0.0 {
+                self.sums.insert(c2, sum);
             }
         }
     }
 
-    fn close(&mut self, slot: usize, batch: &mut Batch) {
+    fn close(&mut self, slot: usize) {
         let block = &mut self.slots[slot];
         block.in_use = false;
         self.open.remove(&(block.c2, block.number));
         if self.last.is_some_and(|(_, _, s)| s == slot) {
             self.last = None;
         }
-        batch.blocks.push(ClosedBlock {
+        self.n_closed_records += block.records.len();
+        self.closed.push(ClosedBlock {
             level: self.res_index,
             c2: block.c2,
             number: block.number,
@@ -753,6 +796,29 @@ impl Level {
         });
         self.free.push(slot);
     }
+}
+
+/// The distances (in bins, `y - x`) at which the depth of an intra-chromosomal block grows, for
+/// blocks of `size` bins and distances up to `max_distance`: `depth(d)` is the number of bounds
+/// `<= d`. Found by bisection on the specification's formula ([`block::depth`]), so the lookup
+/// gives exactly what the formula gives, as readers compute it to find blocks.
+fn depth_bounds(size: u64, max_distance: u64) -> Vec<u64> {
+    let mut bounds = Vec::new();
+    let mut k = 1;
+    while block::depth(max_distance, size) >= k {
+        let (mut low, mut high) = (0u64, max_distance);
+        while low < high {
+            let mid = low + (high - low) / 2;
+            if block::depth(mid, size) >= k {
+                high = mid;
+            } else {
+                low = mid + 1;
+            }
+        }
+        bounds.push(low);
+        k += 1;
+    }
+    bounds
 }
 
 /// Juicer's `All` matrix: the genome in kb, cut into `bin_kb` bins, counts summed densely.
@@ -787,5 +853,36 @@ impl WholeGenome {
         let y = ((self.offsets_kb[c2] + start2_bp / 1000) / self.bin_kb) as usize;
         let (x, y) = (x.min(y).min(self.n_bins - 1), x.max(y).min(self.n_bins - 1));
         self.cells[y * self.n_bins + x] += count;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn depth_lookup_equals_the_formula() {
+        for size in [1u64, 2, 3, 7, 10, 1000, 1001] {
+            let max_distance = 300_000;
+            let bounds = depth_bounds(size, max_distance);
+            for d in (0..2000).chain((2000..max_distance).step_by(997)) {
+                assert_eq!(
+                    bounds.partition_point(|&b| b <= d) as u64,
+                    block::depth(d, size),
+                    "size {size} distance {d}"
+                );
+            }
+            // just below and at every bound
+            for &b in &bounds {
+                assert_eq!(
+                    bounds.partition_point(|&x| x <= b) as u64,
+                    block::depth(b, size)
+                );
+                assert_eq!(
+                    bounds.partition_point(|&x| x < b) as u64,
+                    block::depth(b - 1, size)
+                );
+            }
+        }
     }
 }
