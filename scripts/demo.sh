@@ -31,6 +31,16 @@ step "Dump a region, balanced with cooler's ICE weights, with coordinates" \
 step "Zoom levels balanced one by one, as cooler zoomify --balance (pixels summed into coarser bins)" \
   "$cm" zoomify "$mcool::/resolutions/100000" -r 100000N --balance -o "$work/zoom.mcool"
 "$cm" info "$work/zoom.mcool"
+step "Write a Juicer .hic (v9) for Juicebox: 100 kb to 1 Mb, with VC, VC_SQRT, KR and SCALE per chromosome and Juicer's expected values" \
+  "$cm" convert "$mcool::/resolutions/100000" "$work/dm6.hic" --resolutions 100000,200000,500000,1000000 --genome dm6
+"$cm" info "$work/dm6.hic"
+"$cm" dump "$work/dm6.hic::/resolutions/1000000" > "$work/hic1m.tsv"
+"$cm" dump "$mcool::/resolutions/1000000" > "$work/mcool1m.tsv"
+if cmp -s "$work/hic1m.tsv" "$work/mcool1m.tsv"; then
+  echo "   its 1 Mb level holds the pixels of the .mcool's own 1 Mb level ($(wc -l < "$work/hic1m.tsv") pixels)"
+else
+  echo "   the .hic's 1 Mb level DIFFERS from the .mcool's" >&2; exit 1
+fi
 if [ -f data/hg19.GM12878-MboI.pairs.subsample.sorted.txt.gz ]; then
   "$cm" dump -t chroms data/hg19.GM12878-MboI.matrix.2000kb.cool > "$work/hg19.sizes"
   step "Bin read pairs into a 2 Mb cooler" "$cm" convert data/hg19.GM12878-MboI.pairs.subsample.sorted.txt.gz \
