@@ -81,6 +81,42 @@ impl MatrixBuilder {
         self.triplets.len()
     }
 
+    /// Build the matrix straight from pixels already sorted by `(bin1, bin2)`, upper triangle,
+    /// without repeats (as the pairs reader produces them): no triplet copy is held.
+    pub fn from_sorted(
+        bins: BinTable,
+        count_type: CountType,
+        pixels: impl ExactSizeIterator<Item = (u64, u64, f64)>,
+    ) -> Result<ContactMatrix> {
+        let n_bins = bins.n_bins();
+        let mut row_offsets = vec![0usize; n_bins + 1];
+        let mut bin2 = Vec::with_capacity(pixels.len());
+        let mut counts = Vec::with_capacity(pixels.len());
+        let mut last: Option<(u64, u64)> = None;
+        for (i, j, count) in pixels {
+            if i > j || j >= n_bins as u64 || last.is_some_and(|l| l >= (i, j)) {
+                return Err(Error::Invalid(format!(
+                    "pixel ({i}, {j}) is out of order, below the diagonal or out of range"
+                )));
+            }
+            last = Some((i, j));
+            row_offsets[i as usize + 1] += 1;
+            bin2.push(j as u32);
+            counts.push(count);
+        }
+        for i in 0..n_bins {
+            row_offsets[i + 1] += row_offsets[i];
+        }
+        Ok(ContactMatrix {
+            bins,
+            row_offsets,
+            bin2,
+            counts,
+            count_type,
+            weights: Vec::new(),
+        })
+    }
+
     /// Sort, sum duplicates, drop the pixels whose summed count is zero and build the CSR matrix:
     /// [`build_with`](Self::build_with) with [`ZeroCounts::Drop`].
     pub fn build(self) -> ContactMatrix {
@@ -138,6 +174,28 @@ impl MatrixBuilder {
 mod tests {
     use super::*;
     use crate::genome::Chrom;
+
+    #[test]
+    fn sorted_pixels_build_the_same_matrix_and_disorder_is_refused() {
+        let bins = BinTable::fixed(vec![Chrom::new("a", 50), Chrom::new("b", 30)], 10).unwrap();
+        let pixels = [
+            (0u64, 0u64, 2.0),
+            (0, 4, 1.0),
+            (2, 3, 5.0),
+            (5, 7, 1.0),
+            (7, 7, 3.0),
+        ];
+        let mut builder = MatrixBuilder::new(bins.clone(), CountType::Integer);
+        for &(i, j, c) in pixels.iter().rev() {
+            builder.push(j, i, c).unwrap();
+        }
+        let sorted =
+            MatrixBuilder::from_sorted(bins.clone(), CountType::Integer, pixels.iter().copied())
+                .unwrap();
+        assert_eq!(sorted, builder.build());
+        let swapped = [(0u64, 4u64, 1.0), (0, 0, 2.0)];
+        assert!(MatrixBuilder::from_sorted(bins, CountType::Integer, swapped.into_iter()).is_err());
+    }
 
     /// Zero-count pixels in both triangles, one of them pushed twice, and one non-zero pixel.
     fn with_zeros() -> MatrixBuilder {

@@ -77,6 +77,53 @@ impl LineReader {
         Ok(true)
     }
 
+    /// Hand the current line out again at the next [`advance`](Self::advance) or
+    /// [`next_chunk`](Self::next_chunk), with its number.
+    pub(super) fn unread_current(&mut self) {
+        let line = self.current().to_vec();
+        self.replay.push_front(line);
+        self.line_number -= 1;
+    }
+
+    /// The next lines, whole, about `target_bytes` of them (each ending with `\n`), and the
+    /// number of the first; `None` at the end of the input. For parsing lines in parallel.
+    pub(super) fn next_chunk(&mut self, target_bytes: usize) -> Result<Option<(Vec<u8>, u64)>> {
+        let first = self.line_number + 1;
+        let mut chunk = Vec::with_capacity(target_bytes + (1 << 12));
+        while chunk.len() < target_bytes {
+            let Some(line) = self.replay.pop_front() else {
+                break;
+            };
+            chunk.extend_from_slice(&line);
+            chunk.push(b'\n');
+        }
+        while chunk.len() < target_bytes {
+            let buffer = self
+                .input
+                .fill_buf()
+                .map_err(|e| Error::io(&self.path, e))?;
+            if buffer.is_empty() {
+                break;
+            }
+            let take = buffer.len().min(target_bytes - chunk.len());
+            chunk.extend_from_slice(&buffer[..take]);
+            self.input.consume(take);
+        }
+        if chunk.last().is_some_and(|&b| b != b'\n') {
+            self.input
+                .read_until(b'\n', &mut chunk)
+                .map_err(|e| Error::io(&self.path, e))?;
+            if chunk.last() != Some(&b'\n') {
+                chunk.push(b'\n');
+            }
+        }
+        if chunk.is_empty() {
+            return Ok(None);
+        }
+        self.line_number += chunk.iter().filter(|&&b| b == b'\n').count() as u64;
+        Ok(Some((chunk, first)))
+    }
+
     /// The current line, without its terminator and trailing blanks.
     pub(super) fn current(&self) -> &[u8] {
         &self.line[..self.len]

@@ -1,6 +1,8 @@
 //! Read pairs, binned as `cooler cload pairs` bins them.
 
 use std::collections::HashMap;
+
+use rayon::prelude::*;
 use std::hash::{BuildHasherDefault, Hasher};
 use std::path::Path;
 
@@ -40,9 +42,6 @@ impl Hasher for FastHasher {
         self.0 = z ^ (z >> 31);
     }
 }
-
-/// Pair counts per pixel, keyed by `bin1 << 32 | bin2`.
-type PixelCounts = HashMap<u64, u64, BuildHasherDefault<FastHasher>>;
 
 /// Assigns pairs to bins.
 struct PairBinner {
@@ -156,6 +155,17 @@ fn columns_from_header(lines: &LineReader, header: &[u8]) -> Result<[usize; 4]> 
     }
 }
 
+/// Bytes of whole lines parsed as one task.
+const CHUNK_BYTES: usize = 4 << 20;
+
+/// Read the pairs of `lines` and bin them.
+///
+/// The header lines (`#chromsize:`, `#columns:`) come first and are read in order; the pairs
+/// after them are read in chunks of whole lines ([`CHUNK_BYTES`]), a few chunks per thread at a
+/// time, each parsed on its own core into its sorted pixel keys with their counts. The chunks'
+/// runs are merged pairwise as they accumulate (runs of similar sizes, so each pixel is merged
+/// `O(log n)` times), 16 bytes per distinct pixel. The first bad line in file order is the one
+/// reported, whatever the threads; the result does not depend on them.
 pub(super) fn read_pairs(lines: &mut LineReader, options: &OpenOptions) -> Result<ContactMatrix> {
     let mut columns: Option<[usize; 4]> = match options.pairs_columns {
         Some(one_based) => {
@@ -169,54 +179,208 @@ pub(super) fn read_pairs(lines: &mut LineReader, options: &OpenOptions) -> Resul
         None => None,
     };
     let mut header_chroms: Vec<Chrom> = Vec::new();
-    let mut binner: Option<PairBinner> = None;
-    let mut counts = PixelCounts::default();
-    let (mut cache1, mut cache2) = (0usize, 0usize);
-    // Runs of pairs in the same pixel are counted before touching the map.
-    let (mut run_key, mut run_count) = (u64::MAX, 0u64);
-    let mut n_dropped = 0u64;
-    let mut first_dropped: Option<String> = None;
-    let mut slots = [0usize; 4];
-    let mut max_column = 0usize;
     while lines.advance()? {
         let line = lines.current();
         if line.is_empty() {
             continue;
         }
-        if line[0] == b'#' {
-            if binner.is_none() {
-                if let Some(rest) = line.strip_prefix(b"#chromsize:") {
-                    let mut fields = rest
-                        .split(|b| b.is_ascii_whitespace())
-                        .filter(|f| !f.is_empty());
-                    match (fields.next(), fields.next().and_then(parse_u64)) {
-                        (Some(name), Some(length)) if length > 0 => {
-                            header_chroms.push(Chrom::new(String::from_utf8_lossy(name), length))
-                        }
-                        _ => {
-                            return Err(lines.error(
-                                "expected '#chromsize: name length' with a positive whole length",
-                            ))
-                        }
-                    }
-                } else if let Some(rest) = line.strip_prefix(b"#columns:") {
-                    if options.pairs_columns.is_none() {
-                        columns = Some(columns_from_header(lines, rest)?);
-                    }
+        if line[0] != b'#' {
+            lines.unread_current();
+            break;
+        }
+        if let Some(rest) = line.strip_prefix(b"#chromsize:") {
+            let mut fields = rest
+                .split(|b| b.is_ascii_whitespace())
+                .filter(|f| !f.is_empty());
+            match (fields.next(), fields.next().and_then(parse_u64)) {
+                (Some(name), Some(length)) if length > 0 => {
+                    header_chroms.push(Chrom::new(String::from_utf8_lossy(name), length))
+                }
+                _ => {
+                    return Err(lines
+                        .error("expected '#chromsize: name length' with a positive whole length"))
                 }
             }
+        } else if let Some(rest) = line.strip_prefix(b"#columns:") {
+            if options.pairs_columns.is_none() {
+                columns = Some(columns_from_header(lines, rest)?);
+            }
+        }
+    }
+    let layout = Layout::new(columns.unwrap_or([1, 2, 3, 4]));
+    let binner = PairBinner::new(&lines.path, options, header_chroms)?;
+    let mut runs: Vec<Run> = Vec::new();
+    let mut n_dropped = 0u64;
+    let mut first_dropped: Option<String> = None;
+    let chunks_per_batch = 2 * rayon::current_num_threads().max(1);
+    loop {
+        let mut chunks = Vec::with_capacity(chunks_per_batch);
+        while chunks.len() < chunks_per_batch {
+            match lines.next_chunk(CHUNK_BYTES)? {
+                Some(chunk) => chunks.push(chunk),
+                None => break,
+            }
+        }
+        if chunks.is_empty() {
+            break;
+        }
+        let parsed: Vec<ParsedChunk> = chunks
+            .par_iter()
+            .map(|(bytes, first_line)| parse_chunk(&binner, &layout, bytes, *first_line))
+            .collect();
+        for chunk in parsed {
+            if let Some((line, message)) = chunk.error {
+                return Err(Error::parse(&lines.path, line, message));
+            }
+            n_dropped += chunk.n_dropped;
+            if first_dropped.is_none() {
+                first_dropped = chunk.first_dropped;
+            }
+            runs.push(chunk.run);
+            while runs.len() >= 2 && runs[runs.len() - 2].len() <= 2 * runs[runs.len() - 1].len() {
+                let (b, a) = (runs.pop().expect("two runs"), runs.pop().expect("two runs"));
+                runs.push(Run::merge(a, b));
+            }
+        }
+    }
+    let mut merged = Run::default();
+    while let Some(run) = runs.pop() {
+        merged = Run::merge(run, merged);
+    }
+    if merged.keys.is_empty() && n_dropped > 0 {
+        return Err(Error::format(
+            &lines.path,
+            format!(
+                "none of the {n_dropped} pairs is on a chromosome of the chromosome table (the \
+                 first unknown name is '{}'): check the chromosome names and --pairs-columns",
+                first_dropped.unwrap_or_default()
+            ),
+        ));
+    }
+    MatrixBuilder::from_sorted(
+        binner.bins,
+        CountType::Integer,
+        merged
+            .keys
+            .iter()
+            .zip(&merged.counts)
+            .map(|(&key, &count)| (key >> 32, key & 0xFFFF_FFFF, count as f64)),
+    )
+}
+
+/// Where the four fields a pair needs are.
+struct Layout {
+    /// 0-based columns of chrom1, pos1, chrom2, pos2.
+    slots: [usize; 4],
+    max_column: usize,
+}
+
+impl Layout {
+    fn new(slots: [usize; 4]) -> Self {
+        Layout {
+            slots,
+            max_column: slots.into_iter().max().unwrap_or(0),
+        }
+    }
+}
+
+/// Sorted pixel keys (`bin1 << 32 | bin2`, `bin1 <= bin2`) with their pair counts.
+#[derive(Default)]
+struct Run {
+    keys: Vec<u64>,
+    counts: Vec<u64>,
+}
+
+impl Run {
+    fn len(&self) -> usize {
+        self.keys.len()
+    }
+
+    /// Sort `keys` and count repeats.
+    fn from_keys(mut keys: Vec<u64>) -> Run {
+        keys.sort_unstable();
+        let mut run = Run::default();
+        for key in keys {
+            if run.keys.last() == Some(&key) {
+                *run.counts.last_mut().expect("a key") += 1;
+            } else {
+                run.keys.push(key);
+                run.counts.push(1);
+            }
+        }
+        run
+    }
+
+    /// The union of two runs, counts of common keys added.
+    fn merge(a: Run, b: Run) -> Run {
+        if a.keys.is_empty() {
+            return b;
+        }
+        if b.keys.is_empty() {
+            return a;
+        }
+        let mut out = Run {
+            keys: Vec::with_capacity(a.len() + b.len()),
+            counts: Vec::with_capacity(a.len() + b.len()),
+        };
+        let (mut i, mut j) = (0, 0);
+        while i < a.len() && j < b.len() {
+            match a.keys[i].cmp(&b.keys[j]) {
+                std::cmp::Ordering::Less => {
+                    out.keys.push(a.keys[i]);
+                    out.counts.push(a.counts[i]);
+                    i += 1;
+                }
+                std::cmp::Ordering::Greater => {
+                    out.keys.push(b.keys[j]);
+                    out.counts.push(b.counts[j]);
+                    j += 1;
+                }
+                std::cmp::Ordering::Equal => {
+                    out.keys.push(a.keys[i]);
+                    out.counts.push(a.counts[i] + b.counts[j]);
+                    i += 1;
+                    j += 1;
+                }
+            }
+        }
+        out.keys.extend_from_slice(&a.keys[i..]);
+        out.counts.extend_from_slice(&a.counts[i..]);
+        out.keys.extend_from_slice(&b.keys[j..]);
+        out.counts.extend_from_slice(&b.counts[j..]);
+        out
+    }
+}
+
+/// What one chunk of lines gave.
+struct ParsedChunk {
+    run: Run,
+    n_dropped: u64,
+    first_dropped: Option<String>,
+    /// The first bad line: its number and the message.
+    error: Option<(u64, String)>,
+}
+
+/// Parse the pairs of a chunk of whole lines whose first is line `first_line`.
+fn parse_chunk(binner: &PairBinner, layout: &Layout, bytes: &[u8], first_line: u64) -> ParsedChunk {
+    let mut keys = Vec::with_capacity(bytes.len() / 48);
+    let (mut cache1, mut cache2) = (0usize, 0usize);
+    let mut n_dropped = 0u64;
+    let mut first_dropped: Option<String> = None;
+    let slots = layout.slots;
+    let max_column = layout.max_column;
+    let mut error = None;
+    let body = bytes.strip_suffix(b"\n").unwrap_or(bytes);
+    for (k, raw) in body.split(|&b| b == b'\n').enumerate() {
+        let mut len = raw.len();
+        while len > 0 && matches!(raw[len - 1], b'\r' | b' ' | b'\t') {
+            len -= 1;
+        }
+        let line = &raw[..len];
+        if line.is_empty() || line[0] == b'#' {
             continue;
         }
-        if binner.is_none() {
-            slots = columns.unwrap_or([1, 2, 3, 4]);
-            max_column = slots.into_iter().max().unwrap_or(0);
-            binner = Some(PairBinner::new(
-                &lines.path,
-                options,
-                std::mem::take(&mut header_chroms),
-            )?);
-        }
-        let Some(binner) = &binner else { continue };
+        let line_number = first_line + k as u64;
         let mut fields: [&[u8]; 4] = [&[]; 4];
         let mut n_columns = 0usize;
         for (column, field) in Fields::new(line).enumerate() {
@@ -231,15 +395,19 @@ pub(super) fn read_pairs(lines: &mut LineReader, options: &OpenOptions) -> Resul
             }
         }
         if n_columns <= max_column {
-            return Err(lines.error(format!(
-                "expected at least {} columns (chrom1, pos1, chrom2, pos2 in columns {}, {}, {}, \
-                 {}), found {n_columns}",
-                max_column + 1,
-                slots[0] + 1,
-                slots[1] + 1,
-                slots[2] + 1,
-                slots[3] + 1
-            )));
+            error = Some((
+                line_number,
+                format!(
+                    "expected at least {} columns (chrom1, pos1, chrom2, pos2 in columns {}, {}, \
+                     {}, {}), found {n_columns}",
+                    max_column + 1,
+                    slots[0] + 1,
+                    slots[1] + 1,
+                    slots[2] + 1,
+                    slots[3] + 1
+                ),
+            ));
+            break;
         }
         let (Some(chrom1), Some(chrom2)) = (
             binner.chrom(fields[0], &mut cache1),
@@ -256,45 +424,23 @@ pub(super) fn read_pairs(lines: &mut LineReader, options: &OpenOptions) -> Resul
             }
             continue;
         };
-        let bin1 = binner
+        let bins = binner
             .bin(chrom1, fields[1], 1)
-            .map_err(|m| lines.error(m))?;
-        let bin2 = binner
-            .bin(chrom2, fields[3], 2)
-            .map_err(|m| lines.error(m))?;
-        let key = (bin1.min(bin2) << 32) | bin1.max(bin2);
-        if key == run_key {
-            run_count += 1;
-        } else {
-            if run_count > 0 {
-                *counts.entry(run_key).or_insert(0) += run_count;
+            .and_then(|b1| binner.bin(chrom2, fields[3], 2).map(|b2| (b1, b2)));
+        match bins {
+            Ok((bin1, bin2)) => keys.push((bin1.min(bin2) << 32) | bin1.max(bin2)),
+            Err(message) => {
+                error = Some((line_number, message));
+                break;
             }
-            run_key = key;
-            run_count = 1;
         }
     }
-    if run_count > 0 {
-        *counts.entry(run_key).or_insert(0) += run_count;
+    ParsedChunk {
+        run: Run::from_keys(keys),
+        n_dropped,
+        first_dropped,
+        error,
     }
-    let binner = match binner {
-        Some(binner) => binner,
-        None => PairBinner::new(&lines.path, options, header_chroms)?,
-    };
-    if counts.is_empty() && n_dropped > 0 {
-        return Err(Error::format(
-            &lines.path,
-            format!(
-                "none of the {n_dropped} pairs is on a chromosome of the chromosome table (the \
-                 first unknown name is '{}'): check the chromosome names and --pairs-columns",
-                first_dropped.unwrap_or_default()
-            ),
-        ));
-    }
-    let mut builder = MatrixBuilder::new(binner.bins, CountType::Integer);
-    for (key, count) in counts {
-        builder.push(key >> 32, key & 0xFFFF_FFFF, count as f64)?;
-    }
-    Ok(builder.build())
 }
 
 #[cfg(test)]
@@ -303,6 +449,7 @@ mod tests {
 
     use super::super::test_support::*;
     use super::super::{read_matrix, TextFormat};
+    use super::CHUNK_BYTES;
     use crate::error::Error;
     use crate::io::OpenOptions;
     use crate::matrix::CountType;
@@ -486,6 +633,54 @@ mod tests {
             }
             other => panic!("expected a format error, got {other:?}"),
         }
+    }
+
+    /// Many chunks of lines: the counts equal a naive count, line by line, and an error deep in
+    /// the file names its own line.
+    #[test]
+    fn chunks_parsed_in_parallel_give_the_naive_counts_and_line_numbers() {
+        let dir = TempDir::new().unwrap();
+        let options = small_options(&dir, TextFormat::Pairs);
+        let mut state = 0x2545_F491_4F6C_DD1Du64;
+        let mut next = move |m: u64| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state % m
+        };
+        let lengths = [("chr1", 100u64), ("chr2", 50), ("chrUn", 30)];
+        let mut text = String::from("#comment\n");
+        let mut naive: std::collections::BTreeMap<(u64, u64), f64> = Default::default();
+        let n_lines = 3 * CHUNK_BYTES / 40; // several chunks
+        for k in 0..n_lines {
+            let (c1, l1) = lengths[next(3) as usize];
+            let (c2, l2) = lengths[next(3) as usize];
+            let (p1, p2) = (1 + next(l1), 1 + next(l2));
+            text.push_str(&format!("r{k}\t{c1}\t{p1}\t{c2}\t{p2}\t+\t-\n"));
+            if k % 1000 == 7 {
+                text.push_str("#a comment between pairs\n\n");
+            }
+            if c1 == "chrUn" || c2 == "chrUn" {
+                continue;
+            }
+            let bin = |c: &str, p: u64| (p - 1) / 10 + if c == "chr2" { 10 } else { 0 };
+            let (b1, b2) = (bin(c1, p1), bin(c2, p2));
+            *naive.entry((b1.min(b2), b1.max(b2))).or_default() += 1.0;
+        }
+        assert!(text.len() > 2 * CHUNK_BYTES);
+        let matrix = read_str(&dir, &text, &options).unwrap();
+        let pixels = matrix.all_pixels();
+        let got: Vec<((u64, u64), f64)> = (0..pixels.len())
+            .map(|k| ((pixels.bin1[k], pixels.bin2[k]), pixels.count[k]))
+            .collect();
+        let want: Vec<((u64, u64), f64)> = naive.into_iter().collect();
+        assert_eq!(got, want);
+        // a bad position near the end: its line number counts every line before it
+        let n_before = text.lines().count();
+        text.push_str("rX\tchr1\t5\tchr2\t51\n");
+        let (line, message) = parse_error(read_str(&dir, &text, &options));
+        assert_eq!(line, n_before as u64 + 1);
+        assert!(message.starts_with("pos2 51 is outside chr2"), "{message}");
     }
 
     #[test]
