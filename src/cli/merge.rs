@@ -1,14 +1,16 @@
 //! `contactmap merge`: the sum of several maps on the same bins (replicates, simulation replicas)
-//! as a .cool or .mcool, streamed.
+//! as a .cool, .mcool or .hic, streamed.
 
 use std::path::PathBuf;
 
 use clap::Args;
 
+use crate::cli::hic_output::{report_unconverged, write_hic, DEFAULT_NORMALIZATIONS};
 use crate::cli::matrix_output::{fixed_bin_size, mcool_resolutions, OutputFormat};
 use crate::cli::InputArgs;
 use crate::error::{Error, Result};
 use crate::io::cool::{write_cool, write_mcool, CoolWriteOptions};
+use crate::io::hic::HicWriteOptions;
 use crate::io::merged::MergedReader;
 use crate::io::{self, MatrixReader};
 
@@ -18,9 +20,10 @@ use crate::io::{self, MatrixReader};
 Every input must have the same chromosomes (names and lengths, in the same order) and the same
 bins; a pixel of the output is the sum of that pixel over the inputs (as `cooler merge`). Inputs
 are any matrix contactmap reads (.cool, .mcool::/resolutions/N, .hic, text tables); the output is
-a .cool, or an .mcool with --resolutions (as `convert`). Counts stay integers when every input's
-are. Weight columns are not carried over: balance the merged file (`contactmap balance OUT
---store`).
+a .cool, an .mcool with --resolutions (as `convert`), or a Juicer .hic (its resolutions too, with
+Juicer's VC, VC_SQRT, KR and SCALE vectors computed on the merged map, as `convert` writes it).
+Counts stay integers when every input's are. Weight columns are not carried over: balance the
+merged file (`contactmap balance OUT --store`).
 
 The pixels are streamed in bands of rows from every input at once, so memory follows the band
 (a few million pixels), not the files. The output is written under a temporary name and renamed
@@ -35,7 +38,7 @@ pub struct MergeArgs {
     /// The maps to sum (at least one).
     #[arg(value_name = "URI", required = true)]
     pub inputs: Vec<String>,
-    /// Output: FILE.cool, or FILE.mcool (with --resolutions).
+    /// Output: FILE.cool, FILE.mcool (with --resolutions) or FILE.hic.
     #[arg(short, long, value_name = "FILE")]
     pub out: PathBuf,
     /// Resolutions of an .mcool output (a list, or BASE N / BASE B progressions, as `convert`).
@@ -54,17 +57,19 @@ pub fn run(args: &MergeArgs) -> Result<()> {
     let name = args.out.to_string_lossy().to_ascii_lowercase();
     let format = if name.ends_with(".mcool") {
         OutputFormat::Mcool
+    } else if name.ends_with(".hic") {
+        OutputFormat::Hic
     } else if name.ends_with(".cool") {
         OutputFormat::Cool
     } else {
         return Err(Error::Invalid(format!(
-            "--out {}: merge writes .cool or .mcool (give one of those extensions)",
+            "--out {}: merge writes .cool, .mcool or .hic (give one of those extensions)",
             args.out.display()
         )));
     };
     if format == OutputFormat::Cool && !args.resolutions.is_empty() {
         return Err(Error::Invalid(
-            "--resolutions needs an .mcool output".into(),
+            "--resolutions needs an .mcool or .hic output".into(),
         ));
     }
     let options = args.input_args.to_options()?;
@@ -83,13 +88,30 @@ pub fn run(args: &MergeArgs) -> Result<()> {
         weight_columns: Some(Vec::new()),
     };
     match format {
-        OutputFormat::Mcool => {
+        OutputFormat::Mcool | OutputFormat::Hic => {
             let resolutions = if args.resolutions.is_empty() {
                 vec![fixed_bin_size(reader.bins(), reader.source())?]
             } else {
                 mcool_resolutions(reader.bins(), reader.source(), &args.resolutions)?
             };
-            write_mcool(&reader, &args.out, &resolutions, &write_options)?;
+            if format == OutputFormat::Hic {
+                let options = HicWriteOptions {
+                    genome_id: write_options
+                        .assembly
+                        .clone()
+                        .unwrap_or_else(|| "unknown".into()),
+                    ..HicWriteOptions::default()
+                };
+                report_unconverged(write_hic(
+                    &reader,
+                    &args.out,
+                    &resolutions,
+                    &DEFAULT_NORMALIZATIONS,
+                    &options,
+                )?);
+            } else {
+                write_mcool(&reader, &args.out, &resolutions, &write_options)?;
+            }
         }
         _ => write_cool(&reader, &args.out, &write_options)?,
     }

@@ -1,17 +1,19 @@
-//! `contactmap zoomify`: a multi-resolution .mcool from a cooler (or any matrix), as `cooler
-//! zoomify` / `hictk zoomify`, with every level optionally balanced.
+//! `contactmap zoomify`: a multi-resolution .mcool (or .hic) from a cooler (or any matrix), as
+//! `cooler zoomify` / `hictk zoomify`, with every level optionally balanced.
 
 use std::path::{Path, PathBuf};
 
 use clap::Args;
 
-use crate::balance::{balance, BalanceParams};
+use crate::balance::{balance, BalanceParams, Method};
+use crate::cli::hic_output::{report_unconverged, write_hic, DEFAULT_NORMALIZATIONS};
 use crate::cli::matrix_output::mcool_resolutions;
 use crate::cli::weights::stored_attributes;
 use crate::cli::InputArgs;
 use crate::error::{Error, Result};
 use crate::io::cool::store::store_weights;
 use crate::io::cool::{write_mcool, CoolReader, CoolWriteOptions};
+use crate::io::hic::HicWriteOptions;
 use crate::io::{self, default_memory_budget, MatrixReader};
 use crate::matrix::Weights;
 
@@ -31,17 +33,20 @@ input's own `weight` column when it has one, as cooler does); a level that does 
 is stored with converged=false and a warning, as cooler's default does. Use `contactmap balance
 OUT::/resolutions/N --store --force` for other balancing of a level.
 
-The output (default: the input's name with .mcool) is written under a temporary name and renamed
-when complete.
+With -o FILE.hic the levels are written as a Juicer .hic (as `hictk zoomify` can), each with
+Juicer's VC, VC_SQRT, KR and SCALE vectors and expected values (see `convert`); --balance adds
+an ICE vector (cooler's defaults, per chromosome). The output (default: the input's name with
+.mcool) is written under a temporary name and renamed when complete.
 
 Examples:
   contactmap zoomify in.cool                                # in.mcool, B progression
   contactmap zoomify in.cool -r 10000,20000,50000,100000 --balance -o out.mcool
-  contactmap zoomify in.cool -r 10000N -o out.mcool")]
+  contactmap zoomify in.cool -r 10000N -o out.mcool
+  contactmap zoomify in.cool -r 5000N -o out.hic          # Juicer .hic for Juicebox")]
 pub struct ZoomifyArgs {
     /// The input: file.cool, file.mcool::/resolutions/N, .hic, text tables.
     pub input: String,
-    /// Output .mcool (default: the input's name with .mcool).
+    /// Output .mcool or .hic (default: the input's name with .mcool).
     #[arg(short, long, value_name = "FILE")]
     pub out: Option<PathBuf>,
     /// Resolutions: a list, or B / N progressions (see below).
@@ -90,13 +95,11 @@ pub fn run(args: &ZoomifyArgs) -> Result<()> {
         .out
         .clone()
         .unwrap_or_else(|| default_output(&args.input));
-    if !out
-        .to_string_lossy()
-        .to_ascii_lowercase()
-        .ends_with(".mcool")
-    {
+    let name = out.to_string_lossy().to_ascii_lowercase();
+    let hic = name.ends_with(".hic");
+    if !hic && !name.ends_with(".mcool") {
         return Err(Error::Invalid(format!(
-            "--out {}: zoomify writes an .mcool",
+            "--out {}: zoomify writes an .mcool or a .hic",
             out.display()
         )));
     }
@@ -114,6 +117,25 @@ pub fn run(args: &ZoomifyArgs) -> Result<()> {
                 .or_else(|| crate::cli::input::input_assembly(reader.as_ref())),
             weight_columns: None,
         };
+        if hic {
+            let mut methods = DEFAULT_NORMALIZATIONS.to_vec();
+            if args.balance {
+                methods.push(Method::Ice);
+            }
+            let hic_options = HicWriteOptions {
+                genome_id: options.assembly.unwrap_or_else(|| "unknown".into()),
+                ..HicWriteOptions::default()
+            };
+            report_unconverged(write_hic(
+                reader.as_ref(),
+                &out,
+                &resolutions,
+                &methods,
+                &hic_options,
+            )?);
+            super::warnings::print_reader_warnings(reader.warnings());
+            return Ok(());
+        }
         write_mcool(reader.as_ref(), &out, &resolutions, &options)?;
         super::warnings::print_reader_warnings(reader.warnings());
         resolutions

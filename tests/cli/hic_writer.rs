@@ -165,3 +165,43 @@ fn bad_requests_exit_2_without_a_file() {
         "no temporary left"
     );
 }
+
+#[test]
+fn merge_and_zoomify_write_hic_too() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = |name: &str| dir.path().join(name).to_string_lossy().into_owned();
+    let yeast = data("yeast.10kb.cool");
+    run_ok(&["merge", &yeast, &yeast, "-o", &path("m.hic")]);
+    run_ok(&["merge", &yeast, &yeast, "-o", &path("m.cool")]);
+    assert_eq!(dump(&[&path("m.hic")]), dump(&[&path("m.cool")]));
+    run_ok(&[
+        "zoomify",
+        &yeast,
+        "-r",
+        "10000,40000",
+        "--balance",
+        "-o",
+        &path("z.hic"),
+    ]);
+    run_ok(&[
+        "zoomify",
+        &yeast,
+        "-r",
+        "10000,40000",
+        "-o",
+        &path("z.mcool"),
+    ]);
+    for r in ["10000", "40000"] {
+        assert_eq!(
+            dump(&[&format!("{}::/resolutions/{r}", path("z.hic"))]),
+            dump(&[&format!("{}::/resolutions/{r}", path("z.mcool"))]),
+            "{r}"
+        );
+    }
+    let info: serde_json::Value =
+        serde_json::from_str(&run_ok(&["info", &path("z.hic"), "--json"])).unwrap();
+    let weights = info["levels"][1]["weights"].to_string();
+    for name in ["ICE", "KR", "SCALE", "VC", "VC_SQRT"] {
+        assert!(weights.contains(&format!("\"{name}\"")), "{weights}");
+    }
+}

@@ -73,7 +73,7 @@ fn maps_on_other_bins_are_refused_with_no_file() {
     assert!(!out.exists());
     let message = run_err(&["merge", &data("yeast.10kb.cool"), "-o", "x.txt"]);
     assert!(
-        message.contains("merge writes .cool or .mcool"),
+        message.contains("merge writes .cool, .mcool or .hic"),
         "{message}"
     );
 }
