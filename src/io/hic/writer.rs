@@ -27,7 +27,10 @@
 //!
 //! Pixels arrive sorted by `(bin1, bin2)` at the finest resolution and are coarsened on the fly
 //! for every resolution (a bin's coarse bin is its index in the chromosome divided by the
-//! resolution factor). A block is complete once the stream has passed the last row it can hold
+//! resolution factor); each resolution takes every slice of the stream on its own core (rayon),
+//! and finds a record's block with the specification's formula, the depth of a rotated block
+//! looked up in a table bisected from that formula (no `log2` per record, the same numbers).
+//! A block is complete once the stream has passed the last row it can hold
 //! (column `k` of the grid holds rows below `(k + 1) * block_bin_count`), so blocks are written as
 //! the rows go by and the memory held is that of the open blocks: at most one block-column band
 //! of each inter-chromosomal matrix, and for intra-chromosomal ones the pixels whose block along
@@ -206,6 +209,15 @@ impl HicWriter {
     }
     fn put_f32(&mut self, v: f64) -> Result<()> {
         self.put(&(v as f32).to_le_bytes())
+    }
+    /// A vector as version 9 stores it: its length (`long`), then float32 values.
+    fn put_f32_vector(&mut self, values: &[f64]) -> Result<()> {
+        self.put_i64(values.len() as i64)?;
+        let bytes: Vec<u8> = values
+            .iter()
+            .flat_map(|&x| (x as f32).to_le_bytes())
+            .collect();
+        self.put(&bytes)
     }
     fn put_str(&mut self, s: &str) -> Result<()> {
         if s.as_bytes().contains(&0) {
@@ -553,13 +565,7 @@ impl HicWriter {
         let mut positions = Vec::with_capacity(vectors.len());
         for v in vectors {
             positions.push(self.position);
-            self.put_i64(v.values.len() as i64)?;
-            let bytes: Vec<u8> = v
-                .values
-                .iter()
-                .flat_map(|&x| (x as f32).to_le_bytes())
-                .collect();
-            self.put(&bytes)?;
+            self.put_f32_vector(&v.values)?;
         }
         self.out.flush().map_err(|e| Error::io(&self.path, e))?;
         let mut patches = vec![
@@ -583,13 +589,7 @@ impl HicWriter {
 
     fn write_expected(&mut self, e: &JuicerExpected) -> Result<()> {
         self.put_i32(e.bin_size_bp as i64)?;
-        self.put_i64(e.values.len() as i64)?;
-        let bytes: Vec<u8> = e
-            .values
-            .iter()
-            .flat_map(|&x| (x as f32).to_le_bytes())
-            .collect();
-        self.put(&bytes)?;
+        self.put_f32_vector(&e.values)?;
         self.put_i32(e.chrom_scale_factors.len() as i64)?;
         for &(chrom, factor) in &e.chrom_scale_factors {
             self.put_i32((chrom + self.chrom_shift) as i64)?;
