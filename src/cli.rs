@@ -17,6 +17,7 @@ pub mod output;
 pub mod plot;
 pub mod progress;
 pub mod protein;
+pub mod saddle;
 pub mod score;
 pub mod simulate;
 pub mod tads;
@@ -55,14 +56,15 @@ pub enum Command {
     Info(info::InfoArgs),
     /// Print pixels (or the bin / chromosome table) as text, like `cooler dump`.
     Dump(dump::DumpArgs),
-    /// Convert between formats: .hic / .cool / text / pairs -> .cool, .mcool or text.
+    /// Convert between formats: .hic / .cool / text / pairs -> .cool, .mcool, .hic or text.
     Convert(convert::ConvertArgs),
     /// Balance a matrix (ICE as cooler, VC, VC_SQRT, KR, SCALE): weights to a TSV or stored
     /// with --store.
     Balance(balance::BalanceArgs),
-    /// Sum maps on the same bins (replicates, simulation replicas) into a .cool or .mcool.
+    /// Sum maps on the same bins (replicates, simulation replicas) into a .cool, .mcool or .hic.
     Merge(merge::MergeArgs),
-    /// Multi-resolution .mcool from a cooler, as cooler zoomify (optionally balanced per level).
+    /// Multi-resolution .mcool (or .hic) from a cooler, as cooler zoomify (optionally balanced per
+    /// level).
     Zoomify(zoomify::ZoomifyArgs),
     /// Distance-decay expected P(s) as cooltools expected-cis / expected-trans, log-binned P(s),
     /// power-law exponents.
@@ -72,6 +74,8 @@ pub enum Command {
     /// TAD boundaries and domains: insulation (as cooltools), directionality + HMM, TopDom,
     /// Armatus.
     Tads(tads::TadsArgs),
+    /// The cis saddle of a compartment track (sums, counts, strength), as cooltools saddle.
+    Saddle(saddle::SaddleArgs),
     /// Simulated maps with a known truth: `simulate blocks` (block-structured map with TADs),
     /// `simulate polymer` (bead-spring polymer ensembles with loop extrusion, CPU or GPU).
     Simulate(simulate::SimulateArgs),
@@ -102,6 +106,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Expected(args) => expected::run(&args),
         Command::Normalize(args) => normalize::run(&args),
         Command::Tads(args) => tads::run(&args),
+        Command::Saddle(args) => saddle::run(&args),
         Command::Simulate(args) => simulate::run(&args),
         Command::Score(args) => score::run(&args),
         Command::Contacts(args) => contacts::run(&args),

@@ -33,6 +33,7 @@
 
 pub mod balance;
 pub mod cli;
+pub mod compartments;
 pub mod error;
 pub mod expected;
 pub mod genome;

@@ -35,6 +35,8 @@ mod plot_contacts;
 mod plot_expected;
 #[path = "cli/roundtrip.rs"]
 mod roundtrip;
+#[path = "cli/saddle.rs"]
+mod saddle;
 #[path = "cli/safety.rs"]
 mod safety;
 #[path = "cli/score.rs"]

@@ -1,0 +1,405 @@
+//! The saddle of a track: digitisation, sums and counts of observed/expected by class pair, and
+//! the saddle strength (see the [module documentation](super)).
+
+use crate::error::{Error, Result};
+use crate::expected::View;
+use crate::matrix::{PixelSlice, PixelSource};
+
+/// How the track's class edges are placed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Binning {
+    /// Quantiles `lo..hi` of the track values (fractions in `0..=1`), cooltools' `qrange`.
+    Quantiles(f64, f64),
+    /// Values `lo..hi`, cooltools' `vrange`.
+    Values(f64, f64),
+}
+
+/// Parameters of [`saddle_cis`], with cooltools' defaults for the distances.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SaddleParams {
+    /// Classes between the first and the last edge (two more hold the values outside).
+    pub n_bins: usize,
+    /// Where the edges are.
+    pub binning: Binning,
+    /// Pairs closer than this many bins are left out (cooltools: 3).
+    pub min_diag: usize,
+    /// Pairs farther than this many bins are left out (cooltools: none).
+    pub max_diag: Option<usize>,
+}
+
+/// A digitised track: the edges and each bin's class (`-1` for NaN).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Digitized {
+    /// `n_bins + 1` edges.
+    pub edges: Vec<f64>,
+    /// Class of every bin: `0..=n_bins + 1`, or `-1`.
+    pub classes: Vec<i32>,
+}
+
+/// numpy's `linspace(start, stop, num)` (endpoint included), element for element.
+fn linspace(start: f64, stop: f64, num: usize) -> Vec<f64> {
+    let div = num.saturating_sub(1).max(1) as f64;
+    let step = (stop - start) / div;
+    let mut out: Vec<f64> = (0..num).map(|k| k as f64 * step + start).collect();
+    if num > 1 {
+        out[num - 1] = stop;
+    }
+    out
+}
+
+/// numpy's `nanpercentile(values, 100 * q)` with linear interpolation, for sorted finite values.
+fn percentile(sorted: &[f64], q: f64) -> f64 {
+    let n = sorted.len();
+    // cooltools passes 100 * q; numpy divides by 100 again
+    let q = (q * 100.0) / 100.0;
+    let virtual_index = (n - 1) as f64 * q;
+    let below = virtual_index.floor().clamp(0.0, (n - 1) as f64);
+    let gamma = virtual_index - below;
+    let (a, b) = (
+        sorted[below as usize],
+        sorted[(below as usize + 1).min(n - 1)],
+    );
+    let diff = b - a;
+    if gamma >= 0.5 {
+        b - diff * (1.0 - gamma)
+    } else {
+        a + diff * gamma
+    }
+}
+
+/// Cut `track` into classes as cooltools' `digitize` does.
+pub fn digitize(track: &[f64], n_bins: usize, binning: Binning) -> Result<Digitized> {
+    if n_bins == 0 {
+        return Err(Error::Invalid(
+            "the number of saddle bins must be at least 1".into(),
+        ));
+    }
+    let edges = match binning {
+        Binning::Values(lo, hi) => {
+            if lo.is_nan() || hi.is_nan() || lo > hi {
+                return Err(Error::Invalid(format!(
+                    "the value range {lo}..{hi} is empty"
+                )));
+            }
+            linspace(lo, hi, n_bins + 1)
+        }
+        Binning::Quantiles(lo, hi) => {
+            if !(0.0..=1.0).contains(&lo) || !(0.0..=1.0).contains(&hi) || lo > hi {
+                return Err(Error::Invalid(format!(
+                    "the quantile range {lo}..{hi} must lie within 0..1, low first"
+                )));
+            }
+            let mut sorted: Vec<f64> = track.iter().copied().filter(|v| !v.is_nan()).collect();
+            if sorted.is_empty() {
+                return Err(Error::Invalid(
+                    "the track has no value on a bin with a weight".into(),
+                ));
+            }
+            sorted.sort_unstable_by(f64::total_cmp);
+            linspace(lo, hi, n_bins + 1)
+                .into_iter()
+                .map(|q| percentile(&sorted, q))
+                .collect()
+        }
+    };
+    let classes = track
+        .iter()
+        .map(|&v| {
+            if v.is_nan() {
+                -1
+            } else {
+                edges.partition_point(|&e| e <= v) as i32
+            }
+        })
+        .collect();
+    Ok(Digitized { edges, classes })
+}
+
+/// Saddle sums and counts: `(n_bins + 2)^2` values each, row-major.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Saddle {
+    /// Classes on a side (`n_bins + 2`).
+    pub n_classes: usize,
+    /// Sums of observed/expected.
+    pub sum: Vec<f64>,
+    /// Numbers of pixels summed.
+    pub count: Vec<f64>,
+}
+
+/// The cis saddle of `pixels` (balanced with `weights`) for the classes of `digitized`, each
+/// region of `view` with its own expected values per diagonal (`expected[r][d]`, the
+/// `balanced.avg` of cooltools' `expected_cis` over the same view).
+pub fn saddle_cis<S: PixelSource>(
+    pixels: &S,
+    weights: &[f64],
+    digitized: &Digitized,
+    view: &View,
+    expected: &[Vec<f64>],
+    params: &SaddleParams,
+) -> Result<Saddle> {
+    let n_bins = pixels.bins().n_bins();
+    if weights.len() != n_bins || digitized.classes.len() != n_bins {
+        return Err(Error::Invalid(format!(
+            "the weights ({}) and the track ({}) must have one value per bin ({n_bins})",
+            weights.len(),
+            digitized.classes.len()
+        )));
+    }
+    if expected.len() != view.len() {
+        return Err(Error::Invalid(format!(
+            "{} expected curves for {} regions",
+            expected.len(),
+            view.len()
+        )));
+    }
+    let n = digitized.edges.len() + 1;
+    // a bin takes part when it has a class and a weight
+    let class: Vec<i32> = digitized
+        .classes
+        .iter()
+        .zip(weights)
+        .map(|(&c, w)| if w.is_finite() { c } else { -1 })
+        .collect();
+    let allowed = |region: usize, d: usize| {
+        d >= params.min_diag
+            && params.max_diag.is_none_or(|m| d <= m)
+            && expected[region]
+                .get(d)
+                .is_some_and(|e| e.is_finite() && *e != 0.0)
+    };
+    let mut count = vec![0.0f64; n * n];
+    for (r, region) in view.regions().iter().enumerate() {
+        let bins = region.bins.clone();
+        let len = bins.len();
+        let excluded: Vec<usize> = (0..len).filter(|&d| !allowed(r, d)).collect();
+        let add_distance = |d: usize, sign: f64, count: &mut [f64]| {
+            for i in bins.start..bins.end - d {
+                let (a, b) = (class[i], class[i + d]);
+                if a < 0 || b < 0 {
+                    continue;
+                }
+                let (a, b) = (a as usize, b as usize);
+                count[a * n + b] += sign;
+                if d > 0 {
+                    count[b * n + a] += sign;
+                }
+            }
+        };
+        if excluded.len() * 2 <= len {
+            // every pair, less those at excluded distances
+            let mut sizes = vec![0.0f64; n];
+            for &c in &class[bins.clone()] {
+                if c >= 0 {
+                    sizes[c as usize] += 1.0;
+                }
+            }
+            for a in 0..n {
+                for b in 0..n {
+                    count[a * n + b] += sizes[a] * sizes[b];
+                }
+            }
+            for &d in &excluded {
+                add_distance(d, -1.0, &mut count);
+            }
+        } else {
+            for d in (0..len).filter(|&d| allowed(r, d)) {
+                add_distance(d, 1.0, &mut count);
+            }
+        }
+    }
+    let region_of = view.bin_regions(n_bins);
+    let sum = pixels.pass(
+        || vec![0.0f64; n * n],
+        |mut acc, slice: PixelSlice<'_>| {
+            for k in 0..slice.len() {
+                let (i, j) = (slice.bin1[k] as usize, slice.bin2[k] as usize);
+                let (Some(ri), Some(rj)) = (region_of[i], region_of[j]) else {
+                    continue;
+                };
+                if ri != rj || !allowed(ri, j - i) {
+                    continue;
+                }
+                let (a, b) = (class[i], class[j]);
+                if a < 0 || b < 0 {
+                    continue;
+                }
+                let value = slice.count[k] * weights[i] * weights[j] / expected[ri][j - i];
+                if !value.is_finite() {
+                    continue;
+                }
+                let (a, b) = (a as usize, b as usize);
+                acc[a * n + b] += value;
+                if i != j {
+                    acc[b * n + a] += value;
+                }
+            }
+            acc
+        },
+        |mut a, b| {
+            for (x, y) in a.iter_mut().zip(&b) {
+                *x += y;
+            }
+            a
+        },
+    )?;
+    // cooltools adds the transposes
+    let symmetric = |m: &[f64]| -> Vec<f64> {
+        let mut out = vec![0.0; n * n];
+        for a in 0..n {
+            for b in 0..n {
+                out[a * n + b] = m[a * n + b] + m[b * n + a];
+            }
+        }
+        out
+    };
+    Ok(Saddle {
+        n_classes: n,
+        sum: symmetric(&sum),
+        count: symmetric(&count),
+    })
+}
+
+/// cooltools' `saddle_strength`: for `k` in `1..n`, `(AA + BB) / (AB + BA)` over the `k x k`
+/// corners (means of observed/expected); entry 0 is 0.
+pub fn saddle_strength(saddle: &Saddle) -> Vec<f64> {
+    let n = saddle.n_classes;
+    let block = |m: &[f64], rows: std::ops::Range<usize>, cols: std::ops::Range<usize>| -> f64 {
+        rows.flat_map(|a| cols.clone().map(move |b| (a, b)))
+            .map(|(a, b)| m[a * n + b])
+            .filter(|v| !v.is_nan())
+            .sum()
+    };
+    let mut ratios = vec![0.0; n];
+    for (k, ratio) in ratios.iter_mut().enumerate().skip(1) {
+        let (low, high) = (0..k, n - k..n);
+        let intra = (block(&saddle.sum, low.clone(), low.clone())
+            + block(&saddle.sum, high.clone(), high.clone()))
+            / (block(&saddle.count, low.clone(), low.clone())
+                + block(&saddle.count, high.clone(), high.clone()));
+        let inter = (block(&saddle.sum, low.clone(), high.clone())
+            + block(&saddle.sum, high.clone(), low.clone()))
+            / (block(&saddle.count, low.clone(), high.clone())
+                + block(&saddle.count, high.clone(), low.clone()));
+        *ratio = intra / inter;
+    }
+    ratios
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::genome::{BinTable, Chrom};
+    use crate::matrix::pixels::Pixels;
+    use crate::matrix::{CountType, PixelBlock};
+
+    #[test]
+    fn quantile_edges_and_classes_follow_numpy() {
+        // np.nanpercentile([1..=10, nan], [0, 25, 50, 75, 100]) = 1, 3.25, 5.5, 7.75, 10
+        let track: Vec<f64> = (1..=10).map(f64::from).chain([f64::NAN]).collect();
+        let d = digitize(&track, 4, Binning::Quantiles(0.0, 1.0)).unwrap();
+        assert_eq!(d.edges, vec![1.0, 3.25, 5.5, 7.75, 10.0]);
+        // np.digitize: right-open bins, the maximum in the last open class
+        assert_eq!(d.classes, vec![1, 1, 1, 2, 2, 3, 3, 4, 4, 5, -1]);
+        let v = digitize(&[-5.0, 0.0, 0.5, 5.0], 2, Binning::Values(0.0, 1.0)).unwrap();
+        assert_eq!(v.edges, vec![0.0, 0.5, 1.0]);
+        assert_eq!(v.classes, vec![0, 1, 2, 3]);
+    }
+
+    /// The saddle against a dense computation as cooltools does it: full matrix, NaN near the
+    /// diagonal, every class pair summed, then the transposes added.
+    #[test]
+    fn sparse_saddle_equals_the_dense_one() {
+        let bins = BinTable::fixed(vec![Chrom::new("a", 120), Chrom::new("b", 90)], 10).unwrap();
+        let n_bins = bins.n_bins();
+        let mut pixels = Pixels::with_capacity(bins.clone(), CountType::Integer, 0).unwrap();
+        let mut block = PixelBlock::default();
+        let mut dense = vec![vec![0.0f64; n_bins]; n_bins];
+        let stored = |i: usize, j: usize| !(i * 7 + j * 3).is_multiple_of(5);
+        let value = |i: usize, j: usize| ((i + 2 * j) % 9 + 1) as f64;
+        for (i, row) in dense.iter_mut().enumerate() {
+            for (j, cell) in row.iter_mut().enumerate() {
+                let (a, b) = (i.min(j), i.max(j));
+                if stored(a, b) {
+                    *cell = value(a, b);
+                }
+            }
+        }
+        for i in 0..n_bins {
+            for j in (i..n_bins).filter(|&j| stored(i, j)) {
+                block.push(i as u64, j as u64, value(i, j));
+            }
+        }
+        pixels.extend(&block).unwrap();
+        let weights: Vec<f64> = (0..n_bins)
+            .map(|k| {
+                if k == 4 {
+                    f64::NAN
+                } else {
+                    0.5 + (k % 4) as f64 / 4.0
+                }
+            })
+            .collect();
+        let track: Vec<f64> = (0..n_bins)
+            .map(|k| {
+                if k == 7 {
+                    f64::NAN
+                } else {
+                    ((k * 37) % 11) as f64 - 5.0
+                }
+            })
+            .collect();
+        let view = View::chromosomes(&bins);
+        let expected: Vec<Vec<f64>> = view
+            .regions()
+            .iter()
+            .map(|r| {
+                (0..r.n_bins())
+                    .map(|d| if d == 5 { f64::NAN } else { 1.0 + d as f64 })
+                    .collect()
+            })
+            .collect();
+        let params = SaddleParams {
+            n_bins: 3,
+            binning: Binning::Quantiles(0.1, 0.9),
+            min_diag: 2,
+            max_diag: None,
+        };
+        let digitized = digitize(&track, 3, params.binning).unwrap();
+        let got = saddle_cis(&pixels, &weights, &digitized, &view, &expected, &params).unwrap();
+        let n = 5;
+        let (mut sum, mut count) = (vec![0.0; n * n], vec![0.0; n * n]);
+        for (r, region) in view.regions().iter().enumerate() {
+            for i in region.bins.clone() {
+                for j in region.bins.clone() {
+                    let d = i.abs_diff(j);
+                    let (a, b) = (digitized.classes[i], digitized.classes[j]);
+                    if d < 2 || a < 0 || b < 0 {
+                        continue;
+                    }
+                    let value = dense[i][j] * weights[i] * weights[j] / expected[r][d];
+                    if value.is_finite() {
+                        sum[a as usize * n + b as usize] += value;
+                        count[a as usize * n + b as usize] += 1.0;
+                    }
+                }
+            }
+        }
+        for a in 0..n {
+            for b in 0..n {
+                let (s, c) = (
+                    sum[a * n + b] + sum[b * n + a],
+                    count[a * n + b] + count[b * n + a],
+                );
+                assert_eq!(got.count[a * n + b], c, "{a} {b}");
+                assert!(
+                    (got.sum[a * n + b] - s).abs() <= 1e-12 * s.abs().max(1.0),
+                    "{a} {b}"
+                );
+            }
+        }
+        let strength = saddle_strength(&got);
+        assert_eq!(strength.len(), n);
+        assert_eq!(strength[0], 0.0);
+        assert!(strength[1..].iter().all(|s| s.is_finite()));
+    }
+}
