@@ -75,7 +75,7 @@ pub struct SaddleArgs {
     /// Weight column.
     #[arg(long, default_value = "weight")]
     pub weight_name: String,
-    /// Regions (BED: chrom start end [name]) instead of whole chromosomes.
+    /// Regions (BED: chrom, start, end, optional name) instead of whole chromosomes.
     #[arg(long)]
     pub view: Option<PathBuf>,
     /// Options for text inputs.
