@@ -75,7 +75,7 @@ mod writer;
 
 pub use norms::HicExpected;
 pub use reader::{HicReader, BAND_BUDGET_BYTES};
-pub use writer::{HicBodyStats, HicNormVector, HicWriteOptions, HicWriter, BATCH_RECORDS};
+pub use writer::{HicNormVector, HicWriteOptions, HicWriter, BATCH_RECORDS};
 
 #[cfg(test)]
 mod synthetic;

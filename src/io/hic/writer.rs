@@ -102,17 +102,6 @@ pub struct HicNormVector {
     pub values: Vec<f64>,
 }
 
-/// What the body holds, for messages.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct HicBodyStats {
-    /// Pixels read from the input.
-    pub n_pixels_read: u64,
-    /// Blocks written, all resolutions together.
-    pub n_blocks: u64,
-    /// Bytes of the file before its footer.
-    pub body_bytes: u64,
-}
-
 /// A `.hic` file being written; see the module documentation.
 pub struct HicWriter {
     path: PathBuf,
@@ -268,7 +257,7 @@ impl HicWriter {
 
     /// Stream every pixel of `reader` (on the base bins given to [`HicWriter::create`]) into
     /// blocks at every resolution, with the `All` matrix if asked.
-    pub fn write_matrices(&mut self, reader: &dyn MatrixReader) -> Result<HicBodyStats> {
+    pub fn write_matrices(&mut self, reader: &dyn MatrixReader) -> Result<()> {
         if reader.bins() != &self.base_bins {
             return Err(Error::Invalid(format!(
                 "{}: its bins are not those the .hic was created for",
@@ -295,7 +284,6 @@ impl HicWriter {
             .options
             .whole_genome
             .then(|| WholeGenome::new(&self.chroms, *self.resolutions.last().unwrap()));
-        let mut stats = HicBodyStats::default();
         let mut current: Option<usize> = None;
         let n = self.base_bins.n_bins();
         let source = reader.source().to_string();
@@ -317,7 +305,7 @@ impl HicWriter {
                 let c1 = chrom(pixels.bin1[start]).ok_or_else(|| out_of_range(start))?;
                 if current != Some(c1) {
                     if let Some(previous) = current {
-                        self.finish_chrom(previous, &mut levels, &mut stats)?;
+                        self.finish_chrom(previous, &mut levels)?;
                     }
                     for level in levels.iter_mut() {
                         level.start_chrom(c1);
@@ -352,35 +340,28 @@ impl HicWriter {
                         }
                     },
                 );
-                stats.n_pixels_read += run.len() as u64;
                 start = end;
                 if levels.iter().map(|l| l.n_closed_records).sum::<usize>() >= BATCH_RECORDS {
-                    self.write_batch(&mut levels, &mut stats)?;
+                    self.write_batch(&mut levels)?;
                 }
             }
             Ok(())
         })?;
         if let Some(previous) = current {
-            self.finish_chrom(previous, &mut levels, &mut stats)?;
+            self.finish_chrom(previous, &mut levels)?;
         }
         if let Some(whole) = whole {
-            self.write_whole_genome(whole, &mut stats)?;
+            self.write_whole_genome(whole)?;
         }
-        stats.body_bytes = self.position;
-        Ok(stats)
+        Ok(())
     }
 
     /// Close every block of the row chromosome `c1` and write its matrices' metadata.
-    fn finish_chrom(
-        &mut self,
-        c1: usize,
-        levels: &mut [Level],
-        stats: &mut HicBodyStats,
-    ) -> Result<()> {
+    fn finish_chrom(&mut self, c1: usize, levels: &mut [Level]) -> Result<()> {
         for level in levels.iter_mut() {
             level.close_all();
         }
-        self.write_batch(levels, stats)?;
+        self.write_batch(levels)?;
         // every chromosome pair (c1, c2) with a block at any resolution
         let mut partners: Vec<usize> = levels
             .iter()
@@ -399,8 +380,8 @@ impl HicWriter {
             for l in present {
                 let level = &mut levels[l];
                 let mut entries = level.index.remove(&c2).unwrap_or_default();
-                let sum = level.sums.remove(&c2).unwrap_or(0.0);
-                let (size, columns) = level.grid(c1, c2);
+                let sum = level.sums[c2];
+                let (size, columns) = level.grids[c2];
                 let (res_index, resolution) = (level.res_index, level.resolution);
                 entries.sort_unstable_by_key(|e| e.0);
                 self.write_level_metadata(res_index, resolution, sum, size, columns, &entries)?;
@@ -413,7 +394,6 @@ impl HicWriter {
         }
         for level in levels.iter_mut() {
             level.index.clear();
-            level.sums.clear();
         }
         Ok(())
     }
@@ -447,7 +427,7 @@ impl HicWriter {
 
     /// Compress the closed blocks in parallel and write them, level by level in the order they
     /// were closed.
-    fn write_batch(&mut self, levels: &mut [Level], stats: &mut HicBodyStats) -> Result<()> {
+    fn write_batch(&mut self, levels: &mut [Level]) -> Result<()> {
         let level_of_compression = self.options.compression_level;
         let mut blocks: Vec<ClosedBlock> = Vec::new();
         for level in levels.iter_mut() {
@@ -466,12 +446,11 @@ impl HicWriter {
                 .entry(closed.c2)
                 .or_default()
                 .push((closed.number, position, bytes.len() as u64));
-            stats.n_blocks += 1;
         }
         Ok(())
     }
 
-    fn write_whole_genome(&mut self, whole: WholeGenome, stats: &mut HicBodyStats) -> Result<()> {
+    fn write_whole_genome(&mut self, whole: WholeGenome) -> Result<()> {
         let n = whole.n_bins as u64;
         let size = n + 1;
         let mut records: Vec<Record> = Vec::new();
@@ -494,7 +473,6 @@ impl HicWriter {
             let bytes = compress_block(&mut records, self.options.compression_level);
             entries.push((0, self.position, bytes.len() as u64));
             self.put(&bytes)?;
-            stats.n_blocks += 1;
         }
         let start = self.position;
         self.put_i32(0)?;
@@ -626,9 +604,8 @@ struct Level {
     band: u64,
     /// Block index and sum of each matrix `(c1, c2)` of the current row chromosome.
     index: BTreeMap<usize, Vec<(u64, u64, u64)>>,
-    sums: BTreeMap<usize, f64>,
     /// Sum of each matrix `(c1, c2)` being streamed, by `c2`.
-    running_sums: Vec<f64>,
+    sums: Vec<f64>,
     /// Block size and columns of each matrix `(c1, c2)`, by `c2`.
     grids: Vec<(u64, u64)>,
     /// Depth boundaries of the intra-chromosomal matrix ([`depth_bounds`]).
@@ -672,8 +649,7 @@ impl Level {
             c1: 0,
             band: 0,
             index: BTreeMap::new(),
-            sums: BTreeMap::new(),
-            running_sums: vec![0.0; chroms.len()],
+            sums: vec![0.0; chroms.len()],
             grids: Vec::new(),
             intra_depths: Vec::new(),
             closed: Vec::new(),
@@ -704,7 +680,7 @@ impl Level {
             .collect();
         let (size, _) = self.grids[c1];
         self.intra_depths = depth_bounds(size, self.chrom_bins[c1]);
-        self.running_sums.iter_mut().for_each(|s| *s = 0.0);
+        self.sums.iter_mut().for_each(|s| *s = 0.0);
     }
 
     /// Add one pixel `(x, y)` of matrix `(c1, c2)` in this level's bins (`c1` the current row
@@ -753,7 +729,7 @@ impl Level {
             y: y as u32,
             value,
         });
-        self.running_sums[c2] += value;
+        self.sums[c2] += value;
     }
 
     /// Close the blocks that rows from `x` on cannot reach.
@@ -766,16 +742,11 @@ impl Level {
         }
     }
 
-    /// Close every open block, and keep the sums of the row chromosome's matrices.
+    /// Close every open block.
     fn close_all(&mut self) {
         for slot in 0..self.slots.len() {
             if self.slots[slot].in_use {
                 self.close(slot);
-            }
-        }
-        for (c2, &sum) in self.running_sums.iter().enumerate() {
-            if sum != 0.0 {
-                self.sums.insert(c2, sum);
             }
         }
     }
