@@ -1,17 +1,16 @@
 //! `contactmap saddle`: the cis saddle of a compartment track, as `cooltools saddle`.
 
-use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use clap::Args;
 
 use crate::cli::input::{open_for_analysis, weights_and_view};
+use crate::cli::output::Output;
 use crate::cli::InputArgs;
 use crate::compartments::saddle::{digitize, saddle_cis, saddle_strength, Binning, SaddleParams};
 use crate::error::{Error, Result};
 use crate::expected::{expected_cis, CisParams};
-use crate::genome::BinTable;
-use crate::io::tables::read_track;
+use crate::io::tables::track_on_bins;
 use crate::io::{self, default_memory_budget};
 
 /// Arguments of `contactmap saddle`.
@@ -137,107 +136,45 @@ pub fn run(args: &SaddleArgs) -> Result<()> {
 
     let prefix = args.out.to_string_lossy().into_owned();
     let n = saddle.n_classes;
-    write_file(&format!("{prefix}.saddle.tsv"), |out| {
-        writeln!(out, "i\tj\tsum\tcount")?;
-        for a in 0..n {
-            for b in 0..n {
-                writeln!(
-                    out,
-                    "{a}\t{b}\t{}\t{}",
-                    saddle.sum[a * n + b],
-                    saddle.count[a * n + b]
-                )?;
-            }
+    let mut table = String::from("i\tj\tsum\tcount\n");
+    for a in 0..n {
+        for b in 0..n {
+            let k = a * n + b;
+            table.push_str(&format!(
+                "{a}\t{b}\t{}\t{}\n",
+                saddle.sum[k], saddle.count[k]
+            ));
         }
-        Ok(())
-    })?;
-    write_file(&format!("{prefix}.edges.tsv"), |out| {
-        writeln!(out, "edge")?;
-        for e in &digitized.edges {
-            writeln!(out, "{e}")?;
-        }
-        Ok(())
-    })?;
-    write_file(&format!("{prefix}.digitized.tsv"), |out| {
-        writeln!(out, "chrom\tstart\tend\t{column}.d")?;
-        for (k, bin) in bins.iter().enumerate() {
-            writeln!(
-                out,
-                "{}\t{}\t{}\t{}",
-                bins.chroms()[bin.chrom_id].name,
-                bin.start,
-                bin.end,
-                digitized.classes[k]
-            )?;
-        }
-        Ok(())
-    })?;
-    write_file(&format!("{prefix}.strength.tsv"), |out| {
-        writeln!(out, "k\tstrength")?;
-        for (k, s) in strength.iter().enumerate().skip(1) {
-            writeln!(out, "{k}\t{s}")?;
-        }
-        Ok(())
-    })?;
+    }
+    write_text(&format!("{prefix}.saddle.tsv"), &table)?;
+    let mut edges = String::from("edge\n");
+    for e in &digitized.edges {
+        edges.push_str(&format!("{e}\n"));
+    }
+    write_text(&format!("{prefix}.edges.tsv"), &edges)?;
+    let mut classes = format!("chrom\tstart\tend\t{column}.d\n");
+    for (k, bin) in bins.iter().enumerate() {
+        classes.push_str(&format!(
+            "{}\t{}\t{}\t{}\n",
+            bins.chroms()[bin.chrom_id].name,
+            bin.start,
+            bin.end,
+            digitized.classes[k]
+        ));
+    }
+    write_text(&format!("{prefix}.digitized.tsv"), &classes)?;
+    let mut strengths = String::from("k\tstrength\n");
+    for (k, s) in strength.iter().enumerate().skip(1) {
+        strengths.push_str(&format!("{k}\t{s}\n"));
+    }
+    write_text(&format!("{prefix}.strength.tsv"), &strengths)?;
     super::warnings::print_reader_warnings(reader.warnings());
     Ok(())
 }
 
-/// The track's values on `bins` (NaN for bins without a row); a row on no bin is an error.
-fn track_on_bins(path: &Path, column: &str, bins: &BinTable) -> Result<Vec<f64>> {
-    let rows = read_track(path, column)?;
-    let mut values = vec![f64::NAN; bins.n_bins()];
-    let chrom_ids: std::collections::HashMap<&str, usize> = bins
-        .chroms()
-        .iter()
-        .enumerate()
-        .map(|(k, c)| (c.name.as_str(), k))
-        .collect();
-    for row in &rows {
-        let bin = chrom_ids.get(row.chrom.as_str()).and_then(|&c| {
-            let range = bins.chrom_bins(c);
-            let at = bins.bin_at(
-                c,
-                row.start.min(bins.chroms()[c].length_bp.saturating_sub(1)),
-            );
-            let bin = bins.bin(at);
-            (range.contains(&at) && bin.start == row.start && bin.end == row.end).then_some(at)
-        });
-        let Some(bin) = bin else {
-            return Err(Error::format(
-                path,
-                format!(
-                    "track row {}:{}-{} is not a bin of the map{}: the track must be on the map's bins",
-                    row.chrom,
-                    row.start,
-                    row.end,
-                    bins.bin_size_bp().map_or(String::new(), |b| format!(" ({b} bp bins)"))
-                ),
-            ));
-        };
-        values[bin] = row.value;
-    }
-    Ok(values)
-}
-
-/// Write `path` under a temporary name, renamed when complete.
-fn write_file(
-    path: &str,
-    write: impl FnOnce(&mut std::io::BufWriter<std::fs::File>) -> std::io::Result<()>,
-) -> Result<()> {
-    let path = Path::new(path);
-    let tmp = io::temporary_path(path)?;
-    let written = (|| {
-        let file = std::fs::File::create(&tmp)?;
-        let mut out = std::io::BufWriter::new(file);
-        write(&mut out)?;
-        out.flush()
-    })();
-    match written {
-        Ok(()) => std::fs::rename(&tmp, path).map_err(|e| Error::io(path, e)),
-        Err(e) => {
-            let _ = std::fs::remove_file(&tmp);
-            Err(Error::io(path, e))
-        }
-    }
+/// Write `text` to `path` (under a temporary name, renamed when complete).
+fn write_text(path: &str, text: &str) -> Result<()> {
+    let mut out = Output::open(Some(Path::new(path)))?;
+    out.write_all(text.as_bytes())?;
+    out.finish()
 }

@@ -7,6 +7,7 @@
 use std::io::BufRead;
 
 use crate::error::{Error, Result};
+use crate::genome::BinTable;
 
 /// A whole TSV table held in memory, columns addressed by header name.
 #[derive(Clone, Debug)]
@@ -203,6 +204,44 @@ pub fn read_track(path: &std::path::Path, column: &str) -> Result<Vec<TrackRow>>
         });
     }
     Ok(rows)
+}
+
+/// The values of the track `column` of `path` ([`read_track`]) on `bins`: NaN for bins without a
+/// row; a row that is not a bin of `bins` is an error naming it.
+pub fn track_on_bins(path: &std::path::Path, column: &str, bins: &BinTable) -> Result<Vec<f64>> {
+    let rows = read_track(path, column)?;
+    let mut values = vec![f64::NAN; bins.n_bins()];
+    let chrom_ids: std::collections::HashMap<&str, usize> = bins
+        .chroms()
+        .iter()
+        .enumerate()
+        .map(|(k, c)| (c.name.as_str(), k))
+        .collect();
+    for row in &rows {
+        let bin = chrom_ids.get(row.chrom.as_str()).and_then(|&c| {
+            let range = bins.chrom_bins(c);
+            let at = bins.bin_at(
+                c,
+                row.start.min(bins.chroms()[c].length_bp.saturating_sub(1)),
+            );
+            let bin = bins.bin(at);
+            (range.contains(&at) && bin.start == row.start && bin.end == row.end).then_some(at)
+        });
+        let Some(bin) = bin else {
+            return Err(Error::format(
+                path,
+                format!(
+                    "track row {}:{}-{} is not a bin of the map{}: the track must be on the map's bins",
+                    row.chrom,
+                    row.start,
+                    row.end,
+                    bins.bin_size_bp().map_or(String::new(), |b| format!(" ({b} bp bins)"))
+                ),
+            ));
+        };
+        values[bin] = row.value;
+    }
+    Ok(values)
 }
 
 #[cfg(test)]
