@@ -351,6 +351,19 @@ pub fn temporary_path(path: &Path) -> Result<PathBuf> {
     )))
 }
 
+/// Run `write` on a temporary path beside `path` ([`temporary_path`]), then rename it to `path`;
+/// remove it on error, so that a failure never leaves a half-written output.
+pub fn with_temporary(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
+    let tmp = temporary_path(path)?;
+    match write(&tmp) {
+        Ok(()) => std::fs::rename(&tmp, path).map_err(|e| Error::io(path, e)),
+        Err(e) => {
+            let _ = std::fs::remove_file(&tmp);
+            Err(e)
+        }
+    }
+}
+
 /// Remove the temporaries of the output `path` (`.NAME.PID-SEQ.tmp`, see [`temporary_path`])
 /// whose process no longer runs, such as those of a killed `convert`, so that they cannot pile up.
 ///

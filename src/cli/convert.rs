@@ -4,7 +4,7 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
-use crate::cli::hic_output::{parse_normalizations, report_unconverged, write_hic};
+use crate::cli::hic_output::{parse_normalizations, write_hic};
 use crate::cli::matrix_output::{format_from_extension, mcool_resolutions, OutputFormat};
 use crate::cli::progress::WithProgress;
 use crate::cli::InputArgs;
@@ -117,12 +117,10 @@ pub fn run(args: &ConvertArgs) -> Result<()> {
         OutputFormat::Hic => {
             let resolutions = mcool_resolutions(reader.bins(), &args.input, &args.resolutions)?;
             let hic_options = HicWriteOptions {
-                genome_id: options.assembly.clone().unwrap_or_else(|| "unknown".into()),
                 compression_level: args.compression_level,
-                ..HicWriteOptions::default()
+                ..HicWriteOptions::for_genome(options.assembly.clone())
             };
             write_hic(&reader, &args.output, &resolutions, &methods, &hic_options)
-                .map(report_unconverged)
         }
         OutputFormat::Bg2 => text::write_text(&reader, &path_text(&args.output), TextFormat::Bg2),
         OutputFormat::Coo => text::write_text(&reader, &path_text(&args.output), TextFormat::Coo),

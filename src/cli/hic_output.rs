@@ -16,16 +16,14 @@ use std::ops::Range;
 use std::path::Path;
 use std::sync::Mutex;
 
-use rayon::prelude::*;
-
 use crate::balance::{balance, BalanceParams, Method, Scope};
 use crate::error::{Error, Result};
-use crate::expected::juicer::{JuicerExpected, JuicerExpectedBuilder};
+use crate::expected::juicer::{JuicerExpected, JuicerExpectedBuilder, MultiResolutionExpected};
 use crate::genome::BinTable;
 use crate::io::hic::{HicNormVector, HicReader, HicWriteOptions, HicWriter};
 use crate::io::{self, MatrixReader};
 use crate::matrix::pixels::Pixels;
-use crate::matrix::PixelBlock;
+use crate::matrix::{invert_weight, PixelBlock};
 
 /// Juicer's name of a normalisation method.
 pub fn juicer_name(method: Method) -> &'static str {
@@ -71,93 +69,69 @@ pub fn parse_normalizations(items: &[String]) -> Result<Vec<Method>> {
 
 /// A chromosome whose balancing did not converge.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Unconverged {
-    /// Normalisation.
-    pub method: Method,
-    /// Resolution.
-    pub bin_size_bp: u64,
-    /// Chromosome name.
-    pub chrom: String,
+struct Unconverged {
+    method: Method,
+    bin_size_bp: u64,
+    chrom: String,
 }
 
 /// Write `reader` as a `.hic` at `path` (under a temporary name, renamed when complete) with
-/// `resolutions` and the normalisations `methods`. Returns the chromosomes that did not converge.
+/// `resolutions` and the normalisations `methods`; once it is written, name on standard error the
+/// chromosomes whose balancing did not converge (their vectors are stored anyway).
 pub fn write_hic(
     reader: &dyn MatrixReader,
     path: &Path,
     resolutions: &[u64],
     methods: &[Method],
     options: &HicWriteOptions,
-) -> Result<Vec<Unconverged>> {
-    let tmp = io::temporary_path(path)?;
-    let written = (|| {
-        let mut writer = HicWriter::create(&tmp, reader.bins(), resolutions, options)?;
-        let tap = ExpectedTap::new(reader, writer.resolutions());
+) -> Result<()> {
+    let mut unconverged = Vec::new();
+    io::with_temporary(path, |tmp| {
+        let mut writer = HicWriter::create(tmp, reader.bins(), resolutions, options)?;
+        let tap = ExpectedTap {
+            inner: reader,
+            expected: Mutex::new(MultiResolutionExpected::new(
+                reader.bins(),
+                writer.resolutions(),
+            )),
+        };
         writer.write_matrices(&tap)?;
-        let expected = tap.finish();
+        let expected = tap
+            .expected
+            .into_inner()
+            .unwrap_or_else(|e| e.into_inner())
+            .finish();
         writer.write_footer(&expected, &[], &[])?;
         let mut normalized = Vec::new();
         let mut vectors = Vec::new();
-        let mut unconverged = Vec::new();
         if !methods.is_empty() {
             for &resolution in &writer.resolutions().to_vec() {
-                let level = HicReader::open(&tmp, Some(resolution))?;
+                let level = HicReader::open(tmp, Some(resolution))?;
                 let vectors_of_level = juicer_vectors(&level, resolution, methods)?;
                 normalized.extend(vectors_of_level.normalized);
                 vectors.extend(vectors_of_level.vectors);
                 unconverged.extend(vectors_of_level.unconverged);
             }
         }
-        writer.write_footer(&expected, &normalized, &vectors)?;
-        Ok(unconverged)
-    })();
-    match written {
-        Ok(unconverged) => {
-            std::fs::rename(&tmp, path).map_err(|e| Error::io(path, e))?;
-            Ok(unconverged)
-        }
-        Err(e) => {
-            let _ = std::fs::remove_file(&tmp);
-            Err(e)
-        }
+        writer.write_footer(&expected, &normalized, &vectors)
+    })?;
+    for u in &unconverged {
+        eprintln!(
+            "contactmap: WARNING: {} at {} bp: {} did not converge; its vector is stored as the \
+             last iteration left it",
+            juicer_name(u.method),
+            u.bin_size_bp,
+            u.chrom
+        );
     }
+    Ok(())
 }
 
-/// A reader that passes its pixels on and adds the intra-chromosomal ones to Juicer's raw
-/// expected values at every resolution (a pixel's distance at resolution `r` is the distance of
-/// its coarse bins).
+/// A reader that passes its pixels on and adds them to Juicer's raw expected values at every
+/// resolution.
 struct ExpectedTap<'a> {
     inner: &'a dyn MatrixReader,
-    /// `(resolution, factor to the input's bins, accumulator)`.
-    levels: Mutex<Vec<(u64, u64, JuicerExpectedBuilder)>>,
-    chrom_of: Vec<u32>,
-}
-
-impl<'a> ExpectedTap<'a> {
-    fn new(inner: &'a dyn MatrixReader, resolutions: &[u64]) -> Self {
-        let bins = inner.bins();
-        let base = bins.bin_size_bp().unwrap_or(1);
-        ExpectedTap {
-            inner,
-            levels: Mutex::new(
-                resolutions
-                    .iter()
-                    .map(|&r| (r, r / base, JuicerExpectedBuilder::new(bins, r)))
-                    .collect(),
-            ),
-            chrom_of: (0..bins.n_bins())
-                .map(|b| bins.chrom_of(b) as u32)
-                .collect(),
-        }
-    }
-
-    fn finish(self) -> Vec<JuicerExpected> {
-        let levels = self.levels.into_inner().unwrap_or_else(|e| e.into_inner());
-        levels
-            .iter()
-            .map(|(_, _, builder)| builder.finish())
-            .collect()
-    }
+    expected: Mutex<MultiResolutionExpected>,
 }
 
 impl MatrixReader for ExpectedTap<'_> {
@@ -169,28 +143,11 @@ impl MatrixReader for ExpectedTap<'_> {
         cols: Range<usize>,
         sink: &mut dyn FnMut(&PixelBlock) -> Result<()>,
     ) -> Result<()> {
-        let offsets = self.inner.bins().chrom_offsets();
-        let chrom_of = &self.chrom_of;
-        let levels = &self.levels;
         self.inner.read_pixels(rows, cols, &mut |block| {
-            let mut levels = levels.lock().unwrap_or_else(|e| e.into_inner());
-            levels.par_iter_mut().for_each(|(_, factor, builder)| {
-                for k in 0..block.len() {
-                    let (b1, b2) = (block.bin1[k] as usize, block.bin2[k] as usize);
-                    let chrom = chrom_of.get(b1).copied();
-                    if chrom.is_none() || chrom != chrom_of.get(b2).copied() {
-                        continue;
-                    }
-                    let chrom = chrom.unwrap_or_default() as usize;
-                    let offset = offsets[chrom];
-                    let (x, y) = (
-                        (b1 - offset) as u64 / *factor,
-                        (b2 - offset) as u64 / *factor,
-                    );
-                    builder.add(chrom, y.abs_diff(x) as usize, block.count[k]);
-                }
-            });
-            drop(levels);
+            self.expected
+                .lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .add(block);
             sink(block)
         })
     }
@@ -258,22 +215,9 @@ fn juicer_vectors(
             // normalises with it.
             let divisive: Vec<f64> = weights
                 .iter()
-                .map(|&w| {
-                    if w.is_finite() && w > 0.0 {
-                        f64::from((1.0 / w) as f32)
-                    } else {
-                        f64::NAN
-                    }
-                })
+                .map(|&w| f64::from(invert_weight(w) as f32))
                 .collect();
-            for k in 0..slice.len() {
-                let (i, j) = (slice.bin1[k] as usize, slice.bin2[k] as usize);
-                per_method[m].add(
-                    chrom_id,
-                    j - i,
-                    slice.count[k] / (divisive[i] * divisive[j]),
-                );
-            }
+            per_method[m].add_chrom_pixels(chrom_id, slice, Some(&divisive));
             vectors.push(HicNormVector {
                 name: juicer_name(method).into(),
                 chrom: chrom_id,
@@ -291,17 +235,4 @@ fn juicer_vectors(
         vectors,
         unconverged,
     })
-}
-
-/// Print the chromosomes whose balancing did not converge (their vectors were stored anyway).
-pub fn report_unconverged(unconverged: Vec<Unconverged>) {
-    for u in &unconverged {
-        eprintln!(
-            "contactmap: WARNING: {} at {} bp: {} did not converge; its vector is stored as the \
-             last iteration left it",
-            juicer_name(u.method),
-            u.bin_size_bp,
-            u.chrom
-        );
-    }
 }

@@ -5,8 +5,10 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use crate::cli::hic_output::{report_unconverged, write_hic, DEFAULT_NORMALIZATIONS};
-use crate::cli::matrix_output::{fixed_bin_size, mcool_resolutions, OutputFormat};
+use crate::cli::hic_output::{write_hic, DEFAULT_NORMALIZATIONS};
+use crate::cli::matrix_output::{
+    fixed_bin_size, format_from_extension, mcool_resolutions, OutputFormat,
+};
 use crate::cli::InputArgs;
 use crate::error::{Error, Result};
 use crate::io::cool::{write_cool, write_mcool, CoolWriteOptions};
@@ -54,18 +56,21 @@ pub struct MergeArgs {
 
 /// Run `contactmap merge`.
 pub fn run(args: &MergeArgs) -> Result<()> {
-    let name = args.out.to_string_lossy().to_ascii_lowercase();
-    let format = if name.ends_with(".mcool") {
-        OutputFormat::Mcool
-    } else if name.ends_with(".hic") {
-        OutputFormat::Hic
-    } else if name.ends_with(".cool") {
-        OutputFormat::Cool
-    } else {
-        return Err(Error::Invalid(format!(
-            "--out {}: merge writes .cool, .mcool or .hic (give one of those extensions)",
-            args.out.display()
-        )));
+    let gzip = args
+        .out
+        .to_string_lossy()
+        .to_ascii_lowercase()
+        .ends_with(".gz");
+    let format = match format_from_extension(&args.out) {
+        Ok(format @ (OutputFormat::Cool | OutputFormat::Mcool | OutputFormat::Hic)) if !gzip => {
+            format
+        }
+        _ => {
+            return Err(Error::Invalid(format!(
+                "--out {}: merge writes .cool, .mcool or .hic (give one of those extensions)",
+                args.out.display()
+            )))
+        }
     };
     if format == OutputFormat::Cool && !args.resolutions.is_empty() {
         return Err(Error::Invalid(
@@ -95,20 +100,13 @@ pub fn run(args: &MergeArgs) -> Result<()> {
                 mcool_resolutions(reader.bins(), reader.source(), &args.resolutions)?
             };
             if format == OutputFormat::Hic {
-                let options = HicWriteOptions {
-                    genome_id: write_options
-                        .assembly
-                        .clone()
-                        .unwrap_or_else(|| "unknown".into()),
-                    ..HicWriteOptions::default()
-                };
-                report_unconverged(write_hic(
+                write_hic(
                     &reader,
                     &args.out,
                     &resolutions,
                     &DEFAULT_NORMALIZATIONS,
-                    &options,
-                )?);
+                    &HicWriteOptions::for_genome(write_options.assembly.clone()),
+                )?;
             } else {
                 write_mcool(&reader, &args.out, &resolutions, &write_options)?;
             }

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 
 use crate::balance::{balance, BalanceParams, Method};
-use crate::cli::hic_output::{report_unconverged, write_hic, DEFAULT_NORMALIZATIONS};
+use crate::cli::hic_output::{write_hic, DEFAULT_NORMALIZATIONS};
 use crate::cli::matrix_output::mcool_resolutions;
 use crate::cli::weights::stored_attributes;
 use crate::cli::InputArgs;
@@ -122,17 +122,13 @@ pub fn run(args: &ZoomifyArgs) -> Result<()> {
             if args.balance {
                 methods.push(Method::Ice);
             }
-            let hic_options = HicWriteOptions {
-                genome_id: options.assembly.unwrap_or_else(|| "unknown".into()),
-                ..HicWriteOptions::default()
-            };
-            report_unconverged(write_hic(
+            write_hic(
                 reader.as_ref(),
                 &out,
                 &resolutions,
                 &methods,
-                &hic_options,
-            )?);
+                &HicWriteOptions::for_genome(options.assembly),
+            )?;
             super::warnings::print_reader_warnings(reader.warnings());
             return Ok(());
         }

@@ -20,7 +20,10 @@
 //! Chromosomes are identified by their index in the bin table; writers add Juicer's offset for
 //! the `All` pseudo-chromosome themselves.
 
+use rayon::prelude::*;
+
 use crate::genome::BinTable;
+use crate::matrix::{PixelBlock, PixelSlice};
 
 /// Contacts a smoothing window must hold (Juicer's shot-noise minimum).
 pub const SHOT_NOISE_MIN: f64 = 400.0;
@@ -76,6 +79,24 @@ impl JuicerExpectedBuilder {
         self.seen[chrom] = true;
         if let Some(slot) = self.actual.get_mut(distance) {
             *slot += value;
+        }
+    }
+
+    /// Add the pixels of one chromosome, their bins counted from its first: raw counts, or
+    /// `count / (v_i v_j)` with a divisive vector `divisive` (NaN values skipped).
+    pub fn add_chrom_pixels(
+        &mut self,
+        chrom: usize,
+        pixels: PixelSlice<'_>,
+        divisive: Option<&[f64]>,
+    ) {
+        for k in 0..pixels.len() {
+            let (i, j) = (pixels.bin1[k] as usize, pixels.bin2[k] as usize);
+            let value = match divisive {
+                Some(v) => pixels.count[k] / (v[i] * v[j]),
+                None => pixels.count[k],
+            };
+            self.add(chrom, i.abs_diff(j), value);
         }
     }
 
@@ -160,6 +181,62 @@ impl JuicerExpectedBuilder {
             values,
             chrom_scale_factors,
         }
+    }
+}
+
+/// Raw expected values at several resolutions at once, from the pixels of the finest one (a
+/// pixel's distance at a coarser resolution is the distance of its coarse bins).
+#[derive(Clone, Debug)]
+pub struct MultiResolutionExpected {
+    chrom_of: Vec<u32>,
+    offsets: Vec<usize>,
+    /// `(resolution / base bin size, accumulator)`.
+    levels: Vec<(u64, JuicerExpectedBuilder)>,
+}
+
+impl MultiResolutionExpected {
+    /// Accumulators for `resolutions` (multiples of the fixed bin size of `bins`).
+    pub fn new(bins: &BinTable, resolutions: &[u64]) -> Self {
+        let base = bins.bin_size_bp().unwrap_or(1);
+        MultiResolutionExpected {
+            chrom_of: (0..bins.n_bins())
+                .map(|b| bins.chrom_of(b) as u32)
+                .collect(),
+            offsets: bins.chrom_offsets().to_vec(),
+            levels: resolutions
+                .iter()
+                .map(|&r| (r / base, JuicerExpectedBuilder::new(bins, r)))
+                .collect(),
+        }
+    }
+
+    /// Add pixels of the base bins (genome-wide ids); the resolutions take them in parallel.
+    pub fn add(&mut self, block: &PixelBlock) {
+        let (chrom_of, offsets) = (&self.chrom_of, &self.offsets);
+        self.levels.par_iter_mut().for_each(|(factor, builder)| {
+            for k in 0..block.len() {
+                let (b1, b2) = (block.bin1[k] as usize, block.bin2[k] as usize);
+                let chrom = chrom_of.get(b1).copied();
+                if chrom.is_none() || chrom != chrom_of.get(b2).copied() {
+                    continue;
+                }
+                let chrom = chrom.unwrap_or_default() as usize;
+                let offset = offsets[chrom];
+                let (x, y) = (
+                    (b1 - offset) as u64 / *factor,
+                    (b2 - offset) as u64 / *factor,
+                );
+                builder.add(chrom, y.abs_diff(x) as usize, block.count[k]);
+            }
+        });
+    }
+
+    /// The vectors, one per resolution in the order given.
+    pub fn finish(&self) -> Vec<JuicerExpected> {
+        self.levels
+            .iter()
+            .map(|(_, builder)| builder.finish())
+            .collect()
     }
 }
 

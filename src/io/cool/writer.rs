@@ -7,7 +7,7 @@ use hdf5::types::{FixedAscii, VarLenUnicode};
 use super::chunk_writer::{ChunkValue, ChunkedColumn};
 use crate::error::{Error, Result};
 use crate::genome::BinTable;
-use crate::io::MatrixReader;
+use crate::io::{with_temporary, MatrixReader};
 use crate::matrix::{invert_weight, CountType, PixelBlock, Weights};
 
 /// Elements per HDF5 chunk of the pixel columns (128 KiB of `int64` before compression).
@@ -134,18 +134,6 @@ fn selected_weights(reader: &dyn MatrixReader, options: &CoolWriteOptions) -> Re
         None => reader.weight_names(),
     };
     names.iter().map(|name| reader.weights(name)).collect()
-}
-
-/// Run `write` on a temporary path beside `path`, then rename it to `path`; remove it on error.
-fn with_temporary(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
-    let tmp = crate::io::temporary_path(path)?;
-    match write(&tmp) {
-        Ok(()) => std::fs::rename(&tmp, path).map_err(|e| Error::io(path, e)),
-        Err(e) => {
-            let _ = std::fs::remove_file(&tmp);
-            Err(e)
-        }
-    }
 }
 
 /// Maps pixels of a fine fixed bin table to a coarser one, summing them row by row.

@@ -88,6 +88,16 @@ impl Default for HicWriteOptions {
     }
 }
 
+impl HicWriteOptions {
+    /// The defaults with the genome identifier `genome` (`unknown` when none).
+    pub fn for_genome(genome: Option<String>) -> Self {
+        HicWriteOptions {
+            genome_id: genome.unwrap_or_else(|| "unknown".into()),
+            ..HicWriteOptions::default()
+        }
+    }
+}
+
 /// One normalisation vector to store: divisive values (Juicer's convention), one per bin of
 /// `chrom` at `bin_size_bp`.
 #[derive(Clone, Debug)]
