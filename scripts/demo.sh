@@ -9,6 +9,16 @@ trap 'rm -rf "$work"' EXIT
 figs="${DEMO_FIGURES:-demo-figures}"
 mkdir -p "$figs"
 step() { printf '\n\033[1m== %s\033[0m\n$ %s\n' "$1" "${*:2}"; "${@:2}"; }
+# same_pixels URI_A URI_B WHAT: say that two matrices hold identical pixels, or stop the demo.
+same_pixels() {
+  "$cm" dump "$1" > "$work/a.tsv"
+  "$cm" dump "$2" > "$work/b.tsv"
+  if cmp -s "$work/a.tsv" "$work/b.tsv"; then
+    echo "   $3: identical pixels ($(wc -l < "$work/a.tsv") pixels)"
+  else
+    echo "   $3: the pixels DIFFER" >&2; exit 1
+  fi
+}
 
 mcool=data/cooler_test_file.mcool
 hic=data/hic_test_file.hic
@@ -18,13 +28,7 @@ step "Inspect one resolution" "$cm" info "$mcool::/resolutions/100000"
 if [ -f "$hic" ]; then
   step "Inspect the same data as a Juicer .hic v9" "$cm" info "$hic"
   step "Convert .hic -> .cool" "$cm" convert "$hic" "$work/from_hic.cool"
-  "$cm" dump "$work/from_hic.cool" > "$work/a.tsv"
-  "$cm" dump "$mcool::/resolutions/100000" > "$work/b.tsv"
-  if cmp -s "$work/a.tsv" "$work/b.tsv"; then
-    echo "   .hic and .mcool hold identical pixels ($(wc -l < "$work/a.tsv") pixels)"
-  else
-    echo "   .hic and .mcool pixels DIFFER" >&2; exit 1
-  fi
+  same_pixels "$work/from_hic.cool" "$mcool::/resolutions/100000" ".hic and .mcool"
 fi
 step "Dump a region, balanced with cooler's ICE weights, with coordinates" \
   "$cm" dump "$mcool::/resolutions/100000" -r chr2L:1,000,000-1,300,000 --join --balanced -H
@@ -34,13 +38,8 @@ step "Zoom levels balanced one by one, as cooler zoomify --balance (pixels summe
 step "Write a Juicer .hic (v9) for Juicebox: 100 kb to 1 Mb, with VC, VC_SQRT, KR and SCALE per chromosome and Juicer's expected values" \
   "$cm" convert "$mcool::/resolutions/100000" "$work/dm6.hic" --resolutions 100000,200000,500000,1000000 --genome dm6
 "$cm" info "$work/dm6.hic"
-"$cm" dump "$work/dm6.hic::/resolutions/1000000" > "$work/hic1m.tsv"
-"$cm" dump "$mcool::/resolutions/1000000" > "$work/mcool1m.tsv"
-if cmp -s "$work/hic1m.tsv" "$work/mcool1m.tsv"; then
-  echo "   its 1 Mb level holds the pixels of the .mcool's own 1 Mb level ($(wc -l < "$work/hic1m.tsv") pixels)"
-else
-  echo "   the .hic's 1 Mb level DIFFERS from the .mcool's" >&2; exit 1
-fi
+same_pixels "$work/dm6.hic::/resolutions/1000000" "$mcool::/resolutions/1000000" \
+  "its 1 Mb level and the .mcool's own 1 Mb level (Juicer's)"
 if [ -f data/hg19.GM12878-MboI.pairs.subsample.sorted.txt.gz ]; then
   "$cm" dump -t chroms data/hg19.GM12878-MboI.matrix.2000kb.cool > "$work/hg19.sizes"
   step "Bin read pairs into a 2 Mb cooler" "$cm" convert data/hg19.GM12878-MboI.pairs.subsample.sorted.txt.gz \
