@@ -106,12 +106,12 @@ pub fn parse_resolutions(items: &[String], base: u64, longest_bp: u64) -> Result
     Ok(resolutions)
 }
 
-/// The bin size of a matrix with fixed-size bins (an .mcool needs one); `source` names it in
-/// the error.
+/// The bin size of a matrix with fixed-size bins (an .mcool or .hic needs one); `source` names
+/// it in the error.
 pub fn fixed_bin_size(bins: &BinTable, source: &str) -> Result<u64> {
     bins.bin_size_bp().ok_or_else(|| {
         Error::Invalid(format!(
-            "{source}: .mcool needs fixed-size bins; this matrix has variable bins"
+            "{source}: multi-resolution outputs (.mcool, .hic) need fixed-size bins; this matrix has variable bins"
         ))
     })
 }
