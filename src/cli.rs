@@ -3,6 +3,7 @@
 
 pub mod analysis;
 pub mod balance;
+pub mod compartments;
 pub mod contacts;
 pub mod convert;
 pub mod dump;
@@ -74,6 +75,9 @@ pub enum Command {
     /// TAD boundaries and domains: insulation (as cooltools), directionality + HMM, TopDom,
     /// Armatus.
     Tads(tads::TadsArgs),
+    /// A/B compartment eigenvectors (E1..En and eigenvalues) as cooltools eigs-cis / eigs-trans,
+    /// oriented by a phasing track or the GC content of a genome FASTA.
+    Compartments(compartments::CompartmentsArgs),
     /// The cis saddle of a compartment track (sums, counts, strength), as cooltools saddle.
     Saddle(saddle::SaddleArgs),
     /// Simulated maps with a known truth: `simulate blocks` (block-structured map with TADs),
@@ -106,6 +110,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Expected(args) => expected::run(&args),
         Command::Normalize(args) => normalize::run(&args),
         Command::Tads(args) => tads::run(&args),
+        Command::Compartments(args) => compartments::run(&args),
         Command::Saddle(args) => saddle::run(&args),
         Command::Simulate(args) => simulate::run(&args),
         Command::Score(args) => score::run(&args),

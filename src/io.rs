@@ -19,6 +19,7 @@
 
 pub mod bed;
 pub mod cool;
+pub mod fasta;
 pub mod hdf5_guard;
 pub mod hic;
 pub mod hicexplorer;
@@ -79,6 +80,12 @@ pub trait MatrixReader {
 
     /// Format and attributes, for `info`.
     fn info(&self) -> MatrixInfo;
+
+    /// Attribute `key` of weight column `name` (cooler stores the balancing parameters there:
+    /// `ignore_diags`, `converged` ...); `None` where the format has none.
+    fn weight_attribute(&self, _name: &str, _key: &str) -> Option<serde_json::Value> {
+        None
+    }
 
     /// Stream the stored pixels in the rectangle `rows x cols` to `sink`, sorted by
     /// `(bin1, bin2)`. The sink may stop the stream early by returning an error.
@@ -556,6 +563,10 @@ macro_rules! forward_reader_metadata {
 
         fn info(&self) -> $crate::io::MatrixInfo {
             self.$field.info()
+        }
+
+        fn weight_attribute(&self, name: &str, key: &str) -> Option<serde_json::Value> {
+            self.$field.weight_attribute(name, key)
         }
 
         fn stores_both_triangles(&self) -> bool {

@@ -3,6 +3,8 @@
 
 #[path = "cli/balance.rs"]
 mod balance;
+#[path = "cli/compartments.rs"]
+mod compartments;
 #[path = "cli/contacts.rs"]
 mod contacts;
 #[path = "cli/convert.rs"]

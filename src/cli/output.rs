@@ -250,6 +250,13 @@ fn strip_zeros(text: &str) -> &str {
     }
 }
 
+/// Write `text` to `path` whole (under a temporary name, renamed when complete).
+pub fn write_text_file(path: &str, text: &str) -> Result<()> {
+    let mut out = Output::open(Some(Path::new(path)))?;
+    out.write_all(text.as_bytes())?;
+    out.finish()
+}
+
 /// Append a real number: shortest round-trip digits, `nan` / `inf` / `-inf`, integers without
 /// a decimal point, exponent notation for very small or very large magnitudes.
 pub fn write_real(out: &mut Vec<u8>, value: f64) {

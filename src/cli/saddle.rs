@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 
 use crate::cli::input::{open_for_analysis, weights_and_view};
-use crate::cli::output::Output;
+use crate::cli::output::write_text_file;
 use crate::cli::InputArgs;
 use crate::compartments::saddle::{digitize, saddle_cis, saddle_strength, Binning, SaddleParams};
 use crate::error::{Error, Result};
@@ -146,12 +146,12 @@ pub fn run(args: &SaddleArgs) -> Result<()> {
             ));
         }
     }
-    write_text(&format!("{prefix}.saddle.tsv"), &table)?;
+    write_text_file(&format!("{prefix}.saddle.tsv"), &table)?;
     let mut edges = String::from("edge\n");
     for e in &digitized.edges {
         edges.push_str(&format!("{e}\n"));
     }
-    write_text(&format!("{prefix}.edges.tsv"), &edges)?;
+    write_text_file(&format!("{prefix}.edges.tsv"), &edges)?;
     let mut classes = format!("chrom\tstart\tend\t{column}.d\n");
     for (k, bin) in bins.iter().enumerate() {
         classes.push_str(&format!(
@@ -162,19 +162,12 @@ pub fn run(args: &SaddleArgs) -> Result<()> {
             digitized.classes[k]
         ));
     }
-    write_text(&format!("{prefix}.digitized.tsv"), &classes)?;
+    write_text_file(&format!("{prefix}.digitized.tsv"), &classes)?;
     let mut strengths = String::from("k\tstrength\n");
     for (k, s) in strength.iter().enumerate().skip(1) {
         strengths.push_str(&format!("{k}\t{s}\n"));
     }
-    write_text(&format!("{prefix}.strength.tsv"), &strengths)?;
+    write_text_file(&format!("{prefix}.strength.tsv"), &strengths)?;
     super::warnings::print_reader_warnings(reader.warnings());
     Ok(())
-}
-
-/// Write `text` to `path` (under a temporary name, renamed when complete).
-fn write_text(path: &str, text: &str) -> Result<()> {
-    let mut out = Output::open(Some(Path::new(path)))?;
-    out.write_all(text.as_bytes())?;
-    out.finish()
 }

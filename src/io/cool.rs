@@ -576,6 +576,17 @@ impl MatrixReader for CoolReader {
         }
     }
 
+    fn weight_attribute(&self, name: &str, key: &str) -> Option<serde_json::Value> {
+        if !self.weight_columns.iter().any(|c| c == name) {
+            return None;
+        }
+        hdf5_guard::guarded(&self.path, &format!("bins/{name}/{key}"), || {
+            let dataset = self.group.dataset(&format!("bins/{name}")).ok()?;
+            let attr = dataset.attr(key).ok()?;
+            Some(attribute_value(&attr))
+        })
+    }
+
     fn stored_weights(&self, name: &str) -> Result<Weights> {
         let (values, _) = self.stored_weight_values(name)?;
         Ok(Weights {

@@ -1,0 +1,335 @@
+//! `contactmap compartments`: compartment eigenvectors, as `cooltools eigs-cis` (and
+//! `eigs-trans` with `--trans`).
+
+use std::path::{Path, PathBuf};
+
+use clap::Args;
+
+use crate::cli::input::{open_for_analysis, weights_and_view};
+use crate::cli::output::{write_real, write_text_file, write_u64, Output};
+use crate::cli::progress::WithProgress;
+use crate::cli::InputArgs;
+use crate::compartments::cis::{cis_eig, CisEigParams, CisMatrixBuilder, RegionEigs};
+use crate::compartments::phasing;
+use crate::compartments::trans::{trans_eig, DenseMatrix, TransEigParams};
+use crate::error::{Error, Result};
+use crate::expected::View;
+use crate::genome::BinTable;
+use crate::io::tables::track_on_bins;
+use crate::io::{default_memory_budget, MatrixReader};
+
+/// Arguments of `contactmap compartments`.
+#[derive(Debug, Args)]
+#[command(after_long_help = "\
+As cooltools eigs-cis (0.7.1): for each region (whole chromosomes, or the regions of --view),
+the balanced map is divided by its distance decay (diagonals grouped in log-spaced bins, the
+first --ignore-diags set to 1), clipped at its --clip-percentile, centred (minus 1), and the
+--n-eigs eigenvectors of largest |eigenvalue| are computed, each scaled to norm
+sqrt(|eigenvalue|). Nothing is held as a dense matrix: a 1 kb chromosome takes memory in
+proportion to its stored pixels.
+
+With --trans, as cooltools eigs-trans: one genome-wide decomposition of the inter-chromosomal
+map (cis blocks filled with values drawn from the bins' own trans rows, then balanced again).
+
+Sign: an eigenvector's sign is arbitrary. With --phasing-track (e.g. GC content, gene density)
+or --fasta (GC content of each bin from the genome sequence, as cooltools genome gc), each
+vector is flipped to correlate positively (Spearman) with it on each region, so that E1 > 0 is
+the A (GC-rich) compartment on every chromosome. Without either, each vector is oriented to
+correlate positively with the bins' coverage (raw contacts in the region), which usually but
+not always puts A positive: give a track or a FASTA for a reliable sign.
+
+Outputs (PREFIX as given by -o; cis, or trans with --trans):
+  PREFIX.cis.vecs.tsv   chrom start end <weight> E1 .. En, one row per bin of the view's regions
+                        (nan where a bin has no weight or no contact)
+  PREFIX.cis.lam.txt    chrom start end name eigval1 .. eigvaln, one row per region (trans: one
+                        row, eigval1 .. eigvaln)
+
+Examples:
+  contactmap compartments in.mcool::/resolutions/100000 --fasta hg38.fa.gz -o out/sample
+  contactmap compartments in.cool --phasing-track gc.bedgraph:4 --n-eigs 3 -o eigs
+  contactmap compartments in.cool --view arms.bed --phasing-track genes.tsv:density -o arms
+  contactmap compartments in.mcool::/resolutions/1000000 --trans -o trans")]
+pub struct CompartmentsArgs {
+    /// The map (balanced: it needs a weight column).
+    pub uri: String,
+    /// Output prefix.
+    #[arg(short, long, value_name = "PREFIX")]
+    pub out: PathBuf,
+    /// Phasing track on the map's bins: FILE:COLUMN (a header name, or a 1-based column number
+    /// for a bedGraph). Vectors are flipped to correlate positively with it.
+    #[arg(long, value_name = "FILE:COLUMN", conflicts_with = "fasta")]
+    pub phasing_track: Option<String>,
+    /// Genome FASTA (plain or gzip): the GC content of each bin is the phasing track.
+    #[arg(long, value_name = "FASTA")]
+    pub fasta: Option<PathBuf>,
+    /// Regions (BED: chrom, start, end, optional name) instead of whole chromosomes (cis only).
+    #[arg(long, conflicts_with = "trans")]
+    pub view: Option<PathBuf>,
+    /// Number of eigenvectors.
+    #[arg(long, default_value_t = 3)]
+    pub n_eigs: usize,
+    /// Diagonals set to 1 before normalising (default: the weight column's ignore_diags
+    /// attribute, else 2).
+    #[arg(long)]
+    pub ignore_diags: Option<usize>,
+    /// Clip observed/expected above this percentile (0 or 100: no clipping; cis only).
+    #[arg(long, default_value_t = 99.9)]
+    pub clip_percentile: f64,
+    /// Weight column.
+    #[arg(long, alias = "clr-weight-name", default_value = "weight")]
+    pub weight_name: String,
+    /// eigs-trans: one decomposition of the genome-wide inter-chromosomal map.
+    #[arg(long)]
+    pub trans: bool,
+    /// Options for text inputs.
+    #[command(flatten)]
+    pub input: InputArgs,
+}
+
+/// Run `contactmap compartments`.
+pub fn run(args: &CompartmentsArgs) -> Result<()> {
+    if args.n_eigs == 0 {
+        return Err(Error::Invalid("--n-eigs must be at least 1".into()));
+    }
+    if !args.clip_percentile.is_finite() || args.clip_percentile < 0.0 {
+        return Err(Error::Invalid(format!(
+            "--clip-percentile {}: expected a percentile in 0..100 (0 or 100: no clipping)",
+            args.clip_percentile
+        )));
+    }
+    let reader = open_for_analysis(&args.uri, &args.input)?;
+    let (weights, view) = weights_and_view(
+        reader.as_ref(),
+        false,
+        &args.weight_name,
+        args.view.as_deref(),
+    )?;
+    let weights = weights.expect("balanced");
+    let bins = reader.bins().clone();
+    let mut phasing = match (&args.phasing_track, &args.fasta) {
+        (Some(track), _) => {
+            let (path, column) = track.rsplit_once(':').ok_or_else(|| {
+                Error::Invalid(format!(
+                    "--phasing-track '{track}': expected FILE:COLUMN (a header name or a 1-based column number)"
+                ))
+            })?;
+            Some(track_on_bins(Path::new(path), column, &bins)?)
+        }
+        (None, Some(fasta)) => Some(crate::io::fasta::gc_content(fasta, &bins)?),
+        (None, None) => None,
+    };
+    if let Some(track) = phasing.as_mut() {
+        // cooltools masks the track at bins without a weight
+        for (value, w) in track.iter_mut().zip(&weights) {
+            if !w.is_finite() {
+                *value = f64::NAN;
+            }
+        }
+    }
+    let ignore_diags = match args.ignore_diags {
+        Some(n) => n,
+        None => reader
+            .weight_attribute(&args.weight_name, "ignore_diags")
+            .and_then(|v| v.as_u64())
+            .map_or(2, |v| v as usize),
+    };
+    let prefix = args.out.to_string_lossy().into_owned();
+    let progress = WithProgress::new(reader.as_ref(), "eigenvectors")?;
+    if args.trans {
+        let params = TransEigParams {
+            n_eigs: args.n_eigs,
+            ..TransEigParams::default()
+        };
+        let eigs = trans_eigs(&progress, &weights, phasing.as_deref(), &params)?;
+        write_vecs(
+            &format!("{prefix}.trans.vecs.tsv"),
+            &bins,
+            &args.weight_name,
+            &weights,
+            &[(0..bins.n_bins(), &eigs)],
+            args.n_eigs,
+        )?;
+        let mut lam = header_line(&[], "eigval", args.n_eigs);
+        write_values(&mut lam, &eigs.values);
+        write_text_file(&format!("{prefix}.trans.lam.txt"), &lam)?;
+    } else {
+        let params = CisEigParams {
+            n_eigs: args.n_eigs,
+            ignore_diags,
+            clip_percentile: args.clip_percentile,
+        };
+        let results = eigs_cis(&progress, &weights, &view, phasing.as_deref(), &params)?;
+        let regions: Vec<_> = view
+            .regions()
+            .iter()
+            .zip(&results)
+            .map(|(r, e)| (r.bins.clone(), e))
+            .collect();
+        write_vecs(
+            &format!("{prefix}.cis.vecs.tsv"),
+            &bins,
+            &args.weight_name,
+            &weights,
+            &regions,
+            args.n_eigs,
+        )?;
+        let mut lam = header_line(&["chrom", "start", "end", "name"], "eigval", args.n_eigs);
+        for (region, eigs) in view.regions().iter().zip(&results) {
+            lam.push_str(&format!(
+                "{}\t{}\t{}\t{}",
+                bins.chroms()[region.chrom_id].name,
+                region.start_bp,
+                region.end_bp,
+                region.name
+            ));
+            write_values(&mut lam, &eigs.values);
+        }
+        write_text_file(&format!("{prefix}.cis.lam.txt"), &lam)?;
+    }
+    drop(progress);
+    super::warnings::print_reader_warnings(reader.warnings());
+    Ok(())
+}
+
+/// Eigenvectors of every region of `view`, one region in memory at a time.
+fn eigs_cis(
+    reader: &dyn MatrixReader,
+    weights: &[f64],
+    view: &View,
+    phasing: Option<&[f64]>,
+    params: &CisEigParams,
+) -> Result<Vec<RegionEigs>> {
+    let mut results = Vec::with_capacity(view.len());
+    for region in view.regions() {
+        let range = region.bins.clone();
+        let offset = range.start;
+        let mut builder = CisMatrixBuilder::new(range.len(), params.ignore_diags);
+        let mut coverage = vec![0.0f64; range.len()];
+        reader.read_pixels(range.clone(), range.clone(), &mut |block| {
+            for k in 0..block.len() {
+                let (i, j) = (block.bin1[k] as usize, block.bin2[k] as usize);
+                let value = block.count[k] * weights[i] * weights[j];
+                builder.push(i - offset, j - offset, value)?;
+                coverage[i - offset] += block.count[k];
+                if i != j {
+                    coverage[j - offset] += block.count[k];
+                }
+            }
+            Ok(())
+        })?;
+        let matrix = builder.finish();
+        let mut eigs = cis_eig(&matrix, params);
+        if eigs.unconverged > 0 {
+            eprintln!(
+                "contactmap: WARNING: region {}: {} of {} eigenvectors did not reach the tolerance; they are given as found",
+                region.name, eigs.unconverged, params.n_eigs
+            );
+        }
+        orient(
+            &mut eigs,
+            phasing.map(|t| &t[range.clone()]),
+            &coverage,
+            &region.name,
+        );
+        results.push(eigs);
+    }
+    Ok(results)
+}
+
+/// Orient every vector by the phasing track, else by coverage.
+fn orient(eigs: &mut RegionEigs, track: Option<&[f64]>, coverage: &[f64], region: &str) {
+    for (k, vector) in eigs.vectors.iter_mut().enumerate() {
+        if vector.iter().all(|v| v.is_nan()) {
+            continue;
+        }
+        let r = phasing::orient(vector, track.unwrap_or(coverage));
+        if r.is_nan() && track.is_some() {
+            eprintln!(
+                "contactmap: WARNING: region {region}: the phasing track does not vary where E{} is defined; E{} is left unoriented",
+                k + 1,
+                k + 1
+            );
+        }
+    }
+}
+
+/// The trans eigenvectors of the whole map (dense, as cooltools).
+fn trans_eigs(
+    reader: &dyn MatrixReader,
+    weights: &[f64],
+    phasing: Option<&[f64]>,
+    params: &TransEigParams,
+) -> Result<RegionEigs> {
+    let bins = reader.bins();
+    let n = bins.n_bins();
+    let mut matrix = DenseMatrix::zeros(n, default_memory_budget() / 2)?;
+    let mut coverage = vec![0.0f64; n];
+    reader.read_pixels(0..n, 0..n, &mut |block| {
+        for k in 0..block.len() {
+            let (i, j) = (block.bin1[k] as usize, block.bin2[k] as usize);
+            matrix.set(i, j, block.count[k] * weights[i] * weights[j]);
+            coverage[i] += block.count[k];
+            if i != j {
+                coverage[j] += block.count[k];
+            }
+        }
+        Ok(())
+    })?;
+    let chrom_of: Vec<u32> = (0..n).map(|b| bins.bin(b).chrom_id as u32).collect();
+    let mut eigs = trans_eig(matrix, &chrom_of, params);
+    orient(&mut eigs, phasing, &coverage, "genome-wide trans");
+    Ok(eigs)
+}
+
+fn header_line(first: &[&str], stem: &str, n: usize) -> String {
+    let mut line: Vec<String> = first.iter().map(|s| s.to_string()).collect();
+    line.extend((1..=n).map(|k| format!("{stem}{k}")));
+    line.join("\t") + "\n"
+}
+
+fn write_values(out: &mut String, values: &[f64]) {
+    let mut bytes = Vec::new();
+    for (k, &v) in values.iter().enumerate() {
+        if k > 0 || !out.ends_with('\n') {
+            bytes.push(b'\t');
+        }
+        write_real(&mut bytes, v);
+    }
+    bytes.push(b'\n');
+    out.push_str(&String::from_utf8(bytes).expect("ascii"));
+}
+
+fn write_vecs(
+    path: &str,
+    bins: &BinTable,
+    weight_name: &str,
+    weights: &[f64],
+    regions: &[(std::ops::Range<usize>, &RegionEigs)],
+    n_eigs: usize,
+) -> Result<()> {
+    let mut out = Output::open(Some(Path::new(path)))?;
+    let mut bytes = header_line(&["chrom", "start", "end", weight_name], "E", n_eigs).into_bytes();
+    for (range, eigs) in regions {
+        for bin in range.clone() {
+            let b = bins.bin(bin);
+            bytes.extend_from_slice(bins.chroms()[b.chrom_id].name.as_bytes());
+            bytes.push(b'\t');
+            write_u64(&mut bytes, b.start);
+            bytes.push(b'\t');
+            write_u64(&mut bytes, b.end);
+            bytes.push(b'\t');
+            write_real(&mut bytes, weights[bin]);
+            for vector in &eigs.vectors {
+                bytes.push(b'\t');
+                write_real(&mut bytes, vector[bin - range.start]);
+            }
+            bytes.push(b'\n');
+        }
+        if bytes.len() > 1 << 20 {
+            out.write_all(&bytes)?;
+            bytes.clear();
+        }
+    }
+    out.write_all(&bytes)?;
+    out.finish()
+}

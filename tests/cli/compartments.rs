@@ -1,0 +1,323 @@
+//! `contactmap compartments`: eigenvectors and eigenvalues equal cooltools 0.7.1's eigs_cis (dm6,
+//! 100 kb, with and without a phasing track) and eigs_trans (CN.mm9, 10 Mb)
+//! (data/reference/compartments, scripts/fixtures/compartments_reference.py).
+
+use super::*;
+
+fn number(text: &str) -> f64 {
+    if text.is_empty() {
+        f64::NAN
+    } else {
+        text.parse().unwrap()
+    }
+}
+
+fn column(table: &Table, name: &str) -> Vec<f64> {
+    let c = table
+        .header
+        .iter()
+        .position(|h| h == name)
+        .unwrap_or_else(|| panic!("no column {name} in {:?}", table.header));
+    table.rows.iter().map(|r| number(&r[c])).collect()
+}
+
+fn read(path: &str) -> Table {
+    parse_table(&std::fs::read_to_string(path).unwrap())
+}
+
+/// Values equal to `tol` (relative to the largest magnitude), NaN at the same places; with
+/// `up_to_sign`, each chromosome's vector may be the negated reference.
+fn assert_vectors(
+    got: &[f64],
+    want: &[f64],
+    chroms: &[String],
+    tol: f64,
+    up_to_sign: bool,
+    what: &str,
+) {
+    assert_eq!(got.len(), want.len(), "{what}");
+    let scale = want
+        .iter()
+        .filter(|v| v.is_finite())
+        .fold(0.0f64, |a, v| a.max(v.abs()));
+    let mut start = 0;
+    while start < got.len() {
+        let end = (start..got.len())
+            .find(|&k| chroms[k] != chroms[start])
+            .unwrap_or(got.len());
+        let (g, w) = (&got[start..end], &want[start..end]);
+        let diff = |sign: f64| {
+            g.iter().zip(w).fold(0.0f64, |m, (a, b)| {
+                assert_eq!(
+                    a.is_nan(),
+                    b.is_nan(),
+                    "{what} {}: NaN pattern",
+                    chroms[start]
+                );
+                if a.is_nan() {
+                    m
+                } else {
+                    m.max((a - sign * b).abs())
+                }
+            })
+        };
+        let d = if up_to_sign {
+            diff(1.0).min(diff(-1.0))
+        } else {
+            diff(1.0)
+        };
+        assert!(
+            d <= tol * scale,
+            "{what} {}: max difference {d}",
+            chroms[start]
+        );
+        start = end;
+    }
+}
+
+fn eigvals_equal(got: &Table, want: &Table, n: usize) {
+    assert_eq!(got.rows.len(), want.rows.len());
+    for k in 1..=n {
+        let name = format!("eigval{k}");
+        for (g, w) in column(got, &name).iter().zip(column(want, &name)) {
+            assert_eq!(g.is_nan(), w.is_nan(), "{name}");
+            if w.is_finite() {
+                assert!((g - w).abs() <= 1e-9 * w.abs(), "{name}: {g} vs {w}");
+            }
+        }
+    }
+}
+
+#[test]
+fn eigs_cis_equals_cooltools_with_and_without_phasing() {
+    let dir = tempfile::tempdir().unwrap();
+    let uri = data("cooler_test_file.mcool::/resolutions/100000");
+    let want_vecs = reference_table("reference/compartments/dm6_100kb.eigs_cis_phased.vecs.tsv.gz");
+    let phasing = format!(
+        "{}:track",
+        data("reference/compartments/dm6_100kb.phasing.tsv.gz")
+    );
+    for phased in [false, true] {
+        let prefix = dir
+            .path()
+            .join(if phased { "p" } else { "u" })
+            .to_string_lossy()
+            .into_owned();
+        let mut args = vec!["compartments", uri.as_str(), "-o", prefix.as_str()];
+        if phased {
+            args.extend(["--phasing-track", phasing.as_str()]);
+        }
+        run_ok(&args);
+        let vecs = read(&format!("{prefix}.cis.vecs.tsv"));
+        assert_eq!(
+            vecs.header,
+            ["chrom", "start", "end", "weight", "E1", "E2", "E3"]
+        );
+        let chroms: Vec<String> = vecs.rows.iter().map(|r| r[0].clone()).collect();
+        for name in ["E1", "E2", "E3"] {
+            // to 1e-9 of the largest value (the reference keeps 10 significant digits)
+            assert_vectors(
+                &column(&vecs, name),
+                &column(&want_vecs, name),
+                &chroms,
+                1e-9,
+                !phased,
+                name,
+            );
+        }
+        let lam = read(&format!("{prefix}.cis.lam.txt"));
+        assert_eq!(lam.header[..4], ["chrom", "start", "end", "name"]);
+        let want_lam = reference_table(if phased {
+            "reference/compartments/dm6_100kb.eigs_cis_phased.vals.tsv.gz"
+        } else {
+            "reference/compartments/dm6_100kb.eigs_cis.vals.tsv.gz"
+        });
+        eigvals_equal(&lam, &want_lam, 3);
+    }
+}
+
+#[test]
+fn eigs_trans_equals_cooltools() {
+    let dir = tempfile::tempdir().unwrap();
+    let prefix = dir.path().join("t").to_string_lossy().into_owned();
+    run_ok(&[
+        "compartments",
+        &data("CN.mm9.10000kb.cool"),
+        "--trans",
+        "-o",
+        &prefix,
+    ]);
+    let vecs = read(&format!("{prefix}.trans.vecs.tsv"));
+    let want = reference_table("reference/compartments/mm9_10Mb.eigs_trans.vecs.tsv.gz");
+    // one genome-wide vector: compared up to one sign
+    let genome = vec![String::new(); vecs.rows.len()];
+    for name in ["E1", "E2", "E3"] {
+        assert_vectors(
+            &column(&vecs, name),
+            &column(&want, name),
+            &genome,
+            1e-8,
+            true,
+            name,
+        );
+    }
+    eigvals_equal(
+        &read(&format!("{prefix}.trans.lam.txt")),
+        &reference_table("reference/compartments/mm9_10Mb.eigs_trans.vals.tsv.gz"),
+        3,
+    );
+}
+
+#[test]
+fn fasta_gc_orients_like_the_same_track() {
+    // a genome whose GC content per bin follows the phasing track's ranks: orienting by the
+    // FASTA must give the vectors oriented by the track
+    let dir = tempfile::tempdir().unwrap();
+    let uri = data("cooler_test_file.mcool::/resolutions/100000");
+    let track = reference_table("reference/compartments/dm6_100kb.phasing.tsv.gz");
+    let values = column(&track, "track");
+    let max = values.iter().cloned().fold(0.0f64, f64::max);
+    let chroms_out = run_ok(&["dump", "-t", "chroms", &uri]);
+    let mut fasta = String::new();
+    for line in chroms_out.lines() {
+        let f: Vec<&str> = line.split('\t').collect();
+        let (name, length): (&str, usize) = (f[0], f[1].parse().unwrap());
+        fasta.push_str(&format!(">{name} test\n"));
+        let mut seq = Vec::with_capacity(length);
+        for (row, v) in track.rows.iter().zip(&values) {
+            if row[0] != name {
+                continue;
+            }
+            let (start, end): (usize, usize) = (row[1].parse().unwrap(), row[2].parse().unwrap());
+            // GC fraction rises with the track value, in steps of 1/1000
+            let gc = (v / max * 1000.0).round() as usize;
+            for k in start..end {
+                seq.push(if k % 1000 < gc { b'G' } else { b'a' });
+            }
+        }
+        for chunk in seq.chunks(60) {
+            fasta.push_str(std::str::from_utf8(chunk).unwrap());
+            fasta.push('\n');
+        }
+    }
+    let fa = dir.path().join("genome.fa");
+    std::fs::write(&fa, fasta).unwrap();
+    let by_track = dir.path().join("t").to_string_lossy().into_owned();
+    let by_fasta = dir.path().join("f").to_string_lossy().into_owned();
+    let phasing = format!(
+        "{}:track",
+        data("reference/compartments/dm6_100kb.phasing.tsv.gz")
+    );
+    run_ok(&[
+        "compartments",
+        &uri,
+        "--phasing-track",
+        &phasing,
+        "-o",
+        &by_track,
+    ]);
+    run_ok(&[
+        "compartments",
+        &uri,
+        "--fasta",
+        fa.to_str().unwrap(),
+        "-o",
+        &by_fasta,
+    ]);
+    let a = read(&format!("{by_track}.cis.vecs.tsv"));
+    let b = read(&format!("{by_fasta}.cis.vecs.tsv"));
+    let e1a = column(&a, "E1");
+    let e1b = column(&b, "E1");
+    for (x, y) in e1a.iter().zip(&e1b) {
+        assert!(x.is_nan() && y.is_nan() || x == y, "{x} {y}");
+    }
+    // the FASTA missing a chromosome of the map: one clear error
+    let mut short = std::fs::read_to_string(&fa).unwrap();
+    let cut = short.find(">chrX").unwrap();
+    short.truncate(cut);
+    std::fs::write(&fa, short).unwrap();
+    let err = run_err(&[
+        "compartments",
+        &uri,
+        "--fasta",
+        fa.to_str().unwrap(),
+        "-o",
+        &by_fasta,
+    ]);
+    assert!(err.contains("genome.fa") && err.contains("chrX"), "{err}");
+}
+
+#[test]
+fn bad_inputs_are_one_clear_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let prefix = dir.path().join("x").to_string_lossy().into_owned();
+    let dm6 = data("cooler_test_file.mcool::/resolutions/100000");
+    // a phasing track on other bins (dm6 100 kb track, mm9 10 Mb map)
+    let phasing = format!(
+        "{}:track",
+        data("reference/compartments/dm6_100kb.phasing.tsv.gz")
+    );
+    let err = run_err(&[
+        "compartments",
+        &data("CN.mm9.10000kb.cool"),
+        "--phasing-track",
+        &phasing,
+        "-o",
+        &prefix,
+    ]);
+    assert!(err.contains("not a bin of the map"), "{err}");
+    // a view outside its chromosome
+    let view = dir.path().join("view.bed");
+    std::fs::write(&view, "chr4\t0\t5000000\tbig\n").unwrap();
+    let err = run_err(&[
+        "compartments",
+        &dm6,
+        "--view",
+        view.to_str().unwrap(),
+        "-o",
+        &prefix,
+    ]);
+    assert!(err.contains("chr4"), "{err}");
+    // a map without weights
+    let err = run_err(&[
+        "compartments",
+        &data("toy.symm.upper.2.mcool::/resolutions/2"),
+        "-o",
+        &prefix,
+    ]);
+    assert!(err.contains("weight"), "{err}");
+    assert!(!std::path::Path::new(&format!("{prefix}.cis.vecs.tsv")).exists());
+}
+
+#[test]
+fn a_view_computes_its_regions_only() {
+    // cooltools eigs_cis over a view equals the chromosome-wide result where the region is the
+    // whole chromosome; here the view is two whole chromosomes, named
+    let dir = tempfile::tempdir().unwrap();
+    let uri = data("cooler_test_file.mcool::/resolutions/100000");
+    let view = dir.path().join("view.bed");
+    std::fs::write(
+        &view,
+        "chr2L\t0\t23513712\tleft\nchr3R\t0\t32079331\tright\n",
+    )
+    .unwrap();
+    let prefix = dir.path().join("v").to_string_lossy().into_owned();
+    run_ok(&[
+        "compartments",
+        &uri,
+        "--view",
+        view.to_str().unwrap(),
+        "-o",
+        &prefix,
+    ]);
+    let lam = read(&format!("{prefix}.cis.lam.txt"));
+    assert_eq!(lam.rows.len(), 2);
+    assert_eq!(lam.rows[0][3], "left");
+    let want = reference_table("reference/compartments/dm6_100kb.eigs_cis.vals.tsv.gz");
+    let w = column(&want, "eigval1");
+    let g = column(&lam, "eigval1");
+    assert!((g[0] - w[0]).abs() <= 1e-9 * w[0].abs());
+    assert!((g[1] - w[3]).abs() <= 1e-9 * w[3].abs());
+    let vecs = read(&format!("{prefix}.cis.vecs.tsv"));
+    assert!(vecs.rows.iter().all(|r| r[0] == "chr2L" || r[0] == "chr3R"));
+}
