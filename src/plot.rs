@@ -1,4 +1,5 @@
-//! Figures: contact-map heatmaps (square or 45-degree), P(s) curves, protein contact maps.
+//! Figures: contact-map heatmaps (square or 45-degree), P(s) curves, protein contact maps,
+//! compartment saddles.
 //!
 //! Our code computes the pictures: which bins fall in which image cell and with what mean
 //! ([`heatmap`]), the colour of each value ([`colormap`]: matplotlib's and cooltools' maps and
@@ -16,6 +17,7 @@ pub mod heatmap;
 pub mod map;
 pub mod protein;
 pub mod render;
+pub mod saddle;
 pub mod svg;
 
 pub use colormap::{ColorMap, ColorScale, ScaleKind};

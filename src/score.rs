@@ -8,6 +8,8 @@
 //!   conventions of CASP, ConKit, ConEVA and DISTEVAL as options; [`register`] places a
 //!   structure's residues on the prediction's sequence, and [`overlap`] compares two
 //!   predictions' top lists with each other.
+//! - [`compartments`]: compartment eigenvectors against known A/B types (simulated block
+//!   copolymers): sign accuracy and correlation.
 //!
 //! Map-vs-map scores will live beside them in later modules.
 //!
@@ -15,6 +17,7 @@
 //! predictions, never files.
 
 pub mod boundaries;
+pub mod compartments;
 pub mod contacts;
 pub mod overlap;
 pub mod register;

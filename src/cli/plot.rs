@@ -1,12 +1,13 @@
 //! `contactmap plot`: figures as PNG or SVG. `plot map` draws a contact-map heatmap (square or
 //! 45-degree, with overlays and tracks); `plot expected` P(s) curves with their slopes and power
 //! laws; `plot contacts` a protein contact map with the predictions coloured true / false
-//! positive and the precision curve; the options every figure shares (output, format, size,
-//! dpi, title) live here.
+//! positive and the precision curve; `plot saddle` a compartment saddle; the options every
+//! figure shares (output, format, size, dpi, title) live here.
 
 mod contacts;
 mod expected;
 mod map;
+mod saddle;
 
 use std::path::PathBuf;
 
@@ -38,6 +39,9 @@ pub enum PlotCommand {
     /// pairs coloured true / false positive (ConKit's `plot cmap`), a second prediction in the
     /// lower triangle, and the precision-vs-list-size curve.
     Contacts(Box<contacts::ContactsArgs>),
+    /// Saddle plot of `contactmap saddle`'s table: mean observed/expected by pair of track
+    /// classes (cooltools' saddleplot).
+    Saddle(Box<saddle::SaddlePlotArgs>),
 }
 
 /// Run `contactmap plot`.
@@ -46,6 +50,7 @@ pub fn run(args: &PlotArgs) -> Result<()> {
         PlotCommand::Map(args) => map::run(args),
         PlotCommand::Expected(args) => expected::run(args),
         PlotCommand::Contacts(args) => contacts::run(args),
+        PlotCommand::Saddle(args) => saddle::run(args),
     }
 }
 

@@ -3,6 +3,7 @@
 //! scores protein residue-contact predictions against a structure
 //! ([`crate::score::contacts`]).
 
+mod compartments;
 mod overlap;
 
 use std::path::{Path, PathBuf};
@@ -38,6 +39,9 @@ pub enum ScoreCommand {
     /// Protein residue-contact predictions against a structure: precision, recall, F1, MCC, Xd
     /// per separation range and top-list size (CASP conventions by default).
     Contacts(Box<ContactsScoreArgs>),
+    /// Compartment eigenvectors against known A/B types: sign accuracy and correlation, per
+    /// chromosome.
+    Compartments(compartments::CompartmentsScoreArgs),
     /// Two contact predictions against each other, without a structure: shared pairs and
     /// Jaccard index of their top lists.
     Overlap(overlap::OverlapArgs),
@@ -101,6 +105,7 @@ pub fn run(args: &ScoreArgs) -> Result<()> {
     match &args.command {
         ScoreCommand::Boundaries(boundaries) => run_boundaries(boundaries),
         ScoreCommand::Contacts(contacts) => run_contacts(contacts),
+        ScoreCommand::Compartments(args) => compartments::run(args),
         ScoreCommand::Overlap(args) => overlap::run(args),
     }
 }

@@ -321,3 +321,146 @@ fn a_view_computes_its_regions_only() {
     let vecs = read(&format!("{prefix}.cis.vecs.tsv"));
     assert!(vecs.rows.iter().all(|r| r[0] == "chr2L" || r[0] == "chr3R"));
 }
+
+#[test]
+fn simulated_truth_and_score() {
+    // the truth of an A/B block copolymer: each bin's majority type and fraction of A
+    let dir = tempfile::tempdir().unwrap();
+    let path = |name: &str| dir.path().join(name).to_string_lossy().into_owned();
+    run_ok(&[
+        "simulate",
+        "polymer",
+        "-o",
+        &path("ab.cool"),
+        "--chains",
+        "60,40",
+        "--types",
+        "A6B4",
+        "--attraction",
+        "0.3",
+        "--monomers-per-bin",
+        "4",
+        "--replicas",
+        "1",
+        "--equilibration",
+        "10",
+        "--samples",
+        "1",
+        "--device",
+        "cpu",
+        "--truth-compartments",
+        &path("truth.bed"),
+    ]);
+    let truth = std::fs::read_to_string(path("truth.bed")).unwrap();
+    let rows: Vec<Vec<&str>> = truth.lines().map(|l| l.split('\t').collect()).collect();
+    // chr1: 15 bins of 4 beads over the period AAAAAABBBB: bin 0 = AAAA, bin 1 = AABB (a tie:
+    // A, met first), bin 2 = BBAA ...; chr2 restarts the pattern
+    assert_eq!(rows.len(), 15 + 10);
+    let types: String = rows.iter().map(|r| r[3]).collect();
+    assert_eq!(&types[..5], "AAAAB");
+    assert_eq!(rows[1][4], "0.5");
+    assert_eq!(rows[15][0], "chr2");
+    assert_eq!(rows[15][1], "0");
+    // a vector right on 3 bins of 4, scored
+    let eigs = path("eigs.tsv");
+    let mut text = String::from("chrom\tstart\tend\tweight\tE1\n");
+    let signs = [1.0, -0.5, 2.0, -1.0];
+    for (k, row) in rows.iter().take(4).enumerate() {
+        text.push_str(&format!(
+            "{}\t{}\t{}\t1\t{}\n",
+            row[0], row[1], row[2], signs[k]
+        ));
+    }
+    std::fs::write(&eigs, text).unwrap();
+    let score = parse_table(&run_ok(&[
+        "score",
+        "compartments",
+        "--truth",
+        &path("truth.bed"),
+        &eigs,
+    ]));
+    assert_eq!(
+        score.header,
+        [
+            "chrom",
+            "n_bins",
+            "sign_accuracy",
+            "sign_accuracy_up_to_sign",
+            "pearson"
+        ]
+    );
+    // truth of bins 0-3: A A A A -> signs +, -, +, - : half right
+    let all = score.rows.last().unwrap();
+    assert_eq!(all[0], "all");
+    assert_eq!(all[1], "4");
+    let expected = &rows[..4]
+        .iter()
+        .zip(signs)
+        .filter(|(r, s)| (r[3] == "A") == (*s > 0.0))
+        .count();
+    assert_eq!(number(&all[2]), *expected as f64 / 4.0);
+    // a truth on other bins: one clear error
+    std::fs::write(path("other.bed"), "chrX\t0\t10\tA\n").unwrap();
+    let err = run_err(&[
+        "score",
+        "compartments",
+        "--truth",
+        &path("other.bed"),
+        &eigs,
+    ]);
+    assert!(err.contains("other.bed"), "{err}");
+    std::fs::write(path("bad.bed"), "chr1\t0\t4000\tC\n").unwrap();
+    let err = run_err(&["score", "compartments", "--truth", &path("bad.bed"), &eigs]);
+    assert!(err.contains("A, B"), "{err}");
+}
+
+#[test]
+fn saddle_picture_shows_enriched_corners() {
+    let dir = tempfile::tempdir().unwrap();
+    let uri = data("cooler_test_file.mcool::/resolutions/100000");
+    let prefix = dir.path().join("e").to_string_lossy().into_owned();
+    let phasing = format!(
+        "{}:track",
+        data("reference/compartments/dm6_100kb.phasing.tsv.gz")
+    );
+    run_ok(&[
+        "compartments",
+        &uri,
+        "--phasing-track",
+        &phasing,
+        "-o",
+        &prefix,
+    ]);
+    let saddle = dir.path().join("s").to_string_lossy().into_owned();
+    let track = format!("{prefix}.cis.vecs.tsv:E1");
+    run_ok(&[
+        "saddle", &uri, "--track", &track, "--n-bins", "10", "-o", &saddle,
+    ]);
+    let table = format!("{saddle}.saddle.tsv");
+    let svg = super::plot::plot_svg(&["plot", "saddle", &table]);
+    // the heatmap is the widest image (the colour bar is the other)
+    let (x, y, w, h) = super::plot::svg_rects(&svg, "image", "", "")
+        .into_iter()
+        .max_by(|a, b| a.2.total_cmp(&b.2))
+        .unwrap();
+    assert!((w - h).abs() < 1e-9, "square");
+    let png = super::plot::plot_png(&["plot", "saddle", &table]);
+    let cell = |r: usize, c: usize| {
+        let px = x + (c as f64 + 0.5) * w / 10.0;
+        let py = y + (r as f64 + 0.5) * h / 10.0;
+        png.at(px as usize, py as usize)
+    };
+    // B-B and A-A corners enriched (red), A-B depleted (blue)
+    for (r, c, red) in [(0, 0, true), (9, 9, true), (0, 9, false), (9, 0, false)] {
+        let (pr, _, pb) = cell(r, c);
+        assert_eq!(pr > pb, red, "cell ({r}, {c}): {:?}", cell(r, c));
+    }
+    let err = run_err(&[
+        "plot",
+        "saddle",
+        &format!("{prefix}.cis.lam.txt"),
+        "-o",
+        "x.png",
+    ]);
+    assert!(err.contains("lam.txt"), "{err}");
+}

@@ -100,6 +100,9 @@ Outputs:
   --truth-boundaries    BED: the bins holding a boundary element (score tads calls against it
                         with `contactmap score boundaries`)
   --truth-domains       BED: the segments between consecutive boundary elements of a chain
+  --truth-compartments  BED: chrom start end TYPE FRACTION_A per bin (with --types): its beads'
+                        majority type and the fraction of type A (a phasing track: FILE:5);
+                        score eigenvectors with `contactmap score compartments`
   --conformations       TSV(.gz): replica sample chain bead x y z of every sampled conformation
   --stats               TSV: replica sample chain radius_of_gyration
 
@@ -110,7 +113,7 @@ Examples:
       --ctcf 500+,1000-,1500+,2000-,2500.,3000. --processivity 200 --separation 400 \\
       --monomers-per-bin 10 --truth-boundaries truth.bed
   contactmap simulate polymer -o ab.cool --chains 2000 --density 0.3 --types A200B200 \\
-      --attraction 0.4")]
+      --attraction 0.4 --monomers-per-bin 10 --truth-compartments ab.truth.bed")]
 pub struct PolymerArgs {
     /// Output .cool file.
     #[arg(short, long, value_name = "OUT.cool")]
@@ -224,6 +227,10 @@ pub struct PolymerArgs {
     /// Write the true domains (BED).
     #[arg(long, value_name = "BED")]
     pub truth_domains: Option<PathBuf>,
+    /// Write each bin's type (BED: chrom start end TYPE FRACTION_A, the majority type of its
+    /// beads and the fraction of them of type A), with --types.
+    #[arg(long, value_name = "BED", requires = "types")]
+    pub truth_compartments: Option<PathBuf>,
     /// Write every sampled conformation (TSV, .gz compresses).
     #[arg(long, value_name = "FILE")]
     pub conformations: Option<PathBuf>,
@@ -241,8 +248,9 @@ pub struct PolymerArgs {
     pub device: DeviceArg,
 }
 
-/// Parse a type pattern such as `A200B200` or `AABB` into one type per bead of a period.
-fn parse_types(pattern: &str) -> Result<Vec<u8>> {
+/// Parse a type pattern such as `A200B200` or `AABB` into one type per bead of a period, and
+/// the letter of each type.
+fn parse_types(pattern: &str) -> Result<(Vec<u8>, Vec<u8>)> {
     let bad = || {
         Error::Invalid(format!(
             "bad --types '{pattern}' (expected letters with optional run lengths, e.g. A200B200)"
@@ -278,7 +286,7 @@ fn parse_types(pattern: &str) -> Result<Vec<u8>> {
     if types.is_empty() {
         return Err(bad());
     }
-    Ok(types)
+    Ok((types, letters))
 }
 
 /// Boundary elements from a BED file or a position list (see `--ctcf`).
@@ -423,7 +431,7 @@ impl PolymerArgs {
         let attraction = match &self.types {
             None => None,
             Some(pattern) => {
-                let period = parse_types(pattern)?;
+                let (period, _) = parse_types(pattern)?;
                 let types = self
                     .chains
                     .iter()
@@ -617,6 +625,32 @@ fn write_truth(args: &PolymerArgs, params: &EnsembleParams, bins: &BinTable) -> 
             .map(|bin| (bin, bin + 1, Vec::new()));
         super::write_bins_bed(path, bins, rows)?;
     }
+    if let (Some(path), Some(pattern)) = (&args.truth_compartments, &args.types) {
+        let (period, letters) = parse_types(pattern)?;
+        let (bead_bin, _) = params.bins();
+        // per bin: beads of each type
+        let mut counts = vec![vec![0usize; letters.len()]; bins.n_bins()];
+        let mut bead = 0;
+        for &length in &args.chains {
+            for k in 0..length {
+                counts[bead_bin[bead] as usize][period[k % period.len()] as usize] += 1;
+                bead += 1;
+            }
+        }
+        let a = letters.iter().position(|&l| l == b'A');
+        let rows = counts.iter().enumerate().map(|(bin, c)| {
+            let total: usize = c.iter().sum();
+            // the majority type; a tie goes to the type met first in the pattern
+            let best = (0..c.len()).fold(0, |best, t| if c[t] > c[best] { t } else { best });
+            let fraction_a = a.map_or(0.0, |a| c[a] as f64 / total.max(1) as f64);
+            (
+                bin,
+                bin + 1,
+                vec![(letters[best] as char).to_string(), format!("{fraction_a}")],
+            )
+        });
+        super::write_bins_bed(path, bins, rows)?;
+    }
     if let Some(path) = &args.truth_domains {
         let mut out = Output::open(Some(path))?;
         let mut line = Vec::new();
@@ -670,8 +704,15 @@ mod tests {
 
     #[test]
     fn type_patterns() {
-        assert_eq!(parse_types("A2B3").unwrap(), vec![0, 0, 1, 1, 1]);
-        assert_eq!(parse_types("ABBA").unwrap(), vec![0, 1, 1, 0]);
+        assert_eq!(
+            parse_types("A2B3").unwrap(),
+            (vec![0, 0, 1, 1, 1], b"AB".to_vec())
+        );
+        assert_eq!(parse_types("ABBA").unwrap().0, vec![0, 1, 1, 0]);
+        assert_eq!(
+            parse_types("b3a1").unwrap(),
+            (vec![0, 0, 0, 1], b"BA".to_vec())
+        );
         for bad in ["", "2A", "A-1", "A B"] {
             assert!(parse_types(bad).is_err(), "{bad}");
         }

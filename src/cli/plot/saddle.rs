@@ -1,0 +1,119 @@
+//! `contactmap plot saddle`: the picture of a saddle computed by `contactmap saddle`.
+
+use std::path::PathBuf;
+
+use clap::Args;
+
+use super::{write_figure, FigureArgs};
+use crate::error::{Error, Result};
+use crate::io::tables::Table;
+use crate::plot::saddle::{draw_saddle, SaddleFigure};
+use crate::plot::{ColorMap, ColorScale, ScaleKind};
+
+/// Default figure width in inches.
+const DEFAULT_WIDTH_IN: f64 = 5.5;
+
+/// Arguments of `contactmap plot saddle`.
+#[derive(Debug, Args)]
+#[command(after_long_help = "\
+Draws PREFIX.saddle.tsv (written by `contactmap saddle`: i j sum count) as cooltools'
+saddleplot does: each cell is the mean observed/expected (sum / count) of a pair of track
+classes, classes from the lowest track values (top left: B-B for an E1 track) to the highest
+(bottom right: A-A), on a log colour scale from --vmin to --vmax (default 0.5 to 2, centred on
+1). The two outlier classes (below the first edge, above the last) are left out, as cooltools
+does, unless --with-outliers.
+
+Examples:
+  contactmap saddle in.cool --track eigs.cis.vecs.tsv:E1 -o s
+  contactmap plot saddle s.saddle.tsv -o saddle.png --title 'sample 1, 100 kb'")]
+pub struct SaddlePlotArgs {
+    /// The saddle table (PREFIX.saddle.tsv of `contactmap saddle`).
+    #[arg(value_name = "SADDLE.tsv")]
+    pub saddle: PathBuf,
+    /// Colour map (RdBu_r, bwr, viridis, ...; _r reverses).
+    #[arg(long, default_value = "RdBu_r")]
+    pub cmap: String,
+    /// Lowest colour (observed/expected).
+    #[arg(long, default_value_t = 0.5)]
+    pub vmin: f64,
+    /// Highest colour (observed/expected).
+    #[arg(long, default_value_t = 2.0)]
+    pub vmax: f64,
+    /// Keep the two outlier classes.
+    #[arg(long)]
+    pub with_outliers: bool,
+    /// Output and size.
+    #[command(flatten)]
+    pub figure: FigureArgs,
+}
+
+/// Run `contactmap plot saddle`.
+pub fn run(args: &SaddlePlotArgs) -> Result<()> {
+    let figure = args.figure.check(DEFAULT_WIDTH_IN)?;
+    let table = Table::read(&args.saddle.to_string_lossy())?;
+    let (ci, cj, cs, cc) = (
+        table.column("i")?,
+        table.column("j")?,
+        table.column("sum")?,
+        table.column("count")?,
+    );
+    let mut cells = Vec::with_capacity(table.len());
+    for row in 0..table.len() {
+        let index = |c: usize| -> Result<usize> {
+            let v = table.number(row, c)?;
+            if v >= 0.0 && v.fract() == 0.0 {
+                Ok(v as usize)
+            } else {
+                Err(Error::format(
+                    table.path(),
+                    format!("row {}: class {v} is not a class index", row + 2),
+                ))
+            }
+        };
+        cells.push((
+            index(ci)?,
+            index(cj)?,
+            table.number(row, cs)?,
+            table.number(row, cc)?,
+        ));
+    }
+    let full = cells
+        .iter()
+        .map(|c| c.0.max(c.1))
+        .max()
+        .map_or(0, |m| m + 1);
+    if full == 0 || cells.len() != full * full {
+        return Err(Error::format(
+            table.path(),
+            format!(
+                "expected the {0} x {0} class pairs of a saddle, found {1} rows",
+                full,
+                cells.len()
+            ),
+        ));
+    }
+    let (skip, n) = if args.with_outliers || full < 3 {
+        (0, full)
+    } else {
+        (1, full - 2)
+    };
+    let mut values = vec![f64::NAN; n * n];
+    for &(i, j, sum, count) in &cells {
+        if i < skip || j < skip || i - skip >= n || j - skip >= n {
+            continue;
+        }
+        values[(i - skip) * n + (j - skip)] = if count > 0.0 { sum / count } else { f64::NAN };
+    }
+    let svg = draw_saddle(&SaddleFigure {
+        n,
+        values,
+        cmap: ColorMap::by_name(&args.cmap)?,
+        scale: ColorScale::new(ScaleKind::Log, args.vmin, args.vmax)?,
+        axis_label: "track class (low to high)".into(),
+        bar_label: "mean observed / expected".into(),
+        title: args.figure.title.clone().unwrap_or_default(),
+        width_px: figure.width_px,
+        dpi: figure.dpi,
+    })?;
+    write_figure(&svg, &figure, &args.figure)
+}
