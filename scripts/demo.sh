@@ -83,6 +83,14 @@ step "Picture: the 45-degree view to 3 Mb, with insulation and directionality tr
   --track "$work/insulation.tsv:log2_insulation_score_500000" \
   --track "$work/di.tsv:directionality_index_500000" --width 8 --height 5 -o "$figs/dm6_triangle.png"
 step "TADs: TopDom" "$cm" tads "$dm6" --method topdom -o "$work/topdom.tsv" --boundaries "$work/topdom.bed"
+step "Compartments: E1-E3 per chromosome as cooltools eigs-cis (sparse eigensolver; oriented by coverage here, --fasta genome.fa orients A = GC-rich)" \
+  "$cm" compartments "$dm6" -o "$work/dm6"
+step "Its eigenvalues per chromosome (E1 is the compartment vector where |eigval1| stands out)" \
+  cat "$work/dm6.cis.lam.txt"
+step "The saddle of E1 (cooltools saddle) and its strength" \
+  "$cm" saddle "$dm6" --track "$work/dm6.cis.vecs.tsv:E1" --n-bins 20 -o "$work/dm6"
+step "Picture: the saddle (B-B top left, A-A bottom right)" \
+  "$cm" plot saddle "$work/dm6.saddle.tsv" --title "dm6 100 kb, E1 classes" -o "$figs/dm6_saddle.png"
 step "A synthetic map with known domains (power-law decay, Poisson noise, no coverage bias)" \
   "$cm" simulate blocks -o "$work/blocks.cool" --truth-boundaries "$work/truth.bed" --seed 1
 "$cm" info "$work/blocks.cool" | grep -E "nbins|nnz"

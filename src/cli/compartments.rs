@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
-use crate::cli::input::{open_for_analysis, weights_and_view};
+use crate::cli::input::{mask_unweighted, open_balanced, track_argument};
 use crate::cli::output::{write_real, write_text_file, write_u64, Output};
 use crate::cli::progress::WithProgress;
 use crate::cli::InputArgs;
@@ -15,7 +15,6 @@ use crate::compartments::trans::{trans_eig, DenseMatrix, TransEigParams};
 use crate::error::{Error, Result};
 use crate::expected::View;
 use crate::genome::BinTable;
-use crate::io::tables::track_on_bins;
 use crate::io::{default_memory_budget, MatrixReader};
 
 /// Arguments of `contactmap compartments`.
@@ -97,35 +96,21 @@ pub fn run(args: &CompartmentsArgs) -> Result<()> {
             args.clip_percentile
         )));
     }
-    let reader = open_for_analysis(&args.uri, &args.input)?;
-    let (weights, view) = weights_and_view(
-        reader.as_ref(),
-        false,
+    let (reader, weights, view) = open_balanced(
+        &args.uri,
+        &args.input,
         &args.weight_name,
         args.view.as_deref(),
     )?;
-    let weights = weights.expect("balanced");
     let bins = reader.bins().clone();
-    let mut phasing = match (&args.phasing_track, &args.fasta) {
-        (Some(track), _) => {
-            let (path, column) = track.rsplit_once(':').ok_or_else(|| {
-                Error::Invalid(format!(
-                    "--phasing-track '{track}': expected FILE:COLUMN (a header name or a 1-based column number)"
-                ))
-            })?;
-            Some(track_on_bins(Path::new(path), column, &bins)?)
-        }
-        (None, Some(fasta)) => Some(crate::io::fasta::gc_content(fasta, &bins)?),
+    let phasing = match (&args.phasing_track, &args.fasta) {
+        (Some(track), _) => Some(track_argument(track, "--phasing-track", &bins, &weights)?.0),
+        (None, Some(fasta)) => Some(mask_unweighted(
+            crate::io::fasta::gc_content(fasta, &bins)?,
+            &weights,
+        )),
         (None, None) => None,
     };
-    if let Some(track) = phasing.as_mut() {
-        // cooltools masks the track at bins without a weight
-        for (value, w) in track.iter_mut().zip(&weights) {
-            if !w.is_finite() {
-                *value = f64::NAN;
-            }
-        }
-    }
     let ignore_diags = match args.ignore_diags {
         Some(n) => n,
         None => reader

@@ -45,6 +45,49 @@ pub fn read_weights(reader: &dyn MatrixReader, name: &str) -> Result<Vec<f64>> {
     Ok(reader.weights(name)?.values)
 }
 
+/// Open `uri` for an analysis of balanced values: the reader, the weight column `weight_name`
+/// (an error naming the available ones when it is missing) and the view (`view`, or whole
+/// chromosomes).
+pub fn open_balanced(
+    uri: &str,
+    input: &InputArgs,
+    weight_name: &str,
+    view: Option<&Path>,
+) -> Result<(Box<dyn MatrixReader>, Vec<f64>, View)> {
+    let reader = open_for_analysis(uri, input)?;
+    let (weights, view) = weights_and_view(reader.as_ref(), false, weight_name, view)?;
+    Ok((reader, weights.expect("weights are read unless raw"), view))
+}
+
+/// A per-bin track given as `FILE:COLUMN` to the option `option` (a header name, or a 1-based
+/// column number for a bedGraph), on `bins`, NaN at bins without a weight (cooltools'
+/// `align_track_with_cooler(mask_clr_bad_bins=True)`); also the column's name.
+pub fn track_argument(
+    argument: &str,
+    option: &str,
+    bins: &BinTable,
+    weights: &[f64],
+) -> Result<(Vec<f64>, String)> {
+    let (path, column) = argument.rsplit_once(':').ok_or_else(|| {
+        Error::Invalid(format!(
+            "{option} '{argument}': expected FILE:COLUMN (a header name or a 1-based column number)"
+        ))
+    })?;
+    let track = crate::io::tables::track_on_bins(Path::new(path), column, bins)?;
+    Ok((mask_unweighted(track, weights), column.to_string()))
+}
+
+/// `track` with NaN at the bins whose weight is not finite (cooltools masks a track on the
+/// map's bad bins).
+pub fn mask_unweighted(mut track: Vec<f64>, weights: &[f64]) -> Vec<f64> {
+    for (value, w) in track.iter_mut().zip(weights) {
+        if !w.is_finite() {
+            *value = f64::NAN;
+        }
+    }
+    track
+}
+
 /// The inputs of an analysis besides the pixels: the weight column `weight_name` (none for raw
 /// counts) and the view (the BED file `view`, or whole chromosomes).
 pub fn weights_and_view(

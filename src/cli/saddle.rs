@@ -1,16 +1,15 @@
 //! `contactmap saddle`: the cis saddle of a compartment track, as `cooltools saddle`.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use clap::Args;
 
-use crate::cli::input::{open_for_analysis, weights_and_view};
+use crate::cli::input::{open_balanced, track_argument};
 use crate::cli::output::write_text_file;
 use crate::cli::InputArgs;
 use crate::compartments::saddle::{digitize, saddle_cis, saddle_strength, Binning, SaddleParams};
 use crate::error::{Error, Result};
 use crate::expected::{expected_cis, CisParams};
-use crate::io::tables::track_on_bins;
 use crate::io::{self, default_memory_budget};
 
 /// Arguments of `contactmap saddle`.
@@ -102,27 +101,14 @@ pub fn run(args: &SaddleArgs) -> Result<()> {
         min_diag: args.min_diag,
         max_diag: args.max_diag,
     };
-    let reader = open_for_analysis(&args.uri, &args.input)?;
-    let (weights, view) = weights_and_view(
-        reader.as_ref(),
-        false,
+    let (reader, weights, view) = open_balanced(
+        &args.uri,
+        &args.input,
         &args.weight_name,
         args.view.as_deref(),
     )?;
-    let weights = weights.expect("balanced");
     let bins = reader.bins().clone();
-    let (path, column) = args.track.rsplit_once(':').ok_or_else(|| {
-        Error::Invalid(format!(
-            "--track '{}': expected FILE:COLUMN (a header name or a 1-based column number)",
-            args.track
-        ))
-    })?;
-    let mut track = track_on_bins(Path::new(path), column, &bins)?;
-    for (value, w) in track.iter_mut().zip(&weights) {
-        if !w.is_finite() {
-            *value = f64::NAN;
-        }
-    }
+    let (track, column) = track_argument(&args.track, "--track", &bins, &weights)?;
     let digitized = digitize(&track, params.n_bins, params.binning)?;
     let pixels = io::load_pixels(reader.as_ref(), default_memory_budget())?;
     let table = expected_cis(&pixels, Some(&weights), &view, &CisParams::default())?;

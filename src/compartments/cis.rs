@@ -7,6 +7,7 @@
 use rayon::prelude::*;
 
 use crate::compartments::eigen::{self, SymmetricOperator};
+use crate::compartments::numeric::{lerp, linspace};
 use crate::error::{Error, Result};
 
 /// Parameters of [`cis_eig`], with cooltools' defaults.
@@ -151,17 +152,6 @@ impl RegionEigs {
     }
 }
 
-/// numpy's `linspace(start, stop, num)`, element for element.
-fn linspace(start: f64, stop: f64, num: usize) -> Vec<f64> {
-    let div = num.saturating_sub(1).max(1) as f64;
-    let step = (stop - start) / div;
-    let mut out: Vec<f64> = (0..num).map(|k| k as f64 * step + start).collect();
-    if num > 1 {
-        out[num - 1] = stop;
-    }
-    out
-}
-
 /// The distance groups of cooltools' `observed_over_expected`: `[0] + _logbins_numba(1, n,
 /// 1.03)`, edges of `[lo, hi)` groups of diagonals.
 pub fn distance_groups(n: usize) -> Vec<usize> {
@@ -182,17 +172,6 @@ pub fn distance_groups(n: usize) -> Vec<usize> {
     }
     edges.extend(points);
     edges
-}
-
-/// numpy's `percentile` (method linear) interpolation between order statistics `a <= b` at
-/// `gamma`.
-fn lerp(a: f64, b: f64, gamma: f64) -> f64 {
-    let diff = b - a;
-    if gamma >= 0.5 {
-        b - diff * (1.0 - gamma)
-    } else {
-        a + diff * gamma
-    }
 }
 
 /// The region's valid bins and the prefix counts used to count valid pairs by distance.

@@ -1,6 +1,7 @@
 //! The saddle of a track: digitisation, sums and counts of observed/expected by class pair, and
 //! the saddle strength (see the [module documentation](super)).
 
+use crate::compartments::numeric::{linspace, quantile_of_sorted};
 use crate::error::{Error, Result};
 use crate::expected::View;
 use crate::matrix::{PixelSlice, PixelSource};
@@ -36,35 +37,10 @@ pub struct Digitized {
     pub classes: Vec<i32>,
 }
 
-/// numpy's `linspace(start, stop, num)` (endpoint included), element for element.
-fn linspace(start: f64, stop: f64, num: usize) -> Vec<f64> {
-    let div = num.saturating_sub(1).max(1) as f64;
-    let step = (stop - start) / div;
-    let mut out: Vec<f64> = (0..num).map(|k| k as f64 * step + start).collect();
-    if num > 1 {
-        out[num - 1] = stop;
-    }
-    out
-}
-
 /// numpy's `nanpercentile(values, 100 * q)` with linear interpolation, for sorted finite values.
 fn percentile(sorted: &[f64], q: f64) -> f64 {
-    let n = sorted.len();
     // cooltools passes 100 * q; numpy divides by 100 again
-    let q = (q * 100.0) / 100.0;
-    let virtual_index = (n - 1) as f64 * q;
-    let below = virtual_index.floor().clamp(0.0, (n - 1) as f64);
-    let gamma = virtual_index - below;
-    let (a, b) = (
-        sorted[below as usize],
-        sorted[(below as usize + 1).min(n - 1)],
-    );
-    let diff = b - a;
-    if gamma >= 0.5 {
-        b - diff * (1.0 - gamma)
-    } else {
-        a + diff * gamma
-    }
+    quantile_of_sorted(sorted, (q * 100.0) / 100.0)
 }
 
 /// Cut `track` into classes as cooltools' `digitize` does.

@@ -23,6 +23,7 @@ use rayon::prelude::*;
 
 use crate::compartments::cis::RegionEigs;
 use crate::compartments::eigen::{self, SymmetricOperator};
+use crate::compartments::numeric::quantile_of_sorted;
 use crate::error::{Error, Result};
 
 /// Parameters of [`trans_eig`], with cooltools' defaults.
@@ -148,18 +149,7 @@ impl DenseMatrix {
 /// numpy's `percentile(values, p)` (linear interpolation) of `values`, sorted in place.
 fn percentile(values: &mut [f64], p: f64) -> f64 {
     values.par_sort_unstable_by(f64::total_cmp);
-    let n = values.len();
-    let virtual_index = (n - 1) as f64 * (p / 100.0);
-    let below = virtual_index.floor();
-    let gamma = virtual_index - below;
-    let a = values[below as usize];
-    let b = values[(below as usize + 1).min(n - 1)];
-    let diff = b - a;
-    if gamma >= 0.5 {
-        b - diff * (1.0 - gamma)
-    } else {
-        a + diff * gamma
-    }
+    quantile_of_sorted(values, p / 100.0)
 }
 
 /// cooltools' `fake_cis`: every cis entry `(i, j)`, `i <= j`, of good bins takes the value of a

@@ -21,12 +21,6 @@ struct Tally {
 /// skipped.
 pub fn gc_content(path: &Path, bins: &BinTable) -> Result<Vec<f64>> {
     let reader = crate::io::open_text(path)?;
-    let chrom_ids: std::collections::HashMap<&str, usize> = bins
-        .chroms()
-        .iter()
-        .enumerate()
-        .map(|(k, c)| (c.name.as_str(), k))
-        .collect();
     let mut tallies = vec![Tally::default(); bins.n_bins()];
     let mut seen = vec![false; bins.chroms().len()];
     // the current record: its bins, the bin being filled, the position
@@ -41,9 +35,9 @@ pub fn gc_content(path: &Path, bins: &BinTable) -> Result<Vec<f64>> {
             saw_header = true;
             let name = String::from_utf8_lossy(header);
             let name = name.split_whitespace().next().unwrap_or("");
-            current = chrom_ids
-                .get(name)
-                .map(|&c| {
+            current = bins
+                .chrom_id(name)
+                .map(|c| {
                     if seen[c] {
                         return Err(Error::parse(
                             path,

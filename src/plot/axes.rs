@@ -42,6 +42,15 @@ impl Theme {
         self.px(self.font_pt + 1.0)
     }
 
+    /// Pixels above the axes: room for the title when there is one.
+    pub fn top_margin(&self, has_title: bool) -> f64 {
+        if has_title {
+            (self.px(10.0) + self.label_font() * 1.6).ceil()
+        } else {
+            self.px(10.0).ceil()
+        }
+    }
+
     /// Frame and tick stroke.
     pub fn frame_stroke(&self) -> Stroke {
         Stroke::solid(Rgb::BLACK, self.px(0.8))

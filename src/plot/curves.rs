@@ -186,12 +186,7 @@ pub fn draw_curves(figure: &CurveFigure) -> Result<Svg> {
     let right = (theme.px(12.0))
         .max(last_x_label / 2.0 + theme.px(4.0))
         .ceil();
-    let top = if figure.title.is_empty() {
-        theme.px(10.0)
-    } else {
-        theme.px(10.0) + theme.label_font() * 1.6
-    }
-    .ceil();
+    let top = theme.top_margin(!figure.title.is_empty());
     let bottom = (theme.px(5.5) + font * 1.1 + theme.label_font() * 1.4 + theme.px(8.0)).ceil();
     let gap = theme.px(8.0).ceil();
     let width = figure.width_px as f64;

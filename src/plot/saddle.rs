@@ -42,12 +42,7 @@ pub fn draw_saddle(figure: &SaddleFigure) -> Result<Svg> {
     let theme = Theme::new(figure.dpi);
     let font = theme.font();
     let left = (theme.px(8.0) + theme.label_font() * 1.4 + theme.px(6.0) + font * 2.0).ceil();
-    let top = if figure.title.is_empty() {
-        theme.px(10.0)
-    } else {
-        theme.px(10.0) + theme.label_font() * 1.6
-    }
-    .ceil();
+    let top = theme.top_margin(!figure.title.is_empty());
     let bottom = (theme.px(5.5) + font * 1.1 + theme.label_font() * 1.4 + theme.px(8.0)).ceil();
     let bar_room = (theme.px(12.0) + theme.px(10.0) + font * 3.0 + theme.label_font() * 1.6).ceil();
     let side = figure.width_px as f64 - left - bar_room - theme.px(8.0);

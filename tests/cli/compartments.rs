@@ -21,6 +21,26 @@ fn column(table: &Table, name: &str) -> Vec<f64> {
     table.rows.iter().map(|r| number(&r[c])).collect()
 }
 
+/// The dm6 100 kb phasing track of the references, as FILE:COLUMN.
+fn phasing_track() -> String {
+    format!(
+        "{}:track",
+        data("reference/compartments/dm6_100kb.phasing.tsv.gz")
+    )
+}
+
+/// `contactmap compartments` on dm6 at 100 kb, phased by [`phasing_track`], to `prefix`.
+fn dm6_phased(prefix: &str) {
+    run_ok(&[
+        "compartments",
+        &data("cooler_test_file.mcool::/resolutions/100000"),
+        "--phasing-track",
+        &phasing_track(),
+        "-o",
+        prefix,
+    ]);
+}
+
 fn read(path: &str) -> Table {
     parse_table(&std::fs::read_to_string(path).unwrap())
 }
@@ -93,10 +113,7 @@ fn eigs_cis_equals_cooltools_with_and_without_phasing() {
     let dir = tempfile::tempdir().unwrap();
     let uri = data("cooler_test_file.mcool::/resolutions/100000");
     let want_vecs = reference_table("reference/compartments/dm6_100kb.eigs_cis_phased.vecs.tsv.gz");
-    let phasing = format!(
-        "{}:track",
-        data("reference/compartments/dm6_100kb.phasing.tsv.gz")
-    );
+    let phasing = phasing_track();
     for phased in [false, true] {
         let prefix = dir
             .path()
@@ -204,18 +221,7 @@ fn fasta_gc_orients_like_the_same_track() {
     std::fs::write(&fa, fasta).unwrap();
     let by_track = dir.path().join("t").to_string_lossy().into_owned();
     let by_fasta = dir.path().join("f").to_string_lossy().into_owned();
-    let phasing = format!(
-        "{}:track",
-        data("reference/compartments/dm6_100kb.phasing.tsv.gz")
-    );
-    run_ok(&[
-        "compartments",
-        &uri,
-        "--phasing-track",
-        &phasing,
-        "-o",
-        &by_track,
-    ]);
+    dm6_phased(&by_track);
     run_ok(&[
         "compartments",
         &uri,
@@ -253,10 +259,7 @@ fn bad_inputs_are_one_clear_error() {
     let prefix = dir.path().join("x").to_string_lossy().into_owned();
     let dm6 = data("cooler_test_file.mcool::/resolutions/100000");
     // a phasing track on other bins (dm6 100 kb track, mm9 10 Mb map)
-    let phasing = format!(
-        "{}:track",
-        data("reference/compartments/dm6_100kb.phasing.tsv.gz")
-    );
+    let phasing = phasing_track();
     let err = run_err(&[
         "compartments",
         &data("CN.mm9.10000kb.cool"),
@@ -419,18 +422,7 @@ fn saddle_picture_shows_enriched_corners() {
     let dir = tempfile::tempdir().unwrap();
     let uri = data("cooler_test_file.mcool::/resolutions/100000");
     let prefix = dir.path().join("e").to_string_lossy().into_owned();
-    let phasing = format!(
-        "{}:track",
-        data("reference/compartments/dm6_100kb.phasing.tsv.gz")
-    );
-    run_ok(&[
-        "compartments",
-        &uri,
-        "--phasing-track",
-        &phasing,
-        "-o",
-        &prefix,
-    ]);
+    dm6_phased(&prefix);
     let saddle = dir.path().join("s").to_string_lossy().into_owned();
     let track = format!("{prefix}.cis.vecs.tsv:E1");
     run_ok(&[

@@ -57,13 +57,15 @@ pub fn run(args: &CompartmentsScoreArgs) -> Result<()> {
             "B" => -1.0,
             other => match other.parse::<f64>() {
                 Ok(v) if v != 0.0 && v.is_finite() => v.signum(),
-                _ => return Err(Error::format(
-                    &args.truth,
-                    format!(
+                _ => {
+                    return Err(Error::format(
+                        &args.truth,
+                        format!(
                         "{}:{}-{}: the 4th column must be A, B or a signed number, found '{name}'",
                         record.chrom, record.start, record.end
                     ),
-                )),
+                    ))
+                }
             },
         };
         truth.insert((record.chrom.clone(), record.start, record.end), sign);

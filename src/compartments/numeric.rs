@@ -1,0 +1,50 @@
+//! numpy's rules for the few array operations whose last digits the cooltools results depend on.
+
+/// numpy's `linspace(start, stop, num)` (endpoint included), element for element.
+pub fn linspace(start: f64, stop: f64, num: usize) -> Vec<f64> {
+    let div = num.saturating_sub(1).max(1) as f64;
+    let step = (stop - start) / div;
+    let mut out: Vec<f64> = (0..num).map(|k| k as f64 * step + start).collect();
+    if num > 1 {
+        out[num - 1] = stop;
+    }
+    out
+}
+
+/// numpy's `percentile` interpolation (method `linear`) between the order statistics `a <= b`
+/// at fraction `gamma`.
+pub fn lerp(a: f64, b: f64, gamma: f64) -> f64 {
+    let diff = b - a;
+    if gamma >= 0.5 {
+        b - diff * (1.0 - gamma)
+    } else {
+        a + diff * gamma
+    }
+}
+
+/// numpy's `quantile(values, fraction)` (method `linear`) of `sorted` (ascending, not empty):
+/// virtual index `(n - 1) * fraction`.
+pub fn quantile_of_sorted(sorted: &[f64], fraction: f64) -> f64 {
+    let n = sorted.len();
+    let virtual_index = (n - 1) as f64 * fraction;
+    let below = virtual_index.floor().clamp(0.0, (n - 1) as f64);
+    let gamma = virtual_index - below;
+    lerp(
+        sorted[below as usize],
+        sorted[(below as usize + 1).min(n - 1)],
+        gamma,
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn as_numpy() {
+        // numpy.linspace(0, 1, 5); numpy.percentile([1, 2, 3, 4], 40) = 2.2
+        assert_eq!(linspace(0.0, 1.0, 5), vec![0.0, 0.25, 0.5, 0.75, 1.0]);
+        assert!((quantile_of_sorted(&[1.0, 2.0, 3.0, 4.0], 0.4) - 2.2).abs() < 1e-15);
+        assert_eq!(quantile_of_sorted(&[5.0], 0.3), 5.0);
+    }
+}
