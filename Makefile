@@ -10,7 +10,7 @@ endif
 
 BIN := target/release/contactmap
 
-.PHONY: all build demo test lint check-peers bench clean
+.PHONY: all build demo test lint man check-peers bench clean
 
 all: build
 
@@ -26,6 +26,10 @@ test: lint
 	$(CARGO) test --all-targets
 	$(CARGO) test --doc
 	RUSTDOCFLAGS="-D warnings" $(CARGO) doc --no-deps --quiet
+
+## make man: one man page per command into target/man (man -l target/man/contactmap-balance.1)
+man: build
+	$(BIN) man --dir target/man
 
 lint:
 	$(CARGO) fmt --all -- --check

@@ -20,6 +20,7 @@ pub mod progress;
 pub mod protein;
 pub mod saddle;
 pub mod score;
+pub mod shell;
 pub mod simulate;
 pub mod tads;
 pub mod validate;
@@ -96,6 +97,10 @@ pub enum Command {
     /// domains, loops and tracks), `plot expected` (P(s) and power laws), `plot contacts`
     /// (protein contact maps).
     Plot(plot::PlotArgs),
+    /// Shell completion script (bash, zsh, fish) on standard output.
+    Completions(shell::CompletionsArgs),
+    /// Man pages, one per command, into a folder (`make man`).
+    Man(shell::ManArgs),
 }
 
 /// Run a parsed command line.
@@ -117,6 +122,8 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Contacts(args) => contacts::run(&args),
         Command::Validate(args) => validate::run(&args),
         Command::Plot(args) => plot::run(&args),
+        Command::Completions(args) => shell::run_completions(&args),
+        Command::Man(args) => shell::run_man(&args),
     }
 }
 

@@ -43,6 +43,8 @@ mod saddle;
 mod safety;
 #[path = "cli/score.rs"]
 mod score;
+#[path = "cli/shell.rs"]
+mod shell;
 #[path = "cli/simulate.rs"]
 mod simulate;
 #[path = "cli/tads.rs"]

@@ -1,0 +1,72 @@
+//! Shell integration: completions load in bash and complete subcommands; man pages build.
+
+use super::*;
+
+/// Complete `words` (the last one partial) with the bash script of `contactmap completions`.
+fn bash_complete(words: &[&str]) -> Vec<String> {
+    let script = run_ok(&["completions", "bash"]);
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("contactmap.bash");
+    std::fs::write(&path, script).unwrap();
+    let line = words.join(" ");
+    let program = format!(
+        "source '{}'; COMP_WORDS=({line}); COMP_CWORD={}; COMP_LINE='{line}'; COMP_POINT=${{#COMP_LINE}}; \
+         _contactmap contactmap '{}' '{}'; printf '%s\\n' \"${{COMPREPLY[@]}}\"",
+        path.display(),
+        words.len() - 1,
+        words[words.len() - 1],
+        words[words.len() - 2],
+    );
+    let out = std::process::Command::new("bash")
+        .args(["-c", &program])
+        .output()
+        .expect("bash runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout)
+        .unwrap()
+        .split_whitespace()
+        .map(String::from)
+        .collect()
+}
+
+#[test]
+fn bash_completes_subcommands_and_options() {
+    assert_eq!(
+        bash_complete(&["contactmap", "comp"]),
+        ["compartments", "completions"]
+    );
+    assert_eq!(bash_complete(&["contactmap", "plot", "sad"]), ["saddle"]);
+    let options = bash_complete(&["contactmap", "compartments", "--pha"]);
+    assert_eq!(options, ["--phasing-track"]);
+    for shell in ["zsh", "fish"] {
+        let script = run_ok(&["completions", shell]);
+        assert!(
+            script.contains("compartments") && script.contains("phasing-track"),
+            "{shell}"
+        );
+    }
+}
+
+#[test]
+fn man_pages_build() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("man");
+    let status = run(&["man", "--dir", out.to_str().unwrap()]);
+    assert!(status.status.success());
+    for page in [
+        "contactmap.1",
+        "contactmap-balance.1",
+        "contactmap-plot-saddle.1",
+        "contactmap-score-compartments.1",
+    ] {
+        let text = std::fs::read_to_string(out.join(page)).unwrap_or_else(|_| panic!("{page}"));
+        assert!(text.starts_with(".ie") || text.contains(".TH"), "{page}");
+        assert!(text.contains(".SH NAME"), "{page}");
+    }
+    let balance = std::fs::read_to_string(out.join("contactmap-balance.1")).unwrap();
+    assert!(balance.contains("store"), "the options are documented");
+}
