@@ -21,11 +21,13 @@ build:
 demo: build
 	CONTACTMAP=$(BIN) scripts/demo.sh
 
-## make test: formatting, lints, docs and the whole test suite (what CI runs)
+## make test: formatting, lints, docs and the whole test suite (what CI runs), then the Snakemake
+## workflows on data/ (scripts/test_workflows.sh: installs the pinned snakemake in .venv-workflows)
 test: lint
 	$(CARGO) test --all-targets
 	$(CARGO) test --doc
 	RUSTDOCFLAGS="-D warnings" $(CARGO) doc --no-deps --quiet
+	scripts/test_workflows.sh target/debug/contactmap
 
 ## make man: one man page per command into target/man (man -l target/man/contactmap-balance.1)
 man: build

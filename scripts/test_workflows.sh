@@ -1,0 +1,133 @@
+#!/usr/bin/env bash
+# The workflows' test (run by `make test`): both Snakemake workflows on data/ with the local
+# executor (--cores 2); every output compared with the same contactmap commands run by hand; a dry
+# run on a 200-sample sheet counted per rule; the simulation's merged map against `contactmap
+# merge` of batches simulated by hand. Installs the pinned snakemake into .venv-workflows when
+# missing (SNAKEMAKE=path/to/snakemake uses another).
+# usage: scripts/test_workflows.sh [CONTACTMAP]   (default: target/debug/contactmap)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+cm=$(realpath "${1:-${CONTACTMAP:-target/debug/contactmap}}")
+if [ -z "${SNAKEMAKE:-}" ]; then
+  if [ ! -x .venv-workflows/bin/snakemake ]; then
+    python3 -m venv .venv-workflows
+    .venv-workflows/bin/pip install -q -r workflows/requirements.txt
+  fi
+  SNAKEMAKE=.venv-workflows/bin/snakemake
+fi
+py=$(dirname "$SNAKEMAKE")/python
+[ -x "$py" ] || py=python3
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+fail() { echo "test_workflows: FAIL: $*" >&2; exit 1; }
+same() { cmp -s "$1" "$2" || fail "$1 differs from $2"; }
+same_map() { # two maps: the same bins (with weights) and the same pixels
+  diff -q <("$cm" dump -t bins "$1") <("$cm" dump -t bins "$2") >/dev/null || fail "bins of $1 and $2"
+  diff -q <("$cm" dump "$1" --join) <("$cm" dump "$2" --join) >/dev/null || fail "pixels of $1 and $2"
+}
+same_json() { # the same JSON but for the "uri" and "creation-date" fields (a path, a clock)
+  "$py" - "$1" "$2" <<'PY' || fail "$1 differs from $2"
+import json, sys
+a, b = (json.load(open(p)) for p in sys.argv[1:])
+for d in (a, b):
+    d.pop("uri", None)
+    d.pop("creation-date", None)
+sys.exit(a != b)
+PY
+}
+quiet() { "$@" >/dev/null 2>&1 || fail "$*"; }
+
+echo "== analysis workflow (2 samples, local executor, 2 cores)"
+out="$work/results"
+"$SNAKEMAKE" -s workflows/analysis/Snakefile --cores 2 -q --config contactmap="$cm" outdir="$out" \
+  > "$work/analysis.log" 2>&1 || { cat "$work/analysis.log"; fail "the analysis workflow"; }
+hand="$work/hand"
+# (tabs turned into unit separators: IFS whitespace would merge the empty columns)
+tail -n +2 workflows/example/samples.tsv | tr '\t' '\037' | while IFS=$'\037' read -r sample input bin_size fasta options; do
+  o="$out/$sample"; h="$hand/$sample"; mkdir -p "$h"
+  case "$input" in
+    *.cool|*.mcool*|*.hic*) quiet "$cm" convert "$input" "$h/base.cool" $options ;;
+    *) quiet "$cm" convert "$input" "$h/base.cool" $options --bin-size "$bin_size" ;;
+  esac
+  cp "$h/base.cool" "$h/balanced.cool"
+  "$cm" balance "$h/balanced.cool" --store --force --store-unconverged > "$h/balance.txt" 2>/dev/null
+  quiet "$cm" zoomify "$h/base.cool" -r "$bin_size,$((2 * bin_size)),$((5 * bin_size)),$((10 * bin_size))" --balance -o "$h/$sample.mcool"
+  "$cm" info "$h/balanced.cool" --json > "$h/info.json"
+  quiet "$cm" expected "$h/balanced.cool" -o "$h/expected.tsv"
+  "$cm" expected "$h/balanced.cool" --json > "$h/powerlaw.json"
+  window=$((5 * bin_size))
+  quiet "$cm" tads "$h/balanced.cool" --window "$window" -o "$h/insulation.tsv" --boundaries "$h/boundaries.bed"
+  quiet "$cm" compartments "$h/balanced.cool" ${fasta:+--fasta "$fasta"} -o "$h/eigs"
+  quiet "$cm" saddle "$h/balanced.cool" --track "$h/eigs.cis.vecs.tsv:E1" --n-bins 50 -o "$h/saddle"
+  quiet "$cm" plot expected "$h/balanced.cool" --fit --labels "$sample" -o "$h/ps.png"
+  quiet "$cm" plot saddle "$h/saddle.saddle.tsv" --title "$sample" -o "$h/saddle.png"
+  chrom=$("$cm" dump -t chroms "$h/balanced.cool" | head -n 1 | cut -f 1)
+  quiet "$cm" plot map "$h/balanced.cool" -r "$chrom" --boundaries "$h/boundaries.bed" \
+    --track "$h/insulation.tsv:log2_insulation_score_$window" -o "$h/map.png"
+  for map in base.cool balanced.cool; do same_map "$o/$map" "$h/$map"; done
+  for r in 1 2 5 10; do same_map "$o/$sample.mcool::/resolutions/$((r * bin_size))" "$h/$sample.mcool::/resolutions/$((r * bin_size))"; done
+  for f in balance.txt expected.tsv insulation.tsv boundaries.bed eigs.cis.vecs.tsv eigs.cis.lam.txt \
+           saddle.saddle.tsv saddle.edges.tsv saddle.digitized.tsv saddle.strength.tsv ps.png saddle.png map.png; do
+    same "$o/$f" "$h/$f"
+  done
+  for f in info.json powerlaw.json; do same_json "$o/$f" "$h/$f"; done
+  echo "   $sample: 4 maps, 5 .mcool levels, 13 files, 2 JSON equal to the commands by hand"
+done
+"$py" - "$out/report.tsv" "$hand" workflows/example/samples.tsv <<'PY' || fail "report.tsv"
+import csv, json, sys
+report, hand, sheet = sys.argv[1:]
+rows = list(csv.DictReader(open(report), delimiter="\t"))
+samples = [r["sample"] for r in csv.DictReader(open(sheet), delimiter="\t")]
+assert [r["sample"] for r in rows] == samples, rows
+for row in rows:
+    d = f"{hand}/{row['sample']}"
+    info = json.load(open(f"{d}/info.json"))
+    fit = json.load(open(f"{d}/powerlaw.json"))["power_law"]
+    n_boundaries = sum(1 for line in open(f"{d}/boundaries.bed") if line.strip())
+    strength = {int(l.split()[0]): l.split()[1] for l in list(open(f"{d}/saddle.strength.tsv"))[1:]}
+    want = {"nnz": info["nnz"], "contacts": info["sum"], "alpha": fit["alpha"],
+            "alpha_ci_low": fit["ci95"][0], "alpha_ci_high": fit["ci95"][1],
+            "fit_r2": fit["r_squared"], "n_boundaries": n_boundaries}
+    for key, value in want.items():
+        assert float(row[key]) == float(value), (row["sample"], key, row[key], value)
+    assert row["saddle_strength_20pct"] == strength[10], row
+print(f"   report.tsv: {len(rows)} rows equal to the by-hand values")
+PY
+
+echo "== dry run on a 200-sample sheet"
+sheet="$work/200.tsv"
+printf "sample\tinput\tbin_size\n" > "$sheet"
+for k in $(seq 1 200); do printf "s%03d\tdata/cooler_test_file.mcool::/resolutions/100000\t100000\n" "$k" >> "$sheet"; done
+"$SNAKEMAKE" -s workflows/analysis/Snakefile -n --config contactmap="$cm" samples="$sheet" outdir="$work/r200" \
+  > "$work/dry.log" 2>&1 || { cat "$work/dry.log"; fail "dry run"; }
+"$py" - "$work/dry.log" <<'PY' || fail "dry-run job counts"
+import re, sys
+text = open(sys.argv[1]).read()
+counts = dict(re.findall(r"^(\w+)\s+(\d+)\s*$", text.split("Job stats:")[1], re.M))
+per_sample = ["ingest", "balance", "zoomify", "info", "expected", "insulation", "compartments",
+              "saddle", "pictures"]
+for rule in per_sample:
+    assert counts.get(rule) == "200", (rule, counts)
+assert counts["report"] == "1" and counts["all"] == "1" and counts["total"] == str(200 * 9 + 2), counts
+print(f"   {counts['total']} jobs: 200 of each of {len(per_sample)} per-sample rules, 1 report, 1 all")
+PY
+
+echo "== simulation workflow (2 batches) against simulate + merge by hand"
+sim="$work/sim"
+options="--chains 1000 --density 0.2 --extrusion --ctcf 250+,500-,750. --monomers-per-bin 5 --replicas 1 --equilibration 500 --sample-every 200 --samples 10"
+"$SNAKEMAKE" -s workflows/simulation/Snakefile --cores 2 -q --config contactmap="$cm" outdir="$sim" batches=2 \
+  seed_base=7 "simulate=$options" insulation_window=50k > "$work/sim.log" 2>&1 || { cat "$work/sim.log"; fail "the simulation workflow"; }
+for k in 0 1; do
+  # shellcheck disable=SC2086
+  quiet "$cm" simulate polymer -o "$work/hand_$k.cool" --seed $((7 + k)) --threads 2 --device cpu $options \
+    --truth-boundaries "$work/hand_$k.truth.bed"
+  same_map "$sim/batches/$k.cool" "$work/hand_$k.cool"
+done
+quiet "$cm" merge "$work/hand_0.cool" "$work/hand_1.cool" -o "$work/hand_merged.cool"
+same_map "$sim/merged.cool" "$work/hand_merged.cool"
+quiet "$cm" tads "$work/hand_merged.cool" --raw --window 50k -o "$work/hand_ins.tsv" --boundaries "$work/hand_calls.bed"
+quiet "$cm" score boundaries --truth "$work/hand_0.truth.bed" "$work/hand_calls.bed" -o "$work/hand_score.tsv"
+same "$sim/score.tsv" "$work/hand_score.tsv"
+same "$sim/truth.bed" "$work/hand_0.truth.bed"
+echo "   merged map, truth and score equal to the commands by hand"
+echo "test_workflows: ok"
