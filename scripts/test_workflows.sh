@@ -50,7 +50,7 @@ tail -n +2 workflows/example/samples.tsv | tr '\t' '\037' | while IFS=$'\037' re
     *) quiet "$cm" convert "$input" "$h/base.cool" $options --bin-size "$bin_size" ;;
   esac
   cp "$h/base.cool" "$h/balanced.cool"
-  "$cm" balance "$h/balanced.cool" --store --force --store-unconverged > "$h/balance.txt" 2>/dev/null
+  "$cm" balance "$h/balanced.cool" --store --force --store-unconverged --json > "$h/balance.json" 2>/dev/null
   quiet "$cm" zoomify "$h/base.cool" -r "$bin_size,$((2 * bin_size)),$((5 * bin_size)),$((10 * bin_size))" --balance -o "$h/$sample.mcool"
   "$cm" info "$h/balanced.cool" --json > "$h/info.json"
   quiet "$cm" expected "$h/balanced.cool" -o "$h/expected.tsv"
@@ -66,12 +66,12 @@ tail -n +2 workflows/example/samples.tsv | tr '\t' '\037' | while IFS=$'\037' re
     --track "$h/insulation.tsv:log2_insulation_score_$window" -o "$h/map.png"
   for map in base.cool balanced.cool; do same_map "$o/$map" "$h/$map"; done
   for r in 1 2 5 10; do same_map "$o/$sample.mcool::/resolutions/$((r * bin_size))" "$h/$sample.mcool::/resolutions/$((r * bin_size))"; done
-  for f in balance.txt expected.tsv insulation.tsv boundaries.bed eigs.cis.vecs.tsv eigs.cis.lam.txt \
+  for f in expected.tsv insulation.tsv boundaries.bed eigs.cis.vecs.tsv eigs.cis.lam.txt \
            saddle.saddle.tsv saddle.edges.tsv saddle.digitized.tsv saddle.strength.tsv ps.png saddle.png map.png; do
     same "$o/$f" "$h/$f"
   done
-  for f in info.json powerlaw.json; do same_json "$o/$f" "$h/$f"; done
-  echo "   $sample: 4 maps, 5 .mcool levels, 13 files, 2 JSON equal to the commands by hand"
+  for f in info.json powerlaw.json balance.json; do same_json "$o/$f" "$h/$f"; done
+  echo "   $sample: 4 maps, 5 .mcool levels, 12 files, 3 JSON equal to the commands by hand"
 done
 "$py" - "$out/report.tsv" "$hand" workflows/example/samples.tsv <<'PY' || fail "report.tsv"
 import csv, json, sys

@@ -150,6 +150,12 @@ pub struct BalanceArgs {
     /// Write the table to FILE (gzip if it ends in .gz) instead of standard output.
     #[arg(short, long, value_name = "FILE")]
     pub out: Option<PathBuf>,
+    /// Print the summary (method, convergence, iterations, masked bins, scale, variance; per
+    /// chromosome for per-chromosome methods) as JSON on standard output instead of the `#`
+    /// lines on standard error (with --store or -o FILE: standard output holds the table
+    /// otherwise).
+    #[arg(long)]
+    pub json: bool,
     /// Memory for the in-memory copy of the pixels, e.g. 8G, 512M (default: half of the RAM);
     /// larger matrices are streamed from the file on every iteration.
     #[arg(long, value_name = "SIZE")]
@@ -161,6 +167,11 @@ pub struct BalanceArgs {
 
 /// Run `contactmap balance`.
 pub fn run(args: &BalanceArgs) -> Result<()> {
+    if args.json && !args.store && args.out.as_ref().is_none_or(|o| o.as_os_str() == "-") {
+        return Err(Error::Invalid(
+            "--json prints the summary on standard output, where the weights table goes without --store or -o FILE: give one of them".into(),
+        ));
+    }
     let budget = match &args.max_memory {
         Some(text) => parse_memory_size(text)?,
         None => default_memory_budget(),
@@ -221,7 +232,17 @@ pub fn run(args: &BalanceArgs) -> Result<()> {
     } else {
         write_table(&bins, &weights, args.out.as_deref())?;
     }
-    eprint!("{}", summary(&params_used, &result, &bins));
+    if args.json {
+        let mut out = Output::open(None)?;
+        let mut text =
+            serde_json::to_string_pretty(&summary_json(&args.uri, &params_used, &result, &bins))
+                .unwrap_or_default();
+        text.push('\n');
+        out.write_all(text.as_bytes())?;
+        out.finish()?;
+    } else {
+        eprint!("{}", summary(&params_used, &result, &bins));
+    }
     super::warnings::print_reader_warnings(reader_warnings);
     Ok(())
 }
@@ -378,13 +399,60 @@ fn write_table(bins: &BinTable, weights: &Weights, path: Option<&Path>) -> Resul
     out.finish()
 }
 
-/// The summary printed on standard error.
-fn summary(params: &BalanceParams, result: &BalanceResult, bins: &BinTable) -> String {
-    let scope = match params.scope {
+fn scope_name(scope: Scope) -> &'static str {
+    match scope {
         Scope::GenomeWide => "genome-wide",
         Scope::Cis => "cis-only",
         Scope::Trans => "trans-only",
+    }
+}
+
+/// The summary as JSON (`--json`).
+fn summary_json(
+    uri: &str,
+    params: &BalanceParams,
+    result: &BalanceResult,
+    bins: &BinTable,
+) -> serde_json::Value {
+    let finite = |v: f64| {
+        if v.is_finite() {
+            serde_json::json!(v)
+        } else {
+            serde_json::Value::Null
+        }
     };
+    let mut value = serde_json::json!({
+        "uri": uri,
+        "method": params.method.name(),
+        "scope": scope_name(params.scope),
+        "converged": result.converged,
+        "n_iterations": result.n_iterations,
+        "masked_bins": result.n_masked(),
+        "n_bins": result.weights.len(),
+        "scale": finite(result.scale),
+        "var": finite(result.var),
+    });
+    if let Some(per_chrom) = &result.per_chrom {
+        value["per_chromosome"] = per_chrom
+            .iter()
+            .zip(bins.chroms())
+            .map(|(g, chrom)| {
+                serde_json::json!({
+                    "chrom": chrom.name,
+                    "converged": g.converged,
+                    "n_iterations": g.n_iterations,
+                    "scale": finite(g.scale),
+                    "var": finite(g.var),
+                })
+            })
+            .collect();
+    }
+    value
+}
+
+/// The summary printed on standard error.
+fn summary(params: &BalanceParams, result: &BalanceResult, bins: &BinTable) -> String {
+    let scope = scope_name(params.scope);
     let mut text = format!(
         "# method={} scope={scope} converged={} n_iterations={} masked_bins={}/{}",
         params.method.name(),

@@ -18,12 +18,17 @@ Examples:
   contactmap info data/hic_test_file.hic
   contactmap info data/cooler_test_file.mcool            # lists every resolution
   contactmap info data/cooler_test_file.mcool::/resolutions/100000 --json
+  contactmap info samples/*.cool --json > summary.jsonl   # one JSON object per line, per input
 
-The JSON output holds the file's own attributes under the names cooler uses (so `cooler info`
+With several inputs, one report per input is written as soon as it is read: text reports
+separated by a blank line, or with --json one compact JSON object per line (JSON Lines). The
+JSON output holds the file's own attributes under the names cooler uses (so `cooler info`
 consumers keep working), with nbins, nchroms, nnz and sum computed from the data.")]
 pub struct InfoArgs {
-    /// Matrix URI: file.cool, file.mcool[::/resolutions/N], file.hic[::/resolutions/N], text table.
-    pub uri: String,
+    /// Matrix URIs: file.cool, file.mcool[::/resolutions/N], file.hic[::/resolutions/N], text
+    /// table (`-`: standard input).
+    #[arg(required = true, value_name = "URI")]
+    pub uris: Vec<String>,
     /// Print JSON instead of text.
     #[arg(long)]
     pub json: bool,
@@ -38,32 +43,46 @@ pub struct InfoArgs {
 /// Run `contactmap info`.
 pub fn run(args: &InfoArgs) -> Result<()> {
     let options = args.input.to_options()?;
-    let (path, group) = io::split_uri(&args.uri);
-    let report = match (io::detect_kind(path)?, group) {
+    let many = args.uris.len() > 1;
+    let mut out = Output::open(args.out.as_deref())?;
+    for (k, uri) in args.uris.iter().enumerate() {
+        let report = report(uri, &options)?;
+        let text = match (args.json, many) {
+            (true, false) => serde_json::to_string_pretty(&report).unwrap_or_default() + "\n",
+            (true, true) => serde_json::to_string(&report).unwrap_or_default() + "\n",
+            (false, _) => {
+                let text = render_text(&report);
+                if k > 0 {
+                    format!("\n{text}")
+                } else {
+                    text
+                }
+            }
+        };
+        out.write_all(text.as_bytes())?;
+        out.flush()?;
+    }
+    out.finish()
+}
+
+/// The report of one input.
+fn report(uri: &str, options: &io::OpenOptions) -> Result<Value> {
+    let (path, group) = io::split_uri(uri);
+    Ok(match (io::detect_kind(path)?, group) {
         (FileKind::Hdf5, None) => match cool::inspect(path)? {
             HdfContent::Multires(resolutions) => multires_report(path, &resolutions, "mcool")?,
-            HdfContent::Cooler => matrix_report(io::open_matrix(&args.uri, &options)?.as_ref())?,
+            HdfContent::Cooler => matrix_report(io::open_matrix(uri, options)?.as_ref())?,
         },
         (FileKind::Hic, None) => {
             let resolutions = io::hic::HicReader::list_resolutions(std::path::Path::new(path))?;
             if resolutions.len() == 1 {
-                matrix_report(io::open_matrix(&args.uri, &options)?.as_ref())?
+                matrix_report(io::open_matrix(uri, options)?.as_ref())?
             } else {
                 multires_report(path, &resolutions, "hic")?
             }
         }
-        _ => matrix_report(io::open_matrix(&args.uri, &options)?.as_ref())?,
-    };
-    let mut out = Output::open(args.out.as_deref())?;
-    let text = if args.json {
-        let mut text = serde_json::to_string_pretty(&report).unwrap_or_default();
-        text.push('\n');
-        text
-    } else {
-        render_text(&report)
-    };
-    out.write_all(text.as_bytes())?;
-    out.finish()
+        _ => matrix_report(io::open_matrix(uri, options)?.as_ref())?,
+    })
 }
 
 /// Summary of a multi-resolution file: each resolution's bins, nnz and sum.

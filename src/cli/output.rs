@@ -94,6 +94,15 @@ impl Output {
         result.map_err(|e| Error::io(&self.label, e))
     }
 
+    /// Push what is buffered for standard output through (a stream of results, one per input,
+    /// reaches a pipe as each is done); files are only complete at [`Output::finish`].
+    pub fn flush(&mut self) -> Result<()> {
+        match &mut self.target {
+            Some(Target::Stdout(w)) => w.flush().map_err(|e| Error::io(&self.label, e)),
+            _ => Ok(()),
+        }
+    }
+
     /// Flush and, for files, rename the temporary file into place.
     pub fn finish(mut self) -> Result<()> {
         let label = self.label.clone();

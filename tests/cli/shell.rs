@@ -70,3 +70,41 @@ fn man_pages_build() {
     let balance = std::fs::read_to_string(out.join("contactmap-balance.1")).unwrap();
     assert!(balance.contains("store"), "the options are documented");
 }
+
+#[test]
+fn summaries_as_json_and_one_record_per_input() {
+    // info over several inputs: one JSON object per line, in order
+    let inputs = [data("yeast.10kb.cool"), data("CN.mm9.10000kb.cool")];
+    let out = run_ok(&["info", &inputs[0], &inputs[1], "--json"]);
+    let lines: Vec<serde_json::Value> = out
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("one JSON object per line"))
+        .collect();
+    assert_eq!(lines.len(), 2);
+    assert_eq!(lines[0]["uri"], inputs[0].as_str());
+    assert_eq!(lines[1]["bin-size"], 10_000_000);
+    // the same values as one input at a time
+    for (line, input) in lines.iter().zip(&inputs) {
+        let single: serde_json::Value =
+            serde_json::from_str(&run_ok(&["info", input, "--json"])).unwrap();
+        assert_eq!(&single, line);
+    }
+    // balance --json: the convergence summary on stdout, the weights in the file
+    let dir = tempfile::tempdir().unwrap();
+    let weights = dir.path().join("w.tsv");
+    let uri = data("cooler_test_file.mcool::/resolutions/100000");
+    let summary: serde_json::Value = serde_json::from_str(&run_ok(&[
+        "balance",
+        &uri,
+        "-o",
+        weights.to_str().unwrap(),
+        "--json",
+    ]))
+    .unwrap();
+    assert_eq!(summary["method"], "ice");
+    assert_eq!(summary["converged"], true);
+    assert_eq!(summary["n_bins"], 1380);
+    assert!(std::fs::read_to_string(&weights).unwrap().lines().count() > 1380);
+    let err = run_err(&["balance", &uri, "--json"]);
+    assert!(err.contains("--json"), "{err}");
+}
