@@ -629,6 +629,8 @@ fn run_contacts(args: &ContactsScoreArgs) -> Result<()> {
     // One placement per distinct sequence (usually one for all predictions).
     let mut placements: Vec<(Option<String>, Placed)> = Vec::new();
     let mut reports = Vec::with_capacity(args.predictions.len());
+    // --tsv streams: each prediction's rows are written as soon as it is scored
+    let mut out = Output::open(args.out.as_deref())?;
     for path in &args.predictions {
         let prediction = load_prediction(path, args.target.format, fasta.as_deref())?;
         let index = match placements
@@ -649,28 +651,29 @@ fn run_contacts(args: &ContactsScoreArgs) -> Result<()> {
                 placements.len() - 1
             }
         };
-        reports.push(score_one(
-            path,
-            args,
-            &prediction,
-            &placements[index].1,
-            &plan,
-        )?);
+        let report = score_one(path, args, &prediction, &placements[index].1, &plan)?;
+        if args.tsv && !args.json {
+            let rows = write_tsv(std::slice::from_ref(&report));
+            let rows = if reports.is_empty() {
+                rows.as_str()
+            } else {
+                rows.split_once('\n').map_or("", |(_, rest)| rest)
+            };
+            out.write_all(rows.as_bytes())?;
+            out.flush()?;
+        }
+        reports.push(report);
     }
-    let text = if args.json {
-        write_json(args, &reports)
-    } else if args.tsv {
-        write_tsv(&reports)
-    } else {
-        write_table(args, &chain.id, &reports)
-    };
+    if args.json {
+        out.write_all(write_json(args, &reports).as_bytes())?;
+    } else if !args.tsv {
+        out.write_all(write_table(args, &chain.id, &reports).as_bytes())?;
+    }
     if let Some(path) = &args.curve {
         let mut curve = Output::open(Some(path))?;
         curve.write_all(write_curve(&reports).as_bytes())?;
         curve.finish()?;
     }
-    let mut out = Output::open(args.out.as_deref())?;
-    out.write_all(text.as_bytes())?;
     out.finish()
 }
 
