@@ -139,6 +139,10 @@ pub struct TadsArgs {
     /// Write the per-bin track (or Armatus' domains) to FILE (gzip if .gz); `-` = stdout.
     #[arg(short = 'o', long = "output", value_name = "FILE")]
     pub out: Option<PathBuf>,
+    /// Print a summary as JSON on standard output (method, boundaries and domains called; per
+    /// insulation window its boundaries and strength cutoff); needs -o FILE for the track.
+    #[arg(long)]
+    pub json: bool,
     /// Write boundaries as BED to FILE (`-` = stdout).
     #[arg(long, value_name = "FILE")]
     pub boundaries: Option<PathBuf>,
@@ -154,6 +158,11 @@ pub struct TadsArgs {
 pub fn run(args: &TadsArgs) -> Result<()> {
     // Option values are checked before any file is read.
     parse_threshold(args)?;
+    if args.json && args.out.as_ref().is_none_or(|o| o.as_os_str() == "-") {
+        return Err(Error::Invalid(
+            "--json prints the summary on standard output, where the track goes without -o FILE: give -o FILE".into(),
+        ));
+    }
     let reader = crate::cli::input::open_for_analysis(&args.uri, &args.input)?;
     let bins = reader.bins().clone();
     let bin_size = bins.bin_size_bp().ok_or_else(|| {
@@ -220,6 +229,12 @@ pub fn run(args: &TadsArgs) -> Result<()> {
         calls.boundaries.len(),
         calls.domains.len()
     ));
+    if args.json {
+        let mut text = serde_json::to_string_pretty(&calls.summary(&args.uri, args.method))
+            .unwrap_or_default();
+        text.push('\n');
+        write_to(None, text.as_bytes())?;
+    }
     warnings.extend(reader.warnings());
     warnings.print();
     Ok(())
@@ -241,6 +256,31 @@ enum Track {
 }
 
 impl Calls {
+    /// The `--json` summary.
+    fn summary(&self, uri: &str, method: MethodArg) -> serde_json::Value {
+        let mut value = serde_json::json!({
+            "uri": uri,
+            "method": format!("{method:?}").to_lowercase(),
+            "label": self.label,
+            "n_boundaries": self.boundaries.len(),
+            "n_domains": self.domains.len(),
+        });
+        if let Track::Insulation(table, _) = &self.track {
+            value["windows"] = table
+                .tracks
+                .iter()
+                .map(|t| {
+                    serde_json::json!({
+                        "window_bp": t.window_bp,
+                        "n_boundaries": t.is_boundary.iter().filter(|&&b| b).count(),
+                        "cutoff": if t.cutoff.is_finite() { serde_json::json!(t.cutoff) } else { serde_json::Value::Null },
+                    })
+                })
+                .collect();
+        }
+        value
+    }
+
     fn track(&self, bins: &BinTable) -> Vec<u8> {
         match &self.track {
             Track::Insulation(table, names) => insulation_text(bins, table, names),

@@ -107,4 +107,23 @@ fn summaries_as_json_and_one_record_per_input() {
     assert!(std::fs::read_to_string(&weights).unwrap().lines().count() > 1380);
     let err = run_err(&["balance", &uri, "--json"]);
     assert!(err.contains("--json"), "{err}");
+    // tads --json: the counts of the BED files written
+    let (track, bed) = (dir.path().join("ins.tsv"), dir.path().join("b.bed"));
+    let summary: serde_json::Value = serde_json::from_str(&run_ok(&[
+        "tads",
+        &uri,
+        "--window",
+        "300k,500k",
+        "-o",
+        track.to_str().unwrap(),
+        "--boundaries",
+        bed.to_str().unwrap(),
+        "--json",
+    ]))
+    .unwrap();
+    let n_bed = std::fs::read_to_string(&bed).unwrap().lines().count();
+    assert_eq!(summary["n_boundaries"], n_bed);
+    assert_eq!(summary["windows"][1]["window_bp"], 500000);
+    let err = run_err(&["tads", &uri, "--json"]);
+    assert!(err.contains("-o FILE"), "{err}");
 }
