@@ -48,8 +48,8 @@ impl Default for TransEigParams {
     }
 }
 
-/// The C library's `random()` (glibc's additive feedback generator, `TYPE_3`: `r[i] = r[i - 3]
-/// + r[i - 31]`, output `r[i] >> 1`) from its default state, `srandom(1)`.
+/// The C library's `random()` from its default state, `srandom(1)`: glibc's additive feedback
+/// generator (`TYPE_3`), `r[i] = r[i - 3] + r[i - 31]` (wrapping), output `r[i] >> 1`.
 #[derive(Clone, Debug)]
 pub struct GlibcRandom {
     ring: [u32; 34],
