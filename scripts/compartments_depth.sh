@@ -10,7 +10,7 @@ bin=${CONTACTMAP:-target/release/contactmap}
 out=${1:-compartments-depth}
 mkdir -p "$out"
 printf "samples\tconformations\tcontacts\tsign_accuracy\tpearson\n"
-for samples in ${SAMPLES:-5 20 50 200}; do
+for samples in ${SAMPLES:-5 20 50 100 200}; do
   p="$out/ab.s$samples"
   "$bin" simulate polymer -o "$p.cool" --chains 2000 --density 0.3 --types A200B200 \
     --attraction 0.4 --monomers-per-bin 10 --replicas 8 --samples "$samples" --seed 1 \
