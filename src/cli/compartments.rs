@@ -38,8 +38,9 @@ correlate positively with the bins' coverage (raw contacts in the region), which
 not always puts A positive: give a track or a FASTA for a reliable sign.
 
 Outputs (PREFIX as given by -o; cis, or trans with --trans):
-  PREFIX.cis.vecs.tsv   chrom start end <weight> E1 .. En, one row per bin of the view's regions
-                        (nan where a bin has no weight or no contact)
+  PREFIX.cis.vecs.tsv   chrom start end, the bin table's weight columns as stored, E1 .. En, one
+                        row per bin of the view's regions (nan where a bin has no weight or no
+                        contact)
   PREFIX.cis.lam.txt    chrom start end name eigval1 .. eigvaln, one row per region (trans: one
                         row, eigval1 .. eigvaln)
 
@@ -129,8 +130,7 @@ pub fn run(args: &CompartmentsArgs) -> Result<()> {
         write_vecs(
             &format!("{prefix}.trans.vecs.tsv"),
             &bins,
-            &args.weight_name,
-            &weights,
+            &bin_columns(reader.as_ref())?,
             &[(0..bins.n_bins(), &eigs)],
             args.n_eigs,
         )?;
@@ -153,8 +153,7 @@ pub fn run(args: &CompartmentsArgs) -> Result<()> {
         write_vecs(
             &format!("{prefix}.cis.vecs.tsv"),
             &bins,
-            &args.weight_name,
-            &weights,
+            &bin_columns(reader.as_ref())?,
             &regions,
             args.n_eigs,
         )?;
@@ -284,16 +283,31 @@ fn write_values(out: &mut String, values: &[f64]) {
     out.push_str(&String::from_utf8(bytes).expect("ascii"));
 }
 
+/// The bin table's columns as cooltools writes them before E1..En: every weight column, as the
+/// file stores it (cooler's order: by name).
+fn bin_columns(reader: &dyn MatrixReader) -> Result<Vec<(String, Vec<f64>)>> {
+    let mut names = reader.weight_names();
+    names.sort();
+    names
+        .into_iter()
+        .map(|name| {
+            let values = reader.stored_weights(&name)?.values;
+            Ok((name, values))
+        })
+        .collect()
+}
+
 fn write_vecs(
     path: &str,
     bins: &BinTable,
-    weight_name: &str,
-    weights: &[f64],
+    columns: &[(String, Vec<f64>)],
     regions: &[(std::ops::Range<usize>, &RegionEigs)],
     n_eigs: usize,
 ) -> Result<()> {
     let mut out = Output::open(Some(Path::new(path)))?;
-    let mut bytes = header_line(&["chrom", "start", "end", weight_name], "E", n_eigs).into_bytes();
+    let mut first: Vec<&str> = vec!["chrom", "start", "end"];
+    first.extend(columns.iter().map(|(name, _)| name.as_str()));
+    let mut bytes = header_line(&first, "E", n_eigs).into_bytes();
     for (range, eigs) in regions {
         for bin in range.clone() {
             let b = bins.bin(bin);
@@ -302,8 +316,10 @@ fn write_vecs(
             write_u64(&mut bytes, b.start);
             bytes.push(b'\t');
             write_u64(&mut bytes, b.end);
-            bytes.push(b'\t');
-            write_real(&mut bytes, weights[bin]);
+            for (_, values) in columns {
+                bytes.push(b'\t');
+                write_real(&mut bytes, values[bin]);
+            }
             for vector in &eigs.vectors {
                 bytes.push(b'\t');
                 write_real(&mut bytes, vector[bin - range.start]);
