@@ -10,12 +10,38 @@ use crate::cli::output::{write_real, write_text_file, write_u64, Output};
 use crate::cli::progress::WithProgress;
 use crate::cli::InputArgs;
 use crate::compartments::cis::{cis_eig, CisEigParams, CisMatrixBuilder, RegionEigs};
-use crate::compartments::phasing;
+use crate::compartments::phasing::{self, SortMetric};
 use crate::compartments::trans::{trans_eig, DenseMatrix, TransEigParams};
 use crate::error::{Error, Result};
 use crate::expected::View;
 use crate::genome::BinTable;
 use crate::io::{default_memory_budget, MatrixReader};
+
+/// Measures of agreement with the phasing track, for `--sort-metric`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum SortMetricArg {
+    /// Spearman's correlation
+    Spearmanr,
+    /// Pearson's correlation
+    Pearsonr,
+    /// sign(r) r^2 var(E): the variance of E the track explains
+    #[value(name = "var_explained")]
+    VarExplained,
+    /// COMED(track, E) MAD(E): its robust counterpart
+    #[value(name = "MAD_explained")]
+    MadExplained,
+}
+
+impl From<SortMetricArg> for SortMetric {
+    fn from(arg: SortMetricArg) -> Self {
+        match arg {
+            SortMetricArg::Spearmanr => SortMetric::Spearman,
+            SortMetricArg::Pearsonr => SortMetric::Pearson,
+            SortMetricArg::VarExplained => SortMetric::VarExplained,
+            SortMetricArg::MadExplained => SortMetric::MadExplained,
+        }
+    }
+}
 
 /// Arguments of `contactmap compartments`.
 #[derive(Debug, Args)]
@@ -81,6 +107,11 @@ pub struct CompartmentsArgs {
     /// eigs-trans: one decomposition of the genome-wide inter-chromosomal map.
     #[arg(long)]
     pub trans: bool,
+    /// With a phasing track or FASTA: reorder each region's eigenvectors by decreasing
+    /// agreement with it, measured this way (cooltools' sort_metric; off by default, as in
+    /// cooltools). The sign is then set by the same measure.
+    #[arg(long, value_enum)]
+    pub sort_metric: Option<SortMetricArg>,
     /// Options for text inputs.
     #[command(flatten)]
     pub input: InputArgs,
@@ -97,6 +128,11 @@ pub fn run(args: &CompartmentsArgs) -> Result<()> {
             args.clip_percentile
         )));
     }
+    if args.sort_metric.is_some() && args.phasing_track.is_none() && args.fasta.is_none() {
+        return Err(Error::Invalid(
+            "--sort-metric ranks eigenvectors by their agreement with a phasing track: give --phasing-track or --fasta".into(),
+        ));
+    }
     let (reader, weights, view) = open_balanced(
         &args.uri,
         &args.input,
@@ -112,6 +148,7 @@ pub fn run(args: &CompartmentsArgs) -> Result<()> {
         )),
         (None, None) => None,
     };
+    let sort = args.sort_metric.map(SortMetric::from);
     let ignore_diags = match args.ignore_diags {
         Some(n) => n,
         None => reader
@@ -126,7 +163,7 @@ pub fn run(args: &CompartmentsArgs) -> Result<()> {
             n_eigs: args.n_eigs,
             ..TransEigParams::default()
         };
-        let eigs = trans_eigs(&progress, &weights, phasing.as_deref(), &params)?;
+        let eigs = trans_eigs(&progress, &weights, (phasing.as_deref(), sort), &params)?;
         write_vecs(
             &format!("{prefix}.trans.vecs.tsv"),
             &bins,
@@ -143,7 +180,13 @@ pub fn run(args: &CompartmentsArgs) -> Result<()> {
             ignore_diags,
             clip_percentile: args.clip_percentile,
         };
-        let results = eigs_cis(&progress, &weights, &view, phasing.as_deref(), &params)?;
+        let results = eigs_cis(
+            &progress,
+            &weights,
+            &view,
+            (phasing.as_deref(), sort),
+            &params,
+        )?;
         let regions: Vec<_> = view
             .regions()
             .iter()
@@ -180,7 +223,7 @@ fn eigs_cis(
     reader: &dyn MatrixReader,
     weights: &[f64],
     view: &View,
-    phasing: Option<&[f64]>,
+    (phasing, sort): (Option<&[f64]>, Option<SortMetric>),
     params: &CisEigParams,
 ) -> Result<Vec<RegionEigs>> {
     let mut results = Vec::with_capacity(view.len());
@@ -212,6 +255,7 @@ fn eigs_cis(
         orient(
             &mut eigs,
             phasing.map(|t| &t[range.clone()]),
+            sort,
             &coverage,
             &region.name,
         );
@@ -220,14 +264,24 @@ fn eigs_cis(
     Ok(results)
 }
 
-/// Orient every vector by the phasing track, else by coverage.
-fn orient(eigs: &mut RegionEigs, track: Option<&[f64]>, coverage: &[f64], region: &str) {
-    for (k, vector) in eigs.vectors.iter_mut().enumerate() {
-        if vector.iter().all(|v| v.is_nan()) {
-            continue;
+/// Orient (and with a sort metric, reorder) the vectors by the phasing track, else orient them
+/// by coverage.
+fn orient(
+    eigs: &mut RegionEigs,
+    track: Option<&[f64]>,
+    sort: Option<SortMetric>,
+    coverage: &[f64],
+    region: &str,
+) {
+    let Some(track) = track else {
+        for vector in eigs.vectors.iter_mut() {
+            phasing::orient(vector, coverage);
         }
-        let r = phasing::orient(vector, track.unwrap_or(coverage));
-        if r.is_nan() && track.is_some() {
+        return;
+    };
+    let agreements = phasing::phase(&mut eigs.values, &mut eigs.vectors, track, sort);
+    for (k, (a, vector)) in agreements.iter().zip(&eigs.vectors).enumerate() {
+        if a.is_nan() && vector.iter().any(|v| v.is_finite()) {
             eprintln!(
                 "contactmap: WARNING: region {region}: the phasing track does not vary where E{} is defined; E{} is left unoriented",
                 k + 1,
@@ -241,7 +295,7 @@ fn orient(eigs: &mut RegionEigs, track: Option<&[f64]>, coverage: &[f64], region
 fn trans_eigs(
     reader: &dyn MatrixReader,
     weights: &[f64],
-    phasing: Option<&[f64]>,
+    (phasing, sort): (Option<&[f64]>, Option<SortMetric>),
     params: &TransEigParams,
 ) -> Result<RegionEigs> {
     let bins = reader.bins();
@@ -261,7 +315,7 @@ fn trans_eigs(
     })?;
     let chrom_of: Vec<u32> = (0..n).map(|b| bins.bin(b).chrom_id as u32).collect();
     let mut eigs = trans_eig(matrix, &chrom_of, params);
-    orient(&mut eigs, phasing, &coverage, "genome-wide trans");
+    orient(&mut eigs, phasing, sort, &coverage, "genome-wide trans");
     Ok(eigs)
 }
 

@@ -1,5 +1,5 @@
-//! Orienting eigenvectors: the sign that correlates positively with a phasing track (cooltools'
-//! `_phase_eigs` with its default Spearman correlation).
+//! Orienting eigenvectors: the sign that correlates positively with a phasing track, and
+//! optionally their order by that correlation (cooltools' `_phase_eigs`, Spearman by default).
 
 /// Ranks of `values` (1-based, ties averaged: scipy's `rankdata(method="average")`).
 pub fn ranks(values: &[f64]) -> Vec<f64> {
@@ -52,6 +52,67 @@ pub fn spearman(a: &[f64], b: &[f64]) -> f64 {
     pearson(&ranks(&x), &ranks(&y))
 }
 
+/// How a vector's agreement with the phasing track is measured (cooltools' `sort_metric`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SortMetric {
+    /// Spearman's correlation (cooltools' default for the sign).
+    Spearman,
+    /// Pearson's correlation.
+    Pearson,
+    /// `sign(r) r^2 var(vector)`: the variance of the vector the track explains.
+    VarExplained,
+    /// `COMED(track, vector) MAD(vector)`: the robust (median) counterpart.
+    MadExplained,
+}
+
+/// numpy's `median` (the mean of the two middle values for an even count); NaN when empty.
+fn median(values: &[f64]) -> f64 {
+    let mut v = values.to_vec();
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    match n {
+        0 => f64::NAN,
+        _ if n % 2 == 1 => v[n / 2],
+        _ => (v[n / 2 - 1] + v[n / 2]) / 2.0,
+    }
+}
+
+/// cooltools' `MAD`: the median absolute deviation from the median.
+fn mad(values: &[f64]) -> f64 {
+    let m = median(values);
+    median(&values.iter().map(|v| (v - m).abs()).collect::<Vec<_>>())
+}
+
+/// cooltools' `COMED`: `median((x - med x)(y - med y)) / MAD(x) / MAD(y)`.
+fn comedian(x: &[f64], y: &[f64]) -> f64 {
+    let (mx, my) = (median(x), median(y));
+    let products: Vec<f64> = x.iter().zip(y).map(|(a, b)| (a - mx) * (b - my)).collect();
+    median(&products) / mad(x) / mad(y)
+}
+
+/// The agreement of `vector` with `track` under `metric`, over the bins where both are finite;
+/// its sign is the orientation.
+pub fn agreement(track: &[f64], vector: &[f64], metric: SortMetric) -> f64 {
+    let (x, y): (Vec<f64>, Vec<f64>) = track
+        .iter()
+        .zip(vector)
+        .filter(|(a, b)| a.is_finite() && b.is_finite())
+        .map(|(a, b)| (*a, *b))
+        .unzip();
+    match metric {
+        SortMetric::Spearman => pearson(&ranks(&x), &ranks(&y)),
+        SortMetric::Pearson => pearson(&x, &y),
+        SortMetric::VarExplained => {
+            let r = pearson(&x, &y);
+            let n = y.len() as f64;
+            let mean = y.iter().sum::<f64>() / n;
+            let var = y.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / n;
+            r.signum() * r * r * var
+        }
+        SortMetric::MadExplained => comedian(&x, &y) * mad(&y),
+    }
+}
+
 /// Flip `vector` in place so that it correlates positively (Spearman) with `track`; returns
 /// the correlation before flipping (NaN: the vector is left as it is).
 pub fn orient(vector: &mut [f64], track: &[f64]) -> f64 {
@@ -60,6 +121,47 @@ pub fn orient(vector: &mut [f64], track: &[f64]) -> f64 {
         vector.iter_mut().for_each(|v| *v = -*v);
     }
     r
+}
+
+/// cooltools' `_phase_eigs`: each vector is flipped to agree with `track` (by `sort`'s metric,
+/// Spearman without one); with `sort`, the eigenpairs are then reordered by decreasing absolute
+/// agreement (stable; vectors without any value last). A vector whose agreement is NaN is left as
+/// it is (cooltools would multiply it by NaN). Returns the agreements, in the final order.
+pub fn phase(
+    values: &mut Vec<f64>,
+    vectors: &mut Vec<Vec<f64>>,
+    track: &[f64],
+    sort: Option<SortMetric>,
+) -> Vec<f64> {
+    let metric = sort.unwrap_or(SortMetric::Spearman);
+    let mut agreements: Vec<f64> = vectors
+        .iter_mut()
+        .map(|vector| {
+            let a = agreement(track, vector, metric);
+            if a < 0.0 {
+                vector.iter_mut().for_each(|v| *v = -*v);
+            }
+            a
+        })
+        .collect();
+    if sort.is_some() {
+        let key = |a: f64| {
+            if a.is_nan() {
+                f64::NEG_INFINITY
+            } else {
+                a.abs()
+            }
+        };
+        let mut order: Vec<usize> = (0..agreements.len()).collect();
+        order.sort_by(|&i, &j| key(agreements[j]).total_cmp(&key(agreements[i])));
+        *values = order.iter().map(|&i| values[i]).collect();
+        *vectors = order
+            .iter()
+            .map(|&i| std::mem::take(&mut vectors[i]))
+            .collect();
+        agreements = order.iter().map(|&i| agreements[i]).collect();
+    }
+    agreements
 }
 
 #[cfg(test)]
@@ -85,6 +187,18 @@ mod tests {
         // scipy.stats.spearmanr([1, 2, 3, 4, 5], [2, 1, 4, 3, 5]) = 0.8
         let r = spearman(&[1.0, 2.0, 3.0, 4.0, 5.0], &[2.0, 1.0, 4.0, 3.0, 5.0]);
         assert!((r - 0.8).abs() < 1e-12, "{r}");
+    }
+
+    #[test]
+    fn robust_statistics_as_numpy() {
+        // numpy.median([3, 1, 4, 1]) = 2.0; cooltools MAD([1, 2, 3, 4, 100]) = 1.0
+        assert_eq!(median(&[3.0, 1.0, 4.0, 1.0]), 2.0);
+        assert_eq!(mad(&[1.0, 2.0, 3.0, 4.0, 100.0]), 1.0);
+        // COMED of a line with itself is 1; var_explained of y = 2x: r = 1, var(y)
+        let x = [1.0, 2.0, 3.0, 4.0, 5.0];
+        let y: Vec<f64> = x.iter().map(|v| 2.0 * v).collect();
+        assert!((comedian(&x, &y) - 1.0).abs() < 1e-15);
+        assert!((agreement(&x, &y, SortMetric::VarExplained) - 8.0).abs() < 1e-12);
     }
 
     #[test]

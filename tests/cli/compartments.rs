@@ -457,3 +457,58 @@ fn saddle_picture_shows_enriched_corners() {
     ]);
     assert!(err.contains("lam.txt"), "{err}");
 }
+
+#[test]
+fn sort_metrics_order_and_orient_as_cooltools() {
+    // cooltools eigs_cis(sort_metric=...) with the phasing track: each region's eigenvalue order
+    // and, per vector, the sum of its values (its sign)
+    let dir = tempfile::tempdir().unwrap();
+    let want = reference_table("reference/compartments/dm6_100kb.eigs_cis_sorted.tsv.gz");
+    let uri = data("cooler_test_file.mcool::/resolutions/100000");
+    for metric in ["spearmanr", "pearsonr", "var_explained", "MAD_explained"] {
+        let prefix = dir.path().join(metric).to_string_lossy().into_owned();
+        let track = phasing_track();
+        run_ok(&[
+            "compartments",
+            &uri,
+            "--phasing-track",
+            &track,
+            "--sort-metric",
+            metric,
+            "-o",
+            &prefix,
+        ]);
+        let lam = read(&format!("{prefix}.cis.lam.txt"));
+        let vecs = read(&format!("{prefix}.cis.vecs.tsv"));
+        for row in want.rows.iter().filter(|r| r[0] == metric) {
+            let chrom = &row[1];
+            let got = lam.rows.iter().find(|r| &r[0] == chrom).unwrap();
+            for e in 1..=3 {
+                let (g, w) = (number(&got[3 + e]), number(&row[1 + e]));
+                assert!(
+                    g.is_nan() && w.is_nan() || (g - w).abs() <= 1e-9 * w.abs(),
+                    "{metric} {chrom} eigval{e}: {g} vs {w}"
+                );
+                let c = vecs
+                    .header
+                    .iter()
+                    .position(|h| h == &format!("E{e}"))
+                    .unwrap();
+                let sum: f64 = vecs
+                    .rows
+                    .iter()
+                    .filter(|r| &r[0] == chrom)
+                    .map(|r| number(&r[c]))
+                    .filter(|v| v.is_finite())
+                    .sum();
+                let w = number(&row[4 + e]);
+                assert!(
+                    (sum - w).abs() <= 1e-7 * w.abs().max(1.0),
+                    "{metric} {chrom} E{e}: sum {sum} vs {w}"
+                );
+            }
+        }
+    }
+    let err = run_err(&["compartments", &uri, "--sort-metric", "pearsonr", "-o", "x"]);
+    assert!(err.contains("--phasing-track"), "{err}");
+}
