@@ -7,10 +7,21 @@ use clap::Args;
 use crate::cli::input::{open_balanced, track_argument};
 use crate::cli::output::write_text_file;
 use crate::cli::InputArgs;
-use crate::compartments::saddle::{digitize, saddle_cis, saddle_strength, Binning, SaddleParams};
+use crate::compartments::saddle::{
+    digitize, saddle_cis, saddle_strength, saddle_trans, Binning, SaddleParams,
+};
 use crate::error::{Error, Result};
-use crate::expected::{expected_cis, CisParams};
+use crate::expected::{expected_cis, expected_trans, CisParams};
 use crate::io::{self, default_memory_budget};
+
+/// Which contacts a saddle sums, for `--contact-type`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum ContactType {
+    /// within each region
+    Cis,
+    /// between regions on different chromosomes
+    Trans,
+}
 
 /// Arguments of `contactmap saddle`.
 #[derive(Debug, Args)]
@@ -24,6 +35,9 @@ above; every pair of bins of a region (whole chromosomes, or the regions of --vi
 expected_cis balanced.avg over the same view, ignoring 2 diagonals) to its class pair. Pairs
 without a stored pixel count as 0. The arrays are symmetrised as cooltools does (added to their
 transposes).
+
+With --contact-type trans (cooltools' contact_type='trans'): every pair of regions on different
+chromosomes adds its balanced values over its expected_trans balanced.avg instead.
 
 Outputs (PREFIX as given by -o):
   PREFIX.saddle.tsv     i j sum count, for the (n-bins + 2)^2 class pairs (class 0 and n-bins+1
@@ -73,6 +87,10 @@ pub struct SaddleArgs {
     /// Weight column.
     #[arg(long, default_value = "weight")]
     pub weight_name: String,
+    /// cis: pairs within each region; trans: pairs between regions of different chromosomes,
+    /// each block over its expected_trans balanced.avg (--min-diag and --max-diag do not apply).
+    #[arg(long, value_enum, default_value = "cis")]
+    pub contact_type: ContactType,
     /// Regions (BED: chrom, start, end, optional name) instead of whole chromosomes.
     #[arg(long)]
     pub view: Option<PathBuf>,
@@ -111,13 +129,27 @@ pub fn run(args: &SaddleArgs) -> Result<()> {
     let (track, column) = track_argument(&args.track, "--track", &bins, &weights)?;
     let digitized = digitize(&track, params.n_bins, params.binning)?;
     let pixels = io::load_pixels(reader.as_ref(), default_memory_budget())?;
-    let table = expected_cis(&pixels, Some(&weights), &view, &CisParams::default())?;
-    let averages = table.balanced_avg.as_ref().expect("balanced expected");
-    let mut expected: Vec<Vec<f64>> = vec![Vec::new(); view.len()];
-    for (row, &region) in table.region.iter().enumerate() {
-        expected[region as usize].push(averages[row]);
-    }
-    let saddle = saddle_cis(&pixels, &weights, &digitized, &view, &expected, &params)?;
+    let saddle = if args.contact_type == ContactType::Trans {
+        // expected[r1][r2]: the balanced.avg of each pair of regions
+        let table = expected_trans(&pixels, Some(&weights), &view)?;
+        let averages = table.balanced_avg.as_ref().expect("balanced expected");
+        let index = |name: &str| view.regions().iter().position(|r| r.name == name);
+        let mut expected = vec![vec![f64::NAN; view.len()]; view.len()];
+        for ((r1, r2), &average) in table.region1.iter().zip(&table.region2).zip(averages) {
+            if let (Some(a), Some(b)) = (index(r1), index(r2)) {
+                expected[a.min(b)][a.max(b)] = average;
+            }
+        }
+        saddle_trans(&pixels, &weights, &digitized, &view, &expected)?
+    } else {
+        let table = expected_cis(&pixels, Some(&weights), &view, &CisParams::default())?;
+        let averages = table.balanced_avg.as_ref().expect("balanced expected");
+        let mut expected: Vec<Vec<f64>> = vec![Vec::new(); view.len()];
+        for (row, &region) in table.region.iter().enumerate() {
+            expected[region as usize].push(averages[row]);
+        }
+        saddle_cis(&pixels, &weights, &digitized, &view, &expected, &params)?
+    };
     let strength = saddle_strength(&saddle);
 
     let prefix = args.out.to_string_lossy().into_owned();

@@ -129,13 +129,7 @@ pub fn saddle_cis<S: PixelSource>(
         )));
     }
     let n = digitized.edges.len() + 1;
-    // a bin takes part when it has a class and a weight
-    let class: Vec<i32> = digitized
-        .classes
-        .iter()
-        .zip(weights)
-        .map(|(&c, w)| if w.is_finite() { c } else { -1 })
-        .collect();
+    let class = weighted_classes(digitized, weights);
     let allowed = |region: usize, d: usize| {
         d >= params.min_diag
             && params.max_diag.is_none_or(|m| d <= m)
@@ -218,21 +212,129 @@ pub fn saddle_cis<S: PixelSource>(
             a
         },
     )?;
-    // cooltools adds the transposes
-    let symmetric = |m: &[f64]| -> Vec<f64> {
-        let mut out = vec![0.0; n * n];
-        for a in 0..n {
-            for b in 0..n {
-                out[a * n + b] = m[a * n + b] + m[b * n + a];
+    Ok(Saddle::symmetrised(n, &sum, &count))
+}
+
+/// Each bin's class, `-1` where it has none or no weight (such a bin takes no part).
+fn weighted_classes(digitized: &Digitized, weights: &[f64]) -> Vec<i32> {
+    digitized
+        .classes
+        .iter()
+        .zip(weights)
+        .map(|(&c, w)| if w.is_finite() { c } else { -1 })
+        .collect()
+}
+
+impl Saddle {
+    /// The arrays plus their transposes, as cooltools returns them.
+    fn symmetrised(n: usize, sum: &[f64], count: &[f64]) -> Saddle {
+        let symmetric = |m: &[f64]| -> Vec<f64> {
+            let mut out = vec![0.0; n * n];
+            for a in 0..n {
+                for b in 0..n {
+                    out[a * n + b] = m[a * n + b] + m[b * n + a];
+                }
+            }
+            out
+        };
+        Saddle {
+            n_classes: n,
+            sum: symmetric(sum),
+            count: symmetric(count),
+        }
+    }
+}
+
+/// The trans saddle (cooltools' `saddle(contact_type="trans")`): every pair of regions of the
+/// view on different chromosomes, in view order, adds `balanced / E` of each of its bin pairs
+/// (0 where no pixel is stored) to the pair's class pair, `E` the pair's `balanced.avg`
+/// (`expected[r1][r2]`, from `expected_trans` on the same view); a pair whose `E` is not finite
+/// or is 0 adds nothing. The arrays are then added to their transposes.
+pub fn saddle_trans<S: PixelSource>(
+    pixels: &S,
+    weights: &[f64],
+    digitized: &Digitized,
+    view: &View,
+    expected: &[Vec<f64>],
+) -> Result<Saddle> {
+    let n_bins = pixels.bins().n_bins();
+    if weights.len() != n_bins || digitized.classes.len() != n_bins {
+        return Err(Error::Invalid(format!(
+            "the weights ({}) and the track ({}) must have one value per bin ({n_bins})",
+            weights.len(),
+            digitized.classes.len()
+        )));
+    }
+    let n = digitized.edges.len() + 1;
+    let class = weighted_classes(digitized, weights);
+    let regions = view.regions();
+    let usable = |r1: usize, r2: usize| {
+        r1 != r2
+            && regions[r1].chrom_id != regions[r2].chrom_id
+            && expected
+                .get(r1.min(r2))
+                .and_then(|row| row.get(r1.max(r2)))
+                .is_some_and(|e| e.is_finite() && *e != 0.0)
+    };
+    let sizes: Vec<Vec<f64>> = regions
+        .iter()
+        .map(|region| {
+            let mut sizes = vec![0.0f64; n];
+            for &c in &class[region.bins.clone()] {
+                if c >= 0 {
+                    sizes[c as usize] += 1.0;
+                }
+            }
+            sizes
+        })
+        .collect();
+    let mut count = vec![0.0f64; n * n];
+    for r1 in 0..regions.len() {
+        for r2 in r1 + 1..regions.len() {
+            if !usable(r1, r2) {
+                continue;
+            }
+            for a in 0..n {
+                for b in 0..n {
+                    count[a * n + b] += sizes[r1][a] * sizes[r2][b];
+                }
             }
         }
-        out
-    };
-    Ok(Saddle {
-        n_classes: n,
-        sum: symmetric(&sum),
-        count: symmetric(&count),
-    })
+    }
+    let region_of = view.bin_regions(n_bins);
+    let sum = pixels.pass(
+        || vec![0.0f64; n * n],
+        |mut acc, slice: PixelSlice<'_>| {
+            for k in 0..slice.len() {
+                let (i, j) = (slice.bin1[k] as usize, slice.bin2[k] as usize);
+                let (Some(ri), Some(rj)) = (region_of[i], region_of[j]) else {
+                    continue;
+                };
+                if !usable(ri, rj) {
+                    continue;
+                }
+                let (a, b) = (class[i], class[j]);
+                if a < 0 || b < 0 {
+                    continue;
+                }
+                // the earlier region's bin is the row, as cooltools fetches (region1, region2)
+                let (a, b) = if ri < rj { (a, b) } else { (b, a) };
+                let value =
+                    slice.count[k] * weights[i] * weights[j] / expected[ri.min(rj)][ri.max(rj)];
+                if value.is_finite() {
+                    acc[a as usize * n + b as usize] += value;
+                }
+            }
+            acc
+        },
+        |mut a, b| {
+            for (x, y) in a.iter_mut().zip(&b) {
+                *x += y;
+            }
+            a
+        },
+    )?;
+    Ok(Saddle::symmetrised(n, &sum, &count))
 }
 
 /// cooltools' `saddle_strength`: for `k` in `1..n`, `(AA + BB) / (AB + BA)` over the `k x k`

@@ -117,3 +117,46 @@ fn a_track_on_other_bins_or_a_bad_range_exits_2_without_files() {
         .collect();
     assert!(outputs.is_empty(), "{outputs:?}");
 }
+
+#[test]
+fn trans_saddle_equals_cooltools() {
+    // cooltools.saddle(contact_type="trans") on CN.mm9 10 Mb with its eigs_trans E1 and
+    // expected_trans, 10 classes, qrange 0.025-0.975
+    let dir = tempfile::tempdir().unwrap();
+    let uri = data("CN.mm9.10000kb.cool");
+    let bins = run_ok(&["dump", "-t", "bins", &uri]);
+    let vecs = reference_table("reference/compartments/mm9_10Mb.eigs_trans.vecs.tsv.gz");
+    let mut text = String::from("chrom\tstart\tend\tE1\n");
+    for (line, row) in bins.lines().zip(&vecs.rows) {
+        let f: Vec<&str> = line.split('\t').collect();
+        text.push_str(&format!("{}\t{}\t{}\t{}\n", f[0], f[1], f[2], row[0]));
+    }
+    let track = dir.path().join("e1.tsv");
+    std::fs::write(&track, text).unwrap();
+    let prefix = dir.path().join("t").to_string_lossy().into_owned();
+    let track_arg = format!("{}:E1", track.display());
+    run_ok(&[
+        "saddle",
+        &uri,
+        "--track",
+        &track_arg,
+        "--n-bins",
+        "10",
+        "--contact-type",
+        "trans",
+        "-o",
+        &prefix,
+    ]);
+    let got = parse_table(&std::fs::read_to_string(format!("{prefix}.saddle.tsv")).unwrap());
+    let want = reference_table("reference/compartments/mm9_10Mb.saddle_trans.tsv.gz");
+    assert_eq!(got.rows.len(), 144);
+    for (g, w) in got.rows.iter().zip(&want.rows) {
+        assert_eq!(g[..2], w[..2]);
+        assert_eq!(number(&g[3]), number(&w[3]), "counts {g:?} {w:?}");
+        let (gs, ws) = (number(&g[2]), number(&w[2]));
+        assert!(
+            (gs - ws).abs() <= 1e-9 * ws.abs().max(1e-300),
+            "sums {g:?} {w:?}"
+        );
+    }
+}
