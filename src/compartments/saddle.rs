@@ -177,8 +177,28 @@ pub fn saddle_cis<S: PixelSource>(
             }
         }
     }
-    let region_of = view.bin_regions(n_bins);
-    let sum = pixels.pass(
+    // cooltools' cis blocks are whole (symmetric) matrices: a pixel off the diagonal counts in
+    // both orders
+    let sum = class_pair_sums(pixels, weights, &class, view, n, |i, j, ri, rj| {
+        (ri == rj && allowed(ri, j - i)).then(|| (expected[ri][j - i], true))
+    })?;
+    Ok(Saddle::symmetrised(n, &sum, &count))
+}
+
+/// Sums of `count * w_i * w_j / E` over the stored pixels `(i, j)` by class pair, for the pixels
+/// to which `term(i, j, region of i, region of j)` gives an expected value `E` (and whether the
+/// pixel also counts as `(j, i)`); pixels of bins without a class or a region, and non-finite
+/// values, are left out.
+fn class_pair_sums<S: PixelSource>(
+    pixels: &S,
+    weights: &[f64],
+    class: &[i32],
+    view: &View,
+    n: usize,
+    term: impl Fn(usize, usize, usize, usize) -> Option<(f64, bool)> + Sync,
+) -> Result<Vec<f64>> {
+    let region_of = view.bin_regions(pixels.bins().n_bins());
+    pixels.pass(
         || vec![0.0f64; n * n],
         |mut acc, slice: PixelSlice<'_>| {
             for k in 0..slice.len() {
@@ -186,20 +206,20 @@ pub fn saddle_cis<S: PixelSource>(
                 let (Some(ri), Some(rj)) = (region_of[i], region_of[j]) else {
                     continue;
                 };
-                if ri != rj || !allowed(ri, j - i) {
-                    continue;
-                }
                 let (a, b) = (class[i], class[j]);
                 if a < 0 || b < 0 {
                     continue;
                 }
-                let value = slice.count[k] * weights[i] * weights[j] / expected[ri][j - i];
+                let Some((expected, mirrored)) = term(i, j, ri, rj) else {
+                    continue;
+                };
+                let value = slice.count[k] * weights[i] * weights[j] / expected;
                 if !value.is_finite() {
                     continue;
                 }
                 let (a, b) = (a as usize, b as usize);
                 acc[a * n + b] += value;
-                if i != j {
+                if mirrored && i != j {
                     acc[b * n + a] += value;
                 }
             }
@@ -211,8 +231,7 @@ pub fn saddle_cis<S: PixelSource>(
             }
             a
         },
-    )?;
-    Ok(Saddle::symmetrised(n, &sum, &count))
+    )
 }
 
 /// Each bin's class, `-1` where it has none or no weight (such a bin takes no part).
@@ -301,39 +320,11 @@ pub fn saddle_trans<S: PixelSource>(
             }
         }
     }
-    let region_of = view.bin_regions(n_bins);
-    let sum = pixels.pass(
-        || vec![0.0f64; n * n],
-        |mut acc, slice: PixelSlice<'_>| {
-            for k in 0..slice.len() {
-                let (i, j) = (slice.bin1[k] as usize, slice.bin2[k] as usize);
-                let (Some(ri), Some(rj)) = (region_of[i], region_of[j]) else {
-                    continue;
-                };
-                if !usable(ri, rj) {
-                    continue;
-                }
-                let (a, b) = (class[i], class[j]);
-                if a < 0 || b < 0 {
-                    continue;
-                }
-                // the earlier region's bin is the row, as cooltools fetches (region1, region2)
-                let (a, b) = if ri < rj { (a, b) } else { (b, a) };
-                let value =
-                    slice.count[k] * weights[i] * weights[j] / expected[ri.min(rj)][ri.max(rj)];
-                if value.is_finite() {
-                    acc[a as usize * n + b as usize] += value;
-                }
-            }
-            acc
-        },
-        |mut a, b| {
-            for (x, y) in a.iter_mut().zip(&b) {
-                *x += y;
-            }
-            a
-        },
-    )?;
+    // upper-triangle pixels of a sorted view: the earlier region's bin is the row, as cooltools
+    // fetches (region1, region2)
+    let sum = class_pair_sums(pixels, weights, &class, view, n, |_, _, ri, rj| {
+        usable(ri, rj).then(|| (expected[ri.min(rj)][ri.max(rj)], false))
+    })?;
     Ok(Saddle::symmetrised(n, &sum, &count))
 }
 
