@@ -114,13 +114,7 @@ pub fn saddle_cis<S: PixelSource>(
     params: &SaddleParams,
 ) -> Result<Saddle> {
     let n_bins = pixels.bins().n_bins();
-    if weights.len() != n_bins || digitized.classes.len() != n_bins {
-        return Err(Error::Invalid(format!(
-            "the weights ({}) and the track ({}) must have one value per bin ({n_bins})",
-            weights.len(),
-            digitized.classes.len()
-        )));
-    }
+    check_lengths(n_bins, weights, digitized)?;
     if expected.len() != view.len() {
         return Err(Error::Invalid(format!(
             "{} expected curves for {} regions",
@@ -234,6 +228,18 @@ fn class_pair_sums<S: PixelSource>(
     )
 }
 
+/// One weight and one class per bin.
+fn check_lengths(n_bins: usize, weights: &[f64], digitized: &Digitized) -> Result<()> {
+    if weights.len() != n_bins || digitized.classes.len() != n_bins {
+        return Err(Error::Invalid(format!(
+            "the weights ({}) and the track ({}) must have one value per bin ({n_bins})",
+            weights.len(),
+            digitized.classes.len()
+        )));
+    }
+    Ok(())
+}
+
 /// Each bin's class, `-1` where it has none or no weight (such a bin takes no part).
 fn weighted_classes(digitized: &Digitized, weights: &[f64]) -> Vec<i32> {
     digitized
@@ -277,13 +283,7 @@ pub fn saddle_trans<S: PixelSource>(
     expected: &[Vec<f64>],
 ) -> Result<Saddle> {
     let n_bins = pixels.bins().n_bins();
-    if weights.len() != n_bins || digitized.classes.len() != n_bins {
-        return Err(Error::Invalid(format!(
-            "the weights ({}) and the track ({}) must have one value per bin ({n_bins})",
-            weights.len(),
-            digitized.classes.len()
-        )));
-    }
+    check_lengths(n_bins, weights, digitized)?;
     let n = digitized.edges.len() + 1;
     let class = weighted_classes(digitized, weights);
     let regions = view.regions();
