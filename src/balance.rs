@@ -77,6 +77,7 @@ mod scale;
 use crate::error::{Error, Result};
 use crate::genome::BinTable;
 use crate::matrix::{PixelSlice, PixelSource};
+use crate::numeric::median;
 
 /// Balancing method.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -686,20 +687,6 @@ fn solve_groups<S: PixelSource, G: ProductGroup>(
         }
     }
     Ok(())
-}
-
-/// numpy's median (the mean of the two middle values for an even count; `NaN` when empty).
-fn median(values: &mut [f64]) -> f64 {
-    let n = values.len();
-    if n == 0 {
-        return f64::NAN;
-    }
-    values.sort_unstable_by(f64::total_cmp);
-    if n % 2 == 1 {
-        values[n / 2]
-    } else {
-        (values[n / 2 - 1] + values[n / 2]) / 2.0
-    }
 }
 
 /// The bins masked before balancing: cooler's min_nnz, min_count, MAD-max and blacklist filters.

@@ -55,7 +55,6 @@
 
 pub mod cis;
 pub mod eigen;
-pub mod numeric;
 pub mod phasing;
 pub mod saddle;
 pub mod trans;

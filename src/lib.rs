@@ -40,6 +40,7 @@ pub mod genome;
 pub mod io;
 pub mod matrix;
 pub mod normalize;
+pub mod numeric;
 pub mod plot;
 pub mod score;
 pub mod sim;

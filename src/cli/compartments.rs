@@ -265,7 +265,7 @@ fn eigs_cis(
 }
 
 /// Orient (and with a sort metric, reorder) the vectors by the phasing track, else orient them
-/// by coverage.
+/// by coverage (Spearman, no reordering).
 fn orient(
     eigs: &mut RegionEigs,
     track: Option<&[f64]>,
@@ -273,15 +273,13 @@ fn orient(
     coverage: &[f64],
     region: &str,
 ) {
-    let Some(track) = track else {
-        for vector in eigs.vectors.iter_mut() {
-            phasing::orient(vector, coverage);
-        }
-        return;
+    let (reference, sort) = match track {
+        Some(track) => (track, sort),
+        None => (coverage, None),
     };
-    let agreements = phasing::phase(&mut eigs.values, &mut eigs.vectors, track, sort);
+    let agreements = phasing::phase(&mut eigs.values, &mut eigs.vectors, reference, sort);
     for (k, (a, vector)) in agreements.iter().zip(&eigs.vectors).enumerate() {
-        if a.is_nan() && vector.iter().any(|v| v.is_finite()) {
+        if track.is_some() && a.is_nan() && vector.iter().any(|v| v.is_finite()) {
             eprintln!(
                 "contactmap: WARNING: region {region}: the phasing track does not vary where E{} is defined; E{} is left unoriented",
                 k + 1,

@@ -7,8 +7,8 @@
 use rayon::prelude::*;
 
 use crate::compartments::eigen::{self, SymmetricOperator};
-use crate::compartments::numeric::{lerp, linspace};
 use crate::error::{Error, Result};
+use crate::numeric::{lerp, linspace};
 
 /// Parameters of [`cis_eig`], with cooltools' defaults.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -112,16 +112,6 @@ impl CisMatrixBuilder {
 }
 
 impl CisMatrix {
-    /// Number of bins.
-    pub fn n_bins(&self) -> usize {
-        self.n
-    }
-
-    /// Bytes held.
-    pub fn heap_bytes(&self) -> usize {
-        self.row_ptr.len() * 8 + self.cols.len() * 4 + self.values.len() * 8 + self.n * 8
-    }
-
     fn row(&self, i: usize) -> (&[u32], &[f64]) {
         let r = self.row_ptr[i]..self.row_ptr[i + 1];
         (&self.cols[r.clone()], &self.values[r])
@@ -149,6 +139,28 @@ impl RegionEigs {
             vectors: vec![vec![f64::NAN; n_bins]; n_eigs],
             unconverged: 0,
         }
+    }
+
+    /// cooltools' layout of the eigenpairs of an operator on the bins `kept` of a region of
+    /// `n_bins`: each vector scaled to norm `sqrt(|value|)`, NaN at the other bins, NaN pairs
+    /// past those found.
+    pub fn from_eigenpairs(
+        n_eigs: usize,
+        n_bins: usize,
+        kept: &[usize],
+        pairs: &eigen::Eigenpairs,
+    ) -> Self {
+        let mut out = RegionEigs::nan(n_eigs, n_bins);
+        out.unconverged = pairs.unconverged;
+        for (e, (value, vector)) in pairs.values.iter().zip(&pairs.vectors).enumerate() {
+            let norm = vector.iter().map(|v| v * v).sum::<f64>().sqrt();
+            let scale = value.abs().sqrt() / norm;
+            out.values[e] = *value;
+            for (k, &bin) in kept.iter().enumerate() {
+                out.vectors[e][bin] = vector[k] * scale;
+            }
+        }
+        out
     }
 }
 
@@ -224,7 +236,7 @@ pub struct ObsExpOperator<'a> {
     /// `band[d]`: the value of every valid pair at distance `d < ignore_diags`.
     band: Vec<f64>,
     /// Kept bins (valid, not an all-zero row), in order.
-    kept: Vec<u32>,
+    kept: Vec<usize>,
     /// Rows per parallel task, balanced by stored pixels.
     tasks: Vec<std::ops::Range<usize>>,
 }
@@ -238,7 +250,7 @@ impl SymmetricOperator for ObsExpOperator<'_> {
         let n = self.matrix.n;
         let mut full = vec![0.0f64; n];
         for (k, &bin) in self.kept.iter().enumerate() {
-            full[bin as usize] = x[k];
+            full[bin] = x[k];
         }
         let full = &full;
         let sum_x: f64 = x.iter().sum();
@@ -286,7 +298,7 @@ impl SymmetricOperator for ObsExpOperator<'_> {
             }
         }
         for (k, &bin) in self.kept.iter().enumerate() {
-            y[k] = acc[bin as usize] - sum_x;
+            y[k] = acc[bin] - sum_x;
         }
     }
 }
@@ -400,9 +412,8 @@ pub fn cis_eig(matrix: &CisMatrix, params: &CisEigParams) -> RegionEigs {
             }
         }
     }
-    let kept: Vec<u32> = (0..n)
+    let kept: Vec<usize> = (0..n)
         .filter(|&i| valid.mask[i] && ones[i] < n_valid as u64)
-        .map(|i| i as u32)
         .collect();
     let operator = ObsExpOperator {
         tasks: row_tasks(matrix),
@@ -418,17 +429,7 @@ pub fn cis_eig(matrix: &CisMatrix, params: &CisEigParams) -> RegionEigs {
     // scipy's eigsh asks for at most dim - 1 eigenpairs
     let k = n_eigs.min(dim.saturating_sub(1));
     let solved = eigen::largest_magnitude(&operator, k);
-    let mut out = RegionEigs::nan(n_eigs, n);
-    out.unconverged = solved.unconverged;
-    for (e, (value, vector)) in solved.values.iter().zip(&solved.vectors).enumerate() {
-        let norm = vector.iter().map(|v| v * v).sum::<f64>().sqrt();
-        let scale = value.abs().sqrt() / norm;
-        out.values[e] = *value;
-        for (k, &bin) in operator.kept.iter().enumerate() {
-            out.vectors[e][bin as usize] = vector[k] * scale;
-        }
-    }
-    out
+    RegionEigs::from_eigenpairs(n_eigs, n, &operator.kept, &solved)
 }
 
 /// Rows grouped into parallel tasks of about equal stored pixels.

@@ -41,15 +41,18 @@ pub fn pearson(x: &[f64], y: &[f64]) -> f64 {
     r.clamp(-1.0, 1.0)
 }
 
-/// Spearman's correlation of `a` and `b` over the positions where both are finite.
-pub fn spearman(a: &[f64], b: &[f64]) -> f64 {
-    let (x, y): (Vec<f64>, Vec<f64>) = a
-        .iter()
+/// The pairs `(a[k], b[k])` where both are finite, as two columns.
+pub fn finite_pairs(a: &[f64], b: &[f64]) -> (Vec<f64>, Vec<f64>) {
+    a.iter()
         .zip(b)
         .filter(|(x, y)| x.is_finite() && y.is_finite())
         .map(|(x, y)| (*x, *y))
-        .unzip();
-    pearson(&ranks(&x), &ranks(&y))
+        .unzip()
+}
+
+/// Spearman's correlation of `a` and `b` over the positions where both are finite.
+pub fn spearman(a: &[f64], b: &[f64]) -> f64 {
+    agreement(a, b, SortMetric::Spearman)
 }
 
 /// How a vector's agreement with the phasing track is measured (cooltools' `sort_metric`).
@@ -65,16 +68,9 @@ pub enum SortMetric {
     MadExplained,
 }
 
-/// numpy's `median` (the mean of the two middle values for an even count); NaN when empty.
+/// numpy's median of a copy of `values`.
 fn median(values: &[f64]) -> f64 {
-    let mut v = values.to_vec();
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    match n {
-        0 => f64::NAN,
-        _ if n % 2 == 1 => v[n / 2],
-        _ => (v[n / 2 - 1] + v[n / 2]) / 2.0,
-    }
+    crate::numeric::median(&mut values.to_vec())
 }
 
 /// cooltools' `MAD`: the median absolute deviation from the median.
@@ -93,12 +89,7 @@ fn comedian(x: &[f64], y: &[f64]) -> f64 {
 /// The agreement of `vector` with `track` under `metric`, over the bins where both are finite;
 /// its sign is the orientation.
 pub fn agreement(track: &[f64], vector: &[f64], metric: SortMetric) -> f64 {
-    let (x, y): (Vec<f64>, Vec<f64>) = track
-        .iter()
-        .zip(vector)
-        .filter(|(a, b)| a.is_finite() && b.is_finite())
-        .map(|(a, b)| (*a, *b))
-        .unzip();
+    let (x, y) = finite_pairs(track, vector);
     match metric {
         SortMetric::Spearman => pearson(&ranks(&x), &ranks(&y)),
         SortMetric::Pearson => pearson(&x, &y),
@@ -111,16 +102,6 @@ pub fn agreement(track: &[f64], vector: &[f64], metric: SortMetric) -> f64 {
         }
         SortMetric::MadExplained => comedian(&x, &y) * mad(&y),
     }
-}
-
-/// Flip `vector` in place so that it correlates positively (Spearman) with `track`; returns
-/// the correlation before flipping (NaN: the vector is left as it is).
-pub fn orient(vector: &mut [f64], track: &[f64]) -> f64 {
-    let r = spearman(track, vector);
-    if r < 0.0 {
-        vector.iter_mut().for_each(|v| *v = -*v);
-    }
-    r
 }
 
 /// cooltools' `_phase_eigs`: each vector is flipped to agree with `track` (by `sort`'s metric,
@@ -202,10 +183,11 @@ mod tests {
     }
 
     #[test]
-    fn orient_flips_anticorrelated() {
+    fn phase_flips_anticorrelated() {
         let track = [0.1, 0.5, 0.9];
-        let mut v = [1.0, 0.0, -1.0];
-        orient(&mut v, &track);
-        assert_eq!(v, [-1.0, 0.0, 1.0]);
+        let mut values = vec![2.0];
+        let mut vectors = vec![vec![1.0, 0.0, -1.0]];
+        phase(&mut values, &mut vectors, &track, None);
+        assert_eq!(vectors[0], [-1.0, 0.0, 1.0]);
     }
 }

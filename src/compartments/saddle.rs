@@ -1,10 +1,10 @@
 //! The saddle of a track: digitisation, sums and counts of observed/expected by class pair, and
 //! the saddle strength (see the [module documentation](super)).
 
-use crate::compartments::numeric::{linspace, quantile_of_sorted};
 use crate::error::{Error, Result};
 use crate::expected::View;
 use crate::matrix::{PixelSlice, PixelSource};
+use crate::numeric::{linspace, quantile_of_sorted};
 
 /// How the track's class edges are placed.
 #[derive(Clone, Copy, Debug, PartialEq)]

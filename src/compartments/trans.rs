@@ -23,8 +23,8 @@ use rayon::prelude::*;
 
 use crate::compartments::cis::RegionEigs;
 use crate::compartments::eigen::{self, SymmetricOperator};
-use crate::compartments::numeric::quantile_of_sorted;
 use crate::error::{Error, Result};
+use crate::numeric::quantile_of_sorted;
 
 /// Parameters of [`trans_eig`], with cooltools' defaults.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -134,6 +134,24 @@ impl DenseMatrix {
         self.values[j * self.n + i] = value;
     }
 
+    /// Replace every entry `(i, j)` by `f(i, j, value)`, rows in parallel.
+    fn update(&mut self, f: impl Fn(usize, usize, f64) -> f64 + Sync) {
+        let n = self.n.max(1);
+        self.values
+            .par_chunks_mut(n)
+            .enumerate()
+            .for_each(|(i, row)| {
+                for (j, v) in row.iter_mut().enumerate() {
+                    *v = f(i, j, *v);
+                }
+            });
+    }
+
+    /// Zero the rows and columns of the bins `masked`.
+    fn zero_masked(&mut self, masked: &[bool]) {
+        self.update(|i, j, v| if masked[i] || masked[j] { 0.0 } else { v });
+    }
+
     fn at(&self, i: usize, j: usize) -> f64 {
         self.values[i * self.n + j]
     }
@@ -207,11 +225,7 @@ fn iterative_correction(a: &mut DenseMatrix, max_iter: usize, tol: f64) {
         for (t, f) in total.iter_mut().zip(&s) {
             *t *= f;
         }
-        a.values.par_chunks_mut(n).enumerate().for_each(|(i, row)| {
-            for (j, v) in row.iter_mut().enumerate() {
-                *v /= s[i] * s[j];
-            }
-        });
+        a.update(|i, j, v| v / (s[i] * s[j]));
         let m = s.iter().sum::<f64>() / n as f64;
         let var = s.iter().map(|v| (v - m) * (v - m)).sum::<f64>() / n as f64;
         if tol > 0.0 && var < tol {
@@ -256,28 +270,16 @@ impl SymmetricOperator for Centred<'_> {
 pub fn trans_eig(mut a: DenseMatrix, chrom_of: &[u32], params: &TransEigParams) -> RegionEigs {
     let n = a.n;
     // 1. cis blocks out; bad bins out
-    a.values
-        .par_chunks_mut(n.max(1))
-        .enumerate()
-        .for_each(|(i, row)| {
-            for (j, v) in row.iter_mut().enumerate() {
-                if chrom_of[i] == chrom_of[j] || !v.is_finite() {
-                    *v = 0.0;
-                }
-            }
-        });
+    a.update(|i, j, v| {
+        if chrom_of[i] == chrom_of[j] || !v.is_finite() {
+            0.0
+        } else {
+            v
+        }
+    });
     let zero_bad = |a: &mut DenseMatrix| -> Vec<bool> {
         let bad: Vec<bool> = a.row_sums().iter().map(|&s| s == 0.0).collect();
-        a.values
-            .par_chunks_mut(n.max(1))
-            .enumerate()
-            .for_each(|(i, row)| {
-                for (j, v) in row.iter_mut().enumerate() {
-                    if bad[i] || bad[j] {
-                        *v = 0.0;
-                    }
-                }
-            });
+        a.zero_masked(&bad);
         bad
     };
     let bad = zero_bad(&mut a);
@@ -295,24 +297,18 @@ pub fn trans_eig(mut a: DenseMatrix, chrom_of: &[u32], params: &TransEigParams) 
     }
     let limit = percentile(&mut trans_values, params.perc_top);
     drop(trans_values);
-    a.values.par_chunks_mut(n).enumerate().for_each(|(i, row)| {
-        for (j, v) in row.iter_mut().enumerate() {
-            if !bad[i] && !bad[j] && chrom_of[i] != chrom_of[j] && *v > limit {
-                *v = limit;
-            }
+    a.update(|i, j, v| {
+        if !bad[i] && !bad[j] && chrom_of[i] != chrom_of[j] && v > limit {
+            limit
+        } else {
+            v
         }
     });
     let margins = a.row_sums();
     let mut nonzero: Vec<f64> = margins.iter().copied().filter(|&m| m > 0.0).collect();
     let cutoff = percentile(&mut nonzero, params.perc_bottom);
     let dropped: Vec<bool> = margins.iter().map(|&m| m > 0.0 && m < cutoff).collect();
-    a.values.par_chunks_mut(n).enumerate().for_each(|(i, row)| {
-        for (j, v) in row.iter_mut().enumerate() {
-            if dropped[i] || dropped[j] {
-                *v = 0.0;
-            }
-        }
-    });
+    a.zero_masked(&dropped);
     let bad = zero_bad(&mut a);
     // 3. fake cis and balance, twice
     let mut rng = GlibcRandom::default();
@@ -331,17 +327,7 @@ pub fn trans_eig(mut a: DenseMatrix, chrom_of: &[u32], params: &TransEigParams) 
     let dim = operator.dim();
     let k = params.n_eigs.min(dim.saturating_sub(1));
     let solved = eigen::largest_magnitude(&operator, k);
-    let mut out = RegionEigs::nan(params.n_eigs, n);
-    out.unconverged = solved.unconverged;
-    for (e, (value, vector)) in solved.values.iter().zip(&solved.vectors).enumerate() {
-        let norm = vector.iter().map(|v| v * v).sum::<f64>().sqrt();
-        let scale = value.abs().sqrt() / norm;
-        out.values[e] = *value;
-        for (k, &bin) in operator.good.iter().enumerate() {
-            out.vectors[e][bin] = vector[k] * scale;
-        }
-    }
-    out
+    RegionEigs::from_eigenpairs(params.n_eigs, n, &operator.good, &solved)
 }
 
 #[cfg(test)]

@@ -1,7 +1,7 @@
 //! Compartment calls against a truth: the fraction of bins whose eigenvector sign is the true
 //! compartment's (A positive, B negative) and the correlation of the vector with the truth.
 
-use crate::compartments::phasing::pearson;
+use crate::compartments::phasing::{finite_pairs, pearson};
 
 /// The score of one set of bins.
 #[derive(Clone, Debug, PartialEq)]
@@ -19,12 +19,7 @@ pub struct CompartmentScore {
 
 /// Score `values` against `truth` (+1 for A, -1 for B, NaN for no truth), bin by bin.
 pub fn score_compartments(values: &[f64], truth: &[f64]) -> CompartmentScore {
-    let (x, y): (Vec<f64>, Vec<f64>) = values
-        .iter()
-        .zip(truth)
-        .filter(|(v, t)| v.is_finite() && t.is_finite())
-        .map(|(v, t)| (*v, *t))
-        .unzip();
+    let (x, y) = finite_pairs(values, truth);
     let right = x.iter().zip(&y).filter(|(v, t)| **v * **t > 0.0).count();
     let wrong_sign = x.iter().zip(&y).filter(|(v, t)| **v * **t < 0.0).count();
     let n = x.len();

@@ -1,4 +1,5 @@
-//! numpy's rules for the few array operations whose last digits the cooltools results depend on.
+//! numpy's rules for the few array operations whose last digits the peers' results depend on
+//! (cooler's MAD filter, cooltools' compartments and saddles).
 
 /// numpy's `linspace(start, stop, num)` (endpoint included), element for element.
 pub fn linspace(start: f64, stop: f64, num: usize) -> Vec<f64> {
@@ -9,6 +10,21 @@ pub fn linspace(start: f64, stop: f64, num: usize) -> Vec<f64> {
         out[num - 1] = stop;
     }
     out
+}
+
+/// numpy's `median` (the mean of the two middle values for an even count; `NaN` when empty);
+/// sorts `values` in place.
+pub fn median(values: &mut [f64]) -> f64 {
+    let n = values.len();
+    if n == 0 {
+        return f64::NAN;
+    }
+    values.sort_unstable_by(f64::total_cmp);
+    if n % 2 == 1 {
+        values[n / 2]
+    } else {
+        (values[n / 2 - 1] + values[n / 2]) / 2.0
+    }
 }
 
 /// numpy's `percentile` interpolation (method `linear`) between the order statistics `a <= b`
@@ -46,5 +62,8 @@ mod tests {
         assert_eq!(linspace(0.0, 1.0, 5), vec![0.0, 0.25, 0.5, 0.75, 1.0]);
         assert!((quantile_of_sorted(&[1.0, 2.0, 3.0, 4.0], 0.4) - 2.2).abs() < 1e-15);
         assert_eq!(quantile_of_sorted(&[5.0], 0.3), 5.0);
+        // numpy.median([3, 1, 4, 1]) = 2.0, numpy.median([]) = nan
+        assert_eq!(median(&mut [3.0, 1.0, 4.0, 1.0]), 2.0);
+        assert!(median(&mut []).is_nan());
     }
 }
