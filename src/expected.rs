@@ -168,6 +168,16 @@ impl CisExpected {
         self.balanced_avg.as_deref().unwrap_or(&self.count_avg)
     }
 
+    /// [`Self::average`] region by region: `by_region[r][d]` for diagonal `d` of region `r`
+    /// (rows are in region then distance order).
+    pub fn average_by_region(&self) -> Vec<Vec<f64>> {
+        let mut by_region: Vec<Vec<f64>> = vec![Vec::new(); self.region_names.len()];
+        for (&region, &value) in self.region.iter().zip(self.average()) {
+            by_region[region as usize].push(value);
+        }
+        by_region
+    }
+
     /// The summed values behind [`Self::average`]: `balanced.sum`, else `count.sum`.
     pub fn summary(&self) -> &[f64] {
         self.balanced_sum.as_deref().unwrap_or(&self.count_sum)
@@ -236,6 +246,20 @@ impl TransExpected {
     /// Number of rows.
     pub fn n_rows(&self) -> usize {
         self.n_valid.len()
+    }
+
+    /// The average of each pair of regions of `view` (`balanced.avg`, else `count.avg`), as a
+    /// matrix indexed `[earlier region][later region]`; NaN for pairs without a row.
+    pub fn average_by_pair(&self, view: &View) -> Vec<Vec<f64>> {
+        let average = self.balanced_avg.as_deref().unwrap_or(&self.count_avg);
+        let index = |name: &str| view.regions().iter().position(|r| r.name == name);
+        let mut by_pair = vec![vec![f64::NAN; view.len()]; view.len()];
+        for ((r1, r2), &value) in self.region1.iter().zip(&self.region2).zip(average) {
+            if let (Some(a), Some(b)) = (index(r1), index(r2)) {
+                by_pair[a.min(b)][a.max(b)] = value;
+            }
+        }
+        by_pair
     }
 
     /// The columns after `region1` and `region2`, as cooltools writes them.

@@ -8,7 +8,7 @@ use clap::{Args, ValueEnum};
 
 use crate::balance::{balance, BalanceParams, BalanceResult, Method, Scope};
 use crate::cli::input::open_for_analysis;
-use crate::cli::output::Output;
+use crate::cli::output::{is_stdout, print_json, Output};
 use crate::cli::weights::stored_attributes;
 use crate::cli::InputArgs;
 use crate::error::{Error, Result};
@@ -167,7 +167,7 @@ pub struct BalanceArgs {
 
 /// Run `contactmap balance`.
 pub fn run(args: &BalanceArgs) -> Result<()> {
-    if args.json && !args.store && args.out.as_ref().is_none_or(|o| o.as_os_str() == "-") {
+    if args.json && !args.store && is_stdout(args.out.as_deref()) {
         return Err(Error::Invalid(
             "--json prints the summary on standard output, where the weights table goes without --store or -o FILE: give one of them".into(),
         ));
@@ -233,13 +233,7 @@ pub fn run(args: &BalanceArgs) -> Result<()> {
         write_table(&bins, &weights, args.out.as_deref())?;
     }
     if args.json {
-        let mut out = Output::open(None)?;
-        let mut text =
-            serde_json::to_string_pretty(&summary_json(&args.uri, &params_used, &result, &bins))
-                .unwrap_or_default();
-        text.push('\n');
-        out.write_all(text.as_bytes())?;
-        out.finish()?;
+        print_json(&summary_json(&args.uri, &params_used, &result, &bins))?;
     } else {
         eprint!("{}", summary(&params_used, &result, &bins));
     }
@@ -414,13 +408,7 @@ fn summary_json(
     result: &BalanceResult,
     bins: &BinTable,
 ) -> serde_json::Value {
-    let finite = |v: f64| {
-        if v.is_finite() {
-            serde_json::json!(v)
-        } else {
-            serde_json::Value::Null
-        }
-    };
+    // serde_json writes non-finite numbers as null
     let mut value = serde_json::json!({
         "uri": uri,
         "method": params.method.name(),
@@ -429,8 +417,8 @@ fn summary_json(
         "n_iterations": result.n_iterations,
         "masked_bins": result.n_masked(),
         "n_bins": result.weights.len(),
-        "scale": finite(result.scale),
-        "var": finite(result.var),
+        "scale": result.scale,
+        "var": result.var,
     });
     if let Some(per_chrom) = &result.per_chrom {
         value["per_chromosome"] = per_chrom
@@ -441,8 +429,8 @@ fn summary_json(
                     "chrom": chrom.name,
                     "converged": g.converged,
                     "n_iterations": g.n_iterations,
-                    "scale": finite(g.scale),
-                    "var": finite(g.var),
+                    "scale": g.scale,
+                    "var": g.var,
                 })
             })
             .collect();

@@ -16,6 +16,7 @@ use crate::error::{Error, Result};
 use crate::expected::View;
 use crate::genome::BinTable;
 use crate::io::{default_memory_budget, MatrixReader};
+use crate::matrix::PixelBlock;
 
 /// Measures of agreement with the phasing track, for `--sort-metric`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -139,11 +140,11 @@ pub fn run(args: &CompartmentsArgs) -> Result<()> {
         &args.weight_name,
         args.view.as_deref(),
     )?;
-    let bins = reader.bins().clone();
+    let bins = reader.bins();
     let phasing = match (&args.phasing_track, &args.fasta) {
-        (Some(track), _) => Some(track_argument(track, "--phasing-track", &bins, &weights)?.0),
+        (Some(track), _) => Some(track_argument(track, "--phasing-track", bins, &weights)?.0),
         (None, Some(fasta)) => Some(mask_unweighted(
-            crate::io::fasta::gc_content(fasta, &bins)?,
+            crate::io::fasta::gc_content(fasta, bins)?,
             &weights,
         )),
         (None, None) => None,
@@ -166,13 +167,12 @@ pub fn run(args: &CompartmentsArgs) -> Result<()> {
         let eigs = trans_eigs(&progress, &weights, (phasing.as_deref(), sort), &params)?;
         write_vecs(
             &format!("{prefix}.trans.vecs.tsv"),
-            &bins,
+            bins,
             &bin_columns(reader.as_ref())?,
             &[(0..bins.n_bins(), &eigs)],
             args.n_eigs,
         )?;
-        let mut lam = header_line(&[], "eigval", args.n_eigs);
-        write_values(&mut lam, &eigs.values);
+        let lam = header_line(&[], "eigval", args.n_eigs) + &tab_line(&[], &eigs.values);
         write_text_file(&format!("{prefix}.trans.lam.txt"), &lam)?;
     } else {
         let params = CisEigParams {
@@ -195,21 +195,20 @@ pub fn run(args: &CompartmentsArgs) -> Result<()> {
             .collect();
         write_vecs(
             &format!("{prefix}.cis.vecs.tsv"),
-            &bins,
+            bins,
             &bin_columns(reader.as_ref())?,
             &regions,
             args.n_eigs,
         )?;
         let mut lam = header_line(&["chrom", "start", "end", "name"], "eigval", args.n_eigs);
         for (region, eigs) in view.regions().iter().zip(&results) {
-            lam.push_str(&format!(
-                "{}\t{}\t{}\t{}",
-                bins.chroms()[region.chrom_id].name,
-                region.start_bp,
-                region.end_bp,
-                region.name
-            ));
-            write_values(&mut lam, &eigs.values);
+            let fields = [
+                bins.chroms()[region.chrom_id].name.clone(),
+                region.start_bp.to_string(),
+                region.end_bp.to_string(),
+                region.name.clone(),
+            ];
+            lam.push_str(&tab_line(&fields, &eigs.values));
         }
         write_text_file(&format!("{prefix}.cis.lam.txt"), &lam)?;
     }
@@ -233,14 +232,11 @@ fn eigs_cis(
         let mut builder = CisMatrixBuilder::new(range.len(), params.ignore_diags);
         let mut coverage = vec![0.0f64; range.len()];
         reader.read_pixels(range.clone(), range.clone(), &mut |block| {
+            add_coverage(&mut coverage, offset, block);
             for k in 0..block.len() {
                 let (i, j) = (block.bin1[k] as usize, block.bin2[k] as usize);
                 let value = block.count[k] * weights[i] * weights[j];
                 builder.push(i - offset, j - offset, value)?;
-                coverage[i - offset] += block.count[k];
-                if i != j {
-                    coverage[j - offset] += block.count[k];
-                }
             }
             Ok(())
         })?;
@@ -262,6 +258,18 @@ fn eigs_cis(
         results.push(eigs);
     }
     Ok(results)
+}
+
+/// Add each pixel's raw count to the coverage of its two bins (`offset`: the first bin of
+/// `coverage`).
+fn add_coverage(coverage: &mut [f64], offset: usize, block: &PixelBlock) {
+    for k in 0..block.len() {
+        let (i, j) = (block.bin1[k] as usize, block.bin2[k] as usize);
+        coverage[i - offset] += block.count[k];
+        if i != j {
+            coverage[j - offset] += block.count[k];
+        }
+    }
 }
 
 /// Orient (and with a sort metric, reorder) the vectors by the phasing track, else orient them
@@ -301,13 +309,10 @@ fn trans_eigs(
     let mut matrix = DenseMatrix::zeros(n, default_memory_budget() / 2)?;
     let mut coverage = vec![0.0f64; n];
     reader.read_pixels(0..n, 0..n, &mut |block| {
+        add_coverage(&mut coverage, 0, block);
         for k in 0..block.len() {
             let (i, j) = (block.bin1[k] as usize, block.bin2[k] as usize);
             matrix.set(i, j, block.count[k] * weights[i] * weights[j]);
-            coverage[i] += block.count[k];
-            if i != j {
-                coverage[j] += block.count[k];
-            }
         }
         Ok(())
     })?;
@@ -323,16 +328,17 @@ fn header_line(first: &[&str], stem: &str, n: usize) -> String {
     line.join("\t") + "\n"
 }
 
-fn write_values(out: &mut String, values: &[f64]) {
-    let mut bytes = Vec::new();
+/// `fields` then `values`, tab-separated, with a newline.
+fn tab_line(fields: &[String], values: &[f64]) -> String {
+    let mut bytes = fields.join("\t").into_bytes();
     for (k, &v) in values.iter().enumerate() {
-        if k > 0 || !out.ends_with('\n') {
+        if k > 0 || !fields.is_empty() {
             bytes.push(b'\t');
         }
         write_real(&mut bytes, v);
     }
     bytes.push(b'\n');
-    out.push_str(&String::from_utf8(bytes).expect("ascii"));
+    String::from_utf8(bytes).expect("utf-8 fields")
 }
 
 /// The bin table's columns as cooltools writes them before E1..En: every weight column, as the

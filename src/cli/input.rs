@@ -68,13 +68,27 @@ pub fn track_argument(
     bins: &BinTable,
     weights: &[f64],
 ) -> Result<(Vec<f64>, String)> {
-    let (path, column) = argument.rsplit_once(':').ok_or_else(|| {
-        Error::Invalid(format!(
-            "{option} '{argument}': expected FILE:COLUMN (a header name or a 1-based column number)"
-        ))
-    })?;
+    let (path, column) = file_column(argument, option, None)?;
     let track = crate::io::tables::track_on_bins(Path::new(path), column, bins)?;
     Ok((mask_unweighted(track, weights), column.to_string()))
+}
+
+/// Split a `FILE:COLUMN` option value (`option` names it in the error); without a `:COLUMN`,
+/// `default` when given (a `:` inside the file's path, as in `dir:x/file`, is not a column).
+pub fn file_column<'a>(
+    argument: &'a str,
+    option: &str,
+    default: Option<&'a str>,
+) -> Result<(&'a str, &'a str)> {
+    match (argument.rsplit_once(':'), default) {
+        (Some((path, column)), _) if !column.is_empty() && !column.contains('/') => {
+            Ok((path, column))
+        }
+        (_, Some(column)) => Ok((argument, column)),
+        _ => Err(Error::Invalid(format!(
+            "{option} '{argument}': expected FILE:COLUMN (a header name or a 1-based column number)"
+        ))),
+    }
 }
 
 /// `track` with NaN at the bins whose weight is not finite (cooltools masks a track on the

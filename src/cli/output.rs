@@ -40,7 +40,7 @@ const BUFFER_BYTES: usize = 1 << 20;
 impl Output {
     /// Open `path` (`-` or `None` for stdout; a `.gz` suffix compresses).
     pub fn open(path: Option<&Path>) -> Result<Output> {
-        let Some(path) = path.filter(|p| p.as_os_str() != "-") else {
+        let Some(path) = path.filter(|p| !is_stdout(Some(p))) else {
             return Ok(Output {
                 target: Some(Target::Stdout(BufWriter::with_capacity(
                     BUFFER_BYTES,
@@ -257,6 +257,20 @@ fn strip_zeros(text: &str) -> &str {
     } else {
         text
     }
+}
+
+/// True when an output option means standard output: absent, or `-`.
+pub fn is_stdout(path: Option<&Path>) -> bool {
+    path.is_none_or(|p| p.as_os_str() == "-")
+}
+
+/// Print `value` on standard output as indented JSON (a command's `--json` summary).
+pub fn print_json(value: &serde_json::Value) -> Result<()> {
+    let mut text = serde_json::to_string_pretty(value).unwrap_or_default();
+    text.push('\n');
+    let mut out = Output::open(None)?;
+    out.write_all(text.as_bytes())?;
+    out.finish()
 }
 
 /// Write `text` to `path` whole (under a temporary name, renamed when complete).

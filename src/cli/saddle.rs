@@ -130,24 +130,11 @@ pub fn run(args: &SaddleArgs) -> Result<()> {
     let digitized = digitize(&track, params.n_bins, params.binning)?;
     let pixels = io::load_pixels(reader.as_ref(), default_memory_budget())?;
     let saddle = if args.contact_type == ContactType::Trans {
-        // expected[r1][r2]: the balanced.avg of each pair of regions
-        let table = expected_trans(&pixels, Some(&weights), &view)?;
-        let averages = table.balanced_avg.as_ref().expect("balanced expected");
-        let index = |name: &str| view.regions().iter().position(|r| r.name == name);
-        let mut expected = vec![vec![f64::NAN; view.len()]; view.len()];
-        for ((r1, r2), &average) in table.region1.iter().zip(&table.region2).zip(averages) {
-            if let (Some(a), Some(b)) = (index(r1), index(r2)) {
-                expected[a.min(b)][a.max(b)] = average;
-            }
-        }
+        let expected = expected_trans(&pixels, Some(&weights), &view)?.average_by_pair(&view);
         saddle_trans(&pixels, &weights, &digitized, &view, &expected)?
     } else {
         let table = expected_cis(&pixels, Some(&weights), &view, &CisParams::default())?;
-        let averages = table.balanced_avg.as_ref().expect("balanced expected");
-        let mut expected: Vec<Vec<f64>> = vec![Vec::new(); view.len()];
-        for (row, &region) in table.region.iter().enumerate() {
-            expected[region as usize].push(averages[row]);
-        }
+        let expected = table.average_by_region();
         saddle_cis(&pixels, &weights, &digitized, &view, &expected, &params)?
     };
     let strength = saddle_strength(&saddle);

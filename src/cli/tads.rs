@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use clap::{Args, ValueEnum};
 
 use crate::cli::input::weights_and_view;
-use crate::cli::output::{write_real, write_u64, Output};
+use crate::cli::output::{is_stdout, print_json, write_real, write_u64, Output};
 use crate::cli::warnings::Warnings;
 use crate::cli::InputArgs;
 use crate::error::{Error, Result};
@@ -158,7 +158,7 @@ pub struct TadsArgs {
 pub fn run(args: &TadsArgs) -> Result<()> {
     // Option values are checked before any file is read.
     parse_threshold(args)?;
-    if args.json && args.out.as_ref().is_none_or(|o| o.as_os_str() == "-") {
+    if args.json && is_stdout(args.out.as_deref()) {
         return Err(Error::Invalid(
             "--json prints the summary on standard output, where the track goes without -o FILE: give -o FILE".into(),
         ));
@@ -230,10 +230,7 @@ pub fn run(args: &TadsArgs) -> Result<()> {
         calls.domains.len()
     ));
     if args.json {
-        let mut text = serde_json::to_string_pretty(&calls.summary(&args.uri, args.method))
-            .unwrap_or_default();
-        text.push('\n');
-        write_to(None, text.as_bytes())?;
+        print_json(&calls.summary(&args.uri, args.method))?;
     }
     warnings.extend(reader.warnings());
     warnings.print();
@@ -273,7 +270,7 @@ impl Calls {
                     serde_json::json!({
                         "window_bp": t.window_bp,
                         "n_boundaries": t.is_boundary.iter().filter(|&&b| b).count(),
-                        "cutoff": if t.cutoff.is_finite() { serde_json::json!(t.cutoff) } else { serde_json::Value::Null },
+                        "cutoff": t.cutoff, // null when not finite
                     })
                 })
                 .collect();

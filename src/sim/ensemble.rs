@@ -166,6 +166,18 @@ impl EnsembleParams {
         }
         (bead_bin, per_chain)
     }
+
+    /// With bead types (`polymer.attraction`): per bin of the map, how many of its beads have
+    /// each type (`counts[bin][type]`, types `0..n_types`).
+    pub fn bin_type_counts(&self, n_types: usize) -> Option<Vec<Vec<usize>>> {
+        let types = &self.polymer.attraction.as_ref()?.types;
+        let (bead_bin, per_chain) = self.bins();
+        let mut counts = vec![vec![0usize; n_types]; per_chain.iter().sum()];
+        for (&bin, &t) in bead_bin.iter().zip(types) {
+            counts[bin as usize][t as usize] += 1;
+        }
+        Some(counts)
+    }
 }
 
 /// The result of [`run_ensemble`].

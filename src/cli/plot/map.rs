@@ -456,11 +456,7 @@ fn read_map_track(
     cols: &Range<usize>,
     span: &GenomicSpan,
 ) -> Result<Track> {
-    let (path, column) = spec.rsplit_once(':').ok_or_else(|| {
-        Error::Invalid(format!(
-            "--track '{spec}': expected FILE:COLUMN (a header name or a 1-based column number)"
-        ))
-    })?;
+    let (path, column) = crate::cli::input::file_column(spec, "--track", None)?;
     let rows: Vec<_> = read_track(std::path::Path::new(path), column)?
         .into_iter()
         .filter(|r| r.chrom == span.chrom && r.start < span.end_bp && r.end > span.start_bp)

@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 
 use super::real;
+use crate::cli::input::file_column;
 use crate::cli::output::Output;
 use crate::error::{Error, Result};
 use crate::io::bed::read_bed;
@@ -70,10 +71,7 @@ pub fn run(args: &CompartmentsScoreArgs) -> Result<()> {
         };
         truth.insert((record.chrom.clone(), record.start, record.end), sign);
     }
-    let (path, column) = match args.eigs.rsplit_once(':') {
-        Some((p, c)) if !c.is_empty() && !c.contains('/') => (p, c),
-        _ => (args.eigs.as_str(), "E1"),
-    };
+    let (path, column) = file_column(&args.eigs, "EIGS", Some("E1"))?;
     let rows = read_track(Path::new(path), column)?;
     let mut chroms: Vec<String> = Vec::new();
     let mut by_chrom: HashMap<String, (Vec<f64>, Vec<f64>)> = HashMap::new();

@@ -626,17 +626,10 @@ fn write_truth(args: &PolymerArgs, params: &EnsembleParams, bins: &BinTable) -> 
         super::write_bins_bed(path, bins, rows)?;
     }
     if let (Some(path), Some(pattern)) = (&args.truth_compartments, &args.types) {
-        let (period, letters) = parse_types(pattern)?;
-        let (bead_bin, _) = params.bins();
-        // per bin: beads of each type
-        let mut counts = vec![vec![0usize; letters.len()]; bins.n_bins()];
-        let mut bead = 0;
-        for &length in &args.chains {
-            for k in 0..length {
-                counts[bead_bin[bead] as usize][period[k % period.len()] as usize] += 1;
-                bead += 1;
-            }
-        }
+        let (_, letters) = parse_types(pattern)?;
+        let counts = params
+            .bin_type_counts(letters.len())
+            .expect("--types sets the bead types");
         let a = letters.iter().position(|&l| l == b'A');
         let rows = counts.iter().enumerate().map(|(bin, c)| {
             let total: usize = c.iter().sum();
