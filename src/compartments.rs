@@ -23,7 +23,7 @@
 //!   [`eigen::DENSE_MAX`] bins), ordered by decreasing `|eigenvalue|` (negative eigenvalues
 //!   happen, and cooltools keeps them).
 //! - Each vector is scaled to norm `sqrt(|eigenvalue|)`. Its sign is arbitrary for the
-//!   eigensolver; [`phasing::orient`] makes it correlate positively (Spearman) with a phasing
+//!   eigensolver; [`phasing::phase`] makes it correlate positively (Spearman) with a phasing
 //!   track, as cooltools does when given one.
 //!
 //! # Saddle ([`saddle::saddle_cis`])
