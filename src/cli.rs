@@ -177,6 +177,14 @@ pub struct InputArgs {
 }
 
 impl InputArgs {
+    /// The files these options name (chromosome sizes, bin table), inputs of the command.
+    pub fn files(&self) -> impl Iterator<Item = &std::path::Path> {
+        self.chrom_sizes
+            .iter()
+            .chain(&self.bins_bed)
+            .map(|p| p.as_path())
+    }
+
     /// Check the values and build the library's options.
     pub fn to_options(&self) -> Result<OpenOptions> {
         let pairs_columns = match &self.pairs_columns {

@@ -62,6 +62,17 @@ pub struct BinTable {
     spans: Vec<Range<u64>>,
 }
 
+/// The most bins a table may hold: bin ids are 32-bit in pixel keys (and in the .hic format), and
+/// a human genome at 1 bp is 3.1e9 bins.
+pub const MAX_BINS: usize = u32::MAX as usize;
+
+fn too_many_bins(bin_size_bp: u64) -> Error {
+    Error::Invalid(format!(
+        "bins of {bin_size_bp} bp make more than {MAX_BINS} bins: the chromosome lengths or the \
+         bin size are wrong"
+    ))
+}
+
 impl BinTable {
     /// Chromosomes cut into bins of `bin_size_bp` base pairs.
     pub fn fixed(chroms: Vec<Chrom>, bin_size_bp: u64) -> Result<Self> {
@@ -98,7 +109,11 @@ impl BinTable {
                 )));
             }
             chrom_offsets.push(n);
-            n += (span.end - span.start).div_ceil(bin_size_bp) as usize;
+            n = usize::try_from((span.end - span.start).div_ceil(bin_size_bp))
+                .ok()
+                .and_then(|bins| n.checked_add(bins))
+                .filter(|&total| total <= MAX_BINS)
+                .ok_or_else(|| too_many_bins(bin_size_bp))?;
         }
         chrom_offsets.push(n);
         Ok(BinTable {
@@ -156,17 +171,16 @@ impl BinTable {
                     chroms[bin.chrom_id].name, bin.start, bin.end, chroms[bin.chrom_id].length_bp
                 )));
             }
-            for offset in chrom_offsets
-                .iter_mut()
-                .take(chroms.len() + 1)
-                .skip(bin.chrom_id + 1)
-            {
-                *offset = index + 1;
-            }
+            // The end of this chromosome's bins so far; chromosomes without bins take the end
+            // of the one before them (the running maximum below), in one pass.
+            chrom_offsets[bin.chrom_id + 1] = index + 1;
             starts.push(bin.start);
             ends.push(bin.end);
             spans[bin.chrom_id].end = bin.end;
             previous = Some(*bin);
+        }
+        for c in 1..chrom_offsets.len() {
+            chrom_offsets[c] = chrom_offsets[c].max(chrom_offsets[c - 1]);
         }
         Ok(BinTable {
             chroms,
@@ -187,10 +201,13 @@ impl BinTable {
         let variable = BinTable::variable(chroms, bins)?;
         let largest = bins.iter().map(|b| b.end - b.start).max();
         if let Some(size) = bin_size_hint.filter(|&s| s > 0).or(largest) {
+            // A size that cannot tile the spans (too many bins) means variable bins.
             let fixed =
-                BinTable::fixed_spans(variable.chroms.clone(), size, variable.spans.clone())?;
-            if fixed.n_bins() == bins.len() && fixed.iter().zip(bins).all(|(a, b)| a == *b) {
-                return Ok(fixed);
+                BinTable::fixed_spans(variable.chroms.clone(), size, variable.spans.clone());
+            if let Ok(fixed) = fixed {
+                if fixed.n_bins() == bins.len() && fixed.iter().zip(bins).all(|(a, b)| a == *b) {
+                    return Ok(fixed);
+                }
             }
         }
         Ok(variable)
@@ -379,7 +396,12 @@ impl BinTable {
             ));
         }
         match self.bin_size_bp {
-            Some(size) if factor > 0 => BinTable::fixed(self.chroms.clone(), size * factor),
+            Some(size) if factor > 0 => match size.checked_mul(factor) {
+                Some(coarse) => BinTable::fixed(self.chroms.clone(), coarse),
+                None => Err(Error::Invalid(format!(
+                    "bins of {size} bp x {factor} overflow 64 bits"
+                ))),
+            },
             _ => Err(Error::Invalid(
                 "only fixed-size bin tables can be coarsened".into(),
             )),

@@ -17,6 +17,7 @@
 //!
 //! Format modules only read and write: they never compute biology.
 
+pub mod atomic;
 pub mod bed;
 pub mod cool;
 pub mod fasta;
@@ -37,6 +38,8 @@ use crate::error::{Error, Result};
 use crate::genome::BinTable;
 use crate::matrix::pixels::{PixelSlice, PixelSource, Pixels, BYTES_PER_PIXEL};
 use crate::matrix::{ContactMatrix, CountType, PixelBlock, Weights};
+
+pub use atomic::{is_special_file, same_file, Temporary, WriteLock};
 
 /// Descriptive metadata of an open matrix, for `contactmap info`.
 #[derive(Clone, Debug, Default)]
@@ -323,212 +326,6 @@ impl MatrixReader for InMemory {
     fn totals(&self) -> Result<(u64, f64)> {
         Ok((self.matrix.nnz() as u64, self.matrix.sum()))
     }
-}
-
-/// Whether `path` exists and is not a regular file (a device such as `/dev/null`, a FIFO, a
-/// socket; symbolic links are followed). Such outputs are written in place: renaming a file over
-/// them would replace the device with a file.
-pub fn is_special_file(path: &Path) -> bool {
-    std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir())
-}
-
-/// A hidden, unique temporary name beside `path` (`.NAME.PID-SEQ.tmp`), for outputs written in
-/// full and then renamed into place, so that a failure never leaves a half-written file.
-///
-/// Errors when `path` exists and is not a regular file ([`is_special_file`]): renaming over it
-/// would replace it (as root, even `/dev/null`).
-pub fn temporary_path(path: &Path) -> Result<PathBuf> {
-    use std::sync::atomic::{AtomicU64, Ordering};
-    static SEQUENCE: AtomicU64 = AtomicU64::new(0);
-    if is_special_file(path) {
-        return Err(Error::Invalid(format!(
-            "'{}' is not a regular file: this output is written to a file",
-            path.display()
-        )));
-    }
-    let name = path
-        .file_name()
-        .ok_or_else(|| Error::Invalid(format!("'{}' is not a file name", path.display())))?;
-    remove_stale_temporaries(path, &name.to_string_lossy());
-    Ok(path.with_file_name(format!(
-        ".{}.{}-{}.tmp",
-        name.to_string_lossy(),
-        std::process::id(),
-        SEQUENCE.fetch_add(1, Ordering::Relaxed)
-    )))
-}
-
-/// Run `write` on a temporary path beside `path` ([`temporary_path`]), then rename it to `path`;
-/// remove it on error, so that a failure never leaves a half-written output.
-pub fn with_temporary(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
-    let tmp = temporary_path(path)?;
-    match write(&tmp) {
-        Ok(()) => std::fs::rename(&tmp, path).map_err(|e| Error::io(path, e)),
-        Err(e) => {
-            let _ = std::fs::remove_file(&tmp);
-            Err(e)
-        }
-    }
-}
-
-/// Remove the temporaries of the output `path` (`.NAME.PID-SEQ.tmp`, see [`temporary_path`])
-/// whose process no longer runs, such as those of a killed `convert`, so that they cannot pile up.
-///
-/// A process is alive while `/proc/PID` exists (Linux). The temporaries of live processes, this
-/// one's included, are never touched; without a readable `/proc` (other systems) nothing is
-/// removed. Only regular files whose whole name has the temporary pattern of this very output are
-/// candidates. Failures are ignored: this is housekeeping, and the write that follows reports
-/// any real problem with the folder.
-fn remove_stale_temporaries(path: &Path, name: &str) {
-    let Some(alive) = process_liveness() else {
-        return;
-    };
-    let folder = match path.parent() {
-        Some(parent) if !parent.as_os_str().is_empty() => parent,
-        _ => Path::new("."),
-    };
-    let Ok(entries) = std::fs::read_dir(folder) else {
-        return;
-    };
-    let prefix = format!(".{name}.");
-    let own = std::process::id();
-    for entry in entries.flatten() {
-        let file_name = entry.file_name();
-        let Some(pid) = file_name
-            .to_str()
-            .and_then(|text| text.strip_prefix(prefix.as_str()))
-            .and_then(|rest| rest.strip_suffix(".tmp"))
-            .and_then(temporary_pid)
-        else {
-            continue;
-        };
-        if pid != own && !alive(pid) && entry.file_type().is_ok_and(|kind| kind.is_file()) {
-            let _ = std::fs::remove_file(entry.path());
-        }
-    }
-}
-
-/// The PID in the `PID-SEQ` part of a temporary name (both decimal numbers), or `None`.
-fn temporary_pid(text: &str) -> Option<u32> {
-    let (pid, sequence) = text.split_once('-')?;
-    let decimal = |s: &str| !s.is_empty() && s.bytes().all(|b| b.is_ascii_digit());
-    if !decimal(pid) || !decimal(sequence) {
-        return None;
-    }
-    pid.parse().ok()
-}
-
-/// A test of whether a process id belongs to a running process, where the system can tell
-/// (`/proc/PID` on Linux, when `/proc` is mounted); `None` elsewhere.
-fn process_liveness() -> Option<fn(u32) -> bool> {
-    if cfg!(target_os = "linux") && Path::new("/proc/self").exists() {
-        Some(|pid| Path::new("/proc").join(pid.to_string()).exists())
-    } else {
-        None
-    }
-}
-
-/// An advisory lock on a file that is modified in place (`balance --store`), held until dropped.
-///
-/// The lock is an exclusive `flock` (Unix; elsewhere none is taken) on a hidden file beside the
-/// target, `.NAME.lock`, so that two processes never write into the same file at once. It is
-/// released, and the lock file removed, when the value is dropped; when the process ends
-/// otherwise (killed), the kernel releases the lock and the next run reuses the left-over file.
-#[derive(Debug)]
-pub struct WriteLock {
-    /// The locked lock file (closing it releases the lock).
-    _file: std::fs::File,
-    /// Its path.
-    path: PathBuf,
-}
-
-impl WriteLock {
-    /// Take the lock for writing into `target`, or fail at once, naming `target`, when another
-    /// process holds it.
-    pub fn acquire(target: &Path) -> Result<WriteLock> {
-        let name = target
-            .file_name()
-            .ok_or_else(|| Error::Invalid(format!("'{}' is not a file name", target.display())))?;
-        let path = target.with_file_name(format!(".{}.lock", name.to_string_lossy()));
-        loop {
-            let file = std::fs::OpenOptions::new()
-                .create(true)
-                .truncate(false)
-                .write(true)
-                .open(&path)
-                .map_err(|e| Error::io(&path, e))?;
-            match try_lock_exclusive(&file) {
-                Ok(true) => {}
-                Ok(false) => {
-                    return Err(Error::format(
-                        target,
-                        format!(
-                            "another process is writing into this file (it holds the lock {}): \
-                             nothing was changed; run again when it has finished",
-                            path.display()
-                        ),
-                    ))
-                }
-                Err(e) => return Err(Error::io(&path, e)),
-            }
-            // A holder that finished between our open and our lock removed the file we locked:
-            // lock the file now at `path` instead, so that two processes never both hold it.
-            if same_file(&file, &path) {
-                return Ok(WriteLock { _file: file, path });
-            }
-        }
-    }
-
-    /// The lock file.
-    pub fn path(&self) -> &Path {
-        &self.path
-    }
-}
-
-impl Drop for WriteLock {
-    fn drop(&mut self) {
-        // Removed while still locked (a process waiting on the old file then sees that it is no
-        // longer at `path` and retries); the lock goes with the descriptor.
-        if cfg!(unix) {
-            let _ = std::fs::remove_file(&self.path);
-        }
-    }
-}
-
-/// Take an exclusive advisory lock (`flock`) on `file` without waiting: `Ok(false)` when another
-/// open file description holds it. (rustix's `flock`, since `std::fs::File::try_lock` needs Rust
-/// 1.89, above the crate's `rust-version`.)
-#[cfg(unix)]
-fn try_lock_exclusive(file: &std::fs::File) -> std::io::Result<bool> {
-    use rustix::fs::{flock, FlockOperation};
-    match flock(file, FlockOperation::NonBlockingLockExclusive) {
-        Ok(()) => Ok(true),
-        Err(e) if e == rustix::io::Errno::WOULDBLOCK => Ok(false),
-        Err(e) => Err(e.into()),
-    }
-}
-
-/// Elsewhere no lock is taken: [`WriteLock`] only guards against other processes on Unix.
-#[cfg(not(unix))]
-fn try_lock_exclusive(_file: &std::fs::File) -> std::io::Result<bool> {
-    Ok(true)
-}
-
-/// True when the open `file` is the file now at `path`.
-#[cfg(unix)]
-fn same_file(file: &std::fs::File, path: &Path) -> bool {
-    use std::os::unix::fs::MetadataExt;
-    match (file.metadata(), std::fs::metadata(path)) {
-        (Ok(a), Ok(b)) => a.dev() == b.dev() && a.ino() == b.ino(),
-        _ => false,
-    }
-}
-
-/// Without inode numbers the lock file is never removed ([`WriteLock`]'s drop), so the file
-/// at `path` is always the one that was opened.
-#[cfg(not(unix))]
-fn same_file(_file: &std::fs::File, _path: &Path) -> bool {
-    true
 }
 
 /// Inside `impl MatrixReader for W`, where `self.FIELD` is the wrapped reader: every method but
@@ -942,66 +739,6 @@ mod tests {
             a.iter().sum::<f64>(),
             2.0 * reader.matrix().sum() - (0..500).map(|i| reader.matrix().get(i, i)).sum::<f64>()
         );
-    }
-
-    /// A PID no process can have: above the kernel's `pid_max`.
-    fn dead_pid() -> u32 {
-        std::fs::read_to_string("/proc/sys/kernel/pid_max")
-            .ok()
-            .and_then(|text| text.trim().parse::<u32>().ok())
-            .unwrap_or(1 << 22)
-            + 1
-    }
-
-    #[test]
-    fn temporary_names_parse() {
-        assert_eq!(temporary_pid("123-0"), Some(123));
-        assert_eq!(temporary_pid("123-45"), Some(123));
-        assert_eq!(temporary_pid("123"), None);
-        assert_eq!(temporary_pid("x.123-0"), None);
-        assert_eq!(temporary_pid("-0"), None);
-        assert_eq!(temporary_pid("12-"), None);
-        assert_eq!(temporary_pid("1+2-3"), None);
-    }
-
-    #[cfg(target_os = "linux")]
-    #[test]
-    fn stale_temporaries_of_dead_processes_are_removed() {
-        let dir = tempfile::tempdir().unwrap();
-        let out = dir.path().join("out.cool");
-        let dead = dir.path().join(format!(".out.cool.{}-0.tmp", dead_pid()));
-        let own = dir
-            .path()
-            .join(format!(".out.cool.{}-7.tmp", std::process::id()));
-        // Another output's temporary and a look-alike name are not this output's temporaries.
-        let other = dir.path().join(format!(".out.cool.x.{}-0.tmp", dead_pid()));
-        let unlike = dir
-            .path()
-            .join(format!(".out.cool.{}-0.tmp.keep", dead_pid()));
-        for path in [&dead, &own, &other, &unlike] {
-            std::fs::write(path, b"partial").unwrap();
-        }
-        let tmp = temporary_path(&out).unwrap();
-        assert!(!dead.exists());
-        assert!(own.exists() && other.exists() && unlike.exists());
-        assert_eq!(tmp.parent(), Some(dir.path()));
-        assert!(!tmp.exists());
-    }
-
-    #[test]
-    fn write_lock_is_exclusive_and_released_on_drop() {
-        let dir = tempfile::tempdir().unwrap();
-        let target = dir.path().join("m.cool");
-        std::fs::write(&target, b"x").unwrap();
-        let first = WriteLock::acquire(&target).unwrap();
-        assert_eq!(first.path(), dir.path().join(".m.cool.lock"));
-        let refused = WriteLock::acquire(&target).unwrap_err().to_string();
-        assert!(refused.starts_with(&format!("{}: another process", target.display())));
-        assert!(refused.contains(".m.cool.lock"), "{refused}");
-        drop(first);
-        assert!(!dir.path().join(".m.cool.lock").exists());
-        let second = WriteLock::acquire(&target).unwrap();
-        drop(second);
     }
 
     /// A reader that hands out one fixed block.

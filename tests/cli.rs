@@ -29,6 +29,8 @@ mod info;
 mod merge;
 #[path = "cli/normalize.rs"]
 mod normalize;
+#[path = "cli/overwrite.rs"]
+mod overwrite;
 #[path = "cli/plot.rs"]
 mod plot;
 #[path = "cli/plot_contacts.rs"]

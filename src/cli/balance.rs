@@ -8,7 +8,7 @@ use clap::{Args, ValueEnum};
 
 use crate::balance::{balance, BalanceParams, BalanceResult, Method, Scope};
 use crate::cli::input::open_for_analysis;
-use crate::cli::output::{is_stdout, print_json, Output};
+use crate::cli::output::{is_stdout, print_json, refuse_overwrites, uri_file, Output};
 use crate::cli::weights::stored_attributes;
 use crate::cli::InputArgs;
 use crate::error::{Error, Result};
@@ -167,6 +167,10 @@ pub struct BalanceArgs {
 
 /// Run `contactmap balance`.
 pub fn run(args: &BalanceArgs) -> Result<()> {
+    let mut inputs = vec![uri_file(&args.uri)];
+    inputs.extend(args.blacklist.as_deref());
+    inputs.extend(args.input.files());
+    refuse_overwrites(&inputs, &[args.out.as_deref()])?;
     if args.json && !args.store && is_stdout(args.out.as_deref()) {
         return Err(Error::Invalid(
             "--json prints the summary on standard output, where the weights table goes without --store or -o FILE: give one of them".into(),

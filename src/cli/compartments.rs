@@ -6,7 +6,9 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 
 use crate::cli::input::{mask_unweighted, open_balanced, track_argument};
-use crate::cli::output::{write_real, write_text_file, write_u64, Output};
+use crate::cli::output::{
+    column_file, refuse_overwrites, uri_file, write_real, write_text_file, write_u64, Output,
+};
 use crate::cli::progress::WithProgress;
 use crate::cli::InputArgs;
 use crate::compartments::cis::{cis_eig, CisEigParams, CisMatrixBuilder, RegionEigs};
@@ -134,6 +136,17 @@ pub fn run(args: &CompartmentsArgs) -> Result<()> {
             "--sort-metric ranks eigenvectors by their agreement with a phasing track: give --phasing-track or --fasta".into(),
         ));
     }
+    let prefix = args.out.to_string_lossy().into_owned();
+    let kind = if args.trans { "trans" } else { "cis" };
+    let vecs_path = PathBuf::from(format!("{prefix}.{kind}.vecs.tsv"));
+    let lam_path = PathBuf::from(format!("{prefix}.{kind}.lam.txt"));
+    let inputs: Vec<&Path> = std::iter::once(uri_file(&args.uri))
+        .chain(args.phasing_track.as_deref().map(column_file))
+        .chain(args.fasta.as_deref())
+        .chain(args.view.as_deref())
+        .chain(args.input.files())
+        .collect();
+    refuse_overwrites(&inputs, &[Some(&vecs_path), Some(&lam_path)])?;
     let (reader, weights, view) = open_balanced(
         &args.uri,
         &args.input,
@@ -157,7 +170,6 @@ pub fn run(args: &CompartmentsArgs) -> Result<()> {
             .and_then(|v| v.as_u64())
             .map_or(2, |v| v as usize),
     };
-    let prefix = args.out.to_string_lossy().into_owned();
     let progress = WithProgress::new(reader.as_ref(), "eigenvectors")?;
     if args.trans {
         let params = TransEigParams {

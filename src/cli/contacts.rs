@@ -2,10 +2,11 @@
 //! the full residue distance matrix ([`crate::score::contacts::TrueContacts`]).
 
 use std::io::Write as _;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::Args;
 
+use crate::cli::output::refuse_overwrites;
 use crate::cli::output::{write_real, Output};
 use crate::cli::protein::{measure, place_chain, read_chain, DefinitionArgs, RegisterArg};
 use crate::error::Result;
@@ -81,6 +82,10 @@ fn sequence_line(chain: &Chain) -> Option<String> {
 
 /// Run `contactmap contacts`.
 pub fn run(args: &ContactsArgs) -> Result<()> {
+    let inputs: Vec<&Path> = std::iter::once(args.structure.as_path())
+        .chain(args.fasta.as_deref())
+        .collect();
+    refuse_overwrites(&inputs, &[args.out.as_deref()])?;
     let original = read_chain(&args.structure, args.chain.as_deref())?;
     let sequence = args.fasta.as_deref().map(read_fasta).transpose()?;
     let (chain, register) = place_chain(

@@ -6,6 +6,7 @@ use clap::Args;
 
 use crate::cli::hic_output::{parse_normalizations, write_hic};
 use crate::cli::matrix_output::{format_from_extension, mcool_resolutions, OutputFormat};
+use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::progress::WithProgress;
 use crate::cli::InputArgs;
 use crate::error::{Error, Result};
@@ -73,6 +74,9 @@ pub struct ConvertArgs {
 
 /// Run `contactmap convert`.
 pub fn run(args: &ConvertArgs) -> Result<()> {
+    let mut inputs = vec![uri_file(&args.input)];
+    inputs.extend(args.input_args.files());
+    refuse_overwrites(&inputs, &[Some(&args.output)])?;
     let format = match args.to {
         Some(format) => format,
         None => format_from_extension(&args.output)?,

@@ -1,10 +1,11 @@
 //! `contactmap dump`: print pixels, bins or chromosomes as tab-separated text, as `cooler dump`.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
 use rayon::prelude::*;
 
+use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::output::{write_count, write_u64, FloatFormat, Output};
 use crate::cli::InputArgs;
 use crate::error::Result;
@@ -80,6 +81,10 @@ pub struct DumpArgs {
 
 /// Run `contactmap dump`.
 pub fn run(args: &DumpArgs) -> Result<()> {
+    let inputs: Vec<&Path> = std::iter::once(uri_file(&args.uri))
+        .chain(args.input.files())
+        .collect();
+    refuse_overwrites(&inputs, &[args.out.as_deref()])?;
     let reader = io::open_matrix(&args.uri, &args.input.to_options()?)?;
     let mut out = Output::open(args.out.as_deref())?;
     match args.table {

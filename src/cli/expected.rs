@@ -1,13 +1,14 @@
 //! `contactmap expected`: cis expected as `cooltools expected-cis`, trans expected as
 //! `cooltools expected-trans`, log-binned P(s) with slopes, and power-law exponents.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::Args;
 use rayon::prelude::*;
 
 use crate::cli::analysis::{fit_text, headline, parse_fit_range, power_law, PowerLaw};
 use crate::cli::input::weights_and_view;
+use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::output::{write_real, write_u64, Output};
 use crate::cli::InputArgs;
 use crate::error::{Error, Result};
@@ -160,6 +161,11 @@ fn check(args: &ExpectedArgs) -> Result<Checked> {
 
 /// Run `contactmap expected`.
 pub fn run(args: &ExpectedArgs) -> Result<()> {
+    let inputs: Vec<&Path> = std::iter::once(uri_file(&args.uri))
+        .chain(args.view.as_deref())
+        .chain(args.input.files())
+        .collect();
+    refuse_overwrites(&inputs, &[args.out.as_deref()])?;
     let checked = check(args)?;
     let reader = crate::cli::input::open_for_analysis(&args.uri, &args.input)?;
     let (weights, view) = weights_and_view(

@@ -85,36 +85,57 @@ pub fn write_hic(
     methods: &[Method],
     options: &HicWriteOptions,
 ) -> Result<()> {
+    // Juicer, hictk and our reader hold chromosome lengths in 32 bits; the expected values are
+    // sized from them.
+    if let Some(chrom) = reader
+        .bins()
+        .chroms()
+        .iter()
+        .find(|c| c.length_bp > u64::from(u32::MAX))
+    {
+        return Err(crate::Error::format(
+            reader.source(),
+            format!(
+                "chromosome {} ({} bp) is too long for a .hic file (at most {} bp)",
+                chrom.name.escape_default(),
+                chrom.length_bp,
+                u32::MAX
+            ),
+        ));
+    }
     let mut unconverged = Vec::new();
-    io::with_temporary(path, |tmp| {
-        let mut writer = HicWriter::create(tmp, reader.bins(), resolutions, options)?;
-        let tap = ExpectedTap {
-            inner: reader,
-            expected: Mutex::new(MultiResolutionExpected::new(
-                reader.bins(),
-                writer.resolutions(),
-            )),
-        };
-        writer.write_matrices(&tap)?;
-        let expected = tap
-            .expected
-            .into_inner()
-            .unwrap_or_else(|e| e.into_inner())
-            .finish();
-        writer.write_footer(&expected, &[], &[])?;
-        let mut normalized = Vec::new();
-        let mut vectors = Vec::new();
-        if !methods.is_empty() {
-            for &resolution in &writer.resolutions().to_vec() {
-                let level = HicReader::open(tmp, Some(resolution))?;
-                let vectors_of_level = juicer_vectors(&level, resolution, methods)?;
-                normalized.extend(vectors_of_level.normalized);
-                vectors.extend(vectors_of_level.vectors);
-                unconverged.extend(vectors_of_level.unconverged);
+    io::atomic::with_temporary(
+        path,
+        |tmp| HicWriter::create(tmp, reader.bins(), resolutions, options),
+        |tmp, mut writer| {
+            let tap = ExpectedTap {
+                inner: reader,
+                expected: Mutex::new(MultiResolutionExpected::new(
+                    reader.bins(),
+                    writer.resolutions(),
+                )),
+            };
+            writer.write_matrices(&tap)?;
+            let expected = tap
+                .expected
+                .into_inner()
+                .unwrap_or_else(|e| e.into_inner())
+                .finish();
+            writer.write_footer(&expected, &[], &[])?;
+            let mut normalized = Vec::new();
+            let mut vectors = Vec::new();
+            if !methods.is_empty() {
+                for &resolution in &writer.resolutions().to_vec() {
+                    let level = HicReader::open(tmp, Some(resolution))?;
+                    let vectors_of_level = juicer_vectors(&level, resolution, methods)?;
+                    normalized.extend(vectors_of_level.normalized);
+                    vectors.extend(vectors_of_level.vectors);
+                    unconverged.extend(vectors_of_level.unconverged);
+                }
             }
-        }
-        writer.write_footer(&expected, &normalized, &vectors)
-    })?;
+            writer.write_footer(&expected, &normalized, &vectors)
+        },
+    )?;
     for u in &unconverged {
         eprintln!(
             "contactmap: WARNING: {} at {} bp: {} did not converge; its vector is stored as the \

@@ -1,11 +1,12 @@
 //! `contactmap info`: describe a matrix file.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::Args;
 use serde_json::{json, Map, Value};
 
 use crate::cli::output::Output;
+use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::InputArgs;
 use crate::error::Result;
 use crate::io::cool::{self, HdfContent};
@@ -42,6 +43,13 @@ pub struct InfoArgs {
 
 /// Run `contactmap info`.
 pub fn run(args: &InfoArgs) -> Result<()> {
+    let inputs: Vec<&Path> = args
+        .uris
+        .iter()
+        .map(|uri| uri_file(uri))
+        .chain(args.input.files())
+        .collect();
+    refuse_overwrites(&inputs, &[args.out.as_deref()])?;
     let options = args.input.to_options()?;
     let many = args.uris.len() > 1;
     let mut out = Output::open(args.out.as_deref())?;

@@ -317,7 +317,7 @@ pub fn read_cis_expected(path: &str) -> Result<(CisExpected, f64)> {
             if out.bin_size_bp == 0 {
                 out.bin_size_bp = size;
             }
-            if dist_bp != dist * out.bin_size_bp || out.bin_size_bp == 0 {
+            if dist.checked_mul(out.bin_size_bp) != Some(dist_bp) || out.bin_size_bp == 0 {
                 return Err(bad_row(
                     row,
                     format!(

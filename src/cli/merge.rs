@@ -1,7 +1,7 @@
 //! `contactmap merge`: the sum of several maps on the same bins (replicates, simulation replicas)
 //! as a .cool, .mcool or .hic, streamed.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::Args;
 
@@ -9,6 +9,7 @@ use crate::cli::hic_output::{write_hic, DEFAULT_NORMALIZATIONS};
 use crate::cli::matrix_output::{
     fixed_bin_size, format_from_extension, mcool_resolutions, OutputFormat,
 };
+use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::InputArgs;
 use crate::error::{Error, Result};
 use crate::io::cool::{write_cool, write_mcool, CoolWriteOptions};
@@ -56,6 +57,13 @@ pub struct MergeArgs {
 
 /// Run `contactmap merge`.
 pub fn run(args: &MergeArgs) -> Result<()> {
+    let inputs: Vec<&Path> = args
+        .inputs
+        .iter()
+        .map(|uri| uri_file(uri))
+        .chain(args.input_args.files())
+        .collect();
+    refuse_overwrites(&inputs, &[Some(&args.out)])?;
     let gzip = args
         .out
         .to_string_lossy()

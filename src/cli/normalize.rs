@@ -2,11 +2,12 @@
 //! table.
 
 use std::ops::Range;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
 
 use crate::cli::matrix_output::OutputFormat;
+use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::progress::WithProgress;
 use crate::cli::InputArgs;
 use crate::error::{Error, Result};
@@ -78,6 +79,11 @@ pub struct NormalizeArgs {
 
 /// Run `contactmap normalize`.
 pub fn run(args: &NormalizeArgs) -> Result<()> {
+    let inputs: Vec<&Path> = std::iter::once(uri_file(&args.uri))
+        .chain(args.expected.as_deref().map(Path::new))
+        .chain(args.input.files())
+        .collect();
+    refuse_overwrites(&inputs, &[Some(&args.output)])?;
     let format = match args.to {
         Some(format) => format,
         None => crate::cli::matrix_output::format_from_extension(&args.output)?,

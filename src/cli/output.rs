@@ -1,17 +1,19 @@
 //! Where command output goes (stdout, a file, a gzip file) and how numbers are printed.
 //!
 //! Files are written under a temporary name and renamed when the command succeeds, so a failed
-//! command never leaves a half-written output behind. Special files (`/dev/null`, a named pipe,
+//! command never leaves a half-written output behind (the temporary is created exclusively, see
+//! [`crate::io::atomic`]). Special files (`/dev/null`, a named pipe,
 //! `/dev/stdout`) are written in place: a rename would replace them.
 
 use std::fs::File;
 use std::io::{BufWriter, Write};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use flate2::write::GzEncoder;
 use flate2::Compression;
 
 use crate::error::{Error, Result};
+use crate::io::Temporary;
 
 /// An output text stream: stdout, or a (possibly gzip-compressed) file committed on `finish`.
 pub struct Output {
@@ -22,16 +24,15 @@ pub struct Output {
 
 enum Target {
     Stdout(BufWriter<std::io::Stdout>),
-    /// `tmp` is the temporary file renamed to `path` on success; `None` when writing in place.
+    /// `tmp` is the temporary file renamed onto the output on success (removed when dropped
+    /// before); `None` when writing in place.
     File {
         writer: BufWriter<File>,
-        tmp: Option<PathBuf>,
-        path: PathBuf,
+        tmp: Option<Temporary>,
     },
     Gzip {
         writer: Box<BufWriter<GzEncoder<File>>>,
-        tmp: Option<PathBuf>,
-        path: PathBuf,
+        tmp: Option<Temporary>,
     },
 }
 
@@ -56,8 +57,7 @@ impl Output {
                 .map_err(|e| Error::io(path, e))?;
             (file, None)
         } else {
-            let tmp = crate::io::temporary_path(path)?;
-            let file = File::create(&tmp).map_err(|e| Error::io(path, e))?;
+            let (tmp, file) = Temporary::create(path)?;
             (file, Some(tmp))
         };
         let label = path.display().to_string();
@@ -68,13 +68,11 @@ impl Output {
                     GzEncoder::new(file, Compression::new(6)),
                 )),
                 tmp,
-                path: path.to_path_buf(),
             }
         } else {
             Target::File {
                 writer: BufWriter::with_capacity(BUFFER_BYTES, file),
                 tmp,
-                path: path.to_path_buf(),
             }
         };
         Ok(Output {
@@ -112,35 +110,25 @@ impl Output {
         };
         match target {
             Target::Stdout(mut w) => w.flush().map_err(io),
-            Target::File { writer, tmp, path } => {
+            Target::File { writer, tmp } => {
                 let file = writer.into_inner().map_err(|e| io(e.into_error()))?;
                 match tmp {
                     Some(tmp) => {
                         file.sync_all().map_err(io)?;
-                        std::fs::rename(&tmp, &path).map_err(io)
+                        drop(file);
+                        tmp.persist()
                     }
                     None => Ok(()),
                 }
             }
-            Target::Gzip { writer, tmp, path } => {
+            Target::Gzip { writer, tmp } => {
                 let encoder = writer.into_inner().map_err(|e| io(e.into_error()))?;
-                encoder.finish().map_err(io)?;
+                drop(encoder.finish().map_err(io)?);
                 match tmp {
-                    Some(tmp) => std::fs::rename(&tmp, &path).map_err(io),
+                    Some(tmp) => tmp.persist(),
                     None => Ok(()),
                 }
             }
-        }
-    }
-}
-
-impl Drop for Output {
-    fn drop(&mut self) {
-        // Not finished (an error happened): remove the partial file.
-        if let Some(Target::File { tmp: Some(tmp), .. } | Target::Gzip { tmp: Some(tmp), .. }) =
-            &self.target
-        {
-            let _ = std::fs::remove_file(tmp);
         }
     }
 }
@@ -262,6 +250,85 @@ fn strip_zeros(text: &str) -> &str {
 /// True when an output option means standard output: absent, or `-`.
 pub fn is_stdout(path: Option<&Path>) -> bool {
     path.is_none_or(|p| p.as_os_str() == "-")
+}
+
+/// Refuse a command line whose outputs would replace one of its inputs, or one another, before
+/// anything is read or written: one error, the input untouched.
+///
+/// `inputs` are the files read (a URI's file from [`uri_file`]; `-` and files that do not exist
+/// are skipped); `outputs` are the files the command will write (`None` and `-`, standard output,
+/// skipped). An output is an input when both name the same
+/// file: the same path, a symbolic or hard link to it, or another spelling of its path.
+pub fn refuse_overwrites(inputs: &[&Path], outputs: &[Option<&Path>]) -> Result<()> {
+    let outputs: Vec<&Path> = outputs
+        .iter()
+        .flatten()
+        .copied()
+        .filter(|path| !is_stdout(Some(path)) && !crate::io::is_special_file(path))
+        .collect();
+    for output in &outputs {
+        for file in inputs {
+            if file.as_os_str() != "-" && crate::io::same_file(output, file) {
+                let relation = if file == output {
+                    "is"
+                } else {
+                    "is the same file as"
+                };
+                return Err(Error::Invalid(format!(
+                    "the output '{}' {relation} the input '{}': writing it would destroy the \
+                     input; choose another output path (nothing was written)",
+                    output.display(),
+                    file.display()
+                )));
+            }
+        }
+    }
+    for (k, first) in outputs.iter().enumerate() {
+        if let Some(second) = outputs[..k].iter().find(|other| same_path(first, other)) {
+            let also = if second == first {
+                String::new()
+            } else {
+                format!(" (also as '{}')", second.display())
+            };
+            return Err(Error::Invalid(format!(
+                "'{}' is named for two outputs{also}: give each output its own path (nothing \
+                 was written)",
+                first.display()
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// The file of a matrix URI (`file.mcool::/resolutions/N` -> `file.mcool`), for
+/// [`refuse_overwrites`].
+pub fn uri_file(uri: &str) -> &Path {
+    Path::new(crate::io::split_uri(uri).0)
+}
+
+/// The file of a `FILE[:COLUMN]` option value, for [`refuse_overwrites`]: the whole value when
+/// such a file exists, else the part before the last `:`.
+pub fn column_file(argument: &str) -> &Path {
+    match argument.rsplit_once(':') {
+        Some((path, _)) if !Path::new(argument).exists() => Path::new(path),
+        _ => Path::new(argument),
+    }
+}
+
+/// Whether two output paths name one file: the same existing file, or, for files still to be
+/// written, the same name in the same folder.
+fn same_path(a: &Path, b: &Path) -> bool {
+    if crate::io::same_file(a, b) {
+        return true;
+    }
+    let folder = |p: &Path| {
+        let parent = match p.parent() {
+            Some(parent) if !parent.as_os_str().is_empty() => parent,
+            _ => Path::new("."),
+        };
+        std::fs::canonicalize(parent).ok()
+    };
+    a.file_name() == b.file_name() && a.file_name().is_some() && folder(a) == folder(b)
 }
 
 /// Print `value` on standard output as indented JSON (a command's `--json` summary).

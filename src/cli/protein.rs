@@ -113,6 +113,11 @@ pub struct TargetArgs {
 }
 
 impl TargetArgs {
+    /// The files these options name (structure, FASTA), inputs of the command.
+    pub fn files(&self) -> impl Iterator<Item = &Path> {
+        std::iter::once(self.structure.as_path()).chain(self.fasta.as_deref())
+    }
+
     /// The target sequence (`--fasta`, when given) and the chain of the structure.
     pub fn read(&self) -> Result<(Option<String>, Chain)> {
         let fasta = self

@@ -1,11 +1,11 @@
 //! `contactmap saddle`: the cis saddle of a compartment track, as `cooltools saddle`.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::Args;
 
 use crate::cli::input::{open_balanced, track_argument};
-use crate::cli::output::write_text_file;
+use crate::cli::output::{column_file, refuse_overwrites, uri_file, write_text_file};
 use crate::cli::InputArgs;
 use crate::compartments::saddle::{
     digitize, saddle_cis, saddle_strength, saddle_trans, Binning, SaddleParams,
@@ -119,6 +119,23 @@ pub fn run(args: &SaddleArgs) -> Result<()> {
         min_diag: args.min_diag,
         max_diag: args.max_diag,
     };
+    let prefix = args.out.to_string_lossy().into_owned();
+    let outputs: Vec<PathBuf> = ["saddle", "edges", "digitized", "strength"]
+        .iter()
+        .map(|what| PathBuf::from(format!("{prefix}.{what}.tsv")))
+        .collect();
+    let inputs: Vec<&Path> = [uri_file(&args.uri), column_file(&args.track)]
+        .into_iter()
+        .chain(args.view.as_deref())
+        .chain(args.input.files())
+        .collect();
+    refuse_overwrites(
+        &inputs,
+        &outputs
+            .iter()
+            .map(|p| Some(p.as_path()))
+            .collect::<Vec<_>>(),
+    )?;
     let (reader, weights, view) = open_balanced(
         &args.uri,
         &args.input,
@@ -139,7 +156,6 @@ pub fn run(args: &SaddleArgs) -> Result<()> {
     };
     let strength = saddle_strength(&saddle);
 
-    let prefix = args.out.to_string_lossy().into_owned();
     let n = saddle.n_classes;
     let mut table = String::from("i\tj\tsum\tcount\n");
     for a in 0..n {

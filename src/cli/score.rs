@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 
 use clap::{Args, Subcommand};
 
-use crate::cli::output::Output;
+use crate::cli::output::{refuse_overwrites, Output};
 use crate::cli::protein::{
     load_prediction, parse_length, parse_list_size, parse_range, DefinitionArgs, LabelledSize,
     LengthChoice, NamedRange, Placed, RegisterSummary, RoundingArg, TargetArgs,
@@ -136,6 +136,12 @@ fn run_boundaries(args: &BoundariesArgs) -> Result<()> {
     if args.bin_size == Some(0) {
         return Err(Error::Invalid("--bin-size must be positive".into()));
     }
+    let inputs: Vec<&Path> = [args.truth.as_path(), args.calls.as_path()]
+        .into_iter()
+        .chain(args.truth_domains.as_deref())
+        .chain(args.domains.as_deref())
+        .collect();
+    refuse_overwrites(&inputs, &[args.out.as_deref()])?;
     let truth = read_bed(&args.truth)?;
     let calls = read_bed(&args.calls)?;
     let tolerance_bp = if args.tolerance_bins == 0 {
@@ -607,6 +613,12 @@ fn write_table(args: &ContactsScoreArgs, chain: &str, reports: &[PredictionRepor
 }
 
 fn run_contacts(args: &ContactsScoreArgs) -> Result<()> {
+    let inputs: Vec<&Path> = args
+        .target
+        .files()
+        .chain(args.predictions.iter().map(PathBuf::as_path))
+        .collect();
+    refuse_overwrites(&inputs, &[args.out.as_deref(), args.curve.as_deref()])?;
     let (mut ranges, sizes) = args.lists.parse()?;
     if let Some(min) = args.min_sep {
         ranges = vec![NamedRange {

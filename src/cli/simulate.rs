@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 
 use clap::{Args, Subcommand};
 
-use crate::cli::output::Output;
+use crate::cli::output::{refuse_overwrites, Output};
 use crate::error::{Error, Result};
 use crate::genome::BinTable;
 use crate::io::bed::write_bed_line;
@@ -154,6 +154,14 @@ fn run_blocks(args: &BlocksArgs) -> Result<()> {
             "simulate writes a .cool file: give a file name to -o, not '-'".into(),
         ));
     }
+    refuse_overwrites(
+        &[],
+        &[
+            Some(&args.output),
+            args.truth_domains.as_deref(),
+            args.truth_boundaries.as_deref(),
+        ],
+    )?;
     let map = block_map(&args.params())?;
     let bins = map.matrix.bins().clone();
     let reader = InMemory::new("simulate blocks".into(), map.matrix);

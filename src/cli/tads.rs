@@ -1,12 +1,13 @@
 //! `contactmap tads`: TAD boundaries and domains along the chromosomes: diamond insulation (as
 //! `cooltools insulation`), directionality index (as cooltools) with Dixon's HMM, TopDom, Armatus.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
 
 use crate::cli::input::weights_and_view;
 use crate::cli::output::{is_stdout, print_json, write_real, write_u64, Output};
+use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::warnings::Warnings;
 use crate::cli::InputArgs;
 use crate::error::{Error, Result};
@@ -156,6 +157,18 @@ pub struct TadsArgs {
 
 /// Run `contactmap tads`.
 pub fn run(args: &TadsArgs) -> Result<()> {
+    let inputs: Vec<&Path> = std::iter::once(uri_file(&args.uri))
+        .chain(args.view.as_deref())
+        .chain(args.input.files())
+        .collect();
+    refuse_overwrites(
+        &inputs,
+        &[
+            args.out.as_deref(),
+            args.boundaries.as_deref(),
+            args.domains.as_deref(),
+        ],
+    )?;
     // Option values are checked before any file is read.
     parse_threshold(args)?;
     if args.json && is_stdout(args.out.as_deref()) {

@@ -13,6 +13,7 @@ use clap::Args;
 use serde_json::json;
 
 use crate::cli::output::Output;
+use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::error::{Error, Result};
 use crate::validate::{self, RepairOutcome, Report};
 
@@ -52,6 +53,10 @@ pub struct ValidateArgs {
 /// Run `contactmap validate`; exits with status 1 (after writing the report) when the file is
 /// invalid or cannot be repaired.
 pub fn run(args: &ValidateArgs) -> Result<()> {
+    refuse_overwrites(
+        &[uri_file(&args.uri)],
+        &[args.repair.as_deref(), args.out.as_deref()],
+    )?;
     let report = validate::validate(&args.uri)?;
     let mut text = String::new();
     let mut json = report.to_json();

@@ -8,6 +8,7 @@ use clap::Args;
 use crate::balance::{balance, BalanceParams, Method};
 use crate::cli::hic_output::{write_hic, DEFAULT_NORMALIZATIONS};
 use crate::cli::matrix_output::mcool_resolutions;
+use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::weights::stored_attributes;
 use crate::cli::InputArgs;
 use crate::error::{Error, Result};
@@ -95,6 +96,10 @@ pub fn run(args: &ZoomifyArgs) -> Result<()> {
         .out
         .clone()
         .unwrap_or_else(|| default_output(&args.input));
+    let inputs: Vec<&Path> = std::iter::once(uri_file(&args.input))
+        .chain(args.input_args.files())
+        .collect();
+    refuse_overwrites(&inputs, &[Some(&out)])?;
     let name = out.to_string_lossy().to_ascii_lowercase();
     let hic = name.ends_with(".hic");
     if !hic && !name.ends_with(".mcool") {

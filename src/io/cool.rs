@@ -128,6 +128,15 @@ pub(crate) fn file_builder() -> hdf5::FileBuilder {
     builder
 }
 
+/// Create a new HDF5 file at `path` exclusively (libhdf5's `H5F_ACC_EXCL`, which opens with
+/// `O_EXCL`: it fails on any existing name, a planted link included), for the temporaries of
+/// [`crate::io::atomic`].
+pub(crate) fn create_excl(path: &Path) -> Result<hdf5::File> {
+    file_builder()
+        .create_excl(path)
+        .map_err(|e| Error::hdf5(path, "creating the file", e))
+}
+
 fn resolutions_text(resolutions: &[u64]) -> String {
     resolutions
         .iter()
@@ -338,6 +347,7 @@ impl CoolReader {
             .group
             .dataset(&dataset_path)
             .map_err(|e| Error::hdf5(&self.path, format!("opening {dataset_path}"), e))?;
+        hdf5_guard::checked_len(&self.path, &dataset, &dataset_path, file_len(&self.path))?;
         let values = dataset
             .read_raw::<f64>()
             .map_err(|e| Error::hdf5(&self.path, format!("reading {dataset_path}"), e))?;
@@ -702,9 +712,15 @@ fn read_int_column(path: &str, group: &hdf5::Group, name: &str) -> Result<Vec<i6
     let dataset = group
         .dataset(name)
         .map_err(|e| Error::format(path, format!("missing dataset {name}: {e}")))?;
+    hdf5_guard::checked_len(path, &dataset, name, file_len(path))?;
     dataset
         .read_raw::<i64>()
         .map_err(|e| Error::hdf5(path, format!("reading {name}"), e))
+}
+
+/// The size of the file at `path` (0 when it cannot be read: the reads that follow say why).
+pub(crate) fn file_len(path: &str) -> u64 {
+    std::fs::metadata(path).map_or(0, |m| m.len())
 }
 
 fn read_chroms(path: &str, group: &hdf5::Group) -> Result<Vec<Chrom>> {
@@ -830,7 +846,16 @@ fn attribute_value(attr: &hdf5::Attribute) -> serde_json::Value {
     let Ok(descriptor) = attr.dtype().and_then(|t| t.to_descriptor()) else {
         return Value::Null;
     };
-    let scalar = attr.shape().iter().product::<usize>() <= 1;
+    // Attributes are small metadata: one holding more values than this is corrupt.
+    const MAX_ATTRIBUTE_VALUES: usize = 1 << 16;
+    let n_values = attr
+        .shape()
+        .iter()
+        .try_fold(1usize, |n, &d| n.checked_mul(d));
+    let Some(n_values) = n_values.filter(|&n| n <= MAX_ATTRIBUTE_VALUES) else {
+        return Value::Null;
+    };
+    let scalar = n_values <= 1;
     let float = |v: f64| serde_json::Number::from_f64(v).map_or(Value::Null, Value::Number);
     match descriptor {
         TypeDescriptor::Integer(_) | TypeDescriptor::Unsigned(_) if scalar => attr

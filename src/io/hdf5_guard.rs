@@ -153,6 +153,54 @@ pub fn lossy(bytes: &[u8]) -> String {
     String::from_utf8_lossy(bytes).into_owned()
 }
 
+/// Largest ratio of a dataset's size in memory to the bytes it occupies in the file. Deflate
+/// (cooler's compression) cannot compress more than about 1032:1 and blosc (as HiCMatrix uses
+/// it) about 160:1, so a
+/// dataset claiming more values than that is a corrupt dataspace, refused before any allocation.
+const MAX_EXPANSION: u64 = 4096;
+
+/// Datasets up to this many bytes in memory are read whatever their storage (compact layouts).
+const SMALL_DATASET_BYTES: u64 = 1 << 20;
+
+/// The number of values of `dataset` (`name` in the file `path` of `file_len` bytes), after
+/// checking that the file can hold them: a corrupt dataspace must give an error naming the
+/// dataset, not an allocation of terabytes.
+pub fn checked_len(
+    path: &str,
+    dataset: &hdf5::Dataset,
+    name: &str,
+    file_len: u64,
+) -> Result<usize> {
+    let (n_values, value_bytes, storage, filters) = guarded(path, name, || {
+        let value_bytes = dataset.dtype().map_or(1, |t| t.size());
+        let filters = dataset.dcpl().and_then(|p| p.get_filters());
+        (dataset.size(), value_bytes, dataset.storage_size(), filters)
+    });
+    // hdf5-metno's blosc filter indexes its parameters without checking their number and
+    // dereferences a null name for an unknown compressor code (SIGSEGV on a damaged filter
+    // message): its own parser checks them without crashing, so a pipeline it refuses is refused
+    // here before any chunk goes through the filter.
+    if let Err(e) = filters {
+        return Err(Error::format(
+            path,
+            format!("{name}: unsupported or corrupt filter pipeline ({e})"),
+        ));
+    }
+    let claimed = (n_values as u64).saturating_mul(value_bytes as u64);
+    if storage > file_len
+        || claimed > SMALL_DATASET_BYTES.saturating_add(MAX_EXPANSION.saturating_mul(storage))
+    {
+        return Err(Error::format(
+            path,
+            format!(
+                "{name} claims {n_values} values ({claimed} bytes) stored in {storage} bytes of a \
+                 {file_len}-byte file: its dataspace or chunk index is corrupt"
+            ),
+        ));
+    }
+    Ok(n_values)
+}
+
 /// Read a string dataset of any of the types cooler, HiCExplorer (PyTables) and h5py write:
 /// variable-length UTF-8 or ASCII, fixed-length ASCII or UTF-8 (at most 1,024 bytes, trailing
 /// NULs removed), under the deadline. Another type is an error naming `name`.

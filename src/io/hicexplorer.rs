@@ -95,48 +95,6 @@ fn open_file(path: &str) -> Result<hdf5::File> {
     })
 }
 
-/// Largest ratio of a dataset's size in memory to the bytes it occupies in the file. Deflate
-/// cannot compress more than about 1032:1 and blosc (as HiCMatrix uses it) about 160:1, so a
-/// dataset claiming more values than that is a corrupt dataspace, refused before any allocation.
-const MAX_EXPANSION: u64 = 4096;
-
-/// Datasets up to this many bytes in memory are read whatever their storage (compact layouts).
-const SMALL_DATASET_BYTES: u64 = 1 << 20;
-
-/// The number of values of `dataset` (`name` in the file `path` of `file_len` bytes), after
-/// checking that the file can hold them: a corrupt dataspace must give an error naming the
-/// dataset, not an allocation of terabytes.
-fn checked_len(path: &str, dataset: &hdf5::Dataset, name: &str, file_len: u64) -> Result<usize> {
-    let (n_values, value_bytes, storage, filters) = hdf5_guard::guarded(path, name, || {
-        let value_bytes = dataset.dtype().map_or(1, |t| t.size());
-        let filters = dataset.dcpl().and_then(|p| p.get_filters());
-        (dataset.size(), value_bytes, dataset.storage_size(), filters)
-    });
-    // hdf5-metno's blosc filter indexes its parameters without checking their number and
-    // dereferences a null name for an unknown compressor code (SIGSEGV on a damaged filter
-    // message): its own parser checks them without crashing, so a pipeline it refuses is refused
-    // here before any chunk goes through the filter.
-    if let Err(e) = filters {
-        return Err(Error::format(
-            path,
-            format!("{name}: unsupported or corrupt filter pipeline ({e})"),
-        ));
-    }
-    let claimed = (n_values as u64).saturating_mul(value_bytes as u64);
-    if storage > file_len
-        || claimed > SMALL_DATASET_BYTES.saturating_add(MAX_EXPANSION.saturating_mul(storage))
-    {
-        return Err(Error::format(
-            path,
-            format!(
-                "{name} claims {n_values} values ({claimed} bytes) stored in {storage} bytes of a \
-                 {file_len}-byte file: its dataspace or chunk index is corrupt"
-            ),
-        ));
-    }
-    Ok(n_values)
-}
-
 /// An open HiCExplorer `.h5` matrix.
 #[derive(Debug)]
 pub struct HicExplorerReader {
@@ -176,7 +134,7 @@ impl HicExplorerReader {
         // Every length is checked against the others (and against the file's size) before
         // anything is read from it.
         let shape_dataset = dataset("matrix/shape")?;
-        let n_shape = checked_len(path, &shape_dataset, "matrix/shape", file_len)?;
+        let n_shape = hdf5_guard::checked_len(path, &shape_dataset, "matrix/shape", file_len)?;
         if n_shape != 2 {
             return Err(Error::format(
                 path,
@@ -193,7 +151,7 @@ impl HicExplorerReader {
         let n_bins = shape[0] as usize;
         let expect_len = |name: &str, wanted: usize, what: &str| -> Result<hdf5::Dataset> {
             let found = dataset(name)?;
-            let n_values = checked_len(path, &found, name, file_len)?;
+            let n_values = hdf5_guard::checked_len(path, &found, name, file_len)?;
             if n_values != wanted {
                 return Err(Error::format(
                     path,
@@ -223,9 +181,9 @@ impl HicExplorerReader {
             ));
         }
         let data = dataset("matrix/data")?;
-        let nnz = checked_len(path, &data, "matrix/data", file_len)?;
+        let nnz = hdf5_guard::checked_len(path, &data, "matrix/data", file_len)?;
         let indices = dataset("matrix/indices")?;
-        let n_indices = checked_len(path, &indices, "matrix/indices", file_len)?;
+        let n_indices = hdf5_guard::checked_len(path, &indices, "matrix/indices", file_len)?;
         if n_indices != nnz {
             return Err(Error::format(
                 path,
@@ -273,7 +231,8 @@ impl HicExplorerReader {
         let mut nan_bins = Vec::new();
         if has_nan_bins {
             let nan_bins_dataset = dataset("nan_bins")?;
-            let n_nan_bins = checked_len(path, &nan_bins_dataset, "nan_bins", file_len)?;
+            let n_nan_bins =
+                hdf5_guard::checked_len(path, &nan_bins_dataset, "nan_bins", file_len)?;
             if n_nan_bins > n_bins {
                 return Err(Error::format(
                     path,

@@ -244,12 +244,13 @@ pub fn read_prediction(
 }
 
 fn parse_residue(field: &str, path: &Path, line: u64) -> Result<i32> {
+    use crate::io::structure::MAX_RESIDUE_NUMBER;
     match field.parse::<i32>() {
-        Ok(residue) if residue >= 1 => Ok(residue),
+        Ok(residue) if residue >= 1 && residue.unsigned_abs() <= MAX_RESIDUE_NUMBER => Ok(residue),
         _ => Err(Error::parse(
             path,
             line,
-            format!("residue number '{field}' is not a positive integer"),
+            format!("residue number '{field}' is not an integer from 1 to {MAX_RESIDUE_NUMBER}"),
         )),
     }
 }

@@ -34,6 +34,10 @@ use std::path::Path;
 
 use crate::error::{Error, Result};
 
+/// The largest residue number accepted, in magnitude (titin, the longest protein, has about
+/// 35,000 residues): larger numbers are corrupt fields, and numbering spans are allocated.
+pub const MAX_RESIDUE_NUMBER: u32 = 1_000_000;
+
 /// Modified amino acids kept as their parent residue: `(name in the file, parent name)`.
 ///
 /// Residues not in this table and not standard are ignored. `PCA` is deliberately absent (see
@@ -350,13 +354,20 @@ pub fn parse_pdb(text: &str, path: &Path) -> Result<Structure> {
         }
         let name = field(12, 16).trim().to_string();
         let number_text = field(22, 26).trim();
-        let number = number_text.parse::<i32>().map_err(|_| {
-            Error::parse(
-                path,
-                line_number,
-                format!("residue number '{number_text}' (columns 23-26) is not an integer"),
-            )
-        })?;
+        let number = number_text
+            .parse::<i32>()
+            .ok()
+            .filter(|n| n.unsigned_abs() <= MAX_RESIDUE_NUMBER)
+            .ok_or_else(|| {
+                Error::parse(
+                    path,
+                    line_number,
+                    format!(
+                        "residue number '{number_text}' (columns 23-26) is not an integer of at \
+                         most {MAX_RESIDUE_NUMBER} in magnitude"
+                    ),
+                )
+            })?;
         let insertion = field(26, 27).chars().next().filter(|c| *c != ' ');
         let atom = || {
             format!(
@@ -528,13 +539,20 @@ pub fn parse_mmcif(text: &str, path: &Path) -> Result<Structure> {
             && amino_acid(row[residue_name]).is_some()
         {
             let number_text = row[number];
-            let residue_number = number_text.parse::<i32>().map_err(|_| {
-                Error::parse(
-                    path,
-                    row_line,
-                    format!("residue number '{number_text}' is not an integer"),
-                )
-            })?;
+            let residue_number = number_text
+                .parse::<i32>()
+                .ok()
+                .filter(|n| n.unsigned_abs() <= MAX_RESIDUE_NUMBER)
+                .ok_or_else(|| {
+                    Error::parse(
+                        path,
+                        row_line,
+                        format!(
+                            "residue number '{number_text}' is not an integer of at most \
+                             {MAX_RESIDUE_NUMBER} in magnitude"
+                        ),
+                    )
+                })?;
             let insertion_code = insertion
                 .map(|column| row[column])
                 .filter(|code| *code != "?" && *code != ".")

@@ -200,7 +200,11 @@ pub(super) fn read_attr(path: &str, location: &hdf5::Location, name: &str) -> Op
             return None;
         }
         let attr = location.attr(name).ok()?;
-        if attr.shape().iter().product::<usize>() > 1 {
+        let n_values = attr
+            .shape()
+            .iter()
+            .try_fold(1usize, |n, &d| n.checked_mul(d));
+        if n_values.is_none_or(|n| n > 1) {
             return None;
         }
         match attr.dtype().ok()?.to_descriptor().ok()? {
@@ -318,6 +322,13 @@ impl CoolerCheck<'_> {
         let Some(dataset) = self.dataset(out, name, &[Kind::Integer]) else {
             return Ok(None);
         };
+        let full_name = format!("{}{name}", self.prefix());
+        crate::io::hdf5_guard::checked_len(
+            self.path,
+            &dataset,
+            &full_name,
+            crate::io::cool::file_len(self.path),
+        )?;
         dataset
             .read_raw::<i64>()
             .map(Some)
@@ -1162,9 +1173,12 @@ pub(super) fn check_coarsening(
     let Some(base) = coolers.first() else {
         return Ok(());
     };
-    let (Some(base_bins), Some(base_pixels), true, Some(base_resolution)) =
-        (&base.bins, &base.pixels, base.pixels_clean, base.resolution)
-    else {
+    let (Some(base_bins), Some(base_pixels), true, Some(base_resolution)) = (
+        &base.bins,
+        &base.pixels,
+        base.pixels_clean,
+        base.resolution.filter(|&r| r > 0),
+    ) else {
         out.notes.push(format!(
             "coarsening not checked: the base resolution {} has defects (listed above) or no fixed bin size",
             base.name

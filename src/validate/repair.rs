@@ -20,7 +20,7 @@ pub enum RepairOutcome {
 /// levels carry no weight columns then, as with `cooler zoomify`: rebalance them).
 pub fn repair(uri: &str, report: &Report, out: &Path) -> Result<RepairOutcome> {
     let (path, group) = io::split_uri(uri);
-    if same_file(Path::new(path), out) {
+    if io::same_file(Path::new(path), out) {
         return Err(Error::Invalid(format!(
             "--repair {}: the output is the input file; write the corrected copy elsewhere",
             out.display()
@@ -110,20 +110,6 @@ pub fn repair(uri: &str, report: &Report, out: &Path) -> Result<RepairOutcome> {
         actions.push("attributes recomputed from the data".into());
     }
     Ok(RepairOutcome::Written(actions))
-}
-
-/// True when `a` and `b` name the same file (same path, or same device and inode).
-pub(super) fn same_file(a: &Path, b: &Path) -> bool {
-    use std::os::unix::fs::MetadataExt;
-    if let (Ok(x), Ok(y)) = (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
-        if x == y {
-            return true;
-        }
-    }
-    match (std::fs::metadata(a), std::fs::metadata(b)) {
-        (Ok(x), Ok(y)) => x.dev() == y.dev() && x.ino() == y.ino(),
-        _ => false,
-    }
 }
 
 /// Read the base cooler in full: bins, pixels (upper triangle, sorted, summed), weights.

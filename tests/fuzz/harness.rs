@@ -20,10 +20,31 @@ use super::mutate::{self, Kind};
 /// A run longer than this is a hang.
 pub const HANG: Duration = Duration::from_secs(10);
 
+/// The deadline of each libhdf5 metadata read in the runs (`CONTACTMAP_HDF5_TIMEOUT`, seconds):
+/// 2 s unless the environment sets it. The mutants are small files, whose reads take
+/// milliseconds; a libhdf5 loop on a corrupt heap (F-MCOOL-1) then costs each run 2 s instead of
+/// the binary's default 5 s.
+fn hdf5_timeout() -> String {
+    std::env::var("CONTACTMAP_HDF5_TIMEOUT").unwrap_or_else(|_| "2".into())
+}
+
 /// The formats, in the order of the summary table.
-pub const FORMATS: [&str; 14] = [
-    "cool", "mcool", "hic", "bg2", "coo", "pairs", "bed", "pdb", "mmcif", "rr", "matrix", "npz",
-    "npy", "h5",
+pub const FORMATS: [&str; 15] = [
+    "cool",
+    "mcool",
+    "hic",
+    "hic-small",
+    "bg2",
+    "coo",
+    "pairs",
+    "bed",
+    "pdb",
+    "mmcif",
+    "rr",
+    "matrix",
+    "npz",
+    "npy",
+    "h5",
 ];
 
 /// A fixture to mutate and the commands that read a mutant of it.
@@ -60,6 +81,9 @@ pub enum Class {
     Ok,
     /// Exit 2 with one `contactmap: error:` line naming the file.
     CleanError,
+    /// `validate` found the file invalid: exit 1, its report on standard output, nothing on
+    /// standard error.
+    Invalid,
     /// A Rust panic (exit 101 or "panicked at").
     Panic,
     /// Killed by a signal (abort, segfault ...), or exit 134 / 139.
@@ -77,9 +101,10 @@ pub enum Class {
 
 impl Class {
     /// All classes, in table order.
-    pub const ALL: [Class; 8] = [
+    pub const ALL: [Class; 9] = [
         Class::Ok,
         Class::CleanError,
+        Class::Invalid,
         Class::Panic,
         Class::Signal,
         Class::Hang,
@@ -93,6 +118,7 @@ impl Class {
         match self {
             Class::Ok => "ok",
             Class::CleanError => "clean-error",
+            Class::Invalid => "invalid",
             Class::Panic => "panic",
             Class::Signal => "signal",
             Class::Hang => "hang",
@@ -104,7 +130,7 @@ impl Class {
 
     /// Whether this outcome is a failure of the campaign.
     pub fn is_failure(self) -> bool {
-        !matches!(self, Class::Ok | Class::CleanError)
+        !matches!(self, Class::Ok | Class::CleanError | Class::Invalid)
     }
 }
 
@@ -190,22 +216,86 @@ fn raw_seed(name: &str, file_name: &str, commands: Vec<Vec<String>>) -> Seed {
 /// are written into `aux`.
 pub fn format(name: &str, aux: &Path) -> Format {
     let bed = data("hg19.bins.2000kb.bed.gz");
-    let matrix = |uri: &str| {
+    // Every command that reads a matrix, with `options` (a text layout) after the input;
+    // `validate` for the formats it checks (.cool, .mcool, .hic).
+    let commands = |uri: &str, options: &[&str], validate: Option<&str>| {
+        let with = |args: &[&str]| -> Vec<String> {
+            let (head, tail) = args.split_at(args.len().min(2));
+            strings(&[head, options, tail].concat())
+        };
+        let mut list = vec![
+            with(&["info", uri]),
+            with(&["dump", uri]),
+            with(&["dump", uri, "-t", "bins"]),
+            with(&["convert", uri, "{O}.cool"]),
+            with(&["convert", uri, "{O}.hic"]),
+            with(&["zoomify", uri, "-o", "{O}.mcool"]),
+            with(&["balance", uri, "-o", "{O}.tsv"]),
+            with(&["expected", uri, "--raw", "-o", "{O}.tsv"]),
+            with(&["tads", uri, "--raw", "-o", "{O}.tsv"]),
+            with(&["normalize", uri, "{O}.cool"]),
+        ];
+        if let Some(file) = validate {
+            list.push(strings(&["validate", file]));
+        }
+        list
+    };
+    let matrix = |uri: &str| commands(uri, &[], Some("{P}"));
+    let protein = |name: &str| data(&format!("protein/{name}"));
+    // A prediction: scored, drawn, compared with itself.
+    let score = |structure: &str| {
+        let structure = protein(structure);
         vec![
-            strings(&["info", uri]),
-            strings(&["dump", uri]),
-            strings(&["convert", uri, "{O}.cool"]),
+            strings(&["score", "contacts", "--structure", &structure, "{P}"]),
+            strings(&[
+                "score",
+                "contacts",
+                "--structure",
+                &structure,
+                "{P}",
+                "--tsv",
+            ]),
+            strings(&[
+                "plot",
+                "contacts",
+                "--structure",
+                &structure,
+                "{P}",
+                "-o",
+                "{O}.svg",
+            ]),
+            strings(&["score", "overlap", "{P}", "{P}", "--length", "100"]),
         ]
     };
-    let protein = |name: &str| data(&format!("protein/{name}"));
-    let score = |structure: &str| {
-        vec![strings(&[
-            "score",
-            "contacts",
-            "--structure",
-            &protein(structure),
-            "{P}",
-        ])]
+    // A structure: its contacts and distances, on its sequence, and a prediction scored and
+    // drawn on it.
+    let structure = |fasta: &str, prediction: Option<&str>| {
+        let fasta = protein(fasta);
+        let mut list = vec![
+            strings(&["contacts", "{P}"]),
+            strings(&["contacts", "{P}", "--matrix"]),
+            strings(&["contacts", "{P}", "--fasta", &fasta]),
+        ];
+        if let Some(prediction) = prediction {
+            let prediction = protein(prediction);
+            list.push(strings(&[
+                "score",
+                "contacts",
+                "--structure",
+                "{P}",
+                &prediction,
+            ]));
+            list.push(strings(&[
+                "plot",
+                "contacts",
+                "--structure",
+                "{P}",
+                &prediction,
+                "-o",
+                "{O}.svg",
+            ]));
+        }
+        list
     };
     let (kind, seeds, companions) = match name {
         "cool" => (
@@ -226,22 +316,26 @@ pub fn format(name: &str, aux: &Path) -> Format {
             vec![],
         ),
         "mcool" => {
-            let mut commands = matrix("{P}::/resolutions/2");
-            commands[0] = strings(&["info", "{P}"]);
+            let mut list = matrix("{P}::/resolutions/2");
+            list[0] = strings(&["info", "{P}"]);
             (
                 Kind::Binary,
-                vec![raw_seed("toy.symm.upper.2.mcool", "m.mcool", commands)],
+                vec![raw_seed("toy.symm.upper.2.mcool", "m.mcool", list)],
                 vec![],
             )
         }
         "h5" => (
             Kind::Binary,
             vec![
-                raw_seed("hicexplorer/small_test_matrix.h5", "m.h5", matrix("{P}")),
+                raw_seed(
+                    "hicexplorer/small_test_matrix.h5",
+                    "m.h5",
+                    commands("{P}", &[], None),
+                ),
                 raw_seed(
                     "hicexplorer/ICEcorrected_chr3LHet.h5",
                     "m.h5",
-                    matrix("{P}"),
+                    commands("{P}", &[], None),
                 ),
             ],
             vec![],
@@ -258,13 +352,20 @@ pub fn format(name: &str, aux: &Path) -> Format {
                 vec![],
             )
         }
+        // Small one-resolution .hic v8 files from hictk's writer (a few kB, so mutations reach
+        // every part: header, master index, block index, blocks, footer).
+        "hic-small" => (
+            Kind::Binary,
+            vec![
+                raw_seed("hic_layouts/both_triangles.hic", "m.hic", matrix("{P}")),
+                raw_seed("hic_layouts/past_end.hic", "m.hic", matrix("{P}")),
+            ],
+            vec![],
+        ),
         "bg2" | "coo" | "bed" => {
             let bg2 = gunzip_head("hg19.GM12878-MboI.matrix.2000kb.bg2.gz", 2000);
             let text_commands = |file: &str, format: &str, bins: &str| {
-                vec![
-                    strings(&["info", file, "--format", format, "--bins", bins]),
-                    strings(&["dump", file, "--format", format, "--bins", bins]),
-                ]
+                commands(file, &["--format", format, "--bins", bins], None)
             };
             match name {
                 "bg2" => (
@@ -363,40 +464,38 @@ pub fn format(name: &str, aux: &Path) -> Format {
                         "data/hg19.GM12878-MboI.pairs.subsample.sorted.txt.gz, first 3,000 lines"
                             .into(),
                     file_name: "m.pairs".into(),
-                    commands: vec![
-                        [&["info", "{P}"][..], &options[..]]
-                            .concat()
-                            .iter()
-                            .map(|s| s.to_string())
-                            .collect(),
-                        [&["dump", "{P}"][..], &options[..]]
-                            .concat()
-                            .iter()
-                            .map(|s| s.to_string())
-                            .collect(),
-                    ],
+                    commands: commands("{P}", &options, None),
                 }],
                 vec![],
             )
         }
-        "pdb" => {
-            let contacts = || vec![strings(&["contacts", "{P}"])];
-            (
-                Kind::Text,
-                vec![
-                    raw_seed("protein/toxd/toxd.pdb", "m.pdb", contacts()),
-                    raw_seed("protein/1guuA/1guuA.pdb", "m.pdb", contacts()),
-                    raw_seed("protein/1a8o/1A8O.pdb", "m.pdb", contacts()),
-                ],
-                vec![],
-            )
-        }
+        "pdb" => (
+            Kind::Text,
+            vec![
+                raw_seed(
+                    "protein/toxd/toxd.pdb",
+                    "m.pdb",
+                    structure("toxd/toxd.fasta", Some("toxd/toxd.mat")),
+                ),
+                raw_seed(
+                    "protein/1guuA/1guuA.pdb",
+                    "m.pdb",
+                    structure("1guuA/1guuA.fasta", Some("1guuA/1guuA.contact.rr")),
+                ),
+                raw_seed(
+                    "protein/1a8o/1A8O.pdb",
+                    "m.pdb",
+                    structure("1a8o/1A8O.fasta", None),
+                ),
+            ],
+            vec![],
+        ),
         "mmcif" => (
             Kind::Text,
             vec![raw_seed(
                 "protein/1a8o/1A8O.cif",
                 "m.cif",
-                vec![strings(&["contacts", "{P}"])],
+                structure("1a8o/1A8O.fasta", None),
             )],
             vec![],
         ),
@@ -493,6 +592,7 @@ fn run_one(
     let err = std::fs::File::create(stderr_file).expect("stderr file");
     let mut child = Command::new(binary)
         .args(args)
+        .env("CONTACTMAP_HDF5_TIMEOUT", hdf5_timeout())
         .stdin(Stdio::null())
         .stdout(Stdio::null())
         .stderr(err)
@@ -524,6 +624,7 @@ fn classify(
     stderr: &str,
     names: &[&str],
     leftovers: &[String],
+    validate: bool,
 ) -> (Class, String, String) {
     let Some(status) = status else {
         let mut why = format!("still running after {HANG:?}");
@@ -553,6 +654,17 @@ fn classify(
     }
     if code == Some(0) {
         return (Class::Ok, words, String::new());
+    }
+    if validate && code == Some(1) && leftovers.is_empty() {
+        return if stderr.is_empty() {
+            (Class::Invalid, words, String::new())
+        } else {
+            (
+                Class::BadMessage,
+                words,
+                "validate: an invalid file with a message on standard error".into(),
+            )
+        };
     }
     if !leftovers.is_empty() {
         return (
@@ -610,7 +722,8 @@ pub fn run_mutant(
             .filter(|n| *n != pick.file_name)
             .collect();
         leftovers.sort();
-        let (class, status, why) = classify(status, &stderr, &names, &leftovers);
+        let validate = args.first().is_some_and(|a| a == "validate");
+        let (class, status, why) = classify(status, &stderr, &names, &leftovers, validate);
         // Outputs of a successful run (or leftovers of a failed one) must not meet the next run.
         for name in &leftovers {
             let _ = std::fs::remove_file(dir.join(name));

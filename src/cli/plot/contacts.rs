@@ -2,11 +2,12 @@
 //! the top-ranked predicted pairs coloured true / false positive, and the precision curve
 //! ([`crate::plot::protein`]).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::Args;
 
 use super::{write_figure, FigureArgs};
+use crate::cli::output::refuse_overwrites;
 use crate::cli::protein::{
     load_prediction, parse_length, parse_list_size, DefinitionArgs, RoundingArg, TargetArgs,
 };
@@ -93,6 +94,12 @@ fn display_name(path: &std::path::Path) -> String {
 
 /// Run `contactmap plot contacts`.
 pub fn run(args: &ContactsArgs) -> Result<()> {
+    let inputs: Vec<&Path> = args
+        .target
+        .files()
+        .chain(args.predictions.iter().map(PathBuf::as_path))
+        .collect();
+    refuse_overwrites(&inputs, &[Some(&args.figure.out)])?;
     let figure_options = args.figure.check(DEFAULT_WIDTH_IN)?;
     let (list_label, list_size) =
         parse_list_size(&args.top).map_err(|err| prefixed("--top", err))?;

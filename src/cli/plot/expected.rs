@@ -8,6 +8,7 @@ use clap::Args;
 use super::{write_figure, FigureArgs};
 use crate::cli::analysis::{headline, parse_fit_range, power_law, power_law_of_table, PowerLaw};
 use crate::cli::input::{open_for_analysis, read_cis_expected, weights_and_view};
+use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::InputArgs;
 use crate::error::{Error, Result};
 use crate::expected::CisParams;
@@ -165,6 +166,14 @@ fn load(
 
 /// Run `contactmap plot expected`.
 pub fn run(args: &ExpectedPlotArgs) -> Result<()> {
+    let inputs: Vec<&Path> = args
+        .inputs
+        .iter()
+        .map(|input| uri_file(input))
+        .chain(args.view.as_deref())
+        .chain(args.input.files())
+        .collect();
+    refuse_overwrites(&inputs, &[Some(&args.figure.out)])?;
     let figure = args.figure.check(DEFAULT_WIDTH_IN)?;
     let labels = match &args.labels {
         Some(labels) if labels.len() != args.inputs.len() => {

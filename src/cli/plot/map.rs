@@ -1,12 +1,13 @@
 //! `contactmap plot map`: a contact-map heatmap of a region or a pair of regions.
 
 use std::ops::Range;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::Args;
 
 use super::{write_figure, FigureArgs};
 use crate::cli::input::{open_for_analysis, read_weights};
+use crate::cli::output::{column_file, refuse_overwrites, uri_file};
 use crate::cli::InputArgs;
 use crate::error::{Error, Result};
 use crate::genome::{BinTable, Region};
@@ -135,6 +136,15 @@ const DEFAULT_WIDTH_IN: f64 = 6.0;
 
 /// Run `contactmap plot map`.
 pub fn run(args: &MapArgs) -> Result<()> {
+    let inputs: Vec<&Path> = std::iter::once(uri_file(&args.uri))
+        .chain(args.expected.as_deref().map(Path::new))
+        .chain(args.domains.as_deref())
+        .chain(args.boundaries.as_deref())
+        .chain(args.loops.as_deref())
+        .chain(args.track.iter().map(|track| column_file(track)))
+        .chain(args.input.files())
+        .collect();
+    refuse_overwrites(&inputs, &[Some(&args.figure.out)])?;
     let figure = args.figure.check(DEFAULT_WIDTH_IN)?;
     let colour_map =
         ColorMap::by_name(

@@ -5,6 +5,7 @@ use std::path::PathBuf;
 use clap::Args;
 
 use super::{write_figure, FigureArgs};
+use crate::cli::output::refuse_overwrites;
 use crate::error::{Error, Result};
 use crate::io::tables::Table;
 use crate::plot::saddle::{draw_saddle, SaddleFigure};
@@ -49,6 +50,7 @@ pub struct SaddlePlotArgs {
 
 /// Run `contactmap plot saddle`.
 pub fn run(args: &SaddlePlotArgs) -> Result<()> {
+    refuse_overwrites(&[args.saddle.as_path()], &[Some(&args.figure.out)])?;
     let figure = args.figure.check(DEFAULT_WIDTH_IN)?;
     let table = Table::read(&args.saddle.to_string_lossy())?;
     let (ci, cj, cs, cc) = (

@@ -8,7 +8,7 @@ use clap::Args;
 
 use super::real;
 use crate::cli::input::file_column;
-use crate::cli::output::Output;
+use crate::cli::output::{column_file, refuse_overwrites, Output};
 use crate::error::{Error, Result};
 use crate::io::bed::read_bed;
 use crate::io::tables::read_track;
@@ -50,6 +50,10 @@ pub struct CompartmentsScoreArgs {
 
 /// Run `contactmap score compartments`.
 pub fn run(args: &CompartmentsScoreArgs) -> Result<()> {
+    refuse_overwrites(
+        &[args.truth.as_path(), column_file(&args.eigs)],
+        &[args.out.as_deref()],
+    )?;
     let mut truth: HashMap<(String, u64, u64), f64> = HashMap::new();
     for record in read_bed(&args.truth)? {
         let name = record.name.as_deref().unwrap_or("");

@@ -1,12 +1,12 @@
 //! `contactmap score overlap`: two contact predictions compared with each other, without a
 //! structure ([`crate::score::overlap`]).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::Args;
 
 use super::{aligned, max_sep_text, real, ListArgs};
-use crate::cli::output::Output;
+use crate::cli::output::{refuse_overwrites, Output};
 use crate::cli::protein::{NamedRange, PredictionFormatArg};
 use crate::error::{Error, Result};
 use crate::io::predictions::{read_fasta, read_prediction};
@@ -61,6 +61,11 @@ pub struct OverlapArgs {
 
 /// Run `contactmap score overlap`.
 pub fn run(args: &OverlapArgs) -> Result<()> {
+    let inputs: Vec<&Path> = [args.first.as_path(), args.second.as_path()]
+        .into_iter()
+        .chain(args.fasta.as_deref())
+        .collect();
+    refuse_overwrites(&inputs, &[args.out.as_deref()])?;
     let (ranges, sizes) = args.lists.parse()?;
     if sizes
         .iter()

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
 
-use crate::cli::output::{write_real, Output};
+use crate::cli::output::{refuse_overwrites, write_real, Output};
 use crate::error::{Error, Result};
 use crate::genome::{BinTable, Chrom};
 use crate::io::bed::{read_bed, write_bed_line};
@@ -532,6 +532,18 @@ pub fn run(args: &PolymerArgs) -> Result<()> {
     if args.threads == Some(0) {
         return Err(Error::Invalid("--threads must be at least 1".into()));
     }
+    let ctcf_file = args.ctcf.as_deref().map(Path::new).filter(|p| p.is_file());
+    refuse_overwrites(
+        &ctcf_file.into_iter().collect::<Vec<_>>(),
+        &[
+            Some(&args.output),
+            args.truth_boundaries.as_deref(),
+            args.truth_domains.as_deref(),
+            args.truth_compartments.as_deref(),
+            args.conformations.as_deref(),
+            args.stats.as_deref(),
+        ],
+    )?;
     let params = args.params()?;
     let bins = bin_table(args)?;
     let bar = if std::io::stderr().is_terminal() {

@@ -163,6 +163,7 @@ impl Column {
         let dataset = group
             .dataset(name)
             .map_err(|e| Error::hdf5(path, format!("opening dataset {name}"), e))?;
+        crate::io::hdf5_guard::checked_len(path, &dataset, name, super::file_len(path))?;
         let shape = dataset.shape();
         if shape.len() != 1 {
             return Err(Error::format(
@@ -303,7 +304,13 @@ impl Column {
 fn direct_plan(dataset: &hdf5::Dataset, element: Element) -> Option<Plan> {
     let chunk = dataset.chunk()?;
     let chunk_len = *chunk.first()?;
-    if chunk.len() != 1 || chunk_len == 0 {
+    // Each task inflates one chunk into a buffer of its size: a chunk size from a corrupt
+    // layout (cooler writes chunks of about 1 MB) goes through the library instead.
+    const MAX_DIRECT_CHUNK_BYTES: usize = 64 << 20;
+    if chunk.len() != 1
+        || chunk_len == 0
+        || chunk_len.saturating_mul(element.size()) > MAX_DIRECT_CHUNK_BYTES
+    {
         return None;
     }
     let dtype = dataset.dtype().ok()?;

@@ -7,7 +7,8 @@ use hdf5::types::{FixedAscii, VarLenUnicode};
 use super::chunk_writer::{ChunkValue, ChunkedColumn};
 use crate::error::{Error, Result};
 use crate::genome::BinTable;
-use crate::io::{with_temporary, MatrixReader};
+use crate::io::atomic::with_temporary;
+use crate::io::MatrixReader;
 use crate::matrix::{invert_weight, CountType, PixelBlock, Weights};
 
 /// Elements per HDF5 chunk of the pixel columns (128 KiB of `int64` before compression).
@@ -35,10 +36,7 @@ pub fn write_cool(
     options: &CoolWriteOptions,
 ) -> Result<()> {
     check_chroms(reader)?;
-    with_temporary(path, |tmp| {
-        let file = super::file_builder()
-            .create(tmp)
-            .map_err(|e| Error::hdf5(tmp, "creating the file", e))?;
+    with_temporary(path, super::create_excl, |tmp, file| {
         let root = file
             .as_group()
             .map_err(|e| Error::hdf5(tmp, "opening the root group", e))?;
@@ -83,10 +81,7 @@ pub fn write_mcool(
         }
     }
     check_chroms(reader)?;
-    with_temporary(path, |tmp| {
-        let file = super::file_builder()
-            .create(tmp)
-            .map_err(|e| Error::hdf5(tmp, "creating the file", e))?;
+    with_temporary(path, super::create_excl, |tmp, file| {
         write_str_attr(tmp, &file, "format", "HDF5::MCOOL")?;
         write_int_attr(tmp, &file, "format-version", 2)?;
         write_str_attr(tmp, &file, "bin-type", "fixed")?;

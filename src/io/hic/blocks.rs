@@ -12,11 +12,23 @@ pub(super) const BLOCK_ENTRY_BYTES: u64 = 16;
 pub(super) const DENSE_SHORT_EMPTY: i16 = i16::MIN;
 
 /// The block index of one chromosome-pair matrix at the open resolution.
-#[derive(Debug, Default)]
+#[derive(Debug)]
 pub(super) struct MatrixIndex {
     pub(super) block_bin_count: u64,
     pub(super) block_column_count: u64,
     pub(super) blocks: Vec<BlockEntry>,
+}
+
+impl Default for MatrixIndex {
+    /// A matrix without blocks (the pair has no record at the resolution). The grid is one bin a
+    /// block, never zero: its sizes are divisors of the band planner.
+    fn default() -> Self {
+        MatrixIndex {
+            block_bin_count: 1,
+            block_column_count: 1,
+            blocks: Vec::new(),
+        }
+    }
 }
 
 /// Where one block lies in the file.

@@ -500,10 +500,12 @@ impl HicReader {
         // grid), about `band_budget_bytes` of compressed blocks each.
         let n_rows = rows.end - rows.start;
         let total_bytes: u64 = planned.iter().map(|p| p.1.size).sum();
+        // Aligned on the intra-chromosomal block grid (never wider than the chromosome, and at
+        // least one row, whatever the header says).
         let align = plans
             .iter()
-            .find(|p| p.intra)
-            .map_or(1, |p| p.index.block_bin_count);
+            .find(|p| p.intra && !p.index.blocks.is_empty())
+            .map_or(1, |p| p.index.block_bin_count.clamp(1, p.n1.max(1)));
         let wanted = ((n_rows as u128 * u128::from(self.band_budget_bytes))
             .div_ceil(u128::from(total_bytes.max(1))))
         .clamp(1, u128::from(n_rows)) as u64;

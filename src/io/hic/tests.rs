@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 use super::synthetic::{synthetic, write_hic};
 use super::*;
 use crate::error::Result;
+use crate::genome::BinTable;
 use crate::io::MatrixReader;
 use crate::matrix::CountType;
 
@@ -346,6 +347,33 @@ fn synthetic_files_round_trip_at_every_resolution() {
                 }
             }
         }
+    }
+}
+
+/// A chromosome pair listed in the master index with no matrix at the open resolution (its
+/// pixels only at another resolution) beside a pair that has one: the band planner once aligned
+/// on the empty matrix's grid of zero bins and divided by zero (issue 26, in `dump` and
+/// `validate` of fuzzed files).
+#[test]
+fn a_pair_without_a_matrix_at_the_resolution_is_read() {
+    let dir = tempfile::tempdir().unwrap();
+    for version in [8, 9] {
+        let mut s = synthetic(version);
+        let fine = BinTable::fixed(s.chroms.clone(), 10).unwrap();
+        let c1 = fine.chrom_bins(0);
+        let inside = |b: u64| c1.contains(&(b as usize));
+        // c1 x c1 only at 20 bp; c1 x c2 at both resolutions.
+        s.levels[0].1.retain(|&(i, j), _| !(inside(i) && inside(j)));
+        assert!(s.levels[0].1.keys().any(|&(i, j)| inside(i) && !inside(j)));
+        let path = write_temp(&dir, &format!("v{version}.hic"), &write_hic(&s));
+        let reader = HicReader::open(&path, Some(10)).unwrap();
+        let n = reader.bins().n_bins();
+        assert_eq!(dump(&reader, 0..n, 0..n), as_triplets(&s.levels[0].1));
+        let rows = c1.clone();
+        assert_eq!(
+            dump(&reader, rows.clone(), 0..n),
+            filter(&as_triplets(&s.levels[0].1), &rows, &(0..n))
+        );
     }
 }
 

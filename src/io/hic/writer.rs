@@ -164,7 +164,12 @@ impl HicWriter {
                 options.block_bin_count
             )));
         }
-        let file = File::create(path).map_err(|e| Error::io(path, e))?;
+        // Exclusively: `path` is a temporary name (crate::io::atomic), never followed as a link.
+        let file = File::options()
+            .write(true)
+            .create_new(true)
+            .open(path)
+            .map_err(|e| Error::io(path, e))?;
         let mut writer = HicWriter {
             path: path.to_path_buf(),
             out: BufWriter::with_capacity(1 << 20, file),

@@ -1,8 +1,7 @@
 //! Writing a matrix as a BG2 or COO table or a dense matrix.
 
-use std::fs::File;
 use std::io::{BufWriter, Write};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use flate2::write::GzEncoder;
 use flate2::Compression;
@@ -46,7 +45,7 @@ pub fn write_text(reader: &dyn MatrixReader, path: &str, format: TextFormat) -> 
         write_body(reader, format, &mut out, path)?;
         return out.flush().map_err(|e| Error::io(path, e));
     }
-    let (pending, file) = PendingOutput::create(Path::new(path))?;
+    let (pending, file) = crate::io::Temporary::create(Path::new(path))?;
     let buffered = BufWriter::with_capacity(BUFFER_BYTES, file);
     let buffered = if path.ends_with(".gz") {
         let mut encoder = GzEncoder::new(buffered, Compression::default());
@@ -61,46 +60,6 @@ pub fn write_text(reader: &dyn MatrixReader, path: &str, format: TextFormat) -> 
         .into_inner()
         .map_err(|e| Error::io(path, e.into_error()))?;
     pending.persist()
-}
-
-/// A temporary file next to the target, renamed onto it by [`PendingOutput::persist`] and removed
-/// if dropped before.
-struct PendingOutput {
-    temporary: PathBuf,
-    target: PathBuf,
-    persisted: bool,
-}
-
-impl PendingOutput {
-    fn create(target: &Path) -> Result<(Self, File)> {
-        let temporary = crate::io::temporary_path(target)?;
-        let file = File::options()
-            .write(true)
-            .create_new(true)
-            .open(&temporary)
-            .map_err(|e| Error::io(target, e))?;
-        let pending = PendingOutput {
-            temporary,
-            target: target.to_path_buf(),
-            persisted: false,
-        };
-        Ok((pending, file))
-    }
-
-    fn persist(mut self) -> Result<()> {
-        std::fs::rename(&self.temporary, &self.target).map_err(|e| Error::io(&self.target, e))?;
-        self.persisted = true;
-        Ok(())
-    }
-}
-
-impl Drop for PendingOutput {
-    fn drop(&mut self) {
-        if !self.persisted {
-            // Best effort: the temporary file is ours and incomplete.
-            let _ = std::fs::remove_file(&self.temporary);
-        }
-    }
 }
 
 /// Append the decimal digits of `value`.
