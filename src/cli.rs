@@ -85,7 +85,8 @@ pub enum Command {
     /// `simulate polymer` (bead-spring polymer ensembles with loop extrusion, CPU or GPU).
     Simulate(simulate::SimulateArgs),
     /// Score calls against a truth: `score boundaries` (TAD boundaries and domains), `score
-    /// contacts` (protein residue-contact predictions against a structure).
+    /// compartments` (eigenvectors against A/B truth), `score contacts` (protein residue-contact
+    /// predictions against a structure), `score overlap` (two contact predictions).
     Score(score::ScoreArgs),
     /// True residue contacts of a protein structure (PDB / mmCIF) as CASP RR, or its residue
     /// distance matrix.
@@ -94,13 +95,115 @@ pub enum Command {
     /// `--repair OUT` writes a corrected copy of a cooler.
     Validate(validate::ValidateArgs),
     /// Figures as PNG or SVG: `plot map` (contact-map heatmaps, square or 45-degree, with
-    /// domains, loops and tracks), `plot expected` (P(s) and power laws), `plot contacts`
-    /// (protein contact maps).
+    /// domains, loops and tracks), `plot expected` (P(s) and power laws), `plot saddle` (saddle
+    /// plots), `plot contacts` (protein contact maps).
     Plot(plot::PlotArgs),
     /// Shell completion script (bash, zsh, fish) on standard output.
     Completions(shell::CompletionsArgs),
     /// Man pages, one per command, into a folder (`make man`).
     Man(shell::ManArgs),
+}
+
+/// The width help is written at: the terminal's (or `COLUMNS`) between 80 and 100 columns, 100
+/// without either. Never below 80, so that the examples of every `--help` (at most 78 columns,
+/// continued with `\` past that) are never wrapped inside a command and can be pasted; a
+/// narrower terminal folds the long lines itself without breaking them.
+fn help_width() -> usize {
+    #[cfg(unix)]
+    let terminal = rustix::termios::tcgetwinsize(std::io::stdout())
+        .ok()
+        .map(|size| usize::from(size.ws_col))
+        .filter(|&w| w > 0);
+    #[cfg(not(unix))]
+    let terminal: Option<usize> = None;
+    terminal
+        .or_else(|| std::env::var("COLUMNS").ok()?.trim().parse().ok())
+        .unwrap_or(100)
+        .clamp(80, 100)
+}
+
+/// The command-line definition: [`Cli`]'s, with every option that takes one value accepting a
+/// value that starts with `-` (`--vmin -2`, `--window -50k`), so that a negative number reaches
+/// the option's own check ("--window must be positive") instead of being read as an unknown
+/// flag; help written at [`help_width`].
+pub fn command() -> clap::Command {
+    fn hyphen_values(command: clap::Command) -> clap::Command {
+        command
+            .mut_args(|arg| {
+                let one_value = matches!(
+                    arg.get_action(),
+                    clap::ArgAction::Set | clap::ArgAction::Append
+                ) && arg
+                    .get_num_args()
+                    .is_none_or(|range| range.max_values() == 1);
+                if one_value && !arg.is_positional() {
+                    arg.allow_hyphen_values(true)
+                } else {
+                    arg
+                }
+            })
+            .mut_subcommands(hyphen_values)
+    }
+    hyphen_values(<Cli as clap::CommandFactory>::command()).term_width(help_width())
+}
+
+/// Parse a command line (the program name first) with [`command`].
+pub fn parse<I, T>(args: I) -> std::result::Result<Cli, clap::Error>
+where
+    I: IntoIterator<Item = T>,
+    T: Into<std::ffi::OsString> + Clone,
+{
+    let matches = command().try_get_matches_from(args)?;
+    <Cli as clap::FromArgMatches>::from_arg_matches(&matches)
+}
+
+/// A command-line error in one line, as every other error is printed (after
+/// `contactmap: error: `): clap's message, then the usage line and where to read more.
+pub fn argument_error_line(error: &clap::Error) -> String {
+    let text = error.render().to_string();
+    // clap's paragraphs: the message (with its list of missing arguments or possible values),
+    // tips, the usage, "For more information".
+    let paragraphs: Vec<String> = text
+        .split("\n\n")
+        .map(|p| p.split_whitespace().collect::<Vec<_>>().join(" "))
+        .filter(|p| !p.is_empty())
+        .collect();
+    let mut message = paragraphs
+        .first()
+        .map_or("bad arguments", |p| p.trim_start_matches("error: "))
+        .to_string();
+    // A negative number for an unsigned option: say so instead of Rust's parse error.
+    let negative = matches!(
+        error.get(clap::error::ContextKind::InvalidValue),
+        Some(clap::error::ContextValue::String(value))
+            if value.starts_with('-') && value[1..].parse::<f64>().is_ok()
+    );
+    if negative {
+        if let Some((head, _)) = message.split_once("': ") {
+            message =
+                format!("{head}': a number of 0 or more is expected here, not a negative one");
+        }
+    }
+    for tip in paragraphs.iter().filter(|p| p.starts_with("tip: ")) {
+        message.push_str(&format!("; {tip}"));
+    }
+    let usage = text
+        .lines()
+        .find_map(|l| l.trim().strip_prefix("Usage: "))
+        .map(str::trim);
+    match usage {
+        Some(usage) => {
+            let command: Vec<&str> = usage
+                .split_whitespace()
+                .take_while(|word| !word.starts_with(['-', '[', '<']))
+                .collect();
+            format!(
+                "{message} (usage: {usage}; see `{} --help`)",
+                command.join(" ")
+            )
+        }
+        None => message,
+    }
 }
 
 /// Run a parsed command line.

@@ -519,6 +519,32 @@ pub fn format_bp(value: f64) -> String {
     format!("{trimmed} {unit}")
 }
 
+/// A distance that is not a round number of bins (the effective distance of a log bin) to three
+/// significant digits: `10.9 kb`, `892 kb`, `4.43 Mb`.
+pub fn format_distance(value: f64) -> String {
+    let (scaled, unit) = if value.abs() >= 1e6 {
+        (value / 1e6, "Mb")
+    } else if value.abs() >= 1e3 {
+        (value / 1e3, "kb")
+    } else {
+        (value, "bp")
+    };
+    let decimals = if scaled.abs() >= 100.0 {
+        0
+    } else if scaled.abs() >= 10.0 {
+        1
+    } else {
+        2
+    };
+    let digits = format!("{scaled:.decimals$}");
+    let trimmed = if digits.contains('.') {
+        digits.trim_end_matches('0').trim_end_matches('.')
+    } else {
+        &digits
+    };
+    format!("{trimmed} {unit}")
+}
+
 /// Parse a base-pair position such as `1,000,000`, `1_000_000`, `1.5M`, `200kb`.
 pub fn parse_bp(text: &str) -> std::result::Result<u64, String> {
     let cleaned: String = text
@@ -541,6 +567,11 @@ pub fn parse_bp(text: &str) -> std::result::Result<u64, String> {
     .unwrap_or((lower.as_str(), 1.0));
     if number.is_empty() {
         return Err(format!("'{text}' is not a position"));
+    }
+    if number.starts_with('-') && number[1..].parse::<f64>().is_ok() {
+        return Err(format!(
+            "'{text}' is negative: base-pair positions and sizes are 0 or more"
+        ));
     }
     if multiplier == 1.0 {
         return number.parse::<u64>().map_err(|_| {

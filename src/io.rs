@@ -217,6 +217,9 @@ pub fn open_matrix(uri: &str, options: &OpenOptions) -> Result<Box<dyn MatrixRea
             Ok(Box::new(hic::HicReader::open(Path::new(path), resolution)?))
         }
         FileKind::Text => {
+            if let Some(expected) = binary_extension(path) {
+                return Err(not_binary(path, expected));
+            }
             if group.is_some() {
                 return Err(Error::format(
                     path,
@@ -229,6 +232,48 @@ pub fn open_matrix(uri: &str, options: &OpenOptions) -> Result<Box<dyn MatrixRea
             )))
         }
     }
+}
+
+/// The binary format a file name promises (`.cool`, `.mcool`, `.h5` / `.hdf5`: HDF5; `.hic`),
+/// if any.
+fn binary_extension(path: &str) -> Option<&'static str> {
+    let extension = Path::new(path).extension()?.to_str()?.to_ascii_lowercase();
+    match extension.as_str() {
+        "cool" | "mcool" | "h5" | "hdf5" => Some("HDF5"),
+        "hic" => Some(".hic"),
+        _ => None,
+    }
+}
+
+/// The error for a file named as a binary format whose first bytes are not that format's.
+fn not_binary(path: &str, expected: &str) -> Error {
+    let size = std::fs::metadata(path).map_or(0, |m| m.len());
+    let what = if size == 0 {
+        "it is empty".to_string()
+    } else {
+        let mut head = [0u8; 16];
+        let n = std::fs::File::open(path)
+            .and_then(|mut f| f.read(&mut head))
+            .unwrap_or(0);
+        let text: String = String::from_utf8_lossy(&head[..n])
+            .chars()
+            .map(|c| if c.is_control() { '.' } else { c })
+            .collect();
+        format!("its {size} bytes start with '{text}'")
+    };
+    let signature = if expected == "HDF5" {
+        "the HDF5 signature \\x89HDF"
+    } else {
+        "HIC\\0"
+    };
+    Error::format(
+        path,
+        format!(
+            "not a{} {expected} file: {what}, not {signature} (truncated while downloading, or \
+             another format under this name?)",
+            if expected == "HDF5" { "n" } else { "" }
+        ),
+    )
 }
 
 /// Parse `/resolutions/N` (or a bare `N`) in a URI.

@@ -6,7 +6,7 @@
 
 use std::process::ExitCode;
 
-use clap::Parser;
+use clap::error::ErrorKind;
 
 /// A libhdf5 metadata read that never returns (a corrupt file): one line, exit 2.
 fn hdf5_timed_out(message: &str) {
@@ -16,7 +16,26 @@ fn hdf5_timed_out(message: &str) {
 
 fn main() -> ExitCode {
     contactmap::io::hdf5_guard::set_timeout_handler(hdf5_timed_out);
-    let cli = contactmap::cli::Cli::parse();
+    let cli = match contactmap::cli::parse(std::env::args_os()) {
+        Ok(cli) => cli,
+        Err(error)
+            if matches!(
+                error.kind(),
+                ErrorKind::DisplayHelp
+                    | ErrorKind::DisplayVersion
+                    | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
+            ) =>
+        {
+            error.exit()
+        }
+        Err(error) => {
+            eprintln!(
+                "contactmap: error: {}",
+                contactmap::cli::argument_error_line(&error)
+            );
+            return ExitCode::from(2);
+        }
+    };
     match contactmap::cli::run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(error) if error.is_broken_pipe() => ExitCode::SUCCESS,

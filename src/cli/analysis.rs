@@ -8,7 +8,7 @@ use crate::expected::powerlaw::{
     default_fit_range, fit_log_binned, FitParams, FitRange, PowerLawReport,
 };
 use crate::expected::{expected_cis, CisExpected, CisParams, View};
-use crate::genome::format_bp;
+use crate::genome::{format_bp, format_distance};
 use crate::io::LoadedPixels;
 
 /// A cis expected table, its log-binned P(s) and the power-law fits (the fit may fail: too few
@@ -104,18 +104,23 @@ pub fn parse_fit_range(text: &str) -> Result<FitRange> {
     Ok(range)
 }
 
-/// The one-line summary: `P(s) ~ s^-1.08 [95% CI -1.10, -1.06], R² 0.998, 100 kb - 10 Mb`.
+/// The one-line summary: the exponent, its interval, R² and the distances of the points fitted
+/// (log bins have effective distances, so the first point lies inside the range asked for:
+/// `P(s) ~ s^-1.08 [95% CI -1.10, -1.06], R² 0.998, fitted 126 kb - 8.9 Mb (20 log bins in
+/// 100 kb - 10 Mb)`).
 pub fn headline(report: &PowerLawReport) -> String {
     let fit = &report.fit;
     format!(
-        "P(s) ~ s^{:.2} [95% CI {:.2}, {:.2}], R² {:.3}, {} - {} ({} log bins)",
+        "P(s) ~ s^{:.2} [95% CI {:.2}, {:.2}], R² {:.3}, fitted {} - {} ({} log bins in {} - {})",
         fit.alpha,
         fit.ci95.0,
         fit.ci95.1,
         fit.r_squared,
+        format_distance(fit.first_bp),
+        format_distance(fit.last_bp),
+        fit.n_points,
         format_bp(report.range.min_bp),
         format_bp(report.range.max_bp),
-        fit.n_points
     )
 }
 

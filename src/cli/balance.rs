@@ -88,10 +88,13 @@ iteration streams them from the file (slower, same weights).
 
 Examples:
   contactmap balance data/CN.mm9.10000kb.cool -o weights.tsv
-  contactmap balance data/cooler_test_file.mcool::/resolutions/100000 --cis-only
+  contactmap balance data/cooler_test_file.mcool::/resolutions/100000 \\
+      --cis-only
   contactmap balance copy.cool --store --force --name weight
-  contactmap balance data/cooler_test_file.mcool::/resolutions/100000 --method kr --cis-only
-  contactmap balance data/cooler_test_file.mcool::/resolutions/100000 --method scale --cis-only
+  contactmap balance data/cooler_test_file.mcool::/resolutions/100000 \\
+      --method kr --cis-only
+  contactmap balance data/cooler_test_file.mcool::/resolutions/100000 \\
+      --method scale --cis-only
   contactmap balance big.cool --blacklist gaps.bed --max-memory 2G -o w.tsv.gz")]
 pub struct BalanceArgs {
     /// Matrix URI: file.cool, file.mcool::/resolutions/N; .hic and text tables too, without --store.

@@ -74,9 +74,12 @@ Outputs (PREFIX as given by -o; cis, or trans with --trans):
                         row, eigval1 .. eigvaln)
 
 Examples:
-  contactmap compartments in.mcool::/resolutions/100000 --fasta hg38.fa.gz -o out/sample
-  contactmap compartments in.cool --phasing-track gc.bedgraph:4 --n-eigs 3 -o eigs
-  contactmap compartments in.cool --view arms.bed --phasing-track genes.tsv:density -o arms
+  contactmap compartments in.mcool::/resolutions/100000 --fasta hg38.fa.gz \\
+      -o out/sample
+  contactmap compartments in.cool --phasing-track gc.bedgraph:4 --n-eigs 3 \\
+      -o eigs
+  contactmap compartments in.cool --view arms.bed \\
+      --phasing-track genes.tsv:density -o arms
   contactmap compartments in.mcool::/resolutions/1000000 --trans -o trans")]
 pub struct CompartmentsArgs {
     /// The map (balanced: it needs a weight column).

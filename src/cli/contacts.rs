@@ -35,10 +35,12 @@ With --matrix: the distance matrix of the observed residues in Angstrom (3 decim
 tab-separated table whose first row and column are the residue numbers.
 
 Examples:
-  contactmap contacts 1abc.pdb                    # Cb, d < 8 A, separation >= 6
-  contactmap contacts 1abc.cif --chain B --atom heavy --cutoff 5 --min-sep 1 -o B.rr
+  contactmap contacts 1abc.pdb             # Cb, d < 8 A, separation >= 6
+  contactmap contacts 1abc.cif --chain B --atom heavy --cutoff 5 --min-sep 1 \\
+      -o B.rr
   contactmap contacts 1abc.pdb --matrix -o distances.tsv
-  contactmap contacts 1a8o.cif --fasta 1a8o.fasta -o true.rr    # sequence numbering")]
+  # sequence numbering
+  contactmap contacts 1a8o.cif --fasta 1a8o.fasta -o true.rr")]
 pub struct ContactsArgs {
     /// The structure (.pdb / .ent or .cif / .mmcif, optionally .gz).
     #[arg(value_name = "STRUCTURE")]

@@ -37,10 +37,14 @@ open blocks while streaming, then one chromosome's intra-chromosomal pixels at a
 
 Examples:
   contactmap convert data/hic_test_file.hic out.cool
-  contactmap convert in.cool out.mcool --resolutions 100000,200000,500000,1000000
-  contactmap convert in.mcool::/resolutions/5000 out.hic --resolutions 5000N --genome hg38
-  contactmap convert pairs.txt.gz out.cool --bin-size 2000000 --chrom-sizes hg19.sizes --pairs-columns 1,2,4,5
-  contactmap convert in.mcool::/resolutions/100000 - --to bg2 | gzip > out.bg2.gz")]
+  contactmap convert in.cool out.mcool \\
+      --resolutions 100000,200000,500000,1000000
+  contactmap convert in.mcool::/resolutions/5000 out.hic --resolutions 5000N \\
+      --genome hg38
+  contactmap convert pairs.txt.gz out.cool --bin-size 2000000 \\
+      --chrom-sizes hg19.sizes
+  contactmap convert in.mcool::/resolutions/100000 - \\
+      --to bg2 | gzip > out.bg2.gz")]
 pub struct ConvertArgs {
     /// Input URI (file.cool, file.mcool::/resolutions/N, file.hic[::/resolutions/N], text, pairs).
     pub input: String,

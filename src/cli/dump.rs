@@ -42,7 +42,8 @@ weights in use.
 
 Examples:
   contactmap dump data/cooler_test_file.mcool::/resolutions/100000 | head
-  contactmap dump data/hic_test_file.hic -r chr2L:1,000,000-2,000,000 --join --balanced=KR
+  contactmap dump data/hic_test_file.hic -r chr2L:1,000,000-2,000,000 \\
+      --join --balanced=KR
   contactmap dump data/yeast.10kb.cool -t bins -H")]
 pub struct DumpArgs {
     /// Matrix URI: file.cool, file.mcool::/resolutions/N, file.hic[::/resolutions/N], text table.
@@ -173,7 +174,12 @@ fn dump_pixels(reader: &dyn MatrixReader, args: &DumpArgs, out: &mut Output) -> 
         (None, _) => rows.clone(),
     };
     let weights = match &args.balanced {
-        Some(name) => Some(reader.weights(name)?.values),
+        Some(name) => Some(crate::cli::input::read_weights(
+            reader,
+            name,
+            "--balanced",
+            false,
+        )?),
         None => None,
     };
     let formatter = PixelFormatter {

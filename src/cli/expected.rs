@@ -50,9 +50,11 @@ The view (--view) is a BED file `chrom start end [name]` of sorted, non-overlapp
 The default fit range is max(ignore-diags, 2) bins to a quarter of the median region length.
 
 Examples:
-  contactmap expected data/cooler_test_file.mcool::/resolutions/100000 -o exp.tsv
+  contactmap expected data/cooler_test_file.mcool::/resolutions/100000 \\
+      -o exp.tsv
   contactmap expected data/hg19.GM12878-MboI.matrix.2000kb.cool --raw --trans
-  contactmap expected data/cooler_test_file.mcool::/resolutions/100000 --fit --fit-range 200k-5M
+  contactmap expected data/cooler_test_file.mcool::/resolutions/100000 \\
+      --fit --fit-range 200k-5M
   contactmap expected big.cool --raw --logbin --view arms.bed")]
 pub struct ExpectedArgs {
     /// Matrix URI: file.cool, file.mcool::/resolutions/N, file.hic[::/resolutions/N], text table.
@@ -139,6 +141,11 @@ fn check(args: &ExpectedArgs) -> Result<Checked> {
             "--smooth-sigma must be a positive number (got {})",
             args.smooth_sigma
         )));
+    }
+    if args.fit_range.is_some() && !matches!(report, Report::Fit { .. }) {
+        return Err(Error::Invalid(
+            "--fit-range sets the distances of the power-law fit: add --fit (or --json)".into(),
+        ));
     }
     let fit_range = args.fit_range.as_deref().map(parse_fit_range).transpose()?;
     let max_memory = args

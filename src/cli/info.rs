@@ -17,9 +17,10 @@ use crate::io::{self, FileKind, MatrixReader};
 #[command(after_long_help = "\
 Examples:
   contactmap info data/hic_test_file.hic
-  contactmap info data/cooler_test_file.mcool            # lists every resolution
+  contactmap info data/cooler_test_file.mcool   # lists every resolution
   contactmap info data/cooler_test_file.mcool::/resolutions/100000 --json
-  contactmap info samples/*.cool --json > summary.jsonl   # one JSON object per line, per input
+  # one JSON object per line, per input
+  contactmap info samples/*.cool --json > summary.jsonl
 
 With several inputs, one report per input is written as soon as it is read: text reports
 separated by a blank line, or with --json one compact JSON object per line (JSON Lines). The

@@ -26,23 +26,61 @@ pub fn open_for_analysis(uri: &str, input: &InputArgs) -> Result<Box<dyn MatrixR
     Ok(Box::new(CheckedCounts::new(reader)))
 }
 
-/// The weight column `name`, or an error listing the available ones.
-pub fn read_weights(reader: &dyn MatrixReader, name: &str) -> Result<Vec<f64>> {
-    let names = reader.weight_names();
-    if !names.iter().any(|n| n == name) {
-        let available = if names.is_empty() {
-            "it has none".to_string()
-        } else {
-            format!("it has {}", names.join(", "))
-        };
-        return Err(Error::format(
-            reader.source(),
-            format!(
-                "no weight column '{name}' ({available}); use --weight-name NAME, or --raw for raw counts"
-            ),
-        ));
+/// The weight column `name`, or [`missing_weights`]' error: `option` is the command's option
+/// that names a column (`--weight-name`, `--balanced`), `raw_option` whether it has `--raw`.
+pub fn read_weights(
+    reader: &dyn MatrixReader,
+    name: &str,
+    option: &str,
+    raw_option: bool,
+) -> Result<Vec<f64>> {
+    if !reader.weight_names().iter().any(|n| n == name) {
+        return Err(missing_weights(reader, name, option, raw_option));
     }
     Ok(reader.weights(name)?.values)
+}
+
+/// The one wording of "this map has no weights" (or not the column asked for), with the command
+/// that makes them for this kind of file: `balance --store` for a cooler, a .cool copy for a
+/// .hic or a text table; the columns it has, for `option`; `--raw` where the command has it.
+pub fn missing_weights(
+    reader: &dyn MatrixReader,
+    name: &str,
+    option: &str,
+    raw_option: bool,
+) -> Error {
+    let uri = reader.source();
+    let names = reader.weight_names();
+    let kind = io::detect_kind(io::split_uri(uri).0).unwrap_or(io::FileKind::Text);
+    let store = if name == "weight" {
+        String::new()
+    } else {
+        format!(" --name {name}")
+    };
+    let make = match kind {
+        io::FileKind::Hdf5 if reader.info().format.starts_with("cool") => {
+            format!("balance it first: `contactmap balance {uri} --store{store}`")
+        }
+        _ => format!(
+            "balance a .cool copy: `contactmap convert {uri} copy.cool`, then `contactmap balance \
+             copy.cool --store{store}`"
+        ),
+    };
+    let raw = if raw_option {
+        "; or pass --raw for raw counts"
+    } else {
+        ""
+    };
+    let message = if names.is_empty() {
+        format!("this map has no weights (no balancing weight column '{name}'): {make}{raw}")
+    } else {
+        format!(
+            "this map has no weight column '{name}' (it has {}): choose one with {option} NAME, \
+             or {make}{raw}",
+            names.join(", ")
+        )
+    };
+    Error::format(uri, message)
 }
 
 /// Open `uri` for an analysis of balanced values: the reader, the weight column `weight_name`
@@ -55,8 +93,12 @@ pub fn open_balanced(
     view: Option<&Path>,
 ) -> Result<(Box<dyn MatrixReader>, Vec<f64>, View)> {
     let reader = open_for_analysis(uri, input)?;
-    let (weights, view) = weights_and_view(reader.as_ref(), false, weight_name, view)?;
-    Ok((reader, weights.expect("weights are read unless raw"), view))
+    let weights = read_weights(reader.as_ref(), weight_name, "--weight-name", false)?;
+    let view = match view {
+        Some(path) => read_view(path, reader.as_ref())?,
+        None => View::chromosomes(reader.bins()),
+    };
+    Ok((reader, weights, view))
 }
 
 /// A per-bin track given as `FILE:COLUMN` to the option `option` (a header name, or a 1-based
@@ -113,7 +155,7 @@ pub fn weights_and_view(
     let weights = if raw {
         None
     } else {
-        Some(read_weights(reader, weight_name)?)
+        Some(read_weights(reader, weight_name, "--weight-name", true)?)
     };
     let view = match view {
         Some(path) => read_view(path, reader)?,

@@ -34,8 +34,8 @@ when complete.
 
 Examples:
   contactmap merge rep1.cool rep2.cool rep3.cool -o merged.cool
-  contactmap merge a.mcool::/resolutions/10000 b.mcool::/resolutions/10000 -o ab.mcool \\
-      --resolutions 10000N
+  contactmap merge a.mcool::/resolutions/10000 b.mcool::/resolutions/10000 \\
+      -o ab.mcool --resolutions 10000N
   contactmap merge replica_*.cool -o ensemble.cool")]
 pub struct MergeArgs {
     /// The maps to sum (at least one).

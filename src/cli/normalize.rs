@@ -41,8 +41,10 @@ column holds the normalised values (float).
 
 Examples:
   contactmap normalize data/CN.mm9.10000kb.cool oe.cool
-  contactmap normalize in.mcool::/resolutions/10000 - --method log2oe --to bg2 | head
-  contactmap expected in.cool -o exp.tsv && contactmap normalize in.cool z.cool --method zscore --expected exp.tsv")]
+  contactmap normalize in.mcool::/resolutions/10000 - --method log2oe \\
+      --to bg2 | head
+  contactmap expected in.cool -o exp.tsv && \\
+      contactmap normalize in.cool z.cool --method zscore --expected exp.tsv")]
 pub struct NormalizeArgs {
     /// Input matrix URI.
     pub uri: String,
@@ -101,7 +103,12 @@ pub fn run(args: &NormalizeArgs) -> Result<()> {
     let weights = if args.raw {
         None
     } else {
-        Some(reader.weights(&args.weight_name)?.values)
+        Some(crate::cli::input::read_weights(
+            reader.as_ref(),
+            &args.weight_name,
+            "--weight-name",
+            true,
+        )?)
     };
     let method = match args.method {
         MethodArg::Oe => Method::Oe,

@@ -138,15 +138,91 @@ impl TargetArgs {
         path: &Path,
         definition: &DefinitionArgs,
     ) -> Result<Placed> {
-        place(
+        let warning = match prediction.sequence {
+            None => check_numbering(&self.structure, chain, prediction, path)?,
+            Some(_) => None,
+        };
+        let mut placed = place(
             &self.structure,
             chain,
             prediction.sequence.as_deref(),
             self.register,
             definition,
         )
-        .map_err(|err| err.in_file(path))
+        .map_err(|err| err.in_file(path))?;
+        placed.warning = warning;
+        Ok(placed)
     }
+}
+
+/// Without a sequence (no --fasta, none in the prediction's file) the prediction's residue numbers
+/// are taken as the structure's. Refuse when they cannot be: structure residues numbered below 1,
+/// or past the length the prediction's shape gives (a matrix, a distogram), or no residue of the
+/// prediction in the structure. Return a warning when more than a tenth of the prediction's
+/// residues are not in the structure (unobserved ends, or a prediction of another protein).
+pub fn check_numbering(
+    structure: &Path,
+    chain: &Chain,
+    prediction: &Prediction,
+    path: &Path,
+) -> Result<Option<String>> {
+    let numbers = chain.residues.iter().map(|r| r.number);
+    let (Some(first), Some(last)) = (numbers.clone().min(), numbers.max()) else {
+        return Ok(None);
+    };
+    let largest = prediction
+        .pairs
+        .iter()
+        .map(|&(i, j, _)| i.max(j))
+        .max()
+        .unwrap_or(0);
+    let length = prediction.length.unwrap_or(largest as usize);
+    let fix = "give the prediction's sequence with --fasta, and the chain is aligned to it";
+    let what = format!(
+        "chain {} of {} has {} residues numbered {first}-{last}",
+        chain.id,
+        structure.display(),
+        chain.residues.len()
+    );
+    let refuse = |why: String| {
+        Err(Error::format(
+            path,
+            format!(
+                "{why}: without a sequence the prediction's numbers are the structure's; {fix}"
+            ),
+        ))
+    };
+    if first < 1 || (prediction.length.is_some() && last as usize > length) {
+        return refuse(format!(
+            "the prediction covers residues 1-{length} but {what}"
+        ));
+    }
+    let observed: std::collections::HashSet<i32> =
+        chain.residues.iter().map(|r| r.number).collect();
+    if !prediction.pairs.is_empty()
+        && !prediction
+            .pairs
+            .iter()
+            .any(|(i, j, _)| observed.contains(i) || observed.contains(j))
+    {
+        return refuse(format!(
+            "no residue of the prediction (1-{length}) is in the structure: {what}"
+        ));
+    }
+    // Structures often miss a few terminal residues: more than a tenth of the prediction is
+    // worth a word.
+    let missing = (1..=length as i32)
+        .filter(|n| !observed.contains(n))
+        .count();
+    if prediction.length.is_some() && missing * 10 > length {
+        return Ok(Some(format!(
+            "{}: the prediction covers {length} residues but {what}: {missing} of its residues \
+             are not in the structure and are scored as unobserved. If the prediction is for \
+             another sequence, {fix}",
+            path.display()
+        )));
+    }
+    Ok(None)
 }
 
 /// Read `structure` and select the chain.
@@ -389,6 +465,8 @@ pub struct Placed {
     pub truth: TrueContacts,
     /// What the register step did, when there was one.
     pub register: Option<RegisterSummary>,
+    /// A warning about the numbering ([`check_numbering`]), printed once the command succeeded.
+    pub warning: Option<String>,
 }
 
 /// Place `chain` (read from `structure`) on `sequence` as `mode` says ([`place_chain`]) and
@@ -424,6 +502,7 @@ pub fn place(
             residues: register.n_residues,
             text: register.describe(chain),
         }),
+        warning: None,
     })
 }
 

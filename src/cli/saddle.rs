@@ -49,7 +49,8 @@ Outputs (PREFIX as given by -o):
 
 Examples:
   contactmap saddle in.cool --track eigs.tsv:E1 -o out/sample
-  contactmap saddle in.mcool::/resolutions/100000 --track e1.bedgraph:4 --n-bins 50 --vrange -1,1 -o s")]
+  contactmap saddle in.mcool::/resolutions/100000 --track e1.bedgraph:4 \\
+      --n-bins 50 --vrange -1,1 -o s")]
 pub struct SaddleArgs {
     /// The map (balanced: it needs a weight column).
     pub uri: String,

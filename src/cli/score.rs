@@ -72,10 +72,12 @@ Output: a tab-separated table with a header line and one row (so that many runs 
   [mean_best_jaccard_truth mean_best_jaccard_calls moc]
 
 Examples:
-  contactmap simulate blocks -o sim.cool --truth-boundaries truth.bed --truth-domains tads.bed
+  contactmap simulate blocks -o sim.cool --truth-boundaries truth.bed \\
+      --truth-domains tads.bed
   contactmap score boundaries --truth truth.bed calls.bed
-  contactmap score boundaries --truth truth.bed calls.bed --tolerance-bins 2 --bin-size 10000 \\
-      --truth-domains tads.bed --domains called_tads.bed -o score.tsv")]
+  contactmap score boundaries --truth truth.bed calls.bed --tolerance-bins 2 \\
+      --bin-size 10000 --truth-domains tads.bed --domains called_tads.bed \\
+      -o score.tsv")]
 pub struct BoundariesArgs {
     /// True boundaries (BED: chrom start end; e.g. from `simulate blocks --truth-boundaries`).
     #[arg(long, value_name = "BED")]
@@ -231,16 +233,23 @@ range x list size, with a header:
 (max_sep is `inf` for an open range); --json: an array with one object per prediction.
 
 Examples (formats are detected from the content; --format overrides):
-  contactmap score contacts --structure 1aap.pdb 1aapA.rr                  # CASP RR
-  contactmap score contacts --structure toxd.pdb toxd.mat --fasta toxd.fasta  # CCMpred matrix
-  contactmap score contacts --structure 1abc.cif --chain B plmdca.txt --fasta 1abc.fasta \\
-      --format table                                                       # i j score list
-  contactmap score contacts --structure 1guu.pdb 1guu.npz --fasta 1guu.fasta  # trRosetta
-  contactmap score contacts --structure 1guu.pdb 1guu.predicted.npy --fasta 1guu.fasta
-  contactmap score contacts --structure t.pdb --fasta t.fasta preds/*.rr --tsv -o scores.tsv
+  # CASP RR
+  contactmap score contacts --structure 1aap.pdb 1aapA.rr
+  # CCMpred matrix
+  contactmap score contacts --structure toxd.pdb toxd.mat --fasta toxd.fasta
+  # i j score list
+  contactmap score contacts --structure 1abc.cif --chain B plmdca.txt \\
+      --fasta 1abc.fasta --format table
+  # trRosetta
+  contactmap score contacts --structure 1guu.pdb 1guu.npz --fasta 1guu.fasta
+  contactmap score contacts --structure 1guu.pdb 1guu.predicted.npy \\
+      --fasta 1guu.fasta
+  contactmap score contacts --structure t.pdb --fasta t.fasta preds/*.rr \\
+      --tsv -o scores.tsv
 
 Other tools' conventions:
-  ConKit:    --le (d <= 8); its documented toxd example is --le --min-sep 5 --top 0.5L,L,1.5L
+  ConKit:    --le (d <= 8); its documented toxd example is
+             --le --min-sep 5 --top 0.5L,L,1.5L
   ConEVA:    --length observed --rounding half-up --ranges long
   DISTEVAL:  --rounding banker --ranges 12+,24+ --top L/5,NC")]
 pub struct ContactsScoreArgs {
@@ -643,6 +652,7 @@ fn run_contacts(args: &ContactsScoreArgs) -> Result<()> {
     let mut reports = Vec::with_capacity(args.predictions.len());
     // --tsv streams: each prediction's rows are written as soon as it is scored
     let mut out = Output::open(args.out.as_deref())?;
+    let mut warnings = crate::cli::warnings::Warnings::new();
     for path in &args.predictions {
         let prediction = load_prediction(path, args.target.format, fasta.as_deref())?;
         let index = match placements
@@ -651,9 +661,10 @@ fn run_contacts(args: &ContactsScoreArgs) -> Result<()> {
         {
             Some(index) => index,
             None => {
-                let placed = args
+                let mut placed = args
                     .target
                     .place(&chain, &prediction, path, &args.definition)?;
+                warnings.extend(placed.warning.take());
                 // The table shows the register; other outputs get it on standard error.
                 let table_on_stdout = !(args.tsv || args.json || args.out.is_some());
                 if let Some(register) = placed.register.as_ref().filter(|_| !table_on_stdout) {
@@ -686,7 +697,9 @@ fn run_contacts(args: &ContactsScoreArgs) -> Result<()> {
         curve.write_all(write_curve(&reports).as_bytes())?;
         curve.finish()?;
     }
-    out.finish()
+    out.finish()?;
+    warnings.print();
+    Ok(())
 }
 
 /// The precision curves as TSV: one row per prediction x range x list size k.

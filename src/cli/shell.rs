@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use clap::{Args, CommandFactory, ValueEnum};
+use clap::{Args, ValueEnum};
 
 use crate::cli::output::Output;
 use crate::error::{Error, Result};
@@ -25,10 +25,13 @@ pub enum ShellArg {
 Prints the completion script for SHELL on standard output.
 
 Install:
-  bash:  contactmap completions bash > ~/.local/share/bash-completion/completions/contactmap
+  bash:  contactmap completions bash \\
+             > ~/.local/share/bash-completion/completions/contactmap
          (or: source <(contactmap completions bash) in ~/.bashrc)
-  zsh:   contactmap completions zsh > ~/.zfunc/_contactmap   (with fpath+=~/.zfunc before compinit)
-  fish:  contactmap completions fish > ~/.config/fish/completions/contactmap.fish")]
+  zsh:   contactmap completions zsh > ~/.zfunc/_contactmap
+         (with fpath+=~/.zfunc before compinit)
+  fish:  contactmap completions fish \\
+             > ~/.config/fish/completions/contactmap.fish")]
 pub struct CompletionsArgs {
     /// The shell.
     #[arg(value_enum)]
@@ -49,7 +52,7 @@ pub struct ManArgs {
 
 /// Run `contactmap completions`.
 pub fn run_completions(args: &CompletionsArgs) -> Result<()> {
-    let mut command = crate::cli::Cli::command();
+    let mut command = crate::cli::command();
     let mut bytes = Vec::new();
     let shell = match args.shell {
         ShellArg::Bash => clap_complete::Shell::Bash,
@@ -65,7 +68,7 @@ pub fn run_completions(args: &CompletionsArgs) -> Result<()> {
 /// Run `contactmap man`.
 pub fn run_man(args: &ManArgs) -> Result<()> {
     std::fs::create_dir_all(&args.dir).map_err(|e| Error::io(&args.dir, e))?;
-    let mut command = crate::cli::Cli::command();
+    let mut command = crate::cli::command();
     command.build();
     let mut written = 0;
     write_pages(&command, "contactmap", args, &mut written)?;

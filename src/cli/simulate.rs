@@ -65,9 +65,11 @@ Outputs:
                        each chromosome's first bin; score calls with `contactmap score boundaries`
 
 Examples:
-  contactmap simulate blocks -o sim.cool --truth-domains tads.bed --truth-boundaries bounds.bed
-  contactmap simulate blocks --chroms 2 --bins 500 --depth 2e6 --bias-sd 0.3 --dead-bins 0.02 \\
-      --nested-fraction 0.3 --seed 7 -o sim.cool --truth-boundaries bounds.bed")]
+  contactmap simulate blocks -o sim.cool --truth-domains tads.bed \\
+      --truth-boundaries bounds.bed
+  contactmap simulate blocks --chroms 2 --bins 500 --depth 2e6 --bias-sd 0.3 \\
+      --dead-bins 0.02 --nested-fraction 0.3 --seed 7 -o sim.cool \\
+      --truth-boundaries bounds.bed")]
 pub struct BlocksArgs {
     /// Output .cool file.
     #[arg(short, long, value_name = "OUT.cool")]

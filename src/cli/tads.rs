@@ -73,9 +73,12 @@ shorter than the window get truncated diamonds, as in cooltools, with a warning;
 shorter than the window is an error.
 
 Examples:
-  contactmap tads data/yeast.10kb.cool --window 30k,50k,100k -o yeast.insulation.tsv
-  contactmap tads in.mcool::/resolutions/10000 --window 200k --boundaries b.bed --domains d.bed
-  contactmap tads in.cool --method directionality --window 500k -o di.tsv --domains di.bed
+  contactmap tads data/yeast.10kb.cool --window 30k,50k,100k \\
+      -o yeast.insulation.tsv
+  contactmap tads in.mcool::/resolutions/10000 --window 200k \\
+      --boundaries b.bed --domains d.bed
+  contactmap tads in.cool --method directionality --window 500k -o di.tsv \\
+      --domains di.bed
   contactmap tads in.cool --method topdom --boundaries topdom.bed
   contactmap score boundaries --truth truth.bed b.bed")]
 pub struct TadsArgs {

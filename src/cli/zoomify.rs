@@ -40,10 +40,11 @@ an ICE vector (cooler's defaults, per chromosome). The output (default: the inpu
 .mcool) is written under a temporary name and renamed when complete.
 
 Examples:
-  contactmap zoomify in.cool                                # in.mcool, B progression
-  contactmap zoomify in.cool -r 10000,20000,50000,100000 --balance -o out.mcool
+  contactmap zoomify in.cool                       # in.mcool, B progression
+  contactmap zoomify in.cool -r 10000,20000,50000,100000 --balance \\
+      -o out.mcool
   contactmap zoomify in.cool -r 10000N -o out.mcool
-  contactmap zoomify in.cool -r 5000N -o out.hic          # Juicer .hic for Juicebox")]
+  contactmap zoomify in.cool -r 5000N -o out.hic   # Juicer .hic for Juicebox")]
 pub struct ZoomifyArgs {
     /// The input: file.cool, file.mcool::/resolutions/N, .hic, text tables.
     pub input: String,

@@ -169,7 +169,19 @@ impl CoolReader {
                     .map_err(|e| Error::hdf5(path, "opening the root group", e))?
             }
             Some(g) => {
-                let trimmed = g.trim_start_matches('/');
+                let mut trimmed = g.trim_start_matches('/').to_string();
+                // `file.mcool::10000` is short for `file.mcool::/resolutions/10000` (as with
+                // .hic files), unless the file has a group of that name (a legacy level).
+                let shorthand = format!("resolutions/{trimmed}");
+                if !trimmed.is_empty()
+                    && trimmed.bytes().all(|b| b.is_ascii_digit())
+                    && !file.link_exists(&trimmed)
+                    && file.link_exists("resolutions")
+                    && file.link_exists(&shorthand)
+                {
+                    trimmed = shorthand;
+                }
+                let trimmed = trimmed.as_str();
                 if !file.link_exists(trimmed) || file.group(trimmed).is_err() {
                     let mut message = format!("no group '{g}' in this file");
                     if let Ok(res) = file.group("resolutions") {

@@ -180,7 +180,7 @@ fn bad_views_and_weights_are_one_line_errors() {
     let message = run_err(&["expected", &data(MM9), "--view", &columns]);
     assert!(message.contains("columns.bed:1:"), "{message}");
     let message = run_err(&["expected", &data(HG19)]);
-    assert!(message.contains("no weight column 'weight'"), "{message}");
+    assert!(message.contains("this map has no weights"), "{message}");
     assert!(message.contains("--raw"), "{message}");
     let message = run_err(&["expected", &data(DM6), "--weight-name", "ICE"]);
     assert!(
@@ -424,4 +424,47 @@ fn logbin_table_has_slopes() {
         assert!(number(&row[slope_column]) < 0.0, "{row:?}");
     }
     assert_eq!(table.rows.last().unwrap()[slope_column], "nan");
+}
+
+/// Issue 26: --fit-range without --fit is refused (it used to be ignored), and the headline
+/// gives the distances of the points fitted (the first log bin's effective distance lies past
+/// the range's start), then the range asked for.
+#[test]
+fn fit_range_needs_fit_and_the_headline_names_the_points_fitted() {
+    let line = run_err(&["expected", &data(DM6), "--fit-range", "200k-5M"]);
+    assert!(line.contains("add --fit"), "{line}");
+    let line = run_err(&["expected", &data(DM6), "--logbin", "--fit-range", "200k-5M"]);
+    assert!(line.contains("add --fit"), "{line}");
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("ps.png");
+    let line = run_err(&[
+        "plot",
+        "expected",
+        &data(DM6),
+        "--fit-range",
+        "200k-5M",
+        "-o",
+        png.to_str().unwrap(),
+    ]);
+    assert!(line.contains("not provided: --fit"), "{line}");
+    let json: serde_json::Value = serde_json::from_str(&run_ok(&[
+        "expected",
+        &data(DM6),
+        "--json",
+        "--fit-range",
+        "200k-5M",
+    ]))
+    .unwrap();
+    let first = json["power_law"]["first_bp"].as_f64().unwrap();
+    let last = json["power_law"]["last_bp"].as_f64().unwrap();
+    assert!(first >= 200_000.0 && last < 5_000_000.0, "{first} {last}");
+    let text = run_ok(&["expected", &data(DM6), "--fit", "--fit-range", "200k-5M"]);
+    let headline = text.lines().next().unwrap();
+    let fitted = format!(
+        "fitted {} - {}",
+        contactmap::genome::format_distance(first),
+        contactmap::genome::format_distance(last)
+    );
+    assert!(headline.contains(&fitted), "{headline} vs {fitted}");
+    assert!(headline.contains("in 200 kb - 5 Mb)"), "{headline}");
 }

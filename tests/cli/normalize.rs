@@ -105,7 +105,7 @@ fn normalize_errors_are_clear() {
         "--to",
         "coo",
     ]);
-    assert!(line.contains("no weight column 'weight'"), "{line}");
+    assert!(line.contains("this map has no weights"), "{line}");
     let dir = tempfile::tempdir().unwrap();
     let bad = dir.path().join("bad.tsv");
     std::fs::write(

@@ -162,11 +162,12 @@ fn samples_overlay_with_a_legend_and_fits() {
     ]);
     let labels: Vec<String> = texts(&svg).into_iter().map(|t| t.2).collect();
     assert!(labels.contains(&"one".to_string()) && labels.contains(&"two".to_string()));
+    // Fitted from the first log bin in 10 kb - 1 Mb to the last one.
     assert!(
-        labels.contains(&"fit 10 kb-1 Mb: s-1.00".to_string()),
+        labels.contains(&"fit 10.9 kb-892 kb: s-1.00".to_string()),
         "{labels:?}"
     );
-    assert!(labels.contains(&"fit 10 kb-1 Mb: s-0.50".to_string()));
+    assert!(labels.contains(&"fit 11 kb-893 kb: s-0.50".to_string()));
     let lines = polylines(&svg);
     // Per sample: curve and dashed fit (P(s)), slope and dashed level; two colours.
     assert_eq!(lines.iter().filter(|l| l.2).count(), 4);
@@ -180,7 +181,13 @@ fn the_fit_is_the_one_of_expected_fit_on_matrices_and_tables() {
     let json = run_ok(&["expected", &uri, "--json", "--fit-range", "200k-5M"]);
     let report: serde_json::Value = serde_json::from_str(&json).unwrap();
     let alpha = report["power_law"]["alpha"].as_f64().unwrap();
-    let legend = format!("fit 200 kb-5 Mb: s{alpha:.2}");
+    // The legend names the distances of the points fitted (the effective distances of the
+    // first and last log bins in the range), as the headline does.
+    let legend = format!(
+        "fit {}-{}: s{alpha:.2}",
+        contactmap::genome::format_distance(report["power_law"]["first_bp"].as_f64().unwrap()),
+        contactmap::genome::format_distance(report["power_law"]["last_bp"].as_f64().unwrap())
+    );
     let out = run(&[
         "plot",
         "expected",

@@ -2,7 +2,7 @@
 
 use std::path::Path;
 
-use crate::{run_err, run_ok};
+use crate::{data, run_err, run_ok};
 
 fn write(dir: &Path, name: &str, text: &str) -> String {
     let path = dir.join(name);
@@ -200,4 +200,52 @@ fn bad_input_names_file_and_line() {
         missing.to_str().unwrap(),
     ]);
     assert!(line.contains("missing.bed"), "{line}");
+}
+
+/// Issue 26: without a sequence (no --fasta, none in the file) the prediction's numbers are the
+/// structure's: a prediction that cannot be numbered so is refused, one much longer than the
+/// structure is scored with a warning, one that fits is scored silently.
+#[test]
+fn predictions_without_a_sequence_are_checked_against_the_structure() {
+    let protein = |name: &str| data(&format!("protein/{name}"));
+    // 1A8O is numbered 151-220: a 75-residue matrix cannot use its numbers.
+    let line = run_err(&[
+        "score",
+        "contacts",
+        "--structure",
+        &protein("1a8o/1A8O.pdb"),
+        &protein("1atzA/1atzA.apc.mat"),
+    ]);
+    assert!(line.contains("numbered 151-220"), "{line}");
+    assert!(line.contains("--fasta"), "{line}");
+    // toxd has 58 residues: a 75-residue prediction of 1atzA scores, with a warning.
+    let out = crate::run(&[
+        "score",
+        "contacts",
+        "--structure",
+        &protein("toxd/toxd.pdb"),
+        &protein("1atzA/1atzA.apc.mat"),
+    ]);
+    assert!(out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.starts_with("contactmap: warning: ")
+            && stderr.contains("covers 75 residues")
+            && stderr.contains("17 of its residues are not in the structure"),
+        "{stderr}"
+    );
+    // toxd's own prediction (59 residues, the first unobserved): no warning.
+    let out = crate::run(&[
+        "score",
+        "contacts",
+        "--structure",
+        &protein("toxd/toxd.pdb"),
+        &protein("toxd/toxd.mat"),
+    ]);
+    assert!(out.status.success());
+    assert!(
+        out.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
 }

@@ -127,3 +127,97 @@ fn summaries_as_json_and_one_record_per_input() {
     let err = run_err(&["tads", &uri, "--json"]);
     assert!(err.contains("-o FILE"), "{err}");
 }
+
+/// Issue 26: the top-level help names every nested subcommand (`score compartments`, `score
+/// overlap` and `plot saddle` were missing), read from each group's own list.
+#[test]
+fn top_level_help_names_every_nested_subcommand() {
+    let top = crate::run_ok(&["--help"]);
+    let top = top.split_whitespace().collect::<Vec<_>>().join(" ");
+    for group in ["score", "plot", "simulate"] {
+        let help = crate::run_ok(&[group, "--help"]);
+        let names: Vec<&str> = help
+            .lines()
+            .skip_while(|l| !l.starts_with("Commands:"))
+            .skip(1)
+            .take_while(|l| l.starts_with("  "))
+            .filter(|l| l.starts_with("  ") && !l.starts_with("   "))
+            .filter_map(|l| l.split_whitespace().next())
+            .filter(|name| *name != "help")
+            .collect();
+        assert!(names.len() >= 2, "{group}: {names:?}");
+        for name in names {
+            assert!(
+                top.contains(&format!("`{group} {name}`")),
+                "contactmap --help does not name `{group} {name}`"
+            );
+        }
+    }
+}
+
+/// The help of `args` rendered for a terminal of `columns` columns (no terminal: clap reads
+/// COLUMNS).
+fn help_at(args: &[&str], columns: &str) -> String {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_contactmap"))
+        .args(args)
+        .arg("--help")
+        .env("COLUMNS", columns)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{args:?}");
+    String::from_utf8(out.stdout).unwrap()
+}
+
+/// The lines of a help's `Examples:` section.
+fn examples(help: &str) -> Vec<String> {
+    help.lines()
+        .skip_while(|l| !l.trim_end().ends_with("Examples:"))
+        .skip(1)
+        .take_while(|l| !l.trim().is_empty())
+        .map(String::from)
+        .collect()
+}
+
+/// Issue 26: every command's examples read the same in a 40-column terminal as in a 300-column
+/// one: never wrapped inside a command, so they can be pasted (help is written at 80 columns at
+/// least, and every example line fits in 78).
+#[test]
+fn help_examples_are_never_wrapped() {
+    let top = crate::run_ok(&["--help"]);
+    let commands: Vec<&str> = top
+        .lines()
+        .skip_while(|l| !l.starts_with("Commands:"))
+        .skip(1)
+        .take_while(|l| l.starts_with("  "))
+        .filter(|l| !l.starts_with("   "))
+        .filter_map(|l| l.split_whitespace().next())
+        .filter(|name| *name != "help")
+        .collect();
+    let mut checked = 0;
+    for command in commands {
+        let mut paths = vec![vec![command]];
+        let own = help_at(&[command], "300");
+        for line in own
+            .lines()
+            .skip_while(|l| !l.starts_with("Commands:"))
+            .skip(1)
+            .take_while(|l| l.starts_with("  "))
+            .filter(|l| !l.starts_with("   "))
+        {
+            let name = line.split_whitespace().next().unwrap();
+            if name != "help" {
+                paths.push(vec![command, name]);
+            }
+        }
+        for path in paths {
+            let wide = examples(&help_at(&path, "300"));
+            let narrow = examples(&help_at(&path, "40"));
+            assert_eq!(narrow, wide, "{path:?}: examples wrapped");
+            for line in &wide {
+                assert!(line.len() <= 78, "{path:?}: {line}");
+            }
+            checked += usize::from(!wide.is_empty());
+        }
+    }
+    assert!(checked >= 20, "only {checked} commands with examples");
+}

@@ -431,3 +431,36 @@ fn polymer_device_choice() {
         assert!(!Path::new(&gpu).exists());
     }
 }
+
+/// Issue 26: a run that succeeds says nothing that reads as an error. Without a desktop
+/// session (no XDG_RUNTIME_DIR), Mesa's Vulkan drivers printed "error: XDG_RUNTIME_DIR is invalid
+/// or not set" twice while `--device auto` probed the GPU, before the run went on and succeeded.
+#[test]
+fn a_successful_run_prints_no_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("p.cool");
+    let run = std::process::Command::new(env!("CARGO_BIN_EXE_contactmap"))
+        .args([
+            "simulate",
+            "polymer",
+            "-o",
+            out.to_str().unwrap(),
+            "--chains",
+            "40",
+            "--replicas",
+            "2",
+            "--samples",
+            "2",
+            "--equilibration",
+            "100",
+            "--sample-every",
+            "100",
+        ])
+        .env_remove("XDG_RUNTIME_DIR")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success(), "{stderr}");
+    assert!(!stderr.to_lowercase().contains("error"), "{stderr}");
+    assert!(stderr.contains("simulate polymer: on the"), "{stderr}");
+}

@@ -71,6 +71,83 @@ fn pairs_binned_like_cooler_cload() {
     );
 }
 
+/// Issue 26: the README's route, `convert PAIRS OUT --bin-size --chrom-sizes` without --format
+/// or --pairs-columns, on the repository's own headerless pairs file (chrom pos strand chrom pos
+/// strand): the layout is recognised from the content and gives cooler's cooler.
+#[test]
+fn headerless_pairs_are_recognised_by_their_content() {
+    let dir = tempfile::tempdir().unwrap();
+    let sizes = hg19_sizes(dir.path());
+    let out = dir.path().join("pairs.cool");
+    run_ok(&[
+        "convert",
+        &data("hg19.GM12878-MboI.pairs.subsample.sorted.txt.gz"),
+        out.to_str().unwrap(),
+        "--bin-size",
+        "2000000",
+        "--chrom-sizes",
+        sizes.to_str().unwrap(),
+    ]);
+    let reference = run_ok(&["dump", &data("hg19.GM12878-MboI.matrix.2000kb.cool")]);
+    assert_eq!(run_ok(&["dump", out.to_str().unwrap()]), reference);
+    // The same pairs in the 4DN body layout and in Juicer's short format, headerless.
+    let text = run_ok(&[
+        "dump",
+        &data("hg19.GM12878-MboI.pairs.subsample.sorted.txt.gz"),
+        "--format",
+        "pairs",
+        "--pairs-columns",
+        "1,2,4,5",
+        "--bin-size",
+        "2000000",
+        "--chrom-sizes",
+        sizes.to_str().unwrap(),
+    ]);
+    assert_eq!(text, reference);
+    let pairs = {
+        use std::io::Read;
+        let mut text = String::new();
+        flate2::read::MultiGzDecoder::new(
+            std::fs::File::open(data("hg19.GM12878-MboI.pairs.subsample.sorted.txt.gz")).unwrap(),
+        )
+        .read_to_string(&mut text)
+        .unwrap();
+        text
+    };
+    let mut four_dn = String::new();
+    let mut juicer = String::new();
+    for (k, line) in pairs.lines().enumerate() {
+        let f: Vec<&str> = line.split('\t').collect();
+        let strand = |flag: &str| if flag == "16" { "-" } else { "+" };
+        four_dn.push_str(&format!(
+            "read{k}\t{}\t{}\t{}\t{}\t{}\t{}\n",
+            f[0],
+            f[1],
+            f[3],
+            f[4],
+            strand(f[2]),
+            strand(f[5])
+        ));
+        juicer.push_str(&format!(
+            "{}\t{}\t{}\t0\t{}\t{}\t{}\t1\n",
+            f[2], f[0], f[1], f[5], f[3], f[4]
+        ));
+    }
+    for (name, body) in [("4dn.txt", four_dn), ("juicer.txt", juicer)] {
+        let path = dir.path().join(name);
+        std::fs::write(&path, body).unwrap();
+        let dumped = run_ok(&[
+            "dump",
+            path.to_str().unwrap(),
+            "--bin-size",
+            "2000000",
+            "--chrom-sizes",
+            sizes.to_str().unwrap(),
+        ]);
+        assert_eq!(dumped, reference, "{name}");
+    }
+}
+
 #[test]
 fn bad_text_line_names_file_and_line() {
     let dir = tempfile::tempdir().unwrap();

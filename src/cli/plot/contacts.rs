@@ -43,10 +43,12 @@ number of observed residues (--length overrides). Two predictions on different s
 each scored on their own placement; the grey contacts are those of the first.
 
 Examples:
-  contactmap plot contacts --structure toxd.pdb --fasta toxd.fasta toxd.mat -o toxd.png
+  contactmap plot contacts --structure toxd.pdb --fasta toxd.fasta toxd.mat \\
+      -o toxd.png
   contactmap plot contacts --structure 1aap.pdb 1aapA.rr --top L/2 -o 1aap.svg
-  contactmap plot contacts --structure 1guu.pdb --fasta 1guu.fasta 1guu.npz ccmpred.mat \\
-      --top L --min-sep 24 --title '1guu, long range' -o compare.png")]
+  contactmap plot contacts --structure 1guu.pdb --fasta 1guu.fasta 1guu.npz \\
+      ccmpred.mat --top L --min-sep 24 --title '1guu, long range' \\
+      -o compare.png")]
 pub struct ContactsArgs {
     /// The structure, its chain, the target sequence, the prediction format and the register.
     #[command(flatten)]
@@ -110,13 +112,15 @@ pub fn run(args: &ContactsArgs) -> Result<()> {
     let range = SeparationRange::new(args.min_sep, None);
 
     let mut layers = Vec::with_capacity(args.predictions.len());
+    let mut warnings = crate::cli::warnings::Warnings::new();
     let mut true_contacts = None;
     let (mut first, mut last) = (i32::MAX, i32::MIN);
     for path in &args.predictions {
         let prediction = load_prediction(path, args.target.format, fasta.as_deref())?;
-        let placed = args
+        let mut placed = args
             .target
             .place(&chain, &prediction, path, &args.definition)?;
+        warnings.extend(placed.warning.take());
         if let Some(register) = &placed.register {
             eprintln!("{}: {}", path.display(), register.text);
         }
@@ -193,7 +197,9 @@ pub fn run(args: &ContactsArgs) -> Result<()> {
         &figure,
     );
     let svg = draw_contacts(&figure, &layout)?;
-    write_figure(&svg, &figure_options, &args.figure)
+    write_figure(&svg, &figure_options, &args.figure)?;
+    warnings.print();
+    Ok(())
 }
 
 /// An invalid-value error with the option's name in front.

@@ -12,7 +12,7 @@ use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::InputArgs;
 use crate::error::{Error, Result};
 use crate::expected::CisParams;
-use crate::genome::format_bp;
+use crate::genome::{format_bp, format_distance};
 use crate::io::{LoadedPixels, StreamedPixels};
 use crate::plot::axes::{Theme, CURVE_COLOURS};
 use crate::plot::curves::{draw_curves, CurveFigure, Panel, Scale, Series};
@@ -40,10 +40,13 @@ dashed line over the points fitted, with the exponent in the legend, and the exp
 dashed level in the slope panel; the fits are also printed on standard error.
 
 Examples:
-  contactmap plot expected data/cooler_test_file.mcool::/resolutions/100000 --fit -o ps.png
-  contactmap plot expected wt.mcool::/resolutions/10000 ko.mcool::/resolutions/10000 \\
-      --labels WT,KO --fit --fit-range 50k-5M -o ps.svg
-  contactmap expected in.cool -o exp.tsv && contactmap plot expected exp.tsv -o ps.png
+  contactmap plot expected data/cooler_test_file.mcool::/resolutions/100000 \\
+      --fit -o ps.png
+  contactmap plot expected wt.mcool::/resolutions/10000 \\
+      ko.mcool::/resolutions/10000 --labels WT,KO --fit --fit-range 50k-5M \\
+      -o ps.svg
+  contactmap expected in.cool -o exp.tsv && \\
+      contactmap plot expected exp.tsv -o ps.png
   contactmap plot expected in.cool --per-region --no-slope -o chroms.png")]
 pub struct ExpectedPlotArgs {
     /// Contact matrices or cis expected tables, one curve each.
@@ -283,8 +286,8 @@ fn ps_figure(
             ps.push(Series {
                 label: Some(format!(
                     "fit {}-{}: s^{:.2}",
-                    format_bp(report.range.min_bp),
-                    format_bp(report.range.max_bp),
+                    format_distance(fit.first_bp),
+                    format_distance(fit.last_bp),
                     fit.alpha
                 )),
                 points: vec![

@@ -51,10 +51,12 @@ table, a directionality table, an eigenvector table, a bedGraph), COLUMN a heade
 
 Examples:
   contactmap plot map data/yeast.10kb.cool -r chrIV:200k-800k -o map.png
-  contactmap plot map in.mcool::/resolutions/10000 -r chr2L:5M-10M --triangle --depth 1M \\
-      --domains domains.bed --track insulation.tsv:log2_insulation_score_100000 -o tads.svg
+  contactmap plot map in.mcool::/resolutions/10000 -r chr2L:5M-10M \\
+      --triangle --depth 1M --domains domains.bed \\
+      --track insulation.tsv:log2_insulation_score_100000 -o tads.svg
   contactmap plot map in.cool -r chr1 --oe -o oe.png
-  contactmap plot map in.cool -r chr1 --region2 chr2 --raw --cmap viridis -o trans.png")]
+  contactmap plot map in.cool -r chr1 --region2 chr2 --raw --cmap viridis \\
+      -o trans.png")]
 pub struct MapArgs {
     /// Matrix URI: file.cool, file.mcool::/resolutions/N, file.hic[::/resolutions/N], text table.
     pub uri: String,
@@ -206,7 +208,12 @@ pub fn run(args: &MapArgs) -> Result<()> {
     let weights = if args.raw {
         None
     } else {
-        Some(read_weights(reader.as_ref(), weight_name)?)
+        Some(read_weights(
+            reader.as_ref(),
+            weight_name,
+            "--balanced",
+            true,
+        )?)
     };
     let normalizer = if args.oe {
         Some(oe_normalizer(args, reader.as_ref(), weights.clone())?)

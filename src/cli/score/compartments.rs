@@ -31,8 +31,9 @@ vector oriented without a phasing track) and pearson (the correlation of E with 
 Output: a tab-separated table with a header line, one row per chromosome, then `all`.
 
 Examples:
-  contactmap simulate polymer -o ab.cool --chains 2000 --density 0.3 --types A200B200 \\
-      --attraction 0.4 --monomers-per-bin 10 --truth-compartments truth.bed
+  contactmap simulate polymer -o ab.cool --chains 2000 --density 0.3 \\
+      --types A200B200 --attraction 0.4 --monomers-per-bin 10 \\
+      --truth-compartments truth.bed
   contactmap balance ab.cool --store
   contactmap compartments ab.cool --phasing-track truth.bed:5 -o ab
   contactmap score compartments --truth truth.bed ab.cis.vecs.tsv")]

@@ -109,11 +109,13 @@ Outputs:
 Examples:
   contactmap simulate polymer -o ideal.cool --ideal --chains 200 --replicas 8
   contactmap simulate polymer -o globule.cool --chains 2000 --density 0.2
-  contactmap simulate polymer -o loops.cool --chains 4000 --density 0.2 --extrusion \\
-      --ctcf 500+,1000-,1500+,2000-,2500.,3000. --processivity 200 --separation 400 \\
-      --monomers-per-bin 10 --truth-boundaries truth.bed
-  contactmap simulate polymer -o ab.cool --chains 2000 --density 0.3 --types A200B200 \\
-      --attraction 0.4 --monomers-per-bin 10 --truth-compartments ab.truth.bed")]
+  contactmap simulate polymer -o loops.cool --chains 4000 --density 0.2 \\
+      --extrusion --ctcf 500+,1000-,1500+,2000-,2500.,3000. \\
+      --processivity 200 --separation 400 --monomers-per-bin 10 \\
+      --truth-boundaries truth.bed
+  contactmap simulate polymer -o ab.cool --chains 2000 --density 0.3 \\
+      --types A200B200 --attraction 0.4 --monomers-per-bin 10 \\
+      --truth-compartments ab.truth.bed")]
 pub struct PolymerArgs {
     /// Output .cool file.
     #[arg(short, long, value_name = "OUT.cool")]

@@ -163,6 +163,10 @@ impl LineReader {
                 format = Some(TextFormat::Coo);
                 break;
             }
+            if pairs_columns(&fields).is_some() {
+                format = Some(TextFormat::Pairs);
+                break;
+            }
             // The first data line may be a header: look at one more.
             if n_data_lines >= 2 {
                 break;
@@ -173,6 +177,45 @@ impl LineReader {
         self.line_number = 0;
         Ok(format)
     }
+}
+
+/// The 0-based columns `chrom1, pos1, chrom2, pos2` of a headerless pairs line, when its
+/// layout is one of those read-pair tools write:
+///
+/// | layout | columns |
+/// |---|---|
+/// | 4DN `.pairs` body: `readID chrom1 pos1 chrom2 pos2 strand1 strand2 ...` | 2,3,4,5 |
+/// | `chrom1 pos1 strand1 chrom2 pos2 strand2` (cooler's test pairs; strands `+`/`-` or SAM flags 0/16) | 1,2,4,5 |
+/// | Juicer short: `str1 chrom1 pos1 frag1 str2 chrom2 pos2 frag2 ...` | 2,3,6,7 |
+/// | `chrom1 pos1 chrom2 pos2` | 1,2,3,4 |
+///
+/// (1-based in the table, as `--pairs-columns` takes them.) Strands and the kind of each field
+/// tell the layouts apart; chromosome names may be numbers (Ensembl's `1`, `X`).
+pub(super) fn pairs_columns(fields: &[&[u8]]) -> Option<[usize; 4]> {
+    let int = |k: usize| fields.get(k).and_then(|f| parse_u64(f)).is_some();
+    let strand = |k: usize| {
+        fields
+            .get(k)
+            .is_some_and(|f| matches!(*f, b"+" | b"-" | b"0" | b"16"))
+    };
+    let name = |k: usize| fields.get(k).is_some_and(|f| parse_number(f).is_none());
+    let n = fields.len();
+    if n >= 7 && int(2) && int(4) && strand(5) && strand(6) {
+        return Some([1, 2, 3, 4]);
+    }
+    if n >= 8 && strand(0) && int(2) && int(3) && strand(4) && int(6) && int(7) {
+        return Some([1, 2, 5, 6]);
+    }
+    if n == 6 && int(1) && strand(2) && int(4) && strand(5) {
+        return Some([0, 1, 3, 4]);
+    }
+    if n == 4 && int(1) && int(3) && !(int(0) && int(2)) {
+        return Some([0, 1, 2, 3]);
+    }
+    if n >= 5 && name(1) && int(2) && name(3) && int(4) {
+        return Some([1, 2, 3, 4]);
+    }
+    None
 }
 
 /// Bytes decompressed per chunk by the decompression thread.

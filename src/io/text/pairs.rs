@@ -7,7 +7,7 @@ use std::hash::{BuildHasherDefault, Hasher};
 use std::path::Path;
 
 use super::bins::{bin_table_for, read_chrom_sizes};
-use super::lines::{parse_u64, show, Fields, LineReader};
+use super::lines::{pairs_columns, parse_u64, show, Fields, LineReader};
 use crate::error::{Error, Result};
 use crate::genome::{BinTable, Chrom};
 use crate::io::OpenOptions;
@@ -206,6 +206,13 @@ pub(super) fn read_pairs(lines: &mut LineReader, options: &OpenOptions) -> Resul
                 columns = Some(columns_from_header(lines, rest)?);
             }
         }
+    }
+    // Without --pairs-columns or a `#columns:` header, the layout of the first line (a
+    // headerless file), else the 4DN default.
+    if columns.is_none() && lines.advance()? {
+        let fields: Vec<&[u8]> = Fields::new(lines.current()).collect();
+        columns = pairs_columns(&fields);
+        lines.unread_current();
     }
     let layout = Layout::new(columns.unwrap_or([1, 2, 3, 4]));
     let binner = PairBinner::new(&lines.path, options, header_chroms)?;

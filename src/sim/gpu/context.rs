@@ -22,6 +22,46 @@ const BACKENDS: wgpu::Backends = wgpu::Backends::VULKAN
     .union(wgpu::Backends::METAL)
     .union(wgpu::Backends::DX12);
 
+/// Standard error silenced while the drivers are probed, restored when dropped. Vulkan drivers
+/// print to it themselves: Mesa's window-system code says "error: XDG_RUNTIME_DIR is invalid or
+/// not set in the environment" on every instance without a desktop session (a cluster node, a
+/// container), which a run that then succeeds must not show. Our own failures are returned as
+/// values and printed after; wgpu reports through `log`, which is not printed.
+struct QuietStderr {
+    #[cfg(unix)]
+    saved: Option<std::os::fd::OwnedFd>,
+}
+
+impl QuietStderr {
+    #[cfg(unix)]
+    fn new() -> QuietStderr {
+        use rustix::fs::{Mode, OFlags};
+        let saved = (|| {
+            let saved = rustix::io::dup(rustix::stdio::stderr()).ok()?;
+            let null =
+                rustix::fs::open("/dev/null", OFlags::WRONLY | OFlags::CLOEXEC, Mode::empty())
+                    .ok()?;
+            rustix::stdio::dup2_stderr(&null).ok()?;
+            Some(saved)
+        })();
+        QuietStderr { saved }
+    }
+
+    #[cfg(not(unix))]
+    fn new() -> QuietStderr {
+        QuietStderr {}
+    }
+}
+
+impl Drop for QuietStderr {
+    fn drop(&mut self) {
+        #[cfg(unix)]
+        if let Some(saved) = self.saved.take() {
+            let _ = rustix::stdio::dup2_stderr(&saved);
+        }
+    }
+}
+
 /// An open GPU: the device and its queue.
 pub struct Gpu {
     pub(crate) device: wgpu::Device,
@@ -43,6 +83,7 @@ impl Gpu {
     /// `accept_software`) a software driver such as Mesa's lavapipe. The error says why none
     /// was usable (no driver, no adapter, only a software one, device creation failed).
     pub fn open(accept_software: bool) -> Result<Gpu, String> {
+        let _quiet = QuietStderr::new();
         let mut descriptor = wgpu::InstanceDescriptor::new_without_display_handle();
         descriptor.backends = BACKENDS;
         descriptor.flags = wgpu::InstanceFlags::empty();
