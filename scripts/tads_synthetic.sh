@@ -6,7 +6,9 @@
 # Usage: scripts/tads_synthetic.sh [DEPTHS] [SEEDS]
 #   DEPTHS: contacts per map, default "3e4 1e5 3e5 1e6 1e7"; SEEDS: default "1 2 3"
 # Each map: 2 chromosomes x 2,000 bins of 10 kb, domains of 10-60 bins, P(s) ~ s^-1, domain
-# enrichment x2, lognormal coverage bias (sd 0.3), 1% dead bins, pixels up to 200 bins (2 Mb).
+# enrichment x2 (--enrichment 1), lognormal coverage bias (sd 0.3), 1% dead bins, pixels at every
+# distance (simulate blocks' default); no trans contacts, so each chromosome is balanced alone
+# (balance --cis-only, cooler's defaults).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cm=${CONTACTMAP:-target/release/contactmap}
@@ -41,7 +43,7 @@ for entry in "${methods[@]}"; do
       if [ ! -f "$map" ]; then
         "$cm" simulate blocks -o "$map" --truth-boundaries "$truth" --chroms 2 --bins 2000 \
           --depth "$depth" --enrichment 1 --bias-sd 0.3 --dead-bins 0.01 --seed "$seed" 2> /dev/null
-        "$cm" balance "$map" --store --max-iters 2000 --store-unconverged 2> /dev/null
+        "$cm" balance "$map" --store --cis-only 2> /dev/null
       fi
       # shellcheck disable=SC2086
       "$cm" tads "$map" $arguments --boundaries "$work/calls.bed" -o /dev/null 2> /dev/null

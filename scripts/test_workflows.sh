@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # The workflows' test (run by `make test`): both Snakemake workflows on data/ with the local
-# executor (--cores 2); every output compared with the same contactmap commands run by hand; a dry
-# run on a 200-sample sheet counted per rule; the simulation's merged map against `contactmap
+# executor (--cores 2); every output compared with the same contactmap commands run by hand; the
+# analysis ingest of one sample per input URI form (.cool, cooler group, .mcool level and its
+# shorthand, .hic with and without a resolution, HiCExplorer .h5, BG2 with --bins, pairs) against
+# `contactmap convert` by hand; a dry run on a 200-sample sheet counted per rule; the simulation's merged map against `contactmap
 # merge` of batches simulated by hand. Installs the pinned snakemake into .venv-workflows when
 # missing (SNAKEMAKE=path/to/snakemake uses another).
 # usage: scripts/test_workflows.sh [CONTACTMAP]   (default: target/debug/contactmap)
@@ -36,6 +38,17 @@ sys.exit(a != b)
 PY
 }
 quiet() { "$@" >/dev/null 2>&1 || fail "$*"; }
+is_matrix() { # the ingest rule's test: a `::` group, or a file with the HDF5 or the .hic signature
+  [[ $1 == *::* ]] && return 0
+  local head
+  head=$(head -c 8 "$1" | od -An -tx1 | tr -d ' \n')
+  [[ $head == 894844460d0a1a0a || $head == 48494300* ]]
+}
+bin_size_option() { # URI OPTIONS BIN_SIZE: `--bin-size BIN_SIZE` where the ingest rule adds it
+  is_matrix "$1" && return 0
+  case " $2 " in *" --bins "*|*" --bins="*|*" --bin-size "*|*" --bin-size="*) return 0 ;; esac
+  echo "--bin-size $3"
+}
 
 echo "== analysis workflow (2 samples, local executor, 2 cores)"
 out="$work/results"
@@ -45,10 +58,8 @@ hand="$work/hand"
 # (tabs turned into unit separators: IFS whitespace would merge the empty columns)
 tail -n +2 workflows/example/samples.tsv | tr '\t' '\037' | while IFS=$'\037' read -r sample input bin_size fasta options; do
   o="$out/$sample"; h="$hand/$sample"; mkdir -p "$h"
-  case "$input" in
-    *.cool|*.mcool*|*.hic*) quiet "$cm" convert "$input" "$h/base.cool" $options ;;
-    *) quiet "$cm" convert "$input" "$h/base.cool" $options --bin-size "$bin_size" ;;
-  esac
+  # shellcheck disable=SC2046,SC2086
+  quiet "$cm" convert "$input" "$h/base.cool" $options $(bin_size_option "$input" "$options" "$bin_size")
   cp "$h/base.cool" "$h/balanced.cool"
   "$cm" balance "$h/balanced.cool" --store --force --store-unconverged --json > "$h/balance.json" 2>/dev/null
   quiet "$cm" zoomify "$h/base.cool" -r "$bin_size,$((2 * bin_size)),$((5 * bin_size)),$((10 * bin_size))" --balance -o "$h/$sample.mcool"
@@ -93,6 +104,36 @@ for row in rows:
     assert row["saddle_strength_20pct"] == strength[10], row
 print(f"   report.tsv: {len(rows)} rows equal to the by-hand values")
 PY
+
+echo "== analysis workflow's ingest, one sample per input URI form, against convert by hand"
+# form | URI | bin_size | input_options | what convert needs by hand besides the options
+forms="$work/forms.txt"
+cat > "$forms" <<'EOF'
+cool|data/yeast.10kb.cool|10000||
+cooler_group|data/layouts/legacy_multires.cool::/0|10000||
+mcool_level|data/cooler_test_file.mcool::/resolutions/100000|100000||
+mcool_shorthand|data/cooler_test_file.mcool::100000|100000||
+hic_level|data/CN.mm9.multires.hic::/resolutions/10000000|10000000||
+hic_single|data/hic_test_file.hic|100000||
+hicexplorer_h5|data/hicexplorer/small_test_matrix.h5|5000||
+bg2_with_bins|data/hg19.GM12878-MboI.matrix.2000kb.bg2.gz|2000000|--bins data/hg19.bins.2000kb.bed.gz|
+pairs|data/hg19.GM12878-MboI.pairs.subsample.sorted.txt.gz|2000000|--format pairs --pairs-columns 1,2,4,5 --chrom-sizes workflows/example/hg19.chrom.sizes|--bin-size 2000000
+EOF
+sheet="$work/forms.tsv"
+printf "sample\tinput\tbin_size\tfasta\tinput_options\n" > "$sheet"
+targets=()
+while IFS='|' read -r form uri bin_size options extra; do
+  printf "%s\t%s\t%s\t\t%s\n" "$form" "$uri" "$bin_size" "$options" >> "$sheet"
+  targets+=("$work/forms/$form/base.cool")
+done < "$forms"
+"$SNAKEMAKE" -s workflows/analysis/Snakefile --cores 2 -q --config contactmap="$cm" samples="$sheet" \
+  outdir="$work/forms" -- "${targets[@]}" > "$work/forms.log" 2>&1 || { cat "$work/forms.log"; fail "ingest of the URI forms"; }
+while IFS='|' read -r form uri bin_size options extra; do
+  # shellcheck disable=SC2086
+  quiet "$cm" convert "$uri" "$work/forms/$form.hand.cool" $options $extra
+  same_map "$work/forms/$form/base.cool" "$work/forms/$form.hand.cool"
+  echo "   $form: $uri${options:+ $options}${extra:+ $extra}: base.cool equal to convert by hand"
+done < "$forms"
 
 echo "== dry run on a 200-sample sheet"
 sheet="$work/200.tsv"

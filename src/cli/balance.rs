@@ -201,12 +201,24 @@ pub fn run(args: &BalanceArgs) -> Result<()> {
         None
     };
     // The reader (and the pixels borrowing it) is closed before --store opens the file to write.
-    let (result, bins, params_used, reader_warnings) = {
+    let (result, bins, params_used, reader_warnings, disconnected) = {
         let reader = open_for_analysis(&args.uri, &args.input)?;
         let params = params(args, reader.bins())?;
         let pixels = io::load_pixels_for_balancing(reader.as_ref(), budget)?;
         let result = balance(&pixels, &params)?;
-        (result, reader.bins().clone(), params, reader.warnings())
+        // Genome-wide balancing of chromosomes that share no contact cannot converge: their
+        // scales are independent. Looked for only when it failed.
+        let disconnected = !result.converged
+            && params.scope == Scope::GenomeWide
+            && reader.bins().chroms().len() > 1
+            && !has_trans_pixels(reader.as_ref())?;
+        (
+            result,
+            reader.bins().clone(),
+            params,
+            reader.warnings(),
+            disconnected,
+        )
     };
     if !result.converged {
         let message = format!(
@@ -216,13 +228,21 @@ pub fn run(args: &BalanceArgs) -> Result<()> {
             params_used.max_iters,
             unconverged_detail(&result, &bins, params_used.tol)
         );
+        let advice = if disconnected {
+            "the map has no trans (inter-chromosomal) contacts, so genome-wide balancing cannot \
+             converge: balance each chromosome with --cis-only"
+        } else {
+            "raise --max-iters or --tol"
+        };
         if args.store && !args.store_unconverged {
             return Err(Error::Invalid(format!(
-                "{message}; nothing stored. Raise --max-iters or --tol, or pass --store-unconverged"
+                "{message}; nothing stored: {advice}, or pass --store-unconverged"
             )));
         }
         let what = if args.store { "storing" } else { "writing" };
-        eprintln!("contactmap: WARNING: {message}; {what} the unconverged weights anyway");
+        eprintln!(
+            "contactmap: WARNING: {message}; {what} the unconverged weights anyway ({advice})"
+        );
     }
     let weights = Weights {
         name: args.name.clone(),
@@ -362,6 +382,35 @@ fn read_blacklist(path: &Path, bins: &BinTable) -> Result<Vec<usize>> {
 }
 
 /// Which groups did not converge, for the error message.
+/// Whether any stored pixel joins two chromosomes (the read stops at the first).
+fn has_trans_pixels(reader: &dyn crate::io::MatrixReader) -> Result<bool> {
+    let bins = reader.bins();
+    let n = bins.n_bins();
+    let mut found = false;
+    for chrom in 0..bins.chroms().len() {
+        let rows = bins.chrom_bins(chrom);
+        let later = rows.end..n;
+        if later.is_empty() {
+            break;
+        }
+        let read = reader.read_pixels(rows, later, &mut |block| {
+            found = !block.is_empty();
+            if found {
+                // Stop the stream: one pixel is enough.
+                Err(Error::Invalid(String::new()))
+            } else {
+                Ok(())
+            }
+        });
+        match read {
+            _ if found => return Ok(true),
+            Err(error) => return Err(error),
+            Ok(()) => {}
+        }
+    }
+    Ok(false)
+}
+
 fn unconverged_detail(result: &BalanceResult, bins: &BinTable, tol: f64) -> String {
     match &result.per_chrom {
         Some(per_chrom) => {

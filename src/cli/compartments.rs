@@ -228,7 +228,16 @@ pub fn run(args: &CompartmentsArgs) -> Result<()> {
         write_text_file(&format!("{prefix}.cis.lam.txt"), &lam)?;
     }
     drop(progress);
-    super::warnings::print_reader_warnings(reader.warnings());
+    let mut notes = super::warnings::Warnings::new();
+    notes.extend(reader.warnings());
+    if phasing.is_none() {
+        notes.note(
+            "no phasing track: each eigenvector's sign makes it correlate positively with the \
+             bins' coverage, which is not A/B; give --fasta GENOME.fa (GC content) or \
+             --phasing-track FILE:COLUMN (gene density) to make E1 > 0 the A compartment",
+        );
+    }
+    notes.print();
     Ok(())
 }
 

@@ -68,18 +68,28 @@ pub struct ContactsArgs {
     pub definition: DefinitionArgs,
 }
 
-/// The RR sequence line: residues 1..=last number, `X` where not observed; `None` when a
-/// residue number is below 1.
-fn sequence_line(chain: &Chain) -> Option<String> {
-    if chain.residues.iter().any(|residue| residue.number < 1) {
-        return None;
-    }
+/// The RR sequence line of a chain without a target sequence, and the offset to subtract from
+/// the structure's numbers to get the RR's positions in it.
+///
+/// The structure's numbers are the positions when they can be: the line runs from residue 1 to
+/// the last, `X` where a number is not observed (toxd, numbered from 2: one `X`, its unobserved
+/// first residue). When the chain is numbered from below 1, or from so far on that the line would
+/// hold more `X` before the chain than residues (1A8O, numbered 151-220: the C-terminal domain
+/// of a longer protein), the numbers are not positions in a sequence we know: the line is the
+/// chain's own, numbered from 1 at its first residue.
+fn sequence_line(chain: &Chain) -> Option<(String, i32)> {
+    let first = chain.residues.iter().map(|r| r.number).min()?;
     let last = chain.residues.iter().map(|r| r.number).max()?;
-    let mut sequence = vec!['X'; last as usize];
+    let offset = if first < 1 || (first - 1) as usize > chain.residues.len() {
+        first - 1
+    } else {
+        0
+    };
+    let mut sequence = vec!['X'; (last - offset) as usize];
     for residue in chain.residues.iter().filter(|r| r.insertion.is_none()) {
-        sequence[residue.number as usize - 1] = residue.one_letter;
+        sequence[(residue.number - offset - 1) as usize] = residue.one_letter;
     }
-    Some(sequence.into_iter().collect())
+    Some((sequence.into_iter().collect(), offset))
 }
 
 /// Run `contactmap contacts`.
@@ -101,6 +111,7 @@ pub fn run(args: &ContactsArgs) -> Result<()> {
     }
     let truth = measure(&args.structure, &chain, &args.definition)?;
     let mut text = Vec::new();
+    let mut notes = crate::cli::warnings::Warnings::new();
     if args.matrix {
         let numbers = truth.numbers();
         text.extend_from_slice(b"residue");
@@ -117,13 +128,30 @@ pub fn run(args: &ContactsArgs) -> Result<()> {
             text.push(b'\n');
         }
     } else {
-        if let Some(sequence) = sequence.or_else(|| sequence_line(&chain)) {
-            text.extend_from_slice(sequence.as_bytes());
+        let (line, offset) = match sequence {
+            Some(sequence) => (Some(sequence), 0),
+            None => match sequence_line(&chain) {
+                Some((line, offset)) => (Some(line), offset),
+                None => (None, 0),
+            },
+        };
+        if let Some(line) = line {
+            text.extend_from_slice(line.as_bytes());
             text.push(b'\n');
+        }
+        if offset != 0 {
+            notes.note(format!(
+                "{}: chain {} is numbered from {}: the RR numbers its residues from 1 there (its \
+                 sequence line is the chain's); give --fasta to number them by a target sequence",
+                args.structure.display(),
+                chain.id,
+                offset + 1
+            ));
         }
         let mut cutoff = Vec::new();
         write_real(&mut cutoff, args.definition.cutoff);
         for (i, j) in truth.contacts(SeparationRange::new(args.min_sep, None)) {
+            let (i, j) = (i - offset, j - offset);
             let _ = write!(text, "{i} {j} 0 ");
             text.extend_from_slice(&cutoff);
             text.extend_from_slice(b" 1\n");
@@ -131,5 +159,7 @@ pub fn run(args: &ContactsArgs) -> Result<()> {
     }
     let mut out = Output::open(args.out.as_deref())?;
     out.write_all(&text)?;
-    out.finish()
+    out.finish()?;
+    notes.print();
+    Ok(())
 }

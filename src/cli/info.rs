@@ -126,8 +126,9 @@ fn matrix_report(reader: &dyn MatrixReader) -> Result<Value> {
     let mut map = Map::new();
     map.insert("uri".into(), Value::from(reader.source()));
     map.insert("file-format".into(), Value::from(info.format.clone()));
+    let cooler = info.format.starts_with("cool");
     for (key, value) in &info.attributes {
-        map.insert(key.clone(), value.clone());
+        map.insert(key.clone(), attribute_json(value, cooler));
     }
     match bins.bin_size_bp() {
         Some(size) => {
@@ -168,6 +169,18 @@ fn matrix_report(reader: &dyn MatrixReader) -> Result<Value> {
     Ok(Value::Object(map))
 }
 
+/// An attribute as `cooler info` shows it: cooler stores `metadata` (and `id`) as JSON text and
+/// decodes every string attribute that parses as JSON (`"null"` is null, `"{}"` an object, `"2"`
+/// a number); other strings stay strings. Other formats' attributes are shown as stored.
+fn attribute_json(value: &Value, cooler: bool) -> Value {
+    match value {
+        Value::String(text) if cooler => {
+            serde_json::from_str(text).unwrap_or_else(|_| value.clone())
+        }
+        other => other.clone(),
+    }
+}
+
 /// An integer-valued sum as a JSON integer, otherwise a float.
 fn number(value: f64) -> Value {
     if value.fract() == 0.0 && value.abs() < 9.0e15 {
@@ -185,10 +198,12 @@ fn render_text(report: &Value) -> String {
         Value::Null => "-".into(),
         other => other.to_string(),
     };
-    lines.push(format!("uri            {}", plain(&get("uri"))));
-    lines.push(format!("format         {}", plain(&get("file-format"))));
+    // Labels in one column as wide as the longest, `genome-assembly`.
+    let row = |label: &str, value: String| format!("{label:<15} {value}");
+    lines.push(row("uri", plain(&get("uri"))));
+    lines.push(row("format", plain(&get("file-format"))));
     if let Some(levels) = report.get("levels").and_then(|l| l.as_array()) {
-        lines.push(format!("resolutions    {}", levels.len()));
+        lines.push(row("resolutions", levels.len().to_string()));
         lines.push("  bin-size        nbins            nnz                sum  weights".into());
         for level in levels {
             lines.push(format!(
@@ -216,24 +231,23 @@ fn render_text(report: &Value) -> String {
         "count-type",
     ] {
         if let Some(v) = report.get(key) {
-            lines.push(format!("{key:<14} {}", plain(v)));
+            lines.push(row(key, plain(v)));
         }
     }
     if let Some(weights) = report.get("weights").and_then(|w| w.as_array()) {
         let names: Vec<String> = weights.iter().map(&plain).collect();
-        lines.push(format!(
-            "{:<14} {}",
+        lines.push(row(
             "weights",
             if names.is_empty() {
                 "none".to_string()
             } else {
                 names.join(", ")
-            }
+            },
         ));
     }
     if let Some(resolutions) = report.get("resolutions").and_then(|r| r.as_array()) {
         let list: Vec<String> = resolutions.iter().map(&plain).collect();
-        lines.push(format!("{:<14} {}", "resolutions", list.join(", ")));
+        lines.push(row("resolutions", list.join(", ")));
     }
     if let Some(chroms) = report.get("chromosomes").and_then(|c| c.as_array()) {
         let shown: Vec<String> = chroms
@@ -246,11 +260,11 @@ fn render_text(report: &Value) -> String {
         } else {
             String::new()
         };
-        lines.push(format!("{:<14} {}{more}", "chromosomes", shown.join(" ")));
+        lines.push(row("chromosomes", format!("{}{more}", shown.join(" "))));
     }
     if let Some(notes) = report.get("notes").and_then(|n| n.as_array()) {
         for note in notes {
-            lines.push(format!("{:<14} {}", "note", plain(note)));
+            lines.push(row("note", plain(note)));
         }
     }
     lines.join("\n") + "\n"

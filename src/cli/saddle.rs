@@ -190,6 +190,18 @@ pub fn run(args: &SaddleArgs) -> Result<()> {
         strengths.push_str(&format!("{k}\t{s}\n"));
     }
     write_text_file(&format!("{prefix}.strength.tsv"), &strengths)?;
-    super::warnings::print_reader_warnings(reader.warnings());
+    let mut notes = super::warnings::Warnings::new();
+    notes.extend(reader.warnings());
+    // The headline figure: the corners of the fifth of the classes at each end (k = 10 of 50,
+    // the workflows' report column), every k in the table.
+    let k = (params.n_bins / 5).max(1);
+    if let Some(value) = strength.get(k) {
+        notes.note(format!(
+            "{column} saddle strength {value:.4}: (AA + BB) / (AB + BA) over the {k} x {k} \
+             corners of {} classes (20% at each end); every k in {prefix}.strength.tsv",
+            params.n_bins
+        ));
+    }
+    notes.print();
     Ok(())
 }

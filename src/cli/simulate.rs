@@ -53,9 +53,11 @@ exp(--bias-sd * Z), 0 for the --dead-bins fraction of bins; c scales the expecte
 --depth. Counts are Poisson draws of the expected ones. No trans (inter-chromosomal) pixels.
 The same --seed gives the same files, whatever the number of threads.
 
-Balancing: ICE converges slowly on maps cut at --max-distance (the band couples bins only
-locally, and cooler's variance tolerance is absolute, so it is strict at high --depth); give
-`contactmap balance` more --max-iters or a looser --tol, or simulate with a larger --max-distance.
+Balancing: the default map (one chromosome, every distance) balances with `contactmap balance
+--store` and cooler's defaults (about 80 ICE iterations for 2,000 bins). With --chroms 2 or more
+there are no trans contacts, so balance each chromosome: `contactmap balance OUT.cool --store
+--cis-only`. A map cut at --max-distance balances slowly, the band coupling bins only locally
+(2,000 bins cut at 200 need about 3,000 iterations): give `balance` more --max-iters then.
 
 Outputs:
   OUT.cool             integer counts (no weight column; balance it with `contactmap balance`)
@@ -107,9 +109,10 @@ pub struct BlocksArgs {
     /// Expected total number of contacts (e.g. 1e7).
     #[arg(long, default_value_t = 1e7, value_name = "CONTACTS")]
     pub depth: f64,
-    /// Pixels farther than this many bins from the diagonal are not generated.
-    #[arg(long, default_value_t = 200, value_name = "BINS")]
-    pub max_distance: usize,
+    /// Pixels farther than this many bins from the diagonal are not generated [default: the
+    /// whole chromosome].
+    #[arg(long, value_name = "BINS")]
+    pub max_distance: Option<usize>,
     /// Standard deviation of the log per-bin coverage bias (0: no bias).
     #[arg(long, default_value_t = 0.0, value_name = "SD")]
     pub bias_sd: f64,
@@ -134,7 +137,7 @@ impl BlocksArgs {
             domain_enrichment: self.enrichment,
             nested_fraction: self.nested_fraction,
             depth: self.depth,
-            max_distance_bins: self.max_distance,
+            max_distance_bins: self.max_distance.unwrap_or(usize::MAX),
             bias_sd: self.bias_sd,
             dead_bin_fraction: self.dead_bins,
             seed: self.seed,

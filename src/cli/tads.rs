@@ -263,7 +263,7 @@ struct Calls {
 
 enum Track {
     Insulation(InsulationTable, Vec<String>),
-    Directionality(DirectionalityTable, Vec<DiState>),
+    Directionality(DirectionalityTable, Vec<Option<DiState>>),
     TopDom(Vec<TopDomRegion>),
     Armatus(Vec<(Domain, f64)>),
 }
@@ -612,7 +612,7 @@ fn insulation_text(bins: &BinTable, table: &InsulationTable, region_names: &[Str
 fn directionality_text(
     bins: &BinTable,
     table: &DirectionalityTable,
-    states: &[DiState],
+    states: &[Option<DiState>],
 ) -> Vec<u8> {
     let w = table.window_bp;
     let mut text = Vec::with_capacity(96 * (table.bins.len() + 1));
@@ -631,10 +631,12 @@ fn directionality_text(
         text.push(b'\t');
         write_real(&mut text, table.index[row]);
         text.push(b'\t');
+        // A masked bin (DI NaN) has no state: `nan`, as the numbers beside it.
         text.extend_from_slice(match states[row] {
-            DiState::Upstream => b"upstream".as_slice(),
-            DiState::Neutral => b"neutral",
-            DiState::Downstream => b"downstream",
+            Some(DiState::Upstream) => b"upstream".as_slice(),
+            Some(DiState::Neutral) => b"neutral",
+            Some(DiState::Downstream) => b"downstream",
+            None => b"nan",
         });
         text.push(b'\n');
     }

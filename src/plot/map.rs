@@ -368,10 +368,78 @@ fn unlabelled(ticks: &[(f64, String)]) -> Vec<(f64, String)> {
     ticks.iter().map(|(v, _)| (*v, String::new())).collect()
 }
 
+/// Sizes of the overlay marks, scaled to the bins on screen so that they never hide the map: a
+/// region of a few hundred bins gets the full sizes; a whole chromosome at 10 kb (bins of a
+/// tenth of a pixel, boundaries a few pixels apart) thin outlines and short marks that stop
+/// short of the diagonal.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MarkSizes {
+    /// Width of domain and loop outlines, px.
+    pub outline: f64,
+    /// Width of boundary marks, px.
+    pub mark: f64,
+    /// Half-length of a boundary mark across the diagonal (triangle: its height), px.
+    pub half: f64,
+    /// The part of a mark left out on each side of the diagonal (square view), px.
+    pub gap: f64,
+}
+
+impl MarkSizes {
+    /// The sizes for bins of `bin_px` pixels and boundaries `spacing_px` apart (median; `None`
+    /// with fewer than two), at `theme`'s resolution.
+    pub fn new(theme: &Theme, bin_px: f64, spacing_px: Option<f64>) -> MarkSizes {
+        // Outlines thin down to a third of their width as bins shrink below 4 points.
+        let fine = (bin_px / theme.px(4.0)).clamp(0.35, 1.0);
+        let outline = theme.px(1.2) * fine;
+        if bin_px >= theme.px(4.0) {
+            // Bins large on screen: a full mark across the diagonal cell.
+            return MarkSizes {
+                outline,
+                mark: theme.px(1.5),
+                half: theme.px(5.0),
+                gap: 0.0,
+            };
+        }
+        // Small bins: the marks stop short of the diagonal (its few pixels stay in view), keep
+        // a visible length beside it, and are no wider than a third of the space between them.
+        let mark = spacing_px
+            .map_or(theme.px(1.5), |s| 0.3 * s)
+            .clamp(theme.px(0.5), theme.px(1.5));
+        let gap = theme.px(2.0) + bin_px;
+        MarkSizes {
+            outline,
+            mark,
+            half: gap + theme.px(4.0),
+            gap,
+        }
+    }
+}
+
+/// The median distance between consecutive boundary middles, in pixels along the columns.
+fn boundary_spacing(map: &Axes, boundaries: &[(u64, u64)]) -> Option<f64> {
+    let mut xs: Vec<f64> = boundaries
+        .iter()
+        .map(|&(start, end)| map.px(((start + end) / 2) as f64))
+        .collect();
+    xs.sort_by(f64::total_cmp);
+    let mut gaps: Vec<f64> = xs
+        .windows(2)
+        .map(|w| w[1] - w[0])
+        .filter(|&g| g > 0.0)
+        .collect();
+    if gaps.is_empty() {
+        return None;
+    }
+    gaps.sort_by(f64::total_cmp);
+    Some(gaps[gaps.len() / 2])
+}
+
 fn draw_overlays(svg: &mut Svg, theme: &Theme, map: &Axes, figure: &MapFigure<'_>) {
     let overlays = figure.overlays;
-    let domain = Stroke::solid(DOMAIN_COLOUR, theme.px(1.2));
-    let boundary = Stroke::solid(BOUNDARY_COLOUR, theme.px(1.5));
+    let bin_px = map.width / figure.grid.cols.bins.len().max(1) as f64;
+    let sizes = MarkSizes::new(theme, bin_px, boundary_spacing(map, &overlays.boundaries));
+    let domain = Stroke::solid(DOMAIN_COLOUR, sizes.outline);
+    let boundary = Stroke::solid(BOUNDARY_COLOUR, sizes.mark);
     let same_chrom = figure.rows == figure.cols
         || (figure.rows.chrom == figure.cols.chrom && figure.view == MapView::Square);
     let px = |bp: u64| map.px(bp as f64);
@@ -389,11 +457,17 @@ fn draw_overlays(svg: &mut Svg, theme: &Theme, map: &Axes, figure: &MapFigure<'_
                         Some(domain),
                     );
                 }
-                let half = theme.px(5.0);
+                // Two strokes across the diagonal, leaving the diagonal itself in view.
+                let (half, gap) = (sizes.half, sizes.gap);
                 for &(start, end) in &overlays.boundaries {
                     let middle = (start + end) / 2;
                     let (x, y) = (px(middle), py(middle));
-                    svg.line(x - half, y + half, x + half, y - half, boundary);
+                    if gap > 0.0 {
+                        svg.line(x - half, y + half, x - gap, y + gap, boundary);
+                        svg.line(x + gap, y - gap, x + half, y - half, boundary);
+                    } else {
+                        svg.line(x - half, y + half, x + half, y - half, boundary);
+                    }
                 }
             }
             let least = theme.px(6.0);
@@ -425,9 +499,12 @@ fn draw_overlays(svg: &mut Svg, theme: &Theme, map: &Axes, figure: &MapFigure<'_
                     domain,
                 );
             }
+            // Ticks up from the diagonal (from above it when bins are small, so that the
+            // diagonal stays in view).
+            let height = (sizes.half - sizes.gap).clamp(theme.px(4.0), theme.px(8.0));
             for &(start, end) in &overlays.boundaries {
                 let x = px((start + end) / 2);
-                svg.line(x, base, x, base - theme.px(8.0), boundary);
+                svg.line(x, base - sizes.gap, x, base - sizes.gap - height, boundary);
             }
             for &[s1, e1, s2, e2] in &overlays.loops {
                 let (m1, m2) = ((s1 + e1) as f64 / 2.0, (s2 + e2) as f64 / 2.0);

@@ -401,8 +401,9 @@ fn mean_var(v: &[f64]) -> (f64, f64) {
 /// Domains of one region's DI track.
 #[derive(Clone, Debug, PartialEq)]
 pub struct DiDomains {
-    /// Viterbi state per local bin.
-    pub states: Vec<DiState>,
+    /// Viterbi state per local bin; `None` where the index is NaN (a masked bin has no
+    /// observation, so no state of its own: the path only runs through it).
+    pub states: Vec<Option<DiState>>,
     /// Domains (genome-wide bins, `level` 0, `score` = mean posterior probability of the Viterbi
     /// state over the domain's bins).
     pub domains: Vec<Domain>,
@@ -414,8 +415,8 @@ pub struct DiDomains {
 /// Dixon's calls over a whole directionality table: states per row, domains and boundaries.
 #[derive(Clone, Debug, PartialEq)]
 pub struct DixonCalls {
-    /// Viterbi state of each row of the table.
-    pub states: Vec<DiState>,
+    /// Viterbi state of each row of the table (`None` where the index is NaN).
+    pub states: Vec<Option<DiState>>,
     /// Domains of every region, in table order.
     pub domains: Vec<Domain>,
     /// Domain starts of every region, in table order.
@@ -498,13 +499,22 @@ pub fn di_domains(
     first_bin: usize,
     params: &HmmParams,
 ) -> DiDomains {
-    let states = model.viterbi(track);
+    let path = model.viterbi(track);
     let posterior = model.posterior(track);
+    // Masked bins (NaN) keep no state: they neither open nor close a domain.
+    let states: Vec<Option<DiState>> = path
+        .iter()
+        .zip(track)
+        .map(|(&state, x)| (!x.is_nan()).then_some(state))
+        .collect();
     let spans = domain_spans(&states, params.min_domain_bins);
     let mut domains = Vec::with_capacity(spans.len());
     let mut boundaries = Vec::with_capacity(spans.len());
     for (s, e) in spans {
-        let score = (s..e).map(|t| posterior[t][states[t].index()]).sum::<f64>() / (e - s) as f64;
+        let observed: Vec<f64> = (s..e)
+            .filter_map(|t| states[t].map(|state| posterior[t][state.index()]))
+            .collect();
+        let score = observed.iter().sum::<f64>() / observed.len().max(1) as f64;
         domains.push(Domain {
             start_bin: first_bin + s,
             end_bin: first_bin + e,
@@ -523,8 +533,9 @@ pub fn di_domains(
     }
 }
 
-/// Dixon's rule on a state path: local `[start, end)` spans of at least `min_bins` bins.
-fn domain_spans(states: &[DiState], min_bins: usize) -> Vec<(usize, usize)> {
+/// Dixon's rule on a state path: local `[start, end)` spans of at least `min_bins` bins;
+/// bins without a state (masked) count as neutral.
+fn domain_spans(states: &[Option<DiState>], min_bins: usize) -> Vec<(usize, usize)> {
     let mut spans = Vec::new();
     let mut open: Option<usize> = None;
     let mut last_up_end: Option<usize> = None;
@@ -534,7 +545,7 @@ fn domain_spans(states: &[DiState], min_bins: usize) -> Vec<(usize, usize)> {
         }
     };
     for (t, &state) in states.iter().enumerate() {
-        match state {
+        match state.unwrap_or(DiState::Neutral) {
             DiState::Downstream => match (open, last_up_end) {
                 (Some(s), Some(e)) => {
                     close(s, e);
@@ -703,7 +714,9 @@ mod tests {
 
     #[test]
     fn dixon_rule_on_state_paths() {
-        use DiState::{Downstream as D, Neutral as N, Upstream as U};
+        const D: Option<DiState> = Some(DiState::Downstream);
+        const N: Option<DiState> = Some(DiState::Neutral);
+        const U: Option<DiState> = Some(DiState::Upstream);
         let states = [D, D, N, U, U, N, D, D, U, D, N, N, U, D, N];
         assert_eq!(domain_spans(&states, 3), vec![(0, 5), (6, 9), (9, 13)]);
         assert_eq!(domain_spans(&states, 4), vec![(0, 5), (9, 13)]);
@@ -712,6 +725,27 @@ mod tests {
             Vec::<(usize, usize)>::new()
         );
         assert_eq!(domain_spans(&[U, D, N, D, U, N], 1), vec![(1, 5)]);
+    }
+
+    /// Masked bins (NaN) have no state and neither open nor close a domain (issue 26).
+    #[test]
+    fn masked_bins_have_no_state() {
+        const D: Option<DiState> = Some(DiState::Downstream);
+        const U: Option<DiState> = Some(DiState::Upstream);
+        // A masked bin inside the run of downstream states changes nothing.
+        assert_eq!(
+            domain_spans(&[D, None, D, U, None, D, U], 1),
+            vec![(0, 4), (5, 7)]
+        );
+        let mut track = vec![3.0, 2.5, 0.1, 0.0, -2.0, -2.5];
+        track.extend(track.clone());
+        track[2] = f64::NAN;
+        track[8] = f64::NAN;
+        let model = GaussianHmm::fit(&[&track], &HmmParams::default()).unwrap();
+        let called = di_domains(&model, &track, 10, &HmmParams::default());
+        for (t, state) in called.states.iter().enumerate() {
+            assert_eq!(state.is_none(), track[t].is_nan(), "bin {t}");
+        }
     }
 
     #[test]

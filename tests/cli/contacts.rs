@@ -684,3 +684,38 @@ fn non_finite_coordinates_and_huge_npy_shapes_are_one_error_line() {
         "{line}"
     );
 }
+
+/// Issue 26: without --fasta, a chain numbered 151-220 (1A8O) gives an RR whose sequence line is
+/// its 70 residues (not 150 `X` first) and whose residues are numbered from 1 there, the same
+/// file as with its FASTA; a note says so; the RR scores precision 1 against the structure.
+#[test]
+fn a_chain_numbered_from_151_is_written_from_1() {
+    let out = crate::run(&["contacts", &protein("1a8o/1A8O.cif")]);
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(
+        text.lines().next().unwrap(),
+        "MDIRQGPKEPFRDYVDRFYKTLRAEQASQEVKNWMTETLLVQNANPDCKTILKALGPGATLEEMMTACQG"
+    );
+    assert!(text.lines().nth(1).unwrap().starts_with("1 18 "), "{text}");
+    assert!(stderr.contains("numbered from 151"), "{stderr}");
+    let with_fasta = run_ok(&[
+        "contacts",
+        &protein("1a8o/1A8O.cif"),
+        "--fasta",
+        &protein("1a8o/1A8O.fasta"),
+    ]);
+    assert_eq!(text, with_fasta);
+    let dir = tempfile::tempdir().unwrap();
+    let rr = dir.path().join("1a8o.rr");
+    std::fs::write(&rr, &text).unwrap();
+    let rows = scores(&[
+        "--structure",
+        &protein("1a8o/1A8O.pdb"),
+        rr.to_str().unwrap(),
+        "--top",
+        "NC",
+    ]);
+    assert!(rows.iter().all(|r| r.3 == r.4), "{rows:?}");
+}

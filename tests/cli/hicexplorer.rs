@@ -73,7 +73,7 @@ fn dump_and_info_equal_cooler_on_the_converted_matrix() {
     let info = run_ok(&["info", &h5]);
     assert!(info.contains("HiCExplorer h5"), "{info}");
     assert!(info.contains("last bin's end"), "{info}");
-    assert!(info.contains("nnz            466"), "{info}");
+    assert!(info.contains("nnz             466"), "{info}");
 }
 
 #[test]

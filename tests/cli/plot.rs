@@ -397,3 +397,101 @@ fn bad_inputs_fail_with_one_line_and_no_file() {
     let message = plot_fails(&args, dir.path());
     assert!(message.contains("no positive values to draw"), "{message}");
 }
+
+/// Issue 26: on a whole chromosome with its boundaries (4,800 bins of 10 kb and about 140
+/// boundaries, the workflow's map.png of a human chromosome), the boundary marks stop short of
+/// the diagonal, which stays in view, and are thinner than the space between them; on a few
+/// large bins they still cross it.
+#[test]
+fn boundary_marks_scale_with_the_bins_on_screen() {
+    let dir = tempfile::tempdir().unwrap();
+    let map = dir.path().join("big.cool");
+    let map = map.to_str().unwrap();
+    run_ok(&[
+        "simulate", "blocks", "-o", map, "--bins", "4800", "--seed", "2",
+    ]);
+    let boundaries = dir.path().join("b.bed");
+    run_ok(&[
+        "tads",
+        map,
+        "--raw",
+        "--window",
+        "100k",
+        "-o",
+        dir.path().join("i.tsv").to_str().unwrap(),
+        "--boundaries",
+        boundaries.to_str().unwrap(),
+    ]);
+    let n_boundaries = std::fs::read_to_string(&boundaries)
+        .unwrap()
+        .lines()
+        .count();
+    assert!(n_boundaries > 100, "{n_boundaries}");
+    let marks = |region: &str| -> (Vec<[f64; 5]>, [f64; 3]) {
+        let svg = run_ok(&[
+            "plot",
+            "map",
+            map,
+            "--raw",
+            "-r",
+            region,
+            "--boundaries",
+            boundaries.to_str().unwrap(),
+            "-o",
+            "-",
+            "--to",
+            "svg",
+        ]);
+        let attr = |element: &str, name: &str| -> f64 {
+            let start = element.find(&format!(" {name}=\"")).unwrap() + name.len() + 3;
+            element[start..].split('"').next().unwrap().parse().unwrap()
+        };
+        let image = svg.split("<image").nth(1).unwrap();
+        let frame = [attr(image, "x"), attr(image, "y"), attr(image, "width")];
+        let lines = svg
+            .split("<line")
+            .skip(1)
+            .filter(|l| l.contains("stroke=\"#009e73\""))
+            .map(|l| {
+                let l = l.split('>').next().unwrap();
+                [
+                    attr(l, "x1"),
+                    attr(l, "y1"),
+                    attr(l, "x2"),
+                    attr(l, "y2"),
+                    attr(l, "stroke-width"),
+                ]
+            })
+            .collect();
+        (lines, frame)
+    };
+    // Signed distance (px) of a point from the diagonal of the map's frame.
+    let off = |frame: [f64; 3], x: f64, y: f64| ((x - frame[0]) - (y - frame[1])) / 2f64.sqrt();
+    let (lines, frame) = marks("chr1");
+    assert!(lines.len() >= 2 * n_boundaries - 4, "{} marks", lines.len());
+    let spacing = frame[2] / n_boundaries as f64;
+    for [x1, y1, x2, y2, width] in &lines {
+        let (a, b) = (off(frame, *x1, *y1), off(frame, *x2, *y2));
+        assert!(a * b > 0.0, "a mark crosses the diagonal: {a} {b}");
+        assert!(
+            a.abs().min(b.abs()) >= 1.0,
+            "a mark touches the diagonal: {a} {b}"
+        );
+        assert!(
+            *width <= spacing,
+            "marks {width} px wide, {spacing} px apart"
+        );
+    }
+    // 40 bins on screen around a boundary: each mark crosses the diagonal cell.
+    let text = std::fs::read_to_string(&boundaries).unwrap();
+    let middle: u64 = text
+        .lines()
+        .map(|l| l.split('\t').nth(1).unwrap().parse::<u64>().unwrap())
+        .find(|&start| start >= 300_000)
+        .unwrap();
+    let (lines, frame) = marks(&format!("chr1:{}-{}", middle - 200_000, middle + 200_000));
+    assert!(!lines.is_empty());
+    for [x1, y1, x2, y2, _] in &lines {
+        assert!(off(frame, *x1, *y1) * off(frame, *x2, *y2) < 0.0);
+    }
+}

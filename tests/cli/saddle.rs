@@ -160,3 +160,54 @@ fn trans_saddle_equals_cooltools() {
         );
     }
 }
+
+/// Issue 26: a successful run says what it found and how it oriented it: `compartments`
+/// without a phasing track says the sign follows coverage; `saddle` prints its strength (the
+/// k = n/5 row of its table); `plot saddle` names the track (E1) on its axes.
+#[test]
+fn runs_say_their_orientation_and_strength_and_the_picture_names_the_track() {
+    let dir = tempfile::tempdir().unwrap();
+    let uri = crate::data("cooler_test_file.mcool::100000");
+    let prefix = dir.path().join("c");
+    let out = crate::run(&["compartments", &uri, "-o", prefix.to_str().unwrap()]);
+    assert!(out.status.success());
+    let note = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        note.contains("no phasing track") && note.contains("coverage"),
+        "{note}"
+    );
+    let track = format!("{}.cis.vecs.tsv:E1", prefix.display());
+    let saddle = dir.path().join("s");
+    let out = crate::run(&[
+        "saddle",
+        &uri,
+        "--track",
+        &track,
+        "-o",
+        saddle.to_str().unwrap(),
+    ]);
+    assert!(out.status.success());
+    let note = String::from_utf8_lossy(&out.stderr);
+    let table = std::fs::read_to_string(dir.path().join("s.strength.tsv")).unwrap();
+    let k10: f64 = table
+        .lines()
+        .find_map(|l| l.strip_prefix("10\t"))
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(
+        note.contains(&format!("E1 saddle strength {k10:.4}")),
+        "{note} vs {k10}"
+    );
+    let svg = dir.path().join("s.svg");
+    crate::run_ok(&[
+        "plot",
+        "saddle",
+        dir.path().join("s.saddle.tsv").to_str().unwrap(),
+        "-o",
+        svg.to_str().unwrap(),
+    ]);
+    assert!(std::fs::read_to_string(&svg)
+        .unwrap()
+        .contains("E1 class (low to high)"));
+}

@@ -238,8 +238,8 @@ fn polymer_ensemble_files_and_reproducibility() {
     };
     let cool = simulate("a", "1");
     let info = run_ok(&["info", &cool]);
-    assert!(info.contains("nbins          20"), "{info}");
-    assert!(info.contains("bin-size       20000"), "{info}");
+    assert!(info.contains("nbins           20"), "{info}");
+    assert!(info.contains("bin-size        20000"), "{info}");
     let dump = run_ok(&["dump", &cool, "--header"]);
     assert!(dump.lines().count() > 20);
     // No bin straddles the chains: chr1 has 12 bins, chr2 8.
@@ -463,4 +463,45 @@ fn a_successful_run_prints_no_error() {
     assert!(run.status.success(), "{stderr}");
     assert!(!stderr.to_lowercase().contains("error"), "{stderr}");
     assert!(stderr.contains("simulate polymer: on the"), "{stderr}");
+}
+
+/// Issue 26: the README's route, `simulate blocks` then `balance --store`, works with the
+/// defaults (the map has every distance, so ICE converges within cooler's 200 iterations); a
+/// map of several chromosomes has no trans contacts, and balance says to use --cis-only, which
+/// then converges.
+#[test]
+fn simulated_block_maps_balance_with_the_defaults() {
+    let dir = tempfile::tempdir().unwrap();
+    let one = dir.path().join("one.cool");
+    run_ok(&["simulate", "blocks", "-o", one.to_str().unwrap()]);
+    let summary: serde_json::Value = serde_json::from_str(&run_ok(&[
+        "balance",
+        one.to_str().unwrap(),
+        "--store",
+        "--json",
+    ]))
+    .unwrap();
+    assert_eq!(
+        summary["converged"],
+        serde_json::Value::Bool(true),
+        "{summary}"
+    );
+    let two = dir.path().join("two.cool");
+    run_ok(&[
+        "simulate",
+        "blocks",
+        "-o",
+        two.to_str().unwrap(),
+        "--chroms",
+        "2",
+        "--bins",
+        "500",
+    ]);
+    let line = run_err(&["balance", two.to_str().unwrap(), "--store"]);
+    assert!(
+        line.contains("no trans (inter-chromosomal) contacts"),
+        "{line}"
+    );
+    assert!(line.contains("--cis-only"), "{line}");
+    run_ok(&["balance", two.to_str().unwrap(), "--store", "--cis-only"]);
 }

@@ -22,7 +22,8 @@ saddleplot does: each cell is the mean observed/expected (sum / count) of a pair
 classes, classes from the lowest track values (top left: B-B for an E1 track) to the highest
 (bottom right: A-A), on a log colour scale from --vmin to --vmax (default 0.5 to 2, centred on
 1). The two outlier classes (below the first edge, above the last) are left out, as cooltools
-does, unless --with-outliers.
+does, unless --with-outliers. The axes name the track (E1 ...) read from PREFIX.digitized.tsv
+beside the table, or --track-name.
 
 Examples:
   contactmap saddle in.cool --track eigs.cis.vecs.tsv:E1 -o s
@@ -43,9 +44,31 @@ pub struct SaddlePlotArgs {
     /// Keep the two outlier classes.
     #[arg(long)]
     pub with_outliers: bool,
+    /// The track's name on the axes [default: the column of PREFIX.digitized.tsv beside the
+    /// table, e.g. E1; else `track`].
+    #[arg(long, value_name = "NAME")]
+    pub track_name: Option<String>,
     /// Output and size.
     #[command(flatten)]
     pub figure: FigureArgs,
+}
+
+/// The track's name: --track-name, else the column `NAME.d` of the `digitized.tsv` that
+/// `contactmap saddle` wrote beside the table (same prefix), else `track`.
+fn track_name(args: &SaddlePlotArgs) -> String {
+    if let Some(name) = &args.track_name {
+        return name.clone();
+    }
+    let text = args.saddle.to_string_lossy();
+    text.strip_suffix(".saddle.tsv")
+        .and_then(|prefix| std::fs::read_to_string(format!("{prefix}.digitized.tsv")).ok())
+        .and_then(|table| {
+            let header = table.lines().next()?.to_string();
+            let column = header.split('\t').nth(3)?;
+            column.strip_suffix(".d").map(String::from)
+        })
+        .filter(|name| !name.is_empty())
+        .unwrap_or_else(|| "track".into())
 }
 
 /// Run `contactmap plot saddle`.
@@ -111,7 +134,7 @@ pub fn run(args: &SaddlePlotArgs) -> Result<()> {
         values,
         cmap: ColorMap::by_name(&args.cmap)?,
         scale: ColorScale::new(ScaleKind::Log, args.vmin, args.vmax)?,
-        axis_label: "track class (low to high)".into(),
+        axis_label: format!("{} class (low to high)", track_name(args)),
         bar_label: "mean observed / expected".into(),
         title: args.figure.title.clone().unwrap_or_default(),
         width_px: figure.width_px,
