@@ -2,9 +2,10 @@
 //! ([`contactmap::sim::reference::ChainSampler`]), for choosing and checking the excluded volume
 //! of `contactmap simulate polymer`.
 //!
-//! usage: cargo run --release --example saw_reference -- ENERGY RADIUS SWEEPS N...
+//! usage: cargo run --release --example saw_reference -- ENERGY RADIUS SWEEPS N... [--wiggle W]
 //!
-//! Harmonic bonds of wiggle 0.3 (as scripts/sim_physics.py), polychrom's polynomial repulsion of
+//! Harmonic bonds of wiggle 0.3 (as scripts/sim_physics.py; `--wiggle 0.1` for the default of
+//! `simulate polymer`), polychrom's polynomial repulsion of
 //! height ENERGY (kT) and range RADIUS between beads two or more apart. For each N: `<Rg²>` with
 //! its standard error over 16 independent chains of SWEEPS sweeps (after SWEEPS / 5 of burn-in),
 //! the local exponent `ν = ln(Rg²(N) / Rg²(N')) / (2 ln(N / N'))` from the previous N, and (for
@@ -26,10 +27,16 @@ const MAX_S: usize = 40;
 
 /// `<Rg²>` of one chain and its interior contact probability `P(s)`, `s = 0..=MAX_S` (pairs at
 /// least N/4 beads from the ends; empty when the interior is not longer than `MAX_S`).
-fn sample(n: usize, repulsion: Repulsion, sweeps: usize, seed: u64) -> (f64, Vec<f64>) {
+fn sample(
+    n: usize,
+    repulsion: Repulsion,
+    wiggle: f64,
+    sweeps: usize,
+    seed: u64,
+) -> (f64, Vec<f64>) {
     let bond = BondModel::Harmonic {
         length: 1.0,
-        wiggle: 0.3,
+        wiggle,
     };
     let rng = SimRng::seed_from_u64(seed);
     let mut sampler = ChainSampler::new(n, bond, repulsion, 1, rng).expect("at least 3 beads");
@@ -56,10 +63,22 @@ fn sample(n: usize, repulsion: Repulsion, sweeps: usize, seed: u64) -> (f64, Vec
 }
 
 fn main() {
-    let args: Vec<String> = std::env::args().skip(1).collect();
+    let mut args: Vec<String> = std::env::args().skip(1).collect();
+    let mut wiggle = 0.3;
+    if let Some(at) = args.iter().position(|a| a == "--wiggle") {
+        wiggle = args
+            .get(at + 1)
+            .and_then(|w| w.parse().ok())
+            .filter(|w: &f64| *w > 0.0)
+            .unwrap_or_else(|| {
+                eprintln!("--wiggle takes a positive number");
+                std::process::exit(2)
+            });
+        args.drain(at..at + 2);
+    }
     let numbers: Option<Vec<f64>> = args.iter().map(|a| a.parse().ok()).collect();
     let Some(numbers) = numbers.filter(|v| v.len() >= 4) else {
-        eprintln!("usage: saw_reference ENERGY RADIUS SWEEPS N...");
+        eprintln!("usage: saw_reference ENERGY RADIUS SWEEPS N... [--wiggle W]");
         std::process::exit(2);
     };
     let repulsion = Repulsion::Polynomial {
@@ -73,7 +92,7 @@ fn main() {
         let n_beads = n as usize;
         let samples: Vec<(f64, Vec<f64>)> = (0..CHAINS)
             .into_par_iter()
-            .map(|chain| sample(n_beads, repulsion, sweeps, chain))
+            .map(|chain| sample(n_beads, repulsion, wiggle, sweeps, chain))
             .collect();
         let means: Vec<f64> = samples.iter().map(|s| s.0).collect();
         let slope = if samples[0].1.is_empty() {

@@ -32,6 +32,7 @@ pub mod gpu;
 pub mod noise;
 pub mod polymer;
 pub mod reference;
+pub mod relaxation;
 
 pub use blocks::{block_map, BlockMap, BlockMapParams};
 

@@ -505,3 +505,67 @@ fn simulated_block_maps_balance_with_the_defaults() {
     assert!(line.contains("--cis-only"), "{line}");
     run_ok(&["balance", two.to_str().unwrap(), "--store", "--cis-only"]);
 }
+
+/// Issue 26: a run says how far it relaxed (s*, the Rouse estimate), warns when the chains were
+/// sampled before they relaxed, takes --equilibration / --sample-every in Rouse times (`auto`:
+/// 3 and 0.5), and its --stats give each sample's time and relaxed separation.
+#[test]
+fn runs_say_how_far_the_chains_relaxed() {
+    let dir = tempfile::tempdir().unwrap();
+    let run_with = |equilibration: &str, sample_every: &str| {
+        let out = dir.path().join("p.cool");
+        let stats = dir.path().join("stats.tsv");
+        let output = run(&[
+            "simulate",
+            "polymer",
+            "-o",
+            out.to_str().unwrap(),
+            "--chains",
+            "30",
+            "--replicas",
+            "2",
+            "--samples",
+            "3",
+            "--equilibration",
+            equilibration,
+            "--sample-every",
+            sample_every,
+            "--device",
+            "cpu",
+            "--stats",
+            stats.to_str().unwrap(),
+        ]);
+        assert!(output.status.success());
+        (
+            String::from_utf8_lossy(&output.stderr).into_owned(),
+            crate::parse_table(&std::fs::read_to_string(&stats).unwrap()),
+        )
+    };
+    // 200 steps of dt 0.002 (0.4 time units): s* = pi sqrt(3 x 0.404 / <b²>), about 3 beads.
+    let (stderr, stats) = run_with("200", "2");
+    assert!(
+        stderr.contains("relaxed over separations up to s* = 3 beads"),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("warning: the chains were sampled before they relaxed"),
+        "{stderr}"
+    );
+    assert_eq!(
+        stats.header,
+        [
+            "replica",
+            "sample",
+            "chain",
+            "radius_of_gyration",
+            "time",
+            "relaxed_separation"
+        ]
+    );
+    assert_eq!(stats.rows[0][4], "0.404");
+    // auto: three Rouse times of the 30-bead chain, every separation relaxed, no warning.
+    let (stderr, stats) = run_with("auto", "auto");
+    assert!(stderr.contains("up to s* = 30 beads"), "{stderr}");
+    assert!(!stderr.contains("warning"), "{stderr}");
+    assert!(stats.rows.iter().all(|row| row[5] == "30"));
+}

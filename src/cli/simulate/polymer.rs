@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 use clap::{Args, ValueEnum};
 
 use crate::cli::output::{refuse_overwrites, write_real, Output};
+use crate::cli::warnings::Warnings;
 use crate::error::{Error, Result};
 use crate::genome::{BinTable, Chrom};
 use crate::io::bed::{read_bed, write_bed_line};
@@ -20,6 +21,7 @@ use crate::sim::polymer::{
     box_side, chain_ranges, sphere_radius, Attraction, BondModel, Confinement, PolymerParams,
     Repulsion,
 };
+use crate::sim::relaxation::Relaxation;
 
 /// Bond models, for `--bonds`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -94,6 +96,13 @@ steps and then sampled --samples times every --sample-every steps. Beads closer 
 --contact-radius are in contact; contacts are counted in bins of --monomers-per-bin beads. The
 same --seed gives the same files whatever the number of threads.
 
+Relaxation: a chain starts as a random walk; after a time t (steps x dt) it is at equilibrium
+over separations up to s* = pi sqrt(3 t / <b^2>) beads (Rouse model), the whole chain of N beads
+after its Rouse time N^2 <b^2> / (3 pi^2). Each run reports s* at its first and last sample
+(also in --stats) and warns when the chains were sampled before they relaxed. --equilibration
+and --sample-every take steps, `auto` (3 and 0.5 Rouse times of the longest chain) or Rouse
+times such as 2R; docs/simulation.md (Equilibration and sampling) says what to pick for a map.
+
 Outputs:
   OUT.cool              contact counts; chromosomes chr1..chrK (one per chain), --monomer-bp bp
                         per bead, so bins are monomers-per-bin x monomer-bp bp
@@ -104,7 +113,8 @@ Outputs:
                         majority type and the fraction of type A (a phasing track: FILE:5);
                         score eigenvectors with `contactmap score compartments`
   --conformations       TSV(.gz): replica sample chain bead x y z of every sampled conformation
-  --stats               TSV: replica sample chain radius_of_gyration
+  --stats               TSV: replica sample chain radius_of_gyration time
+                        relaxed_separation (s* at the sample's time)
 
 Examples:
   contactmap simulate polymer -o ideal.cool --ideal --chains 200 --replicas 8
@@ -186,12 +196,14 @@ pub struct PolymerArgs {
     /// Independent replicas (run in parallel).
     #[arg(long, default_value_t = 8, value_name = "N")]
     pub replicas: usize,
-    /// Steps before the first sample.
-    #[arg(long, default_value_t = 20_000, value_name = "STEPS")]
-    pub equilibration: usize,
-    /// Steps between samples.
-    #[arg(long, default_value_t = 2_000, value_name = "STEPS")]
-    pub sample_every: usize,
+    /// Steps before the first sample: a number of steps, `auto` (3 Rouse times of the longest
+    /// chain: equilibrium at every separation) or Rouse times such as `0.5R`.
+    #[arg(long, default_value = "20000", value_name = "STEPS|auto|xR")]
+    pub equilibration: String,
+    /// Steps between samples: a number of steps, `auto` (half a Rouse time: samples
+    /// independent at the chain's scale) or Rouse times such as `0.1R`.
+    #[arg(long, default_value = "2000", value_name = "STEPS|auto|xR")]
+    pub sample_every: String,
     /// Samples per replica.
     #[arg(long, default_value_t = 50, value_name = "N")]
     pub samples: usize,
@@ -483,11 +495,17 @@ impl PolymerArgs {
         } else {
             None
         };
+        let relaxation = Relaxation::new(&polymer);
+        let longest = self.chains.iter().copied().max().unwrap_or(0);
+        let rouse_steps = relaxation.rouse_time(longest) / polymer.dt;
+        let equilibration_steps =
+            steps_argument("--equilibration", &self.equilibration, 3.0, rouse_steps)?;
+        let sample_every = steps_argument("--sample-every", &self.sample_every, 0.5, rouse_steps)?;
         let params = EnsembleParams {
             polymer,
             replicas: self.replicas,
-            equilibration_steps: self.equilibration,
-            sample_every: self.sample_every,
+            equilibration_steps,
+            sample_every,
             samples: self.samples,
             contact_radius: self.contact_radius,
             monomers_per_bin: self.monomers_per_bin,
@@ -500,6 +518,46 @@ impl PolymerArgs {
         }
         params.check()?;
         Ok(params)
+    }
+}
+
+/// A number of steps given as steps, `auto` (`auto_rouse` Rouse times) or Rouse times (`2R`,
+/// `0.5r`), with the Rouse time of the longest chain in steps.
+fn steps_argument(option: &str, text: &str, auto_rouse: f64, rouse_steps: f64) -> Result<usize> {
+    let trimmed = text.trim();
+    let rouse_times = if trimmed.eq_ignore_ascii_case("auto") {
+        Some(auto_rouse)
+    } else if let Some(number) = trimmed.strip_suffix(['R', 'r']) {
+        Some(
+            number
+                .trim()
+                .parse::<f64>()
+                .ok()
+                .filter(|x| x.is_finite() && *x > 0.0)
+                .ok_or_else(|| {
+                    Error::Invalid(format!(
+                        "{option} '{text}': expected a positive number of Rouse times, e.g. 3R"
+                    ))
+                })?,
+        )
+    } else {
+        None
+    };
+    match rouse_times {
+        Some(times) => {
+            let steps = (times * rouse_steps).ceil();
+            if steps >= usize::MAX as f64 {
+                return Err(Error::Invalid(format!(
+                    "{option} '{text}': {steps:e} steps is more than can be counted"
+                )));
+            }
+            Ok((steps as usize).max(1))
+        }
+        None => trimmed.parse::<usize>().map_err(|_| {
+            Error::Invalid(format!(
+                "{option} '{text}': expected a number of steps, auto, or Rouse times such as 3R"
+            ))
+        }),
     }
 }
 
@@ -600,28 +658,71 @@ pub fn run(args: &PolymerArgs) -> Result<()> {
     if let Some(path) = &args.conformations {
         write_conformations(path, &params, &ensemble)?;
     }
+    let relaxation = Relaxation::new(&params.polymer);
     if let Some(path) = &args.stats {
         let mut out = Output::open(Some(path))?;
-        let mut text = b"replica\tsample\tchain\tradius_of_gyration\n".to_vec();
+        let mut text =
+            b"replica\tsample\tchain\tradius_of_gyration\ttime\trelaxed_separation\n".to_vec();
         for (index, radii) in ensemble.radii_of_gyration.iter().enumerate() {
+            let sample = index % params.samples;
+            let time = sample_time(&params, sample);
             for (chain, &rg) in radii.iter().enumerate() {
                 text.extend_from_slice(
-                    format!(
-                        "{}\t{}\t{}\t",
-                        index / params.samples,
-                        index % params.samples,
-                        chain + 1
-                    )
-                    .as_bytes(),
+                    format!("{}\t{sample}\t{}\t", index / params.samples, chain + 1).as_bytes(),
                 );
                 write_real(&mut text, rg);
+                text.push(b'\t');
+                write_real(&mut text, time);
+                text.push(b'\t');
+                let relaxed = relaxation
+                    .relaxed_separation(time)
+                    .min(params.polymer.chains[chain] as f64);
+                write_real(&mut text, (relaxed * 10.0).round() / 10.0);
                 text.push(b'\n');
             }
         }
         out.write_all(&text)?;
         out.finish()?;
     }
+    relaxation_notes(&params, &relaxation).print();
     Ok(())
+}
+
+/// The simulated time of sample `k` (0-based) of every replica: equilibration, then `k + 1`
+/// intervals.
+fn sample_time(params: &EnsembleParams, k: usize) -> f64 {
+    (params.equilibration_steps + (k + 1) * params.sample_every) as f64 * params.polymer.dt
+}
+
+/// How far the run relaxed (a note), and a warning when the chains were sampled before they
+/// relaxed ([`crate::sim::relaxation`]).
+fn relaxation_notes(params: &EnsembleParams, relaxation: &Relaxation) -> Warnings {
+    let mut notes = Warnings::new();
+    let longest = params.polymer.chains.iter().copied().max().unwrap_or(0);
+    let dt = params.polymer.dt;
+    let rouse_steps = relaxation.rouse_time(longest) / dt;
+    let relaxed = |time: f64| relaxation.relaxed_separation(time).min(longest as f64);
+    let first = relaxed(sample_time(params, 0));
+    let last = relaxed(sample_time(params, params.samples - 1));
+    let independent = relaxed(params.sample_every as f64 * dt);
+    notes.note(format!(
+        "relaxed over separations up to s* = {first:.0} beads at the first \
+         sample, {last:.0} at the last; samples independent up to {independent:.0} beads apart \
+         (Rouse estimates: the {longest}-bead chain's Rouse time is {rouse_steps:.0} steps)"
+    ));
+    if first < longest as f64 {
+        notes.push(format!(
+            "the chains were sampled before they relaxed: after {} equilibration steps ({:.2} \
+             Rouse times) only segments up to {first:.0} of {longest} beads had reached \
+             equilibrium from the random-walk start, so contacts farther apart are not at \
+             equilibrium; --equilibration auto relaxes the whole chain (3 Rouse times, {:.0} \
+             steps); docs/simulation.md says what to pick for a map",
+            params.equilibration_steps,
+            params.equilibration_steps as f64 / rouse_steps,
+            (3.0 * rouse_steps).ceil()
+        ));
+    }
+    notes
 }
 
 /// The boundary-element bins and the domains between them, as BED.
@@ -708,6 +809,21 @@ fn write_conformations(path: &Path, params: &EnsembleParams, ensemble: &Ensemble
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn steps_are_given_as_steps_or_rouse_times() {
+        assert_eq!(steps_argument("--x", "2000", 3.0, 100.0).unwrap(), 2000);
+        assert_eq!(steps_argument("--x", "auto", 3.0, 100.5).unwrap(), 302);
+        assert_eq!(steps_argument("--x", "0.5R", 3.0, 100.0).unwrap(), 50);
+        assert_eq!(steps_argument("--x", "2r", 3.0, 100.0).unwrap(), 200);
+        assert_eq!(steps_argument("--x", "1e-9R", 3.0, 100.0).unwrap(), 1);
+        for bad in ["-1", "R", "0R", "-2R", "x", "1.5", "nanR"] {
+            let error = steps_argument("--x", bad, 3.0, 100.0)
+                .unwrap_err()
+                .to_string();
+            assert!(error.starts_with("--x '"), "{bad}: {error}");
+        }
+    }
 
     #[test]
     fn type_patterns() {
