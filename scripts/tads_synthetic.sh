@@ -8,7 +8,9 @@
 # Each map: 2 chromosomes x 2,000 bins of 10 kb, domains of 10-60 bins, P(s) ~ s^-1, domain
 # enrichment x2 (--enrichment 1), lognormal coverage bias (sd 0.3), 1% dead bins, pixels at every
 # distance (simulate blocks' default); no trans contacts, so each chromosome is balanced alone
-# (balance --cis-only, cooler's defaults).
+# (balance --cis-only, cooler's tolerance). The sparsest maps (3e4 contacts, 7 per bin) need up to
+# 420 ICE iterations, past cooler's 200: --max-iters 1000 (every map converges; a map that did not
+# would stop the script).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cm=${CONTACTMAP:-target/release/contactmap}
@@ -43,7 +45,7 @@ for entry in "${methods[@]}"; do
       if [ ! -f "$map" ]; then
         "$cm" simulate blocks -o "$map" --truth-boundaries "$truth" --chroms 2 --bins 2000 \
           --depth "$depth" --enrichment 1 --bias-sd 0.3 --dead-bins 0.01 --seed "$seed" 2> /dev/null
-        "$cm" balance "$map" --store --cis-only 2> /dev/null
+        "$cm" balance "$map" --store --cis-only --max-iters 1000 2> /dev/null
       fi
       # shellcheck disable=SC2086
       "$cm" tads "$map" $arguments --boundaries "$work/calls.bed" -o /dev/null 2> /dev/null

@@ -507,28 +507,27 @@ impl std::fmt::Display for Region {
 /// A distance for people: `250 kb`, `1.2 Mb`, `800 bp` (at most two decimals, trailing zeros
 /// dropped).
 pub fn format_bp(value: f64) -> String {
-    let (scaled, unit) = if value.abs() >= 1e6 {
-        (value / 1e6, "Mb")
-    } else if value.abs() >= 1e3 {
-        (value / 1e3, "kb")
-    } else {
-        (value, "bp")
-    };
+    let (scaled, unit) = in_units(value);
     let digits = format!("{scaled:.2}");
     let trimmed = digits.trim_end_matches('0').trim_end_matches('.');
     format!("{trimmed} {unit}")
 }
 
-/// A distance that is not a round number of bins (the effective distance of a log bin) to three
-/// significant digits: `10.9 kb`, `892 kb`, `4.43 Mb`.
-pub fn format_distance(value: f64) -> String {
-    let (scaled, unit) = if value.abs() >= 1e6 {
+/// `value` bp in the largest of Mb, kb and bp that keeps it at least 1.
+fn in_units(value: f64) -> (f64, &'static str) {
+    if value.abs() >= 1e6 {
         (value / 1e6, "Mb")
     } else if value.abs() >= 1e3 {
         (value / 1e3, "kb")
     } else {
         (value, "bp")
-    };
+    }
+}
+
+/// A distance that is not a round number of bins (the effective distance of a log bin) to three
+/// significant digits: `10.9 kb`, `892 kb`, `4.43 Mb`.
+pub fn format_distance(value: f64) -> String {
+    let (scaled, unit) = in_units(value);
     let decimals = if scaled.abs() >= 100.0 {
         0
     } else if scaled.abs() >= 10.0 {

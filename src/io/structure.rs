@@ -34,6 +34,21 @@ use std::path::Path;
 
 use crate::error::{Error, Result};
 
+/// A residue number: an integer of at most [`MAX_RESIDUE_NUMBER`] in magnitude.
+fn residue_number(text: &str) -> Option<i32> {
+    text.parse::<i32>()
+        .ok()
+        .filter(|n| n.unsigned_abs() <= MAX_RESIDUE_NUMBER)
+}
+
+/// The message for a bad residue number (`place`: where it was read, for PDB's columns).
+fn bad_number(text: &str, place: &str) -> String {
+    format!(
+        "residue number '{text}'{place} is not an integer of at most {MAX_RESIDUE_NUMBER} in \
+         magnitude"
+    )
+}
+
 /// The largest residue number accepted, in magnitude (titin, the longest protein, has about
 /// 35,000 residues): larger numbers are corrupt fields, and numbering spans are allocated.
 pub const MAX_RESIDUE_NUMBER: u32 = 1_000_000;
@@ -354,20 +369,13 @@ pub fn parse_pdb(text: &str, path: &Path) -> Result<Structure> {
         }
         let name = field(12, 16).trim().to_string();
         let number_text = field(22, 26).trim();
-        let number = number_text
-            .parse::<i32>()
-            .ok()
-            .filter(|n| n.unsigned_abs() <= MAX_RESIDUE_NUMBER)
-            .ok_or_else(|| {
-                Error::parse(
-                    path,
-                    line_number,
-                    format!(
-                        "residue number '{number_text}' (columns 23-26) is not an integer of at \
-                         most {MAX_RESIDUE_NUMBER} in magnitude"
-                    ),
-                )
-            })?;
+        let number = residue_number(number_text).ok_or_else(|| {
+            Error::parse(
+                path,
+                line_number,
+                bad_number(number_text, " (columns 23-26)"),
+            )
+        })?;
         let insertion = field(26, 27).chars().next().filter(|c| *c != ' ');
         let atom = || {
             format!(
@@ -539,20 +547,8 @@ pub fn parse_mmcif(text: &str, path: &Path) -> Result<Structure> {
             && amino_acid(row[residue_name]).is_some()
         {
             let number_text = row[number];
-            let residue_number = number_text
-                .parse::<i32>()
-                .ok()
-                .filter(|n| n.unsigned_abs() <= MAX_RESIDUE_NUMBER)
-                .ok_or_else(|| {
-                    Error::parse(
-                        path,
-                        row_line,
-                        format!(
-                            "residue number '{number_text}' is not an integer of at most \
-                             {MAX_RESIDUE_NUMBER} in magnitude"
-                        ),
-                    )
-                })?;
+            let residue_number = residue_number(number_text)
+                .ok_or_else(|| Error::parse(path, row_line, bad_number(number_text, "")))?;
             let insertion_code = insertion
                 .map(|column| row[column])
                 .filter(|code| *code != "?" && *code != ".")
