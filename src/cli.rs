@@ -125,7 +125,7 @@ fn help_width() -> usize {
 /// The command-line definition: [`Cli`]'s, with every option that takes one value accepting a
 /// value that starts with `-` (`--vmin -2`, `--window -50k`), so that a negative number reaches
 /// the option's own check ("--window must be positive") instead of being read as an unknown
-/// flag; help written at [`help_width`].
+/// flag; help written at the terminal's width, kept between 80 and 100 columns.
 pub fn command() -> clap::Command {
     fn hyphen_values(command: clap::Command) -> clap::Command {
         command
