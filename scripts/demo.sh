@@ -3,8 +3,14 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cm="${CONTACTMAP:-target/release/contactmap}"
-work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
+# Intermediate files go to a temporary folder, removed at the end, or to DEMO_WORK, kept
+# (scripts/compare_outputs.sh compares them between two binaries).
+if [ -n "${DEMO_WORK:-}" ]; then
+  work="$DEMO_WORK"; mkdir -p "$work"
+else
+  work="$(mktemp -d)"
+  trap 'rm -rf "$work"' EXIT
+fi
 # Pictures go here (scripts/make_figures.sh points it at docs/figures/demo for the README).
 figs="${DEMO_FIGURES:-demo-figures}"
 mkdir -p "$figs"

@@ -105,6 +105,43 @@ impl Method {
             Method::Scale => "scale",
         }
     }
+
+    /// Juicer's name of the method, as a `.hic` stores its vectors (`VC`, `VC_SQRT`, `KR`,
+    /// `SCALE`; `ICE` for ours).
+    pub fn juicer_name(self) -> &'static str {
+        match self {
+            Method::Ice => "ICE",
+            Method::Vc => "VC",
+            Method::VcSqrt => "VC_SQRT",
+            Method::Kr => "KR",
+            Method::Scale => "SCALE",
+        }
+    }
+
+    /// The method a Juicer name stands for (case-insensitive, `-` for `_`): `VC`, `VC_SQRT`,
+    /// `KR`, `SCALE` or `ICE`.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use contactmap::balance::Method;
+    ///
+    /// assert_eq!(Method::from_juicer_name("vc-sqrt"), Some(Method::VcSqrt));
+    /// assert_eq!(Method::from_juicer_name("KR").map(Method::juicer_name), Some("KR"));
+    /// assert_eq!(Method::from_juicer_name("NONE"), None);
+    /// ```
+    pub fn from_juicer_name(name: &str) -> Option<Method> {
+        let name = name.trim().to_ascii_uppercase().replace('-', "_");
+        [
+            Method::Ice,
+            Method::Vc,
+            Method::VcSqrt,
+            Method::Kr,
+            Method::Scale,
+        ]
+        .into_iter()
+        .find(|m| m.juicer_name() == name)
+    }
 }
 
 /// Which pixels the balancing works on.

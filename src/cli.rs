@@ -32,8 +32,8 @@ use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
-use crate::error::Result;
-use crate::io::{text::TextFormat, OpenOptions};
+use contactmap::error::Result;
+use contactmap::io::{text::TextFormat, OpenOptions};
 
 /// Contact maps: inspect, dump, convert, zoomify and merge Hi-C maps (.cool, .mcool, .hic, text,
 /// pairs), balance them (ICE, VC, KR, SCALE), distance-decay expected and its power law, observed /
@@ -206,8 +206,29 @@ pub fn argument_error_line(error: &clap::Error) -> String {
     }
 }
 
+/// How a command that succeeded ended: `validate` ends with [`Status::Invalid`] (exit code 1)
+/// when it checked the file and found it invalid; every other command with
+/// [`Status::Success`] (exit code 0). Errors are exit code 2 (`main`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Status {
+    /// Exit code 0.
+    Success,
+    /// Exit code 1: the file checked is invalid.
+    Invalid,
+}
+
+impl Status {
+    /// The process exit code.
+    pub fn code(self) -> u8 {
+        match self {
+            Status::Success => 0,
+            Status::Invalid => 1,
+        }
+    }
+}
+
 /// Run a parsed command line.
-pub fn run(cli: Cli) -> Result<()> {
+pub fn run(cli: Cli) -> Result<Status> {
     match cli.command {
         Command::Info(args) => info::run(&args),
         Command::Dump(args) => dump::run(&args),
@@ -223,11 +244,12 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Simulate(args) => simulate::run(&args),
         Command::Score(args) => score::run(&args),
         Command::Contacts(args) => contacts::run(&args),
-        Command::Validate(args) => validate::run(&args),
+        Command::Validate(args) => return validate::run(&args),
         Command::Plot(args) => plot::run(&args),
         Command::Completions(args) => shell::run_completions(&args),
         Command::Man(args) => shell::run_man(&args),
     }
+    .map(|()| Status::Success)
 }
 
 /// Text input layouts, for `--format`.
@@ -294,7 +316,7 @@ impl InputArgs {
             None => None,
             Some(cols) => {
                 if cols.len() != 4 || cols.contains(&0) {
-                    return Err(crate::Error::Invalid(
+                    return Err(contactmap::Error::Invalid(
                         "--pairs-columns takes four 1-based column numbers: chrom1,pos1,chrom2,pos2".into(),
                     ));
                 }
@@ -302,7 +324,9 @@ impl InputArgs {
             }
         };
         if self.bin_size == Some(0) {
-            return Err(crate::Error::Invalid("--bin-size must be positive".into()));
+            return Err(contactmap::Error::Invalid(
+                "--bin-size must be positive".into(),
+            ));
         }
         Ok(OpenOptions {
             text_format: self.format.map(Into::into),

@@ -55,6 +55,7 @@
 
 pub mod cis;
 pub mod eigen;
+pub mod eigs;
 pub mod phasing;
 pub mod saddle;
 pub mod trans;

@@ -62,12 +62,43 @@ pub enum Error {
         message: String,
     },
 
+    /// A parameter outside its accepted range, named as its `*Params` field names it
+    /// (`n_eigs`): the command line prints it as its option (`--n-eigs`), Python as the keyword.
+    #[error("{name} {value}: {expected}")]
+    Parameter {
+        /// The parameter's field name.
+        name: &'static str,
+        /// The value given, as text.
+        value: String,
+        /// What is accepted.
+        expected: String,
+    },
+
     /// Inconsistent input given to a library function (bad parameters, bins out of range...).
     #[error("{0}")]
     Invalid(String),
 }
 
 impl Error {
+    /// A [`Error::Parameter`]: `name` (the field) was given `value`; `expected` says what is
+    /// accepted.
+    ///
+    /// ```
+    /// let error = contactmap::Error::parameter("n_eigs", 0, "at least 1");
+    /// assert_eq!(error.to_string(), "n_eigs 0: at least 1");
+    /// ```
+    pub fn parameter(
+        name: &'static str,
+        value: impl std::fmt::Display,
+        expected: impl Into<String>,
+    ) -> Self {
+        Error::Parameter {
+            name,
+            value: value.to_string(),
+            expected: expected.into(),
+        }
+    }
+
     /// An I/O error on `path`.
     pub fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
         Error::Io {

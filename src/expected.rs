@@ -53,7 +53,6 @@
 //! Chromosome Res. 2011 and Fudenberg & Mirny 2012 (P(s) exponents of polymer models); Open2C,
 //! cooltools (PLoS Comput. Biol. 2024), `cooltools/api/expected.py`.
 
-pub mod juicer;
 pub mod logbin;
 pub mod powerlaw;
 pub mod smooth;

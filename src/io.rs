@@ -426,6 +426,71 @@ macro_rules! forward_reader_metadata {
 }
 pub(crate) use forward_reader_metadata;
 
+/// A reader that shows every block of pixels it streams to a callback, then passes it on
+/// unchanged: progress bars, running sums beside another job.
+///
+/// # Examples
+///
+/// ```
+/// use std::sync::atomic::{AtomicUsize, Ordering};
+/// use contactmap::genome::{BinTable, Chrom};
+/// use contactmap::io::{InMemory, Inspect, MatrixReader};
+/// use contactmap::matrix::{CountType, MatrixBuilder};
+///
+/// let bins = BinTable::fixed(vec![Chrom::new("chr1", 1_000)], 100)?;
+/// let mut builder = MatrixBuilder::new(bins, CountType::Integer);
+/// builder.push(0, 3, 2.0)?;
+/// builder.push(1, 1, 5.0)?;
+/// let matrix = InMemory::new("example".into(), builder.build());
+/// let seen = AtomicUsize::new(0);
+/// let inspected = Inspect::new(&matrix, |block| {
+///     seen.fetch_add(block.len(), Ordering::Relaxed);
+/// });
+/// let n = inspected.bins().n_bins();
+/// inspected.read_pixels(0..n, 0..n, &mut |_| Ok(()))?;
+/// assert_eq!(seen.load(Ordering::Relaxed), 2);
+/// # Ok::<(), contactmap::Error>(())
+/// ```
+pub struct Inspect<'a, F> {
+    inner: &'a dyn MatrixReader,
+    on_block: F,
+}
+
+impl<'a, F: Fn(&PixelBlock)> Inspect<'a, F> {
+    /// Show the blocks `inner` streams to `on_block`.
+    pub fn new(inner: &'a dyn MatrixReader, on_block: F) -> Self {
+        Inspect { inner, on_block }
+    }
+}
+
+impl<F: Fn(&PixelBlock)> MatrixReader for Inspect<'_, F> {
+    forward_reader_metadata!(inner);
+
+    fn read_pixels(
+        &self,
+        rows: Range<usize>,
+        cols: Range<usize>,
+        sink: &mut dyn FnMut(&PixelBlock) -> Result<()>,
+    ) -> Result<()> {
+        self.inner.read_pixels(rows, cols, &mut |block| {
+            (self.on_block)(block);
+            sink(block)
+        })
+    }
+
+    fn read_stored_pixels(
+        &self,
+        rows: Range<usize>,
+        cols: Range<usize>,
+        sink: &mut dyn FnMut(&PixelBlock) -> Result<()>,
+    ) -> Result<()> {
+        self.inner.read_stored_pixels(rows, cols, &mut |block| {
+            (self.on_block)(block);
+            sink(block)
+        })
+    }
+}
+
 /// A reader whose counts are checked as they stream: the first pixel whose count is negative, NaN
 /// or infinite ends the stream with an error naming the file, the pixel's bin ids and
 /// coordinates, and its value.

@@ -10,9 +10,16 @@
 //! - algorithms take core types and return core types or plain tables; they never open files:
 //!   [`balance`] (ICE, VC, KR), [`expected`] (P(s), power laws), [`normalize`] (observed /
 //!   expected), [`tads`] (insulation, directionality, TopDom, Armatus), [`score`] (calls against
-//!   a truth);
+//!   a truth), [`compartments`] (eigenvectors as cooltools, saddles);
+//! - [`export`] writes files that carry computed results (a `.hic` with Juicer's normalisation
+//!   vectors and expected values): it stands above both the formats and the algorithms;
 //! - [`plot`] draws figures (heatmaps, P(s) curves, protein contact maps) as PNG or SVG;
-//! - [`sim`] makes synthetic maps with a known truth (block-structured maps with TADs).
+//! - [`sim`] makes synthetic maps with a known truth (block-structured maps with TADs, polymer
+//!   ensembles).
+//!
+//! The `contactmap` command line is a thin layer over these modules, in the binary (`src/cli/`):
+//! each command parses its options into the library's parameters, calls the library and prints.
+//! Modules import one another one way (`tests/architecture.rs` checks it).
 //!
 //! Coordinates are 0-based and half-open; weights are multiplicative (cooler's convention).
 //!
@@ -32,10 +39,10 @@
 //! ```
 
 pub mod balance;
-pub mod cli;
 pub mod compartments;
 pub mod error;
 pub mod expected;
+pub mod export;
 pub mod genome;
 pub mod io;
 pub mod matrix;

@@ -6,6 +6,8 @@
 
 use std::process::ExitCode;
 
+mod cli;
+
 use clap::error::ErrorKind;
 
 /// A libhdf5 metadata read that never returns (a corrupt file): one line, exit 2.
@@ -16,8 +18,8 @@ fn hdf5_timed_out(message: &str) {
 
 fn main() -> ExitCode {
     contactmap::io::hdf5_guard::set_timeout_handler(hdf5_timed_out);
-    let cli = match contactmap::cli::parse(std::env::args_os()) {
-        Ok(cli) => cli,
+    let parsed = match cli::parse(std::env::args_os()) {
+        Ok(parsed) => parsed,
         Err(error)
             if matches!(
                 error.kind(),
@@ -29,16 +31,25 @@ fn main() -> ExitCode {
             error.exit()
         }
         Err(error) => {
-            eprintln!(
-                "contactmap: error: {}",
-                contactmap::cli::argument_error_line(&error)
-            );
+            eprintln!("contactmap: error: {}", cli::argument_error_line(&error));
             return ExitCode::from(2);
         }
     };
-    match contactmap::cli::run(cli) {
-        Ok(()) => ExitCode::SUCCESS,
+    match cli::run(parsed) {
+        Ok(status) => ExitCode::from(status.code()),
         Err(error) if error.is_broken_pipe() => ExitCode::SUCCESS,
+        Err(contactmap::Error::Parameter {
+            name,
+            value,
+            expected,
+        }) => {
+            // A parameter is named as its option.
+            eprintln!(
+                "contactmap: error: --{} {value}: {expected}",
+                name.replace('_', "-")
+            );
+            ExitCode::from(2)
+        }
         Err(error) => {
             let mut message = error.to_string();
             let mut source = std::error::Error::source(&error);

@@ -1,64 +1,10 @@
 //! P(s) helpers shared by the subcommands that fit power laws (`expected --fit / --logbin`,
-//! `plot expected`): the `--fit-range` syntax, the log-binning and fits of a cis expected table,
-//! and the one-line and multi-line reports.
+//! `plot expected`): the `--fit-range` syntax and the one-line and multi-line reports of
+//! [`contactmap::expected::powerlaw::power_law`].
 
-use crate::error::{Error, Result};
-use crate::expected::logbin::{logbin_expected, LogBinParams, LogBinned};
-use crate::expected::powerlaw::{
-    default_fit_range, fit_log_binned, FitParams, FitRange, PowerLawReport,
-};
-use crate::expected::{expected_cis, CisExpected, CisParams, View};
-use crate::genome::{format_bp, format_distance};
-use crate::io::LoadedPixels;
-
-/// A cis expected table, its log-binned P(s) and the power-law fits (the fit may fail: too few
-/// points in the range).
-pub struct PowerLaw {
-    /// The cis table without smoothing (the log binning uses the sums).
-    pub table: CisExpected,
-    /// Log-binned P(s), per region and combined, with slopes.
-    pub binned: LogBinned,
-    /// The fits over the asked or default range.
-    pub fit: Result<PowerLawReport>,
-}
-
-/// The cis table of `pixels` over `view` (without smoothing), its log-binned P(s) and the
-/// power-law fits over `fit_range` (default: [`default_fit_range`]).
-pub fn power_law(
-    pixels: &LoadedPixels<'_>,
-    weights: Option<&[f64]>,
-    view: &View,
-    params: &CisParams,
-    fit_range: Option<FitRange>,
-) -> Result<PowerLaw> {
-    let params = CisParams {
-        smooth: false,
-        aggregate_smoothed: false,
-        ..*params
-    };
-    let table = expected_cis(pixels, weights, view, &params)?;
-    power_law_of_table(
-        table,
-        params.ignore_diags,
-        view.median_length_bp(),
-        fit_range,
-    )
-}
-
-/// Log-bin a cis table and fit its power laws; `median_region_bp` and `ignore_diags` set the
-/// default range.
-pub fn power_law_of_table(
-    table: CisExpected,
-    ignore_diags: usize,
-    median_region_bp: f64,
-    fit_range: Option<FitRange>,
-) -> Result<PowerLaw> {
-    let binned = logbin_expected(&table, &LogBinParams::default())?;
-    let range = fit_range
-        .unwrap_or_else(|| default_fit_range(table.bin_size_bp, ignore_diags, median_region_bp));
-    let fit = fit_log_binned(&binned, &FitParams::new(range));
-    Ok(PowerLaw { table, binned, fit })
-}
+use contactmap::error::{Error, Result};
+use contactmap::expected::powerlaw::{FitRange, PowerLawReport};
+use contactmap::genome::{format_bp, format_distance};
 
 /// Parse `--fit-range MIN-MAX` in bp with optional k / kb / M / Mb / G / Gb suffixes
 /// (`100k-10M`, `200,000-1.5Mb`).

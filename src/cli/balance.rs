@@ -6,16 +6,16 @@ use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
 
-use crate::balance::{balance, BalanceParams, BalanceResult, Method, Scope};
 use crate::cli::input::open_for_analysis;
 use crate::cli::output::{is_stdout, print_json, refuse_overwrites, uri_file, Output};
 use crate::cli::weights::stored_attributes;
 use crate::cli::InputArgs;
-use crate::error::{Error, Result};
-use crate::genome::BinTable;
-use crate::io::cool::store::{check_target, store_weights};
-use crate::io::{self, default_memory_budget, parse_memory_size, FileKind, WriteLock};
-use crate::matrix::Weights;
+use contactmap::balance::{balance, BalanceParams, BalanceResult, Method, Scope};
+use contactmap::error::{Error, Result};
+use contactmap::genome::BinTable;
+use contactmap::io::cool::store::{check_target, store_weights};
+use contactmap::io::{self, default_memory_budget, parse_memory_size, FileKind, WriteLock};
+use contactmap::matrix::Weights;
 
 /// Balancing methods, for `--method`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -383,7 +383,7 @@ fn read_blacklist(path: &Path, bins: &BinTable) -> Result<Vec<usize>> {
 
 /// Which groups did not converge, for the error message.
 /// Whether any stored pixel joins two chromosomes (the read stops at the first).
-fn has_trans_pixels(reader: &dyn crate::io::MatrixReader) -> Result<bool> {
+fn has_trans_pixels(reader: &dyn contactmap::io::MatrixReader) -> Result<bool> {
     let bins = reader.bins();
     let n = bins.n_bins();
     let mut found = false;
@@ -523,7 +523,7 @@ fn summary(params: &BalanceParams, result: &BalanceResult, bins: &BinTable) -> S
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::genome::Chrom;
+    use contactmap::genome::Chrom;
 
     #[test]
     fn blacklist_regions_select_overlapping_bins() {

@@ -9,16 +9,15 @@ use crate::cli::input::{mask_unweighted, open_balanced, track_argument};
 use crate::cli::output::{
     column_file, refuse_overwrites, uri_file, write_real, write_text_file, write_u64, Output,
 };
-use crate::cli::progress::WithProgress;
+use crate::cli::progress::Progress;
 use crate::cli::InputArgs;
-use crate::compartments::cis::{cis_eig, CisEigParams, CisMatrixBuilder, RegionEigs};
-use crate::compartments::phasing::{self, SortMetric};
-use crate::compartments::trans::{trans_eig, DenseMatrix, TransEigParams};
-use crate::error::{Error, Result};
-use crate::expected::View;
-use crate::genome::BinTable;
-use crate::io::{default_memory_budget, MatrixReader};
-use crate::matrix::PixelBlock;
+use contactmap::compartments::cis::{CisEigParams, RegionEigs};
+use contactmap::compartments::eigs::{eigs_cis, eigs_trans, Eigs, Phasing};
+use contactmap::compartments::phasing::SortMetric;
+use contactmap::compartments::trans::TransEigParams;
+use contactmap::error::{Error, Result};
+use contactmap::genome::BinTable;
+use contactmap::io::MatrixReader;
 
 /// Measures of agreement with the phasing track, for `--sort-metric`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -125,15 +124,12 @@ pub struct CompartmentsArgs {
 
 /// Run `contactmap compartments`.
 pub fn run(args: &CompartmentsArgs) -> Result<()> {
-    if args.n_eigs == 0 {
-        return Err(Error::Invalid("--n-eigs must be at least 1".into()));
-    }
-    if !args.clip_percentile.is_finite() || args.clip_percentile < 0.0 {
-        return Err(Error::Invalid(format!(
-            "--clip-percentile {}: expected a percentile in 0..100 (0 or 100: no clipping)",
-            args.clip_percentile
-        )));
-    }
+    let cis_params = CisEigParams {
+        n_eigs: args.n_eigs,
+        ignore_diags: 0,
+        clip_percentile: args.clip_percentile,
+    };
+    cis_params.check()?;
     if args.sort_metric.is_some() && args.phasing_track.is_none() && args.fasta.is_none() {
         return Err(Error::Invalid(
             "--sort-metric ranks eigenvectors by their agreement with a phasing track: give --phasing-track or --fasta".into(),
@@ -160,7 +156,7 @@ pub fn run(args: &CompartmentsArgs) -> Result<()> {
     let phasing = match (&args.phasing_track, &args.fasta) {
         (Some(track), _) => Some(track_argument(track, "--phasing-track", bins, &weights)?.0),
         (None, Some(fasta)) => Some(mask_unweighted(
-            crate::io::fasta::gc_content(fasta, bins)?,
+            contactmap::io::fasta::gc_content(fasta, bins)?,
             &weights,
         )),
         (None, None) => None,
@@ -173,13 +169,23 @@ pub fn run(args: &CompartmentsArgs) -> Result<()> {
             .and_then(|v| v.as_u64())
             .map_or(2, |v| v as usize),
     };
-    let progress = WithProgress::new(reader.as_ref(), "eigenvectors")?;
+    let bar = Progress::new(reader.as_ref(), "eigenvectors")?;
+    let progress = bar.reader();
     if args.trans {
         let params = TransEigParams {
             n_eigs: args.n_eigs,
             ..TransEigParams::default()
         };
-        let eigs = trans_eigs(&progress, &weights, (phasing.as_deref(), sort), &params)?;
+        let Eigs { eigs, warnings } = eigs_trans(
+            &progress,
+            &weights,
+            Phasing {
+                track: phasing.as_deref(),
+                sort,
+            },
+            &params,
+        )?;
+        print_warnings(&warnings);
         write_vecs(
             &format!("{prefix}.trans.vecs.tsv"),
             bins,
@@ -191,17 +197,23 @@ pub fn run(args: &CompartmentsArgs) -> Result<()> {
         write_text_file(&format!("{prefix}.trans.lam.txt"), &lam)?;
     } else {
         let params = CisEigParams {
-            n_eigs: args.n_eigs,
             ignore_diags,
-            clip_percentile: args.clip_percentile,
+            ..cis_params
         };
-        let results = eigs_cis(
+        let Eigs {
+            eigs: results,
+            warnings,
+        } = eigs_cis(
             &progress,
             &weights,
             &view,
-            (phasing.as_deref(), sort),
+            Phasing {
+                track: phasing.as_deref(),
+                sort,
+            },
             &params,
         )?;
+        print_warnings(&warnings);
         let regions: Vec<_> = view
             .regions()
             .iter()
@@ -228,6 +240,7 @@ pub fn run(args: &CompartmentsArgs) -> Result<()> {
         write_text_file(&format!("{prefix}.cis.lam.txt"), &lam)?;
     }
     drop(progress);
+    drop(bar);
     let mut notes = super::warnings::Warnings::new();
     notes.extend(reader.warnings());
     if phasing.is_none() {
@@ -239,111 +252,6 @@ pub fn run(args: &CompartmentsArgs) -> Result<()> {
     }
     notes.print();
     Ok(())
-}
-
-/// Eigenvectors of every region of `view`, one region in memory at a time.
-fn eigs_cis(
-    reader: &dyn MatrixReader,
-    weights: &[f64],
-    view: &View,
-    (phasing, sort): (Option<&[f64]>, Option<SortMetric>),
-    params: &CisEigParams,
-) -> Result<Vec<RegionEigs>> {
-    let mut results = Vec::with_capacity(view.len());
-    for region in view.regions() {
-        let range = region.bins.clone();
-        let offset = range.start;
-        let mut builder = CisMatrixBuilder::new(range.len(), params.ignore_diags);
-        let mut coverage = vec![0.0f64; range.len()];
-        reader.read_pixels(range.clone(), range.clone(), &mut |block| {
-            add_coverage(&mut coverage, offset, block);
-            for k in 0..block.len() {
-                let (i, j) = (block.bin1[k] as usize, block.bin2[k] as usize);
-                let value = block.count[k] * weights[i] * weights[j];
-                builder.push(i - offset, j - offset, value)?;
-            }
-            Ok(())
-        })?;
-        let matrix = builder.finish();
-        let mut eigs = cis_eig(&matrix, params);
-        if eigs.unconverged > 0 {
-            eprintln!(
-                "contactmap: WARNING: region {}: {} of {} eigenvectors did not reach the tolerance; they are given as found",
-                region.name, eigs.unconverged, params.n_eigs
-            );
-        }
-        orient(
-            &mut eigs,
-            phasing.map(|t| &t[range.clone()]),
-            sort,
-            &coverage,
-            &region.name,
-        );
-        results.push(eigs);
-    }
-    Ok(results)
-}
-
-/// Add each pixel's raw count to the coverage of its two bins (`offset`: the first bin of
-/// `coverage`).
-fn add_coverage(coverage: &mut [f64], offset: usize, block: &PixelBlock) {
-    for k in 0..block.len() {
-        let (i, j) = (block.bin1[k] as usize, block.bin2[k] as usize);
-        coverage[i - offset] += block.count[k];
-        if i != j {
-            coverage[j - offset] += block.count[k];
-        }
-    }
-}
-
-/// Orient (and with a sort metric, reorder) the vectors by the phasing track, else orient them
-/// by coverage (Spearman, no reordering).
-fn orient(
-    eigs: &mut RegionEigs,
-    track: Option<&[f64]>,
-    sort: Option<SortMetric>,
-    coverage: &[f64],
-    region: &str,
-) {
-    let (reference, sort) = match track {
-        Some(track) => (track, sort),
-        None => (coverage, None),
-    };
-    let agreements = phasing::phase(&mut eigs.values, &mut eigs.vectors, reference, sort);
-    for (k, (a, vector)) in agreements.iter().zip(&eigs.vectors).enumerate() {
-        if track.is_some() && a.is_nan() && vector.iter().any(|v| v.is_finite()) {
-            eprintln!(
-                "contactmap: WARNING: region {region}: the phasing track does not vary where E{} is defined; E{} is left unoriented",
-                k + 1,
-                k + 1
-            );
-        }
-    }
-}
-
-/// The trans eigenvectors of the whole map (dense, as cooltools).
-fn trans_eigs(
-    reader: &dyn MatrixReader,
-    weights: &[f64],
-    (phasing, sort): (Option<&[f64]>, Option<SortMetric>),
-    params: &TransEigParams,
-) -> Result<RegionEigs> {
-    let bins = reader.bins();
-    let n = bins.n_bins();
-    let mut matrix = DenseMatrix::zeros(n, default_memory_budget() / 2)?;
-    let mut coverage = vec![0.0f64; n];
-    reader.read_pixels(0..n, 0..n, &mut |block| {
-        add_coverage(&mut coverage, 0, block);
-        for k in 0..block.len() {
-            let (i, j) = (block.bin1[k] as usize, block.bin2[k] as usize);
-            matrix.set(i, j, block.count[k] * weights[i] * weights[j]);
-        }
-        Ok(())
-    })?;
-    let chrom_of: Vec<u32> = (0..n).map(|b| bins.bin(b).chrom_id as u32).collect();
-    let mut eigs = trans_eig(matrix, &chrom_of, params);
-    orient(&mut eigs, phasing, sort, &coverage, "genome-wide trans");
-    Ok(eigs)
 }
 
 fn header_line(first: &[&str], stem: &str, n: usize) -> String {
@@ -415,4 +323,11 @@ fn write_vecs(
     }
     out.write_all(&bytes)?;
     out.finish()
+}
+
+/// The warnings of the eigensolver, as they were printed while it ran.
+fn print_warnings(warnings: &[String]) {
+    for warning in warnings {
+        eprintln!("contactmap: WARNING: {warning}");
+    }
 }

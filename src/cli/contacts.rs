@@ -1,5 +1,5 @@
 //! `contactmap contacts`: the true residue contacts of a protein structure as CASP RR rows, or
-//! the full residue distance matrix ([`crate::score::contacts::TrueContacts`]).
+//! the full residue distance matrix ([`contactmap::score::contacts::TrueContacts`]).
 
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
@@ -9,10 +9,10 @@ use clap::Args;
 use crate::cli::output::refuse_overwrites;
 use crate::cli::output::{write_real, Output};
 use crate::cli::protein::{measure, place_chain, read_chain, DefinitionArgs, RegisterArg};
-use crate::error::Result;
-use crate::io::predictions::read_fasta;
-use crate::io::structure::Chain;
-use crate::score::contacts::SeparationRange;
+use contactmap::error::Result;
+use contactmap::io::predictions::read_fasta;
+use contactmap::io::structure::Chain;
+use contactmap::score::contacts::SeparationRange;
 
 /// Arguments of `contactmap contacts`.
 #[derive(Debug, Args)]

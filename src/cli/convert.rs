@@ -7,13 +7,13 @@ use clap::Args;
 use crate::cli::hic_output::{parse_normalizations, write_hic};
 use crate::cli::matrix_output::{format_from_extension, mcool_resolutions, OutputFormat};
 use crate::cli::output::{refuse_overwrites, uri_file};
-use crate::cli::progress::WithProgress;
+use crate::cli::progress::Progress;
 use crate::cli::InputArgs;
-use crate::error::{Error, Result};
-use crate::io::cool::{write_cool, write_mcool, CoolWriteOptions};
-use crate::io::hic::HicWriteOptions;
-use crate::io::text::{self, TextFormat};
-use crate::io::{self, FileKind, MatrixReader};
+use contactmap::error::{Error, Result};
+use contactmap::io::cool::{write_cool, write_mcool, CoolWriteOptions};
+use contactmap::io::hic::HicWriteOptions;
+use contactmap::io::text::{self, TextFormat};
+use contactmap::io::{self, FileKind, MatrixReader};
 
 /// Arguments of `contactmap convert`.
 #[derive(Debug, Args)]
@@ -108,7 +108,8 @@ pub fn run(args: &ConvertArgs) -> Result<()> {
     }
     let methods = parse_normalizations(&args.normalizations)?;
     let opened = io::open_matrix(&args.input, &args.input_args.to_options()?)?;
-    let reader = WithProgress::new(opened.as_ref(), "converting")?;
+    let bar = Progress::new(opened.as_ref(), "converting")?;
+    let reader = bar.reader();
     let options = CoolWriteOptions {
         assembly: args
             .assembly

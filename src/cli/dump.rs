@@ -8,10 +8,10 @@ use rayon::prelude::*;
 use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::output::{write_count, write_u64, FloatFormat, Output};
 use crate::cli::InputArgs;
-use crate::error::Result;
-use crate::genome::BinTable;
-use crate::io::{self, MatrixReader};
-use crate::matrix::{CountType, PixelBlock};
+use contactmap::error::Result;
+use contactmap::genome::BinTable;
+use contactmap::io::{self, MatrixReader};
+use contactmap::matrix::{CountType, PixelBlock};
 
 /// Which table to print.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]

@@ -6,18 +6,19 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 use rayon::prelude::*;
 
-use crate::cli::analysis::{fit_text, headline, parse_fit_range, power_law, PowerLaw};
+use crate::cli::analysis::{fit_text, headline, parse_fit_range};
 use crate::cli::input::weights_and_view;
 use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::output::{write_real, write_u64, Output};
 use crate::cli::InputArgs;
-use crate::error::{Error, Result};
-use crate::expected::logbin::LogBinned;
-use crate::expected::powerlaw::{fit_bins, FitRange, PowerLawReport};
-use crate::expected::{
+use contactmap::error::{Error, Result};
+use contactmap::expected::logbin::LogBinned;
+use contactmap::expected::powerlaw::{fit_bins, FitRange, PowerLawReport};
+use contactmap::expected::powerlaw::{power_law, PowerLaw};
+use contactmap::expected::{
     expected_cis, expected_trans, CisExpected, CisParams, Column, TransExpected,
 };
-use crate::io::{self, LoadedPixels, StreamedPixels};
+use contactmap::io::{self, LoadedPixels, StreamedPixels};
 
 /// Arguments of `contactmap expected`.
 #[derive(Debug, Args)]

@@ -8,9 +8,9 @@ use serde_json::{json, Map, Value};
 use crate::cli::output::Output;
 use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::InputArgs;
-use crate::error::Result;
-use crate::io::cool::{self, HdfContent};
-use crate::io::{self, FileKind, MatrixReader};
+use contactmap::error::Result;
+use contactmap::io::cool::{self, HdfContent};
+use contactmap::io::{self, FileKind, MatrixReader};
 
 /// Arguments of `contactmap info`.
 #[derive(Debug, Args)]
@@ -146,8 +146,8 @@ fn matrix_report(reader: &dyn MatrixReader) -> Result<Value> {
     map.insert(
         "count-type".into(),
         Value::from(match reader.count_type() {
-            crate::matrix::CountType::Integer => "integer",
-            crate::matrix::CountType::Float => "float",
+            contactmap::matrix::CountType::Integer => "integer",
+            contactmap::matrix::CountType::Float => "float",
         }),
     );
     map.insert("weights".into(), Value::from(reader.weight_names()));

@@ -11,13 +11,13 @@ use std::ops::Range;
 use std::path::Path;
 
 use crate::cli::InputArgs;
-use crate::error::{Error, Result};
-use crate::expected::view::{RegionSpec, View};
-use crate::expected::CisExpected;
-use crate::genome::BinTable;
-use crate::io::tables::Table;
-use crate::io::{self, CheckedCounts, MatrixReader};
-use crate::normalize::DiagonalCurve;
+use contactmap::error::{Error, Result};
+use contactmap::expected::view::{RegionSpec, View};
+use contactmap::expected::CisExpected;
+use contactmap::genome::BinTable;
+use contactmap::io::tables::Table;
+use contactmap::io::{self, CheckedCounts, MatrixReader};
+use contactmap::normalize::DiagonalCurve;
 
 /// Open the matrix at `uri` (with the text-input options `input`) for an analysis: its counts are
 /// checked as they stream.
@@ -111,7 +111,7 @@ pub fn track_argument(
     weights: &[f64],
 ) -> Result<(Vec<f64>, String)> {
     let (path, column) = file_column(argument, option, None)?;
-    let track = crate::io::tables::track_on_bins(Path::new(path), column, bins)?;
+    let track = contactmap::io::tables::track_on_bins(Path::new(path), column, bins)?;
     Ok((mask_unweighted(track, weights), column.to_string()))
 }
 

@@ -5,8 +5,8 @@ use std::path::Path;
 
 use clap::ValueEnum;
 
-use crate::error::{Error, Result};
-use crate::genome::BinTable;
+use contactmap::error::{Error, Result};
+use contactmap::genome::BinTable;
 
 /// Output formats.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]

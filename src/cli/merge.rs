@@ -5,17 +5,18 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
-use crate::cli::hic_output::{write_hic, DEFAULT_NORMALIZATIONS};
+use crate::cli::hic_output::write_hic;
 use crate::cli::matrix_output::{
     fixed_bin_size, format_from_extension, mcool_resolutions, OutputFormat,
 };
 use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::InputArgs;
-use crate::error::{Error, Result};
-use crate::io::cool::{write_cool, write_mcool, CoolWriteOptions};
-use crate::io::hic::HicWriteOptions;
-use crate::io::merged::MergedReader;
-use crate::io::{self, MatrixReader};
+use contactmap::error::{Error, Result};
+use contactmap::export::DEFAULT_HIC_NORMALIZATIONS;
+use contactmap::io::cool::{write_cool, write_mcool, CoolWriteOptions};
+use contactmap::io::hic::HicWriteOptions;
+use contactmap::io::merged::MergedReader;
+use contactmap::io::{self, MatrixReader};
 
 /// Arguments of `contactmap merge`.
 #[derive(Debug, Args)]
@@ -112,7 +113,7 @@ pub fn run(args: &MergeArgs) -> Result<()> {
                     &reader,
                     &args.out,
                     &resolutions,
-                    &DEFAULT_NORMALIZATIONS,
+                    &DEFAULT_HIC_NORMALIZATIONS,
                     &HicWriteOptions::for_genome(write_options.assembly.clone()),
                 )?;
             } else {

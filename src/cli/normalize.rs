@@ -8,15 +8,15 @@ use clap::{Args, ValueEnum};
 
 use crate::cli::matrix_output::OutputFormat;
 use crate::cli::output::{refuse_overwrites, uri_file};
-use crate::cli::progress::WithProgress;
+use crate::cli::progress::Progress;
 use crate::cli::InputArgs;
-use crate::error::{Error, Result};
-use crate::genome::BinTable;
-use crate::io::cool::{write_cool, CoolWriteOptions};
-use crate::io::text::{write_text, TextFormat};
-use crate::io::{self, MatrixInfo, MatrixReader};
-use crate::matrix::{CountType, PixelBlock, Weights};
-use crate::normalize::{Method, Normalizer};
+use contactmap::error::{Error, Result};
+use contactmap::genome::BinTable;
+use contactmap::io::cool::{write_cool, CoolWriteOptions};
+use contactmap::io::text::{write_text, TextFormat};
+use contactmap::io::{self, MatrixInfo, MatrixReader};
+use contactmap::matrix::{CountType, PixelBlock, Weights};
+use contactmap::normalize::{Method, Normalizer};
 
 /// Normalisation methods.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -134,7 +134,7 @@ pub fn run(args: &NormalizeArgs) -> Result<()> {
         )?,
         None => {
             let pixels = pixels.as_ref().expect("loaded when no --expected");
-            crate::expected::cis_curves(pixels, weights.as_deref(), args.ignore_diags)?
+            contactmap::expected::cis_curves(pixels, weights.as_deref(), args.ignore_diags)?
         }
     };
     let mut normalizer = Normalizer::new(method, bins.n_bins(), weights, curves)?;
@@ -148,7 +148,8 @@ pub fn run(args: &NormalizeArgs) -> Result<()> {
         normalizer: &normalizer,
         source: format!("{} ({:?})", reader.source(), args.method),
     };
-    let progress = WithProgress::new(&normalized, "normalizing")?;
+    let bar = Progress::new(&normalized, "normalizing")?;
+    let progress = bar.reader();
     let out = args.output.to_string_lossy().into_owned();
     match format {
         OutputFormat::Cool => write_cool(

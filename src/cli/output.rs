@@ -2,7 +2,7 @@
 //!
 //! Files are written under a temporary name and renamed when the command succeeds, so a failed
 //! command never leaves a half-written output behind (the temporary is created exclusively, see
-//! [`crate::io::atomic`]). Special files (`/dev/null`, a named pipe,
+//! [`contactmap::io::atomic`]). Special files (`/dev/null`, a named pipe,
 //! `/dev/stdout`) are written in place: a rename would replace them.
 
 use std::fs::File;
@@ -12,8 +12,8 @@ use std::path::Path;
 use flate2::write::GzEncoder;
 use flate2::Compression;
 
-use crate::error::{Error, Result};
-use crate::io::Temporary;
+use contactmap::error::{Error, Result};
+use contactmap::io::Temporary;
 
 /// An output text stream: stdout, or a (possibly gzip-compressed) file committed on `finish`.
 pub struct Output {
@@ -50,7 +50,7 @@ impl Output {
                 label: "<stdout>".into(),
             });
         };
-        let (file, tmp) = if crate::io::is_special_file(path) {
+        let (file, tmp) = if contactmap::io::is_special_file(path) {
             let file = File::options()
                 .write(true)
                 .open(path)
@@ -264,11 +264,11 @@ pub fn refuse_overwrites(inputs: &[&Path], outputs: &[Option<&Path>]) -> Result<
         .iter()
         .flatten()
         .copied()
-        .filter(|path| !is_stdout(Some(path)) && !crate::io::is_special_file(path))
+        .filter(|path| !is_stdout(Some(path)) && !contactmap::io::is_special_file(path))
         .collect();
     for output in &outputs {
         for file in inputs {
-            if file.as_os_str() != "-" && crate::io::same_file(output, file) {
+            if file.as_os_str() != "-" && contactmap::io::same_file(output, file) {
                 let relation = if file == output {
                     "is"
                 } else {
@@ -303,7 +303,7 @@ pub fn refuse_overwrites(inputs: &[&Path], outputs: &[Option<&Path>]) -> Result<
 /// The file of a matrix URI (`file.mcool::/resolutions/N` -> `file.mcool`), for
 /// [`refuse_overwrites`].
 pub fn uri_file(uri: &str) -> &Path {
-    Path::new(crate::io::split_uri(uri).0)
+    Path::new(contactmap::io::split_uri(uri).0)
 }
 
 /// The file of a `FILE[:COLUMN]` option value, for [`refuse_overwrites`]: the whole value when
@@ -318,7 +318,7 @@ pub fn column_file(argument: &str) -> &Path {
 /// Whether two output paths name one file: the same existing file, or, for files still to be
 /// written, the same name in the same folder.
 fn same_path(a: &Path, b: &Path) -> bool {
-    if crate::io::same_file(a, b) {
+    if contactmap::io::same_file(a, b) {
         return true;
     }
     let folder = |p: &Path| {

@@ -14,8 +14,8 @@ use std::path::PathBuf;
 use clap::{Args, Subcommand, ValueEnum};
 
 use crate::cli::output::Output;
-use crate::error::{Error, Result};
-use crate::plot::{figure_bytes, ImageFormat, Svg};
+use contactmap::error::{Error, Result};
+use contactmap::plot::{figure_bytes, ImageFormat, Svg};
 
 /// Arguments of `contactmap plot`.
 #[derive(Debug, Args)]

@@ -2,23 +2,22 @@
 //! jobs stay clean).
 
 use std::io::IsTerminal;
-use std::ops::Range;
 
 use indicatif::{ProgressBar, ProgressStyle};
 
-use crate::error::Result;
-use crate::io::{forward_reader_metadata, MatrixReader};
-use crate::matrix::PixelBlock;
+use contactmap::error::Result;
+use contactmap::io::{Inspect, MatrixReader};
+use contactmap::matrix::PixelBlock;
 
-/// A [`MatrixReader`] that advances a progress bar as pixels stream through it.
-pub struct WithProgress<'a> {
+/// A progress bar on standard error counting the stored pixels of a reader; hidden when
+/// standard error is not a terminal. Read through [`Progress::reader`].
+pub struct Progress<'a> {
     inner: &'a dyn MatrixReader,
     bar: ProgressBar,
 }
 
-impl<'a> WithProgress<'a> {
-    /// Wrap `inner`; the bar counts its stored pixels and says `what` is being done. Hidden when
-    /// standard error is not a terminal.
+impl<'a> Progress<'a> {
+    /// A bar for the pixels of `inner`, saying `what` is being done.
     pub fn new(inner: &'a dyn MatrixReader, what: &str) -> Result<Self> {
         let bar = if std::io::stderr().is_terminal() {
             let (nnz, _) = inner.totals()?;
@@ -35,40 +34,20 @@ impl<'a> WithProgress<'a> {
         } else {
             ProgressBar::hidden()
         };
-        Ok(WithProgress { inner, bar })
+        Ok(Progress { inner, bar })
+    }
+
+    /// The reader whose pixels advance the bar.
+    pub fn reader(&self) -> Inspect<'a, impl Fn(&PixelBlock)> {
+        let bar = self.bar.clone();
+        Inspect::new(self.inner, move |block: &PixelBlock| {
+            bar.inc(block.len() as u64)
+        })
     }
 }
 
-impl Drop for WithProgress<'_> {
+impl Drop for Progress<'_> {
     fn drop(&mut self) {
         self.bar.finish_and_clear();
-    }
-}
-
-impl MatrixReader for WithProgress<'_> {
-    forward_reader_metadata!(inner);
-
-    fn read_pixels(
-        &self,
-        rows: Range<usize>,
-        cols: Range<usize>,
-        sink: &mut dyn FnMut(&PixelBlock) -> Result<()>,
-    ) -> Result<()> {
-        self.inner.read_pixels(rows, cols, &mut |block| {
-            self.bar.inc(block.len() as u64);
-            sink(block)
-        })
-    }
-
-    fn read_stored_pixels(
-        &self,
-        rows: Range<usize>,
-        cols: Range<usize>,
-        sink: &mut dyn FnMut(&PixelBlock) -> Result<()>,
-    ) -> Result<()> {
-        self.inner.read_stored_pixels(rows, cols, &mut |block| {
-            self.bar.inc(block.len() as u64);
-            sink(block)
-        })
     }
 }

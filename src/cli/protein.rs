@@ -8,14 +8,14 @@ use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
 
-use crate::error::{Error, Result};
-use crate::io::predictions::{read_prediction, PredictionFormat};
-use crate::io::structure::{read_structure, Chain};
-use crate::score::contacts::{
+use contactmap::error::{Error, Result};
+use contactmap::io::predictions::{read_prediction, PredictionFormat};
+use contactmap::io::structure::{read_structure, Chain};
+use contactmap::score::contacts::{
     ContactAtom, ContactDefinition, DistanceTest, ListSize, Prediction, Rounding, SeparationRange,
     TargetLength, TrueContacts,
 };
-use crate::score::register::{register, Register, RegisterMethod, RegisterMode};
+use contactmap::score::register::{register, Register, RegisterMethod, RegisterMode};
 
 /// The atoms measured, for `--atom`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -123,7 +123,7 @@ impl TargetArgs {
         let fasta = self
             .fasta
             .as_deref()
-            .map(crate::io::predictions::read_fasta)
+            .map(contactmap::io::predictions::read_fasta)
             .transpose()?;
         let chain = read_chain(&self.structure, self.chain.as_deref())?;
         Ok((fasta, chain))
@@ -235,7 +235,7 @@ pub fn read_chain(structure: &Path, chain: Option<&str>) -> Result<Chain> {
 }
 
 /// The chain with its residues numbered by their position in `sequence` (see
-/// [`crate::score::register`]), and the register; the chain unchanged without a sequence or
+/// [`contactmap::score::register`]), and the register; the chain unchanged without a sequence or
 /// with `--register numbering`.
 pub fn place_chain(
     structure: &Path,

@@ -7,12 +7,12 @@ use clap::Args;
 use crate::cli::input::{open_balanced, track_argument};
 use crate::cli::output::{column_file, refuse_overwrites, uri_file, write_text_file};
 use crate::cli::InputArgs;
-use crate::compartments::saddle::{
+use contactmap::compartments::saddle::{
     digitize, saddle_cis, saddle_strength, saddle_trans, Binning, SaddleParams,
 };
-use crate::error::{Error, Result};
-use crate::expected::{expected_cis, expected_trans, CisParams};
-use crate::io::{self, default_memory_budget};
+use contactmap::error::{Error, Result};
+use contactmap::expected::{expected_cis, expected_trans, CisParams};
+use contactmap::io::{self, default_memory_budget};
 
 /// Which contacts a saddle sums, for `--contact-type`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]

@@ -1,7 +1,7 @@
 //! `contactmap score`: calls scored against a truth. `score boundaries` compares TAD boundary
-//! (and optionally domain) calls with a truth ([`crate::score::boundaries`]); `score contacts`
+//! (and optionally domain) calls with a truth ([`contactmap::score::boundaries`]); `score contacts`
 //! scores protein residue-contact predictions against a structure
-//! ([`crate::score::contacts`]).
+//! ([`contactmap::score::contacts`]).
 
 mod compartments;
 mod overlap;
@@ -15,10 +15,10 @@ use crate::cli::protein::{
     load_prediction, parse_length, parse_list_size, parse_range, DefinitionArgs, LabelledSize,
     LengthChoice, NamedRange, Placed, RegisterSummary, RoundingArg, TargetArgs,
 };
-use crate::error::{Error, Result};
-use crate::io::bed::{read_bed, BedRecord};
-use crate::score::boundaries::{domain_overlap, score_boundaries};
-use crate::score::contacts::{
+use contactmap::error::{Error, Result};
+use contactmap::io::bed::{read_bed, BedRecord};
+use contactmap::score::boundaries::{domain_overlap, score_boundaries};
+use contactmap::score::contacts::{
     score_contacts, ContactScore, ListSize, Prediction, ScoreParams, SeparationRange,
 };
 

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use clap::{Args, ValueEnum};
 
 use crate::cli::output::Output;
-use crate::error::{Error, Result};
+use contactmap::error::{Error, Result};
 
 /// Shells, for `completions`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]

@@ -1,7 +1,7 @@
 //! `contactmap simulate`: synthetic contact maps with a known truth. `simulate blocks` writes a
-//! block-structured Hi-C-like map ([`crate::sim::blocks`]) as a .cool, with its true domains and
+//! block-structured Hi-C-like map ([`contactmap::sim::blocks`]) as a .cool, with its true domains and
 //! boundaries as BED files; `simulate polymer` samples a simulated bead-spring chain
-//! ([`crate::sim::polymer`]) into a .cool, with its boundary elements as BED.
+//! ([`contactmap::sim::polymer`]) into a .cool, with its boundary elements as BED.
 
 mod polymer;
 
@@ -10,12 +10,12 @@ use std::path::{Path, PathBuf};
 use clap::{Args, Subcommand};
 
 use crate::cli::output::{refuse_overwrites, Output};
-use crate::error::{Error, Result};
-use crate::genome::BinTable;
-use crate::io::bed::write_bed_line;
-use crate::io::cool::{write_cool, CoolWriteOptions};
-use crate::io::InMemory;
-use crate::sim::blocks::{block_map, BlockMapParams};
+use contactmap::error::{Error, Result};
+use contactmap::genome::BinTable;
+use contactmap::io::bed::write_bed_line;
+use contactmap::io::cool::{write_cool, CoolWriteOptions};
+use contactmap::io::InMemory;
+use contactmap::sim::blocks::{block_map, BlockMapParams};
 
 /// Arguments of `contactmap simulate`.
 #[derive(Debug, Args)]

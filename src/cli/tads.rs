@@ -10,20 +10,20 @@ use crate::cli::output::{is_stdout, print_json, write_real, write_u64, Output};
 use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::warnings::Warnings;
 use crate::cli::InputArgs;
-use crate::error::{Error, Result};
-use crate::expected::View;
-use crate::genome::{parse_bp, BinTable};
-use crate::io::{LoadedPixels, StreamedPixels};
-use crate::tads::armatus::{armatus, level_boundaries, ArmatusParams};
-use crate::tads::band::cis_bands;
-use crate::tads::directionality::{directionality, DirectionalityParams, DirectionalityTable};
-use crate::tads::hmm::{dixon_domains, DiState, HmmParams};
-use crate::tads::insulation::{
+use contactmap::error::{Error, Result};
+use contactmap::expected::View;
+use contactmap::genome::{parse_bp, BinTable};
+use contactmap::io::{LoadedPixels, StreamedPixels};
+use contactmap::tads::armatus::{armatus, level_boundaries, ArmatusParams};
+use contactmap::tads::band::cis_bands;
+use contactmap::tads::directionality::{directionality, DirectionalityParams, DirectionalityTable};
+use contactmap::tads::hmm::{dixon_domains, DiState, HmmParams};
+use contactmap::tads::insulation::{
     insulation, regions_shorter_than, InsulationParams, InsulationTable,
 };
-use crate::tads::threshold::Threshold;
-use crate::tads::topdom::{topdom, TopDomParams, TopDomRegion, TopDomTag};
-use crate::tads::{domains_between, Boundary, Domain};
+use contactmap::tads::threshold::Threshold;
+use contactmap::tads::topdom::{topdom, TopDomParams, TopDomRegion, TopDomTag};
+use contactmap::tads::{domains_between, Boundary, Domain};
 
 /// TAD callers, for `--method`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]

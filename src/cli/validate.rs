@@ -6,7 +6,6 @@
 //! (not a matrix file, unreadable). With `--repair OUT`: 0 when a corrected copy was written (and
 //! passes the checks itself), 1 when the defects cannot be repaired (nothing is written).
 
-use std::io::Write;
 use std::path::PathBuf;
 
 use clap::Args;
@@ -14,8 +13,9 @@ use serde_json::json;
 
 use crate::cli::output::Output;
 use crate::cli::output::{refuse_overwrites, uri_file};
-use crate::error::{Error, Result};
-use crate::validate::{self, RepairOutcome, Report};
+use crate::cli::Status;
+use contactmap::error::{Error, Result};
+use contactmap::validate::{self, RepairOutcome, Report};
 
 /// Arguments of `contactmap validate`.
 #[derive(Debug, Args)]
@@ -50,9 +50,9 @@ pub struct ValidateArgs {
     pub out: Option<PathBuf>,
 }
 
-/// Run `contactmap validate`; exits with status 1 (after writing the report) when the file is
-/// invalid or cannot be repaired.
-pub fn run(args: &ValidateArgs) -> Result<()> {
+/// Run `contactmap validate`: [`Status::Invalid`] (exit code 1, after writing the report) when
+/// the file is invalid or cannot be repaired.
+pub fn run(args: &ValidateArgs) -> Result<Status> {
     refuse_overwrites(
         &[uri_file(&args.uri)],
         &[args.repair.as_deref(), args.out.as_deref()],
@@ -125,11 +125,11 @@ pub fn run(args: &ValidateArgs) -> Result<()> {
     let mut output = Output::open(args.out.as_deref())?;
     output.write_all(text.as_bytes())?;
     output.finish()?;
-    if !success {
-        let _ = std::io::stdout().flush();
-        std::process::exit(1);
-    }
-    Ok(())
+    Ok(if success {
+        Status::Success
+    } else {
+        Status::Invalid
+    })
 }
 
 /// One line per finding, then notes and a summary.

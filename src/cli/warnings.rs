@@ -37,11 +37,6 @@ impl Warnings {
         self.messages.push((false, message.into()));
     }
 
-    /// True when nothing was pushed.
-    pub fn is_empty(&self) -> bool {
-        self.messages.is_empty()
-    }
-
     /// The lines that [`Warnings::print`] writes, in order, each without its newline.
     pub fn lines(&self) -> Vec<String> {
         self.messages
@@ -80,7 +75,7 @@ mod tests {
     #[test]
     fn lines_keep_order_and_kind() {
         let mut warnings = Warnings::new();
-        assert!(warnings.is_empty());
+        assert!(warnings.lines().is_empty());
         warnings.push("chrM shorter than the window");
         warnings.note("window 100000: 3 boundaries");
         warnings.extend(["a", "b"]);

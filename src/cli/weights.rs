@@ -1,8 +1,8 @@
 //! Balancing weights stored into coolers, shared by `balance --store` and `zoomify --balance`:
 //! the attributes cooler writes beside a weight column.
 
-use crate::balance::{BalanceParams, BalanceResult, Scope};
-use crate::io::cool::store::AttrValue;
+use contactmap::balance::{BalanceParams, BalanceResult, Scope};
+use contactmap::io::cool::store::AttrValue;
 
 /// An integral value as an integer attribute (cooler stores its integer options as int64).
 fn number_attr(value: f64) -> AttrValue {

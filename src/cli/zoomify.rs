@@ -5,18 +5,19 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
-use crate::balance::{balance, BalanceParams, Method};
-use crate::cli::hic_output::{write_hic, DEFAULT_NORMALIZATIONS};
+use crate::cli::hic_output::write_hic;
 use crate::cli::matrix_output::mcool_resolutions;
 use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::weights::stored_attributes;
 use crate::cli::InputArgs;
-use crate::error::{Error, Result};
-use crate::io::cool::store::store_weights;
-use crate::io::cool::{write_mcool, CoolReader, CoolWriteOptions};
-use crate::io::hic::HicWriteOptions;
-use crate::io::{self, default_memory_budget, MatrixReader};
-use crate::matrix::Weights;
+use contactmap::balance::{balance, BalanceParams, Method};
+use contactmap::error::{Error, Result};
+use contactmap::export::DEFAULT_HIC_NORMALIZATIONS;
+use contactmap::io::cool::store::store_weights;
+use contactmap::io::cool::{write_mcool, CoolReader, CoolWriteOptions};
+use contactmap::io::hic::HicWriteOptions;
+use contactmap::io::{self, default_memory_budget, MatrixReader};
+use contactmap::matrix::Weights;
 
 /// Arguments of `contactmap zoomify`.
 #[derive(Debug, Args)]
@@ -124,7 +125,7 @@ pub fn run(args: &ZoomifyArgs) -> Result<()> {
             weight_columns: None,
         };
         if hic {
-            let mut methods = DEFAULT_NORMALIZATIONS.to_vec();
+            let mut methods = DEFAULT_HIC_NORMALIZATIONS.to_vec();
             if args.balance {
                 methods.push(Method::Ice);
             }

@@ -23,6 +23,31 @@ pub struct CisEigParams {
     pub clip_percentile: f64,
 }
 
+impl CisEigParams {
+    /// Check the values: at least one eigenvector, a clip percentile that is a number >= 0.
+    ///
+    /// ```
+    /// use contactmap::compartments::cis::CisEigParams;
+    ///
+    /// assert!(CisEigParams::default().check().is_ok());
+    /// let none = CisEigParams { n_eigs: 0, ..CisEigParams::default() };
+    /// assert_eq!(none.check().unwrap_err().to_string(), "n_eigs 0: expected at least 1");
+    /// ```
+    pub fn check(&self) -> crate::error::Result<()> {
+        if self.n_eigs == 0 {
+            return Err(crate::Error::parameter("n_eigs", 0, "expected at least 1"));
+        }
+        if !self.clip_percentile.is_finite() || self.clip_percentile < 0.0 {
+            return Err(crate::Error::parameter(
+                "clip_percentile",
+                self.clip_percentile,
+                "expected a percentile in 0..100 (0 or 100: no clipping)",
+            ));
+        }
+        Ok(())
+    }
+}
+
 impl Default for CisEigParams {
     fn default() -> Self {
         CisEigParams {

@@ -38,6 +38,28 @@ pub struct TransEigParams {
     pub perc_bottom: f64,
 }
 
+impl TransEigParams {
+    /// Check the values: at least one eigenvector, percentiles in 0..=100.
+    pub fn check(&self) -> crate::error::Result<()> {
+        if self.n_eigs == 0 {
+            return Err(crate::Error::parameter("n_eigs", 0, "expected at least 1"));
+        }
+        for (name, value) in [
+            ("perc_top", self.perc_top),
+            ("perc_bottom", self.perc_bottom),
+        ] {
+            if !(0.0..=100.0).contains(&value) {
+                return Err(crate::Error::parameter(
+                    name,
+                    value,
+                    "expected a percentile in 0..100",
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
 impl Default for TransEigParams {
     fn default() -> Self {
         TransEigParams {

@@ -53,8 +53,11 @@
 
 use statrs::distribution::{ContinuousCDF, StudentsT};
 
-use super::logbin::{CombinedBin, LogBinned};
+use super::logbin::{logbin_expected, CombinedBin, LogBinParams, LogBinned};
+use super::view::View;
+use super::{expected_cis, CisExpected, CisParams};
 use crate::error::{Error, Result};
+use crate::io::LoadedPixels;
 
 /// A distance range in bp (inclusive).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -524,6 +527,83 @@ pub fn fit_log_binned(binned: &LogBinned, params: &FitParams) -> Result<PowerLaw
         points,
         fit,
     })
+}
+
+/// A cis expected table, its log-binned P(s) and the power-law fits: what `contactmap expected
+/// --fit` prints and `plot expected --fit` draws. The fit may fail (too few points in the
+/// range) while the table and the log bins stand.
+pub struct PowerLaw {
+    /// The cis table without smoothing (the log binning uses the sums).
+    pub table: CisExpected,
+    /// Log-binned P(s), per region and combined, with slopes.
+    pub binned: LogBinned,
+    /// The fits over the asked or default range.
+    pub fit: Result<PowerLawReport>,
+}
+
+/// The cis table of `pixels` over `view` (without smoothing), its log-binned P(s) and the
+/// power-law fits over `fit_range` (default: [`default_fit_range`]).
+///
+/// # Examples
+///
+/// ```
+/// use contactmap::expected::powerlaw::power_law;
+/// use contactmap::expected::{CisParams, View};
+/// use contactmap::genome::{BinTable, Chrom};
+/// use contactmap::io::{load_pixels, InMemory, MatrixReader};
+/// use contactmap::matrix::{CountType, MatrixBuilder};
+///
+/// // P(s) = 1e6 s^-1 on one 2 Mb chromosome at 1 kb.
+/// let bins = BinTable::fixed(vec![Chrom::new("chr1", 2_000_000)], 1_000)?;
+/// let n = bins.n_bins() as u64;
+/// let mut builder = MatrixBuilder::new(bins, CountType::Float);
+/// for i in 0..n {
+///     for j in (i + 1)..n.min(i + 1_000) {
+///         builder.push(i, j, 1e6 / (j - i) as f64)?;
+///     }
+/// }
+/// let matrix = InMemory::new("example".into(), builder.build());
+/// let pixels = load_pixels(&matrix, u64::MAX)?;
+/// let view = View::chromosomes(matrix.bins());
+/// let law = power_law(&pixels, None, &view, &CisParams::default(), None)?;
+/// let fit = law.fit?.fit;
+/// assert!((fit.alpha + 1.0).abs() < 0.01, "alpha {}", fit.alpha);
+/// # Ok::<(), contactmap::Error>(())
+/// ```
+pub fn power_law(
+    pixels: &LoadedPixels<'_>,
+    weights: Option<&[f64]>,
+    view: &View,
+    params: &CisParams,
+    fit_range: Option<FitRange>,
+) -> Result<PowerLaw> {
+    let params = CisParams {
+        smooth: false,
+        aggregate_smoothed: false,
+        ..*params
+    };
+    let table = expected_cis(pixels, weights, view, &params)?;
+    power_law_of_table(
+        table,
+        params.ignore_diags,
+        view.median_length_bp(),
+        fit_range,
+    )
+}
+
+/// Log-bin a cis table and fit its power laws; `median_region_bp` and `ignore_diags` set the
+/// default range ([`default_fit_range`]).
+pub fn power_law_of_table(
+    table: CisExpected,
+    ignore_diags: usize,
+    median_region_bp: f64,
+    fit_range: Option<FitRange>,
+) -> Result<PowerLaw> {
+    let binned = logbin_expected(&table, &LogBinParams::default())?;
+    let range = fit_range
+        .unwrap_or_else(|| default_fit_range(table.bin_size_bp, ignore_diags, median_region_bp));
+    let fit = fit_log_binned(&binned, &FitParams::new(range));
+    Ok(PowerLaw { table, binned, fit })
 }
 
 #[cfg(test)]

@@ -56,10 +56,13 @@
 //!
 //! # Layout
 //!
-//! `header` (the header, the footer's master index and the bounds-checked sequential reader),
-//! `blocks` (the block index entries, block geometry, inflating and decoding), `norms`
-//! (normalisation vectors; the expected-value sections are skipped) and `reader` ([`HicReader`]:
-//! opening, query plans, streaming). Tests build files with the test-only `synthetic` writer.
+//! Reading, bottom up (each module imports only those before it): `bytes` (the bounds-checked
+//! sequential reader, the quoting of names read from the file), `blocks` (the block index entries,
+//! block geometry, inflating and decoding), `norms` (the normalisation-vector index and the
+//! expected-value records), `header` (the header and the footer's master index) and `reader`
+//! ([`HicReader`]: opening, query plans, streaming, vectors and expected values on demand).
+//! Writing: `expected` (Juicer's expected values, accumulated as pixels stream) and `writer`
+//! ([`HicWriter`]). Tests build files with the test-only `synthetic` writer.
 //!
 //! [`Error::Format`]: crate::error::Error::Format
 //! [`MatrixReader::warnings`]: crate::io::MatrixReader::warnings
@@ -68,11 +71,14 @@
 //! [`CountType::Integer`]: crate::matrix::CountType::Integer
 
 mod blocks;
+mod bytes;
+pub mod expected;
 mod header;
 mod norms;
 mod reader;
 mod writer;
 
+pub use expected::{JuicerExpected, JuicerExpectedBuilder, MultiResolutionExpected};
 pub use norms::HicExpected;
 pub use reader::{HicReader, BAND_BUDGET_BYTES};
 pub use writer::{HicNormVector, HicWriteOptions, HicWriter, BATCH_RECORDS};

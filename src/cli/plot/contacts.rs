@@ -1,6 +1,6 @@
 //! `contactmap plot contacts`: a protein contact map with the true contacts of a structure and
 //! the top-ranked predicted pairs coloured true / false positive, and the precision curve
-//! ([`crate::plot::protein`]).
+//! ([`contactmap::plot::protein`]).
 
 use std::path::{Path, PathBuf};
 
@@ -11,9 +11,11 @@ use crate::cli::output::refuse_overwrites;
 use crate::cli::protein::{
     load_prediction, parse_length, parse_list_size, DefinitionArgs, RoundingArg, TargetArgs,
 };
-use crate::error::{Error, Result};
-use crate::plot::protein::{draw_contacts, ContactFigure, ContactLayout, Mark, PredictionLayer};
-use crate::score::contacts::{
+use contactmap::error::{Error, Result};
+use contactmap::plot::protein::{
+    draw_contacts, ContactFigure, ContactLayout, Mark, PredictionLayer,
+};
+use contactmap::score::contacts::{
     list_length, ranked_predictions, score_contacts, ScoreParams, SeparationRange,
 };
 

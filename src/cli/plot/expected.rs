@@ -6,17 +6,18 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 
 use super::{write_figure, FigureArgs};
-use crate::cli::analysis::{headline, parse_fit_range, power_law, power_law_of_table, PowerLaw};
+use crate::cli::analysis::{headline, parse_fit_range};
 use crate::cli::input::{open_for_analysis, read_cis_expected, weights_and_view};
 use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::InputArgs;
-use crate::error::{Error, Result};
-use crate::expected::CisParams;
-use crate::genome::{format_bp, format_distance};
-use crate::io::{LoadedPixels, StreamedPixels};
-use crate::plot::axes::{Theme, CURVE_COLOURS};
-use crate::plot::curves::{draw_curves, CurveFigure, Panel, Scale, Series};
-use crate::plot::svg::Stroke;
+use contactmap::error::{Error, Result};
+use contactmap::expected::powerlaw::{power_law, power_law_of_table, PowerLaw};
+use contactmap::expected::CisParams;
+use contactmap::genome::{format_bp, format_distance};
+use contactmap::io::{LoadedPixels, StreamedPixels};
+use contactmap::plot::axes::{Theme, CURVE_COLOURS};
+use contactmap::plot::curves::{draw_curves, CurveFigure, Panel, Scale, Series};
+use contactmap::plot::svg::Stroke;
 
 /// Arguments of `contactmap plot expected`.
 #[derive(Debug, Args)]
@@ -106,7 +107,7 @@ fn is_expected_table(uri: &str) -> Result<bool> {
         return Ok(false);
     }
     let mut head = Vec::new();
-    crate::io::open_text(path)?
+    contactmap::io::open_text(path)?
         .take(64 << 10)
         .read_to_end(&mut head)
         .map_err(|e| Error::io(path, e))?;
@@ -136,7 +137,7 @@ fn default_label(uri: &str) -> String {
 fn load(
     uri: &str,
     args: &ExpectedPlotArgs,
-    fit_range: Option<crate::expected::powerlaw::FitRange>,
+    fit_range: Option<contactmap::expected::powerlaw::FitRange>,
 ) -> Result<PowerLaw> {
     if is_expected_table(uri)? {
         let (table, median_bp) = read_cis_expected(uri)?;

@@ -9,17 +9,17 @@ use super::{write_figure, FigureArgs};
 use crate::cli::input::{open_for_analysis, read_weights};
 use crate::cli::output::{column_file, refuse_overwrites, uri_file};
 use crate::cli::InputArgs;
-use crate::error::{Error, Result};
-use crate::genome::{BinTable, Region};
-use crate::io::bed::{read_bed, read_bedpe};
-use crate::io::tables::read_track;
-use crate::io::{LoadedPixels, MatrixReader, StreamedPixels};
-use crate::normalize::{Method, Normalizer};
-use crate::plot::heatmap::{percentile_limits, AxisCells, CellGrid};
-use crate::plot::map::{
+use contactmap::error::{Error, Result};
+use contactmap::genome::{BinTable, Region};
+use contactmap::io::bed::{read_bed, read_bedpe};
+use contactmap::io::tables::read_track;
+use contactmap::io::{LoadedPixels, MatrixReader, StreamedPixels};
+use contactmap::normalize::{Method, Normalizer};
+use contactmap::plot::heatmap::{percentile_limits, AxisCells, CellGrid};
+use contactmap::plot::map::{
     draw_map, GenomicSpan, MapFigure, MapLayout, MapStyle, MapView, Overlays, Track,
 };
-use crate::plot::{ColorMap, ColorScale, Rgb, ScaleKind};
+use contactmap::plot::{ColorMap, ColorScale, Rgb, ScaleKind};
 
 /// Arguments of `contactmap plot map`.
 #[derive(Debug, Args)]
@@ -186,7 +186,7 @@ pub fn run(args: &MapArgs) -> Result<()> {
         }
         let length = col_span.end_bp - col_span.start_bp;
         let depth = match &args.depth {
-            Some(text) => crate::genome::parse_bp(text)
+            Some(text) => contactmap::genome::parse_bp(text)
                 .map_err(|m| Error::Invalid(format!("--depth '{text}': {m}")))?,
             None => length.div_ceil(4),
         };
@@ -326,7 +326,7 @@ fn oe_normalizer(
         )?,
         None => {
             let pixels = LoadedPixels::Streamed(StreamedPixels::new(reader));
-            crate::expected::cis_curves(&pixels, weights.as_deref(), args.ignore_diags)?
+            contactmap::expected::cis_curves(&pixels, weights.as_deref(), args.ignore_diags)?
         }
     };
     Normalizer::new(Method::Oe, bins.n_bins(), weights, curves)
@@ -342,7 +342,7 @@ fn fill_grid(
 ) -> Result<()> {
     let rows = grid.rows.bins.clone();
     let cols = grid.cols.bins.clone();
-    let value = |block: &crate::matrix::PixelBlock| -> Result<crate::matrix::PixelBlock> {
+    let value = |block: &contactmap::matrix::PixelBlock| -> Result<contactmap::matrix::PixelBlock> {
         match (normalizer, weights) {
             (Some(n), _) => n.apply(block),
             (None, Some(w)) => {

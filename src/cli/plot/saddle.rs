@@ -6,10 +6,10 @@ use clap::Args;
 
 use super::{write_figure, FigureArgs};
 use crate::cli::output::refuse_overwrites;
-use crate::error::{Error, Result};
-use crate::io::tables::Table;
-use crate::plot::saddle::{draw_saddle, SaddleFigure};
-use crate::plot::{ColorMap, ColorScale, ScaleKind};
+use contactmap::error::{Error, Result};
+use contactmap::io::tables::Table;
+use contactmap::plot::saddle::{draw_saddle, SaddleFigure};
+use contactmap::plot::{ColorMap, ColorScale, ScaleKind};
 
 /// Default figure width in inches.
 const DEFAULT_WIDTH_IN: f64 = 5.5;

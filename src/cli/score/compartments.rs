@@ -1,5 +1,5 @@
 //! `contactmap score compartments`: compartment eigenvectors against known A/B types
-//! ([`crate::score::compartments`]).
+//! ([`contactmap::score::compartments`]).
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -9,10 +9,10 @@ use clap::Args;
 use super::real;
 use crate::cli::input::file_column;
 use crate::cli::output::{column_file, refuse_overwrites, Output};
-use crate::error::{Error, Result};
-use crate::io::bed::read_bed;
-use crate::io::tables::read_track;
-use crate::score::compartments::score_compartments;
+use contactmap::error::{Error, Result};
+use contactmap::io::bed::read_bed;
+use contactmap::io::tables::read_track;
+use contactmap::score::compartments::score_compartments;
 
 /// Arguments of `contactmap score compartments`.
 #[derive(Debug, Args)]

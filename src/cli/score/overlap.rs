@@ -1,5 +1,5 @@
 //! `contactmap score overlap`: two contact predictions compared with each other, without a
-//! structure ([`crate::score::overlap`]).
+//! structure ([`contactmap::score::overlap`]).
 
 use std::path::{Path, PathBuf};
 
@@ -8,10 +8,10 @@ use clap::Args;
 use super::{aligned, max_sep_text, real, ListArgs};
 use crate::cli::output::{refuse_overwrites, Output};
 use crate::cli::protein::{NamedRange, PredictionFormatArg};
-use crate::error::{Error, Result};
-use crate::io::predictions::{read_fasta, read_prediction};
-use crate::score::contacts::{ListSize, Rounding};
-use crate::score::overlap::{overlap, ranked_pairs, Overlap};
+use contactmap::error::{Error, Result};
+use contactmap::io::predictions::{read_fasta, read_prediction};
+use contactmap::score::contacts::{ListSize, Rounding};
+use contactmap::score::overlap::{overlap, ranked_pairs, Overlap};
 
 /// Arguments of `contactmap score overlap`.
 #[derive(Debug, Args)]

@@ -1,5 +1,5 @@
 //! `contactmap simulate polymer`: contact maps from ensembles of a simulated bead-spring chain
-//! ([`crate::sim::polymer`], [`crate::sim::ensemble`], [`crate::sim::extrusion`]).
+//! ([`contactmap::sim::polymer`], [`contactmap::sim::ensemble`], [`contactmap::sim::extrusion`]).
 
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -8,20 +8,20 @@ use clap::{Args, ValueEnum};
 
 use crate::cli::output::{refuse_overwrites, write_real, Output};
 use crate::cli::warnings::Warnings;
-use crate::error::{Error, Result};
-use crate::genome::{BinTable, Chrom};
-use crate::io::bed::{read_bed, write_bed_line};
-use crate::io::cool::{write_cool, CoolWriteOptions};
-use crate::io::InMemory;
-use crate::matrix::{CountType, MatrixBuilder};
-use crate::sim::ensemble::{run_ensemble, Ensemble, EnsembleParams, ExtrusionCoupling};
-use crate::sim::extrusion::{BoundaryElement, ExtrusionParams, Orientation};
-use crate::sim::gpu::{run_ensemble_gpu, Gpu};
-use crate::sim::polymer::{
+use contactmap::error::{Error, Result};
+use contactmap::genome::{BinTable, Chrom};
+use contactmap::io::bed::{read_bed, write_bed_line};
+use contactmap::io::cool::{write_cool, CoolWriteOptions};
+use contactmap::io::InMemory;
+use contactmap::matrix::{CountType, MatrixBuilder};
+use contactmap::sim::ensemble::{run_ensemble, Ensemble, EnsembleParams, ExtrusionCoupling};
+use contactmap::sim::extrusion::{BoundaryElement, ExtrusionParams, Orientation};
+use contactmap::sim::gpu::{run_ensemble_gpu, Gpu};
+use contactmap::sim::polymer::{
     box_side, chain_ranges, sphere_radius, Attraction, BondModel, Confinement, PolymerParams,
     Repulsion,
 };
-use crate::sim::relaxation::Relaxation;
+use contactmap::sim::relaxation::Relaxation;
 
 /// Bond models, for `--bonds`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -695,7 +695,7 @@ fn sample_time(params: &EnsembleParams, k: usize) -> f64 {
 }
 
 /// How far the run relaxed (a note), and a warning when the chains were sampled before they
-/// relaxed ([`crate::sim::relaxation`]).
+/// relaxed ([`contactmap::sim::relaxation`]).
 fn relaxation_notes(params: &EnsembleParams, relaxation: &Relaxation) -> Warnings {
     let mut notes = Warnings::new();
     let longest = params.polymer.chains.iter().copied().max().unwrap_or(0);

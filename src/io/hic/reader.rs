@@ -14,8 +14,9 @@ use rayon::prelude::*;
 use super::blocks::{
     decode_block, inflate, BlockEntry, BlockStats, MatrixIndex, PairPlan, Pixel, BLOCK_ENTRY_BYTES,
 };
-use super::header::{printable, read_footer, read_header, SeqReader};
-use super::norms::NormVector;
+use super::bytes::{printable, SeqReader};
+use super::header::{read_footer, read_header};
+use super::norms::{HicExpected, NormVector};
 use crate::error::{Error, Result};
 use crate::genome::{BinTable, Chrom};
 use crate::io::{MatrixInfo, MatrixReader};
@@ -815,4 +816,145 @@ fn list_numbers(values: &[u64]) -> String {
         .map(u64::to_string)
         .collect::<Vec<_>>()
         .join(", ")
+}
+
+impl HicReader {
+    /// Read the first `n_bins` values of the divisive vector `vector` of chromosome `chrom`.
+    pub(super) fn read_norm_vector(
+        &self,
+        vector: &NormVector,
+        chrom: &Chrom,
+        n_bins: usize,
+    ) -> Result<Vec<f64>> {
+        let what = format!(
+            "the {} normalisation vector of {}",
+            printable(&vector.name),
+            printable(&chrom.name)
+        );
+        let mut reader = SeqReader::new(&self.file, &self.path, self.file_len, vector.position);
+        let n_values = if self.version >= 9 {
+            reader.i64(&what)?
+        } else {
+            i64::from(reader.i32(&what)?)
+        };
+        let value_bytes: u64 = if self.version >= 9 { 4 } else { 8 };
+        let n_values = reader.count(n_values, value_bytes, &what)?;
+        // Some writers append a few trailing values; more values than bins is accepted.
+        if n_values < n_bins {
+            return Err(Error::format(
+                &self.path,
+                format!("{what} has {n_values} values for the {n_bins} bins of the chromosome"),
+            ));
+        }
+        let bytes = reader.bytes(n_bins * value_bytes as usize, &what)?;
+        Ok(if self.version >= 9 {
+            bytes
+                .chunks_exact(4)
+                .map(|b| f64::from(f32::from_le_bytes([b[0], b[1], b[2], b[3]])))
+                .collect()
+        } else {
+            bytes
+                .chunks_exact(8)
+                .map(|b| f64::from_le_bytes([b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7]]))
+                .collect()
+        })
+    }
+}
+
+impl HicReader {
+    /// The expected-value vectors the footer stores at the open resolution (base pairs): the raw
+    /// one (`NONE`) and the normalised ones, in file order.
+    pub fn expected_values(&self) -> Result<Vec<HicExpected>> {
+        let mut reader =
+            SeqReader::new(&self.file, &self.path, self.file_len, self.footer_position);
+        let what = "the footer";
+        if self.version >= 9 {
+            reader.i64(what)?;
+        } else {
+            reader.i32(what)?;
+        }
+        let n_entries = reader.i32("the master index")?;
+        let n_entries = reader.count(i64::from(n_entries), 16, "the master index")?;
+        for _ in 0..n_entries {
+            reader.string("a master index key")?;
+            reader.skip(12, "the master index")?;
+        }
+        let mut out = self.read_expected_section(&mut reader, false)?;
+        if reader.remaining() > 0 {
+            out.extend(self.read_expected_section(&mut reader, true)?);
+        }
+        Ok(out)
+    }
+
+    fn read_expected_section(
+        &self,
+        reader: &mut SeqReader,
+        normalized: bool,
+    ) -> Result<Vec<HicExpected>> {
+        let what = if normalized {
+            "the normalised expected values"
+        } else {
+            "the expected values"
+        };
+        let version = self.version;
+        let value_bytes: u64 = if version >= 9 { 4 } else { 8 };
+        let value = |reader: &mut SeqReader| -> Result<f64> {
+            if version >= 9 {
+                Ok(f64::from(reader.f32(what)?))
+            } else {
+                Ok(f64::from_le_bytes(reader.array::<8>(what)?))
+            }
+        };
+        let n_vectors = reader.i32(what)?;
+        let n_vectors = reader.count(i64::from(n_vectors), 10, what)?;
+        let mut out = Vec::new();
+        for _ in 0..n_vectors {
+            let normalization = if normalized {
+                reader.string(what)?
+            } else {
+                "NONE".to_string()
+            };
+            let unit = reader.string(what)?;
+            let bin_size = reader.i32(what)?;
+            let n_values = if version >= 9 {
+                reader.i64(what)?
+            } else {
+                i64::from(reader.i32(what)?)
+            };
+            let n_values = reader.count(n_values, value_bytes, what)?;
+            let keep = unit == "BP" && i64::from(bin_size) == self.resolution as i64;
+            let mut values = Vec::new();
+            if keep {
+                values.reserve(n_values);
+                for _ in 0..n_values {
+                    values.push(value(reader)?);
+                }
+            } else {
+                reader.skip(n_values as u64 * value_bytes, what)?;
+            }
+            let n_factors = reader.i32(what)?;
+            let n_factors = reader.count(i64::from(n_factors), 4 + value_bytes, what)?;
+            let mut factors = Vec::new();
+            for _ in 0..n_factors {
+                let chrom = reader.i32(what)?;
+                let factor = value(reader)?;
+                let name = usize::try_from(chrom)
+                    .ok()
+                    .and_then(|f| self.file_chrom.iter().position(|&c| c == f))
+                    .map(|k| self.bins.chroms()[k].name.clone());
+                if let (true, Some(name)) = (keep, name) {
+                    factors.push((name, factor));
+                }
+            }
+            if keep {
+                out.push(HicExpected {
+                    normalization,
+                    bin_size_bp: bin_size as u64,
+                    values,
+                    chrom_scale_factors: factors,
+                });
+            }
+        }
+        Ok(out)
+    }
 }

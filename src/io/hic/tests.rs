@@ -748,6 +748,6 @@ fn file_bytes_quoted_in_messages_are_escaped() {
             "{message}"
         );
     }
-    assert_eq!(header::printable("chr1"), "chr1");
-    assert_eq!(header::printable("a\u{2028}b\u{85}"), r"a\u{2028}b\u{85}");
+    assert_eq!(bytes::printable("chr1"), "chr1");
+    assert_eq!(bytes::printable("a\u{2028}b\u{85}"), r"a\u{2028}b\u{85}");
 }

@@ -50,8 +50,8 @@ use std::path::{Path, PathBuf};
 
 use rayon::prelude::*;
 
+use super::expected::JuicerExpected;
 use crate::error::{Error, Result};
-use crate::expected::juicer::JuicerExpected;
 use crate::genome::{BinTable, Chrom};
 use crate::io::MatrixReader;
 use crate::matrix::PixelBlock;

@@ -1,0 +1,424 @@
+//! The house's shape, checked on the sources: modules import one another one way (no cycle among
+//! the modules of one folder, at any depth), the formats floor (`io`) stands below the algorithms,
+//! and the command-line layer is the binary's, not the library's.
+//!
+//! Imports are read from the sources: every `crate::` and `super::` path (in `use` trees, grouped
+//! ones included, and inline), outside comments and outside test code (files named `tests.rs` and
+//! `#[cfg(test)]` modules), resolved to the deepest module that has a file.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+
+/// The library's algorithm modules: `io` imports none of them.
+const ALGORITHMS: [&str; 9] = [
+    "balance",
+    "expected",
+    "normalize",
+    "tads",
+    "compartments",
+    "score",
+    "sim",
+    "plot",
+    "validate",
+];
+
+/// A module path, e.g. `["io", "hic", "reader"]`.
+type Module = Vec<String>;
+
+/// Every source file of the library under `src/` (the binary's `main.rs` and `cli` excluded), with
+/// its module path.
+fn library_files() -> Vec<(Module, PathBuf)> {
+    fn walk(dir: &Path, prefix: &[String], out: &mut Vec<(Module, PathBuf)>) {
+        let mut entries: Vec<_> = std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .collect();
+        entries.sort();
+        for path in entries {
+            let name = path.file_stem().unwrap().to_string_lossy().to_string();
+            if path.is_dir() {
+                let mut module = prefix.to_vec();
+                module.push(name);
+                walk(&path, &module, out);
+            } else if path.extension().is_some_and(|e| e == "rs") {
+                if name == "tests" {
+                    continue;
+                }
+                let mut module = prefix.to_vec();
+                if name != "mod" && !(prefix.is_empty() && name == "lib") {
+                    module.push(name);
+                }
+                out.push((module, path));
+            }
+        }
+    }
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut files = Vec::new();
+    walk(&src, &[], &mut files);
+    files.retain(|(module, path)| {
+        !(module.first().is_some_and(|m| m == "cli") || path.ends_with("main.rs"))
+    });
+    files
+}
+
+/// The source without comments, string literals and `#[cfg(test)]` modules.
+fn code_of(text: &str) -> String {
+    let mut code = String::with_capacity(text.len());
+    let mut chars = text.chars().peekable();
+    let mut in_string = false;
+    while let Some(c) = chars.next() {
+        if in_string {
+            match c {
+                '\\' => {
+                    chars.next();
+                }
+                '"' => in_string = false,
+                _ => {}
+            }
+            continue;
+        }
+        match c {
+            '/' if chars.peek() == Some(&'/') => {
+                for c in chars.by_ref() {
+                    if c == '\n' {
+                        code.push('\n');
+                        break;
+                    }
+                }
+            }
+            '"' => in_string = true,
+            _ => code.push(c),
+        }
+    }
+    // Test modules: from `#[cfg(test)]` before a `mod` to the end of its braces.
+    let mut out = String::with_capacity(code.len());
+    let mut rest = code.as_str();
+    while let Some(at) = rest.find("#[cfg(test)]") {
+        out.push_str(&rest[..at]);
+        let after = &rest[at + "#[cfg(test)]".len()..];
+        if !after.trim_start().starts_with("mod ") {
+            out.push_str("#[cfg(test)]");
+            rest = after;
+            continue;
+        }
+        match after.find(['{', ';']) {
+            Some(open) if after.as_bytes()[open] == b'{' => {
+                let mut depth = 0usize;
+                let mut end = after.len();
+                for (i, c) in after[open..].char_indices() {
+                    match c {
+                        '{' => depth += 1,
+                        '}' => {
+                            depth -= 1;
+                            if depth == 0 {
+                                end = open + i + 1;
+                                break;
+                            }
+                        }
+                        _ => {}
+                    }
+                }
+                rest = &after[end..];
+            }
+            Some(semicolon) => rest = &after[semicolon + 1..],
+            None => rest = "",
+        }
+    }
+    out.push_str(rest);
+    out
+}
+
+/// The paths a source names through `crate::` or `super::` (grouped `use` trees expanded), each
+/// as its segments from the crate root.
+fn paths_named(code: &str, module: &Module) -> Vec<Vec<String>> {
+    let bytes = code.as_bytes();
+    let ident_char = |b: u8| b.is_ascii_alphanumeric() || b == b'_';
+    let mut paths = Vec::new();
+    let mut i = 0;
+    while i < bytes.len() {
+        let starts_word = i == 0 || !(ident_char(bytes[i - 1]) || bytes[i - 1] == b':');
+        let root = ["crate::", "super::"]
+            .into_iter()
+            .find(|r| starts_word && code[i..].starts_with(r));
+        let Some(root) = root else {
+            i += 1;
+            continue;
+        };
+        // `super` is the parent of the file's module.
+        let mut base: Vec<String> = if root == "crate::" {
+            Vec::new()
+        } else {
+            let mut base = module.clone();
+            base.pop();
+            base
+        };
+        let mut j = i + root.len();
+        while code[j..].starts_with("super::") {
+            base.pop();
+            j += "super::".len();
+        }
+        let (tree_paths, end) = parse_tree(code, j);
+        for mut p in tree_paths {
+            let mut full = base.clone();
+            full.append(&mut p);
+            paths.push(full);
+        }
+        i = end.max(i + 1);
+    }
+    paths
+}
+
+/// Parse a `use` tree (or an inline path) at `start`: the paths it names and where it ends.
+fn parse_tree(code: &str, start: usize) -> (Vec<Vec<String>>, usize) {
+    let bytes = code.as_bytes();
+    let ident_char = |b: u8| b.is_ascii_alphanumeric() || b == b'_';
+    let mut segments = Vec::new();
+    let mut i = start;
+    loop {
+        while i < bytes.len() && bytes[i].is_ascii_whitespace() {
+            i += 1;
+        }
+        if i < bytes.len() && bytes[i] == b'{' {
+            // Split the group at its top-level commas.
+            let mut depth = 0usize;
+            let mut item_start = i + 1;
+            let mut out = Vec::new();
+            let mut k = i;
+            while k < bytes.len() {
+                match bytes[k] {
+                    b'{' => depth += 1,
+                    b'}' | b',' if depth == 1 => {
+                        let (inner, _) = parse_tree(&code[..k], item_start);
+                        for mut p in inner {
+                            let mut full = segments.clone();
+                            full.append(&mut p);
+                            out.push(full);
+                        }
+                        item_start = k + 1;
+                        if bytes[k] == b'}' {
+                            return (out, k + 1);
+                        }
+                    }
+                    b'}' => depth -= 1,
+                    _ => {}
+                }
+                k += 1;
+            }
+            return (out, k);
+        }
+        let word_start = i;
+        while i < bytes.len() && ident_char(bytes[i]) {
+            i += 1;
+        }
+        if i == word_start {
+            break;
+        }
+        let word = &code[word_start..i];
+        if word != "self" {
+            segments.push(word.to_string());
+        }
+        if code[i..].starts_with("::") {
+            i += 2;
+        } else {
+            break;
+        }
+    }
+    (vec![segments], i)
+}
+
+/// The import graph: module -> modules it names (resolved to modules that have a file).
+fn import_graph() -> BTreeMap<Module, BTreeSet<Module>> {
+    let files = library_files();
+    let modules: BTreeSet<Module> = files.iter().map(|(m, _)| m.clone()).collect();
+    let mut graph = BTreeMap::new();
+    for (module, path) in &files {
+        let text = std::fs::read_to_string(path).unwrap();
+        let mut targets = BTreeSet::new();
+        for named in paths_named(&code_of(&text), module) {
+            let resolved = (0..=named.len())
+                .rev()
+                .map(|n| named[..n].to_vec())
+                .find(|prefix| modules.contains(prefix))
+                .unwrap_or_default();
+            if &resolved != module {
+                targets.insert(resolved);
+            }
+        }
+        graph.insert(module.clone(), targets);
+    }
+    graph
+}
+
+/// The cycles among the modules of each folder: an import of `a::x::y` from `a::z` is an edge
+/// `a::z -> a::x` between the two children of their common parent `a` (imports between a module
+/// and its own descendants or ancestors are how a folder exposes its parts, and are not edges).
+fn sibling_cycles(graph: &BTreeMap<Module, BTreeSet<Module>>) -> Vec<Vec<Module>> {
+    let mut edges: BTreeMap<Module, BTreeSet<Module>> = BTreeMap::new();
+    for (from, targets) in graph {
+        for to in targets {
+            let common = from.iter().zip(to).take_while(|(a, b)| a == b).count();
+            if common == from.len() || common == to.len() {
+                continue;
+            }
+            edges
+                .entry(from[..=common].to_vec())
+                .or_default()
+                .insert(to[..=common].to_vec());
+        }
+    }
+    // Tarjan's strongly connected components; every component of two or more is a cycle.
+    struct State<'a> {
+        edges: &'a BTreeMap<Module, BTreeSet<Module>>,
+        index: BTreeMap<Module, usize>,
+        low: BTreeMap<Module, usize>,
+        stack: Vec<Module>,
+        on_stack: BTreeSet<Module>,
+        components: Vec<Vec<Module>>,
+    }
+    fn visit(state: &mut State<'_>, v: &Module) {
+        let n = state.index.len();
+        state.index.insert(v.clone(), n);
+        state.low.insert(v.clone(), n);
+        state.stack.push(v.clone());
+        state.on_stack.insert(v.clone());
+        let targets: Vec<Module> = state
+            .edges
+            .get(v)
+            .map(|t| t.iter().cloned().collect())
+            .unwrap_or_default();
+        for w in &targets {
+            if !state.index.contains_key(w) {
+                visit(state, w);
+                let low = state.low[v].min(state.low[w]);
+                state.low.insert(v.clone(), low);
+            } else if state.on_stack.contains(w) {
+                let low = state.low[v].min(state.index[w]);
+                state.low.insert(v.clone(), low);
+            }
+        }
+        if state.low[v] == state.index[v] {
+            let mut component = Vec::new();
+            while let Some(w) = state.stack.pop() {
+                state.on_stack.remove(&w);
+                let done = &w == v;
+                component.push(w);
+                if done {
+                    break;
+                }
+            }
+            if component.len() > 1 {
+                component.sort();
+                state.components.push(component);
+            }
+        }
+    }
+    let mut state = State {
+        edges: &edges,
+        index: BTreeMap::new(),
+        low: BTreeMap::new(),
+        stack: Vec::new(),
+        on_stack: BTreeSet::new(),
+        components: Vec::new(),
+    };
+    let nodes: Vec<Module> = edges.keys().cloned().collect();
+    for v in &nodes {
+        if !state.index.contains_key(v) {
+            visit(&mut state, v);
+        }
+    }
+    state.components
+}
+
+fn name(module: &Module) -> String {
+    if module.is_empty() {
+        "crate".to_string()
+    } else {
+        module.join("::")
+    }
+}
+
+#[test]
+fn modules_import_one_another_one_way() {
+    let cycles = sibling_cycles(&import_graph());
+    let described: Vec<String> = cycles
+        .iter()
+        .map(|c| c.iter().map(name).collect::<Vec<_>>().join(" <-> "))
+        .collect();
+    assert!(
+        described.is_empty(),
+        "import cycles:\n  {}",
+        described.join("\n  ")
+    );
+}
+
+#[test]
+fn formats_import_no_algorithm() {
+    let graph = import_graph();
+    let mut offending = Vec::new();
+    for (from, targets) in &graph {
+        if from.first().map(String::as_str) != Some("io") {
+            continue;
+        }
+        for to in targets {
+            if to
+                .first()
+                .is_some_and(|top| ALGORITHMS.contains(&top.as_str()))
+            {
+                offending.push(format!("{} imports {}", name(from), name(to)));
+            }
+        }
+    }
+    assert!(offending.is_empty(), "{}", offending.join("\n"));
+}
+
+#[test]
+fn the_command_line_is_the_binarys() {
+    let lib =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("src/lib.rs")).unwrap();
+    assert!(
+        !code_of(&lib).contains("mod cli"),
+        "src/lib.rs declares the cli module: the command-line layer belongs to main.rs"
+    );
+}
+
+/// The checker itself, on sources with a known answer.
+#[test]
+fn the_checker_sees_grouped_imports_super_and_cycles() {
+    let module: Module = vec!["io".into(), "hic".into(), "reader".into()];
+    let code = code_of(
+        "use crate::{a::{b, c::D}, e};\n// use crate::comment;\nuse super::header::X;\n\
+         fn f() { crate::g::h(); let s = \"crate::in_string\"; }\n\
+         #[cfg(test)]\nmod tests { use crate::only_in_tests; }\n",
+    );
+    let mut paths = paths_named(&code, &module);
+    paths.sort();
+    let expected: Vec<Vec<String>> = vec![
+        vec!["a".into(), "b".into()],
+        vec!["a".into(), "c".into(), "D".into()],
+        vec!["e".into()],
+        vec!["g".into(), "h".into()],
+        vec!["io".into(), "hic".into(), "header".into(), "X".into()],
+    ];
+    assert_eq!(paths, expected);
+
+    let m = |s: &str| -> Module { s.split("::").map(String::from).collect() };
+    let mut graph = BTreeMap::new();
+    graph.insert(m("io::hic::header"), BTreeSet::from([m("io::hic::reader")]));
+    graph.insert(m("io::hic::reader"), BTreeSet::from([m("io::hic::norms")]));
+    graph.insert(
+        m("io::hic::norms"),
+        BTreeSet::from([m("io::hic::header"), m("io")]),
+    );
+    graph.insert(m("io"), BTreeSet::from([m("io::hic::reader")]));
+    let cycles = sibling_cycles(&graph);
+    assert_eq!(
+        cycles,
+        vec![vec![
+            m("io::hic::header"),
+            m("io::hic::norms"),
+            m("io::hic::reader")
+        ]]
+    );
+    graph.remove(&m("io::hic::norms"));
+    assert!(sibling_cycles(&graph).is_empty());
+}
