@@ -89,8 +89,9 @@ run_all() {
     run "$cm" saddle "$dm6" --track "$x/cis.cis.vecs.tsv:E1" --n-bins 10 -o "$x/cis"
     printf 'chr2L\t0\t10000000\tA\nchr2L\t10000000\t23500000\tB\n' > "$x/ab.bed"
     run "$cm" score compartments --truth "$x/ab.bed" "$x/cis.cis.vecs.tsv:E1"
-    run "$cm" simulate blocks -o "$x/blocks.hic" --truth-boundaries "$x/truth.bed" --seed 3 \
+    run "$cm" simulate blocks -o "$x/blocks.cool" --truth-boundaries "$x/truth.bed" --seed 3 \
       --chroms 2 --bins 200
+    run "$cm" convert "$x/blocks.cool" "$x/blocks.hic"
     run "$cm" score boundaries --truth "$x/truth.bed" "$x/truth.bed"
     run "$cm" contacts data/protein/toxd/toxd.pdb --matrix -o "$x/toxd.dist.tsv"
     run "$cm" score contacts --structure data/protein/1guuA/1guuA.pdb data/protein/1guuA/1guuA.contact.rr \

@@ -7,7 +7,6 @@
 //! the format's own record ([`crate::io::hic::expected`], as hictk keeps them in its `hic`
 //! library), computed while the pixels stream.
 
-use std::ops::Range;
 use std::path::Path;
 use std::sync::Mutex;
 
@@ -18,7 +17,7 @@ use crate::io::hic::{
     HicNormVector, HicReader, HicWriteOptions, HicWriter, JuicerExpected, JuicerExpectedBuilder,
     MultiResolutionExpected,
 };
-use crate::io::{self, MatrixReader};
+use crate::io::{self, Inspect, MatrixReader};
 use crate::matrix::pixels::Pixels;
 use crate::matrix::{invert_weight, PixelBlock};
 
@@ -128,16 +127,19 @@ pub fn write_hic(
         path,
         |tmp| HicWriter::create(tmp, reader.bins(), resolutions, options),
         |tmp, mut writer| {
-            let tap = ExpectedTap {
-                inner: reader,
-                expected: Mutex::new(MultiResolutionExpected::new(
-                    reader.bins(),
-                    writer.resolutions(),
-                )),
-            };
-            writer.write_matrices(&tap)?;
-            let expected = tap
-                .expected
+            // Juicer's raw expected values of every resolution, from the pixels as they stream
+            // into the writer (which reads them with `read_pixels` once).
+            let expected = Mutex::new(MultiResolutionExpected::new(
+                reader.bins(),
+                writer.resolutions(),
+            ));
+            writer.write_matrices(&Inspect::new(reader, |block| {
+                expected
+                    .lock()
+                    .unwrap_or_else(|e| e.into_inner())
+                    .add(block)
+            }))?;
+            let expected = expected
                 .into_inner()
                 .unwrap_or_else(|e| e.into_inner())
                 .finish();
@@ -157,32 +159,6 @@ pub fn write_hic(
         },
     )?;
     Ok(unconverged)
-}
-
-/// A reader that passes its pixels on and adds them to Juicer's raw expected values at every
-/// resolution.
-struct ExpectedTap<'a> {
-    inner: &'a dyn MatrixReader,
-    expected: Mutex<MultiResolutionExpected>,
-}
-
-impl MatrixReader for ExpectedTap<'_> {
-    crate::io::forward_reader_metadata!(inner);
-
-    fn read_pixels(
-        &self,
-        rows: Range<usize>,
-        cols: Range<usize>,
-        sink: &mut dyn FnMut(&PixelBlock) -> Result<()>,
-    ) -> Result<()> {
-        self.inner.read_pixels(rows, cols, &mut |block| {
-            self.expected
-                .lock()
-                .unwrap_or_else(|e| e.into_inner())
-                .add(block);
-            sink(block)
-        })
-    }
 }
 
 /// The vectors of one resolution.

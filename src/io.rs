@@ -424,7 +424,6 @@ macro_rules! forward_reader_metadata {
         }
     };
 }
-pub(crate) use forward_reader_metadata;
 
 /// A reader that shows every block of pixels it streams to a callback, then passes it on
 /// unchanged: progress bars, running sums beside another job.

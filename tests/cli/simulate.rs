@@ -169,6 +169,19 @@ fn bad_parameters_fail_cleanly() {
     let line = run_err(&["simulate", "blocks", "-o", out, "--bins", "5"]);
     assert!(line.contains("cannot hold"), "{line}");
     assert!(!Path::new(out).exists());
+    // Another format's name: a cooler named .hic (or .mcool) would fool Juicebox and cooler.
+    for name in ["x.hic", "x.mcool", "x.bg2"] {
+        let other = dir.path().join(name);
+        for command in ["blocks", "polymer"] {
+            let line = run_err(&["simulate", command, "-o", other.to_str().unwrap()]);
+            assert!(
+                line.contains("names another format"),
+                "{command} {name}: {line}"
+            );
+            assert!(line.contains("contactmap convert"), "{line}");
+            assert!(!other.exists());
+        }
+    }
     let help = run(&["simulate", "blocks", "--help"]);
     let help = String::from_utf8_lossy(&help.stdout);
     for text in ["--truth-domains", "[default: 2000]", "Examples:", "--seed"] {

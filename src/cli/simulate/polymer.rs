@@ -584,11 +584,7 @@ fn bin_table(args: &PolymerArgs) -> Result<BinTable> {
 
 /// Run `contactmap simulate polymer`.
 pub fn run(args: &PolymerArgs) -> Result<()> {
-    if args.output.as_os_str() == "-" {
-        return Err(Error::Invalid(
-            "simulate writes a .cool file: give a file name to -o, not '-'".into(),
-        ));
-    }
+    super::check_cool_output(&args.output)?;
     if args.threads == Some(0) {
         return Err(Error::Invalid("--threads must be at least 1".into()));
     }
