@@ -107,7 +107,7 @@ step "Boundary calls scored against the truth (precision, recall, F1 within one 
 step "Picture: the synthetic map, its true boundaries marked on it, the insulation score under it" \
   "$cm" plot map "$work/blocks.cool" -r chr1:0-8Mb --raw --boundaries "$work/truth.bed" \
   --track "$work/blocks_insulation.tsv:log2_insulation_score_200000" -o "$figs/blocks_truth.png"
-step "A simulated polymer: 1,000 beads in a sphere, loop extrusion stalled at 4 boundary elements (Brownian dynamics, 4 replicas in parallel)" \
+step "A simulated polymer: 1,000 beads in a sphere, loop extrusion stalled at 4 boundary elements (Brownian dynamics, 4 replicas in parallel; a short run: the loops form within it, the chain at large does not relax, and the warning says so)" \
   "$cm" simulate polymer -o "$work/polymer.cool" --chains 1000 --density 0.2 --extrusion \
   --ctcf 200,400,600,800 --capture 0.99 --release 0.002 --processivity 200 --separation 100 \
   --steps-per-move 200 --monomers-per-bin 10 --replicas 4 --equilibration 20000 \

@@ -22,6 +22,9 @@
 use std::ops::Range;
 
 use crate::error::{Error, Result};
+use crate::genome::BinTable;
+use crate::io::{MatrixInfo, MatrixReader};
+use crate::matrix::{CountType, Weights};
 use crate::matrix::{PixelBlock, PixelSource};
 
 /// What to compute.
@@ -205,6 +208,70 @@ impl Normalizer {
             }
         }
         Ok(out)
+    }
+}
+
+/// A reader whose pixels are the normalised values of another reader's (float counts, no weight
+/// column; pixels the normaliser drops, masked bins, are left out): what `contactmap normalize`
+/// writes to a .cool or a table with any of the io writers.
+pub struct NormalizedReader<'a> {
+    inner: &'a dyn MatrixReader,
+    normalizer: &'a Normalizer,
+    source: String,
+}
+
+impl<'a> NormalizedReader<'a> {
+    /// The pixels of `inner` through `normalizer`; `source` names the result in messages.
+    pub fn new(inner: &'a dyn MatrixReader, normalizer: &'a Normalizer, source: String) -> Self {
+        NormalizedReader {
+            inner,
+            normalizer,
+            source,
+        }
+    }
+}
+
+impl MatrixReader for NormalizedReader<'_> {
+    fn source(&self) -> &str {
+        &self.source
+    }
+
+    fn bins(&self) -> &BinTable {
+        self.inner.bins()
+    }
+
+    fn count_type(&self) -> CountType {
+        CountType::Float
+    }
+
+    fn weight_names(&self) -> Vec<String> {
+        Vec::new()
+    }
+
+    fn weights(&self, name: &str) -> Result<Weights> {
+        Err(Error::Invalid(format!(
+            "a normalised matrix has no weight column '{name}'"
+        )))
+    }
+
+    fn info(&self) -> MatrixInfo {
+        self.inner.info()
+    }
+
+    fn read_pixels(
+        &self,
+        rows: Range<usize>,
+        cols: Range<usize>,
+        sink: &mut dyn FnMut(&PixelBlock) -> Result<()>,
+    ) -> Result<()> {
+        self.inner.read_pixels(rows, cols, &mut |block| {
+            let out = self.normalizer.apply(block)?;
+            if out.is_empty() {
+                Ok(())
+            } else {
+                sink(&out)
+            }
+        })
     }
 }
 

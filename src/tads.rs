@@ -18,6 +18,7 @@
 
 pub mod armatus;
 pub mod band;
+pub mod call;
 pub mod directionality;
 pub mod hmm;
 pub mod insulation;

@@ -1,7 +1,6 @@
 //! `contactmap normalize`: observed / expected maps (o/e, log2 o/e, z-score) as a .cool or a text
 //! table.
 
-use std::ops::Range;
 use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
@@ -11,12 +10,10 @@ use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::progress::Progress;
 use crate::cli::InputArgs;
 use contactmap::error::{Error, Result};
-use contactmap::genome::BinTable;
+use contactmap::io;
 use contactmap::io::cool::{write_cool, CoolWriteOptions};
 use contactmap::io::text::{write_text, TextFormat};
-use contactmap::io::{self, MatrixInfo, MatrixReader};
-use contactmap::matrix::{CountType, PixelBlock, Weights};
-use contactmap::normalize::{Method, Normalizer};
+use contactmap::normalize::{Method, NormalizedReader, Normalizer};
 
 /// Normalisation methods.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -143,11 +140,11 @@ pub fn run(args: &NormalizeArgs) -> Result<()> {
         normalizer.compute_deviations(pixels)?;
     }
     drop(pixels);
-    let normalized = Normalized {
-        inner: reader.as_ref(),
-        normalizer: &normalizer,
-        source: format!("{} ({:?})", reader.source(), args.method),
-    };
+    let normalized = NormalizedReader::new(
+        reader.as_ref(),
+        &normalizer,
+        format!("{} ({:?})", reader.source(), args.method),
+    );
     let bar = Progress::new(&normalized, "normalizing")?;
     let progress = bar.reader();
     let out = args.output.to_string_lossy().into_owned();
@@ -162,56 +159,5 @@ pub fn run(args: &NormalizeArgs) -> Result<()> {
         ),
         OutputFormat::Bg2 => write_text(&progress, &out, TextFormat::Bg2),
         _ => write_text(&progress, &out, TextFormat::Coo),
-    }
-}
-
-/// A reader whose pixels are the normalised values of another reader's.
-struct Normalized<'a> {
-    inner: &'a dyn MatrixReader,
-    normalizer: &'a Normalizer,
-    source: String,
-}
-
-impl MatrixReader for Normalized<'_> {
-    fn source(&self) -> &str {
-        &self.source
-    }
-
-    fn bins(&self) -> &BinTable {
-        self.inner.bins()
-    }
-
-    fn count_type(&self) -> CountType {
-        CountType::Float
-    }
-
-    fn weight_names(&self) -> Vec<String> {
-        Vec::new()
-    }
-
-    fn weights(&self, name: &str) -> Result<Weights> {
-        Err(Error::Invalid(format!(
-            "a normalised matrix has no weight column '{name}'"
-        )))
-    }
-
-    fn info(&self) -> MatrixInfo {
-        self.inner.info()
-    }
-
-    fn read_pixels(
-        &self,
-        rows: Range<usize>,
-        cols: Range<usize>,
-        sink: &mut dyn FnMut(&PixelBlock) -> Result<()>,
-    ) -> Result<()> {
-        self.inner.read_pixels(rows, cols, &mut |block| {
-            let out = self.normalizer.apply(block)?;
-            if out.is_empty() {
-                Ok(())
-            } else {
-                sink(&out)
-            }
-        })
     }
 }

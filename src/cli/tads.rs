@@ -14,16 +14,14 @@ use contactmap::error::{Error, Result};
 use contactmap::expected::View;
 use contactmap::genome::{parse_bp, BinTable};
 use contactmap::io::{LoadedPixels, StreamedPixels};
-use contactmap::tads::armatus::{armatus, level_boundaries, ArmatusParams};
-use contactmap::tads::band::cis_bands;
-use contactmap::tads::directionality::{directionality, DirectionalityParams, DirectionalityTable};
-use contactmap::tads::hmm::{dixon_domains, DiState, HmmParams};
-use contactmap::tads::insulation::{
-    insulation, regions_shorter_than, InsulationParams, InsulationTable,
-};
+use contactmap::tads::armatus::ArmatusParams;
+use contactmap::tads::call::{call, Caller, TadCalls, TadTrack};
+use contactmap::tads::directionality::{DirectionalityParams, DirectionalityTable};
+use contactmap::tads::hmm::{DiState, HmmParams};
+use contactmap::tads::insulation::{regions_shorter_than, InsulationParams, InsulationTable};
 use contactmap::tads::threshold::Threshold;
-use contactmap::tads::topdom::{topdom, TopDomParams, TopDomRegion, TopDomTag};
-use contactmap::tads::{domains_between, Boundary, Domain};
+use contactmap::tads::topdom::{TopDomParams, TopDomRegion, TopDomTag};
+use contactmap::tads::{Boundary, Domain};
 
 /// TAD callers, for `--method`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -209,22 +207,13 @@ pub fn run(args: &TadsArgs) -> Result<()> {
     }
     let pixels = LoadedPixels::Streamed(StreamedPixels::new(reader.as_ref()));
     let weights = weights.as_deref();
-    let calls = match args.method {
-        MethodArg::Insulation => {
-            run_insulation(args, &pixels, weights, &view, &windows, &mut warnings)?
-        }
-        MethodArg::Directionality => run_directionality(args, &pixels, weights, &view, &windows)?,
-        MethodArg::Topdom => run_topdom(
-            args,
-            &pixels,
-            weights,
-            &view,
-            windows[0],
-            bin_size,
-            &mut warnings,
-        )?,
-        MethodArg::Armatus => run_armatus(args, &pixels, weights, &view, bin_size)?,
-    };
+    let caller = caller(args, &windows, bin_size)?;
+    let calls = call(&pixels, weights, &view, &caller)?;
+    warnings.extend(calls.warnings.iter().cloned());
+    for note in &calls.notes {
+        warnings.note(note.clone());
+    }
+    let calls = Calls(calls);
     let track = calls.track(&bins);
     write_to(args.out.as_deref(), &track)?;
     if let Some(path) = &args.boundaries {
@@ -253,19 +242,14 @@ pub fn run(args: &TadsArgs) -> Result<()> {
     Ok(())
 }
 
-/// What a caller produced: its per-bin track, and the boundaries and domains for the BED files.
-struct Calls {
-    label: String,
-    boundaries: Vec<Boundary>,
-    domains: Vec<Domain>,
-    track: Track,
-}
+/// The library's calls, with their `--json` summary and per-bin text.
+struct Calls(TadCalls);
 
-enum Track {
-    Insulation(InsulationTable, Vec<String>),
-    Directionality(DirectionalityTable, Vec<Option<DiState>>),
-    TopDom(Vec<TopDomRegion>),
-    Armatus(Vec<(Domain, f64)>),
+impl std::ops::Deref for Calls {
+    type Target = TadCalls;
+    fn deref(&self) -> &TadCalls {
+        &self.0
+    }
 }
 
 impl Calls {
@@ -278,7 +262,7 @@ impl Calls {
             "n_boundaries": self.boundaries.len(),
             "n_domains": self.domains.len(),
         });
-        if let Track::Insulation(table, _) = &self.track {
+        if let TadTrack::Insulation(table, _) = &self.track {
             value["windows"] = table
                 .tracks
                 .iter()
@@ -296,10 +280,10 @@ impl Calls {
 
     fn track(&self, bins: &BinTable) -> Vec<u8> {
         match &self.track {
-            Track::Insulation(table, names) => insulation_text(bins, table, names),
-            Track::Directionality(table, states) => directionality_text(bins, table, states),
-            Track::TopDom(regions) => topdom_text(bins, regions),
-            Track::Armatus(domains) => armatus_text(bins, domains),
+            TadTrack::Insulation(table, names) => insulation_text(bins, table, names),
+            TadTrack::Directionality(table, states) => directionality_text(bins, table, states),
+            TadTrack::TopDom(regions) => topdom_text(bins, regions),
+            TadTrack::Armatus(domains) => armatus_text(bins, domains),
         }
     }
 }
@@ -377,164 +361,68 @@ fn list_names(names: &[&str]) -> String {
     }
 }
 
-fn run_insulation(
-    args: &TadsArgs,
-    pixels: &LoadedPixels<'_>,
-    weights: Option<&[f64]>,
-    view: &View,
-    windows: &[u64],
-    warnings: &mut Warnings,
-) -> Result<Calls> {
-    let threshold = parse_threshold(args)?;
-    let min_dist_bad_bin = args.min_dist_bad_bin.unwrap_or(0);
-    let params = InsulationParams {
-        windows_bp: windows.to_vec(),
-        ignore_diags: args.ignore_diags,
-        min_frac_valid_pixels: args.min_frac_valid_pixels,
-        min_dist_bad_bin,
-        threshold,
-        append_raw_scores: args.append_raw_scores,
-    };
-    let table = insulation(pixels, weights, view, &params)?;
-    let bed_track = match &args.bed_window {
-        None => 0,
-        Some(text) => {
-            let bp = parse_bp(text).map_err(|e| Error::Invalid(format!("--bed-window: {e}")))?;
-            windows.iter().position(|&w| w == bp).ok_or_else(|| {
-                Error::Invalid(format!(
-                    "--bed-window {text} is not one of the --window values"
-                ))
-            })?
+/// The library's caller for the options: the method, its window and parameters.
+fn caller(args: &TadsArgs, windows: &[u64], bin_size: u64) -> Result<Caller> {
+    Ok(match args.method {
+        MethodArg::Insulation => {
+            let calls_window = match &args.bed_window {
+                None => 0,
+                Some(text) => {
+                    let bp =
+                        parse_bp(text).map_err(|e| Error::Invalid(format!("--bed-window: {e}")))?;
+                    windows.iter().position(|&w| w == bp).ok_or_else(|| {
+                        Error::Invalid(format!(
+                            "--bed-window {text} is not one of the --window values"
+                        ))
+                    })?
+                }
+            };
+            Caller::Insulation {
+                params: InsulationParams {
+                    windows_bp: windows.to_vec(),
+                    ignore_diags: args.ignore_diags,
+                    min_frac_valid_pixels: args.min_frac_valid_pixels,
+                    min_dist_bad_bin: args.min_dist_bad_bin.unwrap_or(0),
+                    threshold: parse_threshold(args)?,
+                    append_raw_scores: args.append_raw_scores,
+                },
+                calls_window,
+            }
         }
-    };
-    let boundaries = table.boundaries(bed_track);
-    let domains = domains_between(view, &boundaries, 1);
-    for track in &table.tracks {
-        warnings.note(format!(
-            "window {}: {} boundaries (strength cutoff {})",
-            track.window_bp,
-            track.is_boundary.iter().filter(|&&b| b).count(),
-            track.cutoff
-        ));
-    }
-    Ok(Calls {
-        label: format!("insulation_{}", windows[bed_track]),
-        boundaries,
-        domains,
-        track: Track::Insulation(
-            table,
-            view.regions().iter().map(|r| r.name.clone()).collect(),
-        ),
-    })
-}
-
-fn run_directionality(
-    args: &TadsArgs,
-    pixels: &LoadedPixels<'_>,
-    weights: Option<&[f64]>,
-    view: &View,
-    windows: &[u64],
-) -> Result<Calls> {
-    let params = DirectionalityParams {
-        window_bp: windows[0],
-        ignore_diags: args.ignore_diags,
-        min_dist_bad_bin: args.min_dist_bad_bin.unwrap_or(2),
-    };
-    let table = directionality(pixels, weights, view, &params)?;
-    let hmm_params = HmmParams {
-        min_domain_bins: args.min_domain_bins,
-        ..HmmParams::default()
-    };
-    let calls = dixon_domains(&table, &hmm_params)?;
-    Ok(Calls {
-        label: format!("directionality_{}", windows[0]),
-        boundaries: calls.boundaries,
-        domains: calls.domains,
-        track: Track::Directionality(table, calls.states),
-    })
-}
-
-fn run_topdom(
-    args: &TadsArgs,
-    pixels: &LoadedPixels<'_>,
-    weights: Option<&[f64]>,
-    view: &View,
-    window_bp: u64,
-    bin_size: u64,
-    warnings: &mut Warnings,
-) -> Result<Calls> {
-    let params = TopDomParams {
-        window_bins: (window_bp / bin_size) as usize,
-        statistical_filter: !args.no_filter,
-        ..TopDomParams::default()
-    };
-    let bands = cis_bands(pixels, weights, view, 2 * params.window_bins + 1)?;
-    let mut regions = Vec::with_capacity(bands.len());
-    for (band, region) in bands.iter().zip(view.regions()) {
-        if band.n_bins < 2 * params.window_bins {
-            warnings.push(format!(
-                "{} has fewer than {} bins: skipped by TopDom",
-                region.name,
-                2 * params.window_bins
-            ));
-            continue;
+        MethodArg::Directionality => Caller::Directionality {
+            params: DirectionalityParams {
+                window_bp: windows[0],
+                ignore_diags: args.ignore_diags,
+                min_dist_bad_bin: args.min_dist_bad_bin.unwrap_or(2),
+            },
+            hmm: HmmParams {
+                min_domain_bins: args.min_domain_bins,
+                ..HmmParams::default()
+            },
+        },
+        MethodArg::Topdom => Caller::TopDom(TopDomParams {
+            window_bins: (windows[0] / bin_size) as usize,
+            statistical_filter: !args.no_filter,
+            ..TopDomParams::default()
+        }),
+        MethodArg::Armatus => {
+            let max_domain_bp = parse_bp(&args.max_domain)
+                .map_err(|e| Error::Invalid(format!("--max-domain: {e}")))?;
+            let mut gammas = args.gamma.clone();
+            if gammas.iter().any(|g| !g.is_finite() || *g < 0.0) {
+                return Err(Error::Invalid("--gamma values must be >= 0".into()));
+            }
+            gammas.sort_by(f64::total_cmp);
+            gammas.dedup();
+            Caller::Armatus {
+                params: ArmatusParams {
+                    gammas,
+                    max_domain_bins: (max_domain_bp / bin_size).max(2) as usize,
+                },
+                ignore_diags: args.ignore_diags,
+                boundary_level: args.bed_level,
+            }
         }
-        regions.push(topdom(band, &params)?);
-    }
-    let boundaries = regions
-        .iter()
-        .flat_map(|r| r.boundaries.iter().copied())
-        .collect();
-    let domains = regions
-        .iter()
-        .flat_map(|r| r.segments.iter())
-        .filter(|(_, tag)| matches!(tag, TopDomTag::Domain))
-        .map(|(domain, _)| *domain)
-        .collect();
-    Ok(Calls {
-        label: format!("topdom_{window_bp}"),
-        boundaries,
-        domains,
-        track: Track::TopDom(regions),
-    })
-}
-
-fn run_armatus(
-    args: &TadsArgs,
-    pixels: &LoadedPixels<'_>,
-    weights: Option<&[f64]>,
-    view: &View,
-    bin_size: u64,
-) -> Result<Calls> {
-    let max_domain_bp =
-        parse_bp(&args.max_domain).map_err(|e| Error::Invalid(format!("--max-domain: {e}")))?;
-    let max_domain_bins = (max_domain_bp / bin_size).max(2) as usize;
-    let mut gammas = args.gamma.clone();
-    if gammas.iter().any(|g| !g.is_finite() || *g < 0.0) {
-        return Err(Error::Invalid("--gamma values must be >= 0".into()));
-    }
-    gammas.sort_by(f64::total_cmp);
-    gammas.dedup();
-    let params = ArmatusParams {
-        gammas: gammas.clone(),
-        max_domain_bins,
-    };
-    let mut bands = cis_bands(pixels, weights, view, max_domain_bins)?;
-    let mut domains = Vec::new();
-    for band in &mut bands {
-        band.clear_near_diagonal(args.ignore_diags);
-        domains.extend(armatus(band, &params)?);
-    }
-    let boundaries = level_boundaries(&domains, args.bed_level, view);
-    let with_gamma = domains
-        .iter()
-        .map(|d| (*d, gammas[d.level as usize]))
-        .collect();
-    Ok(Calls {
-        label: "armatus".into(),
-        boundaries,
-        domains,
-        track: Track::Armatus(with_gamma),
     })
 }
 
