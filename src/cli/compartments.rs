@@ -171,20 +171,16 @@ pub fn run(args: &CompartmentsArgs) -> Result<()> {
     };
     let bar = Progress::new(reader.as_ref(), "eigenvectors")?;
     let progress = bar.reader();
+    let phased_by = Phasing {
+        track: phasing.as_deref(),
+        sort,
+    };
     if args.trans {
         let params = TransEigParams {
             n_eigs: args.n_eigs,
             ..TransEigParams::default()
         };
-        let Eigs { eigs, warnings } = eigs_trans(
-            &progress,
-            &weights,
-            Phasing {
-                track: phasing.as_deref(),
-                sort,
-            },
-            &params,
-        )?;
+        let Eigs { eigs, warnings } = eigs_trans(&progress, &weights, phased_by, &params)?;
         print_warnings(&warnings);
         write_vecs(
             &format!("{prefix}.trans.vecs.tsv"),
@@ -203,16 +199,7 @@ pub fn run(args: &CompartmentsArgs) -> Result<()> {
         let Eigs {
             eigs: results,
             warnings,
-        } = eigs_cis(
-            &progress,
-            &weights,
-            &view,
-            Phasing {
-                track: phasing.as_deref(),
-                sort,
-            },
-            &params,
-        )?;
+        } = eigs_cis(&progress, &weights, &view, phased_by, &params)?;
         print_warnings(&warnings);
         let regions: Vec<_> = view
             .regions()
