@@ -137,7 +137,8 @@ pub fn write_hic(
                 expected
                     .lock()
                     .unwrap_or_else(|e| e.into_inner())
-                    .add(block)
+                    .add(block);
+                Ok(())
             }))?;
             let expected = expected
                 .into_inner()

@@ -426,7 +426,8 @@ macro_rules! forward_reader_metadata {
 }
 
 /// A reader that shows every block of pixels it streams to a callback, then passes it on
-/// unchanged: progress bars, running sums beside another job.
+/// unchanged: progress bars, running sums beside another job, checks (an error from the callback
+/// ends the stream).
 ///
 /// # Examples
 ///
@@ -444,6 +445,7 @@ macro_rules! forward_reader_metadata {
 /// let seen = AtomicUsize::new(0);
 /// let inspected = Inspect::new(&matrix, |block| {
 ///     seen.fetch_add(block.len(), Ordering::Relaxed);
+///     Ok(())
 /// });
 /// let n = inspected.bins().n_bins();
 /// inspected.read_pixels(0..n, 0..n, &mut |_| Ok(()))?;
@@ -455,14 +457,14 @@ pub struct Inspect<'a, F> {
     on_block: F,
 }
 
-impl<'a, F: Fn(&PixelBlock)> Inspect<'a, F> {
+impl<'a, F: Fn(&PixelBlock) -> Result<()>> Inspect<'a, F> {
     /// Show the blocks `inner` streams to `on_block`.
     pub fn new(inner: &'a dyn MatrixReader, on_block: F) -> Self {
         Inspect { inner, on_block }
     }
 }
 
-impl<F: Fn(&PixelBlock)> MatrixReader for Inspect<'_, F> {
+impl<F: Fn(&PixelBlock) -> Result<()>> MatrixReader for Inspect<'_, F> {
     forward_reader_metadata!(inner);
 
     fn read_pixels(
@@ -472,7 +474,7 @@ impl<F: Fn(&PixelBlock)> MatrixReader for Inspect<'_, F> {
         sink: &mut dyn FnMut(&PixelBlock) -> Result<()>,
     ) -> Result<()> {
         self.inner.read_pixels(rows, cols, &mut |block| {
-            (self.on_block)(block);
+            (self.on_block)(block)?;
             sink(block)
         })
     }
@@ -484,7 +486,7 @@ impl<F: Fn(&PixelBlock)> MatrixReader for Inspect<'_, F> {
         sink: &mut dyn FnMut(&PixelBlock) -> Result<()>,
     ) -> Result<()> {
         self.inner.read_stored_pixels(rows, cols, &mut |block| {
-            (self.on_block)(block);
+            (self.on_block)(block)?;
             sink(block)
         })
     }
@@ -568,10 +570,7 @@ impl MatrixReader for CheckedCounts {
         cols: Range<usize>,
         sink: &mut dyn FnMut(&PixelBlock) -> Result<()>,
     ) -> Result<()> {
-        self.inner.read_pixels(rows, cols, &mut |block| {
-            self.check(block)?;
-            sink(block)
-        })
+        Inspect::new(self.inner.as_ref(), |block| self.check(block)).read_pixels(rows, cols, sink)
     }
 
     fn read_stored_pixels(
@@ -580,10 +579,8 @@ impl MatrixReader for CheckedCounts {
         cols: Range<usize>,
         sink: &mut dyn FnMut(&PixelBlock) -> Result<()>,
     ) -> Result<()> {
-        self.inner.read_stored_pixels(rows, cols, &mut |block| {
-            self.check(block)?;
-            sink(block)
-        })
+        Inspect::new(self.inner.as_ref(), |block| self.check(block))
+            .read_stored_pixels(rows, cols, sink)
     }
 }
 

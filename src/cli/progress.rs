@@ -38,10 +38,11 @@ impl<'a> Progress<'a> {
     }
 
     /// The reader whose pixels advance the bar.
-    pub fn reader(&self) -> Inspect<'a, impl Fn(&PixelBlock)> {
+    pub fn reader(&self) -> Inspect<'a, impl Fn(&PixelBlock) -> Result<()>> {
         let bar = self.bar.clone();
         Inspect::new(self.inner, move |block: &PixelBlock| {
-            bar.inc(block.len() as u64)
+            bar.inc(block.len() as u64);
+            Ok(())
         })
     }
 }
