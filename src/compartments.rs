@@ -58,4 +58,5 @@ pub mod eigen;
 pub mod eigs;
 pub mod phasing;
 pub mod saddle;
+pub mod tables;
 pub mod trans;

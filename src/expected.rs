@@ -56,6 +56,7 @@
 pub mod logbin;
 pub mod powerlaw;
 pub mod smooth;
+pub mod table;
 pub mod view;
 
 use std::sync::Mutex;
@@ -97,14 +98,7 @@ pub const SMOOTH_WINDOW_SIGMAS: f64 = 5.0;
 /// Kernel evaluations per sigma before interpolation (cooltools' `points_per_sigma`).
 pub const SMOOTH_POINTS_PER_SIGMA: usize = 10;
 
-/// A column of an expected table, for writers.
-#[derive(Clone, Copy, Debug)]
-pub enum Column<'a> {
-    /// Whole numbers.
-    Integer(&'a [u64]),
-    /// Real numbers (NaN for missing).
-    Real(&'a [f64]),
-}
+pub use crate::io::tables::Column;
 
 /// The cis expected table: one row per (region, diagonal), regions in view order.
 #[derive(Clone, Debug, PartialEq)]

@@ -25,6 +25,7 @@ pub mod hdf5_guard;
 pub mod hic;
 pub mod hicexplorer;
 pub mod merged;
+pub mod output;
 pub mod predictions;
 pub mod structure;
 pub mod tables;

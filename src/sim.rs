@@ -28,6 +28,7 @@ pub mod blocks;
 pub mod cells;
 pub mod ensemble;
 pub mod extrusion;
+pub mod files;
 pub mod gpu;
 pub mod noise;
 pub mod polymer;

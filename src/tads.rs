@@ -23,6 +23,7 @@ pub mod directionality;
 pub mod hmm;
 pub mod insulation;
 pub mod peaks;
+pub mod tables;
 pub mod threshold;
 pub mod topdom;
 

@@ -1,7 +1,6 @@
 //! `contactmap balance`: ICE as `cooler balance`, VC, VC_SQRT, KR and SCALE as Juicer; weights to a TSV
 //! or stored into the cooler.
 
-use std::io::BufRead;
 use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
@@ -319,66 +318,9 @@ fn params(args: &BalanceArgs, bins: &BinTable) -> Result<BalanceParams> {
         params.max_iters = n;
     }
     if let Some(path) = &args.blacklist {
-        params.blacklist = read_blacklist(path, bins)?;
+        params.blacklist = io::bed::read_bin_mask(path, bins)?;
     }
     Ok(params)
-}
-
-/// Bins overlapping the regions of a BED file. `#`, `track` and `browser` lines, and lines whose
-/// start and end are not whole numbers (a header), are skipped, as `cooler balance` does; regions
-/// past a chromosome's end are clipped; an unknown chromosome is an error.
-fn read_blacklist(path: &Path, bins: &BinTable) -> Result<Vec<usize>> {
-    let reader = io::open_text(path)?;
-    let mut masked = Vec::new();
-    for (index, line) in reader.lines().enumerate() {
-        let line_no = index as u64 + 1;
-        let line = line.map_err(|e| Error::io(path, e))?;
-        let line = line.trim_end_matches('\r');
-        if line.trim().is_empty()
-            || line.starts_with('#')
-            || line.starts_with("track")
-            || line.starts_with("browser")
-        {
-            continue;
-        }
-        let fields: Vec<&str> = line.split('\t').collect();
-        if fields.len() < 3 {
-            return Err(Error::parse(
-                path,
-                line_no,
-                format!(
-                    "expected 3 tab-separated columns (chrom start end), found {}",
-                    fields.len()
-                ),
-            ));
-        }
-        let (Ok(start), Ok(end)) = (
-            fields[1].trim().parse::<u64>(),
-            fields[2].trim().parse::<u64>(),
-        ) else {
-            continue;
-        };
-        let chrom = fields[0].trim();
-        let Some(chrom_id) = bins.chrom_id(chrom) else {
-            return Err(Error::parse(
-                path,
-                line_no,
-                format!("no chromosome '{chrom}' in this matrix"),
-            ));
-        };
-        // Bins cover the chromosome's span only (all of it unless the matrix is a cut).
-        let span = bins.span(chrom_id);
-        let (start, end) = (start.max(span.start), end.min(span.end));
-        if start >= end || bins.chrom_bins(chrom_id).is_empty() {
-            continue;
-        }
-        let lo = bins.bin_at(chrom_id, start);
-        let hi = bins.bin_at(chrom_id, end - 1) + 1;
-        masked.extend(lo..hi);
-    }
-    masked.sort_unstable();
-    masked.dedup();
-    Ok(masked)
 }
 
 /// Which groups did not converge, for the error message.
@@ -518,26 +460,4 @@ fn summary(params: &BalanceParams, result: &BalanceResult, bins: &BinTable) -> S
         }
     }
     text
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use contactmap::genome::Chrom;
-
-    #[test]
-    fn blacklist_regions_select_overlapping_bins() {
-        let bins = BinTable::fixed(vec![Chrom::new("a", 100), Chrom::new("b", 55)], 10).unwrap();
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("black.bed");
-        std::fs::write(
-            &path,
-            "track name=x\nchrom\tstart\tend\na\t15\t31\tfoo\nb\t50\t1000\n#c\t0\t1\na\t40\t40\n",
-        )
-        .unwrap();
-        assert_eq!(read_blacklist(&path, &bins).unwrap(), vec![1, 2, 3, 15]);
-        std::fs::write(&path, "a\t0\t10\nchrZ\t0\t10\n").unwrap();
-        let err = read_blacklist(&path, &bins).unwrap_err().to_string();
-        assert!(err.contains(":2:") && err.contains("chrZ"), "{err}");
-    }
 }

@@ -6,14 +6,15 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 
 use crate::cli::input::{mask_unweighted, open_balanced, track_argument};
-use crate::cli::output::{
-    column_file, refuse_overwrites, uri_file, write_real, write_text_file, write_u64, Output,
-};
+use crate::cli::output::{column_file, refuse_overwrites, uri_file, write_text_file, Output};
 use crate::cli::progress::Progress;
 use crate::cli::InputArgs;
 use contactmap::compartments::cis::{CisEigParams, RegionEigs};
 use contactmap::compartments::eigs::{eigs_cis, eigs_trans, Eigs, Phasing};
 use contactmap::compartments::phasing::SortMetric;
+use contactmap::compartments::tables::{
+    cis_eigenvalue_table, eigenvector_table, trans_eigenvalue_table,
+};
 use contactmap::compartments::trans::TransEigParams;
 use contactmap::error::{Error, Result};
 use contactmap::genome::BinTable;
@@ -189,7 +190,7 @@ pub fn run(args: &CompartmentsArgs) -> Result<()> {
             &[(0..bins.n_bins(), &eigs)],
             args.n_eigs,
         )?;
-        let lam = header_line(&[], "eigval", args.n_eigs) + &tab_line(&[], &eigs.values);
+        let lam = trans_eigenvalue_table(&eigs, args.n_eigs);
         write_text_file(&format!("{prefix}.trans.lam.txt"), &lam)?;
     } else {
         let params = CisEigParams {
@@ -214,16 +215,7 @@ pub fn run(args: &CompartmentsArgs) -> Result<()> {
             &regions,
             args.n_eigs,
         )?;
-        let mut lam = header_line(&["chrom", "start", "end", "name"], "eigval", args.n_eigs);
-        for (region, eigs) in view.regions().iter().zip(&results) {
-            let fields = [
-                bins.chroms()[region.chrom_id].name.clone(),
-                region.start_bp.to_string(),
-                region.end_bp.to_string(),
-                region.name.clone(),
-            ];
-            lam.push_str(&tab_line(&fields, &eigs.values));
-        }
+        let lam = cis_eigenvalue_table(bins, &view, &results, args.n_eigs);
         write_text_file(&format!("{prefix}.cis.lam.txt"), &lam)?;
     }
     drop(progress);
@@ -239,25 +231,6 @@ pub fn run(args: &CompartmentsArgs) -> Result<()> {
     }
     notes.print();
     Ok(())
-}
-
-fn header_line(first: &[&str], stem: &str, n: usize) -> String {
-    let mut line: Vec<String> = first.iter().map(|s| s.to_string()).collect();
-    line.extend((1..=n).map(|k| format!("{stem}{k}")));
-    line.join("\t") + "\n"
-}
-
-/// `fields` then `values`, tab-separated, with a newline.
-fn tab_line(fields: &[String], values: &[f64]) -> String {
-    let mut bytes = fields.join("\t").into_bytes();
-    for (k, &v) in values.iter().enumerate() {
-        if k > 0 || !fields.is_empty() {
-            bytes.push(b'\t');
-        }
-        write_real(&mut bytes, v);
-    }
-    bytes.push(b'\n');
-    String::from_utf8(bytes).expect("utf-8 fields")
 }
 
 /// The bin table's columns as cooltools writes them before E1..En: every weight column, as the
@@ -282,33 +255,7 @@ fn write_vecs(
     n_eigs: usize,
 ) -> Result<()> {
     let mut out = Output::open(Some(Path::new(path)))?;
-    let mut first: Vec<&str> = vec!["chrom", "start", "end"];
-    first.extend(columns.iter().map(|(name, _)| name.as_str()));
-    let mut bytes = header_line(&first, "E", n_eigs).into_bytes();
-    for (range, eigs) in regions {
-        for bin in range.clone() {
-            let b = bins.bin(bin);
-            bytes.extend_from_slice(bins.chroms()[b.chrom_id].name.as_bytes());
-            bytes.push(b'\t');
-            write_u64(&mut bytes, b.start);
-            bytes.push(b'\t');
-            write_u64(&mut bytes, b.end);
-            for (_, values) in columns {
-                bytes.push(b'\t');
-                write_real(&mut bytes, values[bin]);
-            }
-            for vector in &eigs.vectors {
-                bytes.push(b'\t');
-                write_real(&mut bytes, vector[bin - range.start]);
-            }
-            bytes.push(b'\n');
-        }
-        if bytes.len() > 1 << 20 {
-            out.write_all(&bytes)?;
-            bytes.clear();
-        }
-    }
-    out.write_all(&bytes)?;
+    eigenvector_table(bins, columns, regions, n_eigs, |bytes| out.write_all(bytes))?;
     out.finish()
 }
 

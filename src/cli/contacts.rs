@@ -7,11 +7,12 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 
 use crate::cli::output::refuse_overwrites;
-use crate::cli::output::{write_real, Output};
+use crate::cli::output::Output;
 use crate::cli::protein::{measure, place_chain, read_chain, DefinitionArgs, RegisterArg};
 use contactmap::error::Result;
 use contactmap::io::predictions::read_fasta;
 use contactmap::io::structure::Chain;
+use contactmap::io::tables::write_real;
 use contactmap::score::contacts::SeparationRange;
 
 /// Arguments of `contactmap contacts`.

@@ -6,10 +6,11 @@ use clap::{Args, ValueEnum};
 use rayon::prelude::*;
 
 use crate::cli::output::{refuse_overwrites, uri_file};
-use crate::cli::output::{write_count, write_u64, FloatFormat, Output};
+use crate::cli::output::{write_count, FloatFormat, Output};
 use crate::cli::InputArgs;
 use contactmap::error::Result;
 use contactmap::genome::BinTable;
+use contactmap::io::tables::write_u64;
 use contactmap::io::{self, MatrixReader};
 use contactmap::matrix::{CountType, PixelBlock};
 

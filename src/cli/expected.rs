@@ -4,20 +4,17 @@
 use std::path::{Path, PathBuf};
 
 use clap::Args;
-use rayon::prelude::*;
 
 use crate::cli::analysis::{fit_text, headline, parse_fit_range};
 use crate::cli::input::weights_and_view;
+use crate::cli::output::Output;
 use crate::cli::output::{refuse_overwrites, uri_file};
-use crate::cli::output::{write_real, write_u64, Output};
 use crate::cli::InputArgs;
 use contactmap::error::{Error, Result};
 use contactmap::expected::logbin::LogBinned;
 use contactmap::expected::powerlaw::{fit_bins, FitRange, PowerLawReport};
 use contactmap::expected::powerlaw::{power_law, PowerLaw};
-use contactmap::expected::{
-    expected_cis, expected_trans, CisExpected, CisParams, Column, TransExpected,
-};
+use contactmap::expected::{expected_cis, expected_trans, CisExpected, CisParams};
 use contactmap::io::{self, LoadedPixels, StreamedPixels};
 
 /// Arguments of `contactmap expected`.
@@ -196,16 +193,16 @@ pub fn run(args: &ExpectedArgs) -> Result<()> {
     let written = match checked.report {
         Report::Trans => {
             let table = expected_trans(&pixels, weights, &view)?;
-            write_text(args, &trans_text(&table))
+            write_text(args, &table.to_tsv())
         }
         Report::Cis => {
             let table = expected_cis(&pixels, weights, &view, &checked.params)?;
-            write_text(args, &cis_text(&table))
+            write_text(args, &table.to_tsv())
         }
         Report::LogBin => {
             let PowerLaw { binned, fit, .. } =
                 power_law(&pixels, weights, &view, &checked.params, checked.fit_range)?;
-            write_text(args, &logbin_text(&binned))?;
+            write_text(args, &binned.to_tsv())?;
             match fit {
                 Ok(report) => eprintln!("{}", headline(&report)),
                 Err(e) => eprintln!("contactmap: no power-law fit: {e}"),
@@ -237,131 +234,6 @@ fn write_text(args: &ExpectedArgs, text: &[u8]) -> Result<()> {
     let mut out = Output::open(args.out.as_deref())?;
     out.write_all(text)?;
     out.finish()
-}
-
-fn write_column(out: &mut Vec<u8>, column: &Column<'_>, row: usize) {
-    match column {
-        Column::Integer(values) => write_u64(out, values[row]),
-        Column::Real(values) => write_real(out, values[row]),
-    }
-}
-
-/// Rows formatted per parallel task.
-const FORMAT_TASK_ROWS: usize = 4096;
-
-fn table_text(
-    n_rows: usize,
-    columns: &[(String, Column<'_>)],
-    region1: impl Fn(usize) -> String + Sync,
-    region2: impl Fn(usize) -> String + Sync,
-) -> Vec<u8> {
-    let mut text = Vec::with_capacity(64 * (n_rows + 1));
-    text.extend_from_slice(b"region1\tregion2");
-    for (name, _) in columns {
-        text.push(b'\t');
-        text.extend_from_slice(name.as_bytes());
-    }
-    text.push(b'\n');
-    let chunks: Vec<Vec<u8>> = (0..n_rows.div_ceil(FORMAT_TASK_ROWS))
-        .into_par_iter()
-        .map(|chunk| {
-            let rows = chunk * FORMAT_TASK_ROWS..((chunk + 1) * FORMAT_TASK_ROWS).min(n_rows);
-            let mut part = Vec::with_capacity(100 * rows.len());
-            for row in rows {
-                part.extend_from_slice(region1(row).as_bytes());
-                part.push(b'\t');
-                part.extend_from_slice(region2(row).as_bytes());
-                for (_, column) in columns {
-                    part.push(b'\t');
-                    write_column(&mut part, column, row);
-                }
-                part.push(b'\n');
-            }
-            part
-        })
-        .collect();
-    for part in chunks {
-        text.extend_from_slice(&part);
-    }
-    text
-}
-
-fn cis_text(table: &CisExpected) -> Vec<u8> {
-    table_text(
-        table.n_rows(),
-        &table.columns(),
-        |row| table.region_name(row).to_string(),
-        |row| table.region_name(row).to_string(),
-    )
-}
-
-fn trans_text(table: &TransExpected) -> Vec<u8> {
-    table_text(
-        table.n_rows(),
-        &table.columns(),
-        |row| table.region1[row].clone(),
-        |row| table.region2[row].clone(),
-    )
-}
-
-fn logbin_text(binned: &LogBinned) -> Vec<u8> {
-    let mut text = Vec::new();
-    let header = [
-        "dist_bin_id".to_string(),
-        format!("{}.avg", binned.prefix),
-        "n_valid".into(),
-        "dist.avg".into(),
-        "dist_bin_start".into(),
-        "dist_bin_end".into(),
-        "low_err".into(),
-        "high_err".into(),
-        "dist_bp.avg".into(),
-        "slope".into(),
-        "slope.low_err".into(),
-        "slope.high_err".into(),
-        "slope.dist.avg".into(),
-        "slope.n_valid".into(),
-    ];
-    text.extend_from_slice(header.join("\t").as_bytes());
-    text.push(b'\n');
-    for bin in &binned.combined {
-        write_u64(&mut text, bin.dist_bin_id as u64);
-        text.push(b'\t');
-        write_real(&mut text, bin.average);
-        text.push(b'\t');
-        write_u64(&mut text, bin.n_valid);
-        text.push(b'\t');
-        write_real(&mut text, bin.dist_avg);
-        text.push(b'\t');
-        write_u64(&mut text, bin.dist_bin_start);
-        text.push(b'\t');
-        write_u64(&mut text, bin.dist_bin_end);
-        for value in [
-            bin.low_err,
-            bin.high_err,
-            bin.dist_avg * binned.bin_size_bp as f64,
-        ] {
-            text.push(b'\t');
-            write_real(&mut text, value);
-        }
-        match binned
-            .slopes
-            .iter()
-            .find(|s| s.dist_bin_id == bin.dist_bin_id)
-        {
-            Some(slope) => {
-                for value in [slope.slope, slope.low_err, slope.high_err, slope.dist_avg] {
-                    text.push(b'\t');
-                    write_real(&mut text, value);
-                }
-                text.push(b'\t');
-                write_u64(&mut text, slope.n_valid);
-            }
-            None => text.extend_from_slice(b"\tnan\tnan\tnan\tnan\tnan"),
-        }
-        text.push(b'\n');
-    }
-    text
 }
 
 fn fit_json(
@@ -419,23 +291,4 @@ fn fit_json(
         },
         "points": points,
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn reals_print_shortest() {
-        let text = |v: f64| {
-            let mut out = Vec::new();
-            write_real(&mut out, v);
-            String::from_utf8(out).unwrap()
-        };
-        assert_eq!(text(894773.0), "894773");
-        assert_eq!(text(0.1 + 0.2), "0.30000000000000004");
-        assert_eq!(text(1.5e-7), "1.5e-7");
-        assert_eq!(text(f64::NAN), "nan");
-        assert_eq!(text(0.0), "0");
-    }
 }

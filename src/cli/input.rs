@@ -5,19 +5,13 @@
 //! count is refused (exit 2, naming the file and the first such pixel) instead of being computed
 //! on; `dump`, `info` and `convert` open files as they are.
 
-use std::collections::HashMap;
-use std::io::Read;
-use std::ops::Range;
 use std::path::Path;
 
 use crate::cli::InputArgs;
 use contactmap::error::{Error, Result};
-use contactmap::expected::view::{RegionSpec, View};
-use contactmap::expected::CisExpected;
+use contactmap::expected::view::View;
 use contactmap::genome::BinTable;
-use contactmap::io::tables::Table;
 use contactmap::io::{self, CheckedCounts, MatrixReader};
-use contactmap::normalize::DiagonalCurve;
 
 /// Open the matrix at `uri` (with the text-input options `input`) for an analysis: its counts are
 /// checked as they stream.
@@ -95,7 +89,7 @@ pub fn open_balanced(
     let reader = open_for_analysis(uri, input)?;
     let weights = read_weights(reader.as_ref(), weight_name, "--weight-name", false)?;
     let view = match view {
-        Some(path) => read_view(path, reader.as_ref())?,
+        Some(path) => View::read_bed(path, reader.bins())?,
         None => View::chromosomes(reader.bins()),
     };
     Ok((reader, weights, view))
@@ -158,249 +152,16 @@ pub fn weights_and_view(
         Some(read_weights(reader, weight_name, "--weight-name", true)?)
     };
     let view = match view {
-        Some(path) => read_view(path, reader)?,
+        Some(path) => View::read_bed(path, reader.bins())?,
         None => View::chromosomes(reader.bins()),
     };
     Ok((weights, view))
 }
 
-/// Read a BED view (`chrom start end [name]`, gzip allowed) and check it against the matrix.
-pub fn read_view(path: &Path, reader: &dyn MatrixReader) -> Result<View> {
-    let mut bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-    if bytes.starts_with(&[0x1f, 0x8b]) {
-        let mut text = Vec::new();
-        flate2::read::MultiGzDecoder::new(bytes.as_slice())
-            .read_to_end(&mut text)
-            .map_err(|e| Error::io(path, e))?;
-        bytes = text;
-    }
-    let text =
-        String::from_utf8(bytes).map_err(|_| Error::format(path, "not a text (UTF-8) BED file"))?;
-    let mut specs = Vec::new();
-    for (index, line) in text.lines().enumerate() {
-        let line_number = index as u64 + 1;
-        let trimmed = line.trim_end_matches('\r');
-        if trimmed.trim().is_empty()
-            || trimmed.starts_with('#')
-            || trimmed.starts_with("track")
-            || trimmed.starts_with("browser")
-        {
-            continue;
-        }
-        let fields: Vec<&str> = if trimmed.contains('\t') {
-            trimmed.split('\t').collect()
-        } else {
-            trimmed.split_whitespace().collect()
-        };
-        if !(3..=4).contains(&fields.len()) {
-            return Err(Error::parse(
-                path,
-                line_number,
-                format!(
-                    "expected 3 or 4 columns (chrom start end [name]), found {}",
-                    fields.len()
-                ),
-            ));
-        }
-        let number = |text: &str, what: &str| {
-            text.trim().parse::<u64>().map_err(|_| {
-                Error::parse(
-                    path,
-                    line_number,
-                    format!("{what} '{text}' is not a non-negative integer"),
-                )
-            })
-        };
-        specs.push(RegionSpec {
-            chrom: fields[0].trim().to_string(),
-            start_bp: number(fields[1], "start")?,
-            end_bp: number(fields[2], "end")?,
-            name: fields.get(3).map(|n| n.trim().to_string()),
-        });
-    }
-    View::new(reader.bins(), &specs).map_err(|e| Error::format(path, e.to_string()))
-}
-
-/// Per-chromosome curves (for o/e) from column `column` of the cooltools expected-cis table at
-/// `path` (regions named by chromosome); the default column is `balanced.avg`, or `count.avg`
-/// for raw counts.
-pub fn read_expected_curves(
-    path: &str,
-    bins: &BinTable,
-    column: Option<&str>,
-    raw: bool,
-) -> Result<Vec<DiagonalCurve>> {
-    let column = column.unwrap_or(if raw { "count.avg" } else { "balanced.avg" });
-    let table = &Table::read(path)?;
-    let (c1, c2) = (table.column("region1")?, table.column("region2")?);
-    let (dist, n_valid, value) = (
-        table.column("dist")?,
-        table.column("n_valid")?,
-        table.column(column)?,
-    );
-    let mut curves: HashMap<usize, DiagonalCurve> = HashMap::new();
-    for row in 0..table.len() {
-        let (r1, r2) = (table.text(row, c1), table.text(row, c2));
-        if r1 != r2 {
-            continue;
-        }
-        let chrom = bins.chrom_id(r1).ok_or_else(|| {
-            Error::format(
-                table.path(),
-                format!("region '{r1}' is not a chromosome of the matrix (regions must be whole chromosomes)"),
-            )
-        })?;
-        let range: Range<usize> = bins.chrom_bins(chrom);
-        let curve = curves.entry(chrom).or_insert_with(|| DiagonalCurve {
-            expected: vec![f64::NAN; range.len()],
-            n_valid: vec![0.0; range.len()],
-            bins: range.clone(),
-        });
-        let d = table.number(row, dist)?;
-        if !(d >= 0.0 && d.fract() == 0.0 && (d as usize) < range.len()) {
-            return Err(Error::format(
-                table.path(),
-                format!(
-                    "row {}: dist {d} is not a diagonal of {r1} ({} bins)",
-                    row + 1,
-                    range.len()
-                ),
-            ));
-        }
-        curve.expected[d as usize] = table.number(row, value)?;
-        curve.n_valid[d as usize] = table.number(row, n_valid)?;
-    }
-    let mut curves: Vec<DiagonalCurve> = curves.into_values().collect();
-    curves.sort_by_key(|c| c.bins.start);
-    Ok(curves)
-}
-
-/// A cooltools `expected-cis` table (as `cooltools expected-cis` or `contactmap expected` write
-/// it) read back for the P(s) analyses, and the median length of its regions in bp (each region
-/// has one row per diagonal, so its length is its number of rows times the bin size). The
-/// smoothed columns are not read; the averages are the table's own.
-pub fn read_cis_expected(path: &str) -> Result<(CisExpected, f64)> {
-    let table = Table::read(path)?;
-    let (c1, c2) = (table.column("region1")?, table.column("region2")?);
-    let dist_column = table.column("dist")?;
-    let dist_bp_column = table.column("dist_bp")?;
-    let (n_total_column, n_valid_column) = (table.column("n_total")?, table.column("n_valid")?);
-    let count_sum_column = table.column("count.sum")?;
-    let balanced_sum_column = table.column("balanced.sum").ok();
-    let count_avg_column = table.column("count.avg")?;
-    let balanced_avg_column = match balanced_sum_column {
-        Some(_) => Some(table.column("balanced.avg")?),
-        None => None,
-    };
-    if table.is_empty() {
-        return Err(Error::format(path, "the expected table has no rows"));
-    }
-    let bad_row = |row: usize, message: String| Error::parse(path, row as u64 + 2, message);
-    let whole = |row: usize, column: usize| -> Result<u64> {
-        let value = table.number(row, column)?;
-        if value >= 0.0 && value.fract() == 0.0 && value < 2f64.powi(53) {
-            Ok(value as u64)
-        } else {
-            Err(bad_row(
-                row,
-                format!(
-                    "'{}' in column '{}' is not a non-negative integer",
-                    table.text(row, column),
-                    table.header()[column]
-                ),
-            ))
-        }
-    };
-    let mut out = CisExpected {
-        bin_size_bp: 0,
-        region_names: Vec::new(),
-        region: Vec::with_capacity(table.len()),
-        dist: Vec::with_capacity(table.len()),
-        dist_bp: Vec::with_capacity(table.len()),
-        n_total: Vec::with_capacity(table.len()),
-        n_valid: Vec::with_capacity(table.len()),
-        count_sum: Vec::with_capacity(table.len()),
-        balanced_sum: balanced_sum_column.map(|_| Vec::with_capacity(table.len())),
-        count_avg: Vec::with_capacity(table.len()),
-        balanced_avg: balanced_avg_column.map(|_| Vec::with_capacity(table.len())),
-        avg_smoothed: None,
-        avg_smoothed_agg: None,
-    };
-    let mut rows_per_region: Vec<u64> = Vec::new();
-    for row in 0..table.len() {
-        let (r1, r2) = (table.text(row, c1), table.text(row, c2));
-        if r1 != r2 {
-            return Err(bad_row(
-                row,
-                format!("region1 '{r1}' differs from region2 '{r2}': a trans table, not the cis expected (contactmap expected, cooltools expected-cis)"),
-            ));
-        }
-        if out.region_names.last().map(String::as_str) != Some(r1) {
-            if out.region_names.iter().any(|name| name == r1) {
-                return Err(bad_row(
-                    row,
-                    format!("the rows of region '{r1}' are not together"),
-                ));
-            }
-            out.region_names.push(r1.to_string());
-            rows_per_region.push(0);
-        }
-        let region = out.region_names.len() - 1;
-        rows_per_region[region] += 1;
-        let (dist, dist_bp) = (whole(row, dist_column)?, whole(row, dist_bp_column)?);
-        let expected_dist = rows_per_region[region] - 1;
-        if dist != expected_dist {
-            return Err(bad_row(
-                row,
-                format!("dist {dist} where {expected_dist} was expected (one row per diagonal of each region, in order)"),
-            ));
-        }
-        if let Some(size) = dist_bp.checked_div(dist) {
-            if out.bin_size_bp == 0 {
-                out.bin_size_bp = size;
-            }
-            if dist.checked_mul(out.bin_size_bp) != Some(dist_bp) || out.bin_size_bp == 0 {
-                return Err(bad_row(
-                    row,
-                    format!(
-                        "dist_bp {dist_bp} is not dist {dist} times the bin size {} of the rows above",
-                        out.bin_size_bp
-                    ),
-                ));
-            }
-        }
-        out.region.push(region as u32);
-        out.dist.push(dist);
-        out.dist_bp.push(dist_bp);
-        out.n_total.push(whole(row, n_total_column)?);
-        out.n_valid.push(whole(row, n_valid_column)?);
-        out.count_sum.push(table.number(row, count_sum_column)?);
-        out.count_avg.push(table.number(row, count_avg_column)?);
-        if let (Some(sums), Some(column)) = (out.balanced_sum.as_mut(), balanced_sum_column) {
-            sums.push(table.number(row, column)?);
-        }
-        if let (Some(avgs), Some(column)) = (out.balanced_avg.as_mut(), balanced_avg_column) {
-            avgs.push(table.number(row, column)?);
-        }
-    }
-    if out.bin_size_bp == 0 {
-        return Err(Error::format(
-            path,
-            "every region has a single diagonal: no distances to plot",
-        ));
-    }
-    let mut lengths: Vec<u64> = rows_per_region
-        .iter()
-        .map(|n| n * out.bin_size_bp)
-        .collect();
-    lengths.sort_unstable();
-    let n = lengths.len();
-    let median = if n % 2 == 1 {
-        lengths[n / 2] as f64
-    } else {
-        (lengths[n / 2 - 1] + lengths[n / 2]) as f64 / 2.0
-    };
-    Ok((out, median))
+/// The column of an expected table that observed / expected divides by: `column` when given,
+/// else `balanced.avg`, or `count.avg` for raw counts.
+pub fn expected_column(column: Option<&str>, raw: bool) -> &str {
+    column.unwrap_or(if raw { "count.avg" } else { "balanced.avg" })
 }
 
 /// The genome assembly an input names (`genome-assembly` of a cooler, the genome id of a .hic),

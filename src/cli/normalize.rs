@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
 
+use crate::cli::input::expected_column;
 use crate::cli::matrix_output::OutputFormat;
 use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::progress::Progress;
@@ -123,11 +124,10 @@ pub fn run(args: &NormalizeArgs) -> Result<()> {
         None
     };
     let curves = match &args.expected {
-        Some(path) => crate::cli::input::read_expected_curves(
+        Some(path) => contactmap::expected::table::read_curves(
             path,
             &bins,
-            args.expected_column.as_deref(),
-            args.raw,
+            expected_column(args.expected_column.as_deref(), args.raw),
         )?,
         None => {
             let pixels = pixels.as_ref().expect("loaded when no --expected");

@@ -400,7 +400,7 @@ fn max_sep_text(range: &SeparationRange) -> String {
 
 fn real(value: f64) -> String {
     let mut out = Vec::new();
-    crate::cli::output::write_real(&mut out, value);
+    contactmap::io::tables::write_real(&mut out, value);
     String::from_utf8(out).unwrap_or_default()
 }
 

@@ -13,7 +13,7 @@ use crate::cli::matrix_output::{format_from_extension, OutputFormat};
 use crate::cli::output::{refuse_overwrites, Output};
 use contactmap::error::{Error, Result};
 use contactmap::genome::BinTable;
-use contactmap::io::bed::write_bed_line;
+use contactmap::io::bed::bins_bed;
 use contactmap::io::cool::{write_cool, CoolWriteOptions};
 use contactmap::io::InMemory;
 use contactmap::sim::blocks::{block_map, BlockMapParams};
@@ -208,14 +208,6 @@ fn write_bins_bed(
     rows: impl Iterator<Item = (usize, usize, Vec<String>)>,
 ) -> Result<()> {
     let mut out = Output::open(Some(path))?;
-    let mut line = Vec::new();
-    for (first, end, extra) in rows {
-        let (a, b) = (bins.bin(first), bins.bin(end - 1));
-        let chrom = &bins.chroms()[a.chrom_id].name;
-        let extra: Vec<&str> = extra.iter().map(String::as_str).collect();
-        line.clear();
-        write_bed_line(&mut line, chrom, a.start, b.end, &extra).map_err(|e| Error::io(path, e))?;
-        out.write_all(&line)?;
-    }
+    out.write_all(&bins_bed(bins, rows))?;
     out.finish()
 }

@@ -6,22 +6,21 @@ use std::path::{Path, PathBuf};
 use clap::{Args, ValueEnum};
 
 use crate::cli::input::weights_and_view;
-use crate::cli::output::{is_stdout, print_json, write_real, write_u64, Output};
+use crate::cli::output::{is_stdout, print_json, Output};
 use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::warnings::Warnings;
 use crate::cli::InputArgs;
 use contactmap::error::{Error, Result};
 use contactmap::expected::View;
-use contactmap::genome::{parse_bp, BinTable};
+use contactmap::genome::parse_bp;
 use contactmap::io::{LoadedPixels, StreamedPixels};
 use contactmap::tads::armatus::ArmatusParams;
 use contactmap::tads::call::{call, Caller, TadCalls, TadTrack};
-use contactmap::tads::directionality::{DirectionalityParams, DirectionalityTable};
-use contactmap::tads::hmm::{DiState, HmmParams};
-use contactmap::tads::insulation::{regions_shorter_than, InsulationParams, InsulationTable};
+use contactmap::tads::directionality::DirectionalityParams;
+use contactmap::tads::hmm::HmmParams;
+use contactmap::tads::insulation::{regions_shorter_than, InsulationParams};
 use contactmap::tads::threshold::Threshold;
-use contactmap::tads::topdom::{TopDomParams, TopDomRegion, TopDomTag};
-use contactmap::tads::{Boundary, Domain};
+use contactmap::tads::topdom::TopDomParams;
 
 /// TAD callers, for `--method`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -214,19 +213,13 @@ pub fn run(args: &TadsArgs) -> Result<()> {
         warnings.note(note.clone());
     }
     let calls = Calls(calls);
-    let track = calls.track(&bins);
+    let track = calls.track.to_tsv(&bins);
     write_to(args.out.as_deref(), &track)?;
     if let Some(path) = &args.boundaries {
-        write_to(
-            Some(path),
-            &boundaries_bed(&bins, &calls.boundaries, &calls.label),
-        )?;
+        write_to(Some(path), &calls.boundaries_bed(&bins))?;
     }
     if let Some(path) = &args.domains {
-        write_to(
-            Some(path),
-            &domains_bed(&bins, &calls.domains, &calls.label),
-        )?;
+        write_to(Some(path), &calls.domains_bed(&bins))?;
     }
     warnings.note(format!(
         "{}: {} boundaries, {} domains",
@@ -276,15 +269,6 @@ impl Calls {
                 .collect();
         }
         value
-    }
-
-    fn track(&self, bins: &BinTable) -> Vec<u8> {
-        match &self.track {
-            TadTrack::Insulation(table, names) => insulation_text(bins, table, names),
-            TadTrack::Directionality(table, states) => directionality_text(bins, table, states),
-            TadTrack::TopDom(regions) => topdom_text(bins, regions),
-            TadTrack::Armatus(domains) => armatus_text(bins, domains),
-        }
     }
 }
 
@@ -430,204 +414,4 @@ fn write_to(path: Option<&std::path::Path>, text: &[u8]) -> Result<()> {
     let mut out = Output::open(path)?;
     out.write_all(text)?;
     out.finish()
-}
-
-fn push_bin(text: &mut Vec<u8>, bins: &BinTable, bin: usize) {
-    push_bins(text, bins, bin, bin + 1);
-}
-
-fn push_bool(text: &mut Vec<u8>, value: bool) {
-    text.extend_from_slice(if value { b"True" } else { b"False" });
-}
-
-fn insulation_text(bins: &BinTable, table: &InsulationTable, region_names: &[String]) -> Vec<u8> {
-    let mut text = Vec::with_capacity(128 * (table.bins.len() + 1));
-    text.extend_from_slice(b"chrom\tstart\tend\tregion\tis_bad_bin");
-    if table.dist_bad_bin.is_some() {
-        text.extend_from_slice(b"\tdist_bad_bin");
-    }
-    for track in &table.tracks {
-        let w = track.window_bp;
-        text.extend_from_slice(
-            format!("\tlog2_insulation_score_{w}\tn_valid_pixels_{w}").as_bytes(),
-        );
-        if track.sum_counts.is_some() {
-            text.extend_from_slice(format!("\tsum_counts_{w}\tsum_balanced_{w}").as_bytes());
-        }
-    }
-    for track in &table.tracks {
-        text.extend_from_slice(format!("\tboundary_strength_{}", track.window_bp).as_bytes());
-    }
-    for track in &table.tracks {
-        text.extend_from_slice(format!("\tis_boundary_{}", track.window_bp).as_bytes());
-    }
-    text.push(b'\n');
-    for (row, &bin) in table.bins.iter().enumerate() {
-        push_bin(&mut text, bins, bin);
-        text.push(b'\t');
-        text.extend_from_slice(region_names[table.region[row]].as_bytes());
-        text.push(b'\t');
-        push_bool(&mut text, table.is_bad_bin[row]);
-        if let Some(d) = &table.dist_bad_bin {
-            text.push(b'\t');
-            write_u64(&mut text, d[row] as u64);
-        }
-        for track in &table.tracks {
-            text.push(b'\t');
-            write_real(&mut text, track.log2_insulation_score[row]);
-            text.push(b'\t');
-            write_real(&mut text, track.n_valid_pixels[row]);
-            if let (Some(counts), Some(balanced)) = (&track.sum_counts, &track.sum_balanced) {
-                text.push(b'\t');
-                write_real(&mut text, counts[row]);
-                text.push(b'\t');
-                write_real(&mut text, balanced[row]);
-            }
-        }
-        for track in &table.tracks {
-            text.push(b'\t');
-            write_real(&mut text, track.boundary_strength[row]);
-        }
-        for track in &table.tracks {
-            text.push(b'\t');
-            push_bool(&mut text, track.is_boundary[row]);
-        }
-        text.push(b'\n');
-    }
-    text
-}
-
-fn directionality_text(
-    bins: &BinTable,
-    table: &DirectionalityTable,
-    states: &[Option<DiState>],
-) -> Vec<u8> {
-    let w = table.window_bp;
-    let mut text = Vec::with_capacity(96 * (table.bins.len() + 1));
-    text.extend_from_slice(
-        format!(
-            "chrom\tstart\tend\tbad_bin_masked\tdirectionality_ratio_{w}\tdirectionality_index_{w}\tdi_state\n"
-        )
-        .as_bytes(),
-    );
-    for (row, &bin) in table.bins.iter().enumerate() {
-        push_bin(&mut text, bins, bin);
-        text.push(b'\t');
-        push_bool(&mut text, table.bad_bin_masked[row]);
-        text.push(b'\t');
-        write_real(&mut text, table.ratio[row]);
-        text.push(b'\t');
-        write_real(&mut text, table.index[row]);
-        text.push(b'\t');
-        // A masked bin (DI NaN) has no state: `nan`, as the numbers beside it.
-        text.extend_from_slice(match states[row] {
-            Some(DiState::Upstream) => b"upstream".as_slice(),
-            Some(DiState::Neutral) => b"neutral",
-            Some(DiState::Downstream) => b"downstream",
-            None => b"nan",
-        });
-        text.push(b'\n');
-    }
-    text
-}
-
-fn topdom_text(bins: &BinTable, regions: &[TopDomRegion]) -> Vec<u8> {
-    let mut text = Vec::new();
-    text.extend_from_slice(b"chrom\tstart\tend\tbin_signal\tlocal_min\tpvalue\tsegment\n");
-    for region in regions {
-        let mut tags = vec![b"gap".as_slice(); region.bin_signal.len()];
-        for (domain, tag) in &region.segments {
-            let name: &[u8] = match tag {
-                TopDomTag::Gap => b"gap",
-                TopDomTag::Domain => b"domain",
-                TopDomTag::Boundary => b"boundary",
-            };
-            for bin in domain.start_bin..domain.end_bin {
-                if let Some(slot) = tags.get_mut(bin - region.first_bin) {
-                    *slot = name;
-                }
-            }
-        }
-        for (k, &signal) in region.bin_signal.iter().enumerate() {
-            push_bin(&mut text, bins, region.first_bin + k);
-            text.push(b'\t');
-            write_real(&mut text, signal);
-            text.push(b'\t');
-            push_bool(&mut text, region.is_local_min[k]);
-            text.push(b'\t');
-            write_real(&mut text, region.pvalue[k]);
-            text.push(b'\t');
-            text.extend_from_slice(tags[k]);
-            text.push(b'\n');
-        }
-    }
-    text
-}
-
-fn armatus_text(bins: &BinTable, domains: &[(Domain, f64)]) -> Vec<u8> {
-    let mut text = Vec::new();
-    text.extend_from_slice(b"chrom\tstart\tend\tlevel\tgamma\tscore\n");
-    for (domain, gamma) in domains {
-        push_span(&mut text, bins, domain);
-        text.push(b'\t');
-        write_u64(&mut text, u64::from(domain.level));
-        text.push(b'\t');
-        write_real(&mut text, *gamma);
-        text.push(b'\t');
-        write_real(&mut text, domain.score);
-        text.push(b'\n');
-    }
-    text
-}
-
-/// chrom, start of the first bin, end of the last bin.
-fn push_span(text: &mut Vec<u8>, bins: &BinTable, domain: &Domain) {
-    push_bins(text, bins, domain.start_bin, domain.end_bin);
-}
-
-/// chrom, start, end of the bins `first..end` (one chromosome).
-fn push_bins(text: &mut Vec<u8>, bins: &BinTable, first: usize, end: usize) {
-    let (first, last) = (bins.bin(first), bins.bin(end - 1));
-    text.extend_from_slice(bins.chroms()[first.chrom_id].name.as_bytes());
-    text.push(b'\t');
-    write_u64(text, first.start);
-    text.push(b'\t');
-    write_u64(text, last.end);
-}
-
-fn push_score(text: &mut Vec<u8>, value: f64) {
-    if value.is_finite() {
-        write_real(text, value);
-    } else {
-        text.push(b'.');
-    }
-}
-
-fn boundaries_bed(bins: &BinTable, boundaries: &[Boundary], label: &str) -> Vec<u8> {
-    let mut text = Vec::new();
-    for boundary in boundaries {
-        push_bin(&mut text, bins, boundary.bin);
-        text.push(b'\t');
-        text.extend_from_slice(label.as_bytes());
-        text.push(b'\t');
-        push_score(&mut text, boundary.strength);
-        text.push(b'\n');
-    }
-    text
-}
-
-fn domains_bed(bins: &BinTable, domains: &[Domain], label: &str) -> Vec<u8> {
-    let mut text = Vec::new();
-    for domain in domains {
-        push_span(&mut text, bins, domain);
-        text.push(b'\t');
-        text.extend_from_slice(label.as_bytes());
-        if domain.level > 0 || label == "armatus" {
-            text.extend_from_slice(format!("_level{}", domain.level).as_bytes());
-        }
-        text.push(b'\t');
-        push_score(&mut text, domain.score);
-        text.push(b'\n');
-    }
-    text
 }

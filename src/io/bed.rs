@@ -10,6 +10,7 @@ use std::io::{BufRead, Write};
 use std::path::Path;
 
 use crate::error::{Error, Result};
+use crate::genome::BinTable;
 
 /// One BED record (the first six columns).
 #[derive(Clone, Debug, PartialEq)]
@@ -47,21 +48,132 @@ impl BedRecord {
     }
 }
 
+/// Call `record` with the 1-based line number, the line and its fields for each line of the
+/// BED-like file at `path` (plain or gzip) that holds a record: blank lines, `#` comments and
+/// `track` / `browser` lines are skipped; fields are split at tabs when the line has one (and
+/// trimmed), else at runs of whitespace. The one line reader under [`read_bed`],
+/// [`read_bedpe`], [`read_bin_mask`] and the views of the analyses.
+///
+/// # Examples
+///
+/// ```
+/// let path = std::env::temp_dir().join(format!("lines-{}.bed", std::process::id()));
+/// std::fs::write(&path, "# comment\nchr1\t0\t100\tA\nchr2 5 15\n")?;
+/// let mut widths = Vec::new();
+/// contactmap::io::bed::for_each_line(&path, |_line_no, _line, fields| {
+///     widths.push(fields.len());
+///     Ok(())
+/// })?;
+/// assert_eq!(widths, [4, 3]);
+/// # std::fs::remove_file(&path)?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn for_each_line(
+    path: &Path,
+    mut record: impl FnMut(u64, &str, &[&str]) -> Result<()>,
+) -> Result<()> {
+    let reader = crate::io::open_text(path)?;
+    for (index, line) in reader.lines().enumerate() {
+        let line_no = index as u64 + 1;
+        let line = line.map_err(|e| Error::io(path, e))?;
+        let line = line.trim_end_matches('\r');
+        let trimmed = line.trim_start();
+        if trimmed.is_empty()
+            || trimmed.starts_with('#')
+            || trimmed.starts_with("track")
+            || trimmed.starts_with("browser")
+        {
+            continue;
+        }
+        let fields: Vec<&str> = if line.contains('\t') {
+            line.split('\t').map(str::trim).collect()
+        } else {
+            line.split_whitespace().collect()
+        };
+        record(line_no, line, &fields)?;
+    }
+    Ok(())
+}
+
 /// Read every record of the BED file at `path` (plain or gzip), in file order.
 ///
 /// Errors name the file and the 1-based line: fewer than 3 fields, a coordinate that is not a
 /// non-negative integer, `start > end`, or a 5th column that is neither `.` nor a number.
+///
+/// # Examples
+///
+/// ```
+/// let path = std::env::temp_dir().join(format!("read-{}.bed", std::process::id()));
+/// std::fs::write(&path, "track name=x\nchr1\t100\t250\tpeak\t7\n")?;
+/// let records = contactmap::io::bed::read_bed(&path)?;
+/// assert_eq!((records[0].start, records[0].width()), (100, 150));
+/// assert_eq!(records[0].score, Some(7.0));
+/// # std::fs::remove_file(&path)?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn read_bed(path: &Path) -> Result<Vec<BedRecord>> {
-    let reader = crate::io::open_text(path)?;
     let mut records = Vec::new();
-    for (index, line) in reader.lines().enumerate() {
-        let line_no = index as u64 + 1;
-        let line = line.map_err(|e| Error::io(path, e))?;
-        if let Some(record) = parse_line(&line).map_err(|m| Error::parse(path, line_no, m))? {
-            records.push(record);
-        }
-    }
+    for_each_line(path, |line_no, line, fields| {
+        records.push(parse_fields(line, fields).map_err(|m| Error::parse(path, line_no, m))?);
+        Ok(())
+    })?;
     Ok(records)
+}
+
+/// The bins of `bins` that overlap an interval of the BED file at `path` (a blacklist), sorted
+/// and unique. Lines whose coordinates are not numbers (a header) are skipped; an interval on a
+/// chromosome the bins do not have is an error naming the file and line; intervals are clipped
+/// to the span the bins cover (a cut map covers part of a chromosome).
+///
+/// # Examples
+///
+/// ```
+/// use contactmap::genome::{BinTable, Chrom};
+///
+/// let bins = BinTable::fixed(vec![Chrom::new("chr1", 100)], 10)?;
+/// let path = std::env::temp_dir().join(format!("mask-{}.bed", std::process::id()));
+/// std::fs::write(&path, "chrom\tstart\tend\nchr1\t15\t31\n")?;
+/// assert_eq!(contactmap::io::bed::read_bin_mask(&path, &bins)?, [1, 2, 3]);
+/// # std::fs::remove_file(&path)?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn read_bin_mask(path: &Path, bins: &BinTable) -> Result<Vec<usize>> {
+    let mut masked = Vec::new();
+    for_each_line(path, |line_no, _, fields| {
+        if fields.len() < 3 {
+            return Err(Error::parse(
+                path,
+                line_no,
+                format!(
+                    "expected 3 columns (chrom start end), found {}",
+                    fields.len()
+                ),
+            ));
+        }
+        let (Ok(start), Ok(end)) = (fields[1].parse::<u64>(), fields[2].parse::<u64>()) else {
+            return Ok(());
+        };
+        let chrom = fields[0];
+        let Some(chrom_id) = bins.chrom_id(chrom) else {
+            return Err(Error::parse(
+                path,
+                line_no,
+                format!("no chromosome '{chrom}' in this matrix"),
+            ));
+        };
+        // Bins cover the chromosome's span only (all of it unless the matrix is a cut).
+        let span = bins.span(chrom_id);
+        let (start, end) = (start.max(span.start), end.min(span.end));
+        if start < end && !bins.chrom_bins(chrom_id).is_empty() {
+            let lo = bins.bin_at(chrom_id, start);
+            let hi = bins.bin_at(chrom_id, end - 1) + 1;
+            masked.extend(lo..hi);
+        }
+        Ok(())
+    })?;
+    masked.sort_unstable();
+    masked.dedup();
+    Ok(masked)
 }
 
 /// One BEDPE record: a pair of intervals (a loop: `chrom1 start1 end1 chrom2 start2 end2 ...`).
@@ -76,22 +188,20 @@ pub struct BedpeRecord {
 /// Read the BEDPE file at `path` (plain or gzip): the first six columns of each line; a header
 /// line whose coordinates are not numbers (`chrom1 start1 end1 ...`, as HiCCUPS and cooltools
 /// write) and `#` comments are skipped. Errors name the file and the 1-based line.
+///
+/// # Examples
+///
+/// ```
+/// let path = std::env::temp_dir().join(format!("loops-{}.bedpe", std::process::id()));
+/// std::fs::write(&path, "chrom1\tstart1\tend1\tchrom2\tstart2\tend2\nchr1\t0\t10\tchr1\t90\t100\n")?;
+/// let loops = contactmap::io::bed::read_bedpe(&path)?;
+/// assert_eq!((loops.len(), loops[0].second.start), (1, 90));
+/// # std::fs::remove_file(&path)?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn read_bedpe(path: &Path) -> Result<Vec<BedpeRecord>> {
-    let reader = crate::io::open_text(path)?;
     let mut records = Vec::new();
-    for (index, line) in reader.lines().enumerate() {
-        let line_no = index as u64 + 1;
-        let line = line.map_err(|e| Error::io(path, e))?;
-        let line = line.trim_end_matches('\r');
-        let trimmed = line.trim_start();
-        if trimmed.is_empty() || trimmed.starts_with('#') || trimmed.starts_with("track") {
-            continue;
-        }
-        let fields: Vec<&str> = if line.contains('\t') {
-            line.split('\t').map(str::trim).collect()
-        } else {
-            line.split_whitespace().collect()
-        };
+    for_each_line(path, |line_no, _, fields| {
         if fields.len() < 6 {
             return Err(Error::parse(
                 path,
@@ -106,60 +216,46 @@ pub fn read_bedpe(path: &Path) -> Result<Vec<BedpeRecord>> {
             && fields[1].parse::<u64>().is_err()
             && fields[4].parse::<u64>().is_err()
         {
-            continue; // header line
+            return Ok(()); // header line
         }
-        let anchor =
-            |chrom: &str, start: &str, end: &str| -> std::result::Result<BedRecord, String> {
-                let coordinate = |what: &str, text: &str| {
-                    text.parse::<u64>()
-                        .map_err(|_| format!("{what} '{text}' is not a non-negative whole number"))
-                };
-                let (start, end) = (coordinate("start", start)?, coordinate("end", end)?);
-                if start > end {
-                    return Err(format!("start {start} is after end {end}"));
-                }
-                Ok(BedRecord::new(chrom, start, end))
-            };
-        let first =
-            anchor(fields[0], fields[1], fields[2]).map_err(|m| Error::parse(path, line_no, m))?;
-        let second =
-            anchor(fields[3], fields[4], fields[5]).map_err(|m| Error::parse(path, line_no, m))?;
-        records.push(BedpeRecord { first, second });
-    }
+        let anchor = |chrom: &str, start: &str, end: &str| {
+            let (start, end) = interval(start, end)?;
+            Ok(BedRecord::new(chrom, start, end))
+        };
+        let pair = anchor(fields[0], fields[1], fields[2]).and_then(|first| {
+            Ok(BedpeRecord {
+                first,
+                second: anchor(fields[3], fields[4], fields[5])?,
+            })
+        });
+        records.push(pair.map_err(|m: String| Error::parse(path, line_no, m))?);
+        Ok(())
+    })?;
     Ok(records)
 }
 
-/// Parse one line; `Ok(None)` for lines that hold no record (blank, comment, track, browser).
-fn parse_line(line: &str) -> std::result::Result<Option<BedRecord>, String> {
-    let line = line.trim_end_matches('\r');
-    let trimmed = line.trim_start();
-    if trimmed.is_empty()
-        || trimmed.starts_with('#')
-        || trimmed.starts_with("track")
-        || trimmed.starts_with("browser")
-    {
-        return Ok(None);
-    }
-    let fields: Vec<&str> = if line.contains('\t') {
-        line.split('\t').map(str::trim).collect()
-    } else {
-        line.split_whitespace().collect()
+/// `start` and `end` as numbers, `start <= end`.
+fn interval(start: &str, end: &str) -> std::result::Result<(u64, u64), String> {
+    let coordinate = |what: &str, text: &str| {
+        text.parse::<u64>()
+            .map_err(|_| format!("{what} '{text}' is not a non-negative whole number"))
     };
+    let (start, end) = (coordinate("start", start)?, coordinate("end", end)?);
+    if start > end {
+        return Err(format!("start {start} is after end {end}"));
+    }
+    Ok((start, end))
+}
+
+/// The record of one line's `fields`.
+fn parse_fields(line: &str, fields: &[&str]) -> std::result::Result<BedRecord, String> {
     if fields.len() < 3 {
         return Err(format!(
             "expected at least 3 columns (chrom start end), found {}: '{line}'",
             fields.len()
         ));
     }
-    let coordinate = |what: &str, text: &str| {
-        text.parse::<u64>()
-            .map_err(|_| format!("{what} '{text}' is not a non-negative whole number"))
-    };
-    let start = coordinate("start", fields[1])?;
-    let end = coordinate("end", fields[2])?;
-    if start > end {
-        return Err(format!("start {start} is after end {end}"));
-    }
+    let (start, end) = interval(fields[1], fields[2])?;
     let name = fields.get(3).map(|s| s.to_string());
     let score = match fields.get(4) {
         None | Some(&".") => None,
@@ -174,14 +270,14 @@ fn parse_line(line: &str) -> std::result::Result<Option<BedRecord>, String> {
         Some(&"-") => Some('-'),
         Some(text) => return Err(format!("strand '{text}' is not +, - or .")),
     };
-    Ok(Some(BedRecord {
+    Ok(BedRecord {
         chrom: fields[0].to_string(),
         start,
         end,
         name,
         score,
         strand,
-    }))
+    })
 }
 
 /// Write `chrom start end` and then `extra` fields, tab-separated, as one line.
@@ -197,6 +293,34 @@ pub fn write_bed_line(
         write!(out, "\t{field}")?;
     }
     writeln!(out)
+}
+
+/// BED text of bin ranges: one line `chrom start end extra...` per `(first, end, extra)`, the
+/// bins `first..end` (one chromosome) of `bins`.
+///
+/// # Examples
+///
+/// ```
+/// use contactmap::genome::{BinTable, Chrom};
+/// use contactmap::io::bed::bins_bed;
+///
+/// let bins = BinTable::fixed(vec![Chrom::new("chr1", 1_000)], 100)?;
+/// let text = bins_bed(&bins, [(2, 5, vec!["1".to_string()])].into_iter());
+/// assert_eq!(text, b"chr1\t200\t500\t1\n");
+/// # Ok::<(), contactmap::Error>(())
+/// ```
+pub fn bins_bed(
+    bins: &BinTable,
+    rows: impl Iterator<Item = (usize, usize, Vec<String>)>,
+) -> Vec<u8> {
+    let mut text = Vec::new();
+    for (first, end, extra) in rows {
+        let (a, b) = (bins.bin(first), bins.bin(end - 1));
+        let chrom = &bins.chroms()[a.chrom_id].name;
+        let extra: Vec<&str> = extra.iter().map(String::as_str).collect();
+        write_bed_line(&mut text, chrom, a.start, b.end, &extra).expect("writing to memory");
+    }
+    text
 }
 
 #[cfg(test)]
@@ -280,6 +404,22 @@ mod tests {
         }
         let missing = read_bed(&dir.path().join("missing.bed")).unwrap_err();
         assert!(missing.to_string().contains("missing.bed"));
+    }
+
+    #[test]
+    fn masks_the_bins_a_blacklist_overlaps() {
+        use crate::genome::Chrom;
+        let bins = BinTable::fixed(vec![Chrom::new("a", 100), Chrom::new("b", 55)], 10).unwrap();
+        let dir = tempfile::tempdir().unwrap();
+        let path = write(
+            dir.path(),
+            "black.bed",
+            "track name=x\nchrom\tstart\tend\na\t15\t31\tfoo\nb\t50\t1000\n#c\t0\t1\na\t40\t40\n",
+        );
+        assert_eq!(read_bin_mask(&path, &bins).unwrap(), vec![1, 2, 3, 15]);
+        let path = write(dir.path(), "black.bed", "a 0 10\nchrZ\t0\t10\n");
+        let err = read_bin_mask(&path, &bins).unwrap_err().to_string();
+        assert!(err.contains(":2:") && err.contains("chrZ"), "{err}");
     }
 
     #[test]

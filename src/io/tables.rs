@@ -2,9 +2,13 @@
 //! (`region1 region2 dist dist_bp n_valid count.sum balanced.sum count.avg balanced.avg ...`).
 //!
 //! Values are read as text or numbers by column name; `nan`, `NaN`, empty fields and `NA` read as
-//! NaN, as pandas writes and reads them.
+//! NaN, as pandas writes and reads them. Numbers are written as cooltools' tables print them
+//! ([`write_real`]: the shortest digits that read back the same value, `nan`), and tables of
+//! region pairs by [`region_table`].
 
 use std::io::BufRead;
+
+use rayon::prelude::*;
 
 use crate::error::{Error, Result};
 use crate::genome::BinTable;
@@ -272,4 +276,131 @@ mod tests {
         let err = Table::read(path.to_str().unwrap()).unwrap_err().to_string();
         assert!(err.contains(":2:") && err.contains("expected 2"), "{err}");
     }
+}
+
+/// Append a real number: shortest round-trip digits, `nan` / `inf` / `-inf`, integers without
+/// a decimal point, exponent notation for very small or very large magnitudes.
+///
+/// # Examples
+///
+/// ```
+/// use contactmap::io::tables::write_real;
+///
+/// let mut text = Vec::new();
+/// for value in [894773.0, 0.1 + 0.2, 1.5e-7, f64::NAN] {
+///     write_real(&mut text, value);
+///     text.push(b' ');
+/// }
+/// assert_eq!(text, b"894773 0.30000000000000004 1.5e-7 nan ");
+/// ```
+pub fn write_real(out: &mut Vec<u8>, value: f64) {
+    use std::io::Write as _;
+    if value.is_nan() {
+        out.extend_from_slice(b"nan");
+    } else if value.is_infinite() {
+        out.extend_from_slice(if value > 0.0 { b"inf" } else { b"-inf" });
+    } else if value == 0.0 || (1e-5..1e16).contains(&value.abs()) {
+        let _ = write!(out, "{value}");
+    } else {
+        let _ = write!(out, "{value:e}");
+    }
+}
+
+/// Append the decimal digits of `value`.
+///
+/// # Examples
+///
+/// ```
+/// let mut text = Vec::new();
+/// contactmap::io::tables::write_u64(&mut text, 1_000_000);
+/// assert_eq!(text, b"1000000");
+/// ```
+pub fn write_u64(out: &mut Vec<u8>, mut value: u64) {
+    let mut digits = [0u8; 20];
+    let mut n = 0;
+    loop {
+        digits[19 - n] = b'0' + (value % 10) as u8;
+        n += 1;
+        value /= 10;
+        if value == 0 {
+            break;
+        }
+    }
+    out.extend_from_slice(&digits[20 - n..]);
+}
+
+/// A column of a table, for writers.
+#[derive(Clone, Copy, Debug)]
+pub enum Column<'a> {
+    /// Whole numbers.
+    Integer(&'a [u64]),
+    /// Real numbers (NaN for missing).
+    Real(&'a [f64]),
+}
+
+impl Column<'_> {
+    /// Append the value of `row`.
+    pub fn write(&self, out: &mut Vec<u8>, row: usize) {
+        match self {
+            Column::Integer(values) => write_u64(out, values[row]),
+            Column::Real(values) => write_real(out, values[row]),
+        }
+    }
+}
+
+/// Rows formatted per parallel task.
+const FORMAT_TASK_ROWS: usize = 4096;
+
+/// The text of a table of region pairs as cooltools writes them: a header
+/// `region1 region2 NAME...`, then one line per row (`region1(row) region2(row)` and the
+/// columns), rows formatted in parallel.
+///
+/// # Examples
+///
+/// ```
+/// use contactmap::io::tables::{region_table, Column};
+///
+/// let (dist, avg) = ([0, 1], [f64::NAN, 0.5]);
+/// let columns = [
+///     ("dist".to_string(), Column::Integer(&dist)),
+///     ("count.avg".to_string(), Column::Real(&avg)),
+/// ];
+/// let text = region_table(2, &columns, |_| "chr1".into(), |_| "chr1".into());
+/// assert_eq!(text, b"region1\tregion2\tdist\tcount.avg\nchr1\tchr1\t0\tnan\nchr1\tchr1\t1\t0.5\n");
+/// ```
+pub fn region_table(
+    n_rows: usize,
+    columns: &[(String, Column<'_>)],
+    region1: impl Fn(usize) -> String + Sync,
+    region2: impl Fn(usize) -> String + Sync,
+) -> Vec<u8> {
+    let mut text = Vec::with_capacity(64 * (n_rows + 1));
+    text.extend_from_slice(b"region1\tregion2");
+    for (name, _) in columns {
+        text.push(b'\t');
+        text.extend_from_slice(name.as_bytes());
+    }
+    text.push(b'\n');
+    let chunks: Vec<Vec<u8>> = (0..n_rows.div_ceil(FORMAT_TASK_ROWS))
+        .into_par_iter()
+        .map(|chunk| {
+            let rows = chunk * FORMAT_TASK_ROWS..((chunk + 1) * FORMAT_TASK_ROWS).min(n_rows);
+            let mut part = Vec::with_capacity(100 * rows.len());
+            for row in rows {
+                part.extend_from_slice(region1(row).as_bytes());
+                part.push(b'\t');
+                part.extend_from_slice(region2(row).as_bytes());
+                for (_, column) in columns {
+                    part.push(b'\t');
+                    column.write(&mut part, row);
+                }
+                part.push(b'\n');
+            }
+            part
+        })
+        .collect();
+    for part in chunks {
+        text.extend_from_slice(&part);
+    }
+    text
 }

@@ -12,7 +12,11 @@
 
 use std::ops::Range;
 
-use crate::plot::colormap::{ColorMap, ColorScale};
+use crate::error::Result;
+use crate::io::MatrixReader;
+use crate::matrix::PixelBlock;
+use crate::normalize::Normalizer;
+use crate::plot::colormap::{ColorMap, ColorScale, ScaleKind};
 use crate::plot::svg::{Rgb, RgbImage};
 
 /// How the bins of one axis fall into cells.
@@ -182,6 +186,133 @@ impl CellGrid {
     }
 }
 
+impl CellGrid {
+    /// Stream the pixels of the grid's rectangle from `reader` into it, both triangles (a stored
+    /// pixel `(i, j)` fills `(i, j)` and `(j, i)` where the rectangle holds them), each value
+    /// transformed by `normalizer` (observed / expected), else multiplied by the two bins'
+    /// `weights` (balanced), else raw.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use contactmap::io::open_matrix;
+    /// use contactmap::plot::heatmap::{AxisCells, CellGrid};
+    ///
+    /// let reader = open_matrix("data/CN.mm9.10000kb.cool", &Default::default())?;
+    /// let rows = 0..20; // the first 20 bins, drawn as 20 x 20 cells
+    /// let mut grid = CellGrid::new(
+    ///     AxisCells::new(rows.clone(), 20),
+    ///     AxisCells::new(rows.clone(), 20),
+    ///     &|_| true,
+    ///     0,
+    ///     true,
+    /// );
+    /// grid.fill(reader.as_ref(), None, None)?;
+    /// // Raw counts: the cells are the symmetric dense matrix.
+    /// let mut dense = 0.0;
+    /// reader.read_pixels(rows.clone(), rows.clone(), &mut |block| {
+    ///     for k in 0..block.len() {
+    ///         dense += if block.bin1[k] == block.bin2[k] { 1.0 } else { 2.0 } * block.count[k];
+    ///     }
+    ///     Ok(())
+    /// })?;
+    /// assert_eq!(grid.values().iter().sum::<f64>(), dense);
+    /// # Ok::<(), contactmap::Error>(())
+    /// ```
+    pub fn fill(
+        &mut self,
+        reader: &dyn MatrixReader,
+        weights: Option<&[f64]>,
+        normalizer: Option<&Normalizer>,
+    ) -> Result<()> {
+        let rows = self.rows.bins.clone();
+        let cols = self.cols.bins.clone();
+        let value = |block: &PixelBlock| -> Result<PixelBlock> {
+            match (normalizer, weights) {
+                (Some(n), _) => n.apply(block),
+                (None, Some(w)) => {
+                    let mut out = block.clone();
+                    for k in 0..out.len() {
+                        out.count[k] *= w[out.bin1[k] as usize] * w[out.bin2[k] as usize];
+                    }
+                    Ok(out)
+                }
+                (None, None) => Ok(block.clone()),
+            }
+        };
+        let symmetric = rows == cols;
+        reader.read_pixels(rows.clone(), cols.clone(), &mut |block| {
+            let block = value(block)?;
+            for k in 0..block.len() {
+                let (i, j) = (block.bin1[k] as usize, block.bin2[k] as usize);
+                self.add(i, j, block.count[k]);
+                if symmetric && i != j {
+                    self.add(j, i, block.count[k]);
+                }
+            }
+            Ok(())
+        })?;
+        if !symmetric {
+            // The lower triangle of the rectangle: stored as (col, row) with col < row.
+            reader.read_pixels(cols.clone(), rows.clone(), &mut |block| {
+                let block = value(block)?;
+                for k in 0..block.len() {
+                    let (i, j) = (block.bin1[k] as usize, block.bin2[k] as usize);
+                    if i != j {
+                        self.add(j, i, block.count[k]);
+                    }
+                }
+                Ok(())
+            })?;
+        }
+        Ok(())
+    }
+}
+
+/// The colour limits of a map drawn on a `kind` scale: the `low` and `high` percentiles of the
+/// drawn values ([`percentile_limits`]), made symmetric about 1 (in log space on a log scale)
+/// when `centre_on_one` (observed / expected), and widened around a single value (half and
+/// twice it on a log scale, +-0.5 on a linear one). `None` when no value can be drawn.
+///
+/// # Examples
+///
+/// ```
+/// use contactmap::plot::heatmap::colour_limits;
+/// use contactmap::plot::ScaleKind;
+///
+/// let oe = [0.5, 1.0, 1.5, f64::NAN];
+/// let (low, high) = colour_limits(&oe, ScaleKind::Log, 0.0, 100.0, true).unwrap();
+/// assert!((low - 0.5).abs() < 1e-12 && (high - 2.0).abs() < 1e-12);
+/// assert_eq!(colour_limits(&[3.0], ScaleKind::Linear, 0.0, 100.0, false), Some((2.5, 3.5)));
+/// assert_eq!(colour_limits(&[0.0], ScaleKind::Log, 0.0, 100.0, false), None);
+/// ```
+pub fn colour_limits(
+    values: &[f64],
+    kind: ScaleKind,
+    low: f64,
+    high: f64,
+    centre_on_one: bool,
+) -> Option<(f64, f64)> {
+    let (mut a, mut b) = percentile_limits(values, kind == ScaleKind::Log, low, high)?;
+    if centre_on_one {
+        if kind == ScaleKind::Log {
+            let m = a.ln().abs().max(b.ln().abs()).max(1e-3);
+            (a, b) = ((-m).exp(), m.exp());
+        } else {
+            let m = (a - 1.0).abs().max((b - 1.0).abs()).max(1e-3);
+            (a, b) = (1.0 - m, 1.0 + m);
+        }
+    }
+    if a == b {
+        // One value everywhere: widen the range around it.
+        (a, b) = match kind {
+            ScaleKind::Log => (a / 2.0, b * 2.0),
+            ScaleKind::Linear => (a - 0.5, b + 0.5),
+        };
+    }
+    Some((a, b))
+}
+
 /// Colour limits from the finite (and, for a log scale, positive) cell values: the `low` and
 /// `high` percentiles (0 and 100: min and max). `None` when there is no such value.
 pub fn percentile_limits(
@@ -211,7 +342,6 @@ pub fn percentile_limits(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::plot::colormap::ScaleKind;
 
     /// The dense mean of each cell, computed naively from a full matrix.
     fn naive(

@@ -9,7 +9,13 @@
 //! readable, as HiCExplorer's fixed track heights do); each track is a 50-point panel below. The map's edges are snapped to whole pixels so
 //! that raster cells land on pixels.
 
-use crate::error::Result;
+use std::ops::Range;
+use std::path::Path;
+
+use crate::error::{Error, Result};
+use crate::genome::BinTable;
+use crate::io::bed::{BedRecord, BedpeRecord};
+use crate::io::tables::read_track;
 use crate::plot::axes::{
     self, colour_bar, genomic_unit, linear_ticks, Axes, AxisScale, Side, Theme,
 };
@@ -29,6 +35,22 @@ pub struct GenomicSpan {
 }
 
 impl GenomicSpan {
+    /// The span of the bins `range` of `bins` (one chromosome): the first bin's start to the last
+    /// bin's end.
+    pub fn of_bins(bins: &BinTable, range: &Range<usize>) -> GenomicSpan {
+        let (first, last) = (bins.bin(range.start), bins.bin(range.end - 1));
+        GenomicSpan {
+            chrom: bins.chroms()[first.chrom_id].name.clone(),
+            start_bp: first.start,
+            end_bp: last.end,
+        }
+    }
+
+    /// True when `chrom:start-end` overlaps the span.
+    pub fn overlaps(&self, chrom: &str, start: u64, end: u64) -> bool {
+        chrom == self.chrom && start < self.end_bp && end > self.start_bp
+    }
+
     fn length(&self) -> f64 {
         (self.end_bp - self.start_bp) as f64
     }
@@ -78,6 +100,50 @@ pub struct Track {
     pub intervals: Vec<(u64, u64, f64)>,
 }
 
+impl Track {
+    /// The track in column `column` of the table at `path` (a header name, or a 1-based column
+    /// number of a bedGraph) on the bins `cols` of `bins`, whose span is `span`: the file must
+    /// hold one row per bin there (same resolution), else an error naming the file and the
+    /// counts.
+    pub fn read(
+        path: &Path,
+        column: &str,
+        bins: &BinTable,
+        cols: &Range<usize>,
+        span: &GenomicSpan,
+    ) -> Result<Track> {
+        let rows: Vec<_> = read_track(path, column)?
+            .into_iter()
+            .filter(|r| span.overlaps(&r.chrom, r.start, r.end))
+            .collect();
+        let matches = rows.len() == cols.len()
+            && rows.iter().zip(cols.clone()).all(|(row, bin)| {
+                let bin = bins.bin(bin);
+                row.start == bin.start && row.end == bin.end
+            });
+        if !matches {
+            let bin_size = bins
+                .bin_size_bp()
+                .map_or(String::new(), |b| format!(" of {b} bp"));
+            return Err(Error::format(
+                path,
+                format!(
+                    "track column '{column}' has {} rows in {}:{}-{}, where the map has {} bins{bin_size}: a track must hold one row per bin of the map (same resolution)",
+                    rows.len(),
+                    span.chrom,
+                    span.start_bp,
+                    span.end_bp,
+                    cols.len()
+                ),
+            ));
+        }
+        Ok(Track {
+            label: column.to_string(),
+            intervals: rows.iter().map(|r| (r.start, r.end, r.value)).collect(),
+        })
+    }
+}
+
 /// Features drawn on the map.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Overlays {
@@ -87,6 +153,42 @@ pub struct Overlays {
     pub boundaries: Vec<(u64, u64)>,
     /// Loops: `(start1, end1, start2, end2)` anchors in bp (row anchor, column anchor).
     pub loops: Vec<[u64; 4]>,
+}
+
+impl Overlays {
+    /// The features of `domains`, `boundaries` (BED records) and `loops` (BEDPE) that fall on
+    /// the drawn spans: an interval on either span; a loop with one anchor on the rows' span and
+    /// the other on the columns' (given row anchor first).
+    pub fn on_spans(
+        domains: &[BedRecord],
+        boundaries: &[BedRecord],
+        loops: &[BedpeRecord],
+        rows: &GenomicSpan,
+        cols: &GenomicSpan,
+    ) -> Overlays {
+        let on = |span: &GenomicSpan, r: &BedRecord| span.overlaps(&r.chrom, r.start, r.end);
+        let intervals = |records: &[BedRecord]| {
+            records
+                .iter()
+                .filter(|r| on(rows, r) || on(cols, r))
+                .map(|r| (r.start, r.end))
+                .collect()
+        };
+        let mut drawn = Vec::new();
+        for record in loops {
+            let (a, b) = (&record.first, &record.second);
+            if on(rows, a) && on(cols, b) {
+                drawn.push([a.start, a.end, b.start, b.end]);
+            } else if on(rows, b) && on(cols, a) {
+                drawn.push([b.start, b.end, a.start, a.end]);
+            }
+        }
+        Overlays {
+            domains: intervals(domains),
+            boundaries: intervals(boundaries),
+            loops: drawn,
+        }
+    }
 }
 
 /// Colours and labels of the map.

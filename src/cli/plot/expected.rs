@@ -7,12 +7,12 @@ use clap::Args;
 
 use super::{write_figure, FigureArgs};
 use crate::cli::analysis::{headline, parse_fit_range};
-use crate::cli::input::{open_for_analysis, read_cis_expected, weights_and_view};
+use crate::cli::input::{open_for_analysis, weights_and_view};
 use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::InputArgs;
 use contactmap::error::{Error, Result};
 use contactmap::expected::powerlaw::{power_law, power_law_of_table, PowerLaw};
-use contactmap::expected::CisParams;
+use contactmap::expected::{CisExpected, CisParams};
 use contactmap::genome::{format_bp, format_distance};
 use contactmap::io::{LoadedPixels, StreamedPixels};
 use contactmap::plot::axes::{Theme, CURVE_COLOURS};
@@ -140,7 +140,8 @@ fn load(
     fit_range: Option<contactmap::expected::powerlaw::FitRange>,
 ) -> Result<PowerLaw> {
     if is_expected_table(uri)? {
-        let (table, median_bp) = read_cis_expected(uri)?;
+        let table = CisExpected::read_tsv(uri)?;
+        let median_bp = table.median_region_length_bp();
         return power_law_of_table(table, args.ignore_diags, median_bp, fit_range);
     }
     let reader = open_for_analysis(uri, &args.input)?;

@@ -6,16 +6,16 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 
 use super::{write_figure, FigureArgs};
+use crate::cli::input::expected_column;
 use crate::cli::input::{open_for_analysis, read_weights};
 use crate::cli::output::{column_file, refuse_overwrites, uri_file};
 use crate::cli::InputArgs;
 use contactmap::error::{Error, Result};
 use contactmap::genome::{BinTable, Region};
-use contactmap::io::bed::{read_bed, read_bedpe};
-use contactmap::io::tables::read_track;
+use contactmap::io::bed::{read_bed, read_bedpe, BedRecord};
 use contactmap::io::{LoadedPixels, MatrixReader, StreamedPixels};
 use contactmap::normalize::{Method, Normalizer};
-use contactmap::plot::heatmap::{percentile_limits, AxisCells, CellGrid};
+use contactmap::plot::heatmap::{colour_limits, AxisCells, CellGrid};
 use contactmap::plot::map::{
     draw_map, GenomicSpan, MapFigure, MapLayout, MapStyle, MapView, Overlays, Track,
 };
@@ -175,8 +175,8 @@ pub fn run(args: &MapArgs) -> Result<()> {
         Some(text) => region_bins(&bins, text, reader.source())?,
         None => rows.clone(),
     };
-    let row_span = span(&bins, &rows);
-    let col_span = span(&bins, &cols);
+    let row_span = GenomicSpan::of_bins(&bins, &rows);
+    let col_span = GenomicSpan::of_bins(&bins, &cols);
     let same_chrom = row_span.chrom == col_span.chrom;
     let view = if args.triangle {
         if rows != cols {
@@ -225,7 +225,10 @@ pub fn run(args: &MapArgs) -> Result<()> {
     let tracks = args
         .track
         .iter()
-        .map(|spec| read_map_track(spec, &bins, &cols, &col_span))
+        .map(|spec| {
+            let (path, column) = crate::cli::input::file_column(spec, "--track", None)?;
+            Track::read(Path::new(path), column, &bins, &cols, &col_span)
+        })
         .collect::<Result<Vec<_>>>()?;
 
     let layout = MapLayout::new(
@@ -249,12 +252,7 @@ pub fn run(args: &MapArgs) -> Result<()> {
         if args.oe { args.ignore_diags } else { 0 },
         same_chrom,
     );
-    fill_grid(
-        reader.as_ref(),
-        &mut grid,
-        weights.as_deref(),
-        normalizer.as_ref(),
-    )?;
+    grid.fill(reader.as_ref(), weights.as_deref(), normalizer.as_ref())?;
 
     let scale = colour_scale(args, &grid.values(), &args.region)?;
     let colour_label = if args.oe {
@@ -300,16 +298,6 @@ fn region_bins(bins: &BinTable, text: &str, source: &str) -> Result<Range<usize>
     Ok(range)
 }
 
-/// The genomic span of a range of bins.
-fn span(bins: &BinTable, range: &Range<usize>) -> GenomicSpan {
-    let (first, last) = (bins.bin(range.start), bins.bin(range.end - 1));
-    GenomicSpan {
-        chrom: bins.chroms()[first.chrom_id].name.clone(),
-        start_bp: first.start,
-        end_bp: last.end,
-    }
-}
-
 /// The o/e transform: the expected of every chromosome, computed or read.
 fn oe_normalizer(
     args: &MapArgs,
@@ -318,11 +306,10 @@ fn oe_normalizer(
 ) -> Result<Normalizer> {
     let bins = reader.bins();
     let curves = match &args.expected {
-        Some(path) => crate::cli::input::read_expected_curves(
+        Some(path) => contactmap::expected::table::read_curves(
             path,
             bins,
-            args.expected_column.as_deref(),
-            args.raw,
+            expected_column(args.expected_column.as_deref(), args.raw),
         )?,
         None => {
             let pixels = LoadedPixels::Streamed(StreamedPixels::new(reader));
@@ -330,57 +317,6 @@ fn oe_normalizer(
         }
     };
     Normalizer::new(Method::Oe, bins.n_bins(), weights, curves)
-}
-
-/// Stream the pixels of the grid's rectangle into it (both triangles: a stored pixel `(i, j)`
-/// fills `(i, j)` and `(j, i)` where the rectangle holds them).
-fn fill_grid(
-    reader: &dyn MatrixReader,
-    grid: &mut CellGrid,
-    weights: Option<&[f64]>,
-    normalizer: Option<&Normalizer>,
-) -> Result<()> {
-    let rows = grid.rows.bins.clone();
-    let cols = grid.cols.bins.clone();
-    let value = |block: &contactmap::matrix::PixelBlock| -> Result<contactmap::matrix::PixelBlock> {
-        match (normalizer, weights) {
-            (Some(n), _) => n.apply(block),
-            (None, Some(w)) => {
-                let mut out = block.clone();
-                for k in 0..out.len() {
-                    out.count[k] *= w[out.bin1[k] as usize] * w[out.bin2[k] as usize];
-                }
-                Ok(out)
-            }
-            (None, None) => Ok(block.clone()),
-        }
-    };
-    let symmetric = rows == cols;
-    reader.read_pixels(rows.clone(), cols.clone(), &mut |block| {
-        let block = value(block)?;
-        for k in 0..block.len() {
-            let (i, j) = (block.bin1[k] as usize, block.bin2[k] as usize);
-            grid.add(i, j, block.count[k]);
-            if symmetric && i != j {
-                grid.add(j, i, block.count[k]);
-            }
-        }
-        Ok(())
-    })?;
-    if !symmetric {
-        // The lower triangle of the rectangle: stored as (col, row) with col < row.
-        reader.read_pixels(cols.clone(), rows.clone(), &mut |block| {
-            let block = value(block)?;
-            for k in 0..block.len() {
-                let (i, j) = (block.bin1[k] as usize, block.bin2[k] as usize);
-                if i != j {
-                    grid.add(j, i, block.count[k]);
-                }
-            }
-            Ok(())
-        })?;
-    }
-    Ok(())
 }
 
 /// The colour scale from the options and the drawn values.
@@ -393,11 +329,13 @@ fn colour_scale(args: &MapArgs, values: &[f64], region: &str) -> Result<ColorSca
     let (vmin, vmax) = match (args.vmin, args.vmax) {
         (Some(a), Some(b)) => (a, b),
         (low, high) => {
-            let limits = percentile_limits(
+            let centre_on_one = args.oe && low.is_none() && high.is_none();
+            let (a, b) = colour_limits(
                 values,
-                kind == ScaleKind::Log,
+                kind,
                 args.percentiles[0],
                 args.percentiles[1],
+                centre_on_one,
             )
             .ok_or_else(|| {
                 Error::region(
@@ -408,23 +346,6 @@ fn colour_scale(args: &MapArgs, values: &[f64], region: &str) -> Result<ColorSca
                     ),
                 )
             })?;
-            let (mut a, mut b) = limits;
-            if args.oe && low.is_none() && high.is_none() {
-                if kind == ScaleKind::Log {
-                    let m = a.ln().abs().max(b.ln().abs()).max(1e-3);
-                    (a, b) = ((-m).exp(), m.exp());
-                } else {
-                    let m = (a - 1.0).abs().max((b - 1.0).abs()).max(1e-3);
-                    (a, b) = (1.0 - m, 1.0 + m);
-                }
-            }
-            if a == b {
-                // One value everywhere: widen the range around it.
-                (a, b) = match kind {
-                    ScaleKind::Log => (a / 2.0, b * 2.0),
-                    ScaleKind::Linear => (a - 0.5, b + 0.5),
-                };
-            }
             (low.unwrap_or(a), high.unwrap_or(b))
         }
     };
@@ -433,74 +354,18 @@ fn colour_scale(args: &MapArgs, values: &[f64], region: &str) -> Result<ColorSca
 
 /// Domains, boundaries and loops on the drawn regions.
 fn read_overlays(args: &MapArgs, rows: &GenomicSpan, cols: &GenomicSpan) -> Result<Overlays> {
-    let on = |span: &GenomicSpan, chrom: &str, start: u64, end: u64| {
-        chrom == span.chrom && start < span.end_bp && end > span.start_bp
+    let bed = |path: &Option<PathBuf>| -> Result<Vec<BedRecord>> {
+        path.as_deref().map_or(Ok(Vec::new()), read_bed)
     };
-    let intervals = |path: &Option<PathBuf>| -> Result<Vec<(u64, u64)>> {
-        Ok(match path {
-            Some(path) => read_bed(path)?
-                .into_iter()
-                .filter(|r| {
-                    on(rows, &r.chrom, r.start, r.end) || on(cols, &r.chrom, r.start, r.end)
-                })
-                .map(|r| (r.start, r.end))
-                .collect(),
-            None => Vec::new(),
-        })
+    let loops = match &args.loops {
+        Some(path) => read_bedpe(path)?,
+        None => Vec::new(),
     };
-    let mut loops = Vec::new();
-    if let Some(path) = &args.loops {
-        for record in read_bedpe(path)? {
-            let (a, b) = (&record.first, &record.second);
-            if on(rows, &a.chrom, a.start, a.end) && on(cols, &b.chrom, b.start, b.end) {
-                loops.push([a.start, a.end, b.start, b.end]);
-            } else if on(rows, &b.chrom, b.start, b.end) && on(cols, &a.chrom, a.start, a.end) {
-                loops.push([b.start, b.end, a.start, a.end]);
-            }
-        }
-    }
-    Ok(Overlays {
-        domains: intervals(&args.domains)?,
-        boundaries: intervals(&args.boundaries)?,
-        loops,
-    })
-}
-
-/// A `FILE:COLUMN` track over the columns' bins.
-fn read_map_track(
-    spec: &str,
-    bins: &BinTable,
-    cols: &Range<usize>,
-    span: &GenomicSpan,
-) -> Result<Track> {
-    let (path, column) = crate::cli::input::file_column(spec, "--track", None)?;
-    let rows: Vec<_> = read_track(std::path::Path::new(path), column)?
-        .into_iter()
-        .filter(|r| r.chrom == span.chrom && r.start < span.end_bp && r.end > span.start_bp)
-        .collect();
-    let matches = rows.len() == cols.len()
-        && rows.iter().zip(cols.clone()).all(|(row, bin)| {
-            let bin = bins.bin(bin);
-            row.start == bin.start && row.end == bin.end
-        });
-    if !matches {
-        let bin_size = bins
-            .bin_size_bp()
-            .map_or(String::new(), |b| format!(" of {b} bp"));
-        return Err(Error::format(
-            path,
-            format!(
-                "track column '{column}' has {} rows in {}:{}-{}, where the map has {} bins{bin_size}: a track must hold one row per bin of the map (same resolution)",
-                rows.len(),
-                span.chrom,
-                span.start_bp,
-                span.end_bp,
-                cols.len()
-            ),
-        ));
-    }
-    Ok(Track {
-        label: column.to_string(),
-        intervals: rows.iter().map(|r| (r.start, r.end, r.value)).collect(),
-    })
+    Ok(Overlays::on_spans(
+        &bed(&args.domains)?,
+        &bed(&args.boundaries)?,
+        &loops,
+        rows,
+        cols,
+    ))
 }

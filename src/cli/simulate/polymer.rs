@@ -6,16 +6,16 @@ use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
 
-use crate::cli::output::{refuse_overwrites, write_real, Output};
+use crate::cli::output::{refuse_overwrites, Output};
 use crate::cli::warnings::Warnings;
 use contactmap::error::{Error, Result};
-use contactmap::genome::{BinTable, Chrom};
-use contactmap::io::bed::{read_bed, write_bed_line};
 use contactmap::io::cool::{write_cool, CoolWriteOptions};
 use contactmap::io::InMemory;
-use contactmap::matrix::{CountType, MatrixBuilder};
-use contactmap::sim::ensemble::{run_ensemble, Ensemble, EnsembleParams, ExtrusionCoupling};
-use contactmap::sim::extrusion::{BoundaryElement, ExtrusionParams, Orientation};
+use contactmap::sim::ensemble::{run_ensemble, EnsembleParams, ExtrusionCoupling};
+use contactmap::sim::extrusion::ExtrusionParams;
+use contactmap::sim::files::{
+    boundary_elements_from_bed, boundary_elements_from_list, parse_type_pattern,
+};
 use contactmap::sim::gpu::{run_ensemble_gpu, Gpu};
 use contactmap::sim::polymer::{
     box_side, chain_ranges, sphere_radius, Attraction, BondModel, Confinement, PolymerParams,
@@ -262,118 +262,6 @@ pub struct PolymerArgs {
     pub device: DeviceArg,
 }
 
-/// Parse a type pattern such as `A200B200` or `AABB` into one type per bead of a period, and
-/// the letter of each type.
-fn parse_types(pattern: &str) -> Result<(Vec<u8>, Vec<u8>)> {
-    let bad = || {
-        Error::Invalid(format!(
-            "bad --types '{pattern}' (expected letters with optional run lengths, e.g. A200B200)"
-        ))
-    };
-    let mut types = Vec::new();
-    let mut letters: Vec<u8> = Vec::new();
-    let mut chars = pattern.trim().chars().peekable();
-    while let Some(c) = chars.next() {
-        if !c.is_ascii_alphabetic() {
-            return Err(bad());
-        }
-        let mut digits = String::new();
-        while let Some(d) = chars.peek().filter(|d| d.is_ascii_digit()) {
-            digits.push(*d);
-            chars.next();
-        }
-        let count: usize = if digits.is_empty() {
-            1
-        } else {
-            digits.parse().map_err(|_| bad())?
-        };
-        let upper = c.to_ascii_uppercase() as u8;
-        let id = match letters.iter().position(|&l| l == upper) {
-            Some(id) => id,
-            None => {
-                letters.push(upper);
-                letters.len() - 1
-            }
-        } as u8;
-        types.extend(std::iter::repeat_n(id, count));
-    }
-    if types.is_empty() {
-        return Err(bad());
-    }
-    Ok((types, letters))
-}
-
-/// Boundary elements from a BED file or a position list (see `--ctcf`).
-fn parse_ctcf(
-    text: &str,
-    chains: &[usize],
-    monomer_bp: u64,
-    capture: f64,
-    release: f64,
-) -> Result<Vec<BoundaryElement>> {
-    let element = |position: usize, orientation: Orientation| BoundaryElement {
-        position,
-        orientation,
-        capture,
-        release,
-    };
-    let orientation = |strand: Option<char>| match strand {
-        Some('+') => Orientation::Forward,
-        Some('-') => Orientation::Reverse,
-        _ => Orientation::Both,
-    };
-    let path = Path::new(text);
-    if path.exists() {
-        let mut elements = Vec::new();
-        for record in read_bed(path)? {
-            let chain = record
-                .chrom
-                .strip_prefix("chr")
-                .and_then(|k| k.parse::<usize>().ok())
-                .filter(|&k| k >= 1 && k <= chains.len())
-                .ok_or_else(|| {
-                    Error::Invalid(format!(
-                        "{}: chromosome '{}' is not one of the simulated chains chr1..chr{}",
-                        path.display(),
-                        record.chrom,
-                        chains.len()
-                    ))
-                })?;
-            let offset = chain_ranges(chains)[chain - 1].start;
-            let bead = (record.start / monomer_bp) as usize;
-            if bead >= chains[chain - 1] {
-                return Err(Error::Invalid(format!(
-                    "{}: boundary element at {}:{} is beyond the chain ({} bp)",
-                    path.display(),
-                    record.chrom,
-                    record.start,
-                    chains[chain - 1] as u64 * monomer_bp
-                )));
-            }
-            elements.push(element(offset + bead, orientation(record.strand)));
-        }
-        return Ok(elements);
-    }
-    text.split(',')
-        .filter(|token| !token.trim().is_empty())
-        .map(|token| {
-            let token = token.trim();
-            let (number, strand) = match token.chars().last() {
-                Some(c @ ('+' | '-')) => (&token[..token.len() - 1], Some(c)),
-                Some('.') => (&token[..token.len() - 1], None),
-                _ => (token, None),
-            };
-            let position: usize = number.parse().map_err(|_| {
-                Error::Invalid(format!(
-                    "bad --ctcf element '{token}' (expected a bead index with an optional + or \
-                     -, or an existing BED file)"
-                ))
-            })?;
-            Ok(element(position, orientation(strand)))
-        })
-        .collect()
-}
-
 impl PolymerArgs {
     /// The library's parameters, checked before any work.
     pub fn params(&self) -> Result<EnsembleParams> {
@@ -445,7 +333,7 @@ impl PolymerArgs {
         let attraction = match &self.types {
             None => None,
             Some(pattern) => {
-                let (period, _) = parse_types(pattern)?;
+                let (period, _) = parse_type_pattern(pattern)?;
                 let types = self
                     .chains
                     .iter()
@@ -472,13 +360,14 @@ impl PolymerArgs {
         let extrusion = if self.extrusion {
             let chains = chain_ranges(&self.chains);
             let elements = match &self.ctcf {
-                Some(text) => parse_ctcf(
-                    text,
+                Some(text) if Path::new(text).exists() => boundary_elements_from_bed(
+                    Path::new(text),
                     &self.chains,
                     self.monomer_bp,
                     self.capture,
                     self.release,
                 )?,
+                Some(text) => boundary_elements_from_list(text, self.capture, self.release)?,
                 None => Vec::new(),
             };
             Some(ExtrusionCoupling {
@@ -571,17 +460,6 @@ fn check_density(density: f64) -> Result<()> {
     }
 }
 
-/// The bin table: one chromosome per chain.
-fn bin_table(args: &PolymerArgs) -> Result<BinTable> {
-    let chroms = args
-        .chains
-        .iter()
-        .enumerate()
-        .map(|(k, &length)| Chrom::new(format!("chr{}", k + 1), length as u64 * args.monomer_bp))
-        .collect();
-    BinTable::fixed(chroms, args.monomers_per_bin as u64 * args.monomer_bp)
-}
-
 /// Run `contactmap simulate polymer`.
 pub fn run(args: &PolymerArgs) -> Result<()> {
     super::check_cool_output(&args.output)?;
@@ -601,7 +479,7 @@ pub fn run(args: &PolymerArgs) -> Result<()> {
         ],
     )?;
     let params = args.params()?;
-    let bins = bin_table(args)?;
+    let bins = params.bin_table(args.monomer_bp)?;
     let bar = if std::io::stderr().is_terminal() {
         let bar = indicatif::ProgressBar::new(params.replicas as u64);
         bar.set_message("simulating replicas");
@@ -644,161 +522,43 @@ pub fn run(args: &PolymerArgs) -> Result<()> {
         None => simulate()?,
     };
     bar.finish_and_clear();
-    let mut builder = MatrixBuilder::new(bins.clone(), CountType::Integer);
-    for &(bin1, bin2, count) in &ensemble.pixels {
-        builder.push(bin1 as u64, bin2 as u64, count as f64)?;
-    }
-    let reader = InMemory::new("simulate polymer".into(), builder.build());
+    let reader = InMemory::new("simulate polymer".into(), ensemble.matrix(bins.clone())?);
     write_cool(&reader, &args.output, &CoolWriteOptions::default())?;
-    write_truth(args, &params, &bins)?;
-    if let Some(path) = &args.conformations {
-        write_conformations(path, &params, &ensemble)?;
-    }
-    let relaxation = Relaxation::new(&params.polymer);
-    if let Some(path) = &args.stats {
-        let mut out = Output::open(Some(path))?;
-        let mut text =
-            b"replica\tsample\tchain\tradius_of_gyration\ttime\trelaxed_separation\n".to_vec();
-        for (index, radii) in ensemble.radii_of_gyration.iter().enumerate() {
-            let sample = index % params.samples;
-            let time = sample_time(&params, sample);
-            for (chain, &rg) in radii.iter().enumerate() {
-                text.extend_from_slice(
-                    format!("{}\t{sample}\t{}\t", index / params.samples, chain + 1).as_bytes(),
-                );
-                write_real(&mut text, rg);
-                text.push(b'\t');
-                write_real(&mut text, time);
-                text.push(b'\t');
-                let relaxed = relaxation
-                    .relaxed_separation(time)
-                    .min(params.polymer.chains[chain] as f64);
-                write_real(&mut text, (relaxed * 10.0).round() / 10.0);
-                text.push(b'\n');
-            }
-        }
-        out.write_all(&text)?;
-        out.finish()?;
-    }
-    relaxation_notes(&params, &relaxation).print();
-    Ok(())
-}
-
-/// The simulated time of sample `k` (0-based) of every replica: equilibration, then `k + 1`
-/// intervals.
-fn sample_time(params: &EnsembleParams, k: usize) -> f64 {
-    (params.equilibration_steps + (k + 1) * params.sample_every) as f64 * params.polymer.dt
-}
-
-/// How far the run relaxed (a note), and a warning when the chains were sampled before they
-/// relaxed ([`contactmap::sim::relaxation`]).
-fn relaxation_notes(params: &EnsembleParams, relaxation: &Relaxation) -> Warnings {
-    let mut notes = Warnings::new();
-    let longest = params.polymer.chains.iter().copied().max().unwrap_or(0);
-    let dt = params.polymer.dt;
-    let rouse_steps = relaxation.rouse_time(longest) / dt;
-    let relaxed = |time: f64| relaxation.relaxed_separation(time).min(longest as f64);
-    let first = relaxed(sample_time(params, 0));
-    let last = relaxed(sample_time(params, params.samples - 1));
-    let independent = relaxed(params.sample_every as f64 * dt);
-    notes.note(format!(
-        "relaxed over separations up to s* = {first:.0} beads at the first \
-         sample, {last:.0} at the last; samples independent up to {independent:.0} beads apart \
-         (Rouse estimates: the {longest}-bead chain's Rouse time is {rouse_steps:.0} steps)"
-    ));
-    if first < longest as f64 {
-        notes.push(format!(
-            "the chains were sampled before they relaxed: after {} equilibration steps ({:.2} \
-             Rouse times) only segments up to {first:.0} of {longest} beads had reached \
-             equilibrium from the random-walk start, so contacts farther apart are not at \
-             equilibrium; --equilibration auto relaxes the whole chain (3 Rouse times, {:.0} \
-             steps); docs/simulation.md says what to pick for a map",
-            params.equilibration_steps,
-            params.equilibration_steps as f64 / rouse_steps,
-            (3.0 * rouse_steps).ceil()
-        ));
-    }
-    notes
-}
-
-/// The boundary-element bins and the domains between them, as BED.
-fn write_truth(args: &PolymerArgs, params: &EnsembleParams, bins: &BinTable) -> Result<()> {
     if let Some(path) = &args.truth_boundaries {
-        let (bead_bin, _) = params.bins();
-        let mut element_bins: Vec<usize> = params
-            .boundary_beads()
-            .into_iter()
-            .map(|bead| bead_bin[bead] as usize)
-            .collect();
-        element_bins.dedup();
-        let rows = element_bins
-            .into_iter()
-            .map(|bin| (bin, bin + 1, Vec::new()));
-        super::write_bins_bed(path, bins, rows)?;
+        write_text_file(path, &params.truth_boundaries_bed(&bins))?;
     }
     if let (Some(path), Some(pattern)) = (&args.truth_compartments, &args.types) {
-        let (_, letters) = parse_types(pattern)?;
-        let counts = params
-            .bin_type_counts(letters.len())
+        let (_, letters) = parse_type_pattern(pattern)?;
+        let text = params
+            .truth_compartments_bed(&bins, &letters)
             .expect("--types sets the bead types");
-        let a = letters.iter().position(|&l| l == b'A');
-        let rows = counts.iter().enumerate().map(|(bin, c)| {
-            let total: usize = c.iter().sum();
-            // the majority type; a tie goes to the type met first in the pattern
-            let best = (0..c.len()).fold(0, |best, t| if c[t] > c[best] { t } else { best });
-            let fraction_a = a.map_or(0.0, |a| c[a] as f64 / total.max(1) as f64);
-            (
-                bin,
-                bin + 1,
-                vec![(letters[best] as char).to_string(), format!("{fraction_a}")],
-            )
-        });
-        super::write_bins_bed(path, bins, rows)?;
+        write_text_file(path, &text)?;
     }
     if let Some(path) = &args.truth_domains {
+        write_text_file(path, &params.truth_domains_bed(&bins, args.monomer_bp))?;
+    }
+    if let Some(path) = &args.conformations {
         let mut out = Output::open(Some(path))?;
-        let mut line = Vec::new();
-        for (chain, beads) in params.true_domains() {
-            line.clear();
-            write_bed_line(
-                &mut line,
-                &bins.chroms()[chain].name,
-                beads.start as u64 * args.monomer_bp,
-                beads.end as u64 * args.monomer_bp,
-                &[],
-            )
-            .map_err(|e| Error::io(path, e))?;
-            out.write_all(&line)?;
-        }
+        ensemble.write_conformations(&params, |bytes| out.write_all(bytes))?;
         out.finish()?;
     }
+    if let Some(path) = &args.stats {
+        write_text_file(path, &ensemble.stats_tsv(&params))?;
+    }
+    let report = params.relaxation_report();
+    let mut notes = Warnings::new();
+    notes.note(report.note);
+    if let Some(warning) = report.warning {
+        notes.push(warning);
+    }
+    notes.print();
     Ok(())
 }
 
-fn write_conformations(path: &Path, params: &EnsembleParams, ensemble: &Ensemble) -> Result<()> {
+/// Write `text` to `path` whole.
+fn write_text_file(path: &Path, text: &[u8]) -> Result<()> {
     let mut out = Output::open(Some(path))?;
-    out.write_all(b"replica\tsample\tchain\tbead\tx\ty\tz\n")?;
-    let mut text = Vec::new();
-    for (index, positions) in ensemble.conformations.iter().enumerate() {
-        for (chain, range) in params.polymer.chain_ranges().into_iter().enumerate() {
-            for (k, p) in positions[range].iter().enumerate() {
-                text.clear();
-                text.extend_from_slice(
-                    format!(
-                        "{}\t{}\t{}\t{k}\t{:.4}\t{:.4}\t{:.4}\n",
-                        index / params.samples,
-                        index % params.samples,
-                        chain + 1,
-                        p[0],
-                        p[1],
-                        p[2]
-                    )
-                    .as_bytes(),
-                );
-                out.write_all(&text)?;
-            }
-        }
-    }
+    out.write_all(text)?;
     out.finish()
 }
 
@@ -819,41 +579,6 @@ mod tests {
                 .to_string();
             assert!(error.starts_with("--x '"), "{bad}: {error}");
         }
-    }
-
-    #[test]
-    fn type_patterns() {
-        assert_eq!(
-            parse_types("A2B3").unwrap(),
-            (vec![0, 0, 1, 1, 1], b"AB".to_vec())
-        );
-        assert_eq!(parse_types("ABBA").unwrap().0, vec![0, 1, 1, 0]);
-        assert_eq!(
-            parse_types("b3a1").unwrap(),
-            (vec![0, 0, 0, 1], b"BA".to_vec())
-        );
-        for bad in ["", "2A", "A-1", "A B"] {
-            assert!(parse_types(bad).is_err(), "{bad}");
-        }
-    }
-
-    #[test]
-    fn ctcf_lists() {
-        let elements = parse_ctcf("10+,20-,30,40.", &[50], 1000, 0.9, 0.01).unwrap();
-        let summary: Vec<(usize, Orientation)> = elements
-            .iter()
-            .map(|e| (e.position, e.orientation))
-            .collect();
-        assert_eq!(
-            summary,
-            vec![
-                (10, Orientation::Forward),
-                (20, Orientation::Reverse),
-                (30, Orientation::Both),
-                (40, Orientation::Both)
-            ]
-        );
-        assert!(parse_ctcf("x+", &[50], 1000, 0.9, 0.01).is_err());
     }
 
     #[derive(clap::Parser)]

@@ -1,0 +1,114 @@
+//! The eigenvector outputs as `cooltools eigs-cis` / `eigs-trans` write them: the `.vecs.tsv`
+//! table (the bins, the map's weight columns, then `E1..En`) and the `.lam.txt` eigenvalues.
+
+use std::ops::Range;
+
+use super::cis::RegionEigs;
+use crate::error::Result;
+use crate::expected::View;
+use crate::genome::BinTable;
+use crate::io::tables::{write_real, write_u64};
+
+/// The `.vecs.tsv` table of `regions` (bin range, its eigenvectors): `chrom start end`, the
+/// `columns` (cooltools writes every weight column of the cooler, sorted by name), then
+/// `E1..E{n_eigs}`, one line per bin. The text goes to `write` in pieces of about 1 MiB, so a
+/// genome-wide table at high resolution is never whole in memory.
+///
+/// # Examples
+///
+/// ```
+/// use contactmap::compartments::cis::RegionEigs;
+/// use contactmap::compartments::tables::eigenvector_table;
+/// use contactmap::genome::{BinTable, Chrom};
+///
+/// let bins = BinTable::fixed(vec![Chrom::new("chr1", 200)], 100)?;
+/// let eigs = RegionEigs { values: vec![2.0], vectors: vec![vec![0.5, -0.5]], unconverged: 0 };
+/// let weight = ("weight".to_string(), vec![1.0, f64::NAN]);
+/// let mut text = Vec::new();
+/// eigenvector_table(&bins, &[weight], &[(0..2, &eigs)], 1, |bytes| {
+///     text.extend_from_slice(bytes);
+///     Ok(())
+/// })?;
+/// assert_eq!(text, b"chrom\tstart\tend\tweight\tE1\nchr1\t0\t100\t1\t0.5\nchr1\t100\t200\tnan\t-0.5\n");
+/// # Ok::<(), contactmap::Error>(())
+/// ```
+pub fn eigenvector_table(
+    bins: &BinTable,
+    columns: &[(String, Vec<f64>)],
+    regions: &[(Range<usize>, &RegionEigs)],
+    n_eigs: usize,
+    mut write: impl FnMut(&[u8]) -> Result<()>,
+) -> Result<()> {
+    let mut first: Vec<&str> = vec!["chrom", "start", "end"];
+    first.extend(columns.iter().map(|(name, _)| name.as_str()));
+    let mut bytes = header_line(&first, "E", n_eigs).into_bytes();
+    for (range, eigs) in regions {
+        for bin in range.clone() {
+            let b = bins.bin(bin);
+            bytes.extend_from_slice(bins.chroms()[b.chrom_id].name.as_bytes());
+            bytes.push(b'\t');
+            write_u64(&mut bytes, b.start);
+            bytes.push(b'\t');
+            write_u64(&mut bytes, b.end);
+            for (_, values) in columns {
+                bytes.push(b'\t');
+                write_real(&mut bytes, values[bin]);
+            }
+            for vector in &eigs.vectors {
+                bytes.push(b'\t');
+                write_real(&mut bytes, vector[bin - range.start]);
+            }
+            bytes.push(b'\n');
+        }
+        if bytes.len() > 1 << 20 {
+            write(&bytes)?;
+            bytes.clear();
+        }
+    }
+    write(&bytes)
+}
+
+/// The `.cis.lam.txt` table: `chrom start end name eigval1..eigvalN`, one line per region of
+/// `view`, whose eigenpairs `results` holds in view order.
+pub fn cis_eigenvalue_table(
+    bins: &BinTable,
+    view: &View,
+    results: &[RegionEigs],
+    n_eigs: usize,
+) -> String {
+    let mut lam = header_line(&["chrom", "start", "end", "name"], "eigval", n_eigs);
+    for (region, eigs) in view.regions().iter().zip(results) {
+        let fields = [
+            bins.chroms()[region.chrom_id].name.clone(),
+            region.start_bp.to_string(),
+            region.end_bp.to_string(),
+            region.name.clone(),
+        ];
+        lam.push_str(&tab_line(&fields, &eigs.values));
+    }
+    lam
+}
+
+/// The `.trans.lam.txt` table: a header `eigval1..eigvalN` and one line of eigenvalues.
+pub fn trans_eigenvalue_table(eigs: &RegionEigs, n_eigs: usize) -> String {
+    header_line(&[], "eigval", n_eigs) + &tab_line(&[], &eigs.values)
+}
+
+fn header_line(first: &[&str], stem: &str, n: usize) -> String {
+    let mut line: Vec<String> = first.iter().map(|s| s.to_string()).collect();
+    line.extend((1..=n).map(|k| format!("{stem}{k}")));
+    line.join("\t") + "\n"
+}
+
+/// `fields` then `values`, tab-separated, with a newline.
+fn tab_line(fields: &[String], values: &[f64]) -> String {
+    let mut bytes = fields.join("\t").into_bytes();
+    for (k, &v) in values.iter().enumerate() {
+        if k > 0 || !fields.is_empty() {
+            bytes.push(b'\t');
+        }
+        write_real(&mut bytes, v);
+    }
+    bytes.push(b'\n');
+    String::from_utf8(bytes).expect("utf-8 fields")
+}
