@@ -73,6 +73,7 @@
 
 mod kr;
 mod scale;
+pub mod store;
 
 use crate::error::{Error, Result};
 use crate::genome::BinTable;
@@ -156,6 +157,17 @@ pub enum Scope {
     Trans,
 }
 
+impl Scope {
+    /// `genome-wide`, `cis-only` or `trans-only`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Scope::GenomeWide => "genome-wide",
+            Scope::Cis => "cis-only",
+            Scope::Trans => "trans-only",
+        }
+    }
+}
+
 /// Balancing parameters. [`Default`] gives `cooler balance`'s defaults (ICE).
 #[derive(Clone, Debug, PartialEq)]
 pub struct BalanceParams {
@@ -182,6 +194,48 @@ pub struct BalanceParams {
     pub max_iters: usize,
     /// ICE: divide the weights by `sqrt(scale)` so that balanced rows sum to 1 (cooler default).
     pub rescale_marginals: bool,
+}
+
+impl BalanceParams {
+    /// Check the values: `tol` a positive number, `max_iters` at least 1, `mad_max` a number
+    /// `>= 0`, `min_count` a finite number. [`balance`] checks them first.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use contactmap::balance::BalanceParams;
+    ///
+    /// assert!(BalanceParams::default().check().is_ok());
+    /// let bad = BalanceParams { tol: 0.0, ..BalanceParams::default() };
+    /// assert_eq!(bad.check().unwrap_err().to_string(), "tol 0: expected a positive number");
+    /// ```
+    pub fn check(&self) -> Result<()> {
+        if !(self.tol.is_finite() && self.tol > 0.0) {
+            return Err(Error::parameter(
+                "tol",
+                self.tol,
+                "expected a positive number",
+            ));
+        }
+        if self.max_iters == 0 {
+            return Err(Error::parameter("max_iters", 0, "expected at least 1"));
+        }
+        if !(self.mad_max.is_finite() && self.mad_max >= 0.0) {
+            return Err(Error::parameter(
+                "mad_max",
+                self.mad_max,
+                "expected a number >= 0 (0: no MAD filter)",
+            ));
+        }
+        if !self.min_count.is_finite() {
+            return Err(Error::parameter(
+                "min_count",
+                self.min_count,
+                "expected a finite number",
+            ));
+        }
+        Ok(())
+    }
 }
 
 impl Default for BalanceParams {
@@ -234,27 +288,8 @@ impl BalanceParams {
         }
     }
 
-    fn check(&self, bins: &BinTable) -> Result<()> {
-        if !(self.tol.is_finite() && self.tol > 0.0) {
-            return Err(Error::Invalid(format!(
-                "the tolerance must be a positive number (got {})",
-                self.tol
-            )));
-        }
-        if self.max_iters == 0 {
-            return Err(Error::Invalid(
-                "the iteration limit must be at least 1".into(),
-            ));
-        }
-        if !(self.mad_max.is_finite() && self.mad_max >= 0.0) {
-            return Err(Error::Invalid(format!(
-                "mad_max must be a non-negative number (got {})",
-                self.mad_max
-            )));
-        }
-        if !self.min_count.is_finite() {
-            return Err(Error::Invalid("min_count must be a finite number".into()));
-        }
+    /// The checks that need the bins: blacklisted bins in range, 32-bit bin ids.
+    fn check_bins(&self, bins: &BinTable) -> Result<()> {
         if let Some(&bad) = self.blacklist.iter().find(|&&b| b >= bins.n_bins()) {
             return Err(Error::Invalid(format!(
                 "blacklisted bin {bad} is out of range ({} bins)",
@@ -340,8 +375,9 @@ impl BalanceResult {
 /// One pass over the pixels per ICE iteration or KR matrix-vector product, plus one or two for the
 /// filters. Fails only on bad parameters or when the source fails to produce its pixels.
 pub fn balance(source: &impl PixelSource, params: &BalanceParams) -> Result<BalanceResult> {
+    params.check()?;
     let bins = source.bins();
-    params.check(bins)?;
+    params.check_bins(bins)?;
     let layout = Layout::new(bins, params.scope);
     let masked = prefilter(source, params, &layout)?;
     match params.method {

@@ -25,7 +25,6 @@ pub mod simulate;
 pub mod tads;
 pub mod validate;
 pub mod warnings;
-pub mod weights;
 pub mod zoomify;
 
 use std::path::PathBuf;

@@ -82,6 +82,31 @@ pub struct CisParams {
     pub smooth_sigma_log10: f64,
 }
 
+impl CisParams {
+    /// Check the values: with smoothing, `smooth_sigma_log10` a positive number.
+    /// [`expected_cis`] checks them first.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use contactmap::expected::CisParams;
+    ///
+    /// assert!(CisParams::default().check().is_ok());
+    /// let bad = CisParams { smooth_sigma_log10: -1.0, ..CisParams::default() };
+    /// assert!(bad.check().unwrap_err().to_string().starts_with("smooth_sigma_log10 -1"));
+    /// ```
+    pub fn check(&self) -> Result<()> {
+        if self.smooth && !(self.smooth_sigma_log10.is_finite() && self.smooth_sigma_log10 > 0.0) {
+            return Err(Error::parameter(
+                "smooth_sigma_log10",
+                self.smooth_sigma_log10,
+                "expected a positive number (the kernel's width in log10 distance)",
+            ));
+        }
+        Ok(())
+    }
+}
+
 impl Default for CisParams {
     fn default() -> Self {
         CisParams {
@@ -323,6 +348,7 @@ pub fn expected_cis<S: PixelSource>(
     view: &View,
     params: &CisParams,
 ) -> Result<CisExpected> {
+    params.check()?;
     check_inputs(pixels, weights, view)?;
     let bins = pixels.bins();
     let bin_size = bins.bin_size_bp().ok_or_else(|| {

@@ -24,6 +24,7 @@ pub mod fasta;
 pub mod hdf5_guard;
 pub mod hic;
 pub mod hicexplorer;
+pub mod info;
 pub mod merged;
 pub mod output;
 pub mod predictions;

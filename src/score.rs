@@ -19,8 +19,10 @@
 pub mod boundaries;
 pub mod compartments;
 pub mod contacts;
+pub mod lists;
 pub mod overlap;
 pub mod register;
+pub mod target;
 
 pub use boundaries::{domain_overlap, score_boundaries, BoundaryMatch, DomainOverlap};
 

@@ -7,12 +7,12 @@ use clap::{Args, ValueEnum};
 
 use crate::cli::input::open_for_analysis;
 use crate::cli::output::{is_stdout, print_json, refuse_overwrites, uri_file, Output};
-use crate::cli::weights::stored_attributes;
 use crate::cli::InputArgs;
-use contactmap::balance::{balance, BalanceParams, BalanceResult, Method, Scope};
+use contactmap::balance::store::{balance_reader, store_balanced, weights_table, Balanced};
+use contactmap::balance::{BalanceParams, BalanceResult, Method, Scope};
 use contactmap::error::{Error, Result};
 use contactmap::genome::BinTable;
-use contactmap::io::cool::store::{check_target, store_weights};
+use contactmap::io::cool::store::check_target;
 use contactmap::io::{self, default_memory_budget, parse_memory_size, FileKind, WriteLock};
 use contactmap::matrix::Weights;
 
@@ -200,24 +200,19 @@ pub fn run(args: &BalanceArgs) -> Result<()> {
         None
     };
     // The reader (and the pixels borrowing it) is closed before --store opens the file to write.
-    let (result, bins, params_used, reader_warnings, disconnected) = {
+    let (
+        Balanced {
+            result,
+            disconnected,
+        },
+        bins,
+        params_used,
+        reader_warnings,
+    ) = {
         let reader = open_for_analysis(&args.uri, &args.input)?;
         let params = params(args, reader.bins())?;
-        let pixels = io::load_pixels_for_balancing(reader.as_ref(), budget)?;
-        let result = balance(&pixels, &params)?;
-        // Genome-wide balancing of chromosomes that share no contact cannot converge: their
-        // scales are independent. Looked for only when it failed.
-        let disconnected = !result.converged
-            && params.scope == Scope::GenomeWide
-            && reader.bins().chroms().len() > 1
-            && !has_trans_pixels(reader.as_ref())?;
-        (
-            result,
-            reader.bins().clone(),
-            params,
-            reader.warnings(),
-            disconnected,
-        )
+        let balanced = balance_reader(reader.as_ref(), &params, budget)?;
+        (balanced, reader.bins().clone(), params, reader.warnings())
     };
     if !result.converged {
         let message = format!(
@@ -225,7 +220,7 @@ pub fn run(args: &BalanceArgs) -> Result<()> {
             args.uri,
             params_used.method.name(),
             params_used.max_iters,
-            unconverged_detail(&result, &bins, params_used.tol)
+            result.unconverged_detail(&bins, params_used.tol)
         );
         let advice = if disconnected {
             "the map has no trans (inter-chromosomal) contacts, so genome-wide balancing cannot \
@@ -243,20 +238,17 @@ pub fn run(args: &BalanceArgs) -> Result<()> {
             "contactmap: WARNING: {message}; {what} the unconverged weights anyway ({advice})"
         );
     }
-    let weights = Weights {
-        name: args.name.clone(),
-        values: result.weights.clone(),
-        provenance: None,
-    };
     if args.store {
-        store_weights(
-            &args.uri,
-            &weights,
-            &stored_attributes(&params_used, &result),
-            args.force,
-        )?;
+        store_balanced(&args.uri, &args.name, &params_used, &result, args.force)?;
     } else {
-        write_table(&bins, &weights, args.out.as_deref())?;
+        let weights = Weights {
+            name: args.name.clone(),
+            values: result.weights.clone(),
+            provenance: None,
+        };
+        let mut out = Output::open(args.out.as_deref())?;
+        weights_table(&bins, &weights, |bytes| out.write_all(bytes))?;
+        out.finish()?;
     }
     if args.json {
         print_json(&summary_json(&args.uri, &params_used, &result, &bins))?;
@@ -323,82 +315,6 @@ fn params(args: &BalanceArgs, bins: &BinTable) -> Result<BalanceParams> {
     Ok(params)
 }
 
-/// Which groups did not converge, for the error message.
-/// Whether any stored pixel joins two chromosomes (the read stops at the first).
-fn has_trans_pixels(reader: &dyn contactmap::io::MatrixReader) -> Result<bool> {
-    let bins = reader.bins();
-    let n = bins.n_bins();
-    let mut found = false;
-    for chrom in 0..bins.chroms().len() {
-        let rows = bins.chrom_bins(chrom);
-        let later = rows.end..n;
-        if later.is_empty() {
-            break;
-        }
-        let read = reader.read_pixels(rows, later, &mut |block| {
-            found = !block.is_empty();
-            if found {
-                // Stop the stream: one pixel is enough.
-                Err(Error::Invalid(String::new()))
-            } else {
-                Ok(())
-            }
-        });
-        match read {
-            _ if found => return Ok(true),
-            Err(error) => return Err(error),
-            Ok(()) => {}
-        }
-    }
-    Ok(false)
-}
-
-fn unconverged_detail(result: &BalanceResult, bins: &BinTable, tol: f64) -> String {
-    match &result.per_chrom {
-        Some(per_chrom) => {
-            let names: Vec<String> = per_chrom
-                .iter()
-                .zip(bins.chroms())
-                .filter(|(g, _)| !g.converged)
-                .map(|(g, c)| format!("{} var={:e}", c.name, g.var))
-                .collect();
-            format!("tol={tol:e}; not converged: {}", names.join(", "))
-        }
-        None => format!("var={:e}, tol={tol:e}", result.var),
-    }
-}
-
-/// Write `chrom start end NAME` with a header line.
-fn write_table(bins: &BinTable, weights: &Weights, path: Option<&Path>) -> Result<()> {
-    let mut out = Output::open(path)?;
-    let mut text = Vec::with_capacity(1 << 20);
-    text.extend_from_slice(format!("chrom\tstart\tend\t{}\n", weights.name).as_bytes());
-    for (bin_id, &w) in weights.values.iter().enumerate() {
-        let bin = bins.bin(bin_id);
-        let name = &bins.chroms()[bin.chrom_id].name;
-        let value = if w.is_nan() {
-            "nan".to_string()
-        } else {
-            format!("{w:?}")
-        };
-        text.extend_from_slice(format!("{name}\t{}\t{}\t{value}\n", bin.start, bin.end).as_bytes());
-        if text.len() > (1 << 20) {
-            out.write_all(&text)?;
-            text.clear();
-        }
-    }
-    out.write_all(&text)?;
-    out.finish()
-}
-
-fn scope_name(scope: Scope) -> &'static str {
-    match scope {
-        Scope::GenomeWide => "genome-wide",
-        Scope::Cis => "cis-only",
-        Scope::Trans => "trans-only",
-    }
-}
-
 /// The summary as JSON (`--json`).
 fn summary_json(
     uri: &str,
@@ -410,7 +326,7 @@ fn summary_json(
     let mut value = serde_json::json!({
         "uri": uri,
         "method": params.method.name(),
-        "scope": scope_name(params.scope),
+        "scope": params.scope.name(),
         "converged": result.converged,
         "n_iterations": result.n_iterations,
         "masked_bins": result.n_masked(),
@@ -438,7 +354,7 @@ fn summary_json(
 
 /// The summary printed on standard error.
 fn summary(params: &BalanceParams, result: &BalanceResult, bins: &BinTable) -> String {
-    let scope = scope_name(params.scope);
+    let scope = params.scope.name();
     let mut text = format!(
         "# method={} scope={scope} converged={} n_iterations={} masked_bins={}/{}",
         params.method.name(),

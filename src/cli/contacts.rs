@@ -8,12 +8,13 @@ use clap::Args;
 
 use crate::cli::output::refuse_overwrites;
 use crate::cli::output::Output;
-use crate::cli::protein::{measure, place_chain, read_chain, DefinitionArgs, RegisterArg};
+use crate::cli::protein::{DefinitionArgs, RegisterArg};
 use contactmap::error::Result;
 use contactmap::io::predictions::read_fasta;
 use contactmap::io::structure::Chain;
 use contactmap::io::tables::write_real;
 use contactmap::score::contacts::SeparationRange;
+use contactmap::score::target::{measure, place_chain, read_chain};
 
 /// Arguments of `contactmap contacts`.
 #[derive(Debug, Args)]
@@ -105,12 +106,12 @@ pub fn run(args: &ContactsArgs) -> Result<()> {
         &args.structure,
         &original,
         sequence.as_deref(),
-        args.register,
+        args.register.into(),
     )?;
     if let Some(register) = &register {
         eprintln!("{}", register.describe(&original));
     }
-    let truth = measure(&args.structure, &chain, &args.definition)?;
+    let truth = measure(&args.structure, &chain, &args.definition.definition())?;
     let mut text = Vec::new();
     let mut notes = crate::cli::warnings::Warnings::new();
     if args.matrix {

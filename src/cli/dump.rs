@@ -3,16 +3,13 @@
 use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
-use rayon::prelude::*;
 
 use crate::cli::output::{refuse_overwrites, uri_file};
-use crate::cli::output::{write_count, FloatFormat, Output};
+use crate::cli::output::{FloatFormat, Output};
 use crate::cli::InputArgs;
 use contactmap::error::Result;
-use contactmap::genome::BinTable;
-use contactmap::io::tables::write_u64;
-use contactmap::io::{self, MatrixReader};
-use contactmap::matrix::{CountType, PixelBlock};
+use contactmap::io;
+use contactmap::io::text::dump::{dump_bins, dump_chroms, dump_pixels, DumpOptions};
 
 /// Which table to print.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -88,180 +85,48 @@ pub fn run(args: &DumpArgs) -> Result<()> {
         .collect();
     refuse_overwrites(&inputs, &[args.out.as_deref()])?;
     let reader = io::open_matrix(&args.uri, &args.input.to_options()?)?;
-    let mut out = Output::open(args.out.as_deref())?;
-    match args.table {
-        Table::Chroms => dump_chroms(reader.bins(), args, &mut out)?,
-        Table::Bins => dump_bins(reader.as_ref(), args, &mut out)?,
-        Table::Pixels => dump_pixels(reader.as_ref(), args, &mut out)?,
-    }
-    out.finish()?;
-    super::warnings::print_reader_warnings(reader.warnings());
-    Ok(())
-}
-
-fn dump_chroms(bins: &BinTable, args: &DumpArgs, out: &mut Output) -> Result<()> {
-    let mut text = Vec::new();
-    if args.header {
-        text.extend_from_slice(b"name\tlength\n");
-    }
-    for chrom in bins.chroms() {
-        text.extend_from_slice(chrom.name.as_bytes());
-        text.push(b'\t');
-        write_u64(&mut text, chrom.length_bp);
-        text.push(b'\n');
-    }
-    out.write_all(&text)
-}
-
-fn dump_bins(reader: &dyn MatrixReader, args: &DumpArgs, out: &mut Output) -> Result<()> {
     let bins = reader.bins();
-    let weights = reader
-        .weight_names()
-        .iter()
-        .map(|name| reader.stored_weights(name))
-        .collect::<Result<Vec<_>>>()?;
-    let range = match &args.region {
-        Some(region) => bins.parse_region_bins(region)?,
-        None => 0..bins.n_bins(),
+    let rows = || match &args.region {
+        Some(region) => bins.parse_region_bins(region),
+        None => Ok(0..bins.n_bins()),
     };
-    let mut text = Vec::with_capacity(1 << 20);
-    if args.header {
-        text.extend_from_slice(b"chrom\tstart\tend");
-        for w in &weights {
-            text.push(b'\t');
-            text.extend_from_slice(w.name.as_bytes());
-        }
-        text.push(b'\n');
-    }
-    for bin_id in range {
-        let bin = bins.bin(bin_id);
-        text.extend_from_slice(bins.chroms()[bin.chrom_id].name.as_bytes());
-        text.push(b'\t');
-        write_u64(&mut text, bin.start);
-        text.push(b'\t');
-        write_u64(&mut text, bin.end);
-        for w in &weights {
-            text.push(b'\t');
-            write_real(&mut text, w.values[bin_id], args);
-        }
-        text.push(b'\n');
-        if text.len() > (1 << 20) {
-            out.write_all(&text)?;
-            text.clear();
-        }
-    }
-    out.write_all(&text)
-}
-
-fn write_real(text: &mut Vec<u8>, value: f64, args: &DumpArgs) {
-    if value.is_nan() {
-        text.extend_from_slice(args.na_rep.as_bytes());
-    } else {
-        args.float_format.write(value, text);
-    }
-}
-
-/// Pixels formatted per parallel task.
-const FORMAT_TASK_PIXELS: usize = 1 << 15;
-
-fn dump_pixels(reader: &dyn MatrixReader, args: &DumpArgs, out: &mut Output) -> Result<()> {
-    let bins = reader.bins();
-    let rows = match &args.region {
-        Some(region) => bins.parse_region_bins(region)?,
-        None => 0..bins.n_bins(),
-    };
-    let cols = match (&args.region2, &args.region) {
-        (Some(region2), _) => bins.parse_region_bins(region2)?,
-        (None, _) => rows.clone(),
-    };
-    let weights = match &args.balanced {
-        Some(name) => Some(crate::cli::input::read_weights(
-            reader,
+    let weights = match (&args.balanced, args.table) {
+        (Some(name), Table::Pixels) => Some(crate::cli::input::read_weights(
+            reader.as_ref(),
             name,
             "--balanced",
             false,
         )?),
-        None => None,
+        _ => None,
     };
-    let formatter = PixelFormatter {
-        bins,
+    let options = DumpOptions {
+        header: args.header,
         join: args.join,
-        integer_counts: reader.count_type() == CountType::Integer,
-        weights: weights.as_deref(),
-        args,
+        float_format: args.float_format,
+        na_rep: args.na_rep.clone(),
     };
-    if args.header {
-        let mut header = if args.join {
-            b"chrom1\tstart1\tend1\tchrom2\tstart2\tend2\tcount".to_vec()
-        } else {
-            b"bin1_id\tbin2_id\tcount".to_vec()
-        };
-        if weights.is_some() {
-            header.extend_from_slice(b"\tbalanced");
-        }
-        header.push(b'\n');
-        out.write_all(&header)?;
-    }
-    reader.read_stored_pixels(rows, cols, &mut |block| {
-        let pieces: Vec<Vec<u8>> = (0..block.len())
-            .step_by(FORMAT_TASK_PIXELS)
-            .collect::<Vec<_>>()
-            .into_par_iter()
-            .map(|start| {
-                let end = (start + FORMAT_TASK_PIXELS).min(block.len());
-                let mut text = Vec::with_capacity((end - start) * 24);
-                formatter.write(block, start..end, &mut text);
-                text
-            })
-            .collect();
-        for piece in &pieces {
-            out.write_all(piece)?;
-        }
-        Ok(())
-    })
-}
-
-struct PixelFormatter<'a> {
-    bins: &'a BinTable,
-    join: bool,
-    integer_counts: bool,
-    weights: Option<&'a [f64]>,
-    args: &'a DumpArgs,
-}
-
-impl PixelFormatter<'_> {
-    fn write_bin(&self, text: &mut Vec<u8>, bin_id: u64) {
-        if self.join {
-            let bin = self.bins.bin(bin_id as usize);
-            text.extend_from_slice(self.bins.chroms()[bin.chrom_id].name.as_bytes());
-            text.push(b'\t');
-            write_u64(text, bin.start);
-            text.push(b'\t');
-            write_u64(text, bin.end);
-        } else {
-            write_u64(text, bin_id);
+    let mut out = Output::open(args.out.as_deref())?;
+    let write = |bytes: &[u8]| out.write_all(bytes);
+    match args.table {
+        Table::Chroms => dump_chroms(bins, &options, write)?,
+        Table::Bins => dump_bins(reader.as_ref(), rows()?, &options, write)?,
+        Table::Pixels => {
+            let rows = rows()?;
+            let cols = match &args.region2 {
+                Some(region2) => bins.parse_region_bins(region2)?,
+                None => rows.clone(),
+            };
+            dump_pixels(
+                reader.as_ref(),
+                rows,
+                cols,
+                weights.as_deref(),
+                &options,
+                write,
+            )?
         }
     }
-
-    fn write(&self, block: &PixelBlock, range: std::ops::Range<usize>, text: &mut Vec<u8>) {
-        for k in range {
-            self.write_bin(text, block.bin1[k]);
-            text.push(b'\t');
-            self.write_bin(text, block.bin2[k]);
-            text.push(b'\t');
-            write_count(
-                text,
-                block.count[k],
-                self.integer_counts,
-                &self.args.float_format,
-            );
-            if let Some(w) = self.weights {
-                text.push(b'\t');
-                let balanced =
-                    block.count[k] * w[block.bin1[k] as usize] * w[block.bin2[k] as usize];
-                write_real(text, balanced, self.args);
-            }
-            text.push(b'\n');
-        }
-    }
+    out.finish()?;
+    super::warnings::print_reader_warnings(reader.warnings());
+    Ok(())
 }

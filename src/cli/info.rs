@@ -3,14 +3,13 @@
 use std::path::{Path, PathBuf};
 
 use clap::Args;
-use serde_json::{json, Map, Value};
+use serde_json::Value;
 
 use crate::cli::output::Output;
 use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::InputArgs;
 use contactmap::error::Result;
-use contactmap::io::cool::{self, HdfContent};
-use contactmap::io::{self, FileKind, MatrixReader};
+use contactmap::io::info::describe;
 
 /// Arguments of `contactmap info`.
 #[derive(Debug, Args)]
@@ -55,7 +54,7 @@ pub fn run(args: &InfoArgs) -> Result<()> {
     let many = args.uris.len() > 1;
     let mut out = Output::open(args.out.as_deref())?;
     for (k, uri) in args.uris.iter().enumerate() {
-        let report = report(uri, &options)?;
+        let report = describe(uri, &options)?;
         let text = match (args.json, many) {
             (true, false) => serde_json::to_string_pretty(&report).unwrap_or_default() + "\n",
             (true, true) => serde_json::to_string(&report).unwrap_or_default() + "\n",
@@ -72,122 +71,6 @@ pub fn run(args: &InfoArgs) -> Result<()> {
         out.flush()?;
     }
     out.finish()
-}
-
-/// The report of one input.
-fn report(uri: &str, options: &io::OpenOptions) -> Result<Value> {
-    let (path, group) = io::split_uri(uri);
-    Ok(match (io::detect_kind(path)?, group) {
-        (FileKind::Hdf5, None) => match cool::inspect(path)? {
-            HdfContent::Multires(resolutions) => multires_report(path, &resolutions, "mcool")?,
-            HdfContent::Cooler => matrix_report(io::open_matrix(uri, options)?.as_ref())?,
-        },
-        (FileKind::Hic, None) => {
-            let resolutions = io::hic::HicReader::list_resolutions(std::path::Path::new(path))?;
-            if resolutions.len() == 1 {
-                matrix_report(io::open_matrix(uri, options)?.as_ref())?
-            } else {
-                multires_report(path, &resolutions, "hic")?
-            }
-        }
-        _ => matrix_report(io::open_matrix(uri, options)?.as_ref())?,
-    })
-}
-
-/// Summary of a multi-resolution file: each resolution's bins, nnz and sum.
-fn multires_report(path: &str, resolutions: &[u64], kind: &str) -> Result<Value> {
-    let mut levels = Vec::new();
-    for &r in resolutions {
-        let uri = format!("{path}::/resolutions/{r}");
-        let reader = io::open_matrix(&uri, &io::OpenOptions::default())?;
-        let (nnz, sum) = reader.totals()?;
-        levels.push(json!({
-            "uri": uri,
-            "bin-size": r,
-            "nbins": reader.bins().n_bins(),
-            "nnz": nnz,
-            "sum": number(sum),
-            "weights": reader.weight_names(),
-        }));
-    }
-    Ok(json!({
-        "uri": path,
-        "file-format": if kind == "mcool" { "mcool (multi-resolution cooler)" } else { "hic (multi-resolution)" },
-        "resolutions": resolutions,
-        "levels": levels,
-    }))
-}
-
-/// Report of one matrix: its attributes, then the figures computed from the data.
-fn matrix_report(reader: &dyn MatrixReader) -> Result<Value> {
-    let info = reader.info();
-    let bins = reader.bins();
-    let (nnz, sum) = reader.totals()?;
-    let mut map = Map::new();
-    map.insert("uri".into(), Value::from(reader.source()));
-    map.insert("file-format".into(), Value::from(info.format.clone()));
-    let cooler = info.format.starts_with("cool");
-    for (key, value) in &info.attributes {
-        map.insert(key.clone(), attribute_json(value, cooler));
-    }
-    match bins.bin_size_bp() {
-        Some(size) => {
-            map.insert("bin-type".into(), Value::from("fixed"));
-            map.insert("bin-size".into(), Value::from(size));
-        }
-        None => {
-            map.insert("bin-type".into(), Value::from("variable"));
-        }
-    }
-    map.insert("nbins".into(), Value::from(bins.n_bins()));
-    map.insert("nchroms".into(), Value::from(bins.n_chroms()));
-    map.insert("nnz".into(), Value::from(nnz));
-    map.insert("sum".into(), number(sum));
-    map.insert(
-        "count-type".into(),
-        Value::from(match reader.count_type() {
-            contactmap::matrix::CountType::Integer => "integer",
-            contactmap::matrix::CountType::Float => "float",
-        }),
-    );
-    map.insert("weights".into(), Value::from(reader.weight_names()));
-    if !info.resolutions.is_empty() {
-        map.insert("resolutions".into(), Value::from(info.resolutions.clone()));
-    }
-    map.insert(
-        "chromosomes".into(),
-        Value::Array(
-            bins.chroms()
-                .iter()
-                .map(|c| json!({"name": c.name, "length": c.length_bp}))
-                .collect(),
-        ),
-    );
-    if !info.notes.is_empty() {
-        map.insert("notes".into(), Value::from(info.notes.clone()));
-    }
-    Ok(Value::Object(map))
-}
-
-/// An attribute as `cooler info` shows it: cooler stores `metadata` (and `id`) as JSON text and
-/// decodes every string attribute that parses as JSON (`"null"` is null, `"{}"` an object, `"2"`
-/// a number); other strings stay strings. Other formats' attributes are shown as stored.
-fn attribute_json(value: &Value, cooler: bool) -> Value {
-    match value {
-        Value::String(text) if cooler => {
-            serde_json::from_str(text).unwrap_or_else(|_| value.clone())
-        }
-        other => other.clone(),
-    }
-}
-
-/// An integer-valued sum as a JSON integer, otherwise a float.
-fn number(value: f64) -> Value {
-    if value.fract() == 0.0 && value.abs() < 9.0e15 {
-        Value::from(value as i64)
-    } else {
-        serde_json::Number::from_f64(value).map_or(Value::Null, Value::Number)
-    }
 }
 
 fn render_text(report: &Value) -> String {

@@ -11,15 +11,17 @@ use std::path::{Path, PathBuf};
 use clap::{Args, Subcommand};
 
 use crate::cli::output::{refuse_overwrites, Output};
-use crate::cli::protein::{
-    load_prediction, parse_length, parse_list_size, parse_range, DefinitionArgs, LabelledSize,
-    LengthChoice, NamedRange, Placed, RegisterSummary, RoundingArg, TargetArgs,
-};
+use crate::cli::protein::{DefinitionArgs, RoundingArg, TargetArgs};
 use contactmap::error::{Error, Result};
-use contactmap::io::bed::{read_bed, BedRecord};
-use contactmap::score::boundaries::{domain_overlap, score_boundaries};
-use contactmap::score::contacts::{
-    score_contacts, ContactScore, ListSize, Prediction, ScoreParams, SeparationRange,
+use contactmap::io::bed::read_bed;
+use contactmap::io::tables::real_text as real;
+use contactmap::score::boundaries::{domain_overlap_records, median_width, score_boundary_records};
+use contactmap::score::contacts::SeparationRange;
+use contactmap::score::lists::{
+    parse_length, parse_list_size, parse_range, LabelledSize, NamedRange,
+};
+use contactmap::score::target::{
+    curves_tsv, load_prediction, score_prediction, scores_tsv, Placed, PredictionScores, ScorePlan,
 };
 
 /// Arguments of `contactmap score`.
@@ -112,28 +114,6 @@ pub fn run(args: &ScoreArgs) -> Result<()> {
     }
 }
 
-/// The position of a boundary record: its midpoint, or its start when zero-length.
-fn position(record: &BedRecord) -> (String, u64) {
-    (
-        record.chrom.clone(),
-        record.start + (record.end - record.start) / 2,
-    )
-}
-
-/// The median width of `records` (the upper median for an even count).
-fn median_width(records: &[BedRecord]) -> Option<u64> {
-    let mut widths: Vec<u64> = records.iter().map(BedRecord::width).collect();
-    widths.sort_unstable();
-    widths.get(widths.len() / 2).copied().filter(|&w| w > 0)
-}
-
-fn intervals(path: &Path) -> Result<Vec<(String, u64, u64)>> {
-    Ok(read_bed(path)?
-        .into_iter()
-        .map(|r| (r.chrom, r.start, r.end))
-        .collect())
-}
-
 fn run_boundaries(args: &BoundariesArgs) -> Result<()> {
     if args.bin_size == Some(0) {
         return Err(Error::Invalid("--bin-size must be positive".into()));
@@ -161,9 +141,7 @@ fn run_boundaries(args: &BoundariesArgs) -> Result<()> {
         };
         args.tolerance_bins.saturating_mul(bin_size)
     };
-    let truth_points: Vec<(String, u64)> = truth.iter().map(position).collect();
-    let call_points: Vec<(String, u64)> = calls.iter().map(position).collect();
-    let m = score_boundaries(&truth_points, &call_points, tolerance_bp);
+    let m = score_boundary_records(&truth, &calls, tolerance_bp);
 
     let mut header =
         String::from("tolerance_bp\tn_truth\tn_calls\ttrue_positives\tprecision\trecall\tf1");
@@ -172,7 +150,7 @@ fn run_boundaries(args: &BoundariesArgs) -> Result<()> {
         m.n_truth, m.n_calls, m.true_positives, m.precision, m.recall, m.f1
     );
     if let (Some(truth_path), Some(calls_path)) = (&args.truth_domains, &args.domains) {
-        let overlap = domain_overlap(&intervals(truth_path)?, &intervals(calls_path)?);
+        let overlap = domain_overlap_records(&read_bed(truth_path)?, &read_bed(calls_path)?);
         header.push_str("\tmean_best_jaccard_truth\tmean_best_jaccard_calls\tmoc");
         let moc = overlap
             .moc
@@ -335,112 +313,11 @@ impl ListArgs {
     }
 }
 
-/// The scores of one prediction.
-struct PredictionReport {
-    path: String,
-    length_source: &'static str,
-    /// Observed residues of the chain as placed on the sequence.
-    n_observed: usize,
-    /// What the register step did, when there was one.
-    register: Option<RegisterSummary>,
-    scores: Vec<(NamedRange, Vec<String>, ContactScore)>,
-}
-
-/// What to compute for each prediction.
-struct Plan {
-    ranges: Vec<NamedRange>,
-    sizes: Vec<(String, ListSize)>,
-    length: LengthChoice,
-    curve_size: Option<ListSize>,
-}
-
-fn score_one(
-    path: &Path,
-    args: &ContactsScoreArgs,
-    prediction: &Prediction,
-    placed: &Placed,
-    plan: &Plan,
-) -> Result<PredictionReport> {
-    let Plan {
-        ranges,
-        sizes,
-        length,
-        curve_size,
-    } = plan;
-    let (target_length, length_source) = length.resolve(prediction);
-    let labels: Vec<String> = sizes.iter().map(|(label, _)| label.clone()).collect();
-    let mut scores = Vec::with_capacity(ranges.len());
-    for named in ranges {
-        let params = ScoreParams {
-            range: named.range,
-            length: target_length,
-            rounding: args.lists.rounding.into(),
-            list_sizes: sizes.iter().map(|(_, size)| *size).collect(),
-            drop_unobserved: !args.keep_unobserved,
-            curve: *curve_size,
-        };
-        let score =
-            score_contacts(&placed.truth, prediction, &params).map_err(|err| err.in_file(path))?;
-        scores.push((named.clone(), labels.clone(), score));
-    }
-    Ok(PredictionReport {
-        path: path.display().to_string(),
-        length_source,
-        n_observed: placed.truth.n_observed(),
-        register: placed.register.clone(),
-        scores,
-    })
-}
-
-fn max_sep_text(range: &SeparationRange) -> String {
-    range
-        .max
-        .map_or_else(|| "inf".to_string(), |max| max.to_string())
-}
-
-fn real(value: f64) -> String {
-    let mut out = Vec::new();
-    contactmap::io::tables::write_real(&mut out, value);
-    String::from_utf8(out).unwrap_or_default()
-}
-
-fn write_tsv(reports: &[PredictionReport]) -> String {
-    let mut text = String::from(
-        "prediction\trange\tmin_sep\tmax_sep\tlist\tk\tn_scored\ttp\tprecision\trecall\tf1\tmcc\
-         \txd\tlength\tn_true\tn_available\n",
-    );
-    for report in reports {
-        for (named, labels, score) in &report.scores {
-            for (label, list) in labels.iter().zip(&score.lists) {
-                text.push_str(&format!(
-                    "{}\t{}\t{}\t{}\t{label}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\n",
-                    report.path,
-                    named.name,
-                    named.range.min,
-                    max_sep_text(&named.range),
-                    list.k,
-                    list.n_scored,
-                    list.true_positives,
-                    real(list.precision),
-                    real(list.recall),
-                    real(list.f1),
-                    real(list.mcc),
-                    real(list.xd),
-                    score.length,
-                    score.n_true,
-                    score.n_available,
-                ));
-            }
-        }
-    }
-    text
-}
-
 fn json_number(value: f64) -> serde_json::Value {
     serde_json::Number::from_f64(value).map_or(serde_json::Value::Null, serde_json::Value::Number)
 }
 
-fn write_json(args: &ContactsScoreArgs, reports: &[PredictionReport]) -> String {
+fn write_json(args: &ContactsScoreArgs, reports: &[PredictionScores]) -> String {
     use serde_json::json;
     let predictions: Vec<serde_json::Value> = reports
         .iter()
@@ -532,7 +409,7 @@ fn aligned(rows: &[Vec<String>]) -> String {
     text
 }
 
-fn write_table(args: &ContactsScoreArgs, chain: &str, reports: &[PredictionReport]) -> String {
+fn write_table(args: &ContactsScoreArgs, chain: &str, reports: &[PredictionScores]) -> String {
     let mut text = String::new();
     for (index, report) in reports.iter().enumerate() {
         if index > 0 {
@@ -640,10 +517,12 @@ fn run_contacts(args: &ContactsScoreArgs) -> Result<()> {
         Some(_) => Some(parse_list_size(&args.curve_max)?.1),
         None => None,
     };
-    let plan = Plan {
+    let plan = ScorePlan {
         ranges,
         sizes,
         length,
+        rounding: args.lists.rounding.into(),
+        keep_unobserved: args.keep_unobserved,
         curve_size,
     };
     let (fasta, chain) = args.target.read()?;
@@ -654,7 +533,8 @@ fn run_contacts(args: &ContactsScoreArgs) -> Result<()> {
     let mut out = Output::open(args.out.as_deref())?;
     let mut warnings = crate::cli::warnings::Warnings::new();
     for path in &args.predictions {
-        let prediction = load_prediction(path, args.target.format, fasta.as_deref())?;
+        let prediction =
+            load_prediction(path, args.target.format.map(Into::into), fasta.as_deref())?;
         let index = match placements
             .iter()
             .position(|(sequence, _)| *sequence == prediction.sequence)
@@ -674,9 +554,9 @@ fn run_contacts(args: &ContactsScoreArgs) -> Result<()> {
                 placements.len() - 1
             }
         };
-        let report = score_one(path, args, &prediction, &placements[index].1, &plan)?;
+        let report = score_prediction(path, &prediction, &placements[index].1, &plan)?;
         if args.tsv && !args.json {
-            let rows = write_tsv(std::slice::from_ref(&report));
+            let rows = scores_tsv(std::slice::from_ref(&report));
             let rows = if reports.is_empty() {
                 rows.as_str()
             } else {
@@ -694,52 +574,10 @@ fn run_contacts(args: &ContactsScoreArgs) -> Result<()> {
     }
     if let Some(path) = &args.curve {
         let mut curve = Output::open(Some(path))?;
-        curve.write_all(write_curve(&reports).as_bytes())?;
+        curve.write_all(curves_tsv(&reports).as_bytes())?;
         curve.finish()?;
     }
     out.finish()?;
     warnings.print();
     Ok(())
-}
-
-/// The precision curves as TSV: one row per prediction x range x list size k.
-fn write_curve(reports: &[PredictionReport]) -> String {
-    let mut text = String::from("prediction\trange\tk\tk_over_l\ttp\tprecision\trecall\n");
-    for report in reports {
-        for (named, _, score) in &report.scores {
-            for (index, &tp) in score.curve.iter().enumerate() {
-                let k = index + 1;
-                text.push_str(&format!(
-                    "{}\t{}\t{k}\t{}\t{tp}\t{}\t{}\n",
-                    report.path,
-                    named.name,
-                    real(k as f64 / score.length.max(1) as f64),
-                    real(tp as f64 / k as f64),
-                    real(if score.n_true == 0 {
-                        0.0
-                    } else {
-                        tp as f64 / score.n_true as f64
-                    }),
-                ));
-            }
-        }
-    }
-    text
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn positions_and_bin_size_inference() {
-        let record = |s, e| BedRecord::new("c", s, e);
-        assert_eq!(position(&record(100, 200)).1, 150);
-        assert_eq!(position(&record(100, 100)).1, 100);
-        assert_eq!(position(&record(100, 101)).1, 100);
-        let calls = [record(0, 10), record(20, 40), record(50, 60)];
-        assert_eq!(median_width(&calls), Some(10));
-        assert_eq!(median_width(&[]), None);
-        assert_eq!(median_width(&[record(5, 5)]), None);
-    }
 }

@@ -6,18 +6,16 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 
 use crate::cli::hic_output::write_hic;
-use crate::cli::matrix_output::mcool_resolutions;
 use crate::cli::output::{refuse_overwrites, uri_file};
-use crate::cli::weights::stored_attributes;
 use crate::cli::InputArgs;
-use contactmap::balance::{balance, BalanceParams, Method};
+use contactmap::balance::store::balance_and_store;
+use contactmap::balance::{BalanceParams, Method};
 use contactmap::error::{Error, Result};
 use contactmap::export::DEFAULT_HIC_NORMALIZATIONS;
-use contactmap::io::cool::store::store_weights;
-use contactmap::io::cool::{write_mcool, CoolReader, CoolWriteOptions};
+use contactmap::io::cool::resolutions::mcool_resolutions;
+use contactmap::io::cool::{write_mcool, CoolWriteOptions};
 use contactmap::io::hic::HicWriteOptions;
-use contactmap::io::{self, default_memory_budget, MatrixReader};
-use contactmap::matrix::Weights;
+use contactmap::io::{self, default_memory_budget};
 
 /// Arguments of `contactmap zoomify`.
 #[derive(Debug, Args)]
@@ -151,31 +149,19 @@ pub fn run(args: &ZoomifyArgs) -> Result<()> {
     Ok(())
 }
 
-/// ICE with cooler's defaults on one level, stored as `weight` (replacing a copied one).
+/// ICE with cooler's defaults on one level, stored as `weight` (a copied one is kept).
 fn balance_level(out: &Path, resolution: u64, budget: u64) -> Result<()> {
     let uri = format!("{}::/resolutions/{resolution}", out.display());
-    let params = BalanceParams::default();
-    let result = {
-        let reader = CoolReader::open(&uri)?;
-        if reader.weight_names().iter().any(|n| n == "weight") {
-            // The input's own column, copied at its resolution: kept, as cooler zoomify does.
-            return Ok(());
+    if let Some(result) = balance_and_store(&uri, budget)? {
+        if !result.converged {
+            eprintln!(
+                "contactmap: WARNING: {uri}: ICE did not converge within {} iterations (var={:e}); storing the weights with converged=false",
+                BalanceParams::default().max_iters,
+                result.var
+            );
         }
-        let pixels = io::load_pixels_for_balancing(&reader as &dyn MatrixReader, budget)?;
-        balance(&pixels, &params)?
-    };
-    if !result.converged {
-        eprintln!(
-            "contactmap: WARNING: {uri}: ICE did not converge within {} iterations (var={:e}); storing the weights with converged=false",
-            params.max_iters, result.var
-        );
     }
-    let weights = Weights {
-        name: "weight".into(),
-        values: result.weights.clone(),
-        provenance: None,
-    };
-    store_weights(&uri, &weights, &stored_attributes(&params, &result), true)
+    Ok(())
 }
 
 #[cfg(test)]

@@ -28,6 +28,54 @@ pub struct SaddleParams {
     pub max_diag: Option<usize>,
 }
 
+impl SaddleParams {
+    /// Check the values: at least one class; a quantile range within `0..=1`, low first; a
+    /// value range of numbers, low first; `max_diag`, when given, not below `min_diag`.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use contactmap::compartments::saddle::{Binning, SaddleParams};
+    ///
+    /// let params = SaddleParams { n_bins: 50, binning: Binning::Quantiles(0.025, 0.975), min_diag: 3, max_diag: None };
+    /// assert!(params.check().is_ok());
+    /// let bad = SaddleParams { binning: Binning::Quantiles(0.9, 0.1), ..params };
+    /// assert!(bad.check().is_err());
+    /// ```
+    pub fn check(&self) -> Result<()> {
+        if self.n_bins == 0 {
+            return Err(Error::parameter("n_bins", 0, "expected at least 1"));
+        }
+        match self.binning {
+            Binning::Quantiles(lo, hi)
+                if !((0.0..=1.0).contains(&lo) && (0.0..=1.0).contains(&hi) && lo <= hi) =>
+            {
+                return Err(Error::parameter(
+                    "qrange",
+                    format!("{lo},{hi}"),
+                    "expected quantiles LO,HI within 0..1, low first",
+                ));
+            }
+            Binning::Values(lo, hi) if lo.is_nan() || hi.is_nan() || lo > hi => {
+                return Err(Error::parameter(
+                    "vrange",
+                    format!("{lo},{hi}"),
+                    "expected values LO,HI, low first",
+                ));
+            }
+            _ => {}
+        }
+        if let Some(max) = self.max_diag.filter(|&max| max < self.min_diag) {
+            return Err(Error::parameter(
+                "max_diag",
+                max,
+                format!("expected at least min_diag ({})", self.min_diag),
+            ));
+        }
+        Ok(())
+    }
+}
+
 /// A digitised track: the edges and each bin's class (`-1` for NaN).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Digitized {
@@ -113,6 +161,7 @@ pub fn saddle_cis<S: PixelSource>(
     expected: &[Vec<f64>],
     params: &SaddleParams,
 ) -> Result<Saddle> {
+    params.check()?;
     let n_bins = pixels.bins().n_bins();
     check_lengths(n_bins, weights, digitized)?;
     if expected.len() != view.len() {

@@ -40,6 +40,46 @@ pub struct LogBinParams {
     pub combined_slope_sigma: f64,
 }
 
+impl LogBinParams {
+    /// Check the values: at least one bin per decade, positive slope-smoothing widths, a
+    /// `min_count` that is a number. [`logbin_expected`] checks them first.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use contactmap::expected::logbin::LogBinParams;
+    ///
+    /// assert!(LogBinParams::default().check().is_ok());
+    /// let bad = LogBinParams { bins_per_order_magnitude: 0, ..LogBinParams::default() };
+    /// assert!(bad.check().is_err());
+    /// ```
+    pub fn check(&self) -> Result<()> {
+        if self.bins_per_order_magnitude == 0 {
+            return Err(Error::parameter(
+                "bins_per_order_magnitude",
+                0,
+                "expected at least 1",
+            ));
+        }
+        if self.min_count.is_nan() {
+            return Err(Error::parameter(
+                "min_count",
+                self.min_count,
+                "expected a number",
+            ));
+        }
+        for (name, sigma) in [
+            ("region_slope_sigma", self.region_slope_sigma),
+            ("combined_slope_sigma", self.combined_slope_sigma),
+        ] {
+            if !(sigma.is_finite() && sigma > 0.0) {
+                return Err(Error::parameter(name, sigma, "expected a positive number"));
+            }
+        }
+        Ok(())
+    }
+}
+
 impl Default for LogBinParams {
     fn default() -> Self {
         LogBinParams {
@@ -223,6 +263,7 @@ fn slopes(points: &[(usize, f64, f64, u64)], sigma: f64, region: Option<u32>) ->
 
 /// Log-bin the cis expected `table` and combine the regions.
 pub fn logbin_expected(table: &CisExpected, params: &LogBinParams) -> Result<LogBinned> {
+    params.check()?;
     if params.bins_per_order_magnitude == 0 {
         return Err(Error::Invalid(
             "log bins per decade must be positive".into(),

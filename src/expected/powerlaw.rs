@@ -100,6 +100,45 @@ impl FitParams {
             noise_floor_log10: 0.01,
         }
     }
+
+    /// Check the values: a range of positive distances, low first; at least 2 points per
+    /// segment; a noise floor that is a number `>= 0`. The fits check them first.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use contactmap::expected::powerlaw::{FitParams, FitRange};
+    ///
+    /// let params = FitParams::new(FitRange { min_bp: 2e4, max_bp: 2e6 });
+    /// assert!(params.check().is_ok());
+    /// let bad = FitParams::new(FitRange { min_bp: 2e6, max_bp: 2e4 });
+    /// assert!(bad.check().unwrap_err().to_string().starts_with("range 2000000-20000"));
+    /// ```
+    pub fn check(&self) -> Result<()> {
+        let FitRange { min_bp, max_bp } = self.range;
+        if !(min_bp.is_finite() && max_bp.is_finite() && 0.0 < min_bp && min_bp < max_bp) {
+            return Err(Error::parameter(
+                "range",
+                format!("{min_bp}-{max_bp}"),
+                "expected distances MIN-MAX in bp with 0 < MIN < MAX",
+            ));
+        }
+        if self.min_points_per_segment < 2 {
+            return Err(Error::parameter(
+                "min_points_per_segment",
+                self.min_points_per_segment,
+                "expected at least 2",
+            ));
+        }
+        if !(self.noise_floor_log10.is_finite() && self.noise_floor_log10 >= 0.0) {
+            return Err(Error::parameter(
+                "noise_floor_log10",
+                self.noise_floor_log10,
+                "expected a number >= 0",
+            ));
+        }
+        Ok(())
+    }
 }
 
 /// A single power law `P(s) ~ s^alpha` fitted by least squares in log-log space.
@@ -376,6 +415,7 @@ struct Candidate {
 
 /// Segmented power-law fit of points `(s_bp, P)` sorted by distance.
 pub fn fit_piecewise(points: &[(f64, f64)], params: &FitParams) -> Result<PiecewiseFit> {
+    params.check()?;
     let (x, y) = log_points(points)?;
     let n = x.len();
     if n < 3 {
@@ -493,6 +533,7 @@ pub fn fit_points(bins: &[&CombinedBin], bin_size_bp: u64, alpha: f64) -> Vec<(f
 
 /// Fit one and piecewise power laws to the combined log-binned P(s) within `params.range`.
 pub fn fit_log_binned(binned: &LogBinned, params: &FitParams) -> Result<PowerLawReport> {
+    params.check()?;
     let range = params.range;
     if !(range.min_bp > 0.0 && range.max_bp > range.min_bp) {
         return Err(Error::Invalid(format!(

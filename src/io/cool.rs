@@ -27,6 +27,7 @@
 
 mod chunk_writer;
 pub mod chunks;
+pub mod resolutions;
 pub mod store;
 mod writer;
 

@@ -306,6 +306,13 @@ pub fn write_real(out: &mut Vec<u8>, value: f64) {
     }
 }
 
+/// [`write_real`] as a string.
+pub fn real_text(value: f64) -> String {
+    let mut out = Vec::new();
+    write_real(&mut out, value);
+    String::from_utf8(out).expect("ASCII digits")
+}
+
 /// Append the decimal digits of `value`.
 ///
 /// # Examples

@@ -72,6 +72,7 @@ use crate::io::OpenOptions;
 use crate::matrix::ContactMatrix;
 
 mod bins;
+pub mod dump;
 mod lines;
 mod pairs;
 mod pixels;

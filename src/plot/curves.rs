@@ -7,8 +7,11 @@
 //! axis) breaks its line. Only the bottom panel labels the shared axis.
 
 use crate::error::{Error, Result};
-use crate::genome::format_bp;
-use crate::plot::axes::{legend, log_ticks, Axes, AxisScale, LegendEntry, Side, Theme};
+use crate::expected::powerlaw::PowerLaw;
+use crate::genome::{format_bp, format_distance};
+use crate::plot::axes::{
+    legend, log_ticks, Axes, AxisScale, LegendEntry, Side, Theme, CURVE_COLOURS,
+};
 use crate::plot::svg::{text_width, Anchor, Baseline, Stroke, Svg, TextStyle};
 
 /// One line.
@@ -286,6 +289,164 @@ pub fn draw_curves(figure: &CurveFigure) -> Result<Svg> {
         y += height + gap;
     }
     Ok(svg)
+}
+
+/// One sample of a P(s) figure.
+pub struct PsSample {
+    /// Its name in the legend.
+    pub label: String,
+    /// Its log-binned P(s), slopes and fit.
+    pub power_law: PowerLaw,
+}
+
+/// What a P(s) figure shows.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PsFigure {
+    /// A curve per region instead of the combined curve.
+    pub per_region: bool,
+    /// The fitted power law of each sample (dashed, over its fit range).
+    pub fit: bool,
+    /// The panel of local slopes under the curves.
+    pub slope_panel: bool,
+    /// The title (empty: none).
+    pub title: String,
+    /// Width in pixels.
+    pub width_px: usize,
+    /// Height in pixels (`None`: what the panels need).
+    pub height_px: Option<usize>,
+    /// Dots per inch.
+    pub dpi: f64,
+}
+
+/// The P(s) figure of `samples`: P(s) (and fits) on log-log axes above, the local slopes below,
+/// one colour per curve.
+pub fn ps_figure(samples: &[PsSample], options: &PsFigure) -> CurveFigure {
+    let theme = Theme::new(options.dpi);
+    let line =
+        |index: usize| Stroke::solid(CURVE_COLOURS[index % CURVE_COLOURS.len()], theme.px(1.5));
+    let dashed = |index: usize| line(index).dashed(theme.px(4.0));
+    let mut ps = Vec::new();
+    let mut slopes = Vec::new();
+    let mut colour = 0;
+    for sample in samples {
+        let binned = &sample.power_law.binned;
+        let bin_bp = binned.bin_size_bp as f64;
+        if options.per_region {
+            for (region, name) in binned.region_names.iter().enumerate() {
+                let points: Vec<(f64, f64)> = binned
+                    .by_region
+                    .iter()
+                    .filter(|b| b.region as usize == region)
+                    .map(|b| (b.dist_avg * bin_bp, b.average))
+                    .collect();
+                if points.is_empty() {
+                    continue;
+                }
+                let label = if samples.len() == 1 {
+                    name.clone()
+                } else {
+                    format!("{} {name}", sample.label)
+                };
+                ps.push(Series {
+                    label: Some(label),
+                    points,
+                    stroke: line(colour),
+                });
+                slopes.push(Series {
+                    label: None,
+                    points: binned
+                        .region_slopes
+                        .iter()
+                        .filter(|s| s.region == Some(region as u32))
+                        .map(|s| (s.dist_avg * bin_bp, s.slope))
+                        .collect(),
+                    stroke: line(colour),
+                });
+                colour += 1;
+            }
+            continue;
+        }
+        ps.push(Series {
+            label: Some(sample.label.clone()),
+            points: binned
+                .combined
+                .iter()
+                .map(|b| (b.dist_avg * bin_bp, b.average))
+                .collect(),
+            stroke: line(colour),
+        });
+        slopes.push(Series {
+            label: None,
+            points: binned
+                .slopes
+                .iter()
+                .map(|s| (s.dist_avg * bin_bp, s.slope))
+                .collect(),
+            stroke: line(colour),
+        });
+        if let (true, Ok(report)) = (options.fit, &sample.power_law.fit) {
+            let fit = &report.fit;
+            let at = |s: f64| 10f64.powf(fit.intercept_log10) * s.powf(fit.alpha);
+            ps.push(Series {
+                label: Some(format!(
+                    "fit {}-{}: s^{:.2}",
+                    format_distance(fit.first_bp),
+                    format_distance(fit.last_bp),
+                    fit.alpha
+                )),
+                points: vec![
+                    (fit.first_bp, at(fit.first_bp)),
+                    (fit.last_bp, at(fit.last_bp)),
+                ],
+                stroke: dashed(colour),
+            });
+            slopes.push(Series {
+                label: None,
+                points: vec![(fit.first_bp, fit.alpha), (fit.last_bp, fit.alpha)],
+                stroke: dashed(colour),
+            });
+        }
+        colour += 1;
+    }
+    let balanced: Vec<bool> = samples
+        .iter()
+        .map(|s| s.power_law.table.is_balanced())
+        .collect();
+    let y_label = if balanced.iter().all(|&b| b) {
+        "P(s), balanced"
+    } else if balanced.iter().all(|&b| !b) {
+        "P(s), raw counts"
+    } else {
+        "P(s)"
+    };
+    let mut panels = vec![Panel {
+        y_label: y_label.to_string(),
+        y_scale: Scale::Log,
+        series: ps,
+        weight: 2.2,
+        legend: true,
+        min_span: 0.0,
+    }];
+    if options.slope_panel {
+        panels.push(Panel {
+            y_label: "slope".to_string(),
+            y_scale: Scale::Linear,
+            series: slopes,
+            weight: 1.0,
+            legend: false,
+            min_span: 0.5,
+        });
+    }
+    CurveFigure {
+        title: options.title.clone(),
+        x_label: "separation s".to_string(),
+        x_scale: Scale::Log,
+        x_in_bp: true,
+        panels,
+        width_px: options.width_px,
+        height_px: options.height_px,
+        dpi: options.dpi,
+    }
 }
 
 #[cfg(test)]

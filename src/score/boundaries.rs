@@ -1,7 +1,7 @@
 //! Boundary and domain calls scored against a truth.
 //!
-//! Boundaries are points `(chrom, position_bp)`; the CLI turns a BED record into its midpoint
-//! `(start + end) / 2` (its start when zero-length). A call and a truth boundary on the same
+//! Boundaries are points `(chrom, position_bp)`; [`boundary_position`] turns a BED record into
+//! its midpoint `start + (end - start) / 2` (its start when zero-length). A call and a truth boundary on the same
 //! chromosome match when `|call - truth| <= tolerance_bp`; each call matches at most one truth
 //! boundary and vice versa, and [`score_boundaries`] finds a maximum such matching by a greedy
 //! sweep over sorted positions (optimal in 1D; the proof is at `match_sorted` and a property test
@@ -29,6 +29,7 @@
 //! (Zufferey et al. count inter-TAD gaps as domains: give them explicitly to reproduce that).
 
 use super::ratio;
+use crate::io::bed::BedRecord;
 use std::collections::BTreeMap;
 
 /// Result of [`score_boundaries`].
@@ -217,9 +218,71 @@ pub fn domain_overlap(truth: &[(String, u64, u64)], calls: &[(String, u64, u64)]
     }
 }
 
+/// The position of a boundary record: its midpoint, or its start when zero-length.
+pub fn boundary_position(record: &BedRecord) -> (String, u64) {
+    (
+        record.chrom.clone(),
+        record.start + (record.end - record.start) / 2,
+    )
+}
+
+/// The median width of `records` (the upper median for an even count), the bin size of calls
+/// made one bin wide; `None` without records or for zero-width ones.
+pub fn median_width(records: &[BedRecord]) -> Option<u64> {
+    let mut widths: Vec<u64> = records.iter().map(BedRecord::width).collect();
+    widths.sort_unstable();
+    widths.get(widths.len() / 2).copied().filter(|&w| w > 0)
+}
+
+/// [`score_boundaries`] of BED records, by their [`boundary_position`]s.
+///
+/// # Examples
+///
+/// ```
+/// use contactmap::io::bed::BedRecord;
+/// use contactmap::score::boundaries::score_boundary_records;
+///
+/// let truth = [BedRecord::new("chr1", 100, 200), BedRecord::new("chr1", 1_000, 1_100)];
+/// let calls = [BedRecord::new("chr1", 200, 300), BedRecord::new("chr2", 100, 200)];
+/// let m = score_boundary_records(&truth, &calls, 100);
+/// assert_eq!((m.true_positives, m.precision, m.recall), (1, 0.5, 0.5));
+/// ```
+pub fn score_boundary_records(
+    truth: &[BedRecord],
+    calls: &[BedRecord],
+    tolerance_bp: u64,
+) -> BoundaryMatch {
+    let truth: Vec<(String, u64)> = truth.iter().map(boundary_position).collect();
+    let calls: Vec<(String, u64)> = calls.iter().map(boundary_position).collect();
+    score_boundaries(&truth, &calls, tolerance_bp)
+}
+
+/// [`domain_overlap`] of BED records.
+pub fn domain_overlap_records(truth: &[BedRecord], calls: &[BedRecord]) -> DomainOverlap {
+    let intervals = |records: &[BedRecord]| -> Vec<(String, u64, u64)> {
+        records
+            .iter()
+            .map(|r| (r.chrom.clone(), r.start, r.end))
+            .collect()
+    };
+    domain_overlap(&intervals(truth), &intervals(calls))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn positions_and_bin_size_inference() {
+        let record = |s, e| BedRecord::new("c", s, e);
+        assert_eq!(boundary_position(&record(100, 200)).1, 150);
+        assert_eq!(boundary_position(&record(100, 100)).1, 100);
+        assert_eq!(boundary_position(&record(100, 101)).1, 100);
+        let calls = [record(0, 10), record(20, 40), record(50, 60)];
+        assert_eq!(median_width(&calls), Some(10));
+        assert_eq!(median_width(&[]), None);
+        assert_eq!(median_width(&[record(5, 5)]), None);
+    }
     use proptest::prelude::*;
 
     fn points(chrom: &str, positions: &[u64]) -> Vec<(String, u64)> {

@@ -107,6 +107,28 @@ impl Default for ContactDefinition {
 }
 
 impl ContactDefinition {
+    /// A short description, e.g. `Cb (Ca for Gly), d < 8 A`.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use contactmap::score::contacts::ContactDefinition;
+    ///
+    /// assert_eq!(ContactDefinition::default().describe(), "Cb (Ca for Gly), d < 8 A");
+    /// ```
+    pub fn describe(&self) -> String {
+        let atom = match self.atom {
+            ContactAtom::Cb => "Cb (Ca for Gly)",
+            ContactAtom::Ca => "Ca",
+            ContactAtom::Heavy => "closest heavy atoms",
+        };
+        let test = match self.test {
+            DistanceTest::Less => "<",
+            DistanceTest::LessOrEqual => "<=",
+        };
+        format!("{atom}, d {test} {} A", self.cutoff_angstrom)
+    }
+
     /// Whether a distance in Angstrom is a contact.
     pub fn is_contact(&self, distance: f64) -> bool {
         match self.test {
@@ -126,6 +148,12 @@ pub struct SeparationRange {
 }
 
 impl SeparationRange {
+    /// The largest separation as text: the number, or `inf` for an open range.
+    pub fn max_text(&self) -> String {
+        self.max
+            .map_or_else(|| "inf".to_string(), |max| max.to_string())
+    }
+
     /// Short range, 6-11 (CASP).
     pub const SHORT: Self = Self::new(6, Some(11));
     /// Medium range, 12-23 (CASP).
@@ -415,6 +443,43 @@ pub struct ScoreParams {
     pub curve: Option<ListSize>,
 }
 
+impl ScoreParams {
+    /// Check the values: list-size fractions that are numbers `>= 0`, a separation range whose
+    /// end is not below its start. [`score_contacts`] checks them first.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use contactmap::score::contacts::{ListSize, ScoreParams};
+    ///
+    /// let params = ScoreParams::default();
+    /// assert!(params.check().is_ok());
+    /// let bad = ScoreParams { list_sizes: vec![ListSize::Fraction(f64::NAN)], ..params };
+    /// assert!(bad.check().is_err());
+    /// ```
+    pub fn check(&self) -> Result<()> {
+        for size in self.list_sizes.iter().chain(&self.curve) {
+            if let ListSize::Fraction(f) = size {
+                if !(f.is_finite() && *f >= 0.0) {
+                    return Err(Error::parameter(
+                        "list_sizes",
+                        format!("{f}L"),
+                        "expected fractions of L that are numbers >= 0",
+                    ));
+                }
+            }
+        }
+        if let Some(max) = self.range.max.filter(|&max| max < self.range.min) {
+            return Err(Error::parameter(
+                "range",
+                format!("{}-{max}", self.range.min),
+                "expected MIN-MAX with MAX >= MIN",
+            ));
+        }
+        Ok(())
+    }
+}
+
 impl Default for ScoreParams {
     /// Long range, `L` = sequence length, `floor`, L/10, L/5, L/2, L, unobserved dropped.
     fn default() -> Self {
@@ -595,6 +660,7 @@ pub fn score_contacts(
     prediction: &Prediction,
     params: &ScoreParams,
 ) -> Result<ContactScore> {
+    params.check()?;
     let length = target_length(truth, prediction, params.length)?;
     // (score, distance: None when a residue is unobserved), still in rank order.
     let ranked: Vec<(f64, Option<f64>)> =

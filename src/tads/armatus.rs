@@ -43,6 +43,41 @@ pub struct ArmatusParams {
     pub max_domain_bins: usize,
 }
 
+impl ArmatusParams {
+    /// Check the values: at least one `gamma`, each finite and `>= 0`; `max_domain_bins` at
+    /// least 1 (at most the band's width, which [`armatus`] checks with the band).
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use contactmap::tads::armatus::ArmatusParams;
+    ///
+    /// assert!(ArmatusParams::default().check().is_ok());
+    /// let bad = ArmatusParams { gammas: vec![0.5, -1.0], ..ArmatusParams::default() };
+    /// assert!(bad.check().unwrap_err().to_string().starts_with("gammas -1"));
+    /// ```
+    pub fn check(&self) -> Result<()> {
+        if self.gammas.is_empty() {
+            return Err(Error::parameter(
+                "gammas",
+                "[]",
+                "expected at least one gamma",
+            ));
+        }
+        if let Some(g) = self.gammas.iter().find(|g| !(g.is_finite() && **g >= 0.0)) {
+            return Err(Error::parameter("gammas", g, "expected finite values >= 0"));
+        }
+        if self.max_domain_bins == 0 {
+            return Err(Error::parameter(
+                "max_domain_bins",
+                0,
+                "expected at least 1",
+            ));
+        }
+        Ok(())
+    }
+}
+
 impl Default for ArmatusParams {
     fn default() -> Self {
         ArmatusParams {
@@ -57,19 +92,8 @@ impl Default for ArmatusParams {
 /// Errors with [`Error::Invalid`] when a `gamma` is negative or not finite, no `gamma` is given,
 /// `max_domain_bins` is 0 or larger than the band width.
 pub fn armatus(band: &CisBand, params: &ArmatusParams) -> Result<Vec<Domain>> {
-    if params.gammas.is_empty() {
-        return Err(Error::Invalid("Armatus: no gamma given".into()));
-    }
-    if let Some(g) = params
-        .gammas
-        .iter()
-        .find(|g| !(g.is_finite() && **g >= 0.0))
-    {
-        return Err(Error::Invalid(format!(
-            "Armatus: gamma must be finite and >= 0, got {g}"
-        )));
-    }
-    if params.max_domain_bins == 0 || params.max_domain_bins > band.width {
+    params.check()?;
+    if params.max_domain_bins > band.width {
         return Err(Error::Invalid(format!(
             "Armatus: max_domain_bins must be in 1..={} (the band width), got {}",
             band.width, params.max_domain_bins

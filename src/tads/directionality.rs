@@ -16,7 +16,7 @@
 //! One streamed pass over the pixels with compensated sums; each slice holds only the rows it
 //! touches.
 
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::expected::View;
 use crate::matrix::{PixelSlice, PixelSource};
 
@@ -34,6 +34,28 @@ pub struct DirectionalityParams {
 }
 
 impl DirectionalityParams {
+    /// Check the values: a window of at least 1 bp (a multiple of the bin size, which
+    /// [`directionality`] checks with the bins).
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use contactmap::tads::directionality::DirectionalityParams;
+    ///
+    /// let bad = DirectionalityParams { window_bp: 0, ignore_diags: 2, min_dist_bad_bin: 0 };
+    /// assert_eq!(bad.check().unwrap_err().to_string(), "window_bp 0: expected a positive window");
+    /// ```
+    pub fn check(&self) -> Result<()> {
+        if self.window_bp == 0 {
+            return Err(Error::parameter(
+                "window_bp",
+                0,
+                "expected a positive window",
+            ));
+        }
+        Ok(())
+    }
+
     /// Defaults (`ignore_diags` 2, `min_dist_bad_bin` 2) with this window.
     pub fn new(window_bp: u64) -> Self {
         DirectionalityParams {
@@ -89,6 +111,7 @@ pub fn directionality<S: PixelSource>(
     view: &View,
     params: &DirectionalityParams,
 ) -> Result<DirectionalityTable> {
+    params.check()?;
     let bins = source.bins();
     check_weights(bins, weights)?;
     let w = window_bins(bins, params.window_bp)?;

@@ -54,6 +54,34 @@ pub struct HmmParams {
     pub min_domain_bins: usize,
 }
 
+impl HmmParams {
+    /// Check the values: at least one iteration, a tolerance that is a number `>= 0`.
+    /// [`GaussianHmm::fit`] checks them first.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use contactmap::tads::hmm::HmmParams;
+    ///
+    /// assert!(HmmParams::default().check().is_ok());
+    /// let bad = HmmParams { tolerance: f64::NAN, ..HmmParams::default() };
+    /// assert!(bad.check().is_err());
+    /// ```
+    pub fn check(&self) -> Result<()> {
+        if self.max_iterations == 0 {
+            return Err(Error::parameter("max_iterations", 0, "expected at least 1"));
+        }
+        if self.tolerance.is_nan() || self.tolerance < 0.0 {
+            return Err(Error::parameter(
+                "tolerance",
+                self.tolerance,
+                "expected a number >= 0",
+            ));
+        }
+        Ok(())
+    }
+}
+
 impl Default for HmmParams {
     fn default() -> Self {
         HmmParams {
@@ -121,12 +149,7 @@ impl GaussianHmm {
     /// the variance floor and the stopping rule). Errors when there are fewer than 3 finite
     /// observations in all, or when the parameters are not usable.
     pub fn fit(tracks: &[&[f64]], params: &HmmParams) -> Result<GaussianHmm> {
-        if params.tolerance.is_nan() || params.tolerance < 0.0 {
-            return Err(Error::Invalid(format!(
-                "HMM: tolerance must be >= 0, got {}",
-                params.tolerance
-            )));
-        }
+        params.check()?;
         let mut finite: Vec<f64> = tracks
             .iter()
             .flat_map(|t| t.iter().copied())

@@ -68,6 +68,53 @@ impl Default for InsulationParams {
 }
 
 impl InsulationParams {
+    /// Check the values: at least one window, each positive; `min_frac_valid_pixels` in
+    /// `0..=1`; a fixed threshold that is a number. [`insulation`] checks them first.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use contactmap::tads::insulation::InsulationParams;
+    ///
+    /// let params = InsulationParams::new(vec![100_000]);
+    /// assert!(params.check().is_ok());
+    /// let bad = InsulationParams { min_frac_valid_pixels: 1.5, ..params };
+    /// assert!(bad.check().unwrap_err().to_string().starts_with("min_frac_valid_pixels 1.5"));
+    /// ```
+    pub fn check(&self) -> Result<()> {
+        if self.windows_bp.is_empty() {
+            return Err(Error::parameter(
+                "windows_bp",
+                "[]",
+                "expected at least one window",
+            ));
+        }
+        if self.windows_bp.contains(&0) {
+            return Err(Error::parameter(
+                "windows_bp",
+                0,
+                "expected positive windows",
+            ));
+        }
+        if !(0.0..=1.0).contains(&self.min_frac_valid_pixels) {
+            return Err(Error::parameter(
+                "min_frac_valid_pixels",
+                self.min_frac_valid_pixels,
+                "expected a fraction in 0..1",
+            ));
+        }
+        if let Threshold::Value(v) = self.threshold {
+            if v.is_nan() {
+                return Err(Error::parameter(
+                    "threshold",
+                    v,
+                    "expected a number, li or otsu",
+                ));
+            }
+        }
+        Ok(())
+    }
+
     /// The defaults with these windows.
     pub fn new(windows_bp: Vec<u64>) -> Self {
         InsulationParams {
@@ -425,11 +472,7 @@ pub fn insulation<S: PixelSource>(
     params: &InsulationParams,
 ) -> Result<InsulationTable> {
     let bins = source.bins();
-    if params.windows_bp.is_empty() {
-        return Err(Error::Invalid(
-            "insulation needs at least one window".into(),
-        ));
-    }
+    params.check()?;
     check_weights(bins, weights)?;
     let windows: Vec<usize> = params
         .windows_bp

@@ -68,6 +68,38 @@ pub struct TopDomParams {
     pub pvalue_cutoff: f64,
 }
 
+impl TopDomParams {
+    /// Check the values: a window of at least 1 bin; with the statistical filter, a p-value
+    /// cutoff in `(0, 1]`. [`topdom`] checks them first.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use contactmap::tads::topdom::TopDomParams;
+    ///
+    /// assert!(TopDomParams::default().check().is_ok());
+    /// let bad = TopDomParams { window_bins: 0, ..TopDomParams::default() };
+    /// assert_eq!(bad.check().unwrap_err().to_string(), "window_bins 0: expected at least 1 bin");
+    /// ```
+    pub fn check(&self) -> Result<()> {
+        if self.window_bins == 0 {
+            return Err(Error::parameter(
+                "window_bins",
+                0,
+                "expected at least 1 bin",
+            ));
+        }
+        if self.statistical_filter && !(self.pvalue_cutoff > 0.0 && self.pvalue_cutoff <= 1.0) {
+            return Err(Error::parameter(
+                "pvalue_cutoff",
+                self.pvalue_cutoff,
+                "expected a p-value in (0, 1]",
+            ));
+        }
+        Ok(())
+    }
+}
+
 impl Default for TopDomParams {
     fn default() -> Self {
         TopDomParams {
@@ -112,13 +144,9 @@ pub struct TopDomRegion {
 /// Errors with [`Error::Invalid`] when the window is 0, the band holds fewer than
 /// `2 * window_bins + 1` diagonals, or the region has fewer than `2 * window_bins` bins.
 pub fn topdom(band: &CisBand, params: &TopDomParams) -> Result<TopDomRegion> {
+    params.check()?;
     let w = params.window_bins;
     let n = band.n_bins;
-    if w == 0 {
-        return Err(Error::Invalid(
-            "TopDom: the window must be at least 1 bin".into(),
-        ));
-    }
     if band.width < 2 * w + 1 {
         return Err(Error::Invalid(format!(
             "TopDom: window {w} needs a band of at least {} diagonals, got {}",
@@ -131,12 +159,6 @@ pub fn topdom(band: &CisBand, params: &TopDomParams) -> Result<TopDomRegion> {
             "TopDom: region starting at bin {} has {n} bins, fewer than twice the window ({})",
             band.first_bin,
             2 * w
-        )));
-    }
-    if params.statistical_filter && !(params.pvalue_cutoff > 0.0 && params.pvalue_cutoff <= 1.0) {
-        return Err(Error::Invalid(format!(
-            "TopDom: p-value cutoff must be in (0, 1], got {}",
-            params.pvalue_cutoff
         )));
     }
 

@@ -8,9 +8,7 @@ use clap::Args;
 
 use super::{write_figure, FigureArgs};
 use crate::cli::output::refuse_overwrites;
-use crate::cli::protein::{
-    load_prediction, parse_length, parse_list_size, DefinitionArgs, RoundingArg, TargetArgs,
-};
+use crate::cli::protein::{DefinitionArgs, RoundingArg, TargetArgs};
 use contactmap::error::{Error, Result};
 use contactmap::plot::protein::{
     draw_contacts, ContactFigure, ContactLayout, Mark, PredictionLayer,
@@ -18,6 +16,8 @@ use contactmap::plot::protein::{
 use contactmap::score::contacts::{
     list_length, ranked_predictions, score_contacts, ScoreParams, SeparationRange,
 };
+use contactmap::score::lists::{parse_length, parse_list_size};
+use contactmap::score::target::load_prediction;
 
 /// Arguments of `contactmap plot contacts`.
 #[derive(Debug, Args)]
@@ -118,7 +118,8 @@ pub fn run(args: &ContactsArgs) -> Result<()> {
     let mut true_contacts = None;
     let (mut first, mut last) = (i32::MAX, i32::MIN);
     for path in &args.predictions {
-        let prediction = load_prediction(path, args.target.format, fasta.as_deref())?;
+        let prediction =
+            load_prediction(path, args.target.format.map(Into::into), fasta.as_deref())?;
         let mut placed = args
             .target
             .place(&chain, &prediction, path, &args.definition)?;

@@ -13,11 +13,9 @@ use crate::cli::InputArgs;
 use contactmap::error::{Error, Result};
 use contactmap::expected::powerlaw::{power_law, power_law_of_table, PowerLaw};
 use contactmap::expected::{CisExpected, CisParams};
-use contactmap::genome::{format_bp, format_distance};
+use contactmap::genome::format_bp;
 use contactmap::io::{LoadedPixels, StreamedPixels};
-use contactmap::plot::axes::{Theme, CURVE_COLOURS};
-use contactmap::plot::curves::{draw_curves, CurveFigure, Panel, Scale, Series};
-use contactmap::plot::svg::Stroke;
+use contactmap::plot::curves::{draw_curves, ps_figure, PsFigure, PsSample};
 
 /// Arguments of `contactmap plot expected`.
 #[derive(Debug, Args)]
@@ -92,10 +90,6 @@ pub struct ExpectedPlotArgs {
 const DEFAULT_WIDTH_IN: f64 = 6.0;
 
 /// One input's P(s).
-struct Sample {
-    label: String,
-    power_law: PowerLaw,
-}
 
 /// Whether `uri` names a cis expected table: a text file whose first line (comments aside)
 /// starts with `region1`. Only the first 64 KiB are looked at, as bytes (a .cool file is not
@@ -206,145 +200,19 @@ pub fn run(args: &ExpectedPlotArgs) -> Result<()> {
                 Err(e) => return Err(Error::Invalid(format!("{uri}: no power-law fit: {e}"))),
             }
         }
-        samples.push(Sample { label, power_law });
+        samples.push(PsSample { label, power_law });
     }
-    let theme = Theme::new(figure.dpi);
-    let svg = draw_curves(&ps_figure(&samples, args, &theme, &figure))?;
-    write_figure(&svg, &figure, &args.figure)
-}
-
-/// The panels: P(s) (and fits) above, slopes below.
-fn ps_figure(
-    samples: &[Sample],
-    args: &ExpectedPlotArgs,
-    theme: &Theme,
-    figure: &super::Figure,
-) -> CurveFigure {
-    let line =
-        |index: usize| Stroke::solid(CURVE_COLOURS[index % CURVE_COLOURS.len()], theme.px(1.5));
-    let dashed = |index: usize| line(index).dashed(theme.px(4.0));
-    let mut ps = Vec::new();
-    let mut slopes = Vec::new();
-    let mut colour = 0;
-    for sample in samples {
-        let binned = &sample.power_law.binned;
-        let bin_bp = binned.bin_size_bp as f64;
-        if args.per_region {
-            for (region, name) in binned.region_names.iter().enumerate() {
-                let points: Vec<(f64, f64)> = binned
-                    .by_region
-                    .iter()
-                    .filter(|b| b.region as usize == region)
-                    .map(|b| (b.dist_avg * bin_bp, b.average))
-                    .collect();
-                if points.is_empty() {
-                    continue;
-                }
-                let label = if samples.len() == 1 {
-                    name.clone()
-                } else {
-                    format!("{} {name}", sample.label)
-                };
-                ps.push(Series {
-                    label: Some(label),
-                    points,
-                    stroke: line(colour),
-                });
-                slopes.push(Series {
-                    label: None,
-                    points: binned
-                        .region_slopes
-                        .iter()
-                        .filter(|s| s.region == Some(region as u32))
-                        .map(|s| (s.dist_avg * bin_bp, s.slope))
-                        .collect(),
-                    stroke: line(colour),
-                });
-                colour += 1;
-            }
-            continue;
-        }
-        ps.push(Series {
-            label: Some(sample.label.clone()),
-            points: binned
-                .combined
-                .iter()
-                .map(|b| (b.dist_avg * bin_bp, b.average))
-                .collect(),
-            stroke: line(colour),
-        });
-        slopes.push(Series {
-            label: None,
-            points: binned
-                .slopes
-                .iter()
-                .map(|s| (s.dist_avg * bin_bp, s.slope))
-                .collect(),
-            stroke: line(colour),
-        });
-        if let (true, Ok(report)) = (args.fit, &sample.power_law.fit) {
-            let fit = &report.fit;
-            let at = |s: f64| 10f64.powf(fit.intercept_log10) * s.powf(fit.alpha);
-            ps.push(Series {
-                label: Some(format!(
-                    "fit {}-{}: s^{:.2}",
-                    format_distance(fit.first_bp),
-                    format_distance(fit.last_bp),
-                    fit.alpha
-                )),
-                points: vec![
-                    (fit.first_bp, at(fit.first_bp)),
-                    (fit.last_bp, at(fit.last_bp)),
-                ],
-                stroke: dashed(colour),
-            });
-            slopes.push(Series {
-                label: None,
-                points: vec![(fit.first_bp, fit.alpha), (fit.last_bp, fit.alpha)],
-                stroke: dashed(colour),
-            });
-        }
-        colour += 1;
-    }
-    let balanced: Vec<bool> = samples
-        .iter()
-        .map(|s| s.power_law.table.is_balanced())
-        .collect();
-    let y_label = if balanced.iter().all(|&b| b) {
-        "P(s), balanced"
-    } else if balanced.iter().all(|&b| !b) {
-        "P(s), raw counts"
-    } else {
-        "P(s)"
-    };
-    let mut panels = vec![Panel {
-        y_label: y_label.to_string(),
-        y_scale: Scale::Log,
-        series: ps,
-        weight: 2.2,
-        legend: true,
-        min_span: 0.0,
-    }];
-    if !args.no_slope {
-        panels.push(Panel {
-            y_label: "slope".to_string(),
-            y_scale: Scale::Linear,
-            series: slopes,
-            weight: 1.0,
-            legend: false,
-            min_span: 0.5,
-        });
-    }
-    CurveFigure {
+    let options = PsFigure {
+        per_region: args.per_region,
+        fit: args.fit,
+        slope_panel: !args.no_slope,
         title: args.figure.title.clone().unwrap_or_default(),
-        x_label: "separation s".to_string(),
-        x_scale: Scale::Log,
-        x_in_bp: true,
-        panels,
         width_px: figure.width_px,
         height_px: figure.height_px,
         dpi: figure.dpi,
-    }
+    };
+    let svg = draw_curves(&ps_figure(&samples, &options))?;
+    write_figure(&svg, &figure, &args.figure)
 }
 
 #[cfg(test)]

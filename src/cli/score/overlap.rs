@@ -5,12 +5,13 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
-use super::{aligned, max_sep_text, real, ListArgs};
+use super::{aligned, real, ListArgs};
 use crate::cli::output::{refuse_overwrites, Output};
-use crate::cli::protein::{NamedRange, PredictionFormatArg};
+use crate::cli::protein::PredictionFormatArg;
 use contactmap::error::{Error, Result};
 use contactmap::io::predictions::{read_fasta, read_prediction};
 use contactmap::score::contacts::{ListSize, Rounding};
+use contactmap::score::lists::NamedRange;
 use contactmap::score::overlap::{overlap, ranked_pairs, Overlap};
 
 /// Arguments of `contactmap score overlap`.
@@ -144,7 +145,7 @@ pub fn run(args: &OverlapArgs) -> Result<()> {
                 args.second.display(),
                 named.name,
                 named.range.min,
-                max_sep_text(&named.range),
+                named.range.max_text(),
                 result.k,
                 result.n_first,
                 result.n_second,

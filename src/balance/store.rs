@@ -1,0 +1,223 @@
+//! Balancing a map read from a file and storing the weights into a cooler, as `cooler balance`
+//! does: the steps `balance` and `zoomify --balance` share.
+
+use super::{balance, BalanceParams, BalanceResult, Scope};
+use crate::error::{Error, Result};
+use crate::genome::BinTable;
+use crate::io::cool::store::{store_weights, AttrValue};
+use crate::io::{self, MatrixReader};
+use crate::matrix::Weights;
+
+/// A balancing of a map, with what explains a failure to converge.
+#[derive(Clone, Debug)]
+pub struct Balanced {
+    /// The weights and the convergence report.
+    pub result: BalanceResult,
+    /// True when a genome-wide balancing failed on a map with more than one chromosome and no
+    /// trans pixel: the chromosomes' scales are independent, so it cannot converge (balance
+    /// each chromosome instead, [`Scope::Cis`]). Looked for only when it failed.
+    pub disconnected: bool,
+}
+
+/// Balance the map of `reader` with `params`, its pixels held in memory when they fit
+/// `max_memory_bytes` (else streamed from the file at every iteration).
+///
+/// # Examples
+///
+/// ```
+/// use contactmap::balance::store::balance_reader;
+/// use contactmap::balance::BalanceParams;
+/// use contactmap::io::open_matrix;
+///
+/// let reader = open_matrix("data/CN.mm9.10000kb.cool", &Default::default())?;
+/// let balanced = balance_reader(reader.as_ref(), &BalanceParams::default(), 1 << 30)?;
+/// assert!(balanced.result.converged && !balanced.disconnected);
+/// assert_eq!(balanced.result.weights.len(), reader.bins().n_bins());
+/// # Ok::<(), contactmap::Error>(())
+/// ```
+pub fn balance_reader(
+    reader: &dyn MatrixReader,
+    params: &BalanceParams,
+    max_memory_bytes: u64,
+) -> Result<Balanced> {
+    let pixels = io::load_pixels_for_balancing(reader, max_memory_bytes)?;
+    let result = balance(&pixels, params)?;
+    let disconnected = !result.converged
+        && params.scope == Scope::GenomeWide
+        && reader.bins().chroms().len() > 1
+        && !has_trans_pixels(reader)?;
+    Ok(Balanced {
+        result,
+        disconnected,
+    })
+}
+
+/// Whether any stored pixel joins two chromosomes (the read stops at the first).
+fn has_trans_pixels(reader: &dyn MatrixReader) -> Result<bool> {
+    let bins = reader.bins();
+    let n = bins.n_bins();
+    let mut found = false;
+    for chrom in 0..bins.chroms().len() {
+        let rows = bins.chrom_bins(chrom);
+        let later = rows.end..n;
+        if later.is_empty() {
+            break;
+        }
+        let read = reader.read_pixels(rows, later, &mut |block| {
+            found = !block.is_empty();
+            if found {
+                // Stop the stream: one pixel is enough.
+                Err(Error::Invalid(String::new()))
+            } else {
+                Ok(())
+            }
+        });
+        match read {
+            _ if found => return Ok(true),
+            Err(error) => return Err(error),
+            Ok(()) => {}
+        }
+    }
+    Ok(false)
+}
+
+impl BalanceResult {
+    /// Which groups did not converge and by how much, for an error message: `var=.., tol=..`,
+    /// or the chromosomes that did not (per-chromosome balancing).
+    pub fn unconverged_detail(&self, bins: &BinTable, tol: f64) -> String {
+        match &self.per_chrom {
+            Some(per_chrom) => {
+                let names: Vec<String> = per_chrom
+                    .iter()
+                    .zip(bins.chroms())
+                    .filter(|(g, _)| !g.converged)
+                    .map(|(g, c)| format!("{} var={:e}", c.name, g.var))
+                    .collect();
+                format!("tol={tol:e}; not converged: {}", names.join(", "))
+            }
+            None => format!("var={:e}, tol={tol:e}", self.var),
+        }
+    }
+}
+
+/// Store the weights of `result` as the column `name` of the cooler at `uri` (a .cool, or an
+/// .mcool resolution), with the attributes cooler writes beside it ([`stored_attributes`]);
+/// `overwrite` replaces an existing column.
+pub fn store_balanced(
+    uri: &str,
+    name: &str,
+    params: &BalanceParams,
+    result: &BalanceResult,
+    overwrite: bool,
+) -> Result<()> {
+    let weights = Weights {
+        name: name.to_string(),
+        values: result.weights.clone(),
+        provenance: None,
+    };
+    store_weights(uri, &weights, &stored_attributes(params, result), overwrite)
+}
+
+/// ICE with cooler's defaults on the cooler at `uri`, stored as `weight`, unless the file
+/// already has a `weight` column (a copied one is kept, as `cooler zoomify --balance` does).
+/// Returns the result when it balanced (`converged` says whether it converged; the weights
+/// are stored either way, with `converged=false`).
+pub fn balance_and_store(uri: &str, max_memory_bytes: u64) -> Result<Option<BalanceResult>> {
+    let params = BalanceParams::default();
+    let result = {
+        let reader = io::cool::CoolReader::open(uri)?;
+        if reader.weight_names().iter().any(|n| n == "weight") {
+            return Ok(None);
+        }
+        balance_reader(&reader, &params, max_memory_bytes)?.result
+    };
+    store_balanced(uri, "weight", &params, &result, true)?;
+    Ok(Some(result))
+}
+
+/// An integral value as an integer attribute (cooler stores its integer options as int64).
+fn number_attr(value: f64) -> AttrValue {
+    if value.fract() == 0.0 && value.abs() < 9e15 {
+        AttrValue::Int(value as i64)
+    } else {
+        AttrValue::Float(value)
+    }
+}
+
+/// cooler's attributes of a stored weight column: the options (`tol`, `min_nnz`, `min_count`,
+/// `mad_max`, `cis_only`, `ignore_diags`, `trans_only` when set), the result (`scale`,
+/// `converged`, `var`: one per chromosome for per-chromosome balancing) and the `method`.
+pub fn stored_attributes(
+    params: &BalanceParams,
+    result: &BalanceResult,
+) -> Vec<(String, AttrValue)> {
+    let mut attrs = vec![
+        ("tol".to_string(), AttrValue::Float(params.tol)),
+        ("min_nnz".to_string(), AttrValue::Int(params.min_nnz as i64)),
+        ("min_count".to_string(), number_attr(params.min_count)),
+        ("mad_max".to_string(), number_attr(params.mad_max)),
+        (
+            "cis_only".to_string(),
+            AttrValue::Bool(params.scope == Scope::Cis),
+        ),
+        (
+            "ignore_diags".to_string(),
+            AttrValue::Int(params.ignore_diags as i64),
+        ),
+    ];
+    match &result.per_chrom {
+        Some(per_chrom) => {
+            attrs.push((
+                "scale".to_string(),
+                AttrValue::Floats(per_chrom.iter().map(|g| g.scale).collect()),
+            ));
+            attrs.push((
+                "converged".to_string(),
+                AttrValue::Bools(per_chrom.iter().map(|g| g.converged).collect()),
+            ));
+            attrs.push((
+                "var".to_string(),
+                AttrValue::Floats(per_chrom.iter().map(|g| g.var).collect()),
+            ));
+        }
+        None => {
+            attrs.push(("scale".to_string(), AttrValue::Float(result.scale)));
+            attrs.push(("converged".to_string(), AttrValue::Bool(result.converged)));
+            attrs.push(("var".to_string(), AttrValue::Float(result.var)));
+        }
+    }
+    if params.scope == Scope::Trans {
+        attrs.push(("trans_only".to_string(), AttrValue::Bool(true)));
+    }
+    attrs.push((
+        "method".to_string(),
+        AttrValue::Str(params.method.name().to_string()),
+    ));
+    attrs
+}
+
+/// The weights as a table `chrom start end NAME` with a header line (`nan` for masked bins,
+/// shortest round-trip digits otherwise), given to `write` in pieces of about 1 MiB.
+pub fn weights_table(
+    bins: &BinTable,
+    weights: &Weights,
+    mut write: impl FnMut(&[u8]) -> Result<()>,
+) -> Result<()> {
+    let mut text = Vec::with_capacity(1 << 20);
+    text.extend_from_slice(format!("chrom\tstart\tend\t{}\n", weights.name).as_bytes());
+    for (bin_id, &w) in weights.values.iter().enumerate() {
+        let bin = bins.bin(bin_id);
+        let name = &bins.chroms()[bin.chrom_id].name;
+        let value = if w.is_nan() {
+            "nan".to_string()
+        } else {
+            format!("{w:?}")
+        };
+        text.extend_from_slice(format!("{name}\t{}\t{}\t{value}\n", bin.start, bin.end).as_bytes());
+        if text.len() > (1 << 20) {
+            write(&text)?;
+            text.clear();
+        }
+    }
+    write(&text)
+}

@@ -1,0 +1,354 @@
+//! A target structure and the predictions scored against it, the steps `score contacts`,
+//! `score overlap`, `plot contacts` and `contacts` share: read the chain, place it on a
+//! prediction's sequence (the register), measure its true contacts, load predictions, score
+//! each one over ranges and list sizes, and write the scores as TSV.
+
+use std::path::Path;
+
+use super::contacts::{
+    score_contacts, ContactDefinition, ContactScore, Prediction, ScoreParams, TrueContacts,
+};
+use super::lists::{LengthChoice, NamedRange};
+use super::register::{register, Register, RegisterMethod, RegisterMode};
+use crate::error::{Error, Result};
+use crate::io::predictions::{read_prediction, PredictionFormat};
+use crate::io::structure::{read_structure, Chain};
+use crate::io::tables::real_text;
+use crate::score::contacts::{ListSize, Rounding};
+
+/// How the structure's residues are placed on a prediction's sequence.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum RegisterChoice {
+    /// The residue numbers when they agree with the sequence (also with an offset), else a
+    /// sequence alignment.
+    #[default]
+    Auto,
+    /// Always a sequence alignment.
+    Align,
+    /// The residue numbers as they are, unchecked.
+    Numbering,
+}
+
+/// Without a sequence (no --fasta, none in the prediction's file) the prediction's residue numbers
+/// are taken as the structure's. Refuse when they cannot be: structure residues numbered below 1,
+/// or past the length the prediction's shape gives (a matrix, a distogram), or no residue of the
+/// prediction in the structure. Return a warning when more than a tenth of the prediction's
+/// residues are not in the structure (unobserved ends, or a prediction of another protein).
+pub fn check_numbering(
+    structure: &Path,
+    chain: &Chain,
+    prediction: &Prediction,
+    path: &Path,
+) -> Result<Option<String>> {
+    let numbers = chain.residues.iter().map(|r| r.number);
+    let (Some(first), Some(last)) = (numbers.clone().min(), numbers.max()) else {
+        return Ok(None);
+    };
+    let largest = prediction
+        .pairs
+        .iter()
+        .map(|&(i, j, _)| i.max(j))
+        .max()
+        .unwrap_or(0);
+    let length = prediction.length.unwrap_or(largest as usize);
+    let fix = "give the prediction's sequence with --fasta, and the chain is aligned to it";
+    let what = format!(
+        "chain {} of {} has {} residues numbered {first}-{last}",
+        chain.id,
+        structure.display(),
+        chain.residues.len()
+    );
+    let refuse = |why: String| {
+        Err(Error::format(
+            path,
+            format!(
+                "{why}: without a sequence the prediction's numbers are the structure's; {fix}"
+            ),
+        ))
+    };
+    if first < 1 || (prediction.length.is_some() && last as usize > length) {
+        return refuse(format!(
+            "the prediction covers residues 1-{length} but {what}"
+        ));
+    }
+    let observed: std::collections::HashSet<i32> =
+        chain.residues.iter().map(|r| r.number).collect();
+    if !prediction.pairs.is_empty()
+        && !prediction
+            .pairs
+            .iter()
+            .any(|(i, j, _)| observed.contains(i) || observed.contains(j))
+    {
+        return refuse(format!(
+            "no residue of the prediction (1-{length}) is in the structure: {what}"
+        ));
+    }
+    // Structures often miss a few terminal residues: more than a tenth of the prediction is
+    // worth a word.
+    let missing = (1..=length as i32)
+        .filter(|n| !observed.contains(n))
+        .count();
+    if prediction.length.is_some() && missing * 10 > length {
+        return Ok(Some(format!(
+            "{}: the prediction covers {length} residues but {what}: {missing} of its residues \
+             are not in the structure and are scored as unobserved. If the prediction is for \
+             another sequence, {fix}",
+            path.display()
+        )));
+    }
+    Ok(None)
+}
+
+/// Read `structure` and select the chain.
+pub fn read_chain(structure: &Path, chain: Option<&str>) -> Result<Chain> {
+    let parsed = read_structure(structure)?;
+    Ok(parsed
+        .chain(chain)
+        .map_err(|err| err.in_file(structure))?
+        .clone())
+}
+
+/// The chain with its residues numbered by their position in `sequence` (see
+/// [`crate::score::register`]), and the register; the chain unchanged without a sequence or
+/// with [`RegisterChoice::Numbering`].
+pub fn place_chain(
+    structure: &Path,
+    chain: &Chain,
+    sequence: Option<&str>,
+    mode: RegisterChoice,
+) -> Result<(Chain, Option<Register>)> {
+    let mode = match (sequence, mode) {
+        (None, _) | (_, RegisterChoice::Numbering) => return Ok((chain.clone(), None)),
+        (Some(_), RegisterChoice::Auto) => RegisterMode::Auto,
+        (Some(_), RegisterChoice::Align) => RegisterMode::Alignment,
+    };
+    let register = register(chain, sequence.unwrap_or_default(), mode)
+        .map_err(|err| err.in_file(structure))?;
+    Ok((register.renumber(chain), Some(register)))
+}
+
+/// The true contacts of a chain read from `structure`.
+pub fn measure(
+    structure: &Path,
+    chain: &Chain,
+    definition: &ContactDefinition,
+) -> Result<TrueContacts> {
+    TrueContacts::from_chain(chain, *definition).map_err(|err| err.in_file(structure))
+}
+
+/// What the register step did, for the outputs.
+#[derive(Clone, Debug)]
+pub struct RegisterSummary {
+    /// `numbering` or `alignment`.
+    pub method: &'static str,
+    /// The offset of a numbering register.
+    pub offset: Option<i32>,
+    /// Residues placed on the sequence.
+    pub placed: usize,
+    /// Placed residues identical to the sequence.
+    pub identical: usize,
+    /// Residues of the chain.
+    pub residues: usize,
+    /// The description printed for the user.
+    pub text: String,
+}
+
+/// The chain placed on one sequence, and its true contacts.
+pub struct Placed {
+    /// The true contacts, in the sequence's numbering when there is a sequence.
+    pub truth: TrueContacts,
+    /// What the register step did, when there was one.
+    pub register: Option<RegisterSummary>,
+    /// A warning about the numbering ([`check_numbering`]), printed once the command succeeded.
+    pub warning: Option<String>,
+}
+
+/// Place `chain` (read from `structure`) on `sequence` as `mode` says ([`place_chain`]) and
+/// measure its true contacts; without a sequence, a chain whose numbers are not unique asks
+/// for one.
+pub fn place(
+    structure: &Path,
+    chain: &Chain,
+    sequence: Option<&str>,
+    mode: RegisterChoice,
+    definition: &ContactDefinition,
+) -> Result<Placed> {
+    let (placed, register) = place_chain(structure, chain, sequence, mode)?;
+    let truth = measure(structure, &placed, definition).map_err(|err| match err {
+        Error::Invalid(message) if sequence.is_none() => Error::Invalid(format!(
+            "{message} (give the target sequence with --fasta to place the residues on it)"
+        )),
+        other => other,
+    })?;
+    Ok(Placed {
+        truth,
+        register: register.map(|register| RegisterSummary {
+            method: match register.method {
+                RegisterMethod::Numbering { .. } => "numbering",
+                RegisterMethod::Alignment => "alignment",
+            },
+            offset: match register.method {
+                RegisterMethod::Numbering { offset } => Some(offset),
+                RegisterMethod::Alignment => None,
+            },
+            placed: register.pairs.len(),
+            identical: register.identical,
+            residues: register.n_residues,
+            text: register.describe(chain),
+        }),
+        warning: None,
+    })
+}
+
+/// Read the prediction at `path` (`format`, or detected from the content); with `fasta`, attach
+/// that sequence and check the residue numbers against it. The sequence is made upper case.
+pub fn load_prediction(
+    path: &Path,
+    format: Option<PredictionFormat>,
+    fasta: Option<&str>,
+) -> Result<Prediction> {
+    let mut prediction = read_prediction(path, format)?;
+    if let Some(sequence) = fasta {
+        prediction = prediction
+            .with_sequence(sequence)
+            .map_err(|err| err.in_file(path))?;
+    }
+    if let Some(sequence) = &mut prediction.sequence {
+        sequence.make_ascii_uppercase();
+    }
+    Ok(prediction)
+}
+
+/// The scores of one prediction.
+#[derive(Clone, Debug)]
+pub struct PredictionScores {
+    /// The prediction's file.
+    pub path: String,
+    /// Where L comes from (`sequence`, `matrix size`, `observed`, `given`).
+    pub length_source: &'static str,
+    /// Observed residues of the chain as placed on the sequence.
+    pub n_observed: usize,
+    /// What the register step did, when there was one.
+    pub register: Option<RegisterSummary>,
+    /// Per separation range: the range, the labels of the list sizes, and the scores.
+    pub scores: Vec<(NamedRange, Vec<String>, ContactScore)>,
+}
+
+/// What to compute for each prediction.
+#[derive(Clone, Debug)]
+pub struct ScorePlan {
+    /// Separation ranges.
+    pub ranges: Vec<NamedRange>,
+    /// List sizes with their labels.
+    pub sizes: Vec<(String, ListSize)>,
+    /// What L is.
+    pub length: LengthChoice,
+    /// Rounding of `L * fraction`.
+    pub rounding: Rounding,
+    /// Keep pairs with a residue the structure does not have (they take a slot and are never
+    /// true).
+    pub keep_unobserved: bool,
+    /// The largest list of the precision curve, when one is wanted.
+    pub curve_size: Option<ListSize>,
+}
+
+/// Score `prediction` (read from `path`, named in errors) against the chain `placed` on its
+/// sequence, over every range and list size of `plan`.
+pub fn score_prediction(
+    path: &Path,
+    prediction: &Prediction,
+    placed: &Placed,
+    plan: &ScorePlan,
+) -> Result<PredictionScores> {
+    let ScorePlan {
+        ranges,
+        sizes,
+        length,
+        curve_size,
+        rounding,
+        keep_unobserved,
+    } = plan;
+    let (target_length, length_source) = length.resolve(prediction);
+    let labels: Vec<String> = sizes.iter().map(|(label, _)| label.clone()).collect();
+    let mut scores = Vec::with_capacity(ranges.len());
+    for named in ranges {
+        let params = ScoreParams {
+            range: named.range,
+            length: target_length,
+            rounding: *rounding,
+            list_sizes: sizes.iter().map(|(_, size)| *size).collect(),
+            drop_unobserved: !keep_unobserved,
+            curve: *curve_size,
+        };
+        let score =
+            score_contacts(&placed.truth, prediction, &params).map_err(|err| err.in_file(path))?;
+        scores.push((named.clone(), labels.clone(), score));
+    }
+    Ok(PredictionScores {
+        path: path.display().to_string(),
+        length_source,
+        n_observed: placed.truth.n_observed(),
+        register: placed.register.clone(),
+        scores,
+    })
+}
+
+/// The scores as TSV, one row per prediction x range x list size, with a header:
+/// `prediction range min_sep max_sep list k n_scored tp precision recall f1 mcc xd length
+/// n_true n_available` (`max_sep` is `inf` for an open range).
+pub fn scores_tsv(reports: &[PredictionScores]) -> String {
+    let mut text = String::from(
+        "prediction\trange\tmin_sep\tmax_sep\tlist\tk\tn_scored\ttp\tprecision\trecall\tf1\tmcc\
+         \txd\tlength\tn_true\tn_available\n",
+    );
+    for report in reports {
+        for (named, labels, score) in &report.scores {
+            for (label, list) in labels.iter().zip(&score.lists) {
+                text.push_str(&format!(
+                    "{}\t{}\t{}\t{}\t{label}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\n",
+                    report.path,
+                    named.name,
+                    named.range.min,
+                    named.range.max_text(),
+                    list.k,
+                    list.n_scored,
+                    list.true_positives,
+                    real_text(list.precision),
+                    real_text(list.recall),
+                    real_text(list.f1),
+                    real_text(list.mcc),
+                    real_text(list.xd),
+                    score.length,
+                    score.n_true,
+                    score.n_available,
+                ));
+            }
+        }
+    }
+    text
+}
+
+/// The precision curves as TSV: one row per prediction x range x list size k.
+pub fn curves_tsv(reports: &[PredictionScores]) -> String {
+    let mut text = String::from("prediction\trange\tk\tk_over_l\ttp\tprecision\trecall\n");
+    for report in reports {
+        for (named, _, score) in &report.scores {
+            for (index, &tp) in score.curve.iter().enumerate() {
+                let k = index + 1;
+                text.push_str(&format!(
+                    "{}\t{}\t{k}\t{}\t{tp}\t{}\t{}\n",
+                    report.path,
+                    named.name,
+                    real_text(k as f64 / score.length.max(1) as f64),
+                    real_text(tp as f64 / k as f64),
+                    real_text(if score.n_true == 0 {
+                        0.0
+                    } else {
+                        tp as f64 / score.n_true as f64
+                    }),
+                ));
+            }
+        }
+    }
+    text
+}
