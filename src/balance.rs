@@ -268,6 +268,28 @@ impl BalanceParams {
 
     /// Juicer's parameters for `method`: no filter, diagonal included, KR tolerance 1e-6, SCALE
     /// tolerance 5e-4 and 100 iterations per try.
+    ///
+    /// # Examples
+    ///
+    /// Juicer's per-chromosome VC vector of the dm6 map, as hic2cool stored it in the `.mcool`:
+    ///
+    /// ```
+    /// use contactmap::balance::{balance, BalanceParams, Method, Scope};
+    /// use contactmap::io::{load_pixels_for_balancing, open_matrix, MatrixReader, OpenOptions};
+    ///
+    /// let uri = "data/cooler_test_file.mcool::/resolutions/100000";
+    /// let reader = open_matrix(uri, &OpenOptions::default())?;
+    /// let pixels = load_pixels_for_balancing(&*reader, u64::MAX)?;
+    /// let params = BalanceParams { scope: Scope::Cis, ..BalanceParams::juicer(Method::Vc) };
+    /// assert_eq!(params, BalanceParams { scope: Scope::Cis, ..BalanceParams::for_method(Method::Vc) });
+    /// let vc = balance(&pixels, &params)?;
+    /// let juicer = reader.weights("VC")?; // divisive in the file, inverted on read
+    /// for (ours, theirs) in vc.weights.iter().zip(&juicer.values) {
+    ///     assert_eq!(ours.is_nan(), theirs.is_nan());
+    ///     assert!(ours.is_nan() || (ours - theirs).abs() <= 1e-9 * theirs.abs());
+    /// }
+    /// # Ok::<(), contactmap::Error>(())
+    /// ```
     pub fn juicer(method: Method) -> Self {
         BalanceParams {
             method,
@@ -374,6 +396,59 @@ impl BalanceResult {
 ///
 /// One pass over the pixels per ICE iteration or KR matrix-vector product, plus one or two for the
 /// filters. Fails only on bad parameters or when the source fails to produce its pixels.
+///
+/// # Examples
+///
+/// What each method promises, on a small matrix: ICE makes the balanced rows (without the
+/// ignored diagonals) sum to 1; KR makes them all equal, the balanced matrix summing to the raw
+/// one (Juicer's scale). The mm9 cooler's stored `weight` is what ICE gives with cooler's
+/// defaults (see the [crate documentation](crate#balance)).
+///
+/// ```
+/// use contactmap::balance::{balance, BalanceParams, Method};
+/// use contactmap::genome::{BinTable, Chrom};
+/// use contactmap::io::{load_pixels, InMemory};
+/// use contactmap::matrix::{CountType, MatrixBuilder};
+///
+/// let bins = BinTable::fixed(vec![Chrom::new("chr1", 1_000)], 100)?;
+/// let mut builder = MatrixBuilder::new(bins, CountType::Integer);
+/// for i in 0..10u64 {
+///     for j in i..10 {
+///         builder.push(i, j, (1 + (7 * i + 3 * j) % 5) as f64 * 10.0)?;
+///     }
+/// }
+/// let matrix = InMemory::new("example".into(), builder.build());
+/// let pixels = load_pixels(&matrix, u64::MAX)?;
+/// // balanced row sums over the full symmetric matrix, leaving out |i - j| < skip
+/// let rows = |w: &[f64], skip: usize| -> Vec<f64> {
+///     (0..10)
+///         .map(|i| {
+///             (0..10)
+///                 .filter(|&j| i.max(j) - i.min(j) >= skip)
+///                 .map(|j| matrix.matrix().get(i, j) * w[i] * w[j])
+///                 .sum()
+///         })
+///         .collect()
+/// };
+///
+/// let ice_params = BalanceParams {
+///     min_nnz: 0,
+///     mad_max: 0.0,
+///     tol: 1e-12,
+///     max_iters: 1_000,
+///     ..BalanceParams::default()
+/// };
+/// let ice = balance(&pixels, &ice_params)?;
+/// assert!(ice.converged && ice.n_masked() == 0);
+/// assert!(rows(&ice.weights, 2).iter().all(|s| (s - 1.0).abs() < 1e-4));
+///
+/// let kr = balance(&pixels, &BalanceParams::juicer(Method::Kr))?;
+/// assert!(kr.converged);
+/// let sums = rows(&kr.weights, 0);
+/// let raw: f64 = rows(&[1.0; 10], 0).iter().sum();
+/// assert!(sums.iter().all(|s| (s - raw / 10.0).abs() < 1e-4 * raw));
+/// # Ok::<(), contactmap::Error>(())
+/// ```
 pub fn balance(source: &impl PixelSource, params: &BalanceParams) -> Result<BalanceResult> {
     params.check()?;
     let bins = source.bins();

@@ -342,6 +342,47 @@ fn check_inputs<S: PixelSource>(pixels: &S, weights: Option<&[f64]>, view: &View
 /// one per bin, NaN for masked bins), or raw counts when `weights` is `None`.
 ///
 /// Needs fixed-size bins (distances in bp are `dist * bin_size`, as cooltools writes them).
+///
+/// # Examples
+///
+/// A chromosome of 10 bins whose diagonal `d` holds `10 - d` everywhere: raw, every diagonal
+/// averages `10 - d`; balanced with weights 0.5 and bin 0 masked, `0.25 (10 - d)` over the
+/// `9 - d` valid pixels. The first two diagonals are ignored (NaN), as cooltools does.
+///
+/// ```
+/// use contactmap::expected::{expected_cis, CisParams, View};
+/// use contactmap::genome::{BinTable, Chrom};
+/// use contactmap::io::{load_pixels, InMemory};
+/// use contactmap::matrix::{CountType, MatrixBuilder};
+///
+/// let bins = BinTable::fixed(vec![Chrom::new("chr1", 10_000)], 1_000)?;
+/// let mut builder = MatrixBuilder::new(bins.clone(), CountType::Integer);
+/// for i in 0..10u64 {
+///     for j in i..10 {
+///         builder.push(i, j, (10 - (j - i)) as f64)?;
+///     }
+/// }
+/// let matrix = InMemory::new("example".into(), builder.build());
+/// let pixels = load_pixels(&matrix, u64::MAX)?;
+/// let view = View::chromosomes(&bins);
+/// let raw = expected_cis(&pixels, None, &view, &CisParams::default())?;
+/// assert_eq!(raw.n_rows(), 10);
+/// assert!(raw.count_avg[1].is_nan());
+/// for d in 2..10 {
+///     assert_eq!(raw.dist_bp[d], d as u64 * 1_000);
+///     assert_eq!((raw.n_total[d], raw.n_valid[d]), (10 - d as u64, 10 - d as u64));
+///     assert_eq!(raw.count_avg[d], (10 - d) as f64);
+/// }
+/// let mut weights = vec![0.5; 10];
+/// weights[0] = f64::NAN;
+/// let balanced = expected_cis(&pixels, Some(&weights), &view, &CisParams::default())?;
+/// let average = balanced.balanced_avg.as_ref().expect("balanced columns");
+/// for d in 2..9 {
+///     assert_eq!(balanced.n_valid[d], 9 - d as u64);
+///     assert_eq!(average[d], 0.25 * (10 - d) as f64);
+/// }
+/// # Ok::<(), contactmap::Error>(())
+/// ```
 pub fn expected_cis<S: PixelSource>(
     pixels: &S,
     weights: Option<&[f64]>,
@@ -510,6 +551,40 @@ fn smooth_table(
 
 /// Compute the trans expected of `pixels` between every pair of `view` regions on different
 /// chromosomes: balanced with `weights`, or raw counts when `weights` is `None`.
+///
+/// # Examples
+///
+/// Two chromosomes of 4 and 3 bins whose trans pixels all hold 2: with one bin masked, the
+/// block has `3 x 3` valid pixels, summing to 18.
+///
+/// ```
+/// use contactmap::expected::{expected_trans, View};
+/// use contactmap::genome::{BinTable, Chrom};
+/// use contactmap::io::{load_pixels, InMemory};
+/// use contactmap::matrix::{CountType, MatrixBuilder};
+///
+/// let chroms = vec![Chrom::new("chr1", 400), Chrom::new("chr2", 300)];
+/// let bins = BinTable::fixed(chroms, 100)?;
+/// let mut builder = MatrixBuilder::new(bins.clone(), CountType::Integer);
+/// for i in 0..4u64 {
+///     builder.push(i, i, 50.0)?; // cis: left out
+///     for j in 4..7 {
+///         builder.push(i, j, 2.0)?;
+///     }
+/// }
+/// let matrix = InMemory::new("example".into(), builder.build());
+/// let pixels = load_pixels(&matrix, u64::MAX)?;
+/// let view = View::chromosomes(&bins);
+/// let raw = expected_trans(&pixels, None, &view)?;
+/// assert_eq!((raw.region1[0].as_str(), raw.region2[0].as_str()), ("chr1", "chr2"));
+/// assert_eq!((raw.n_valid[0], raw.count_sum[0], raw.count_avg[0]), (12, 24.0, 2.0));
+/// let weights = [f64::NAN, 1.0, 1.0, 1.0, 0.5, 0.5, 0.5];
+/// let balanced = expected_trans(&pixels, Some(&weights), &view)?;
+/// assert_eq!((balanced.n_valid[0], balanced.count_sum[0]), (9, 18.0));
+/// assert_eq!(balanced.balanced_avg.as_ref().unwrap()[0], 1.0);
+/// assert_eq!(balanced.average_by_pair(&view)[0][1], 1.0);
+/// # Ok::<(), contactmap::Error>(())
+/// ```
 pub fn expected_trans<S: PixelSource>(
     pixels: &S,
     weights: Option<&[f64]>,
@@ -577,6 +652,27 @@ pub fn expected_trans<S: PixelSource>(
 /// Per-chromosome expected curves for observed / expected ([`crate::normalize`]): the cis
 /// expected over whole chromosomes without smoothing, with `balanced.avg` (`count.avg` for raw
 /// counts) and `n_valid` per diagonal.
+///
+/// # Examples
+///
+/// One curve per chromosome, one value per diagonal: the averages of cooltools'
+/// `expected_cis` on the mm9 map (`data/reference/numerics/mm9_CN_10Mb.expected_cis.raw.tsv.gz`,
+/// chr1: 20 bins, 1,114,921 contacts on the 18 pixels of diagonal 2).
+///
+/// ```
+/// use contactmap::expected::cis_curves;
+/// use contactmap::io::{load_pixels, open_matrix, MatrixReader, OpenOptions};
+///
+/// let reader = open_matrix("data/CN.mm9.10000kb.cool", &OpenOptions::default())?;
+/// let pixels = load_pixels(&*reader, u64::MAX)?;
+/// let curves = cis_curves(&pixels, None, 2)?;
+/// assert_eq!(curves.len(), reader.bins().n_chroms());
+/// let chr1 = &curves[0];
+/// assert_eq!((chr1.bins.clone(), chr1.expected.len()), (0..20, 20));
+/// assert!(chr1.expected[0].is_nan() && chr1.expected[1].is_nan());
+/// assert_eq!((chr1.expected[2], chr1.n_valid[2]), (1_114_921.0 / 18.0, 18.0));
+/// # Ok::<(), contactmap::Error>(())
+/// ```
 pub fn cis_curves<S: PixelSource>(
     pixels: &S,
     weights: Option<&[f64]>,

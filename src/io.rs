@@ -74,6 +74,26 @@ pub trait MatrixReader {
     fn weight_names(&self) -> Vec<String>;
 
     /// The weight column `name`, in cooler's multiplicative convention.
+    ///
+    /// # Examples
+    ///
+    /// The dm6 `.mcool` carries cooler's ICE `weight` and Juicer's divisive `KR`, `VC`, ... as
+    /// hic2cool stored them: every column reads multiplicative.
+    ///
+    /// ```
+    /// use contactmap::io::{open_matrix, MatrixReader, OpenOptions};
+    ///
+    /// let uri = "data/cooler_test_file.mcool::/resolutions/100000";
+    /// let reader = open_matrix(uri, &OpenOptions::default())?;
+    /// let vc = reader.weights("VC")?;
+    /// let stored = reader.stored_weights("VC")?; // divisive, as in the file
+    /// assert_eq!(vc.values.len(), reader.bins().n_bins());
+    /// for (w, v) in vc.values.iter().zip(&stored.values) {
+    ///     assert!(w.is_nan() && !(*v > 0.0) || (w * v - 1.0).abs() < 1e-12);
+    /// }
+    /// assert!(reader.weights("no such column").is_err());
+    /// # Ok::<(), contactmap::Error>(())
+    /// ```
     fn weights(&self, name: &str) -> Result<Weights>;
 
     /// The weight column `name` as the file stores it: divisive columns (Juicer's convention)
@@ -94,6 +114,35 @@ pub trait MatrixReader {
 
     /// Stream the stored pixels in the rectangle `rows x cols` to `sink`, sorted by
     /// `(bin1, bin2)`. The sink may stop the stream early by returning an error.
+    ///
+    /// # Examples
+    ///
+    /// The chr2L box of `data/reference/dm6_100kb.chr2L_box.balanced.join.tsv` (`cooler dump
+    /// --join --balanced -r chr2L:1,000,000-3,000,000 -r2 chr2L:2,000,000-5,000,000`): its first
+    /// pixel is `(chr2L:1.0-1.1 Mb, chr2L:2.0-2.1 Mb)`, count 541, balanced 0.00723358.
+    ///
+    /// ```
+    /// use contactmap::io::{open_matrix, MatrixReader, OpenOptions};
+    ///
+    /// let uri = "data/cooler_test_file.mcool::/resolutions/100000";
+    /// let reader = open_matrix(uri, &OpenOptions::default())?;
+    /// let rows = reader.bins().parse_region_bins("chr2L:1,000,000-3,000,000")?;
+    /// let cols = reader.bins().parse_region_bins("chr2L:2,000,000-5,000,000")?;
+    /// let weights = reader.weights("weight")?.values;
+    /// let mut pixels = Vec::new();
+    /// reader.read_pixels(rows.clone(), cols.clone(), &mut |block| {
+    ///     for k in 0..block.len() {
+    ///         pixels.push((block.bin1[k] as usize, block.bin2[k] as usize, block.count[k]));
+    ///     }
+    ///     Ok(())
+    /// })?;
+    /// assert!(pixels.windows(2).all(|w| (w[0].0, w[0].1) < (w[1].0, w[1].1)));
+    /// assert!(pixels.iter().all(|p| rows.contains(&p.0) && cols.contains(&p.1)));
+    /// let (i, j, count) = pixels[0];
+    /// assert_eq!((i, j, count), (rows.start, cols.start, 541.0));
+    /// assert!((count * weights[i] * weights[j] - 0.00723358).abs() < 1e-8);
+    /// # Ok::<(), contactmap::Error>(())
+    /// ```
     fn read_pixels(
         &self,
         rows: Range<usize>,
@@ -204,6 +253,25 @@ pub struct OpenOptions {
 
 /// Open any supported matrix: `.cool`, `.mcool::/resolutions/N`, `.hic[::/resolutions/N]`, or a
 /// text table (`-` for stdin).
+///
+/// # Examples
+///
+/// The same mm9 map as a cooler and as a `.hic` written by hictk (`data/README.md`): one bin
+/// table, the same pixels.
+///
+/// ```
+/// use contactmap::io::{open_matrix, MatrixReader, OpenOptions};
+///
+/// let options = OpenOptions::default();
+/// let cool = open_matrix("data/CN.mm9.10000kb.cool", &options)?;
+/// let hic = open_matrix("data/CN.mm9.multires.hic::/resolutions/10000000", &options)?;
+/// assert!(cool.info().format.starts_with("cool"));
+/// assert_eq!(cool.bins().n_bins(), hic.bins().n_bins());
+/// assert_eq!(cool.totals()?, (38_503, 499_864_755.0)); // cooler's nnz and sum
+/// assert_eq!(hic.totals()?, cool.totals()?);
+/// assert!(open_matrix("data/no-such-file.cool", &options).is_err());
+/// # Ok::<(), contactmap::Error>(())
+/// ```
 pub fn open_matrix(uri: &str, options: &OpenOptions) -> Result<Box<dyn MatrixReader>> {
     let (path, group) = split_uri(uri);
     match detect_kind(path)? {
@@ -587,6 +655,24 @@ impl MatrixReader for CheckedCounts {
 }
 
 /// Read every pixel of `reader` into a [`ContactMatrix`] (with all its weight columns).
+///
+/// # Examples
+///
+/// ```
+/// use contactmap::io::{load_matrix, open_matrix, MatrixReader, OpenOptions};
+///
+/// let reader = open_matrix("data/CN.mm9.10000kb.cool", &OpenOptions::default())?;
+/// let matrix = load_matrix(&*reader)?;
+/// assert_eq!((matrix.nnz(), matrix.sum()), (38_503, 499_864_755.0));
+/// let stored = reader.weights("weight")?.values;
+/// let copied = &matrix.weight("weight").expect("the weight column").values;
+/// assert!(stored.iter().zip(copied).all(|(a, b)| a.to_bits() == b.to_bits()));
+/// // the dense view of chr1 is symmetric
+/// let chr1 = matrix.bins().parse_region_bins("chr1")?;
+/// let dense = matrix.dense(chr1.clone(), chr1);
+/// assert_eq!(dense, dense.t());
+/// # Ok::<(), contactmap::Error>(())
+/// ```
 pub fn load_matrix(reader: &dyn MatrixReader) -> Result<ContactMatrix> {
     let mut builder = crate::matrix::MatrixBuilder::new(reader.bins().clone(), reader.count_type());
     let n = reader.bins().n_bins();
@@ -612,6 +698,37 @@ pub enum LoadedPixels<'a> {
 }
 
 /// Load `reader`'s pixels into memory if `nnz * 16 bytes <= max_memory_bytes`, else stream them.
+///
+/// # Examples
+///
+/// Both give the same answers: here the coverage of every bin, in one pass.
+///
+/// ```
+/// use contactmap::io::{load_pixels, open_matrix, LoadedPixels, MatrixReader, OpenOptions};
+/// use contactmap::matrix::PixelSource;
+///
+/// let reader = open_matrix("data/CN.mm9.10000kb.cool", &OpenOptions::default())?;
+/// let n = reader.bins().n_bins();
+/// let coverage = |pixels: &LoadedPixels| {
+///     pixels.pass(
+///         || vec![0.0; n],
+///         |mut sums, slice| {
+///             for (i, j, count) in slice.iter() {
+///                 sums[i] += count;
+///                 sums[j] += count;
+///             }
+///             sums
+///         },
+///         |a, b| a.iter().zip(&b).map(|(x, y)| x + y).collect(),
+///     )
+/// };
+/// let memory = load_pixels(&*reader, u64::MAX)?;
+/// let streamed = load_pixels(&*reader, 0)?;
+/// assert!(matches!(memory, LoadedPixels::Memory(_)));
+/// assert!(matches!(streamed, LoadedPixels::Streamed(_)));
+/// assert_eq!(coverage(&memory)?, coverage(&streamed)?);
+/// # Ok::<(), contactmap::Error>(())
+/// ```
 pub fn load_pixels(reader: &dyn MatrixReader, max_memory_bytes: u64) -> Result<LoadedPixels<'_>> {
     let (nnz, _) = reader.totals()?;
     if nnz.saturating_mul(BYTES_PER_PIXEL) > max_memory_bytes {
@@ -632,6 +749,35 @@ pub fn load_pixels(reader: &dyn MatrixReader, max_memory_bytes: u64) -> Result<L
 /// (cooler `storage-mode: square`), whose stored pixels are all loaded and folded onto the upper
 /// triangle as cooler's balance counts them ([`Pixels::from_folded`]). Those are held in memory
 /// whatever `max_memory_bytes`, which they must fit.
+///
+/// # Examples
+///
+/// `square.cool` stores both triangles; its folded upper triangle sums to the stored pixels.
+///
+/// ```
+/// use contactmap::io::{load_pixels_for_balancing, open_matrix, LoadedPixels, MatrixReader, OpenOptions};
+/// use contactmap::matrix::PixelSource;
+///
+/// let reader = open_matrix("data/layouts/square.cool", &OpenOptions::default())?;
+/// assert!(reader.stores_both_triangles());
+/// let n = reader.bins().n_bins();
+/// let (mut n_stored, mut stored) = (0, 0.0);
+/// reader.read_stored_pixels(0..n, 0..n, &mut |block| {
+///     n_stored += block.len();
+///     stored += block.count.iter().sum::<f64>();
+///     Ok(())
+/// })?;
+/// let pixels = load_pixels_for_balancing(&*reader, u64::MAX)?;
+/// let LoadedPixels::Memory(memory) = &pixels else { panic!("held in memory") };
+/// assert_eq!(memory.len(), n_stored); // every stored pixel, each triangle's kept apart
+/// let folded = pixels.pass(
+///     || 0.0,
+///     |sum, slice| sum + slice.iter().map(|(_, _, count)| count).sum::<f64>(),
+///     |a, b| a + b,
+/// )?;
+/// assert_eq!(folded, stored);
+/// # Ok::<(), contactmap::Error>(())
+/// ```
 pub fn load_pixels_for_balancing(
     reader: &dyn MatrixReader,
     max_memory_bytes: u64,

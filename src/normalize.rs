@@ -64,6 +64,44 @@ pub struct Normalizer {
 impl Normalizer {
     /// A normalizer over `n_bins` bins. `weights` balances the counts (`None`: raw counts).
     /// Regions must not overlap, and each curve must cover every diagonal of its region.
+    ///
+    /// # Examples
+    ///
+    /// A chromosome whose diagonal `d` holds `10 - d` everywhere is its own expected: observed /
+    /// expected is 1 on every diagonal that has an expected value (the first two are ignored),
+    /// and its z-score undefined (no spread: every pixel dropped).
+    ///
+    /// ```
+    /// use contactmap::expected::cis_curves;
+    /// use contactmap::genome::{BinTable, Chrom};
+    /// use contactmap::io::{load_pixels, InMemory, MatrixReader};
+    /// use contactmap::normalize::{Method, Normalizer};
+    /// use contactmap::matrix::{CountType, MatrixBuilder};
+    ///
+    /// let bins = BinTable::fixed(vec![Chrom::new("chr1", 10_000)], 1_000)?;
+    /// let mut builder = MatrixBuilder::new(bins, CountType::Integer);
+    /// for i in 0..10u64 {
+    ///     for j in i..10 {
+    ///         builder.push(i, j, (10 - (j - i)) as f64)?;
+    ///     }
+    /// }
+    /// let matrix = InMemory::new("example".into(), builder.build());
+    /// let pixels = load_pixels(&matrix, u64::MAX)?;
+    /// let curves = cis_curves(&pixels, None, 2)?;
+    /// let block = matrix.matrix().all_pixels();
+    ///
+    /// let oe = Normalizer::new(Method::Oe, 10, None, curves.clone())?;
+    /// let normalized = oe.apply(&block)?;
+    /// assert_eq!(normalized.len(), 8 * 9 / 2); // diagonals 2..10
+    /// assert!(normalized.count.iter().all(|&v| v == 1.0));
+    /// assert!(normalized.bin1.iter().zip(&normalized.bin2).all(|(i, j)| j - i >= 2));
+    ///
+    /// let mut zscore = Normalizer::new(Method::Zscore, 10, None, curves)?;
+    /// assert!(zscore.needs_deviations());
+    /// zscore.compute_deviations(&pixels)?;
+    /// assert!(zscore.apply(&block)?.is_empty());
+    /// # Ok::<(), contactmap::Error>(())
+    /// ```
     pub fn new(
         method: Method,
         n_bins: usize,
@@ -222,6 +260,39 @@ pub struct NormalizedReader<'a> {
 
 impl<'a> NormalizedReader<'a> {
     /// The pixels of `inner` through `normalizer`; `source` names the result in messages.
+    ///
+    /// # Examples
+    ///
+    /// Observed / expected of the balanced mm9 map, as cooltools computes it
+    /// (`data/reference/CN.mm9.10000kb.cis_oe.tsv`, `obs_over_exp` of cooltools' sandbox: its
+    /// first pixel is `(0, 2)`, 1.5293759028435407).
+    ///
+    /// ```
+    /// use contactmap::expected::cis_curves;
+    /// use contactmap::io::{load_pixels, open_matrix, MatrixReader, OpenOptions};
+    /// use contactmap::normalize::{Method, NormalizedReader, Normalizer};
+    ///
+    /// let reader = open_matrix("data/CN.mm9.10000kb.cool", &OpenOptions::default())?;
+    /// let weights = reader.weights("weight")?.values;
+    /// let pixels = load_pixels(&*reader, u64::MAX)?;
+    /// let curves = cis_curves(&pixels, Some(&weights), 2)?;
+    /// let n = reader.bins().n_bins();
+    /// let normalizer = Normalizer::new(Method::Oe, n, Some(weights), curves)?;
+    /// let oe = NormalizedReader::new(&*reader, &normalizer, "mm9 o/e".into());
+    /// let mut values = Vec::new();
+    /// oe.read_pixels(0..n, 0..n, &mut |block| {
+    ///     for k in 0..block.len() {
+    ///         values.push((block.bin1[k], block.bin2[k], block.count[k]));
+    ///     }
+    ///     Ok(())
+    /// })?;
+    /// assert_eq!(values.len(), 1_440); // the lines of the reference
+    /// let (i, j, value) = values[0];
+    /// assert_eq!((i, j), (0, 2));
+    /// assert!((value - 1.5293759028435407).abs() < 1e-10 * value);
+    /// assert!(oe.weight_names().is_empty());
+    /// # Ok::<(), contactmap::Error>(())
+    /// ```
     pub fn new(inner: &'a dyn MatrixReader, normalizer: &'a Normalizer, source: String) -> Self {
         NormalizedReader {
             inner,

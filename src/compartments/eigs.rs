@@ -35,6 +35,51 @@ pub struct Eigs<T> {
 /// Eigenvectors of every region of `view` (cooltools `eigs_cis`), one region in memory at a
 /// time, from the counts of `reader` times `weights` (cooler's multiplicative weights, NaN for
 /// masked bins).
+///
+/// # Examples
+///
+/// chr2L of the dm6 map, phased by the track cooltools was given
+/// (`data/reference/compartments/`): E1 is cooltools' phased E1.
+///
+/// ```
+/// use std::io::BufRead;
+/// use std::path::Path;
+/// use contactmap::compartments::cis::CisEigParams;
+/// use contactmap::compartments::eigs::{eigs_cis, Phasing};
+/// use contactmap::expected::{RegionSpec, View};
+/// use contactmap::io::tables::track_on_bins;
+/// use contactmap::io::{open_matrix, open_text, MatrixReader, OpenOptions};
+///
+/// let uri = "data/cooler_test_file.mcool::/resolutions/100000";
+/// let reader = open_matrix(uri, &OpenOptions::default())?;
+/// let weights = reader.weights("weight")?.values;
+/// let reference = Path::new("data/reference/compartments");
+/// let mut track = track_on_bins(&reference.join("dm6_100kb.phasing.tsv.gz"), "track", reader.bins())?;
+/// for (t, w) in track.iter_mut().zip(&weights) {
+///     if w.is_nan() {
+///         *t = f64::NAN; // cooltools masks the track on the map's bad bins
+///     }
+/// }
+/// let chr2l = RegionSpec { chrom: "chr2L".into(), start_bp: 0, end_bp: 23_513_712, name: None };
+/// let view = View::new(reader.bins(), &[chr2l])?;
+/// let phasing = Phasing { track: Some(&track), sort: None };
+/// let eigs = eigs_cis(&*reader, &weights, &view, phasing, &CisEigParams::default())?;
+/// assert!(eigs.warnings.is_empty());
+/// let e1 = &eigs.eigs[0].vectors[0];
+/// // cooltools' E1, one line per bin of the map, chr2L first
+/// let cooltools: Vec<f64> = open_text(&reference.join("dm6_100kb.eigs_cis_phased.vecs.tsv.gz"))?
+///     .lines()
+///     .skip(1)
+///     .take(e1.len())
+///     .map(|line| line.unwrap().split('\t').next().unwrap().parse().unwrap_or(f64::NAN))
+///     .collect();
+/// for (ours, theirs) in e1.iter().zip(&cooltools) {
+///     assert_eq!(ours.is_nan(), theirs.is_nan());
+///     assert!(ours.is_nan() || (ours - theirs).abs() < 1e-6, "{ours} vs {theirs}");
+/// }
+/// assert!((eigs.eigs[0].values[0] - 54.3958149).abs() < 1e-6);
+/// # Ok::<(), contactmap::Error>(())
+/// ```
 pub fn eigs_cis(
     reader: &dyn MatrixReader,
     weights: &[f64],
@@ -121,6 +166,27 @@ fn orient(
 
 /// The trans eigenvectors of the whole map (cooltools `eigs_trans`: dense, in memory), from the
 /// counts of `reader` times `weights`.
+///
+/// # Examples
+///
+/// The mm9 map's trans eigenvalues are cooltools' (`eigs_trans`,
+/// `data/reference/compartments/mm9_10Mb.eigs_trans.vals.tsv.gz`).
+///
+/// ```
+/// use contactmap::compartments::eigs::{eigs_trans, Phasing};
+/// use contactmap::compartments::trans::TransEigParams;
+/// use contactmap::io::{open_matrix, MatrixReader, OpenOptions};
+///
+/// let reader = open_matrix("data/CN.mm9.10000kb.cool", &OpenOptions::default())?;
+/// let weights = reader.weights("weight")?.values;
+/// let eigs = eigs_trans(&*reader, &weights, Phasing::default(), &TransEigParams::default())?;
+/// let cooltools = [40.95259534, 28.12646212, 12.72596468];
+/// for (ours, theirs) in eigs.eigs.values.iter().zip(cooltools) {
+///     assert!((ours - theirs).abs() < 1e-6 * theirs, "{ours} vs {theirs}");
+/// }
+/// assert_eq!(eigs.eigs.vectors[0].len(), 278);
+/// # Ok::<(), contactmap::Error>(())
+/// ```
 pub fn eigs_trans(
     reader: &dyn MatrixReader,
     weights: &[f64],

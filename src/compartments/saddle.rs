@@ -92,6 +92,21 @@ fn percentile(sorted: &[f64], q: f64) -> f64 {
 }
 
 /// Cut `track` into classes as cooltools' `digitize` does.
+///
+/// # Examples
+///
+/// ```
+/// use contactmap::compartments::saddle::{digitize, Binning};
+///
+/// let track = [0.0, 1.0, 2.0, 3.0, 6.0, 9.0, -1.0, f64::NAN];
+/// let by_value = digitize(&track, 3, Binning::Values(0.0, 9.0))?;
+/// assert_eq!(by_value.edges, [0.0, 3.0, 6.0, 9.0]);
+/// // below the first edge: 0; from the last edge on: n_bins + 1; NaN: -1
+/// assert_eq!(by_value.classes, [1, 1, 1, 2, 3, 4, 0, -1]);
+/// let by_quantile = digitize(&track, 2, Binning::Quantiles(0.0, 1.0))?;
+/// assert_eq!(by_quantile.edges, [-1.0, 2.0, 9.0]); // min, median, max of the values
+/// # Ok::<(), contactmap::Error>(())
+/// ```
 pub fn digitize(track: &[f64], n_bins: usize, binning: Binning) -> Result<Digitized> {
     if n_bins == 0 {
         return Err(Error::Invalid(
@@ -153,6 +168,47 @@ pub struct Saddle {
 /// The cis saddle of `pixels` (balanced with `weights`) for the classes of `digitized`, each
 /// region of `view` with its own expected values per diagonal (`expected[r][d]`, the
 /// `balanced.avg` of cooltools' `expected_cis` over the same view).
+///
+/// # Examples
+///
+/// A flat map is its own expected: every observed/expected is 1, so each class pair's sum is
+/// its count, and the strength is 1 at every extent. Twenty bins give `20 x 20` ordered pairs,
+/// less the 94 closer than `min_diag = 3`, counted twice (cooltools adds the transpose).
+///
+/// ```
+/// use contactmap::compartments::saddle::{digitize, saddle_cis, saddle_strength, Binning, SaddleParams};
+/// use contactmap::expected::{expected_cis, CisParams, View};
+/// use contactmap::genome::{BinTable, Chrom};
+/// use contactmap::io::{load_pixels, InMemory};
+/// use contactmap::matrix::{CountType, MatrixBuilder};
+///
+/// let bins = BinTable::fixed(vec![Chrom::new("chr1", 20_000)], 1_000)?;
+/// let mut builder = MatrixBuilder::new(bins.clone(), CountType::Integer);
+/// for i in 0..20u64 {
+///     for j in i..20 {
+///         builder.push(i, j, 1.0)?;
+///     }
+/// }
+/// let matrix = InMemory::new("flat".into(), builder.build());
+/// let pixels = load_pixels(&matrix, u64::MAX)?;
+/// let weights = vec![1.0; 20];
+/// let view = View::chromosomes(&bins);
+/// let expected = expected_cis(&pixels, Some(&weights), &view, &CisParams::default())?;
+/// let track: Vec<f64> = (0..20).map(|i| (i % 7) as f64).collect();
+/// let params = SaddleParams {
+///     n_bins: 4,
+///     binning: Binning::Values(0.5, 5.5), // every class holds bins, the outer two included
+///     min_diag: 3,
+///     max_diag: None,
+/// };
+/// let digitized = digitize(&track, params.n_bins, params.binning)?;
+/// let saddle = saddle_cis(&pixels, &weights, &digitized, &view, &expected.average_by_region(), &params)?;
+/// assert_eq!(saddle.n_classes, 6);
+/// assert_eq!(saddle.sum, saddle.count);
+/// assert_eq!(saddle.count.iter().sum::<f64>(), 2.0 * (400.0 - 94.0));
+/// assert!(saddle_strength(&saddle)[1..].iter().all(|s| (s - 1.0).abs() < 1e-12));
+/// # Ok::<(), contactmap::Error>(())
+/// ```
 pub fn saddle_cis<S: PixelSource>(
     pixels: &S,
     weights: &[f64],
@@ -324,6 +380,38 @@ impl Saddle {
 /// (0 where no pixel is stored) to the pair's class pair, `E` the pair's `balanced.avg`
 /// (`expected[r1][r2]`, from `expected_trans` on the same view); a pair whose `E` is not finite
 /// or is 0 adds nothing. The arrays are then added to their transposes.
+///
+/// # Examples
+///
+/// Two chromosomes whose trans pixels all hold 2: observed/expected is 1 on every trans pair of
+/// bins, so each class pair's sum is its count; all `2 x 4 x 3` ordered pairs are counted.
+///
+/// ```
+/// use contactmap::compartments::saddle::{digitize, saddle_trans, Binning};
+/// use contactmap::expected::{expected_trans, View};
+/// use contactmap::genome::{BinTable, Chrom};
+/// use contactmap::io::{load_pixels, InMemory};
+/// use contactmap::matrix::{CountType, MatrixBuilder};
+///
+/// let bins = BinTable::fixed(vec![Chrom::new("chr1", 400), Chrom::new("chr2", 300)], 100)?;
+/// let mut builder = MatrixBuilder::new(bins.clone(), CountType::Integer);
+/// for i in 0..4u64 {
+///     for j in 4..7 {
+///         builder.push(i, j, 2.0)?;
+///     }
+/// }
+/// let matrix = InMemory::new("example".into(), builder.build());
+/// let pixels = load_pixels(&matrix, u64::MAX)?;
+/// let weights = vec![1.0; 7];
+/// let view = View::chromosomes(&bins);
+/// let expected = expected_trans(&pixels, Some(&weights), &view)?.average_by_pair(&view);
+/// let track = [0.1, 0.5, 0.9, 0.3, 0.7, 0.2, 0.6];
+/// let digitized = digitize(&track, 2, Binning::Values(0.0, 1.0))?;
+/// let saddle = saddle_trans(&pixels, &weights, &digitized, &view, &expected)?;
+/// assert_eq!(saddle.sum, saddle.count);
+/// assert_eq!(saddle.count.iter().sum::<f64>(), 24.0);
+/// # Ok::<(), contactmap::Error>(())
+/// ```
 pub fn saddle_trans<S: PixelSource>(
     pixels: &S,
     weights: &[f64],

@@ -201,6 +201,18 @@ pub struct LogBinned {
 
 /// cooltools' `persistent_log_bins(end, bins_per_order_magnitude)`: integer bin edges from 1 to
 /// `10^end`, log-spaced, with non-decreasing gaps.
+///
+/// # Examples
+///
+/// ```
+/// use contactmap::expected::logbin::persistent_log_bins;
+///
+/// let edges = persistent_log_bins(2, 10);
+/// let cooltools = [1, 2, 3, 4, 5, 6, 8, 10, 13, 16, 20, 25, 32, 40, 50, 63, 79, 100];
+/// assert_eq!(edges, cooltools);
+/// // the same first edges whatever the last decade
+/// assert_eq!(persistent_log_bins(5, 10)[..12], cooltools[..12]);
+/// ```
 pub fn persistent_log_bins(end: u32, bins_per_order_magnitude: usize) -> Vec<u64> {
     let n = end as usize * bins_per_order_magnitude + 1;
     let step = f64::from(end) / (n - 1) as f64;
@@ -262,6 +274,42 @@ fn slopes(points: &[(usize, f64, f64, u64)], sigma: f64, region: Option<u32>) ->
 }
 
 /// Log-bin the cis expected `table` and combine the regions.
+///
+/// # Examples
+///
+/// A pure power law `P(s) = 10^4 / s` on one chromosome of 1,000 bins:
+/// the log-binned curve keeps its exponent, every combined slope is -1.
+///
+/// ```
+/// use contactmap::expected::logbin::{logbin_expected, LogBinParams};
+/// use contactmap::expected::{expected_cis, CisParams, View};
+/// use contactmap::genome::{BinTable, Chrom};
+/// use contactmap::io::{load_pixels, InMemory};
+/// use contactmap::matrix::{CountType, MatrixBuilder};
+///
+/// let bins = BinTable::fixed(vec![Chrom::new("chr1", 1_000_000)], 1_000)?;
+/// let mut builder = MatrixBuilder::new(bins.clone(), CountType::Float);
+/// for i in 0..1_000u64 {
+///     for j in (i + 1)..1_000 {
+///         builder.push(i, j, 1e4 / (j - i) as f64)?;
+///     }
+/// }
+/// let matrix = InMemory::new("power law".into(), builder.build());
+/// let pixels = load_pixels(&matrix, u64::MAX)?;
+/// let params = CisParams { smooth: false, aggregate_smoothed: false, ..CisParams::default() };
+/// let table = expected_cis(&pixels, None, &View::chromosomes(&bins), &params)?;
+/// let binned = logbin_expected(&table, &LogBinParams::default())?;
+/// assert_eq!(binned.prefix, "count");
+/// assert!(binned.combined.len() > 10);
+/// for slope in &binned.slopes {
+///     assert!((slope.slope + 1.0).abs() < 0.05, "{slope:?}");
+/// }
+/// // each bin's P(s) is the mean of 10^4 / s over its diagonals
+/// let first = &binned.combined[0];
+/// assert_eq!((first.dist_bin_start, first.dist_bin_end), (2, 2)); // diagonals 0 and 1 ignored
+/// assert!((first.average - 5e3).abs() < 1e-9);
+/// # Ok::<(), contactmap::Error>(())
+/// ```
 pub fn logbin_expected(table: &CisExpected, params: &LogBinParams) -> Result<LogBinned> {
     params.check()?;
     if params.bins_per_order_magnitude == 0 {

@@ -147,6 +147,49 @@ fn segments(axes: &Axes, points: &[(f64, f64)]) -> Vec<Vec<(f64, f64)>> {
 }
 
 /// Draw the figure.
+///
+/// # Examples
+///
+/// P(s) above its slope, as `contactmap plot expected` draws them:
+///
+/// ```
+/// use contactmap::plot::curves::{draw_curves, CurveFigure, Panel, Scale, Series};
+/// use contactmap::plot::svg::Stroke;
+/// use contactmap::plot::Rgb;
+///
+/// let line = |points: Vec<(f64, f64)>| Series {
+///     label: Some("sample".into()),
+///     points,
+///     stroke: Stroke::solid(Rgb(31, 119, 180), 1.5),
+/// };
+/// let distances: Vec<f64> = (1..=50).map(|k| 1e4 * 1.2f64.powi(k)).collect();
+/// let panel = |y_label: &str, y_scale, points, weight| Panel {
+///     y_label: y_label.into(),
+///     y_scale,
+///     series: vec![line(points)],
+///     weight,
+///     legend: weight > 1.0,
+///     min_span: 0.5,
+/// };
+/// let figure = CurveFigure {
+///     title: "P(s)".into(),
+///     x_label: "distance".into(),
+///     x_scale: Scale::Log,
+///     x_in_bp: true,
+///     panels: vec![
+///         panel("P(s)", Scale::Log, distances.iter().map(|&s| (s, 1.0 / s)).collect(), 2.0),
+///         panel("slope", Scale::Linear, distances.iter().map(|&s| (s, -1.0)).collect(), 1.0),
+///     ],
+///     width_px: 600,
+///     height_px: None,
+///     dpi: 100.0,
+/// };
+/// let svg = draw_curves(&figure)?;
+/// assert_eq!(svg.width_px(), 600);
+/// let text = svg.finish();
+/// assert!(text.contains("P(s)") && text.contains("sample") && text.contains("1 Mb"));
+/// # Ok::<(), contactmap::Error>(())
+/// ```
 pub fn draw_curves(figure: &CurveFigure) -> Result<Svg> {
     if figure.panels.is_empty() {
         return Err(Error::Invalid("a figure needs at least one panel".into()));

@@ -346,6 +346,54 @@ pub struct MapFigure<'a> {
 }
 
 /// Draw the figure.
+///
+/// # Examples
+///
+/// A 100-bin map whose pixels decay as `1 / (1 + |i - j|)`, as PNG and SVG: the image has the
+/// layout's size, and each raster cell holds one bin pair (the map is wider than 100 pixels).
+///
+/// ```
+/// use contactmap::plot::heatmap::{AxisCells, CellGrid};
+/// use contactmap::plot::map::{draw_map, GenomicSpan, MapFigure, MapLayout, MapStyle, MapView, Overlays};
+/// use contactmap::plot::{figure_bytes, ColorMap, ColorScale, ImageFormat, Rgb, ScaleKind};
+///
+/// let span = GenomicSpan { chrom: "chr1".into(), start_bp: 0, end_bp: 100_000 };
+/// let layout = MapLayout::new(500, None, 100.0, MapView::Square, &span, &span, 0);
+/// let rows = AxisCells::new(0..100, layout.map_height_px());
+/// let cols = AxisCells::new(0..100, layout.map_width_px());
+/// let mut grid = CellGrid::new(rows, cols, &|_| true, 0, true);
+/// for i in 0..100usize {
+///     for j in 0..100usize {
+///         grid.add(i, j, 1.0 / (1 + i.abs_diff(j)) as f64);
+///     }
+/// }
+/// assert_eq!((grid.rows.n_cells, grid.cols.n_cells), (100, 100));
+/// assert_eq!((grid.value(0, 0), grid.value(0, 99)), (1.0, 0.01));
+/// let style = MapStyle {
+///     colour_map: ColorMap::by_name("fall")?,
+///     scale: ColorScale::new(ScaleKind::Log, 0.01, 1.0)?,
+///     nan: Rgb(200, 200, 200),
+///     colour_label: "contacts".into(),
+///     title: "example".into(),
+/// };
+/// let figure = MapFigure {
+///     layout: &layout,
+///     view: MapView::Square,
+///     grid: &grid,
+///     rows: &span,
+///     cols: &span,
+///     style: &style,
+///     overlays: &Overlays { domains: vec![(0, 50_000)], ..Overlays::default() },
+///     tracks: &[],
+/// };
+/// let svg = draw_map(&figure)?;
+/// let png = figure_bytes(&svg, ImageFormat::Png, 100.0)?;
+/// let size = |at: usize| u32::from_be_bytes(png[at..at + 4].try_into().unwrap()) as usize;
+/// assert_eq!((size(16), size(20)), (layout.width_px, layout.height_px));
+/// let text = String::from_utf8(figure_bytes(&svg, ImageFormat::Svg, 100.0)?).unwrap();
+/// assert!(text.contains("<svg") && text.contains("example") && text.trim_end().ends_with("</svg>"));
+/// # Ok::<(), contactmap::Error>(())
+/// ```
 pub fn draw_map(figure: &MapFigure<'_>) -> Result<Svg> {
     let layout = figure.layout;
     let theme = Theme::new(layout.dpi);

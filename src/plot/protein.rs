@@ -287,6 +287,41 @@ pub fn residue_ticks(first: i32, last: i32, side_px: f64, theme: &Theme) -> Vec<
 }
 
 /// Draw the figure.
+///
+/// # Examples
+///
+/// Three predicted pairs, two of them true contacts: two dark circles, one red.
+///
+/// ```
+/// use contactmap::plot::protein::{draw_contacts, ContactFigure, ContactLayout, Mark, PredictionLayer};
+///
+/// let prediction = PredictionLayer {
+///     name: "pred.rr".into(),
+///     list_label: "L/10".into(),
+///     k: 3,
+///     pairs: vec![(1, 30, Mark::TruePositive), (5, 40, Mark::FalsePositive), (8, 33, Mark::TruePositive)],
+///     length: 40,
+///     curve: vec![1, 1, 2],
+///     curve_max_k: 40,
+/// };
+/// assert_eq!((prediction.precision(), prediction.curve_points()[2]), (2.0 / 3.0, (3.0 / 40.0, 2.0 / 3.0)));
+/// let figure = ContactFigure {
+///     residues: (1, 40),
+///     true_contacts: vec![(1, 30), (8, 33), (10, 35)],
+///     min_separation: 24,
+///     predictions: vec![prediction],
+///     title: "example".into(),
+/// };
+/// let layout = ContactLayout::new(600, None, 100.0, &figure);
+/// let text = draw_contacts(&figure, &layout)?.finish();
+/// let circles_in = |class: &str| {
+///     let start = text.find(&format!(r#"<g class="{class}">"#)).expect("the group");
+///     let group = &text[start..];
+///     group[..group.find("</g>").unwrap()].matches("<circle").count()
+/// };
+/// assert_eq!((circles_in("tp"), circles_in("fp")), (2, 1));
+/// # Ok::<(), contactmap::Error>(())
+/// ```
 pub fn draw_contacts(figure: &ContactFigure, layout: &ContactLayout) -> Result<Svg> {
     let theme = Theme::new(layout.dpi);
     let mut svg = Svg::new(layout.width_px, layout.height_px, layout.dpi);

@@ -105,6 +105,23 @@ pub fn png_bytes(svg: &Svg, dpi: f64) -> Result<Vec<u8>> {
 }
 
 /// The bytes of the figure in `format`.
+///
+/// # Examples
+///
+/// ```
+/// use contactmap::plot::{figure_bytes, ImageFormat, Rgb, Svg};
+///
+/// let mut svg = Svg::new(120, 80, 100.0);
+/// svg.rect(10.0, 10.0, 50.0, 30.0, Some(Rgb(200, 30, 30)), None);
+/// let png = figure_bytes(&svg, ImageFormat::Png, 100.0)?;
+/// assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+/// assert_eq!(u32::from_be_bytes(png[16..20].try_into().unwrap()), 120);
+/// assert_eq!(u32::from_be_bytes(png[20..24].try_into().unwrap()), 80);
+/// let text = figure_bytes(&svg, ImageFormat::Svg, 100.0)?;
+/// assert_eq!(text, svg.finish().into_bytes());
+/// assert_eq!(ImageFormat::from_path("a/figure.PNG".as_ref()), Some(ImageFormat::Png));
+/// # Ok::<(), contactmap::Error>(())
+/// ```
 pub fn figure_bytes(svg: &Svg, format: ImageFormat, dpi: f64) -> Result<Vec<u8>> {
     match format {
         ImageFormat::Png => png_bytes(svg, dpi),

@@ -31,6 +31,31 @@ pub struct SaddleFigure {
 }
 
 /// Draw the saddle as SVG.
+///
+/// # Examples
+///
+/// ```
+/// use contactmap::plot::saddle::{draw_saddle, SaddleFigure};
+/// use contactmap::plot::{figure_bytes, ColorMap, ColorScale, ImageFormat, ScaleKind};
+///
+/// let figure = SaddleFigure {
+///     n: 3,
+///     values: vec![2.0, 1.0, 0.5, 1.0, 1.0, 1.0, 0.5, 1.0, 2.0],
+///     cmap: ColorMap::by_name("RdBu_r")?,
+///     scale: ColorScale::new(ScaleKind::Log, 0.5, 2.0)?,
+///     axis_label: "E1 class".into(),
+///     bar_label: "observed / expected".into(),
+///     title: String::new(),
+///     width_px: 400,
+///     dpi: 100.0,
+/// };
+/// let svg = draw_saddle(&figure)?;
+/// let png = figure_bytes(&svg, ImageFormat::Png, figure.dpi)?;
+/// assert_eq!(u32::from_be_bytes(png[16..20].try_into().unwrap()), 400);
+/// // 4 values, not a square of 3 x 3: refused
+/// assert!(draw_saddle(&SaddleFigure { values: vec![1.0; 4], ..figure }).is_err());
+/// # Ok::<(), contactmap::Error>(())
+/// ```
 pub fn draw_saddle(figure: &SaddleFigure) -> Result<Svg> {
     let n = figure.n;
     if n == 0 || figure.values.len() != n * n {

@@ -64,6 +64,23 @@ pub struct DomainOverlap {
 
 /// Match `calls` to `truth` one-to-one within `tolerance_bp` on the same chromosome and report
 /// precision, recall and F1 (see the module docs).
+///
+/// # Examples
+///
+/// Each call matches at most one truth boundary: two calls near the same truth count once.
+///
+/// ```
+/// use contactmap::score::boundaries::score_boundaries;
+///
+/// let at = |chrom: &str, position: u64| (chrom.to_string(), position);
+/// let truth = [at("chr1", 100_000), at("chr1", 200_000), at("chr2", 50_000)];
+/// let calls = [at("chr1", 95_000), at("chr1", 104_000), at("chr2", 70_000)];
+/// let score = score_boundaries(&truth, &calls, 10_000);
+/// assert_eq!((score.n_truth, score.n_calls, score.true_positives), (3, 3, 1));
+/// assert_eq!((score.precision, score.recall), (1.0 / 3.0, 1.0 / 3.0));
+/// // a wider tolerance reaches chr2's truth
+/// assert_eq!(score_boundaries(&truth, &calls, 20_000).true_positives, 2);
+/// ```
 pub fn score_boundaries(
     truth: &[(String, u64)],
     calls: &[(String, u64)],
@@ -182,6 +199,23 @@ fn moc(p: &[(u64, u64)], q: &[(u64, u64)]) -> f64 {
 
 /// Best-match Jaccard of domains in both directions and the Measure of Concordance (see the
 /// module docs). Intervals are `(chrom, start_bp, end_bp)`, half-open, `start <= end`.
+///
+/// # Examples
+///
+/// ```
+/// use contactmap::score::boundaries::domain_overlap;
+///
+/// let domain = |start: u64, end: u64| ("chr1".to_string(), start, end);
+/// let truth = [domain(0, 100), domain(100, 200)];
+/// let same = domain_overlap(&truth, &truth);
+/// assert_eq!((same.mean_best_jaccard_truth, same.moc), (1.0, Some(1.0)));
+/// // one call over both domains: each truth domain covers half of it
+/// let merged = domain_overlap(&truth, &[domain(0, 200)]);
+/// assert_eq!(merged.mean_best_jaccard_truth, 0.5);
+/// assert_eq!(merged.mean_best_jaccard_calls, 0.5);
+/// // nested calls are not a partition: no MoC
+/// assert_eq!(domain_overlap(&truth, &[domain(0, 200), domain(0, 100)]).moc, None);
+/// ```
 pub fn domain_overlap(truth: &[(String, u64, u64)], calls: &[(String, u64, u64)]) -> DomainOverlap {
     type Sets = (Vec<(u64, u64)>, Vec<(u64, u64)>);
     let mut by_chrom: BTreeMap<&str, Sets> = BTreeMap::new();

@@ -18,6 +18,21 @@ pub struct CompartmentScore {
 }
 
 /// Score `values` against `truth` (+1 for A, -1 for B, NaN for no truth), bin by bin.
+///
+/// # Examples
+///
+/// ```
+/// use contactmap::score::compartments::score_compartments;
+///
+/// let truth = [1.0, 1.0, -1.0, -1.0, f64::NAN];
+/// let right = score_compartments(&[0.5, 0.2, -0.3, -0.9, 1.0], &truth);
+/// assert_eq!((right.n_bins, right.sign_accuracy), (4, 1.0));
+/// let flipped = score_compartments(&[-0.5, -0.2, 0.3, 0.1, 1.0], &truth);
+/// assert_eq!((flipped.sign_accuracy, flipped.sign_accuracy_up_to_sign), (0.0, 1.0));
+/// assert!(flipped.pearson < 0.0);
+/// let exact = score_compartments(&truth, &truth);
+/// assert!((exact.pearson - 1.0).abs() < 1e-12);
+/// ```
 pub fn score_compartments(values: &[f64], truth: &[f64]) -> CompartmentScore {
     let (x, y) = finite_pairs(values, truth);
     let right = x.iter().zip(&y).filter(|(v, t)| **v * **t > 0.0).count();

@@ -655,6 +655,30 @@ pub fn list_length(size: ListSize, length: usize, rounding: Rounding, n_true: us
 }
 
 /// Score `prediction` against `truth` (see the module docs).
+///
+/// # Examples
+///
+/// CCMpred's prediction for toxd against its crystal structure, CASP's long-range top L/10,
+/// L/5, L/2 and L lists: 5 of 5, 9 of 11, 17 of 29 and 22 of 59 pairs are true contacts, the
+/// numbers of the reference computation in `data/protein/README.md`.
+///
+/// ```
+/// use contactmap::io::predictions::{read_fasta, read_prediction};
+/// use contactmap::io::structure::read_structure;
+/// use contactmap::score::contacts::{score_contacts, ContactDefinition, ScoreParams, TrueContacts};
+///
+/// let structure = read_structure("data/protein/toxd/toxd.pdb")?;
+/// let truth = TrueContacts::from_chain(structure.chain(None)?, ContactDefinition::default())?;
+/// let sequence = read_fasta("data/protein/toxd/toxd.fasta")?;
+/// let prediction = read_prediction("data/protein/toxd/toxd.mat", None)?.with_sequence(&sequence)?;
+/// let score = score_contacts(&truth, &prediction, &ScoreParams::default())?;
+/// assert_eq!(score.length, 59);
+/// let found: Vec<(usize, usize)> =
+///     score.lists.iter().map(|list| (list.true_positives, list.n_scored)).collect();
+/// assert_eq!(found, [(5, 5), (9, 11), (17, 29), (22, 59)]);
+/// assert_eq!(score.lists[0].precision, 1.0);
+/// # Ok::<(), contactmap::Error>(())
+/// ```
 pub fn score_contacts(
     truth: &TrueContacts,
     prediction: &Prediction,

@@ -36,6 +36,35 @@ pub fn ranked_pairs(prediction: &Prediction, range: SeparationRange) -> Vec<(i32
 }
 
 /// The overlap of the top `k` of two ranked lists ([`ranked_pairs`]).
+///
+/// # Examples
+///
+/// Two predictions of the same target: the pairs are normalised (`j < i` swapped, self pairs
+/// dropped) and ranked before the top lists are compared.
+///
+/// ```
+/// use contactmap::score::contacts::{Prediction, SeparationRange};
+/// use contactmap::score::overlap::{overlap, ranked_pairs};
+///
+/// let first = Prediction {
+///     pairs: vec![(1, 30, 0.9), (2, 40, 0.8), (3, 50, 0.7), (4, 4, 1.0)],
+///     sequence: None,
+///     length: None,
+/// };
+/// let second = Prediction {
+///     pairs: vec![(40, 2, 0.95), (5, 60, 0.9), (1, 30, 0.1)],
+///     sequence: None,
+///     length: None,
+/// };
+/// let a = ranked_pairs(&first, SeparationRange::LONG);
+/// let b = ranked_pairs(&second, SeparationRange::LONG);
+/// assert_eq!(a, [(1, 30), (2, 40), (3, 50)]);
+/// assert_eq!(b, [(2, 40), (5, 60), (1, 30)]);
+/// let top2 = overlap(&a, &b, 2);
+/// assert_eq!((top2.shared, top2.jaccard), (1, 1.0 / 3.0));
+/// let all = overlap(&a, &b, 10);
+/// assert_eq!((all.n_first, all.shared, all.jaccard), (3, 2, 0.5));
+/// ```
 pub fn overlap(first: &[(i32, i32)], second: &[(i32, i32)], k: usize) -> Overlap {
     let first = &first[..k.min(first.len())];
     let second = &second[..k.min(second.len())];

@@ -320,6 +320,57 @@ pub(crate) fn replica_extrusion(
 
 /// Run the replicas (in parallel) and accumulate their contacts; `progress(replica)` is called
 /// when a replica finishes.
+///
+/// # Examples
+///
+/// A tiny chain of 30 beads, two replicas, three samples each: the map is the naive count of
+/// the bead pairs closer than the contact radius in the kept conformations, binned by 5 beads.
+///
+/// ```
+/// use std::collections::BTreeMap;
+/// use std::sync::atomic::{AtomicUsize, Ordering};
+/// use contactmap::sim::ensemble::{run_ensemble, EnsembleParams};
+/// use contactmap::sim::polymer::{radius_of_gyration, PolymerParams};
+///
+/// let params = EnsembleParams {
+///     polymer: PolymerParams { chains: vec![30], ..PolymerParams::default() },
+///     replicas: 2,
+///     equilibration_steps: 200,
+///     sample_every: 100,
+///     samples: 3,
+///     contact_radius: 1.5,
+///     monomers_per_bin: 5,
+///     seed: 42,
+///     extrusion: None,
+///     keep_conformations: true,
+/// };
+/// let done = AtomicUsize::new(0);
+/// let ensemble = run_ensemble(&params, &|_| {
+///     done.fetch_add(1, Ordering::Relaxed);
+/// })?;
+/// assert_eq!(done.into_inner(), 2);
+/// assert_eq!((ensemble.n_conformations, ensemble.conformations.len()), (6, 6));
+/// assert_eq!(ensemble.bins_per_chain, [6]);
+/// let mut naive: BTreeMap<(u32, u32), u64> = BTreeMap::new();
+/// for positions in &ensemble.conformations {
+///     for i in 0..30 {
+///         for j in i + 1..30 {
+///             let (a, b) = (positions[i], positions[j]);
+///             let d2: f64 = (0..3).map(|k| (a[k] - b[k]).powi(2)).sum();
+///             if d2 < 1.5 * 1.5 {
+///                 *naive.entry(((i / 5) as u32, (j / 5) as u32)).or_default() += 1;
+///             }
+///         }
+///     }
+/// }
+/// let naive: Vec<(u32, u32, u64)> = naive.into_iter().map(|((a, b), n)| (a, b, n)).collect();
+/// assert_eq!(ensemble.pixels, naive);
+/// let rg = radius_of_gyration(&ensemble.conformations[0]);
+/// assert_eq!(ensemble.radii_of_gyration[0], [rg]);
+/// // the same seed, the same ensemble
+/// assert_eq!(run_ensemble(&params, &|_| {})?.pixels, ensemble.pixels);
+/// # Ok::<(), contactmap::Error>(())
+/// ```
 pub fn run_ensemble(
     params: &EnsembleParams,
     progress: &(dyn Fn(usize) + Sync),

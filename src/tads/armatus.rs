@@ -91,6 +91,38 @@ impl Default for ArmatusParams {
 ///
 /// Errors with [`Error::Invalid`] when a `gamma` is negative or not finite, no `gamma` is given,
 /// `max_domain_bins` is 0 or larger than the band width.
+///
+/// # Examples
+///
+/// ```
+/// use contactmap::expected::View;
+/// use contactmap::genome::{BinTable, Chrom};
+/// use contactmap::io::{load_pixels, InMemory};
+/// use contactmap::matrix::{CountType, MatrixBuilder};
+/// use contactmap::tads::armatus::{armatus, level_boundaries, ArmatusParams};
+/// use contactmap::tads::band::cis_bands;
+///
+/// // four 25-bin domains on a distance decay: boundaries at bins 25, 50 and 75
+/// let bins = BinTable::fixed(vec![Chrom::new("chr1", 100_000)], 1_000)?;
+/// let mut builder = MatrixBuilder::new(bins.clone(), CountType::Float);
+/// for i in 0..100u64 {
+///     for j in i..100 {
+///         let enrichment = if i / 25 == j / 25 { 4.0 } else { 1.0 };
+///         builder.push(i, j, enrichment * 100.0 / (j - i + 1) as f64)?;
+///     }
+/// }
+/// let matrix = InMemory::new("domains".into(), builder.build());
+/// let pixels = load_pixels(&matrix, u64::MAX)?;
+/// let view = View::chromosomes(&bins);
+/// let params = ArmatusParams { gammas: vec![0.5], max_domain_bins: 50 };
+/// let bands = cis_bands(&pixels, None, &view, params.max_domain_bins)?;
+/// let domains = armatus(&bands[0], &params)?;
+/// let spans: Vec<(usize, usize)> = domains.iter().map(|d| (d.start_bin, d.end_bin)).collect();
+/// assert_eq!(spans, [(0, 25), (25, 50), (50, 75), (75, 100)]);
+/// let edges: Vec<usize> = level_boundaries(&domains, 0, &view).iter().map(|b| b.bin).collect();
+/// assert_eq!(edges, [0, 25, 50, 75]);
+/// # Ok::<(), contactmap::Error>(())
+/// ```
 pub fn armatus(band: &CisBand, params: &ArmatusParams) -> Result<Vec<Domain>> {
     params.check()?;
     if params.max_domain_bins > band.width {

@@ -74,6 +74,32 @@ impl CisBand {
 /// The bands of every region of `view`, in one pass over the pixels. Trans pixels, pixels
 /// between different regions and pixels farther than `width - 1` bins from the diagonal are
 /// skipped. With `weights`, values are balanced and bins with a NaN weight are masked.
+///
+/// # Examples
+///
+/// ```
+/// use contactmap::expected::View;
+/// use contactmap::genome::{BinTable, Chrom};
+/// use contactmap::io::{load_pixels, InMemory};
+/// use contactmap::matrix::{CountType, MatrixBuilder};
+/// use contactmap::tads::band::cis_bands;
+///
+/// let bins = BinTable::fixed(vec![Chrom::new("chr1", 400), Chrom::new("chr2", 300)], 100)?;
+/// let mut builder = MatrixBuilder::new(bins.clone(), CountType::Integer);
+/// builder.push(0, 1, 2.0)?;
+/// builder.push(0, 3, 5.0)?; // farther than the band
+/// builder.push(2, 4, 7.0)?; // trans
+/// builder.push(4, 5, 4.0)?;
+/// let matrix = InMemory::new("example".into(), builder.build());
+/// let pixels = load_pixels(&matrix, u64::MAX)?;
+/// let weights = [1.0, 0.5, 1.0, 1.0, 2.0, 1.0, f64::NAN];
+/// let bands = cis_bands(&pixels, Some(&weights), &View::chromosomes(&bins), 3)?;
+/// assert_eq!(bands.len(), 2);
+/// assert_eq!((bands[0].get(0, 1), bands[0].get(1, 0), bands[0].get(0, 3)), (1.0, 1.0, 0.0));
+/// assert_eq!((bands[1].first_bin, bands[1].get(0, 1)), (4, 8.0)); // local bins of chr2
+/// assert_eq!(bands[1].bad, [false, false, true]);
+/// # Ok::<(), contactmap::Error>(())
+/// ```
 pub fn cis_bands<S: PixelSource>(
     source: &S,
     weights: Option<&[f64]>,

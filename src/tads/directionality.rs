@@ -105,6 +105,41 @@ fn bad_bin_neighbors(bad: &[bool], min_dist: usize) -> Vec<bool> {
 ///
 /// Errors: a window that is zero or not a multiple of the bin size, variable-size bins, weights
 /// of the wrong length.
+///
+/// # Examples
+///
+/// Bins just after a boundary see their domain downstream (positive index), bins just before
+/// it see theirs upstream (negative).
+///
+/// ```
+/// use contactmap::expected::View;
+/// use contactmap::genome::{BinTable, Chrom};
+/// use contactmap::io::{load_pixels, InMemory};
+/// use contactmap::matrix::{CountType, MatrixBuilder};
+/// use contactmap::tads::directionality::{directionality, DirectionalityParams};
+///
+/// // four 25-bin domains on a distance decay: boundaries at bins 25, 50 and 75
+/// let bins = BinTable::fixed(vec![Chrom::new("chr1", 100_000)], 1_000)?;
+/// let mut builder = MatrixBuilder::new(bins.clone(), CountType::Float);
+/// for i in 0..100u64 {
+///     for j in i..100 {
+///         let enrichment = if i / 25 == j / 25 { 4.0 } else { 1.0 };
+///         builder.push(i, j, enrichment * 100.0 / (j - i + 1) as f64)?;
+///     }
+/// }
+/// let matrix = InMemory::new("domains".into(), builder.build());
+/// let pixels = load_pixels(&matrix, u64::MAX)?;
+/// let view = View::chromosomes(&bins);
+/// let table = directionality(&pixels, None, &view, &DirectionalityParams::new(5_000))?;
+/// assert_eq!((table.bins.len(), table.window_bp), (100, 5_000));
+/// for boundary in [25, 50, 75] {
+///     assert!(table.index[boundary + 1] > 0.0 && table.ratio[boundary + 1] > 0.0);
+///     assert!(table.index[boundary - 2] < 0.0 && table.ratio[boundary - 2] < 0.0);
+/// }
+/// // bins closer than 2 to the region's edges are masked
+/// assert!(table.bad_bin_masked[0] && table.index[0].is_nan());
+/// # Ok::<(), contactmap::Error>(())
+/// ```
 pub fn directionality<S: PixelSource>(
     source: &S,
     weights: Option<&[f64]>,

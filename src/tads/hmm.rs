@@ -449,6 +449,38 @@ pub struct DixonCalls {
 /// Dixon's domains for every region of `table`: the HMM is fitted once, genome-wide, to the
 /// signed normal scores of the directionality index ([`signed_normal_scores`]); each region is
 /// then decoded on its own ([`di_domains`]).
+///
+/// # Examples
+///
+/// ```
+/// use contactmap::expected::View;
+/// use contactmap::genome::{BinTable, Chrom};
+/// use contactmap::io::{load_pixels, InMemory};
+/// use contactmap::matrix::{CountType, MatrixBuilder};
+/// use contactmap::tads::directionality::{directionality, DirectionalityParams};
+/// use contactmap::tads::hmm::{dixon_domains, HmmParams};
+///
+/// // four 25-bin domains on a distance decay: boundaries at bins 25, 50 and 75
+/// let bins = BinTable::fixed(vec![Chrom::new("chr1", 100_000)], 1_000)?;
+/// let mut builder = MatrixBuilder::new(bins.clone(), CountType::Float);
+/// for i in 0..100u64 {
+///     for j in i..100 {
+///         let enrichment = if i / 25 == j / 25 { 4.0 } else { 1.0 };
+///         builder.push(i, j, enrichment * 100.0 / (j - i + 1) as f64)?;
+///     }
+/// }
+/// let matrix = InMemory::new("domains".into(), builder.build());
+/// let pixels = load_pixels(&matrix, u64::MAX)?;
+/// let view = View::chromosomes(&bins);
+/// let table = directionality(&pixels, None, &view, &DirectionalityParams::new(5_000))?;
+/// let calls = dixon_domains(&table, &HmmParams::default())?;
+/// assert_eq!(calls.states.len(), 100);
+/// let starts: Vec<usize> = calls.domains.iter().map(|d| d.start_bin).collect();
+/// for truth in [25, 50, 75] {
+///     assert!(starts.iter().any(|s| s.abs_diff(truth) <= 2), "{starts:?}");
+/// }
+/// # Ok::<(), contactmap::Error>(())
+/// ```
 pub fn dixon_domains(table: &DirectionalityTable, params: &HmmParams) -> Result<DixonCalls> {
     let rows = region_rows(&table.region);
     let tracks: Vec<&[f64]> = rows.iter().map(|r| &table.index[r.clone()]).collect();

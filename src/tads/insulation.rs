@@ -465,6 +465,49 @@ fn nanmedian(values: &[f64]) -> f64 {
 ///
 /// Errors: no window, a window that is zero or not a multiple of the bin size, variable-size
 /// bins, weights of the wrong length.
+///
+/// # Examples
+///
+/// ```
+/// use contactmap::expected::View;
+/// use contactmap::genome::{BinTable, Chrom};
+/// use contactmap::io::{load_pixels, InMemory};
+/// use contactmap::matrix::{CountType, MatrixBuilder};
+/// use contactmap::tads::insulation::{insulation, InsulationParams};
+/// use contactmap::tads::threshold::Threshold;
+///
+/// // four 25-bin domains on a distance decay, each denser than the one before: boundaries at
+/// // bins 25, 50 and 75 (a map symmetric about its boundaries would give flat minima, two bins
+/// // wide, which the peak finder does not call, as in cooltools)
+/// let bins = BinTable::fixed(vec![Chrom::new("chr1", 100_000)], 1_000)?;
+/// let mut builder = MatrixBuilder::new(bins.clone(), CountType::Float);
+/// for i in 0..100u64 {
+///     for j in i..100 {
+///         let enrichment = if i / 25 == j / 25 { 2.0 + (i / 25) as f64 } else { 1.0 };
+///         builder.push(i, j, enrichment * 100.0 / (j - i + 1) as f64)?;
+///     }
+/// }
+/// let matrix = InMemory::new("domains".into(), builder.build());
+/// let pixels = load_pixels(&matrix, u64::MAX)?;
+/// let view = View::chromosomes(&bins);
+/// // every local minimum of the score is a boundary (a cutoff of 0)
+/// let params = InsulationParams {
+///     threshold: Threshold::Value(0.0),
+///     ..InsulationParams::new(vec![5_000])
+/// };
+/// let table = insulation(&pixels, None, &view, &params)?;
+/// assert_eq!(table.n_rows(), 100);
+/// let track = &table.tracks[0];
+/// assert_eq!(track.window_bins, 5);
+/// let called: Vec<usize> = table.boundaries(0).iter().map(|b| b.bin).collect();
+/// assert_eq!(called.len(), 3, "{called:?}");
+/// for (bin, truth) in called.iter().zip([25, 50, 75]) {
+///     assert!(truth - 1 <= *bin && *bin <= truth, "{called:?}");
+///     // more insulated than the middle of a domain
+///     assert!(track.log2_insulation_score[*bin] < track.log2_insulation_score[truth - 12]);
+/// }
+/// # Ok::<(), contactmap::Error>(())
+/// ```
 pub fn insulation<S: PixelSource>(
     source: &S,
     weights: Option<&[f64]>,

@@ -143,6 +143,38 @@ pub struct TopDomRegion {
 ///
 /// Errors with [`Error::Invalid`] when the window is 0, the band holds fewer than
 /// `2 * window_bins + 1` diagonals, or the region has fewer than `2 * window_bins` bins.
+///
+/// # Examples
+///
+/// ```
+/// use contactmap::expected::View;
+/// use contactmap::genome::{BinTable, Chrom};
+/// use contactmap::io::{load_pixels, InMemory};
+/// use contactmap::matrix::{CountType, MatrixBuilder};
+/// use contactmap::tads::band::cis_bands;
+/// use contactmap::tads::topdom::{topdom, TopDomParams, TopDomTag};
+///
+/// // four 25-bin domains on a distance decay: boundaries at bins 25, 50 and 75
+/// let bins = BinTable::fixed(vec![Chrom::new("chr1", 100_000)], 1_000)?;
+/// let mut builder = MatrixBuilder::new(bins.clone(), CountType::Float);
+/// for i in 0..100u64 {
+///     for j in i..100 {
+///         let enrichment = if i / 25 == j / 25 { 4.0 } else { 1.0 };
+///         builder.push(i, j, enrichment * 100.0 / (j - i + 1) as f64)?;
+///     }
+/// }
+/// let matrix = InMemory::new("domains".into(), builder.build());
+/// let pixels = load_pixels(&matrix, u64::MAX)?;
+/// let view = View::chromosomes(&bins);
+/// let params = TopDomParams::default(); // window 5 bins
+/// let bands = cis_bands(&pixels, None, &view, 2 * params.window_bins + 1)?;
+/// let region = topdom(&bands[0], &params)?;
+/// let called: Vec<usize> = region.boundaries.iter().map(|b| b.bin).collect();
+/// assert_eq!(called, [25, 50, 75]);
+/// let domains = region.segments.iter().filter(|(_, tag)| *tag == TopDomTag::Domain).count();
+/// assert_eq!(domains, 4);
+/// # Ok::<(), contactmap::Error>(())
+/// ```
 pub fn topdom(band: &CisBand, params: &TopDomParams) -> Result<TopDomRegion> {
     params.check()?;
     let w = params.window_bins;

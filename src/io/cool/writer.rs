@@ -30,6 +30,43 @@ pub struct CoolWriteOptions {
 /// Write `reader`'s matrix to a single-resolution `.cool` at `path`.
 ///
 /// The file is written to a temporary name beside `path` and renamed when complete.
+///
+/// # Examples
+///
+/// A matrix built in memory, written and read back.
+///
+/// ```
+/// use contactmap::genome::{BinTable, Chrom};
+/// use contactmap::io::cool::{write_cool, CoolWriteOptions};
+/// use contactmap::io::{load_matrix, open_matrix, InMemory, MatrixReader, OpenOptions};
+/// use contactmap::matrix::{CountType, MatrixBuilder, Weights};
+///
+/// let bins = BinTable::fixed(vec![Chrom::new("chr1", 500), Chrom::new("chr2", 300)], 100)?;
+/// let mut builder = MatrixBuilder::new(bins, CountType::Integer);
+/// builder.push(0, 0, 5.0)?;
+/// builder.push(1, 4, 2.0)?;
+/// builder.push(2, 6, 1.0)?; // a trans pixel
+/// builder.add_weights(Weights {
+///     name: "weight".into(),
+///     values: vec![1.0, 0.5, f64::NAN, 1.0, 2.0, 1.0, 1.0, 1.0],
+///     provenance: None,
+/// })?;
+/// let matrix = InMemory::new("example".into(), builder.build());
+/// let dir = std::env::temp_dir().join(format!("contactmap-write-cool-{}", std::process::id()));
+/// std::fs::create_dir_all(&dir)?;
+/// let path = dir.join("example.cool");
+/// let options = CoolWriteOptions { assembly: Some("toy".into()), ..CoolWriteOptions::default() };
+/// write_cool(&matrix, &path, &options)?;
+/// let back = load_matrix(&*open_matrix(path.to_str().unwrap(), &OpenOptions::default())?)?;
+/// assert_eq!(back.bins(), matrix.bins());
+/// assert_eq!((back.get(0, 0), back.get(1, 4), back.get(2, 6)), (5.0, 2.0, 1.0));
+/// assert_eq!((back.nnz(), back.sum()), (3, 8.0));
+/// let weight = &back.weight("weight").expect("copied").values;
+/// assert_eq!(weight[4], 2.0);
+/// assert!(weight[2].is_nan());
+/// std::fs::remove_dir_all(&dir)?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn write_cool(
     reader: &dyn MatrixReader,
     path: &Path,
@@ -54,6 +91,32 @@ pub fn write_cool(
 /// `resolutions` under `/resolutions/<bin size>`. Each resolution must be a multiple of the input's
 /// bin size; the coarser levels are made by summing pixels (as `cooler zoomify`), in one pass over
 /// the input.
+///
+/// # Examples
+///
+/// The mm9 map at 10, 20 and 50 Mb: the coarse levels hold the pixels that hictk's writer made
+/// of the same map (`data/CN.mm9.multires.hic`, totals in `data/reference/totals.tsv`).
+///
+/// ```
+/// use contactmap::io::cool::{write_mcool, CoolWriteOptions};
+/// use contactmap::io::{open_matrix, MatrixReader, OpenOptions};
+///
+/// let options = OpenOptions::default();
+/// let input = open_matrix("data/CN.mm9.10000kb.cool", &options)?;
+/// let dir = std::env::temp_dir().join(format!("contactmap-write-mcool-{}", std::process::id()));
+/// std::fs::create_dir_all(&dir)?;
+/// let path = dir.join("mm9.mcool");
+/// let resolutions = [10_000_000, 20_000_000, 50_000_000];
+/// write_mcool(&*input, &path, &resolutions, &CoolWriteOptions::default())?;
+/// for (resolution, n_bins, nnz) in [(20_000_000, 145, 10_585), (50_000_000, 65, 2_145)] {
+///     let uri = format!("{}::/resolutions/{resolution}", path.display());
+///     let level = open_matrix(&uri, &options)?;
+///     assert_eq!(level.bins().n_bins(), n_bins);
+///     assert_eq!(level.totals()?, (nnz, 499_864_755.0));
+/// }
+/// std::fs::remove_dir_all(&dir)?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn write_mcool(
     reader: &dyn MatrixReader,
     path: &Path,

@@ -23,6 +23,25 @@ const DENSE_BAND_VALUES: usize = 1 << 22;
 /// pairs) and dense output is refused above [`MAX_DENSE_BINS`] bins: both are
 /// [`Error::Invalid`]. A closed standard output comes back as an [`Error::Io`] of kind
 /// `BrokenPipe`.
+///
+/// # Examples
+///
+/// The 4 bp level of cooler's toy file as BG2 is what `cooler dump --join` prints
+/// (`data/reference/toy_4.join.tsv`).
+///
+/// ```
+/// use contactmap::io::text::{write_text, TextFormat};
+/// use contactmap::io::{open_matrix, OpenOptions};
+///
+/// let uri = "data/toy.symm.upper.2.mcool::/resolutions/4";
+/// let reader = open_matrix(uri, &OpenOptions::default())?;
+/// let path = std::env::temp_dir().join(format!("contactmap-toy-{}.bg2", std::process::id()));
+/// write_text(&*reader, path.to_str().unwrap(), TextFormat::Bg2)?;
+/// let ours = std::fs::read_to_string(&path)?;
+/// assert_eq!(ours, std::fs::read_to_string("data/reference/toy_4.join.tsv")?);
+/// std::fs::remove_file(&path)?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn write_text(reader: &dyn MatrixReader, path: &str, format: TextFormat) -> Result<()> {
     let n_bins = reader.bins().n_bins();
     match format {
