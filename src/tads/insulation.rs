@@ -876,7 +876,7 @@ pub(super) mod tests {
         assert!(message(vec![]).contains("at least one window"));
         let m = message(vec![200, 250]);
         assert!(m.contains("250") && m.contains("100 bp"), "{m}");
-        assert!(message(vec![0]).contains("window 0"));
+        assert!(message(vec![0]).contains("windows_bp 0"));
         assert_eq!(regions_shorter_than(&view, 11), vec!["a"]);
         assert!(regions_shorter_than(&view, 10).is_empty());
         // Two regions sharing bin 4: each gets its own rows, as cooltools' concatenated tables.
