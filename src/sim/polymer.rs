@@ -55,9 +55,6 @@
 //! at large separations); with a repulsion and no attraction it is a self-avoiding walk in good
 //! solvent.
 
-use rand::Rng;
-use rayon::prelude::*;
-
 use super::cells::{split_lengths, CellList, Space};
 use super::noise;
 use super::SimRng;
@@ -68,7 +65,7 @@ mod integrator;
 #[cfg(test)]
 mod tests;
 
-use forces::*;
+pub(in crate::sim) use forces::{bond_terms, pair_terms};
 use integrator::*;
 
 /// Density above which beads of unit diameter cannot be packed (`√2`, face-centred cubic).

@@ -18,6 +18,7 @@ mod pixels;
 pub(super) use coarsening::*;
 pub(super) use open::*;
 
+/// What the checks learned about one cooler, for the coarsening check and the repair.
 pub(super) struct CheckedCooler {
     name: String,
     resolution: Option<u64>,

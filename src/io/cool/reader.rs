@@ -9,22 +9,22 @@ const HIC2COOL_SCALE: &str = "SCALE";
 /// An open cooler (one resolution).
 #[derive(Debug)]
 pub struct CoolReader {
-    uri: String,
-    path: String,
-    group: hdf5::Group,
-    raw: File,
-    bins: BinTable,
-    bin1_offsets: Vec<u64>,
-    attributes: Vec<(String, serde_json::Value)>,
-    format_version: i64,
-    weight_columns: Vec<String>,
-    bin1: Column,
-    bin2: Column,
-    count: Column,
+    pub(super) uri: String,
+    pub(super) path: String,
+    pub(super) group: hdf5::Group,
+    pub(super) raw: File,
+    pub(super) bins: BinTable,
+    pub(super) bin1_offsets: Vec<u64>,
+    pub(super) attributes: Vec<(String, serde_json::Value)>,
+    pub(super) format_version: i64,
+    pub(super) weight_columns: Vec<String>,
+    pub(super) bin1: Column,
+    pub(super) bin2: Column,
+    pub(super) count: Column,
     /// `storage-mode: square`: both triangles are stored.
-    square: bool,
+    pub(super) square: bool,
     /// Remarks on the layout for `info` (an index one entry short, ...).
-    layout_notes: Vec<String>,
+    pub(super) layout_notes: Vec<String>,
 }
 
 /// What a URI without a group points to in an HDF5 file.
@@ -72,8 +72,6 @@ fn open_file(path: &str) -> Result<hdf5::File> {
         )
     })
 }
-
-
 
 fn resolutions_text(resolutions: &[u64]) -> String {
     resolutions
@@ -667,7 +665,6 @@ fn read_int_column(path: &str, group: &hdf5::Group, name: &str) -> Result<Vec<i6
         .read_raw::<i64>()
         .map_err(|e| Error::hdf5(path, format!("reading {name}"), e))
 }
-
 
 fn read_chroms(path: &str, group: &hdf5::Group) -> Result<Vec<Chrom>> {
     let names_dataset = group

@@ -3,14 +3,17 @@
 //! the potential energy; summed in an order fixed by the conformation alone (see the module
 //! doc of [`super`]).
 
-use rand::Rng;
 use rayon::prelude::*;
 
 use super::*;
 
 /// The attraction well `(depth, range)` between beads `i` and `j`, when they are of one type.
 #[inline]
-pub(super) fn same_type_well(attraction: Option<&Attraction>, i: usize, j: usize) -> Option<(f64, f64)> {
+pub(super) fn same_type_well(
+    attraction: Option<&Attraction>,
+    i: usize,
+    j: usize,
+) -> Option<(f64, f64)> {
     attraction
         .filter(|a| a.types[i] == a.types[j])
         .map(|a| (a.energy, a.radius))
@@ -22,7 +25,7 @@ pub(super) const POLY_MIN: f64 = 46656.0 / 823543.0;
 /// Energy and `-(dE/dr) / r` of a pair at squared distance `r2` (the force on `a` is
 /// `factor * (x_a - x_b)`).
 #[inline]
-pub(super) fn pair_terms(
+pub(in crate::sim) fn pair_terms(
     repulsion: &Repulsion,
     attraction: Option<(f64, f64)>,
     r2: f64,
@@ -91,7 +94,7 @@ pub(super) fn bond_force(
 
 /// Energy and `-(dE/dr) / r` of a bond at squared length `r2`.
 #[inline]
-pub(super) fn bond_terms(bond: BondModel, r2: f64) -> (f64, f64) {
+pub(in crate::sim) fn bond_terms(bond: BondModel, r2: f64) -> (f64, f64) {
     match bond {
         BondModel::Harmonic { length, wiggle } => {
             let r = r2.sqrt();
@@ -142,7 +145,6 @@ pub(super) fn angle_terms(positions: &[[f64; 3]], i: usize, k: f64) -> [f64; 10]
     terms[9] = k * (1.0 - cos);
     terms
 }
-
 
 impl Polymer {
     /// Compute the forces at the current positions; returns the potential energy.
@@ -371,5 +373,4 @@ impl Polymer {
     pub fn forces(&self) -> &[[f64; 3]] {
         &self.forces
     }
-
 }

@@ -66,7 +66,6 @@ pub(super) fn bead_normals_lanes(key: [u32; 2], step: u64, first: u32) -> [[f64;
     noise::group_normals(key, step, first / NOISE_LANES as u32)
 }
 
-
 impl Polymer {
     /// A polymer whose chains start as random walks of unit steps (kept inside the sphere when
     /// confined; each chain starts at a random point of the sphere or box), with overlaps

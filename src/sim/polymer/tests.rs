@@ -1,3 +1,4 @@
+use super::forces::{angle_terms, same_type_well};
 use super::*;
 use crate::sim::stream_rng;
 
@@ -81,8 +82,7 @@ fn naive_forces(polymer: &Polymer) -> (Vec<[f64; 3]>, f64) {
             }
             let d = space.delta(&positions[i], &positions[j]);
             let r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-            let (e, factor) =
-                pair_terms(&params.repulsion, same_type_well(attraction, i, j), r2);
+            let (e, factor) = pair_terms(&params.repulsion, same_type_well(attraction, i, j), r2);
             energy += e;
             add(&mut forces, i, j, factor, d);
         }
@@ -196,8 +196,7 @@ fn same_trajectory_on_any_number_of_threads() {
             confinement,
             ..PolymerParams::default()
         };
-        let extra: Vec<(usize, usize)> =
-            (0..n - 300).step_by(400).map(|i| (i, i + 150)).collect();
+        let extra: Vec<(usize, usize)> = (0..n - 300).step_by(400).map(|i| (i, i + 150)).collect();
         let run = |threads: usize| {
             let pool = rayon::ThreadPoolBuilder::new()
                 .num_threads(threads)

@@ -9,7 +9,12 @@ impl CoolerCheck<'_> {
 
     /// Open `name` and check that its type is `expected` (one of); report and return `None`
     /// when it is missing or of another type.
-    pub(crate) fn dataset(&self, out: &mut Collector, name: &str, expected: &[Kind]) -> Option<hdf5::Dataset> {
+    pub(crate) fn dataset(
+        &self,
+        out: &mut Collector,
+        name: &str,
+        expected: &[Kind],
+    ) -> Option<hdf5::Dataset> {
         if !self.group.link_exists(name) {
             self.add(
                 out,
@@ -151,7 +156,7 @@ impl CoolerCheck<'_> {
         }))
     }
 
-    pub(super) fn check_chroms(&self, out: &mut Collector) -> Result<Option<Vec<Chrom>>> {
+    pub(crate) fn check_chroms(&self, out: &mut Collector) -> Result<Option<Vec<Chrom>>> {
         let names = match self.dataset(out, "chroms/name", &[Kind::Text]) {
             Some(d) => Some(read_strings(
                 self.path,
@@ -217,7 +222,7 @@ impl CoolerCheck<'_> {
     }
 
     /// bins/chrom, bins/start, bins/end, of equal length.
-    pub(super) fn check_bin_columns(&self, out: &mut Collector) -> Result<Option<BinColumns>> {
+    pub(crate) fn check_bin_columns(&self, out: &mut Collector) -> Result<Option<BinColumns>> {
         let chrom = self.ints(out, "bins/chrom")?;
         let start = self.ints(out, "bins/start")?;
         let end = self.ints(out, "bins/end")?;
@@ -242,7 +247,7 @@ impl CoolerCheck<'_> {
     }
 
     /// Bins tile each chromosome in order; fixed-size bins agree with `bin-size`.
-    pub(super) fn check_bin_table(
+    pub(crate) fn check_bin_table(
         &self,
         out: &mut Collector,
         chroms: &[Chrom],
@@ -397,5 +402,4 @@ impl CoolerCheck<'_> {
         let hint = bin_size.filter(|&s| s > 0).map(|s| s as u64);
         BinTable::from_bins(chroms.to_vec(), &bins, hint).ok()
     }
-
 }

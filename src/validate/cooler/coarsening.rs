@@ -3,8 +3,8 @@
 use super::*;
 
 pub(crate) struct PixelSummary {
-    sum: f64,
-    clean: bool,
+    pub(crate) sum: f64,
+    pub(crate) clean: bool,
 }
 
 /// Streams the pixels of a cooler in order, a block at a time.

@@ -113,7 +113,7 @@ impl CoolerCheck<'_> {
         Ok(usable.then_some(offsets))
     }
 
-    pub(super) fn open_pixels(&self, out: &mut Collector) -> Option<PixelColumns> {
+    pub(crate) fn open_pixels(&self, out: &mut Collector) -> Option<PixelColumns> {
         let bin1 = self.dataset(out, "pixels/bin1_id", &[Kind::Integer]);
         let bin2 = self.dataset(out, "pixels/bin2_id", &[Kind::Integer]);
         let count = self.dataset(out, "pixels/count", &[Kind::Integer, Kind::Float]);

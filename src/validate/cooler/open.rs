@@ -111,5 +111,3 @@ pub(crate) fn validate_hdf5(path: &str, group: Option<&str>) -> Result<Report> {
     }
     Ok(collector.into_report(path, format, checked))
 }
-
-/// What the checks learned about one cooler, for the coarsening check and the repair.
