@@ -89,8 +89,6 @@ pub struct ExpectedPlotArgs {
 /// Default figure width in inches.
 const DEFAULT_WIDTH_IN: f64 = 6.0;
 
-/// One input's P(s).
-
 /// Whether `uri` names a cis expected table: a text file whose first line (comments aside)
 /// starts with `region1`. Only the first 64 KiB are looked at, as bytes (a .cool file is not
 /// text).
