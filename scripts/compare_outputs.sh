@@ -101,6 +101,31 @@ run_all() {
     run "$cm" plot contacts --structure data/protein/1aapA/1aapA.pdb data/protein/1aapA/1aapA.rr \
       -o "$x/1aap.svg"
     run "$cm" plot saddle "$x/cis.saddle.tsv" -o "$x/saddle.svg"
+    # the code issue 27 moved into the library: BED readers, tables, writers, figures
+    printf 'chrom\tstart\tend\nchrI\t10000\t30000\nchrII\t0\t5000\n' > "$x/black.bed"
+    run "$cm" balance data/yeast.10kb.cool --blacklist "$x/black.bed" -o "$x/black.tsv"
+    printf '# arms\nchrI\t0\t100000\tleft\nchrI\t100000\t230218\n' > "$x/view.bed"
+    run "$cm" expected data/yeast.10kb.cool --view "$x/view.bed" -o "$x/view_exp.tsv"
+    run "$cm" expected data/yeast.10kb.cool -o "$x/yexp.tsv"
+    run "$cm" dump data/yeast.10kb.cool -t bins --header --na-rep NA --float-format .4g
+    run "$cm" dump data/yeast.10kb.cool -t chroms --header
+    run "$cm" tads data/yeast.10kb.cool --method topdom -o "$x/topdom.tsv" --boundaries "$x/topdom.bed"
+    run "$cm" tads data/yeast.10kb.cool --method directionality -o "$x/di.tsv" --domains "$x/di.bed" --json
+    run "$cm" zoomify data/yeast.10kb.cool -r 10000,20000 --balance -o "$x/zb.mcool"
+    run "$cm" normalize data/yeast.10kb.cool "$x/oe_table.bg2" --expected "$x/yexp.tsv"
+    run "$cm" simulate polymer -o "$x/poly.cool" --chains 60 --replicas 2 --samples 2 \
+      --equilibration 200 --sample-every 100 --types A10B10 --extrusion --ctcf 10+,30-,50 \
+      --truth-compartments "$x/tc.bed" --truth-boundaries "$x/tb.bed" --truth-domains "$x/td.bed" \
+      --stats "$x/stats.tsv" --conformations "$x/conf.tsv" --seed 1 --device cpu --monomers-per-bin 2
+    run "$cm" score contacts --structure data/protein/1guuA/1guuA.pdb data/protein/1guuA/1guuA.contact.rr \
+      --json --curve "$x/1guu.curve.tsv"
+    run "$cm" score contacts --structure data/protein/1guuA/1guuA.pdb data/protein/1guuA/1guuA.contact.rr
+    run "$cm" score overlap data/protein/1guuA/1guuA.contact.rr data/protein/1guuA/1guuA.contact.rr
+    run "$cm" score boundaries --truth "$x/topdom.bed" "$x/topdom.bed" --truth-domains "$x/armatus.bed" \
+      --domains "$x/di.bed"
+    run "$cm" plot map data/yeast.10kb.cool -r chrI --oe --expected "$x/yexp.tsv" \
+      --domains "$x/armatus.bed" --track "$x/ins.tsv:log2_insulation_score_50000" -o "$x/oe.svg"
+    run "$cm" plot expected "$x/yexp.tsv" --per-region -o "$x/ps_table.svg"
     run "$cm" completions bash
     run "$cm" man --dir "$x/man"
   } > "$dir.extra.log" 2>&1
