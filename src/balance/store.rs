@@ -221,3 +221,67 @@ pub fn weights_table(
     }
     write(&text)
 }
+
+impl BalanceResult {
+    /// The report of a balancing of the map at `uri` with `params` as JSON (what `balance
+    /// --json` prints): method, scope, convergence, iterations, masked bins, scale and variance,
+    /// per chromosome for per-chromosome balancing (non-finite numbers as null).
+    pub fn report_json(&self, uri: &str, params: &BalanceParams, bins: &BinTable) -> serde_json::Value {
+        let result = self;
+        // serde_json writes non-finite numbers as null
+        let mut value = serde_json::json!({
+            "uri": uri,
+            "method": params.method.name(),
+            "scope": params.scope.name(),
+            "converged": result.converged,
+            "n_iterations": result.n_iterations,
+            "masked_bins": result.n_masked(),
+            "n_bins": result.weights.len(),
+            "scale": result.scale,
+            "var": result.var,
+        });
+        if let Some(per_chrom) = &result.per_chrom {
+            value["per_chromosome"] = per_chrom
+                .iter()
+                .zip(bins.chroms())
+                .map(|(g, chrom)| {
+                    serde_json::json!({
+                        "chrom": chrom.name,
+                        "converged": g.converged,
+                        "n_iterations": g.n_iterations,
+                        "scale": g.scale,
+                        "var": g.var,
+                    })
+                })
+                .collect();
+        }
+        value
+    }
+
+    /// The same report as `#` lines (what `balance` prints on standard error).
+    pub fn report_text(&self, params: &BalanceParams, bins: &BinTable) -> String {
+        let result = self;
+        let scope = params.scope.name();
+        let mut text = format!(
+            "# method={} scope={scope} converged={} n_iterations={} masked_bins={}/{}",
+            params.method.name(),
+            result.converged,
+            result.n_iterations,
+            result.n_masked(),
+            result.weights.len()
+        );
+        match &result.per_chrom {
+            None => text.push_str(&format!(" scale={:?} var={:e}\n", result.scale, result.var)),
+            Some(per_chrom) => {
+                text.push('\n');
+                for (g, chrom) in per_chrom.iter().zip(bins.chroms()) {
+                    text.push_str(&format!(
+                        "# {} converged={} n_iterations={} scale={:?} var={:e}\n",
+                        chrom.name, g.converged, g.n_iterations, g.scale, g.var
+                    ));
+                }
+            }
+        }
+        text
+    }
+}

@@ -251,9 +251,9 @@ pub fn run(args: &BalanceArgs) -> Result<()> {
         out.finish()?;
     }
     if args.json {
-        print_json(&summary_json(&args.uri, &params_used, &result, &bins))?;
+        print_json(&result.report_json(&args.uri, &params_used, &bins))?;
     } else {
-        eprint!("{}", summary(&params_used, &result, &bins));
+        eprint!("{}", result.report_text(&params_used, &bins));
     }
     super::warnings::print_reader_warnings(reader_warnings);
     Ok(())
@@ -313,67 +313,4 @@ fn params(args: &BalanceArgs, bins: &BinTable) -> Result<BalanceParams> {
         params.blacklist = io::bed::read_bin_mask(path, bins)?;
     }
     Ok(params)
-}
-
-/// The summary as JSON (`--json`).
-fn summary_json(
-    uri: &str,
-    params: &BalanceParams,
-    result: &BalanceResult,
-    bins: &BinTable,
-) -> serde_json::Value {
-    // serde_json writes non-finite numbers as null
-    let mut value = serde_json::json!({
-        "uri": uri,
-        "method": params.method.name(),
-        "scope": params.scope.name(),
-        "converged": result.converged,
-        "n_iterations": result.n_iterations,
-        "masked_bins": result.n_masked(),
-        "n_bins": result.weights.len(),
-        "scale": result.scale,
-        "var": result.var,
-    });
-    if let Some(per_chrom) = &result.per_chrom {
-        value["per_chromosome"] = per_chrom
-            .iter()
-            .zip(bins.chroms())
-            .map(|(g, chrom)| {
-                serde_json::json!({
-                    "chrom": chrom.name,
-                    "converged": g.converged,
-                    "n_iterations": g.n_iterations,
-                    "scale": g.scale,
-                    "var": g.var,
-                })
-            })
-            .collect();
-    }
-    value
-}
-
-/// The summary printed on standard error.
-fn summary(params: &BalanceParams, result: &BalanceResult, bins: &BinTable) -> String {
-    let scope = params.scope.name();
-    let mut text = format!(
-        "# method={} scope={scope} converged={} n_iterations={} masked_bins={}/{}",
-        params.method.name(),
-        result.converged,
-        result.n_iterations,
-        result.n_masked(),
-        result.weights.len()
-    );
-    match &result.per_chrom {
-        None => text.push_str(&format!(" scale={:?} var={:e}\n", result.scale, result.var)),
-        Some(per_chrom) => {
-            text.push('\n');
-            for (g, chrom) in per_chrom.iter().zip(bins.chroms()) {
-                text.push_str(&format!(
-                    "# {} converged={} n_iterations={} scale={:?} var={:e}\n",
-                    chrom.name, g.converged, g.n_iterations, g.scale, g.var
-                ));
-            }
-        }
-    }
-    text
 }

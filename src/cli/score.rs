@@ -21,7 +21,8 @@ use contactmap::score::lists::{
     parse_length, parse_list_size, parse_range, LabelledSize, NamedRange,
 };
 use contactmap::score::target::{
-    curves_tsv, load_prediction, score_prediction, scores_tsv, Placed, PredictionScores, ScorePlan,
+    curves_tsv, load_prediction, score_prediction, scores_json, scores_tsv, Placed,
+    PredictionScores, ScorePlan,
 };
 
 /// Arguments of `contactmap score`.
@@ -313,71 +314,6 @@ impl ListArgs {
     }
 }
 
-fn json_number(value: f64) -> serde_json::Value {
-    serde_json::Number::from_f64(value).map_or(serde_json::Value::Null, serde_json::Value::Number)
-}
-
-fn write_json(args: &ContactsScoreArgs, reports: &[PredictionScores]) -> String {
-    use serde_json::json;
-    let predictions: Vec<serde_json::Value> = reports
-        .iter()
-        .map(|report| {
-            let ranges: Vec<serde_json::Value> = report
-                .scores
-                .iter()
-                .map(|(named, labels, score)| {
-                    let lists: Vec<serde_json::Value> = labels
-                        .iter()
-                        .zip(&score.lists)
-                        .map(|(label, list)| {
-                            json!({
-                                "list": label,
-                                "k": list.k,
-                                "n_scored": list.n_scored,
-                                "tp": list.true_positives,
-                                "precision": json_number(list.precision),
-                                "recall": json_number(list.recall),
-                                "f1": json_number(list.f1),
-                                "mcc": json_number(list.mcc),
-                                "xd": json_number(list.xd),
-                            })
-                        })
-                        .collect();
-                    json!({
-                        "range": named.name,
-                        "min_sep": named.range.min,
-                        "max_sep": named.range.max,
-                        "n_true": score.n_true,
-                        "n_pairs": score.n_pairs,
-                        "n_available": score.n_available,
-                        "lists": lists,
-                    })
-                })
-                .collect();
-            let length = report.scores.first().map(|(_, _, score)| score.length);
-            json!({
-                "prediction": report.path,
-                "structure": args.target.structure.display().to_string(),
-                "contact_definition": args.definition.describe(),
-                "n_observed": report.n_observed,
-                "register": report.register.as_ref().map(|register| json!({
-                    "method": register.method,
-                    "offset": register.offset,
-                    "placed": register.placed,
-                    "identical": register.identical,
-                    "residues": register.residues,
-                })),
-                "length": length,
-                "length_source": report.length_source,
-                "ranges": ranges,
-            })
-        })
-        .collect();
-    let mut text = serde_json::to_string_pretty(&predictions).unwrap_or_default();
-    text.push('\n');
-    text
-}
-
 /// Rows of cells as text with columns aligned (first column left, the others right).
 fn aligned(rows: &[Vec<String>]) -> String {
     let columns = rows.iter().map(Vec::len).max().unwrap_or(0);
@@ -568,7 +504,12 @@ fn run_contacts(args: &ContactsScoreArgs) -> Result<()> {
         reports.push(report);
     }
     if args.json {
-        out.write_all(write_json(args, &reports).as_bytes())?;
+        let text = scores_json(
+            &args.target.structure.display().to_string(),
+            &args.definition.describe(),
+            &reports,
+        );
+        out.write_all(text.as_bytes())?;
     } else if !args.tsv {
         out.write_all(write_table(args, &chain.id, &reports).as_bytes())?;
     }

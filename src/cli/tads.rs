@@ -212,7 +212,6 @@ pub fn run(args: &TadsArgs) -> Result<()> {
     for note in &calls.notes {
         warnings.note(note.clone());
     }
-    let calls = Calls(calls);
     let track = calls.track.to_tsv(&bins);
     write_to(args.out.as_deref(), &track)?;
     if let Some(path) = &args.boundaries {
@@ -228,48 +227,11 @@ pub fn run(args: &TadsArgs) -> Result<()> {
         calls.domains.len()
     ));
     if args.json {
-        print_json(&calls.summary(&args.uri, args.method))?;
+        print_json(&calls.summary_json(&args.uri, &format!("{:?}", args.method).to_lowercase()))?;
     }
     warnings.extend(reader.warnings());
     warnings.print();
     Ok(())
-}
-
-/// The library's calls, with their `--json` summary and per-bin text.
-struct Calls(TadCalls);
-
-impl std::ops::Deref for Calls {
-    type Target = TadCalls;
-    fn deref(&self) -> &TadCalls {
-        &self.0
-    }
-}
-
-impl Calls {
-    /// The `--json` summary.
-    fn summary(&self, uri: &str, method: MethodArg) -> serde_json::Value {
-        let mut value = serde_json::json!({
-            "uri": uri,
-            "method": format!("{method:?}").to_lowercase(),
-            "label": self.label,
-            "n_boundaries": self.boundaries.len(),
-            "n_domains": self.domains.len(),
-        });
-        if let TadTrack::Insulation(table, _) = &self.track {
-            value["windows"] = table
-                .tracks
-                .iter()
-                .map(|t| {
-                    serde_json::json!({
-                        "window_bp": t.window_bp,
-                        "n_boundaries": t.is_boundary.iter().filter(|&&b| b).count(),
-                        "cutoff": t.cutoff, // null when not finite
-                    })
-                })
-                .collect();
-        }
-        value
-    }
 }
 
 fn parse_threshold(args: &TadsArgs) -> Result<Threshold> {

@@ -647,6 +647,70 @@ pub fn power_law_of_table(
     Ok(PowerLaw { table, binned, fit })
 }
 
+impl PowerLawReport {
+    /// The report as JSON (what `expected --json` prints): the input `uri`, the values
+    /// (balanced by `weight_name` or raw), the bin size and fit range, the single power law, the
+    /// piecewise fit with its BIC per number of breakpoints, and the points fitted.
+    pub fn to_json(
+        &self,
+        uri: &str,
+        weight_name: &str,
+        table: &CisExpected,
+        binned: &LogBinned,
+    ) -> serde_json::Value {
+        let report = self;
+        use serde_json::json;
+        let fit = &report.fit;
+        let piecewise = &report.piecewise;
+        let points: Vec<serde_json::Value> = fit_bins(binned, &report.range)
+            .iter()
+            .zip(&report.points)
+            .map(|(bin, (s, p))| {
+                json!({
+                    "dist_bin_id": bin.dist_bin_id,
+                    "dist_bp_avg": bin.dist_avg * table.bin_size_bp as f64,
+                    "dist_bp_effective": s,
+                    "p": p,
+                    "n_valid": bin.n_valid,
+                })
+            })
+            .collect();
+        json!({
+            "uri": uri,
+            "values": if table.is_balanced() { format!("balanced ({weight_name})") } else { "raw counts".to_string() },
+            "bin_size_bp": table.bin_size_bp,
+            "fit_range_bp": [report.range.min_bp, report.range.max_bp],
+            "power_law": {
+                "alpha": fit.alpha,
+                "intercept_log10": fit.intercept_log10,
+                "stderr": fit.stderr,
+                "ci95": [fit.ci95.0, fit.ci95.1],
+                "r_squared": fit.r_squared,
+                "rss_log10": fit.rss,
+                "n_points": fit.n_points,
+                "dof": fit.dof,
+                "first_bp": fit.first_bp,
+                "last_bp": fit.last_bp,
+            },
+            "piecewise": {
+                "n_breakpoints": piecewise.breakpoints_bp.len(),
+                "breakpoints_bp": piecewise.breakpoints_bp,
+                "segments": piecewise.segments.iter().map(|s| json!({
+                    "start_bp": s.start_bp,
+                    "end_bp": s.end_bp,
+                    "alpha": s.alpha,
+                    "stderr": s.stderr,
+                    "ci95": [s.ci95.0, s.ci95.1],
+                    "n_points": s.n_points,
+                })).collect::<Vec<_>>(),
+                "rss_log10": piecewise.rss,
+                "bic_by_breakpoints": piecewise.bic_by_breakpoints,
+            },
+            "points": points,
+        })
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

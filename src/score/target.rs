@@ -352,3 +352,70 @@ pub fn curves_tsv(reports: &[PredictionScores]) -> String {
     }
     text
 }
+
+fn json_number(value: f64) -> serde_json::Value {
+    serde_json::Number::from_f64(value).map_or(serde_json::Value::Null, serde_json::Value::Number)
+}
+
+/// The scores as a JSON array, one object per prediction (what `score contacts --json` prints),
+/// with the `structure` and the contact `definition` (its description) they were scored against.
+pub fn scores_json(structure: &str, definition: &str, reports: &[PredictionScores]) -> String {
+    use serde_json::json;
+    let predictions: Vec<serde_json::Value> = reports
+        .iter()
+        .map(|report| {
+            let ranges: Vec<serde_json::Value> = report
+                .scores
+                .iter()
+                .map(|(named, labels, score)| {
+                    let lists: Vec<serde_json::Value> = labels
+                        .iter()
+                        .zip(&score.lists)
+                        .map(|(label, list)| {
+                            json!({
+                                "list": label,
+                                "k": list.k,
+                                "n_scored": list.n_scored,
+                                "tp": list.true_positives,
+                                "precision": json_number(list.precision),
+                                "recall": json_number(list.recall),
+                                "f1": json_number(list.f1),
+                                "mcc": json_number(list.mcc),
+                                "xd": json_number(list.xd),
+                            })
+                        })
+                        .collect();
+                    json!({
+                        "range": named.name,
+                        "min_sep": named.range.min,
+                        "max_sep": named.range.max,
+                        "n_true": score.n_true,
+                        "n_pairs": score.n_pairs,
+                        "n_available": score.n_available,
+                        "lists": lists,
+                    })
+                })
+                .collect();
+            let length = report.scores.first().map(|(_, _, score)| score.length);
+            json!({
+                "prediction": report.path,
+                "structure": structure,
+                "contact_definition": definition,
+                "n_observed": report.n_observed,
+                "register": report.register.as_ref().map(|register| json!({
+                    "method": register.method,
+                    "offset": register.offset,
+                    "placed": register.placed,
+                    "identical": register.identical,
+                    "residues": register.residues,
+                })),
+                "length": length,
+                "length_source": report.length_source,
+                "ranges": ranges,
+            })
+        })
+        .collect();
+    let mut text = serde_json::to_string_pretty(&predictions).unwrap_or_default();
+    text.push('\n');
+    text
+}

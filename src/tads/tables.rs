@@ -29,6 +29,33 @@ impl TadTrack {
 }
 
 impl TadCalls {
+    /// A summary as JSON (what `tads --json` prints): the input `uri`, the `method`, the label,
+    /// the numbers of boundaries and domains, and per insulation window its boundaries and
+    /// threshold (null when not finite).
+    pub fn summary_json(&self, uri: &str, method: &str) -> serde_json::Value {
+        let mut value = serde_json::json!({
+            "uri": uri,
+            "method": method,
+            "label": self.label,
+            "n_boundaries": self.boundaries.len(),
+            "n_domains": self.domains.len(),
+        });
+        if let TadTrack::Insulation(table, _) = &self.track {
+            value["windows"] = table
+                .tracks
+                .iter()
+                .map(|t| {
+                    serde_json::json!({
+                        "window_bp": t.window_bp,
+                        "n_boundaries": t.is_boundary.iter().filter(|&&b| b).count(),
+                        "cutoff": t.cutoff, // null when not finite
+                    })
+                })
+                .collect();
+        }
+        value
+    }
+
     /// The boundaries as BED: `chrom start end label strength` (`.` for no strength), one bin
     /// each.
     pub fn boundaries_bed(&self, bins: &BinTable) -> Vec<u8> {
