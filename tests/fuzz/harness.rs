@@ -423,7 +423,20 @@ pub fn format(name: &str, aux: &Path) -> Format {
                             bytes: gunzip_head("hg19.bins.2000kb.bed.gz", usize::MAX),
                             origin: "data/hg19.bins.2000kb.bed.gz".into(),
                             file_name: "m.bed".into(),
-                            commands: text_commands(&table, "bg2", "{P}"),
+                            // The mutant as the bins of a text table, and as every other BED
+                            // input (one reader, io::bed): a view, a blacklist, boundaries,
+                            // domains drawn on a map.
+                            commands: {
+                                let hg19 = data("hg19.GM12878-MboI.matrix.2000kb.cool");
+                                let mut list = text_commands(&table, "bg2", "{P}");
+                                list.push(strings(&["expected", &hg19, "--view", "{P}", "-o", "{O}.tsv"]));
+                                list.push(strings(&["balance", &hg19, "--blacklist", "{P}", "-o", "{O}.tsv"]));
+                                list.push(strings(&["score", "boundaries", "--truth", "{P}", "{P}"]));
+                                list.push(strings(&[
+                                    "plot", "map", &hg19, "-r", "chr1", "--domains", "{P}", "-o", "{O}.svg",
+                                ]));
+                                list
+                            },
                         }],
                         vec![table],
                     )
