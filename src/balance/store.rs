@@ -226,7 +226,12 @@ impl BalanceResult {
     /// The report of a balancing of the map at `uri` with `params` as JSON (what `balance
     /// --json` prints): method, scope, convergence, iterations, masked bins, scale and variance,
     /// per chromosome for per-chromosome balancing (non-finite numbers as null).
-    pub fn report_json(&self, uri: &str, params: &BalanceParams, bins: &BinTable) -> serde_json::Value {
+    pub fn report_json(
+        &self,
+        uri: &str,
+        params: &BalanceParams,
+        bins: &BinTable,
+    ) -> serde_json::Value {
         let result = self;
         // serde_json writes non-finite numbers as null
         let mut value = serde_json::json!({

@@ -9,7 +9,7 @@ use crate::cli::input::open_for_analysis;
 use crate::cli::output::{is_stdout, print_json, refuse_overwrites, uri_file, Output};
 use crate::cli::InputArgs;
 use contactmap::balance::store::{balance_reader, store_balanced, weights_table, Balanced};
-use contactmap::balance::{BalanceParams, BalanceResult, Method, Scope};
+use contactmap::balance::{BalanceParams, Method, Scope};
 use contactmap::error::{Error, Result};
 use contactmap::genome::BinTable;
 use contactmap::io::cool::store::check_target;

@@ -11,10 +11,9 @@ use crate::cli::output::Output;
 use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::InputArgs;
 use contactmap::error::{Error, Result};
-use contactmap::expected::logbin::LogBinned;
-use contactmap::expected::powerlaw::{fit_bins, FitRange, PowerLawReport};
+use contactmap::expected::powerlaw::FitRange;
 use contactmap::expected::powerlaw::{power_law, PowerLaw};
-use contactmap::expected::{expected_cis, expected_trans, CisExpected, CisParams};
+use contactmap::expected::{expected_cis, expected_trans, CisParams};
 use contactmap::io::{self, LoadedPixels, StreamedPixels};
 
 /// Arguments of `contactmap expected`.
@@ -214,9 +213,13 @@ pub fn run(args: &ExpectedArgs) -> Result<()> {
                 power_law(&pixels, weights, &view, &checked.params, checked.fit_range)?;
             let report = fit?;
             let text = if json {
-                let mut text =
-                    serde_json::to_string_pretty(&report.to_json(&args.uri, &args.weight_name, &table, &binned))
-                        .map_err(|e| Error::Invalid(format!("JSON output: {e}")))?;
+                let mut text = serde_json::to_string_pretty(&report.to_json(
+                    &args.uri,
+                    &args.weight_name,
+                    &table,
+                    &binned,
+                ))
+                .map_err(|e| Error::Invalid(format!("JSON output: {e}")))?;
                 text.push('\n');
                 text
             } else {

@@ -15,7 +15,7 @@ use contactmap::expected::View;
 use contactmap::genome::parse_bp;
 use contactmap::io::{LoadedPixels, StreamedPixels};
 use contactmap::tads::armatus::ArmatusParams;
-use contactmap::tads::call::{call, Caller, TadCalls, TadTrack};
+use contactmap::tads::call::{call, Caller};
 use contactmap::tads::directionality::DirectionalityParams;
 use contactmap::tads::hmm::HmmParams;
 use contactmap::tads::insulation::{regions_shorter_than, InsulationParams};

@@ -429,11 +429,34 @@ pub fn format(name: &str, aux: &Path) -> Format {
                             commands: {
                                 let hg19 = data("hg19.GM12878-MboI.matrix.2000kb.cool");
                                 let mut list = text_commands(&table, "bg2", "{P}");
-                                list.push(strings(&["expected", &hg19, "--view", "{P}", "-o", "{O}.tsv"]));
-                                list.push(strings(&["balance", &hg19, "--blacklist", "{P}", "-o", "{O}.tsv"]));
-                                list.push(strings(&["score", "boundaries", "--truth", "{P}", "{P}"]));
                                 list.push(strings(&[
-                                    "plot", "map", &hg19, "-r", "chr1", "--domains", "{P}", "-o", "{O}.svg",
+                                    "expected", &hg19, "--view", "{P}", "-o", "{O}.tsv",
+                                ]));
+                                list.push(strings(&[
+                                    "balance",
+                                    &hg19,
+                                    "--blacklist",
+                                    "{P}",
+                                    "-o",
+                                    "{O}.tsv",
+                                ]));
+                                list.push(strings(&[
+                                    "score",
+                                    "boundaries",
+                                    "--truth",
+                                    "{P}",
+                                    "{P}",
+                                ]));
+                                list.push(strings(&[
+                                    "plot",
+                                    "map",
+                                    &hg19,
+                                    "-r",
+                                    "chr1",
+                                    "--domains",
+                                    "{P}",
+                                    "-o",
+                                    "{O}.svg",
                                 ]));
                                 list
                             },
