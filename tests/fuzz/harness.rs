@@ -430,7 +430,7 @@ pub fn format(name: &str, aux: &Path) -> Format {
                                 let hg19 = data("hg19.GM12878-MboI.matrix.2000kb.cool");
                                 let mut list = text_commands(&table, "bg2", "{P}");
                                 list.push(strings(&[
-                                    "expected", &hg19, "--view", "{P}", "-o", "{O}.tsv",
+                                    "expected", &hg19, "--raw", "--view", "{P}", "-o", "{O}.tsv",
                                 ]));
                                 list.push(strings(&[
                                     "balance",
@@ -451,6 +451,7 @@ pub fn format(name: &str, aux: &Path) -> Format {
                                     "plot",
                                     "map",
                                     &hg19,
+                                    "--raw",
                                     "-r",
                                     "chr1",
                                     "--domains",
