@@ -18,7 +18,7 @@ use contactmap::tads::armatus::ArmatusParams;
 use contactmap::tads::call::{call, Caller};
 use contactmap::tads::directionality::DirectionalityParams;
 use contactmap::tads::hmm::HmmParams;
-use contactmap::tads::insulation::{regions_shorter_than, InsulationParams};
+use contactmap::tads::insulation::{check_window_fits, InsulationParams};
 use contactmap::tads::threshold::Threshold;
 use contactmap::tads::topdom::TopDomParams;
 
@@ -196,13 +196,8 @@ pub fn run(args: &TadsArgs) -> Result<()> {
     // Printed only once the outputs are written: a warning never comes before an error.
     let mut warnings = Warnings::new();
     if args.method != MethodArg::Armatus {
-        check_region_lengths(
-            &view,
-            (largest / bin_size) as usize,
-            largest,
-            explicit_view,
-            &mut warnings,
-        )?;
+        let window_bins = (largest / bin_size) as usize;
+        warnings.extend(check_window_fits(&view, window_bins, largest, explicit_view)?);
     }
     let pixels = LoadedPixels::Streamed(StreamedPixels::new(reader.as_ref()));
     let weights = weights.as_deref();
@@ -271,40 +266,6 @@ fn windows_bp(args: &TadsArgs, bin_size: u64) -> Result<Vec<u64>> {
         ));
     }
     Ok(windows)
-}
-
-/// Warn about (whole-chromosome view) or refuse (explicit view) regions shorter than the window.
-fn check_region_lengths(
-    view: &View,
-    window_bins: usize,
-    window_bp: u64,
-    explicit_view: bool,
-    warnings: &mut Warnings,
-) -> Result<()> {
-    let short = regions_shorter_than(view, window_bins);
-    if short.is_empty() {
-        return Ok(());
-    }
-    if explicit_view || short.len() == view.len() {
-        return Err(Error::Invalid(format!(
-            "region{} {} shorter than the {window_bp} bp window ({window_bins} bins): use a smaller --window",
-            if short.len() > 1 { "s" } else { "" },
-            list_names(&short)
-        )));
-    }
-    warnings.push(format!(
-        "{} shorter than the {window_bp} bp window: truncated diamonds (as cooltools)",
-        list_names(&short)
-    ));
-    Ok(())
-}
-
-fn list_names(names: &[&str]) -> String {
-    if names.len() <= 6 {
-        names.join(", ")
-    } else {
-        format!("{}, ... ({} regions)", names[..6].join(", "), names.len())
-    }
 }
 
 /// The library's caller for the options: the method, its window and parameters.

@@ -24,6 +24,9 @@
 //! `dpi / 72` ([`Theme`]); the panels' edges are snapped to whole pixels.
 
 use crate::error::Result;
+use crate::score::contacts::{
+    list_length, ranked_predictions, score_contacts, Prediction, ScoreParams, TrueContacts,
+};
 use crate::plot::axes::{self, linear_ticks, Axes, AxisScale, LegendEntry, Side, Theme};
 use crate::plot::svg::{text_width, Anchor, Baseline, Rgb, Stroke, Svg, TextStyle};
 
@@ -80,6 +83,63 @@ pub struct PredictionLayer {
 }
 
 impl PredictionLayer {
+    /// The layer of `prediction` (named `name`) scored against `truth` with `params` (one list
+    /// size, `list_label` as written, and the curve up to `params.curve`): its top `k` pairs in
+    /// rank order, each marked a true positive, a false positive or unobserved; and the residues
+    /// it spans (the sequence or matrix `1..=L` when the prediction has one, the observed
+    /// residues, the drawn pairs).
+    pub fn score(
+        name: String,
+        list_label: String,
+        truth: &TrueContacts,
+        prediction: &Prediction,
+        params: &ScoreParams,
+    ) -> Result<(PredictionLayer, (i32, i32))> {
+        let list_size = params.list_sizes.first().copied().ok_or_else(|| {
+            crate::Error::parameter("list_sizes", "[]", "expected one list size")
+        })?;
+        let curve_size = params.curve.unwrap_or(list_size);
+        let score = score_contacts(truth, prediction, params)?;
+        let k = list_length(list_size, score.length, params.rounding, score.n_true);
+        let pairs: Vec<(i32, i32, Mark)> =
+            ranked_predictions(truth, prediction, params.range, params.drop_unobserved)
+                .into_iter()
+                .take(k)
+                .map(|pair| {
+                    let mark = match (pair.distance_angstrom, pair.is_contact) {
+                        (None, _) => Mark::Unobserved,
+                        (Some(_), true) => Mark::TruePositive,
+                        (Some(_), false) => Mark::FalsePositive,
+                    };
+                    (pair.i, pair.j, mark)
+                })
+                .collect();
+        let (mut first, mut last) = (i32::MAX, i32::MIN);
+        if prediction.sequence.is_some() || prediction.length.is_some() {
+            first = 1;
+            last = i32::try_from(score.length).unwrap_or(i32::MAX);
+        }
+        let numbers = truth.numbers();
+        if let (Some(&low), Some(&high)) = (numbers.first(), numbers.last()) {
+            first = first.min(low);
+            last = last.max(high);
+        }
+        for &(i, j, _) in &pairs {
+            first = first.min(i);
+            last = last.max(j);
+        }
+        let layer = PredictionLayer {
+            name,
+            list_label,
+            k,
+            pairs,
+            length: score.length,
+            curve_max_k: list_length(curve_size, score.length, params.rounding, score.n_true),
+            curve: score.curve,
+        };
+        Ok((layer, (first, last)))
+    }
+
     /// Listed pairs with this mark.
     pub fn count(&self, mark: Mark) -> usize {
         self.pairs.iter().filter(|pair| pair.2 == mark).count()

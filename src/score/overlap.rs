@@ -10,7 +10,9 @@
 
 use std::collections::HashSet;
 
-use super::contacts::{rank_pairs, Prediction, SeparationRange};
+use super::contacts::{rank_pairs, ListSize, Prediction, Rounding, SeparationRange};
+use super::lists::{LabelledSize, NamedRange};
+use crate::error::{Error, Result};
 
 /// The agreement of two top lists.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -83,6 +85,93 @@ pub fn overlap(first: &[(i32, i32)], second: &[(i32, i32)], k: usize) -> Overlap
         },
     }
 }
+
+/// The overlap of the top lists of two predictions `[(name, prediction); 2]` of one target, for
+/// every separation range and list size (`k` from `length`, else the length their sequence or
+/// matrix implies, rounded by `rounding`). Refused, naming both: predictions that carry
+/// different sequences or imply different lengths, an unknown L, a list size `NC` (it needs a
+/// structure).
+///
+/// # Examples
+///
+/// ```
+/// use contactmap::score::contacts::{Prediction, Rounding};
+/// use contactmap::score::lists::{parse_list_size, parse_range};
+/// use contactmap::score::overlap::compare_predictions;
+///
+/// let a = Prediction { pairs: vec![(1, 10, 0.9), (2, 20, 0.8)], ..Default::default() };
+/// let b = Prediction { pairs: vec![(2, 20, 0.7), (3, 30, 0.6)], ..Default::default() };
+/// let rows = compare_predictions(
+///     [("a.rr", &a), ("b.rr", &b)],
+///     Some(20),
+///     &[parse_range("all")?],
+///     &[parse_list_size("L/10")?],
+///     Rounding::Floor,
+/// )?;
+/// let (_, _, result) = &rows[0];
+/// assert_eq!((result.k, result.shared), (2, 1));
+/// # Ok::<(), contactmap::Error>(())
+/// ```
+pub fn compare_predictions<'a>(
+    predictions: [(&str, &Prediction); 2],
+    length: Option<usize>,
+    ranges: &'a [NamedRange],
+    sizes: &'a [LabelledSize],
+    rounding: Rounding,
+) -> Result<Vec<(&'a NamedRange, &'a str, Overlap)>> {
+    let [(first_name, first), (second_name, second)] = predictions;
+    // What each file says of its target: the length of its sequence, else its matrix size.
+    let implied: Vec<Option<usize>> = [first, second]
+        .iter()
+        .map(|p| p.sequence.as_ref().map(|s| s.chars().count()).or(p.length))
+        .collect();
+    let different = |what: String| {
+        Error::Invalid(format!(
+            "{first_name} and {second_name} {what}: they are not predictions for the same target"
+        ))
+    };
+    if let (Some(a), Some(b)) = (&first.sequence, &second.sequence) {
+        if !a.eq_ignore_ascii_case(b) {
+            return Err(different(format!(
+                "carry different sequences ({} and {} residues)",
+                a.len(),
+                b.len()
+            )));
+        }
+    }
+    if let (Some(a), Some(b)) = (implied[0], implied[1]) {
+        if a != b {
+            return Err(different(format!("cover {a} and {b} residues")));
+        }
+    }
+    let length = match length {
+        Some(length) => length,
+        None => implied[0].or(implied[1]).ok_or_else(|| {
+            Error::Invalid("L is unknown: give the target sequence (--fasta) or --length".into())
+        })?,
+    };
+    let mut results = Vec::new();
+    for named in ranges {
+        let a = ranked_pairs(first, named.range);
+        let b = ranked_pairs(second, named.range);
+        for (label, size) in sizes {
+            let k = match *size {
+                ListSize::Fraction(fraction) => rounding.apply(length as f64 * fraction),
+                ListSize::Count(count) => count,
+                ListSize::TrueContacts => {
+                    return Err(Error::parameter(
+                        "sizes",
+                        "NC",
+                        "list size NC needs a structure (use score contacts)",
+                    ))
+                }
+            };
+            results.push((named, label.as_str(), overlap(&a, &b, k)));
+        }
+    }
+    Ok(results)
+}
+
 
 #[cfg(test)]
 mod tests {

@@ -192,6 +192,52 @@ pub fn regions_shorter_than(view: &View, window_bins: usize) -> Vec<&str> {
         .collect()
 }
 
+/// Whether the window of `window_bins` bins (`window_bp`) fits the regions of `view`: an error
+/// when it is longer than every region, or than any region of a view the user gave
+/// (`explicit_view`: the regions were chosen, so a short one is a mistake); else a warning
+/// naming the whole chromosomes shorter than it (their diamonds are truncated, as cooltools
+/// computes them), or nothing.
+///
+/// # Examples
+///
+/// ```
+/// use contactmap::expected::View;
+/// use contactmap::genome::{BinTable, Chrom};
+/// use contactmap::tads::insulation::check_window_fits;
+///
+/// let bins = BinTable::fixed(vec![Chrom::new("chr1", 1_000), Chrom::new("chrM", 50)], 10)?;
+/// let view = View::chromosomes(&bins);
+/// let warning = check_window_fits(&view, 10, 100, false)?.unwrap();
+/// assert!(warning.starts_with("chrM shorter than the 100 bp window"));
+/// assert!(check_window_fits(&view, 10, 100, true).is_err());
+/// # Ok::<(), contactmap::Error>(())
+/// ```
+pub fn check_window_fits(
+    view: &View,
+    window_bins: usize,
+    window_bp: u64,
+    explicit_view: bool,
+) -> Result<Option<String>> {
+    let short = regions_shorter_than(view, window_bins);
+    if short.is_empty() {
+        return Ok(None);
+    }
+    let names = if short.len() <= 6 {
+        short.join(", ")
+    } else {
+        format!("{}, ... ({} regions)", short[..6].join(", "), short.len())
+    };
+    if explicit_view || short.len() == view.len() {
+        return Err(Error::Invalid(format!(
+            "region{} {names} shorter than the {window_bp} bp window ({window_bins} bins): use a smaller --window",
+            if short.len() > 1 { "s" } else { "" },
+        )));
+    }
+    Ok(Some(format!(
+        "{names} shorter than the {window_bp} bp window: truncated diamonds (as cooltools)"
+    )))
+}
+
 /// A window in bins; errors for a zero window, one that is not a multiple of the bin size, or
 /// variable-size bins.
 pub(super) fn window_bins(bins: &BinTable, window_bp: u64) -> Result<usize> {

@@ -136,49 +136,19 @@ pub fn run(args: &ContactsArgs) -> Result<()> {
             drop_unobserved: !args.keep_unobserved,
             curve: Some(curve_size),
         };
-        let score =
-            score_contacts(&placed.truth, &prediction, &params).map_err(|err| err.in_file(path))?;
-        let k = list_length(list_size, score.length, params.rounding, score.n_true);
-        let pairs: Vec<(i32, i32, Mark)> =
-            ranked_predictions(&placed.truth, &prediction, range, params.drop_unobserved)
-                .into_iter()
-                .take(k)
-                .map(|pair| {
-                    let mark = match (pair.distance_angstrom, pair.is_contact) {
-                        (None, _) => Mark::Unobserved,
-                        (Some(_), true) => Mark::TruePositive,
-                        (Some(_), false) => Mark::FalsePositive,
-                    };
-                    (pair.i, pair.j, mark)
-                })
-                .collect();
-        // The residue range: the sequence (or matrix) 1..=L when there is one, and every
-        // observed or drawn residue.
-        if prediction.sequence.is_some() || prediction.length.is_some() {
-            first = first.min(1);
-            last = last.max(i32::try_from(score.length).unwrap_or(i32::MAX));
-        }
-        let numbers = placed.truth.numbers();
-        if let (Some(&low), Some(&high)) = (numbers.first(), numbers.last()) {
-            first = first.min(low);
-            last = last.max(high);
-        }
-        for &(i, j, _) in &pairs {
-            first = first.min(i);
-            last = last.max(j);
-        }
+        let (layer, (low, high)) = PredictionLayer::score(
+            display_name(path),
+            list_label.clone(),
+            &placed.truth,
+            &prediction,
+            &params,
+        )
+        .map_err(|err| err.in_file(path))?;
+        (first, last) = (first.min(low), last.max(high));
         if true_contacts.is_none() {
             true_contacts = Some(placed.truth.contacts(range));
         }
-        layers.push(PredictionLayer {
-            name: display_name(path),
-            list_label: list_label.clone(),
-            k,
-            pairs,
-            length: score.length,
-            curve: score.curve,
-            curve_max_k: list_length(curve_size, score.length, params.rounding, score.n_true),
-        });
+        layers.push(layer);
     }
     if first > last {
         return Err(Error::Invalid(format!(

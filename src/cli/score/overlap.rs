@@ -12,7 +12,7 @@ use contactmap::error::{Error, Result};
 use contactmap::io::predictions::{read_fasta, read_prediction};
 use contactmap::score::contacts::{ListSize, Rounding};
 use contactmap::score::lists::NamedRange;
-use contactmap::score::overlap::{overlap, ranked_pairs, Overlap};
+use contactmap::score::overlap::compare_predictions;
 
 /// Arguments of `contactmap score overlap`.
 #[derive(Debug, Args)]
@@ -76,6 +76,9 @@ pub fn run(args: &OverlapArgs) -> Result<()> {
             "list size NC needs a structure (use `score contacts`)".into(),
         ));
     }
+    if args.length == Some(0) {
+        return Err(Error::Invalid("--length must be positive".into()));
+    }
     let fasta = args.fasta.as_deref().map(read_fasta).transpose()?;
     let mut predictions = Vec::with_capacity(2);
     for path in [&args.first, &args.second] {
@@ -87,53 +90,16 @@ pub fn run(args: &OverlapArgs) -> Result<()> {
         }
         predictions.push(prediction);
     }
-    // What each file says of its target: the length of its sequence, else its matrix size.
-    let implied: Vec<Option<usize>> = predictions
-        .iter()
-        .map(|p| p.sequence.as_ref().map(|s| s.chars().count()).or(p.length))
-        .collect();
-    let different = |what: String| {
-        Error::Invalid(format!(
-            "{} and {} {what}: they are not predictions for the same target",
-            args.first.display(),
-            args.second.display()
-        ))
-    };
-    if let (Some(a), Some(b)) = (&predictions[0].sequence, &predictions[1].sequence) {
-        if !a.eq_ignore_ascii_case(b) {
-            return Err(different(format!(
-                "carry different sequences ({} and {} residues)",
-                a.len(),
-                b.len()
-            )));
-        }
-    }
-    if let (Some(a), Some(b)) = (implied[0], implied[1]) {
-        if a != b {
-            return Err(different(format!("cover {a} and {b} residues")));
-        }
-    }
-    let length = match args.length {
-        Some(0) => return Err(Error::Invalid("--length must be positive".into())),
-        Some(length) => length,
-        None => implied[0].or(implied[1]).ok_or_else(|| {
-            Error::Invalid("L is unknown: give the target sequence (--fasta) or --length".into())
-        })?,
-    };
-    let rounding: Rounding = args.lists.rounding.into();
-    let mut results: Vec<(&NamedRange, &str, Overlap)> = Vec::new();
-    for named in &ranges {
-        let first = ranked_pairs(&predictions[0], named.range);
-        let second = ranked_pairs(&predictions[1], named.range);
-        for (label, size) in &sizes {
-            let k = match *size {
-                ListSize::Fraction(fraction) => rounding.apply(length as f64 * fraction),
-                ListSize::Count(count) => count,
-                ListSize::TrueContacts => unreachable!("refused above"),
-            };
-            results.push((named, label, overlap(&first, &second, k)));
-        }
-    }
+    let results = compare_predictions(
+        [
+            (&args.first.display().to_string(), &predictions[0]),
+            (&args.second.display().to_string(), &predictions[1]),
+        ],
+        args.length,
+        &ranges,
+        &sizes,
+        args.lists.rounding.into(),
+    )?;
     let text = if args.tsv {
         let mut text = String::from(
             "first\tsecond\trange\tmin_sep\tmax_sep\tlist\tk\tn_first\tn_second\tshared\tjaccard\n",
