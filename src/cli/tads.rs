@@ -11,7 +11,6 @@ use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::warnings::Warnings;
 use crate::cli::InputArgs;
 use contactmap::error::{Error, Result};
-use contactmap::expected::View;
 use contactmap::genome::parse_bp;
 use contactmap::io::{LoadedPixels, StreamedPixels};
 use contactmap::tads::armatus::ArmatusParams;
@@ -197,7 +196,12 @@ pub fn run(args: &TadsArgs) -> Result<()> {
     let mut warnings = Warnings::new();
     if args.method != MethodArg::Armatus {
         let window_bins = (largest / bin_size) as usize;
-        warnings.extend(check_window_fits(&view, window_bins, largest, explicit_view)?);
+        warnings.extend(check_window_fits(
+            &view,
+            window_bins,
+            largest,
+            explicit_view,
+        )?);
     }
     let pixels = LoadedPixels::Streamed(StreamedPixels::new(reader.as_ref()));
     let weights = weights.as_deref();

@@ -24,11 +24,11 @@
 //! `dpi / 72` ([`Theme`]); the panels' edges are snapped to whole pixels.
 
 use crate::error::Result;
+use crate::plot::axes::{self, linear_ticks, Axes, AxisScale, LegendEntry, Side, Theme};
+use crate::plot::svg::{text_width, Anchor, Baseline, Rgb, Stroke, Svg, TextStyle};
 use crate::score::contacts::{
     list_length, ranked_predictions, score_contacts, Prediction, ScoreParams, TrueContacts,
 };
-use crate::plot::axes::{self, linear_ticks, Axes, AxisScale, LegendEntry, Side, Theme};
-use crate::plot::svg::{text_width, Anchor, Baseline, Rgb, Stroke, Svg, TextStyle};
 
 /// Colour of a true positive (ConKit's `ColorDefinitions.MATCH`).
 pub const TRUE_POSITIVE: Rgb = Rgb(0x0f, 0x0b, 0x2c);
@@ -95,9 +95,10 @@ impl PredictionLayer {
         prediction: &Prediction,
         params: &ScoreParams,
     ) -> Result<(PredictionLayer, (i32, i32))> {
-        let list_size = params.list_sizes.first().copied().ok_or_else(|| {
-            crate::Error::parameter("list_sizes", "[]", "expected one list size")
-        })?;
+        let list_size =
+            params.list_sizes.first().copied().ok_or_else(|| {
+                crate::Error::parameter("list_sizes", "[]", "expected one list size")
+            })?;
         let curve_size = params.curve.unwrap_or(list_size);
         let score = score_contacts(truth, prediction, params)?;
         let k = list_length(list_size, score.length, params.rounding, score.n_true);

@@ -86,9 +86,13 @@ pub fn overlap(first: &[(i32, i32)], second: &[(i32, i32)], k: usize) -> Overlap
     }
 }
 
+/// One result of [`compare_predictions`]: the separation range, the list size as written, the
+/// overlap.
+pub type OverlapRow<'a> = (&'a NamedRange, &'a str, Overlap);
+
 /// The overlap of the top lists of two predictions `[(name, prediction); 2]` of one target, for
 /// every separation range and list size (`k` from `length`, else the length their sequence or
-/// matrix implies, rounded by `rounding`). Refused, naming both: predictions that carry
+/// matrix implies, rounded by `rounding`), with the length used. Refused, naming both: predictions that carry
 /// different sequences or imply different lengths, an unknown L, a list size `NC` (it needs a
 /// structure).
 ///
@@ -101,7 +105,7 @@ pub fn overlap(first: &[(i32, i32)], second: &[(i32, i32)], k: usize) -> Overlap
 ///
 /// let a = Prediction { pairs: vec![(1, 10, 0.9), (2, 20, 0.8)], ..Default::default() };
 /// let b = Prediction { pairs: vec![(2, 20, 0.7), (3, 30, 0.6)], ..Default::default() };
-/// let rows = compare_predictions(
+/// let (length, rows) = compare_predictions(
 ///     [("a.rr", &a), ("b.rr", &b)],
 ///     Some(20),
 ///     &[parse_range("all")?],
@@ -109,7 +113,7 @@ pub fn overlap(first: &[(i32, i32)], second: &[(i32, i32)], k: usize) -> Overlap
 ///     Rounding::Floor,
 /// )?;
 /// let (_, _, result) = &rows[0];
-/// assert_eq!((result.k, result.shared), (2, 1));
+/// assert_eq!((length, result.k, result.shared), (20, 2, 1));
 /// # Ok::<(), contactmap::Error>(())
 /// ```
 pub fn compare_predictions<'a>(
@@ -118,7 +122,7 @@ pub fn compare_predictions<'a>(
     ranges: &'a [NamedRange],
     sizes: &'a [LabelledSize],
     rounding: Rounding,
-) -> Result<Vec<(&'a NamedRange, &'a str, Overlap)>> {
+) -> Result<(usize, Vec<OverlapRow<'a>>)> {
     let [(first_name, first), (second_name, second)] = predictions;
     // What each file says of its target: the length of its sequence, else its matrix size.
     let implied: Vec<Option<usize>> = [first, second]
@@ -169,9 +173,8 @@ pub fn compare_predictions<'a>(
             results.push((named, label.as_str(), overlap(&a, &b, k)));
         }
     }
-    Ok(results)
+    Ok((length, results))
 }
-
 
 #[cfg(test)]
 mod tests {

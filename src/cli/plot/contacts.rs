@@ -10,12 +10,8 @@ use super::{write_figure, FigureArgs};
 use crate::cli::output::refuse_overwrites;
 use crate::cli::protein::{DefinitionArgs, RoundingArg, TargetArgs};
 use contactmap::error::{Error, Result};
-use contactmap::plot::protein::{
-    draw_contacts, ContactFigure, ContactLayout, Mark, PredictionLayer,
-};
-use contactmap::score::contacts::{
-    list_length, ranked_predictions, score_contacts, ScoreParams, SeparationRange,
-};
+use contactmap::plot::protein::{draw_contacts, ContactFigure, ContactLayout, PredictionLayer};
+use contactmap::score::contacts::{ScoreParams, SeparationRange};
 use contactmap::score::lists::{parse_length, parse_list_size};
 use contactmap::score::target::load_prediction;
 

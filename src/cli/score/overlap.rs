@@ -10,8 +10,7 @@ use crate::cli::output::{refuse_overwrites, Output};
 use crate::cli::protein::PredictionFormatArg;
 use contactmap::error::{Error, Result};
 use contactmap::io::predictions::{read_fasta, read_prediction};
-use contactmap::score::contacts::{ListSize, Rounding};
-use contactmap::score::lists::NamedRange;
+use contactmap::score::contacts::ListSize;
 use contactmap::score::overlap::compare_predictions;
 
 /// Arguments of `contactmap score overlap`.
@@ -90,7 +89,7 @@ pub fn run(args: &OverlapArgs) -> Result<()> {
         }
         predictions.push(prediction);
     }
-    let results = compare_predictions(
+    let (length, results) = compare_predictions(
         [
             (&args.first.display().to_string(), &predictions[0]),
             (&args.second.display().to_string(), &predictions[1]),
