@@ -1,8 +1,9 @@
 //! Reading and writing contact-matrix files.
 //!
 //! Every reader implements [`MatrixReader`]: it exposes the bin table, the weight columns and a
-//! streaming pixel query that hands sorted [`PixelBlock`]s to a callback, so that callers never need
-//! a whole pixel table in memory. [`open_matrix`] picks the reader from the URI:
+//! streaming pixel query that hands sorted [`PixelBlock`](crate::matrix::PixelBlock)s to a
+//! callback, so that callers never need a whole pixel table in memory. [`open_matrix`] picks the
+//! reader from the URI:
 //!
 //! | input | how it is recognised | reader |
 //! |---|---|---|

@@ -105,13 +105,9 @@ pub type OverlapRow<'a> = (&'a NamedRange, &'a str, Overlap);
 ///
 /// let a = Prediction { pairs: vec![(1, 10, 0.9), (2, 20, 0.8)], ..Default::default() };
 /// let b = Prediction { pairs: vec![(2, 20, 0.7), (3, 30, 0.6)], ..Default::default() };
-/// let (length, rows) = compare_predictions(
-///     [("a.rr", &a), ("b.rr", &b)],
-///     Some(20),
-///     &[parse_range("all")?],
-///     &[parse_list_size("L/10")?],
-///     Rounding::Floor,
-/// )?;
+/// let (ranges, sizes) = ([parse_range("all")?], [parse_list_size("L/10")?]);
+/// let (length, rows) =
+///     compare_predictions([("a.rr", &a), ("b.rr", &b)], Some(20), &ranges, &sizes, Rounding::Floor)?;
 /// let (_, _, result) = &rows[0];
 /// assert_eq!((length, result.k, result.shared), (20, 2, 1));
 /// # Ok::<(), contactmap::Error>(())
