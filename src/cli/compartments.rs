@@ -191,7 +191,7 @@ pub fn run(args: &CompartmentsArgs) -> Result<()> {
             args.n_eigs,
         )?;
         let lam = trans_eigenvalue_table(&eigs, args.n_eigs);
-        write_text_file(&format!("{prefix}.trans.lam.txt"), &lam)?;
+        write_text_file(format!("{prefix}.trans.lam.txt"), &lam)?;
     } else {
         let params = CisEigParams {
             ignore_diags,
@@ -216,7 +216,7 @@ pub fn run(args: &CompartmentsArgs) -> Result<()> {
             args.n_eigs,
         )?;
         let lam = cis_eigenvalue_table(bins, &view, &results, args.n_eigs);
-        write_text_file(&format!("{prefix}.cis.lam.txt"), &lam)?;
+        write_text_file(format!("{prefix}.cis.lam.txt"), &lam)?;
     }
     drop(progress);
     drop(bar);

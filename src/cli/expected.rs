@@ -7,7 +7,7 @@ use clap::Args;
 
 use crate::cli::analysis::{fit_text, headline, parse_fit_range};
 use crate::cli::input::weights_and_view;
-use crate::cli::output::Output;
+use crate::cli::output::write_whole;
 use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::InputArgs;
 use contactmap::error::{Error, Result};
@@ -192,16 +192,16 @@ pub fn run(args: &ExpectedArgs) -> Result<()> {
     let written = match checked.report {
         Report::Trans => {
             let table = expected_trans(&pixels, weights, &view)?;
-            write_text(args, &table.to_tsv())
+            write_whole(args.out.as_deref(), &table.to_tsv())
         }
         Report::Cis => {
             let table = expected_cis(&pixels, weights, &view, &checked.params)?;
-            write_text(args, &table.to_tsv())
+            write_whole(args.out.as_deref(), &table.to_tsv())
         }
         Report::LogBin => {
             let PowerLaw { binned, fit, .. } =
                 power_law(&pixels, weights, &view, &checked.params, checked.fit_range)?;
-            write_text(args, &binned.to_tsv())?;
+            write_whole(args.out.as_deref(), &binned.to_tsv())?;
             match fit {
                 Ok(report) => eprintln!("{}", headline(&report)),
                 Err(e) => eprintln!("contactmap: no power-law fit: {e}"),
@@ -225,16 +225,10 @@ pub fn run(args: &ExpectedArgs) -> Result<()> {
             } else {
                 fit_text(&report)
             };
-            write_text(args, text.as_bytes())
+            write_whole(args.out.as_deref(), text.as_bytes())
         }
     };
     written?;
     super::warnings::print_reader_warnings(reader.warnings());
     Ok(())
-}
-
-fn write_text(args: &ExpectedArgs, text: &[u8]) -> Result<()> {
-    let mut out = Output::open(args.out.as_deref())?;
-    out.write_all(text)?;
-    out.finish()
 }

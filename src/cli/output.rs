@@ -5,7 +5,7 @@ use std::path::Path;
 
 use contactmap::error::Result;
 pub use contactmap::io::output::{
-    is_stdout, refuse_overwrites, write_text_file, FloatFormat, Output,
+    is_stdout, refuse_overwrites, write_text_file, write_whole, FloatFormat, Output,
 };
 
 /// The file of a matrix URI (`file.mcool::/resolutions/N` -> `file.mcool`), for

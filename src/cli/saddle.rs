@@ -168,12 +168,12 @@ pub fn run(args: &SaddleArgs) -> Result<()> {
             ));
         }
     }
-    write_text_file(&format!("{prefix}.saddle.tsv"), &table)?;
+    write_text_file(format!("{prefix}.saddle.tsv"), &table)?;
     let mut edges = String::from("edge\n");
     for e in &digitized.edges {
         edges.push_str(&format!("{e}\n"));
     }
-    write_text_file(&format!("{prefix}.edges.tsv"), &edges)?;
+    write_text_file(format!("{prefix}.edges.tsv"), &edges)?;
     let mut classes = format!("chrom\tstart\tend\t{column}.d\n");
     for (k, bin) in bins.iter().enumerate() {
         classes.push_str(&format!(
@@ -184,12 +184,12 @@ pub fn run(args: &SaddleArgs) -> Result<()> {
             digitized.classes[k]
         ));
     }
-    write_text_file(&format!("{prefix}.digitized.tsv"), &classes)?;
+    write_text_file(format!("{prefix}.digitized.tsv"), &classes)?;
     let mut strengths = String::from("k\tstrength\n");
     for (k, s) in strength.iter().enumerate().skip(1) {
         strengths.push_str(&format!("{k}\t{s}\n"));
     }
-    write_text_file(&format!("{prefix}.strength.tsv"), &strengths)?;
+    write_text_file(format!("{prefix}.strength.tsv"), &strengths)?;
     let mut notes = super::warnings::Warnings::new();
     notes.extend(reader.warnings());
     // The headline figure: the corners of the fifth of the classes at each end (k = 10 of 50,

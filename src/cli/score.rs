@@ -10,11 +10,10 @@ use std::path::{Path, PathBuf};
 
 use clap::{Args, Subcommand};
 
-use crate::cli::output::{refuse_overwrites, Output};
+use crate::cli::output::{refuse_overwrites, write_text_file, Output};
 use crate::cli::protein::{DefinitionArgs, RoundingArg, TargetArgs};
 use contactmap::error::{Error, Result};
 use contactmap::io::bed::read_bed;
-use contactmap::io::tables::real_text as real;
 use contactmap::score::boundaries::{domain_overlap_records, median_width, score_boundary_records};
 use contactmap::score::contacts::SeparationRange;
 use contactmap::score::lists::{
@@ -514,9 +513,7 @@ fn run_contacts(args: &ContactsScoreArgs) -> Result<()> {
         out.write_all(write_table(args, &chain.id, &reports).as_bytes())?;
     }
     if let Some(path) = &args.curve {
-        let mut curve = Output::open(Some(path))?;
-        curve.write_all(curves_tsv(&reports).as_bytes())?;
-        curve.finish()?;
+        write_text_file(path, curves_tsv(&reports))?;
     }
     out.finish()?;
     warnings.print();

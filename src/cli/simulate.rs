@@ -10,9 +10,8 @@ use std::path::{Path, PathBuf};
 use clap::{Args, Subcommand};
 
 use crate::cli::matrix_output::{format_from_extension, OutputFormat};
-use crate::cli::output::{refuse_overwrites, Output};
+use crate::cli::output::{refuse_overwrites, write_text_file};
 use contactmap::error::{Error, Result};
-use contactmap::genome::BinTable;
 use contactmap::io::bed::bins_bed;
 use contactmap::io::cool::{write_cool, CoolWriteOptions};
 use contactmap::io::InMemory;
@@ -192,22 +191,11 @@ fn run_blocks(args: &BlocksArgs) -> Result<()> {
             let level = d.level.to_string();
             (d.start_bin, d.end_bin, vec![level])
         });
-        write_bins_bed(path, &bins, rows)?;
+        write_text_file(path, bins_bed(&bins, rows))?;
     }
     if let Some(path) = &args.truth_boundaries {
         let rows = map.boundaries.iter().map(|&b| (b, b + 1, Vec::new()));
-        write_bins_bed(path, &bins, rows)?;
+        write_text_file(path, bins_bed(&bins, rows))?;
     }
     Ok(())
-}
-
-/// Write bin ranges `[first, end)` (same chromosome) as BED lines with extra fields.
-fn write_bins_bed(
-    path: &Path,
-    bins: &BinTable,
-    rows: impl Iterator<Item = (usize, usize, Vec<String>)>,
-) -> Result<()> {
-    let mut out = Output::open(Some(path))?;
-    out.write_all(&bins_bed(bins, rows))?;
-    out.finish()
 }

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use clap::{Args, ValueEnum};
 
 use crate::cli::input::weights_and_view;
-use crate::cli::output::{is_stdout, print_json, Output};
+use crate::cli::output::{is_stdout, print_json, write_whole};
 use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::warnings::Warnings;
 use crate::cli::InputArgs;
@@ -212,12 +212,12 @@ pub fn run(args: &TadsArgs) -> Result<()> {
         warnings.note(note.clone());
     }
     let track = calls.track.to_tsv(&bins);
-    write_to(args.out.as_deref(), &track)?;
+    write_whole(args.out.as_deref(), &track)?;
     if let Some(path) = &args.boundaries {
-        write_to(Some(path), &calls.boundaries_bed(&bins))?;
+        write_whole(Some(path), &calls.boundaries_bed(&bins))?;
     }
     if let Some(path) = &args.domains {
-        write_to(Some(path), &calls.domains_bed(&bins))?;
+        write_whole(Some(path), &calls.domains_bed(&bins))?;
     }
     warnings.note(format!(
         "{}: {} boundaries, {} domains",
@@ -335,10 +335,4 @@ fn caller(args: &TadsArgs, windows: &[u64], bin_size: u64) -> Result<Caller> {
             }
         }
     })
-}
-
-fn write_to(path: Option<&std::path::Path>, text: &[u8]) -> Result<()> {
-    let mut out = Output::open(path)?;
-    out.write_all(text)?;
-    out.finish()
 }

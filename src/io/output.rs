@@ -318,11 +318,17 @@ fn same_path(a: &Path, b: &Path) -> bool {
     a.file_name() == b.file_name() && a.file_name().is_some() && folder(a) == folder(b)
 }
 
-/// Write `text` to `path` whole (under a temporary name, renamed when complete).
-pub fn write_text_file(path: &str, text: &str) -> Result<()> {
-    let mut out = Output::open(Some(Path::new(path)))?;
-    out.write_all(text.as_bytes())?;
+/// Write `bytes` whole to `path` (`None` or `-`: standard output; a file under a temporary name,
+/// renamed when complete; `.gz` compresses).
+pub fn write_whole(path: Option<&Path>, bytes: &[u8]) -> Result<()> {
+    let mut out = Output::open(path)?;
+    out.write_all(bytes)?;
     out.finish()
+}
+
+/// [`write_whole`] to the file `path`.
+pub fn write_text_file(path: impl AsRef<Path>, text: impl AsRef<[u8]>) -> Result<()> {
+    write_whole(Some(path.as_ref()), text.as_ref())
 }
 
 /// Append an integer-valued count (as `i64`), or a real one with `format`.

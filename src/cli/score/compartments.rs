@@ -6,12 +6,12 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
-use super::real;
 use crate::cli::input::file_column;
 use crate::cli::output::{column_file, refuse_overwrites, Output};
 use contactmap::error::{Error, Result};
 use contactmap::io::bed::read_bed;
 use contactmap::io::tables::read_track;
+use contactmap::io::tables::real_text as real;
 use contactmap::score::compartments::score_compartments;
 
 /// Arguments of `contactmap score compartments`.

@@ -5,11 +5,12 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
-use super::{aligned, real, ListArgs};
+use super::{aligned, ListArgs};
 use crate::cli::output::{refuse_overwrites, Output};
 use crate::cli::protein::PredictionFormatArg;
 use contactmap::error::{Error, Result};
 use contactmap::io::predictions::{read_fasta, read_prediction};
+use contactmap::io::tables::real_text as real;
 use contactmap::score::contacts::ListSize;
 use contactmap::score::overlap::compare_predictions;
 

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
 
-use crate::cli::output::{refuse_overwrites, Output};
+use crate::cli::output::{refuse_overwrites, write_text_file, Output};
 use crate::cli::warnings::Warnings;
 use contactmap::error::{Error, Result};
 use contactmap::io::cool::{write_cool, CoolWriteOptions};
@@ -525,7 +525,7 @@ pub fn run(args: &PolymerArgs) -> Result<()> {
     let reader = InMemory::new("simulate polymer".into(), ensemble.matrix(bins.clone())?);
     write_cool(&reader, &args.output, &CoolWriteOptions::default())?;
     if let Some(path) = &args.truth_boundaries {
-        write_text_file(path, &params.truth_boundaries_bed(&bins))?;
+        write_text_file(path, params.truth_boundaries_bed(&bins))?;
     }
     if let (Some(path), Some(pattern)) = (&args.truth_compartments, &args.types) {
         let (_, letters) = parse_type_pattern(pattern)?;
@@ -535,7 +535,7 @@ pub fn run(args: &PolymerArgs) -> Result<()> {
         write_text_file(path, &text)?;
     }
     if let Some(path) = &args.truth_domains {
-        write_text_file(path, &params.truth_domains_bed(&bins, args.monomer_bp))?;
+        write_text_file(path, params.truth_domains_bed(&bins, args.monomer_bp))?;
     }
     if let Some(path) = &args.conformations {
         let mut out = Output::open(Some(path))?;
@@ -543,7 +543,7 @@ pub fn run(args: &PolymerArgs) -> Result<()> {
         out.finish()?;
     }
     if let Some(path) = &args.stats {
-        write_text_file(path, &ensemble.stats_tsv(&params))?;
+        write_text_file(path, ensemble.stats_tsv(&params))?;
     }
     let report = params.relaxation_report();
     let mut notes = Warnings::new();
@@ -553,13 +553,6 @@ pub fn run(args: &PolymerArgs) -> Result<()> {
     }
     notes.print();
     Ok(())
-}
-
-/// Write `text` to `path` whole.
-fn write_text_file(path: &Path, text: &[u8]) -> Result<()> {
-    let mut out = Output::open(Some(path))?;
-    out.write_all(text)?;
-    out.finish()
 }
 
 #[cfg(test)]
