@@ -126,6 +126,16 @@ run_all() {
     run "$cm" plot map data/yeast.10kb.cool -r chrI --oe --expected "$x/yexp.tsv" \
       --domains "$x/armatus.bed" --track "$x/ins.tsv:log2_insulation_score_50000" -o "$x/oe.svg"
     run "$cm" plot expected "$x/yexp.tsv" --per-region -o "$x/ps_table.svg"
+    # moved later in issue 27: RR and overlap writers, block truth, the device choice
+    run "$cm" contacts data/protein/1aapA/1aapA.pdb -o "$x/1aap.contacts.rr"
+    run "$cm" contacts data/protein/toxd/toxd.pdb --min-sep 12 -o "$x/toxd.contacts.rr"
+    run "$cm" contacts data/protein/1a8o/1A8O.pdb -o "$x/1a8o.contacts.rr"
+    run "$cm" score overlap data/protein/1guuA/1guuA.contact.rr data/protein/1guuA/1guuA.contact.rr --tsv \
+      --length 60
+    run "$cm" simulate blocks -o "$x/blocks2.cool" --truth-domains "$x/truth_domains.bed" --seed 4 \
+      --chroms 1 --bins 120
+    run "$cm" simulate polymer -o "$x/auto.cool" --chains 20 --replicas 1 --samples 2 \
+      --equilibration 1R --sample-every 0.5r --seed 1 --threads 1
     run "$cm" completions bash
     run "$cm" man --dir "$x/man"
   } > "$dir.extra.log" 2>&1

@@ -1,7 +1,6 @@
 //! Command-line interface: argument structs (clap derive) and one module per subcommand, each with
 //! one `run` function that parses, checks, calls the library and writes the result.
 
-pub mod analysis;
 pub mod balance;
 pub mod compartments;
 pub mod contacts;

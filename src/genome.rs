@@ -544,15 +544,17 @@ pub fn format_distance(value: f64) -> String {
     format!("{trimmed} {unit}")
 }
 
-/// Parse a base-pair position such as `1,000,000`, `1_000_000`, `1.5M`, `200kb`.
-pub fn parse_bp(text: &str) -> std::result::Result<u64, String> {
-    let cleaned: String = text
+/// The number and unit multiplier of a distance such as `1,000,000`, `1.5M` or `200kb`: digit
+/// separators (`,` `_`) removed, lower-cased, a `gb` / `mb` / `kb` / `bp` / `g` / `m` / `k`
+/// suffix split off.
+fn split_unit(text: &str) -> (String, f64) {
+    let lower: String = text
         .trim()
         .chars()
         .filter(|&c| c != ',' && c != '_')
-        .collect();
-    let lower = cleaned.to_ascii_lowercase();
-    let (number, multiplier) = [
+        .collect::<String>()
+        .to_ascii_lowercase();
+    [
         ("gb", 1e9),
         ("mb", 1e6),
         ("kb", 1e3),
@@ -562,8 +564,31 @@ pub fn parse_bp(text: &str) -> std::result::Result<u64, String> {
         ("k", 1e3),
     ]
     .iter()
-    .find_map(|(suffix, m)| lower.strip_suffix(suffix).map(|n| (n, *m)))
-    .unwrap_or((lower.as_str(), 1.0));
+    .find_map(|(suffix, m)| {
+        lower
+            .strip_suffix(suffix)
+            .map(|n| (n.trim().to_string(), *m))
+    })
+    .unwrap_or((lower.clone(), 1.0))
+}
+
+/// Parse a distance in bp that need not be whole, such as `1.5Mb`, `200,000` or `2.5k`.
+///
+/// ```
+/// use contactmap::genome::parse_distance;
+/// assert_eq!(parse_distance("1.5Mb"), Some(1.5e6));
+/// assert_eq!(parse_distance("2.5k"), Some(2500.0));
+/// assert_eq!(parse_distance("ten"), None);
+/// ```
+pub fn parse_distance(text: &str) -> Option<f64> {
+    let (number, multiplier) = split_unit(text);
+    number.parse::<f64>().ok().map(|value| value * multiplier)
+}
+
+/// Parse a base-pair position such as `1,000,000`, `1_000_000`, `1.5M`, `200kb`.
+pub fn parse_bp(text: &str) -> std::result::Result<u64, String> {
+    let (number, multiplier) = split_unit(text);
+    let number = number.as_str();
     if number.is_empty() {
         return Err(format!("'{text}' is not a position"));
     }

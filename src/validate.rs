@@ -205,6 +205,46 @@ pub struct Report {
 }
 
 impl Report {
+    /// The report as the text `contactmap validate` prints: one line per finding (`severity
+    /// class group location message`, tab-separated), the notes, then a summary line.
+    ///
+    /// ```
+    /// let report = contactmap::validate::validate("data/yeast.10kb.cool")?;
+    /// assert!(report.to_text().ends_with(": 0 errors, 0 warnings\n"));
+    /// # Ok::<(), contactmap::Error>(())
+    /// ```
+    pub fn to_text(&self) -> String {
+        let report = self;
+        let mut text = String::new();
+        for f in &report.findings {
+            text.push_str(&format!(
+                "{}\t{}\t{}\t{}\t{}\n",
+                f.severity.name(),
+                f.class.name(),
+                f.group,
+                f.location,
+                f.message
+            ));
+        }
+        for note in &report.notes {
+            text.push_str(&format!("note: {note}\n"));
+        }
+        text.push_str(&format!(
+            "{}: {} ({}; checked {}): {} errors, {} warnings\n",
+            report.path,
+            if report.is_valid() {
+                "valid"
+            } else {
+                "INVALID"
+            },
+            report.format,
+            report.checked.join(", "),
+            report.n_errors(),
+            report.n_warnings()
+        ));
+        text
+    }
+
     /// True when no finding is an error (warnings allowed).
     pub fn is_valid(&self) -> bool {
         self.findings.iter().all(|f| f.severity < Severity::Error)
@@ -323,6 +363,15 @@ impl Collector {
 ///
 /// Returns the report (possibly with findings); an error means the file could not be checked
 /// at all: not a matrix file, not readable, or a defect that stops the check.
+///
+/// # Examples
+///
+/// ```
+/// let report = contactmap::validate::validate("data/yeast.10kb.cool")?;
+/// assert_eq!(report.format, "cool");
+/// assert!(report.is_valid(), "{:?}", report.findings);
+/// # Ok::<(), contactmap::Error>(())
+/// ```
 pub fn validate(uri: &str) -> Result<Report> {
     let (path, group) = io::split_uri(uri);
     match io::detect_kind(path)? {

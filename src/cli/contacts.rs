@@ -1,7 +1,6 @@
 //! `contactmap contacts`: the true residue contacts of a protein structure as CASP RR rows, or
 //! the full residue distance matrix ([`contactmap::score::contacts::TrueContacts`]).
 
-use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
 use clap::Args;
@@ -11,10 +10,9 @@ use crate::cli::output::Output;
 use crate::cli::protein::{DefinitionArgs, RegisterArg};
 use contactmap::error::Result;
 use contactmap::io::predictions::read_fasta;
-use contactmap::io::structure::Chain;
-use contactmap::io::tables::write_real;
-use contactmap::score::contacts::SeparationRange;
-use contactmap::score::target::{measure, place_chain, read_chain};
+use contactmap::score::target::{
+    distance_matrix_tsv, measure, place_chain, read_chain, true_contacts_rr,
+};
 
 /// Arguments of `contactmap contacts`.
 #[derive(Debug, Args)]
@@ -70,30 +68,6 @@ pub struct ContactsArgs {
     pub definition: DefinitionArgs,
 }
 
-/// The RR sequence line of a chain without a target sequence, and the offset to subtract from
-/// the structure's numbers to get the RR's positions in it.
-///
-/// The structure's numbers are the positions when they can be: the line runs from residue 1 to
-/// the last, `X` where a number is not observed (toxd, numbered from 2: one `X`, its unobserved
-/// first residue). When the chain is numbered from below 1, or from so far on that the line would
-/// hold more `X` before the chain than residues (1A8O, numbered 151-220: the C-terminal domain
-/// of a longer protein), the numbers are not positions in a sequence we know: the line is the
-/// chain's own, numbered from 1 at its first residue.
-fn sequence_line(chain: &Chain) -> Option<(String, i32)> {
-    let first = chain.residues.iter().map(|r| r.number).min()?;
-    let last = chain.residues.iter().map(|r| r.number).max()?;
-    let offset = if first < 1 || (first - 1) as usize > chain.residues.len() {
-        first - 1
-    } else {
-        0
-    };
-    let mut sequence = vec!['X'; (last - offset) as usize];
-    for residue in chain.residues.iter().filter(|r| r.insertion.is_none()) {
-        sequence[(residue.number - offset - 1) as usize] = residue.one_letter;
-    }
-    Some((sequence.into_iter().collect(), offset))
-}
-
 /// Run `contactmap contacts`.
 pub fn run(args: &ContactsArgs) -> Result<()> {
     let inputs: Vec<&Path> = std::iter::once(args.structure.as_path())
@@ -112,35 +86,12 @@ pub fn run(args: &ContactsArgs) -> Result<()> {
         eprintln!("{}", register.describe(&original));
     }
     let truth = measure(&args.structure, &chain, &args.definition.definition())?;
-    let mut text = Vec::new();
     let mut notes = crate::cli::warnings::Warnings::new();
-    if args.matrix {
-        let numbers = truth.numbers();
-        text.extend_from_slice(b"residue");
-        for number in numbers {
-            let _ = write!(text, "\t{number}");
-        }
-        text.push(b'\n');
-        for &i in numbers {
-            let _ = write!(text, "{i}");
-            for &j in numbers {
-                let distance = truth.distance(i, j).unwrap_or(0.0);
-                let _ = write!(text, "\t{distance:.3}");
-            }
-            text.push(b'\n');
-        }
+    let text = if args.matrix {
+        distance_matrix_tsv(&truth)
     } else {
-        let (line, offset) = match sequence {
-            Some(sequence) => (Some(sequence), 0),
-            None => match sequence_line(&chain) {
-                Some((line, offset)) => (Some(line), offset),
-                None => (None, 0),
-            },
-        };
-        if let Some(line) = line {
-            text.extend_from_slice(line.as_bytes());
-            text.push(b'\n');
-        }
+        let cutoff = args.definition.cutoff;
+        let (text, offset) = true_contacts_rr(&chain, &truth, sequence, args.min_sep, cutoff);
         if offset != 0 {
             notes.note(format!(
                 "{}: chain {} is numbered from {}: the RR numbers its residues from 1 there (its \
@@ -150,15 +101,8 @@ pub fn run(args: &ContactsArgs) -> Result<()> {
                 offset + 1
             ));
         }
-        let mut cutoff = Vec::new();
-        write_real(&mut cutoff, args.definition.cutoff);
-        for (i, j) in truth.contacts(SeparationRange::new(args.min_sep, None)) {
-            let (i, j) = (i - offset, j - offset);
-            let _ = write!(text, "{i} {j} 0 ");
-            text.extend_from_slice(&cutoff);
-            text.extend_from_slice(b" 1\n");
-        }
-    }
+        text
+    };
     let mut out = Output::open(args.out.as_deref())?;
     out.write_all(&text)?;
     out.finish()?;

@@ -112,10 +112,7 @@ pub fn run(args: &ConvertArgs) -> Result<()> {
     let bar = Progress::new(opened.as_ref(), "converting")?;
     let reader = bar.reader();
     let options = CoolWriteOptions {
-        assembly: args
-            .assembly
-            .clone()
-            .or_else(|| crate::cli::input::input_assembly(&reader)),
+        assembly: args.assembly.clone().or_else(|| reader.info().assembly()),
         weight_columns: None,
     };
     let written = match format {

@@ -5,14 +5,12 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
-use crate::cli::analysis::{fit_text, headline, parse_fit_range};
 use crate::cli::input::weights_and_view;
 use crate::cli::output::write_whole;
 use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::InputArgs;
 use contactmap::error::{Error, Result};
-use contactmap::expected::powerlaw::FitRange;
-use contactmap::expected::powerlaw::{power_law, PowerLaw};
+use contactmap::expected::powerlaw::{power_law, FitRange, PowerLaw};
 use contactmap::expected::{expected_cis, expected_trans, CisParams};
 use contactmap::io::{self, LoadedPixels, StreamedPixels};
 
@@ -144,7 +142,11 @@ fn check(args: &ExpectedArgs) -> Result<Checked> {
             "--fit-range sets the distances of the power-law fit: add --fit (or --json)".into(),
         ));
     }
-    let fit_range = args.fit_range.as_deref().map(parse_fit_range).transpose()?;
+    let fit_range = args
+        .fit_range
+        .as_deref()
+        .map(str::parse::<FitRange>)
+        .transpose()?;
     let max_memory = args
         .max_memory
         .as_deref()
@@ -203,7 +205,7 @@ pub fn run(args: &ExpectedArgs) -> Result<()> {
                 power_law(&pixels, weights, &view, &checked.params, checked.fit_range)?;
             write_whole(args.out.as_deref(), &binned.to_tsv())?;
             match fit {
-                Ok(report) => eprintln!("{}", headline(&report)),
+                Ok(report) => eprintln!("{}", report.headline()),
                 Err(e) => eprintln!("contactmap: no power-law fit: {e}"),
             }
             Ok(())
@@ -223,7 +225,7 @@ pub fn run(args: &ExpectedArgs) -> Result<()> {
                 text.push('\n');
                 text
             } else {
-                fit_text(&report)
+                report.summary_text()
             };
             write_whole(args.out.as_deref(), text.as_bytes())
         }

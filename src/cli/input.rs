@@ -163,16 +163,3 @@ pub fn weights_and_view(
 pub fn expected_column(column: Option<&str>, raw: bool) -> &str {
     column.unwrap_or(if raw { "count.avg" } else { "balanced.avg" })
 }
-
-/// The genome assembly an input names (`genome-assembly` of a cooler, the genome id of a .hic),
-/// for the outputs made from it; `None` when unknown or when the id is a chrom.sizes path.
-pub fn input_assembly(reader: &dyn MatrixReader) -> Option<String> {
-    reader
-        .info()
-        .attributes
-        .iter()
-        .find(|(k, _)| k == "genome-assembly" || k == "genome_id")
-        .and_then(|(_, v)| v.as_str())
-        .filter(|id| !id.is_empty() && *id != "unknown" && !id.contains('/'))
-        .map(str::to_string)
-}

@@ -94,7 +94,7 @@ pub fn run(args: &MergeArgs) -> Result<()> {
     let assembly = args
         .assembly
         .clone()
-        .or_else(|| crate::cli::input::input_assembly(opened[0].as_ref()));
+        .or_else(|| opened[0].info().assembly());
     let reader = MergedReader::new(opened.iter().map(|r| r.as_ref()).collect())?;
     let write_options = CoolWriteOptions {
         assembly,

@@ -14,7 +14,7 @@ use contactmap::io::structure::Chain;
 use contactmap::score::contacts::{
     ContactAtom, ContactDefinition, DistanceTest, Prediction, Rounding,
 };
-use contactmap::score::target::{check_numbering, place, read_chain, Placed, RegisterChoice};
+use contactmap::score::target::{place_prediction, read_chain, Placed, RegisterChoice};
 
 /// The atoms measured, for `--atom`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -141,20 +141,14 @@ impl TargetArgs {
         path: &Path,
         definition: &DefinitionArgs,
     ) -> Result<Placed> {
-        let warning = match prediction.sequence {
-            None => check_numbering(&self.structure, chain, prediction, path)?,
-            Some(_) => None,
-        };
-        let mut placed = place(
+        place_prediction(
             &self.structure,
             chain,
-            prediction.sequence.as_deref(),
+            prediction,
+            path,
             self.register.into(),
             &definition.definition(),
         )
-        .map_err(|err| err.in_file(path))?;
-        placed.warning = warning;
-        Ok(placed)
     }
 }
 

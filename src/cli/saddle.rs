@@ -10,6 +10,9 @@ use crate::cli::InputArgs;
 use contactmap::compartments::saddle::{
     digitize, saddle_cis, saddle_strength, saddle_trans, Binning, SaddleParams,
 };
+use contactmap::compartments::tables::{
+    digitized_table, edges_table, saddle_table, strength_table,
+};
 use contactmap::error::{Error, Result};
 use contactmap::expected::{expected_cis, expected_trans, CisParams};
 use contactmap::io::{self, default_memory_budget};
@@ -157,39 +160,11 @@ pub fn run(args: &SaddleArgs) -> Result<()> {
     };
     let strength = saddle_strength(&saddle);
 
-    let n = saddle.n_classes;
-    let mut table = String::from("i\tj\tsum\tcount\n");
-    for a in 0..n {
-        for b in 0..n {
-            let k = a * n + b;
-            table.push_str(&format!(
-                "{a}\t{b}\t{}\t{}\n",
-                saddle.sum[k], saddle.count[k]
-            ));
-        }
-    }
-    write_text_file(format!("{prefix}.saddle.tsv"), &table)?;
-    let mut edges = String::from("edge\n");
-    for e in &digitized.edges {
-        edges.push_str(&format!("{e}\n"));
-    }
-    write_text_file(format!("{prefix}.edges.tsv"), &edges)?;
-    let mut classes = format!("chrom\tstart\tend\t{column}.d\n");
-    for (k, bin) in bins.iter().enumerate() {
-        classes.push_str(&format!(
-            "{}\t{}\t{}\t{}\n",
-            bins.chroms()[bin.chrom_id].name,
-            bin.start,
-            bin.end,
-            digitized.classes[k]
-        ));
-    }
-    write_text_file(format!("{prefix}.digitized.tsv"), &classes)?;
-    let mut strengths = String::from("k\tstrength\n");
-    for (k, s) in strength.iter().enumerate().skip(1) {
-        strengths.push_str(&format!("{k}\t{s}\n"));
-    }
-    write_text_file(format!("{prefix}.strength.tsv"), &strengths)?;
+    write_text_file(format!("{prefix}.saddle.tsv"), saddle_table(&saddle))?;
+    write_text_file(format!("{prefix}.edges.tsv"), edges_table(&digitized))?;
+    let classes = digitized_table(&bins, &column, &digitized);
+    write_text_file(format!("{prefix}.digitized.tsv"), classes)?;
+    write_text_file(format!("{prefix}.strength.tsv"), strength_table(&strength))?;
     let mut notes = super::warnings::Warnings::new();
     notes.extend(reader.warnings());
     // The headline figure: the corners of the fifth of the classes at each end (k = 10 of 50,

@@ -14,14 +14,16 @@ use crate::cli::output::{refuse_overwrites, write_text_file, Output};
 use crate::cli::protein::{DefinitionArgs, RoundingArg, TargetArgs};
 use contactmap::error::{Error, Result};
 use contactmap::io::bed::read_bed;
-use contactmap::score::boundaries::{domain_overlap_records, median_width, score_boundary_records};
+use contactmap::score::boundaries::{
+    boundary_table, domain_overlap_records, median_width, score_boundary_records,
+};
 use contactmap::score::contacts::SeparationRange;
 use contactmap::score::lists::{
     parse_length, parse_list_size, parse_range, LabelledSize, NamedRange,
 };
 use contactmap::score::target::{
-    curves_tsv, load_prediction, score_prediction, scores_json, scores_tsv, Placed,
-    PredictionScores, ScorePlan,
+    curves_tsv, load_prediction, score_prediction, scores_json, scores_text, scores_tsv, Placed,
+    ScorePlan,
 };
 
 /// Arguments of `contactmap score`.
@@ -143,25 +145,15 @@ fn run_boundaries(args: &BoundariesArgs) -> Result<()> {
     };
     let m = score_boundary_records(&truth, &calls, tolerance_bp);
 
-    let mut header =
-        String::from("tolerance_bp\tn_truth\tn_calls\ttrue_positives\tprecision\trecall\tf1");
-    let mut row = format!(
-        "{tolerance_bp}\t{}\t{}\t{}\t{}\t{}\t{}",
-        m.n_truth, m.n_calls, m.true_positives, m.precision, m.recall, m.f1
-    );
-    if let (Some(truth_path), Some(calls_path)) = (&args.truth_domains, &args.domains) {
-        let overlap = domain_overlap_records(&read_bed(truth_path)?, &read_bed(calls_path)?);
-        header.push_str("\tmean_best_jaccard_truth\tmean_best_jaccard_calls\tmoc");
-        let moc = overlap
-            .moc
-            .map_or_else(|| "nan".to_string(), |v| v.to_string());
-        row.push_str(&format!(
-            "\t{}\t{}\t{moc}",
-            overlap.mean_best_jaccard_truth, overlap.mean_best_jaccard_calls
-        ));
-    }
+    let overlap = match (&args.truth_domains, &args.domains) {
+        (Some(truth), Some(calls)) => {
+            Some(domain_overlap_records(&read_bed(truth)?, &read_bed(calls)?))
+        }
+        _ => None,
+    };
+    let table = boundary_table(tolerance_bp, &m, overlap.as_ref());
     let mut out = Output::open(args.out.as_deref())?;
-    out.write_all(format!("{header}\n{row}\n").as_bytes())?;
+    out.write_all(table.as_bytes())?;
     out.finish()
 }
 
@@ -313,126 +305,6 @@ impl ListArgs {
     }
 }
 
-/// Rows of cells as text with columns aligned (first column left, the others right).
-fn aligned(rows: &[Vec<String>]) -> String {
-    let columns = rows.iter().map(Vec::len).max().unwrap_or(0);
-    let widths: Vec<usize> = (0..columns)
-        .map(|c| {
-            rows.iter()
-                .filter_map(|row| row.get(c))
-                .map(|cell| cell.chars().count())
-                .max()
-                .unwrap_or(0)
-        })
-        .collect();
-    let mut text = String::new();
-    for row in rows {
-        let cells: Vec<String> = row
-            .iter()
-            .enumerate()
-            .map(|(c, cell)| {
-                if c == 0 {
-                    format!("{cell:<width$}", width = widths[c])
-                } else {
-                    format!("{cell:>width$}", width = widths[c])
-                }
-            })
-            .collect();
-        text.push_str(cells.join("  ").trim_end());
-        text.push('\n');
-    }
-    text
-}
-
-fn write_table(args: &ContactsScoreArgs, chain: &str, reports: &[PredictionScores]) -> String {
-    let mut text = String::new();
-    for (index, report) in reports.iter().enumerate() {
-        if index > 0 {
-            text.push('\n');
-        }
-        let length = report
-            .scores
-            .first()
-            .map_or(0, |(_, _, score)| score.length);
-        text.push_str(&format!(
-            "{}\n  structure {} chain {}: {} observed residues; contacts {}\n  L = {length} ({}), \
-             rounding {}, unobserved pairs {}\n",
-            report.path,
-            args.target.structure.display(),
-            if chain.is_empty() { "(blank)" } else { chain },
-            report.n_observed,
-            args.definition.describe(),
-            report.length_source,
-            match args.lists.rounding {
-                RoundingArg::Floor => "floor",
-                RoundingArg::HalfUp => "half-up",
-                RoundingArg::Banker => "banker",
-            },
-            if args.keep_unobserved {
-                "kept"
-            } else {
-                "dropped"
-            },
-        ));
-        match &report.register {
-            Some(register) => {
-                for line in register.text.lines() {
-                    text.push_str("  ");
-                    text.push_str(line.trim_start());
-                    text.push('\n');
-                }
-            }
-            None => {
-                text.push_str("  register: none (the prediction's numbers are the structure's)\n")
-            }
-        }
-        let mut rows = vec![[
-            "range",
-            "sep",
-            "true",
-            "avail",
-            "list",
-            "k",
-            "TP",
-            "precision",
-            "recall",
-            "F1",
-            "MCC",
-            "Xd",
-        ]
-        .map(String::from)
-        .to_vec()];
-        for (named, labels, score) in &report.scores {
-            let separation = match named.range.max {
-                Some(max) => format!("{}-{max}", named.range.min),
-                None => format!(">={}", named.range.min),
-            };
-            for (label, list) in labels.iter().zip(&score.lists) {
-                rows.push(vec![
-                    named.name.clone(),
-                    separation.clone(),
-                    score.n_true.to_string(),
-                    score.n_available.to_string(),
-                    label.clone(),
-                    list.k.to_string(),
-                    list.true_positives.to_string(),
-                    format!("{:.4}", list.precision),
-                    format!("{:.4}", list.recall),
-                    format!("{:.4}", list.f1),
-                    format!("{:.4}", list.mcc),
-                    format!("{:.2}", list.xd),
-                ]);
-            }
-        }
-        for line in aligned(&rows).lines() {
-            text.push_str("  ");
-            text.push_str(line);
-            text.push('\n');
-        }
-    }
-    text
-}
-
 fn run_contacts(args: &ContactsScoreArgs) -> Result<()> {
     let inputs: Vec<&Path> = args
         .target
@@ -510,7 +382,14 @@ fn run_contacts(args: &ContactsScoreArgs) -> Result<()> {
         );
         out.write_all(text.as_bytes())?;
     } else if !args.tsv {
-        out.write_all(write_table(args, &chain.id, &reports).as_bytes())?;
+        let text = scores_text(
+            &args.target.structure.display().to_string(),
+            &chain.id,
+            &args.definition.describe(),
+            &plan,
+            &reports,
+        );
+        out.write_all(text.as_bytes())?;
     }
     if let Some(path) = &args.curve {
         write_text_file(path, curves_tsv(&reports))?;

@@ -12,7 +12,6 @@ use clap::{Args, Subcommand};
 use crate::cli::matrix_output::{format_from_extension, OutputFormat};
 use crate::cli::output::{refuse_overwrites, write_text_file};
 use contactmap::error::{Error, Result};
-use contactmap::io::bed::bins_bed;
 use contactmap::io::cool::{write_cool, CoolWriteOptions};
 use contactmap::io::InMemory;
 use contactmap::sim::blocks::{block_map, BlockMapParams};
@@ -183,19 +182,14 @@ fn run_blocks(args: &BlocksArgs) -> Result<()> {
         ],
     )?;
     let map = block_map(&args.params())?;
-    let bins = map.matrix.bins().clone();
+    let (domains, boundaries) = (map.truth_domains_bed(), map.truth_boundaries_bed());
     let reader = InMemory::new("simulate blocks".into(), map.matrix);
     write_cool(&reader, &args.output, &CoolWriteOptions::default())?;
     if let Some(path) = &args.truth_domains {
-        let rows = map.domains.iter().map(|d| {
-            let level = d.level.to_string();
-            (d.start_bin, d.end_bin, vec![level])
-        });
-        write_text_file(path, bins_bed(&bins, rows))?;
+        write_text_file(path, domains)?;
     }
     if let Some(path) = &args.truth_boundaries {
-        let rows = map.boundaries.iter().map(|&b| (b, b + 1, Vec::new()));
-        write_text_file(path, bins_bed(&bins, rows))?;
+        write_text_file(path, boundaries)?;
     }
     Ok(())
 }

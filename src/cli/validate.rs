@@ -15,7 +15,7 @@ use crate::cli::output::Output;
 use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::Status;
 use contactmap::error::{Error, Result};
-use contactmap::validate::{self, RepairOutcome, Report};
+use contactmap::validate::{self, RepairOutcome};
 
 /// Arguments of `contactmap validate`.
 #[derive(Debug, Args)]
@@ -62,7 +62,7 @@ pub fn run(args: &ValidateArgs) -> Result<Status> {
     let mut json = report.to_json();
     let mut success = report.is_valid();
     if !args.json {
-        text.push_str(&render(&report));
+        text.push_str(&report.to_text());
     }
     if let Some(out) = &args.repair {
         let outcome = validate::repair(&args.uri, &report, out)?;
@@ -130,36 +130,4 @@ pub fn run(args: &ValidateArgs) -> Result<Status> {
     } else {
         Status::Invalid
     })
-}
-
-/// One line per finding, then notes and a summary.
-fn render(report: &Report) -> String {
-    let mut text = String::new();
-    for f in &report.findings {
-        text.push_str(&format!(
-            "{}\t{}\t{}\t{}\t{}\n",
-            f.severity.name(),
-            f.class.name(),
-            f.group,
-            f.location,
-            f.message
-        ));
-    }
-    for note in &report.notes {
-        text.push_str(&format!("note: {note}\n"));
-    }
-    text.push_str(&format!(
-        "{}: {} ({}; checked {}): {} errors, {} warnings\n",
-        report.path,
-        if report.is_valid() {
-            "valid"
-        } else {
-            "INVALID"
-        },
-        report.format,
-        report.checked.join(", "),
-        report.n_errors(),
-        report.n_warnings()
-    ));
-    text
 }

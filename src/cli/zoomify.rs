@@ -116,10 +116,7 @@ pub fn run(args: &ZoomifyArgs) -> Result<()> {
         let reader = io::open_matrix(&args.input, &args.input_args.to_options()?)?;
         let resolutions = mcool_resolutions(reader.bins(), reader.source(), &args.resolutions)?;
         let options = CoolWriteOptions {
-            assembly: args
-                .assembly
-                .clone()
-                .or_else(|| crate::cli::input::input_assembly(reader.as_ref())),
+            assembly: args.assembly.clone().or_else(|| reader.info().assembly()),
             weight_columns: None,
         };
         if hic {

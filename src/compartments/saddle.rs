@@ -467,6 +467,20 @@ pub fn saddle_trans<S: PixelSource>(
 
 /// cooltools' `saddle_strength`: for `k` in `1..n`, `(AA + BB) / (AB + BA)` over the `k x k`
 /// corners (means of observed/expected); entry 0 is 0.
+///
+/// # Examples
+///
+/// Two classes with twice the observed/expected within a class as between: strength 2.
+///
+/// ```
+/// use contactmap::compartments::saddle::{saddle_strength, Saddle};
+/// let saddle = Saddle {
+///     n_classes: 2,
+///     sum: vec![4.0, 1.0, 1.0, 4.0],
+///     count: vec![2.0, 1.0, 1.0, 2.0],
+/// };
+/// assert_eq!(saddle_strength(&saddle), [0.0, 2.0]);
+/// ```
 pub fn saddle_strength(saddle: &Saddle) -> Vec<f64> {
     let n = saddle.n_classes;
     let block = |m: &[f64], rows: std::ops::Range<usize>, cols: std::ops::Range<usize>| -> f64 {

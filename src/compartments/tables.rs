@@ -4,6 +4,7 @@
 use std::ops::Range;
 
 use super::cis::RegionEigs;
+use super::saddle::{Digitized, Saddle};
 use crate::error::Result;
 use crate::expected::View;
 use crate::genome::BinTable;
@@ -111,4 +112,62 @@ fn tab_line(fields: &[String], values: &[f64]) -> String {
     }
     bytes.push(b'\n');
     String::from_utf8(bytes).expect("utf-8 fields")
+}
+
+/// The saddle as `contactmap saddle` writes PREFIX.saddle.tsv: `i j sum count`, one line per
+/// pair of classes (row-major, the outer classes included).
+///
+/// ```
+/// use contactmap::compartments::saddle::Saddle;
+/// use contactmap::compartments::tables::saddle_table;
+/// let saddle = Saddle { n_classes: 1, sum: vec![2.5], count: vec![2.0] };
+/// assert_eq!(saddle_table(&saddle), "i\tj\tsum\tcount\n0\t0\t2.5\t2\n");
+/// ```
+pub fn saddle_table(saddle: &Saddle) -> String {
+    let n = saddle.n_classes;
+    let mut table = String::from("i\tj\tsum\tcount\n");
+    for a in 0..n {
+        for b in 0..n {
+            let k = a * n + b;
+            table.push_str(&format!(
+                "{a}\t{b}\t{}\t{}\n",
+                saddle.sum[k], saddle.count[k]
+            ));
+        }
+    }
+    table
+}
+
+/// The class edges of a digitized track (PREFIX.edges.tsv): `edge`, one per line.
+pub fn edges_table(digitized: &Digitized) -> String {
+    let mut edges = String::from("edge\n");
+    for e in &digitized.edges {
+        edges.push_str(&format!("{e}\n"));
+    }
+    edges
+}
+
+/// Each bin's class (PREFIX.digitized.tsv): `chrom start end {column}.d`, as cooltools names
+/// the digitized track.
+pub fn digitized_table(bins: &BinTable, column: &str, digitized: &Digitized) -> String {
+    let mut classes = format!("chrom\tstart\tend\t{column}.d\n");
+    for (k, bin) in bins.iter().enumerate() {
+        classes.push_str(&format!(
+            "{}\t{}\t{}\t{}\n",
+            bins.chroms()[bin.chrom_id].name,
+            bin.start,
+            bin.end,
+            digitized.classes[k]
+        ));
+    }
+    classes
+}
+
+/// The saddle strength at every extent `k >= 1` (PREFIX.strength.tsv): `k strength`.
+pub fn strength_table(strength: &[f64]) -> String {
+    let mut text = String::from("k\tstrength\n");
+    for (k, s) in strength.iter().enumerate().skip(1) {
+        text.push_str(&format!("{k}\t{s}\n"));
+    }
+    text
 }

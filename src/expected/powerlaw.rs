@@ -57,6 +57,7 @@ use super::logbin::{logbin_expected, CombinedBin, LogBinParams, LogBinned};
 use super::view::View;
 use super::{expected_cis, CisExpected, CisParams};
 use crate::error::{Error, Result};
+use crate::genome::{format_bp, format_distance};
 use crate::io::LoadedPixels;
 
 /// A distance range in bp (inclusive).
@@ -66,6 +67,42 @@ pub struct FitRange {
     pub min_bp: f64,
     /// Largest distance.
     pub max_bp: f64,
+}
+
+impl std::str::FromStr for FitRange {
+    type Err = Error;
+
+    /// `MIN-MAX` in bp, with units: `100k-10M`, `200,000-1.5Mb`. A bad range is an
+    /// [`Error::Parameter`] named `fit_range`.
+    ///
+    /// ```
+    /// use contactmap::expected::powerlaw::FitRange;
+    /// let range: FitRange = "100k-1.5Mb".parse().unwrap();
+    /// assert_eq!((range.min_bp, range.max_bp), (1e5, 1.5e6));
+    /// assert!("10M-1M".parse::<FitRange>().is_err());
+    /// ```
+    fn from_str(text: &str) -> Result<Self> {
+        let bad = |why: &str| {
+            Error::parameter(
+                "fit_range",
+                format!("'{text}'"),
+                format!("{why} (expected MIN-MAX in bp, e.g. 100k-10M)"),
+            )
+        };
+        let (min, max) = text.split_once('-').ok_or_else(|| bad("no '-'"))?;
+        let parse = |part: &str| {
+            crate::genome::parse_distance(part)
+                .ok_or_else(|| bad(&format!("'{}' is not a distance", part.trim())))
+        };
+        let range = FitRange {
+            min_bp: parse(min)?,
+            max_bp: parse(max)?,
+        };
+        if !(range.min_bp > 0.0 && range.max_bp > range.min_bp && range.max_bp.is_finite()) {
+            return Err(bad("MIN must be positive and below MAX"));
+        }
+        Ok(range)
+    }
 }
 
 /// The default fit range: `max(ignore_diags, 2)` bins to a quarter of the median region length
@@ -648,6 +685,57 @@ pub fn power_law_of_table(
 }
 
 impl PowerLawReport {
+    /// The single power law in one line (what `expected --logbin` and `plot expected --fit`
+    /// print): exponent, its 95% interval, R², the distances fitted and the range asked for.
+    pub fn headline(&self) -> String {
+        let fit = &self.fit;
+        format!(
+            "P(s) ~ s^{:.2} [95% CI {:.2}, {:.2}], R² {:.3}, fitted {} - {} ({} log bins in {} - {})",
+            fit.alpha,
+            fit.ci95.0,
+            fit.ci95.1,
+            fit.r_squared,
+            format_distance(fit.first_bp),
+            format_distance(fit.last_bp),
+            fit.n_points,
+            format_bp(self.range.min_bp),
+            format_bp(self.range.max_bp),
+        )
+    }
+
+    /// The headline, then the piecewise fit: its breakpoints and one line per segment (what
+    /// `expected --fit` writes).
+    pub fn summary_text(&self) -> String {
+        let mut text = self.headline();
+        text.push('\n');
+        let piecewise = &self.piecewise;
+        let breaks: Vec<String> = piecewise
+            .breakpoints_bp
+            .iter()
+            .map(|&b| format_bp(b))
+            .collect();
+        text.push_str(&match breaks.len() {
+            0 => "piecewise: no breakpoint (one power law is best by BIC)\n".to_string(),
+            n => format!(
+                "piecewise: {n} breakpoint{} by BIC, at {}\n",
+                if n == 1 { "" } else { "s" },
+                breaks.join(", ")
+            ),
+        });
+        for segment in &piecewise.segments {
+            text.push_str(&format!(
+                "  {} - {}: s^{:.2} [95% CI {:.2}, {:.2}], {} log bins\n",
+                format_bp(segment.start_bp),
+                format_bp(segment.end_bp),
+                segment.alpha,
+                segment.ci95.0,
+                segment.ci95.1,
+                segment.n_points
+            ));
+        }
+        text
+    }
+
     /// The report as JSON (what `expected --json` prints): the input `uri`, the values
     /// (balanced by `weight_name` or raw), the bin size and fit range, the single power law, the
     /// piecewise fit with its BIC per number of breakpoints, and the points fitted.
@@ -714,6 +802,21 @@ impl PowerLawReport {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn fit_ranges_parse_with_units() {
+        let range: FitRange = "100k-10M".parse().unwrap();
+        assert_eq!((range.min_bp, range.max_bp), (1e5, 1e7));
+        let range: FitRange = "200,000-1.5Mb".parse().unwrap();
+        assert_eq!((range.min_bp, range.max_bp), (2e5, 1.5e6));
+        for bad in ["10M-1M", "abc", "1x-2M", "0-1M"] {
+            let error = bad.parse::<FitRange>().unwrap_err().to_string();
+            assert!(
+                error.starts_with(&format!("fit_range '{bad}': ")),
+                "{error}"
+            );
+        }
+    }
 
     fn power_law(alpha: f64, n: usize) -> Vec<(f64, f64)> {
         (0..n)

@@ -17,6 +17,33 @@ use crate::io::tables::{region_table, write_real, write_u64, Table};
 use crate::normalize::DiagonalCurve;
 
 impl CisExpected {
+    /// Whether `uri` names a cis expected table: a text file whose first line (comments aside)
+    /// starts with `region1`. Only the first 64 KiB are looked at, as bytes (a .cool file is not
+    /// text).
+    ///
+    /// ```
+    /// use contactmap::expected::CisExpected;
+    /// assert!(CisExpected::is_table("data/reference/numerics/dm6_100kb.expected_cis.raw.tsv.gz")?);
+    /// assert!(!CisExpected::is_table("data/yeast.10kb.cool")?);
+    /// # Ok::<(), contactmap::Error>(())
+    /// ```
+    pub fn is_table(uri: &str) -> Result<bool> {
+        use std::io::Read as _;
+        let path = std::path::Path::new(uri);
+        if uri.contains("::") || !path.is_file() {
+            return Ok(false);
+        }
+        let mut head = Vec::new();
+        crate::io::open_text(path)?
+            .take(64 << 10)
+            .read_to_end(&mut head)
+            .map_err(|e| Error::io(path, e))?;
+        Ok(head
+            .split(|&b| b == b'\n')
+            .find(|line| !(line.iter().all(u8::is_ascii_whitespace) || line.starts_with(b"#")))
+            .is_some_and(|line| line.starts_with(b"region1\t")))
+    }
+
     /// Read a cooltools `expected-cis` table (as `cooltools expected-cis` or `contactmap
     /// expected` write it), for the P(s) analyses. The smoothed columns are not read; the
     /// averages are the table's own. Errors name the file and line: a trans table, regions

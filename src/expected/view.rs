@@ -138,6 +138,21 @@ impl View {
     /// Errors (one line, naming the region by its 1-based position and its coordinates): an
     /// unknown chromosome, an empty or out-of-bounds interval, regions out of order (they must
     /// follow the chromosome table, then start), overlapping regions, duplicate names.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use contactmap::expected::view::{RegionSpec, View};
+    /// use contactmap::genome::{BinTable, Chrom};
+    /// let bins = BinTable::fixed(vec![Chrom::new("chr1", 1_000)], 100)?;
+    /// let arm = |start_bp, end_bp, name: &str| RegionSpec {
+    ///     chrom: "chr1".into(), start_bp, end_bp, name: Some(name.into()),
+    /// };
+    /// let view = View::new(&bins, &[arm(0, 400, "p"), arm(400, 1_000, "q")])?;
+    /// assert_eq!(view.regions()[1].bins, 4..10);
+    /// assert!(View::new(&bins, &[arm(400, 1_000, "q"), arm(0, 400, "p")]).is_err());
+    /// # Ok::<(), contactmap::Error>(())
+    /// ```
     pub fn new(bins: &BinTable, specs: &[RegionSpec]) -> Result<View> {
         if specs.is_empty() {
             return Err(Error::Invalid("the view has no region".into()));

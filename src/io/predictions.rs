@@ -220,6 +220,18 @@ pub fn detect_format(bytes: &[u8], path: &Path) -> Result<PredictionFormat> {
 }
 
 /// Read a prediction file; `format` overrides [`detect_format`].
+///
+/// # Examples
+///
+/// A CASP RR file carries its sequence; its pairs keep the file's order.
+///
+/// ```
+/// use contactmap::io::predictions::read_prediction;
+/// let prediction = read_prediction("data/protein/1aapA/1aapA.rr", None)?;
+/// assert!(prediction.sequence.as_deref().unwrap().starts_with("VREVCSEQ"));
+/// assert_eq!(prediction.pairs[0], (14, 38, 41.427055));
+/// # Ok::<(), contactmap::Error>(())
+/// ```
 pub fn read_prediction(
     path: impl AsRef<Path>,
     format: Option<PredictionFormat>,

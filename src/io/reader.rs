@@ -20,6 +20,26 @@ pub struct MatrixInfo {
     pub notes: Vec<String>,
 }
 
+impl MatrixInfo {
+    /// The genome assembly the file names (cooler's `genome-assembly`, the .hic `genome_id`),
+    /// when it is a name (not empty, `unknown` or a path such as a .hic's chrom.sizes file).
+    ///
+    /// ```
+    /// use contactmap::io::{open_matrix, MatrixReader, OpenOptions};
+    /// let reader = open_matrix("data/cooler_test_file.mcool::/resolutions/100000", &OpenOptions::default())?;
+    /// assert_eq!(reader.info().assembly().as_deref(), Some("dm6"));
+    /// # Ok::<(), contactmap::Error>(())
+    /// ```
+    pub fn assembly(&self) -> Option<String> {
+        self.attributes
+            .iter()
+            .find(|(k, _)| k == "genome-assembly" || k == "genome_id")
+            .and_then(|(_, v)| v.as_str())
+            .filter(|id| !id.is_empty() && *id != "unknown" && !id.contains('/'))
+            .map(str::to_string)
+    }
+}
+
 /// A source of pixels: an open file or an in-memory matrix.
 ///
 /// Pixel queries return the stored upper triangle (`bin1 <= bin2`) restricted to `bin1 in rows`

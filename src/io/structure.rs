@@ -198,6 +198,15 @@ impl Structure {
 }
 
 /// Read a PDB or mmCIF file (optionally gzipped); see the module docs.
+///
+/// # Examples
+///
+/// ```
+/// let structure = contactmap::io::structure::read_structure("data/protein/1aapA/1aapA.pdb")?;
+/// let chain = structure.chain(None)?; // the only chain (its id is blank in this file)
+/// assert!(chain.sequence().starts_with("VREVCSEQ"));
+/// # Ok::<(), contactmap::Error>(())
+/// ```
 pub fn read_structure(path: impl AsRef<Path>) -> Result<Structure> {
     let path = path.as_ref();
     let file = std::fs::File::open(path).map_err(|err| Error::io(path, err))?;

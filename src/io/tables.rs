@@ -248,6 +248,46 @@ pub fn track_on_bins(path: &std::path::Path, column: &str, bins: &BinTable) -> R
     Ok(values)
 }
 
+/// Rows of cells as text with columns aligned (first column left, the others right), two
+/// spaces between columns, no trailing blanks.
+///
+/// ```
+/// let rows = vec![
+///     vec!["range".to_string(), "TP".to_string()],
+///     vec!["long".to_string(), "12".to_string()],
+/// ];
+/// assert_eq!(contactmap::io::tables::aligned(&rows), "range  TP\nlong   12\n");
+/// ```
+pub fn aligned(rows: &[Vec<String>]) -> String {
+    let columns = rows.iter().map(Vec::len).max().unwrap_or(0);
+    let widths: Vec<usize> = (0..columns)
+        .map(|c| {
+            rows.iter()
+                .filter_map(|row| row.get(c))
+                .map(|cell| cell.chars().count())
+                .max()
+                .unwrap_or(0)
+        })
+        .collect();
+    let mut text = String::new();
+    for row in rows {
+        let cells: Vec<String> = row
+            .iter()
+            .enumerate()
+            .map(|(c, cell)| {
+                if c == 0 {
+                    format!("{cell:<width$}", width = widths[c])
+                } else {
+                    format!("{cell:>width$}", width = widths[c])
+                }
+            })
+            .collect();
+        text.push_str(cells.join("  ").trim_end());
+        text.push('\n');
+    }
+    text
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -302,6 +302,45 @@ pub fn domain_overlap_records(truth: &[BedRecord], calls: &[BedRecord]) -> Domai
     domain_overlap(&intervals(truth), &intervals(calls))
 }
 
+/// The one-row TSV of `score boundaries`: `tolerance_bp n_truth n_calls true_positives
+/// precision recall f1`, and with a domain `overlap` `mean_best_jaccard_truth
+/// mean_best_jaccard_calls moc` (`nan` when MoC is undefined).
+///
+/// ```
+/// use contactmap::io::bed::BedRecord;
+/// use contactmap::score::boundaries::{boundary_table, score_boundary_records};
+///
+/// let truth = [BedRecord::new("chr1", 100, 200)];
+/// let m = score_boundary_records(&truth, &truth, 0);
+/// assert_eq!(
+///     boundary_table(0, &m, None),
+///     "tolerance_bp\tn_truth\tn_calls\ttrue_positives\tprecision\trecall\tf1\n0\t1\t1\t1\t1\t1\t1\n"
+/// );
+/// ```
+pub fn boundary_table(
+    tolerance_bp: u64,
+    m: &BoundaryMatch,
+    overlap: Option<&DomainOverlap>,
+) -> String {
+    let mut header =
+        String::from("tolerance_bp\tn_truth\tn_calls\ttrue_positives\tprecision\trecall\tf1");
+    let mut row = format!(
+        "{tolerance_bp}\t{}\t{}\t{}\t{}\t{}\t{}",
+        m.n_truth, m.n_calls, m.true_positives, m.precision, m.recall, m.f1
+    );
+    if let Some(overlap) = overlap {
+        header.push_str("\tmean_best_jaccard_truth\tmean_best_jaccard_calls\tmoc");
+        let moc = overlap
+            .moc
+            .map_or_else(|| "nan".to_string(), |v| v.to_string());
+        row.push_str(&format!(
+            "\t{}\t{}\t{moc}",
+            overlap.mean_best_jaccard_truth, overlap.mean_best_jaccard_calls
+        ));
+    }
+    format!("{header}\n{row}\n")
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -392,6 +392,15 @@ pub enum Rounding {
 }
 
 impl Rounding {
+    /// The name of the rule: `floor`, `half-up` or `banker`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Rounding::Floor => "floor",
+            Rounding::HalfUp => "half-up",
+            Rounding::Banker => "banker",
+        }
+    }
+
     /// Round a non-negative list size.
     pub fn apply(self, value: f64) -> usize {
         let rounded = match self {

@@ -13,6 +13,7 @@ use std::collections::HashSet;
 use super::contacts::{rank_pairs, ListSize, Prediction, Rounding, SeparationRange};
 use super::lists::{LabelledSize, NamedRange};
 use crate::error::{Error, Result};
+use crate::io::tables::real_text;
 
 /// The agreement of two top lists.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -170,6 +171,74 @@ pub fn compare_predictions<'a>(
         }
     }
     Ok((length, results))
+}
+
+/// The rows of [`compare_predictions`] as the TSV of `score overlap --tsv`: `first second range
+/// min_sep max_sep list k n_first n_second shared jaccard`.
+pub fn overlap_tsv(first: &str, second: &str, results: &[OverlapRow<'_>]) -> String {
+    let mut text = String::from(
+        "first\tsecond\trange\tmin_sep\tmax_sep\tlist\tk\tn_first\tn_second\tshared\tjaccard\n",
+    );
+    for (named, label, result) in results {
+        text.push_str(&format!(
+            "{}\t{}\t{}\t{}\t{}\t{label}\t{}\t{}\t{}\t{}\t{}\n",
+            first,
+            second,
+            named.name,
+            named.range.min,
+            named.range.max_text(),
+            result.k,
+            result.n_first,
+            result.n_second,
+            result.shared,
+            real_text(result.jaccard),
+        ));
+    }
+    text
+}
+
+/// The rows of [`compare_predictions`] as the aligned table `score overlap` prints: the two files
+/// (A, B), L, then one row per range x list size.
+///
+/// ```
+/// use contactmap::score::contacts::{Prediction, Rounding};
+/// use contactmap::score::lists::{parse_list_size, parse_range};
+/// use contactmap::score::overlap::{compare_predictions, overlap_text};
+/// let a = Prediction { pairs: vec![(1, 10, 0.9), (2, 20, 0.8)], ..Default::default() };
+/// let (ranges, sizes) = ([parse_range("all")?], [parse_list_size("L/10")?]);
+/// let (length, rows) =
+///     compare_predictions([("a", &a), ("a", &a)], Some(20), &ranges, &sizes, Rounding::Floor)?;
+/// let text = overlap_text("a", "a", length, &rows);
+/// assert!(text.ends_with("  all    L/10  2  2  2       2   1.0000\n"), "{text}");
+/// # Ok::<(), contactmap::Error>(())
+/// ```
+pub fn overlap_text(
+    first: &str,
+    second: &str,
+    length: usize,
+    results: &[OverlapRow<'_>],
+) -> String {
+    let mut rows = vec![["range", "list", "k", "A", "B", "shared", "Jaccard"]
+        .map(String::from)
+        .to_vec()];
+    for (named, label, result) in results {
+        rows.push(vec![
+            named.name.clone(),
+            label.to_string(),
+            result.k.to_string(),
+            result.n_first.to_string(),
+            result.n_second.to_string(),
+            result.shared.to_string(),
+            format!("{:.4}", result.jaccard),
+        ]);
+    }
+    let mut text = format!("A = {}\nB = {}\n  L = {length}\n", first, second);
+    for line in crate::io::tables::aligned(&rows).lines() {
+        text.push_str("  ");
+        text.push_str(line);
+        text.push('\n');
+    }
+    text
 }
 
 #[cfg(test)]

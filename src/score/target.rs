@@ -14,7 +14,7 @@ use crate::error::{Error, Result};
 use crate::io::predictions::{read_prediction, PredictionFormat};
 use crate::io::structure::{read_structure, Chain};
 use crate::io::tables::real_text;
-use crate::score::contacts::{ListSize, Rounding};
+use crate::score::contacts::{ListSize, Rounding, SeparationRange};
 
 /// How the structure's residues are placed on a prediction's sequence.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -200,6 +200,32 @@ pub fn place(
     })
 }
 
+/// [`place`] the chain on the sequence of `prediction` (read from `path`, named in errors);
+/// without a sequence, [`check_numbering`] first, its warning in [`Placed::warning`].
+pub fn place_prediction(
+    structure: &Path,
+    chain: &Chain,
+    prediction: &Prediction,
+    path: &Path,
+    mode: RegisterChoice,
+    definition: &ContactDefinition,
+) -> Result<Placed> {
+    let warning = match prediction.sequence {
+        None => check_numbering(structure, chain, prediction, path)?,
+        Some(_) => None,
+    };
+    let mut placed = place(
+        structure,
+        chain,
+        prediction.sequence.as_deref(),
+        mode,
+        definition,
+    )
+    .map_err(|err| err.in_file(path))?;
+    placed.warning = warning;
+    Ok(placed)
+}
+
 /// Read the prediction at `path` (`format`, or detected from the content); with `fasta`, attach
 /// that sequence and check the residue numbers against it. The sequence is made upper case.
 pub fn load_prediction(
@@ -349,6 +375,199 @@ pub fn curves_tsv(reports: &[PredictionScores]) -> String {
                 ));
             }
         }
+    }
+    text
+}
+
+/// The scores as the aligned text table `score contacts` prints by default: per prediction, a
+/// header (the `structure` and `chain` it was scored against, the observed residues, the contact
+/// `definition`, L and where it comes from, the rounding, what was done with unobserved pairs,
+/// the register) and one row per range x list size.
+pub fn scores_text(
+    structure: &str,
+    chain: &str,
+    definition: &str,
+    plan: &ScorePlan,
+    reports: &[PredictionScores],
+) -> String {
+    let mut text = String::new();
+    for (index, report) in reports.iter().enumerate() {
+        if index > 0 {
+            text.push('\n');
+        }
+        let length = report
+            .scores
+            .first()
+            .map_or(0, |(_, _, score)| score.length);
+        text.push_str(&format!(
+            "{}\n  structure {} chain {}: {} observed residues; contacts {}\n  L = {length} ({}), \
+             rounding {}, unobserved pairs {}\n",
+            report.path,
+            structure,
+            if chain.is_empty() { "(blank)" } else { chain },
+            report.n_observed,
+            definition,
+            report.length_source,
+            plan.rounding.name(),
+            if plan.keep_unobserved {
+                "kept"
+            } else {
+                "dropped"
+            },
+        ));
+        match &report.register {
+            Some(register) => {
+                for line in register.text.lines() {
+                    text.push_str("  ");
+                    text.push_str(line.trim_start());
+                    text.push('\n');
+                }
+            }
+            None => {
+                text.push_str("  register: none (the prediction's numbers are the structure's)\n")
+            }
+        }
+        let mut rows = vec![[
+            "range",
+            "sep",
+            "true",
+            "avail",
+            "list",
+            "k",
+            "TP",
+            "precision",
+            "recall",
+            "F1",
+            "MCC",
+            "Xd",
+        ]
+        .map(String::from)
+        .to_vec()];
+        for (named, labels, score) in &report.scores {
+            let separation = match named.range.max {
+                Some(max) => format!("{}-{max}", named.range.min),
+                None => format!(">={}", named.range.min),
+            };
+            for (label, list) in labels.iter().zip(&score.lists) {
+                rows.push(vec![
+                    named.name.clone(),
+                    separation.clone(),
+                    score.n_true.to_string(),
+                    score.n_available.to_string(),
+                    label.clone(),
+                    list.k.to_string(),
+                    list.true_positives.to_string(),
+                    format!("{:.4}", list.precision),
+                    format!("{:.4}", list.recall),
+                    format!("{:.4}", list.f1),
+                    format!("{:.4}", list.mcc),
+                    format!("{:.2}", list.xd),
+                ]);
+            }
+        }
+        for line in crate::io::tables::aligned(&rows).lines() {
+            text.push_str("  ");
+            text.push_str(line);
+            text.push('\n');
+        }
+    }
+    text
+}
+
+/// The RR sequence line of a chain without a target sequence, and the offset to subtract from
+/// the structure's numbers to get the RR's positions in it.
+///
+/// The structure's numbers are the positions when they can be: the line runs from residue 1 to
+/// the last, `X` where a number is not observed (toxd, numbered from 2: one `X`, its unobserved
+/// first residue). When the chain is numbered from below 1, or from so far on that the line would
+/// hold more `X` before the chain than residues (1A8O, numbered 151-220: the C-terminal domain
+/// of a longer protein), the numbers are not positions in a sequence we know: the line is the
+/// chain's own, numbered from 1 at its first residue.
+fn sequence_line(chain: &Chain) -> Option<(String, i32)> {
+    let first = chain.residues.iter().map(|r| r.number).min()?;
+    let last = chain.residues.iter().map(|r| r.number).max()?;
+    let offset = if first < 1 || (first - 1) as usize > chain.residues.len() {
+        first - 1
+    } else {
+        0
+    };
+    let mut sequence = vec!['X'; (last - offset) as usize];
+    for residue in chain.residues.iter().filter(|r| r.insertion.is_none()) {
+        sequence[(residue.number - offset - 1) as usize] = residue.one_letter;
+    }
+    Some((sequence.into_iter().collect(), offset))
+}
+
+/// The true contacts of `chain` as CASP RR rows, what `contactmap contacts` writes: a sequence
+/// line (`sequence`, when the chain was placed on one, else the chain's own), then
+/// `i j 0 cutoff 1` for every contact at least `min_sep` apart. Returns the text and the offset
+/// subtracted from the structure's numbers (0 unless the chain's numbers are not positions in a
+/// sequence: numbered from below 1, or from so far on that the line would hold more `X` than
+/// residues).
+///
+/// ```
+/// use contactmap::score::contacts::ContactDefinition;
+/// use contactmap::score::target::{measure, read_chain, true_contacts_rr};
+/// use std::path::Path;
+/// let path = Path::new("data/protein/1aapA/1aapA.pdb");
+/// let chain = read_chain(path, None)?;
+/// let truth = measure(path, &chain, &ContactDefinition::default())?;
+/// let (text, offset) = true_contacts_rr(&chain, &truth, None, 6, 8.0);
+/// assert_eq!(offset, 0);
+/// let mut lines = text.split(|&b| b == b'\n');
+/// assert!(lines.next().unwrap().starts_with(b"VREVCSEQ"));
+/// assert!(lines.next().unwrap().ends_with(b" 0 8 1"));
+/// # Ok::<(), contactmap::Error>(())
+/// ```
+pub fn true_contacts_rr(
+    chain: &Chain,
+    truth: &TrueContacts,
+    sequence: Option<String>,
+    min_sep: u32,
+    cutoff: f64,
+) -> (Vec<u8>, i32) {
+    use std::io::Write as _;
+    let mut text = Vec::new();
+    let (line, offset) = match sequence {
+        Some(sequence) => (Some(sequence), 0),
+        None => match sequence_line(chain) {
+            Some((line, offset)) => (Some(line), offset),
+            None => (None, 0),
+        },
+    };
+    if let Some(line) = line {
+        text.extend_from_slice(line.as_bytes());
+        text.push(b'\n');
+    }
+    let mut cutoff_text = Vec::new();
+    crate::io::tables::write_real(&mut cutoff_text, cutoff);
+    for (i, j) in truth.contacts(SeparationRange::new(min_sep, None)) {
+        let (i, j) = (i - offset, j - offset);
+        let _ = write!(text, "{i} {j} 0 ");
+        text.extend_from_slice(&cutoff_text);
+        text.extend_from_slice(b" 1\n");
+    }
+    (text, offset)
+}
+
+/// The distance matrix of the observed residues as TSV (`contacts --matrix`): a header
+/// `residue` then the residue numbers, one row per residue, distances in Å to 3 decimals.
+pub fn distance_matrix_tsv(truth: &TrueContacts) -> Vec<u8> {
+    use std::io::Write as _;
+    let mut text = Vec::new();
+    let numbers = truth.numbers();
+    text.extend_from_slice(b"residue");
+    for number in numbers {
+        let _ = write!(text, "\t{number}");
+    }
+    text.push(b'\n');
+    for &i in numbers {
+        let _ = write!(text, "{i}");
+        for &j in numbers {
+            let distance = truth.distance(i, j).unwrap_or(0.0);
+            let _ = write!(text, "\t{distance:.3}");
+        }
+        text.push(b'\n');
     }
     text
 }

@@ -175,6 +175,24 @@ pub struct BlockMap {
     pub biases: Vec<f64>,
 }
 
+impl BlockMap {
+    /// The true domains as BED (`chrom start end level`, level 0 for top domains), what
+    /// `simulate blocks --truth-domains` writes.
+    pub fn truth_domains_bed(&self) -> Vec<u8> {
+        let rows = self
+            .domains
+            .iter()
+            .map(|d| (d.start_bin, d.end_bin, vec![d.level.to_string()]));
+        crate::io::bed::bins_bed(self.matrix.bins(), rows)
+    }
+
+    /// The true boundaries as BED, one bin each (`simulate blocks --truth-boundaries`).
+    pub fn truth_boundaries_bed(&self) -> Vec<u8> {
+        let rows = self.boundaries.iter().map(|&b| (b, b + 1, Vec::new()));
+        crate::io::bed::bins_bed(self.matrix.bins(), rows)
+    }
+}
+
 /// Generate a block-structured map (see the module docs for the model).
 ///
 /// # Examples

@@ -21,6 +21,7 @@
 //! stops swelling at the confinement's scale; attraction (compartments) is slower still. The
 //! measured figures (docs/simulation.md, "Equilibration and sampling") say how far they hold.
 
+use crate::error::{Error, Result};
 use crate::sim::polymer::{BondModel, PolymerParams, Repulsion};
 
 /// Rouse times in the model's time units (`steps × dt`) and relaxed separations in beads.
@@ -49,6 +50,55 @@ impl Relaxation {
     /// The separation (beads) relaxed after `time`: `π sqrt(3 t / <b²>)`.
     pub fn relaxed_separation(&self, time: f64) -> f64 {
         std::f64::consts::PI * (3.0 * time.max(0.0) / self.bond_msd).sqrt()
+    }
+}
+
+/// A number of steps given as text: a count (`2000`), Rouse times of the longest chain (`3R`,
+/// `0.5r`), or `auto` (`auto_rouse` Rouse times); `rouse_steps` is that Rouse time in steps. A
+/// Rouse-time count is rounded up, to at least one step. A bad value is an
+/// [`Error::Parameter`] named `name` (the option, `equilibration` or `sample_every`).
+///
+/// ```
+/// use contactmap::sim::relaxation::parse_steps;
+/// assert_eq!(parse_steps("equilibration", "2000", 3.0, 100.0)?, 2000);
+/// assert_eq!(parse_steps("equilibration", "auto", 3.0, 100.5)?, 302);
+/// assert_eq!(parse_steps("equilibration", "0.5R", 3.0, 100.0)?, 50);
+/// assert!(parse_steps("equilibration", "-2R", 3.0, 100.0).is_err());
+/// # Ok::<(), contactmap::Error>(())
+/// ```
+pub fn parse_steps(
+    name: &'static str,
+    text: &str,
+    auto_rouse: f64,
+    rouse_steps: f64,
+) -> Result<usize> {
+    let bad = |expected: String| Error::parameter(name, format!("'{text}'"), expected);
+    let trimmed = text.trim();
+    let rouse_times = if trimmed.eq_ignore_ascii_case("auto") {
+        Some(auto_rouse)
+    } else if let Some(number) = trimmed.strip_suffix(['R', 'r']) {
+        Some(
+            number
+                .trim()
+                .parse::<f64>()
+                .ok()
+                .filter(|x| x.is_finite() && *x > 0.0)
+                .ok_or_else(|| bad("expected a positive number of Rouse times, e.g. 3R".into()))?,
+        )
+    } else {
+        None
+    };
+    match rouse_times {
+        Some(times) => {
+            let steps = (times * rouse_steps).ceil();
+            if steps >= usize::MAX as f64 {
+                return Err(bad(format!("{steps:e} steps is more than can be counted")));
+            }
+            Ok((steps as usize).max(1))
+        }
+        None => trimmed
+            .parse::<usize>()
+            .map_err(|_| bad("expected a number of steps, auto, or Rouse times such as 3R".into())),
     }
 }
 
@@ -96,6 +146,19 @@ pub fn flory_ratio(stiffness: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn steps_are_given_as_steps_or_rouse_times() {
+        assert_eq!(parse_steps("x", "2000", 3.0, 100.0).unwrap(), 2000);
+        assert_eq!(parse_steps("x", "auto", 3.0, 100.5).unwrap(), 302);
+        assert_eq!(parse_steps("x", "0.5R", 3.0, 100.0).unwrap(), 50);
+        assert_eq!(parse_steps("x", "2r", 3.0, 100.0).unwrap(), 200);
+        assert_eq!(parse_steps("x", "1e-9R", 3.0, 100.0).unwrap(), 1);
+        for bad in ["-1", "R", "0R", "-2R", "x", "1.5", "nanR"] {
+            let error = parse_steps("x", bad, 3.0, 100.0).unwrap_err().to_string();
+            assert!(error.starts_with(&format!("x '{bad}': ")), "{bad}: {error}");
+        }
+    }
 
     /// `<b²>` against closed forms: a harmonic bond of small wiggle `w` has `r = 1 + δ` with
     /// `δ ~ N(w², w²/2)` to first order (the `r²` Jacobian shifts the mean), so `<b²> ≈ 1 + 2.5

@@ -6,12 +6,11 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 
 use super::{write_figure, FigureArgs};
-use crate::cli::analysis::{headline, parse_fit_range};
 use crate::cli::input::{open_for_analysis, weights_and_view};
 use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::InputArgs;
 use contactmap::error::{Error, Result};
-use contactmap::expected::powerlaw::{power_law, power_law_of_table, PowerLaw};
+use contactmap::expected::powerlaw::{power_law, power_law_of_table, FitRange, PowerLaw};
 use contactmap::expected::{CisExpected, CisParams};
 use contactmap::genome::format_bp;
 use contactmap::io::{LoadedPixels, StreamedPixels};
@@ -89,26 +88,6 @@ pub struct ExpectedPlotArgs {
 /// Default figure width in inches.
 const DEFAULT_WIDTH_IN: f64 = 6.0;
 
-/// Whether `uri` names a cis expected table: a text file whose first line (comments aside)
-/// starts with `region1`. Only the first 64 KiB are looked at, as bytes (a .cool file is not
-/// text).
-fn is_expected_table(uri: &str) -> Result<bool> {
-    use std::io::Read as _;
-    let path = Path::new(uri);
-    if uri.contains("::") || !path.is_file() {
-        return Ok(false);
-    }
-    let mut head = Vec::new();
-    contactmap::io::open_text(path)?
-        .take(64 << 10)
-        .read_to_end(&mut head)
-        .map_err(|e| Error::io(path, e))?;
-    Ok(head
-        .split(|&b| b == b'\n')
-        .find(|line| !(line.iter().all(u8::is_ascii_whitespace) || line.starts_with(b"#")))
-        .is_some_and(|line| line.starts_with(b"region1\t")))
-}
-
 /// The legend name of an input: the file name without its extensions, and the resolution of
 /// an `::/resolutions/N` URI.
 fn default_label(uri: &str) -> String {
@@ -126,12 +105,8 @@ fn default_label(uri: &str) -> String {
     }
 }
 
-fn load(
-    uri: &str,
-    args: &ExpectedPlotArgs,
-    fit_range: Option<contactmap::expected::powerlaw::FitRange>,
-) -> Result<PowerLaw> {
-    if is_expected_table(uri)? {
+fn load(uri: &str, args: &ExpectedPlotArgs, fit_range: Option<FitRange>) -> Result<PowerLaw> {
+    if CisExpected::is_table(uri)? {
         let table = CisExpected::read_tsv(uri)?;
         let median_bp = table.median_region_length_bp();
         return power_law_of_table(table, args.ignore_diags, median_bp, fit_range);
@@ -183,7 +158,11 @@ pub fn run(args: &ExpectedPlotArgs) -> Result<()> {
         Some(labels) => labels.clone(),
         None => args.inputs.iter().map(|uri| default_label(uri)).collect(),
     };
-    let fit_range = args.fit_range.as_deref().map(parse_fit_range).transpose()?;
+    let fit_range = args
+        .fit_range
+        .as_deref()
+        .map(str::parse::<FitRange>)
+        .transpose()?;
     let mut samples = Vec::with_capacity(args.inputs.len());
     for (uri, label) in args.inputs.iter().zip(labels) {
         let power_law = load(uri, args, fit_range)?;
@@ -194,7 +173,7 @@ pub fn run(args: &ExpectedPlotArgs) -> Result<()> {
         }
         if args.fit {
             match &power_law.fit {
-                Ok(report) => eprintln!("{label}: {}", headline(report)),
+                Ok(report) => eprintln!("{label}: {}", report.headline()),
                 Err(e) => return Err(Error::Invalid(format!("{uri}: no power-law fit: {e}"))),
             }
         }

@@ -1,18 +1,14 @@
 //! `contactmap score compartments`: compartment eigenvectors against known A/B types
 //! ([`contactmap::score::compartments`]).
 
-use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 use clap::Args;
 
 use crate::cli::input::file_column;
 use crate::cli::output::{column_file, refuse_overwrites, Output};
-use contactmap::error::{Error, Result};
-use contactmap::io::bed::read_bed;
-use contactmap::io::tables::read_track;
-use contactmap::io::tables::real_text as real;
-use contactmap::score::compartments::score_compartments;
+use contactmap::error::Result;
+use contactmap::score::compartments::score_track_table;
 
 /// Arguments of `contactmap score compartments`.
 #[derive(Debug, Args)]
@@ -55,74 +51,8 @@ pub fn run(args: &CompartmentsScoreArgs) -> Result<()> {
         &[args.truth.as_path(), column_file(&args.eigs)],
         &[args.out.as_deref()],
     )?;
-    let mut truth: HashMap<(String, u64, u64), f64> = HashMap::new();
-    for record in read_bed(&args.truth)? {
-        let name = record.name.as_deref().unwrap_or("");
-        let sign = match name.to_ascii_uppercase().as_str() {
-            "A" => 1.0,
-            "B" => -1.0,
-            other => match other.parse::<f64>() {
-                Ok(v) if v != 0.0 && v.is_finite() => v.signum(),
-                _ => {
-                    return Err(Error::format(
-                        &args.truth,
-                        format!(
-                        "{}:{}-{}: the 4th column must be A, B or a signed number, found '{name}'",
-                        record.chrom, record.start, record.end
-                    ),
-                    ))
-                }
-            },
-        };
-        truth.insert((record.chrom.clone(), record.start, record.end), sign);
-    }
     let (path, column) = file_column(&args.eigs, "EIGS", Some("E1"))?;
-    let rows = read_track(Path::new(path), column)?;
-    let mut chroms: Vec<String> = Vec::new();
-    let mut by_chrom: HashMap<String, (Vec<f64>, Vec<f64>)> = HashMap::new();
-    let mut matched = 0usize;
-    for row in &rows {
-        let t = truth
-            .get(&(row.chrom.clone(), row.start, row.end))
-            .copied()
-            .unwrap_or(f64::NAN);
-        matched += t.is_finite() as usize;
-        let entry = by_chrom.entry(row.chrom.clone()).or_insert_with(|| {
-            chroms.push(row.chrom.clone());
-            (Vec::new(), Vec::new())
-        });
-        entry.0.push(row.value);
-        entry.1.push(t);
-    }
-    if matched == 0 {
-        return Err(Error::format(
-            path,
-            format!(
-                "no bin of the table is an interval of {} (the truth must be on the same bins)",
-                args.truth.display()
-            ),
-        ));
-    }
-    let mut text =
-        String::from("chrom\tn_bins\tsign_accuracy\tsign_accuracy_up_to_sign\tpearson\n");
-    let (mut all_v, mut all_t) = (Vec::new(), Vec::new());
-    let mut line = |name: &str, values: &[f64], t: &[f64]| {
-        let s = score_compartments(values, t);
-        text.push_str(&format!(
-            "{name}\t{}\t{}\t{}\t{}\n",
-            s.n_bins,
-            real(s.sign_accuracy),
-            real(s.sign_accuracy_up_to_sign),
-            real(s.pearson)
-        ));
-    };
-    for chrom in &chroms {
-        let (v, t) = &by_chrom[chrom];
-        line(chrom, v, t);
-        all_v.extend_from_slice(v);
-        all_t.extend_from_slice(t);
-    }
-    line("all", &all_v, &all_t);
+    let text = score_track_table(&args.truth, Path::new(path), column)?;
     let mut out = Output::open(args.out.as_deref())?;
     out.write_all(text.as_bytes())?;
     out.finish()

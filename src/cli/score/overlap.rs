@@ -5,14 +5,13 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
-use super::{aligned, ListArgs};
+use super::ListArgs;
 use crate::cli::output::{refuse_overwrites, Output};
 use crate::cli::protein::PredictionFormatArg;
 use contactmap::error::{Error, Result};
 use contactmap::io::predictions::{read_fasta, read_prediction};
-use contactmap::io::tables::real_text as real;
 use contactmap::score::contacts::ListSize;
-use contactmap::score::overlap::compare_predictions;
+use contactmap::score::overlap::{compare_predictions, overlap_text, overlap_tsv};
 
 /// Arguments of `contactmap score overlap`.
 #[derive(Debug, Args)]
@@ -100,52 +99,11 @@ pub fn run(args: &OverlapArgs) -> Result<()> {
         &sizes,
         args.lists.rounding.into(),
     )?;
+    let (first, second) = (args.first.display(), args.second.display());
     let text = if args.tsv {
-        let mut text = String::from(
-            "first\tsecond\trange\tmin_sep\tmax_sep\tlist\tk\tn_first\tn_second\tshared\tjaccard\n",
-        );
-        for (named, label, result) in &results {
-            text.push_str(&format!(
-                "{}\t{}\t{}\t{}\t{}\t{label}\t{}\t{}\t{}\t{}\t{}\n",
-                args.first.display(),
-                args.second.display(),
-                named.name,
-                named.range.min,
-                named.range.max_text(),
-                result.k,
-                result.n_first,
-                result.n_second,
-                result.shared,
-                real(result.jaccard),
-            ));
-        }
-        text
+        overlap_tsv(&first.to_string(), &second.to_string(), &results)
     } else {
-        let mut rows = vec![["range", "list", "k", "A", "B", "shared", "Jaccard"]
-            .map(String::from)
-            .to_vec()];
-        for (named, label, result) in &results {
-            rows.push(vec![
-                named.name.clone(),
-                label.to_string(),
-                result.k.to_string(),
-                result.n_first.to_string(),
-                result.n_second.to_string(),
-                result.shared.to_string(),
-                format!("{:.4}", result.jaccard),
-            ]);
-        }
-        let mut text = format!(
-            "A = {}\nB = {}\n  L = {length}\n",
-            args.first.display(),
-            args.second.display()
-        );
-        for line in aligned(&rows).lines() {
-            text.push_str("  ");
-            text.push_str(line);
-            text.push('\n');
-        }
-        text
+        overlap_text(&first.to_string(), &second.to_string(), length, &results)
     };
     let mut out = Output::open(args.out.as_deref())?;
     out.write_all(text.as_bytes())?;

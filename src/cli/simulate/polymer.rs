@@ -11,17 +11,17 @@ use crate::cli::warnings::Warnings;
 use contactmap::error::{Error, Result};
 use contactmap::io::cool::{write_cool, CoolWriteOptions};
 use contactmap::io::InMemory;
-use contactmap::sim::ensemble::{run_ensemble, EnsembleParams, ExtrusionCoupling};
+use contactmap::sim::ensemble::{EnsembleParams, ExtrusionCoupling};
 use contactmap::sim::extrusion::ExtrusionParams;
 use contactmap::sim::files::{
     boundary_elements_from_bed, boundary_elements_from_list, parse_type_pattern,
 };
-use contactmap::sim::gpu::{run_ensemble_gpu, Gpu};
+use contactmap::sim::gpu::{Backend, Device};
 use contactmap::sim::polymer::{
     box_side, chain_ranges, sphere_radius, Attraction, BondModel, Confinement, PolymerParams,
     Repulsion,
 };
-use contactmap::sim::relaxation::Relaxation;
+use contactmap::sim::relaxation::{parse_steps, Relaxation};
 
 /// Bond models, for `--bonds`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -388,8 +388,8 @@ impl PolymerArgs {
         let longest = self.chains.iter().copied().max().unwrap_or(0);
         let rouse_steps = relaxation.rouse_time(longest) / polymer.dt;
         let equilibration_steps =
-            steps_argument("--equilibration", &self.equilibration, 3.0, rouse_steps)?;
-        let sample_every = steps_argument("--sample-every", &self.sample_every, 0.5, rouse_steps)?;
+            parse_steps("equilibration", &self.equilibration, 3.0, rouse_steps)?;
+        let sample_every = parse_steps("sample_every", &self.sample_every, 0.5, rouse_steps)?;
         let params = EnsembleParams {
             polymer,
             replicas: self.replicas,
@@ -407,46 +407,6 @@ impl PolymerArgs {
         }
         params.check()?;
         Ok(params)
-    }
-}
-
-/// A number of steps given as steps, `auto` (`auto_rouse` Rouse times) or Rouse times (`2R`,
-/// `0.5r`), with the Rouse time of the longest chain in steps.
-fn steps_argument(option: &str, text: &str, auto_rouse: f64, rouse_steps: f64) -> Result<usize> {
-    let trimmed = text.trim();
-    let rouse_times = if trimmed.eq_ignore_ascii_case("auto") {
-        Some(auto_rouse)
-    } else if let Some(number) = trimmed.strip_suffix(['R', 'r']) {
-        Some(
-            number
-                .trim()
-                .parse::<f64>()
-                .ok()
-                .filter(|x| x.is_finite() && *x > 0.0)
-                .ok_or_else(|| {
-                    Error::Invalid(format!(
-                        "{option} '{text}': expected a positive number of Rouse times, e.g. 3R"
-                    ))
-                })?,
-        )
-    } else {
-        None
-    };
-    match rouse_times {
-        Some(times) => {
-            let steps = (times * rouse_steps).ceil();
-            if steps >= usize::MAX as f64 {
-                return Err(Error::Invalid(format!(
-                    "{option} '{text}': {steps:e} steps is more than can be counted"
-                )));
-            }
-            Ok((steps as usize).max(1))
-        }
-        None => trimmed.parse::<usize>().map_err(|_| {
-            Error::Invalid(format!(
-                "{option} '{text}': expected a number of steps, auto, or Rouse times such as 3R"
-            ))
-        }),
     }
 }
 
@@ -487,14 +447,11 @@ pub fn run(args: &PolymerArgs) -> Result<()> {
     } else {
         indicatif::ProgressBar::hidden()
     };
-    let gpu =
-        match args.device {
-            DeviceArg::Cpu => None,
-            DeviceArg::Gpu => Some(Gpu::open(true).map_err(|reason| {
-                Error::Invalid(format!("--device gpu: no usable GPU: {reason}"))
-            })?),
-            DeviceArg::Auto => Gpu::open(false).ok(),
-        };
+    let backend = Backend::open(match args.device {
+        DeviceArg::Auto => Device::Auto,
+        DeviceArg::Cpu => Device::Cpu,
+        DeviceArg::Gpu => Device::Gpu,
+    })?;
     let pool = match args.threads {
         None => None,
         Some(threads) => Some(
@@ -504,18 +461,9 @@ pub fn run(args: &PolymerArgs) -> Result<()> {
                 .map_err(|err| Error::Invalid(format!("--threads {threads}: {err}")))?,
         ),
     };
-    let simulate = || match &gpu {
-        Some(gpu) => {
-            eprintln!("simulate polymer: on the GPU: {}", gpu.description());
-            run_ensemble_gpu(&params, gpu, &|_| bar.inc(1))
-        }
-        None => {
-            eprintln!(
-                "simulate polymer: on the CPU ({} threads)",
-                rayon::current_num_threads()
-            );
-            run_ensemble(&params, &|_| bar.inc(1))
-        }
+    let simulate = || {
+        eprintln!("simulate polymer: {}", backend.description());
+        backend.run(&params, &|_| bar.inc(1))
     };
     let ensemble = match &pool {
         Some(pool) => pool.install(simulate)?,
@@ -558,21 +506,6 @@ pub fn run(args: &PolymerArgs) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn steps_are_given_as_steps_or_rouse_times() {
-        assert_eq!(steps_argument("--x", "2000", 3.0, 100.0).unwrap(), 2000);
-        assert_eq!(steps_argument("--x", "auto", 3.0, 100.5).unwrap(), 302);
-        assert_eq!(steps_argument("--x", "0.5R", 3.0, 100.0).unwrap(), 50);
-        assert_eq!(steps_argument("--x", "2r", 3.0, 100.0).unwrap(), 200);
-        assert_eq!(steps_argument("--x", "1e-9R", 3.0, 100.0).unwrap(), 1);
-        for bad in ["-1", "R", "0R", "-2R", "x", "1.5", "nanR"] {
-            let error = steps_argument("--x", bad, 3.0, 100.0)
-                .unwrap_err()
-                .to_string();
-            assert!(error.starts_with("--x '"), "{bad}: {error}");
-        }
-    }
 
     #[derive(clap::Parser)]
     struct Command {

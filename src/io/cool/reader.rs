@@ -83,6 +83,17 @@ fn resolutions_text(resolutions: &[u64]) -> String {
 
 impl CoolReader {
     /// Open the cooler at `uri` (`file.cool`, `file.mcool::/resolutions/N`, `file.cool::/group`).
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use contactmap::io::cool::CoolReader;
+    /// use contactmap::io::MatrixReader;
+    /// let reader = CoolReader::open("data/cooler_test_file.mcool::/resolutions/100000")?;
+    /// assert_eq!(reader.bins().bin_size_bp(), Some(100_000));
+    /// assert!(reader.weight_names().iter().any(|name| name == "weight"));
+    /// # Ok::<(), contactmap::Error>(())
+    /// ```
     pub fn open(uri: &str) -> Result<CoolReader> {
         let (path, group_path) = crate::io::split_uri(uri);
         let file = open_file(path)?;

@@ -74,6 +74,18 @@ pub struct HicReader {
 impl HicReader {
     /// Open `path` at `resolution` base pairs, or at the file's only base-pair resolution when
     /// `resolution` is `None`.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use std::path::Path;
+    /// use contactmap::io::hic::HicReader;
+    /// use contactmap::io::MatrixReader;
+    /// let reader = HicReader::open(Path::new("data/hic_test_file.hic"), Some(100_000))?;
+    /// assert_eq!(reader.bins().bin_size_bp(), Some(100_000));
+    /// assert!(reader.bins().n_bins() > 0);
+    /// # Ok::<(), contactmap::Error>(())
+    /// ```
     pub fn open(path: &Path, resolution: Option<u64>) -> Result<HicReader> {
         let file = File::open(path).map_err(|e| Error::io(path, e))?;
         let file_len = file.metadata().map_err(|e| Error::io(path, e))?.len();

@@ -45,6 +45,69 @@ pub const GPU_NOISE_STREAM: u64 = 0x4750_554e; // "GPUN"
 /// Beads of one GPU batch at most (the replicas of a larger ensemble run in several batches).
 const MAX_BATCH_BEADS: usize = 1 << 24;
 
+/// Where to run an ensemble, as asked.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Device {
+    /// The GPU when a hardware one is usable, else the CPU.
+    Auto,
+    /// Every CPU core (rayon's pool).
+    Cpu,
+    /// The GPU, software drivers (lavapipe) included; an error when there is none.
+    Gpu,
+}
+
+/// The backend chosen for a [`Device`]: the CPU, or an opened GPU.
+pub enum Backend {
+    /// [`run_ensemble`](super::ensemble::run_ensemble) on rayon's current pool.
+    Cpu,
+    /// [`run_ensemble_gpu`] on this GPU.
+    Gpu(Box<Gpu>),
+}
+
+impl Backend {
+    /// Open the backend for `device`: [`Device::Gpu`] without a usable GPU is an
+    /// [`Error::Parameter`](crate::Error::Parameter) named `device`.
+    ///
+    /// ```
+    /// use contactmap::sim::gpu::{Backend, Device};
+    /// let backend = Backend::open(Device::Cpu)?;
+    /// assert!(backend.description().starts_with("on the CPU"));
+    /// # Ok::<(), contactmap::Error>(())
+    /// ```
+    pub fn open(device: Device) -> Result<Backend> {
+        Ok(match device {
+            Device::Cpu => Backend::Cpu,
+            Device::Gpu => Backend::Gpu(Box::new(Gpu::open(true).map_err(|reason| {
+                crate::Error::parameter("device", "gpu", format!("no usable GPU: {reason}"))
+            })?)),
+            Device::Auto => {
+                Gpu::open(false).map_or(Backend::Cpu, |gpu| Backend::Gpu(Box::new(gpu)))
+            }
+        })
+    }
+
+    /// Where the ensemble runs, for the user: `on the GPU: ...` or `on the CPU (N threads)` (the
+    /// threads of the current rayon pool).
+    pub fn description(&self) -> String {
+        match self {
+            Backend::Cpu => format!("on the CPU ({} threads)", rayon::current_num_threads()),
+            Backend::Gpu(gpu) => format!("on the GPU: {}", gpu.description()),
+        }
+    }
+
+    /// Run the ensemble `params` here; `progress(replica)` is called as replicas finish.
+    pub fn run(
+        &self,
+        params: &EnsembleParams,
+        progress: &(dyn Fn(usize) + Sync),
+    ) -> Result<Ensemble> {
+        match self {
+            Backend::Cpu => super::ensemble::run_ensemble(params, progress),
+            Backend::Gpu(gpu) => run_ensemble_gpu(params, gpu, progress),
+        }
+    }
+}
+
 /// Run the ensemble on `gpu`: the replicas in batches of independent chains; `progress(replica)`
 /// is called when a replica finishes. Same result as [`super::ensemble::run_ensemble`] in
 /// distribution.

@@ -70,6 +70,18 @@ impl Polymer {
     /// A polymer whose chains start as random walks of unit steps (kept inside the sphere when
     /// confined; each chain starts at a random point of the sphere or box), with overlaps
     /// pushed off for a hard repulsion (see `push_off`).
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use contactmap::sim::polymer::{Polymer, PolymerParams};
+    /// use contactmap::sim::stream_rng;
+    /// let params = PolymerParams { chains: vec![50], ..PolymerParams::default() };
+    /// let mut polymer = Polymer::new(params, stream_rng(1, 0, 0))?;
+    /// polymer.run(100);
+    /// assert_eq!((polymer.positions().len(), polymer.steps_taken()), (50, 100));
+    /// # Ok::<(), contactmap::Error>(())
+    /// ```
     pub fn new(params: PolymerParams, mut rng: SimRng) -> Result<Self> {
         params.check()?;
         let n = params.n_beads();
