@@ -42,7 +42,6 @@
 
 use std::collections::BTreeMap;
 use std::fs::File;
-use std::path::Path;
 
 use hdf5::types::{TypeDescriptor, VarLenAscii, VarLenUnicode};
 
@@ -387,6 +386,7 @@ pub fn validate(uri: &str) -> Result<Report> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::path::Path;
 
     fn small_cool(dir: &Path) -> std::path::PathBuf {
         let bins = BinTable::fixed(vec![Chrom::new("a", 50), Chrom::new("b", 30)], 10).unwrap();

@@ -1,6 +1,7 @@
 //! Checks of `.cool` / `.mcool` files on the stored HDF5 data.
 
-use super::*;
+use super::{guarded, BinTable, Column, File, TypeDescriptor, VarLenAscii, VarLenUnicode};
+use crate::error::Result;
 
 /// Cooler groups of a file: (group path, resolution from the group name if any).
 pub(super) type CoolerGroups = Vec<(String, Option<u64>)>;

@@ -1,7 +1,9 @@
 //! Checks of the formats read through their readers, every pixel streamed: Juicer `.hic` (every
 //! resolution) and HiCExplorer `.h5`.
 
-use super::*;
+use super::{io, Class, Collector, HicReader, MatrixReader, Report};
+use crate::error::Result;
+use std::path::Path;
 
 pub(super) fn validate_hic(uri: &str, path: &str, group: Option<&str>) -> Result<Report> {
     let file = Path::new(path);

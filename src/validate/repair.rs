@@ -1,6 +1,12 @@
 //! `--repair`: a corrected copy of a cooler written through the library writer.
 
-use super::*;
+use super::{
+    chunks, cool, cooler_groups, io, kind_of, open_hdf5, read_attr, Class, Collector,
+    CoolWriteOptions, CoolerCheck, CountType, File, FileKind, InMemory, Kind, MatrixBuilder,
+    Report, Severity, Weights, BLOCK_PIXELS, DIVISIVE_BY_NAME,
+};
+use crate::error::{Error, Result};
+use std::path::Path;
 
 /// The result of [`repair`].
 #[derive(Clone, Debug, PartialEq)]

@@ -1,7 +1,13 @@
 //! Reading a cooler: the bin table, weight columns (divisive ones inverted), attributes and
 //! streamed pixel queries.
 
-use super::*;
+use super::{
+    chunks, file_builder, file_len, hdf5_guard, Bin, BinTable, Chrom, Column, CountType, File,
+    MatrixInfo, MatrixReader, PixelBlock, Range, TypeDescriptor, VarLenAscii, VarLenUnicode,
+    Weights, BLOCK_PIXELS, DIVISIVE_BY_NAME,
+};
+use crate::error::{Error, Result};
+use std::path::Path;
 
 /// Juicer's SCALE vector: divisive when hic2cool wrote it, although cooler reads it as multiplicative.
 const HIC2COOL_SCALE: &str = "SCALE";

@@ -5,7 +5,10 @@
 
 use rayon::prelude::*;
 
-use super::*;
+use super::{
+    for_each_block, split_lengths, Attraction, BondModel, Confinement, PlaneBuffers, Polymer,
+    Repulsion, Scratch,
+};
 
 /// The attraction well `(depth, range)` between beads `i` and `j`, when they are of one type.
 #[inline]

@@ -1,10 +1,13 @@
 //! The integrator of the polymer: the initial conformation (a random walk, pushed apart under
 //! a hard repulsion), the Euler-Maruyama step with counter-based noise, and the threads.
 
+use crate::error::{Error, Result};
 use rand::Rng;
 use rayon::prelude::*;
 
-use super::*;
+use super::{
+    noise, CellList, Confinement, Polymer, PolymerParams, Repulsion, Scratch, SimRng, Space,
+};
 
 /// Below this many beads a polymer is stepped on the calling thread alone (the result is the
 /// same bit for bit; splitting a small chain costs more than it saves).

@@ -1,6 +1,8 @@
 //! The attributes of a cooler and its weight columns.
 
-use super::*;
+use super::{kind_of, read_attr, BinTable, CoolerCheck, Kind};
+use crate::error::{Error, Result};
+use crate::validate::{Class, Collector, DIVISIVE_BY_NAME, FLOAT_TOLERANCE};
 
 impl CoolerCheck<'_> {
     pub(crate) fn check_attributes(

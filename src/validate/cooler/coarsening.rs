@@ -1,6 +1,8 @@
 //! The levels of an .mcool against each other: each coarser level the sum of the finer one.
 
-use super::*;
+use super::{CheckedCooler, File, PixelColumns};
+use crate::error::Result;
+use crate::validate::{Class, Collector, BLOCK_PIXELS, FLOAT_TOLERANCE};
 
 pub(crate) struct PixelSummary {
     pub(crate) sum: f64,

@@ -1,7 +1,9 @@
 //! The indexes of a cooler: `indexes/chrom_offset` and `indexes/bin1_offset` against the bins
 //! and the pixels.
 
-use super::*;
+use super::{Column, CoolerCheck, Kind, PixelColumns};
+use crate::error::Result;
+use crate::validate::{Class, Collector};
 
 impl CoolerCheck<'_> {
     pub(crate) fn check_chrom_offset(

@@ -1,6 +1,9 @@
 //! Finding the coolers of an HDF5 file and running every check on each.
 
-use super::*;
+use super::{check_coarsening, guarded, CoolerCheck, CoolerGroups};
+use crate::error::{Error, Result};
+use crate::validate::{chunks, validate_hicexplorer, Collector, Report};
+use std::path::Path;
 
 /// The format name and the coolers of an HDF5 file.
 pub(crate) fn cooler_groups(

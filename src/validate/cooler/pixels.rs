@@ -1,6 +1,8 @@
 //! The pixels of a cooler: in range, upper triangle when stored so, sorted, unique, finite.
 
-use super::*;
+use super::{CoolerCheck, PixelColumns, PixelSummary};
+use crate::error::Result;
+use crate::validate::{Class, Collector, BLOCK_PIXELS};
 
 impl CoolerCheck<'_> {
     pub(crate) fn check_pixels(
