@@ -5,6 +5,7 @@ pub mod balance;
 pub mod compartments;
 pub mod contacts;
 pub mod convert;
+pub mod dots;
 pub mod dump;
 pub mod expected;
 pub mod hic_output;
@@ -79,6 +80,9 @@ pub enum Command {
     Compartments(compartments::CompartmentsArgs),
     /// The cis saddle of a compartment track (sums, counts, strength), as cooltools saddle.
     Saddle(saddle::SaddleArgs),
+    /// Loops (dots) as cooltools' dot caller: locally adjusted expected of four kernels, FDR
+    /// per lambda bin, BIRCH clustering, HiCCUPS filter.
+    Dots(dots::DotsArgs),
     /// Simulated maps with a known truth: `simulate blocks` (block-structured map with TADs),
     /// `simulate polymer` (bead-spring polymer ensembles with loop extrusion, CPU or GPU).
     Simulate(simulate::SimulateArgs),
@@ -239,6 +243,7 @@ pub fn run(cli: Cli) -> Result<Status> {
         Command::Tads(args) => tads::run(&args),
         Command::Compartments(args) => compartments::run(&args),
         Command::Saddle(args) => saddle::run(&args),
+        Command::Dots(args) => dots::run(&args),
         Command::Simulate(args) => simulate::run(&args),
         Command::Score(args) => score::run(&args),
         Command::Contacts(args) => contacts::run(&args),

@@ -314,6 +314,7 @@ pub mod expected;
 pub mod export;
 pub mod genome;
 pub mod io;
+pub mod loops;
 pub mod matrix;
 pub mod normalize;
 pub mod numeric;

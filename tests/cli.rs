@@ -11,6 +11,8 @@ mod contacts;
 mod convert;
 #[path = "cli/cool.rs"]
 mod cool;
+#[path = "cli/dots.rs"]
+mod dots;
 #[path = "cli/dump.rs"]
 mod dump;
 #[path = "cli/errors.rs"]

@@ -353,3 +353,89 @@ pub fn read_curves(path: &str, bins: &BinTable, column: &str) -> Result<Vec<Diag
     curves.sort_by_key(|c| c.bins.start);
     Ok(curves)
 }
+
+/// Column `column` of a cooltools cis expected table (`expected-cis` / `contactmap expected`)
+/// for each region of `view`, by diagonal: `values[r][d]` (NaN where the table has no row).
+/// Errors name the file and what does not fit: a region of the view missing from the table, a
+/// `dist` beyond its region (the table was made on another view), a `dist_bp` that is not
+/// `dist` times the bin size of `bins` (another resolution).
+///
+/// ```
+/// use contactmap::expected::{table::read_region_column, View};
+/// use contactmap::io::{open_matrix, OpenOptions};
+/// let reader = open_matrix("data/cooler_test_file.mcool::/resolutions/100000", &OpenOptions::default())?;
+/// let view = View::chromosomes(reader.bins());
+/// let path = "data/reference/numerics/dm6_100kb.expected_cis.raw.tsv.gz";
+/// let values = read_region_column(path, reader.bins(), &view, "count.avg")?;
+/// assert_eq!(values.len(), view.regions().len());
+/// assert!(values[0][0].is_nan() && values[0][2] > values[0][10]);
+/// let other = open_matrix("data/cooler_test_file.mcool::/resolutions/1000000", &OpenOptions::default())?;
+/// assert!(read_region_column(path, other.bins(), &View::chromosomes(other.bins()), "count.avg").is_err());
+/// # Ok::<(), contactmap::Error>(())
+/// ```
+pub fn read_region_column(
+    path: &str,
+    bins: &BinTable,
+    view: &super::View,
+    column: &str,
+) -> Result<Vec<Vec<f64>>> {
+    let table = &Table::read(path)?;
+    let (c1, c2, dist) = (
+        table.column("region1")?,
+        table.column("region2")?,
+        table.column("dist")?,
+    );
+    let value = table.column(column)?;
+    let dist_bp = table.column("dist_bp").ok();
+    let bin_size = bins.bin_size_bp();
+    let regions = view.regions();
+    let mut values: Vec<Vec<f64>> = regions.iter().map(|r| vec![f64::NAN; r.n_bins()]).collect();
+    let mut seen = vec![false; regions.len()];
+    for row in 0..table.len() {
+        let (r1, r2) = (table.text(row, c1), table.text(row, c2));
+        if r1 != r2 {
+            continue;
+        }
+        let Some(r) = regions.iter().position(|region| region.name == r1) else {
+            continue;
+        };
+        seen[r] = true;
+        let d = table.number(row, dist)?;
+        let n = regions[r].n_bins();
+        if !(d >= 0.0 && d.fract() == 0.0 && (d as usize) < n) {
+            return Err(Error::format(
+                table.path(),
+                format!(
+                    "row {}: dist {d} is not a diagonal of region {r1} ({n} bins in this view): \
+                     the expected was computed on another view or resolution",
+                    row + 2
+                ),
+            ));
+        }
+        if let (Some(c), Some(size)) = (dist_bp, bin_size) {
+            let bp = table.number(row, c)?;
+            if bp != d * size as f64 {
+                return Err(Error::format(
+                    table.path(),
+                    format!(
+                        "row {}: dist_bp {bp} is not dist {d} x {size} bp: the expected is for \
+                         another resolution",
+                        row + 2
+                    ),
+                ));
+            }
+        }
+        values[r][d as usize] = table.number(row, value)?;
+    }
+    if let Some(r) = seen.iter().position(|s| !s) {
+        return Err(Error::format(
+            table.path(),
+            format!(
+                "no rows for region '{}' of the view: the expected must cover every region \
+                 (compute it with `contactmap expected` on the same view)",
+                regions[r].name
+            ),
+        ));
+    }
+    Ok(values)
+}
