@@ -17,7 +17,7 @@ pub enum RepairOutcome {
     Refused(Vec<String>),
 }
 
-/// Write a corrected copy of the cooler at `uri` (checked first with [`validate`], giving
+/// Write a corrected copy of the cooler at `uri` (checked first with [`validate`](super::validate), giving
 /// `report`) to `out`. `out` must not be the input (same path or same file through a link).
 ///
 /// The base resolution (the only cooler of a `.cool`, the finest level of an `.mcool`) is read
