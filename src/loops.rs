@@ -244,6 +244,7 @@ pub fn call_dots(
         kernels: &kernels,
         band,
         max_nans_tolerated: params.max_nans_tolerated,
+        min_count: 0,
     };
     let lambda = LambdaBins::new(params.n_lambda_bins);
     let n_k = kernels.len();
@@ -298,13 +299,23 @@ pub fn call_dots(
         .max()
         .unwrap_or(0);
 
-    // 2. the enriched pixels
+    // 2. the enriched pixels: a pixel passes the threshold of its bin for every kernel, so at
+    // least the largest of the kernels' smallest thresholds
+    let min_count = stats
+        .iter()
+        .map(KernelStats::min_threshold)
+        .max()
+        .unwrap_or(0);
+    let extraction = ScanSettings {
+        min_count,
+        ..settings
+    };
     let mut enriched = Vec::new();
     for (r, scan) in scans.iter().enumerate() {
         let mut found = scan_region(
             reader,
             scan,
-            &settings,
+            &extraction,
             Vec::new,
             |kept: &mut Vec<EnrichedPixel>, pixel| {
                 for (k, &x) in pixel.la_exp.iter().enumerate() {

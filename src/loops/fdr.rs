@@ -234,11 +234,24 @@ pub struct KernelStats {
     pub n_bins: usize,
     /// Per bin: the smallest count that passes (the largest count plus one when none does).
     pub thresholds: Vec<u64>,
+    /// Per bin: the number of pixels in it.
+    pub pixels: Vec<u64>,
     /// `qvalues[row][bin]`, row the index of the count in `counts`.
     pub qvalues: Vec<Vec<f64>>,
 }
 
 impl KernelStats {
+    /// The smallest threshold of a bin holding pixels: no pixel below it passes.
+    pub fn min_threshold(&self) -> u64 {
+        self.thresholds
+            .iter()
+            .zip(&self.pixels)
+            .filter(|(_, &n)| n > 0)
+            .map(|(&t, _)| t)
+            .min()
+            .unwrap_or(0)
+    }
+
     /// The q-value of a pixel with `count` in lambda bin `bin`; `None` when the count was not
     /// histogrammed.
     pub fn qvalue(&self, count: u64, bin: usize) -> Option<f64> {
@@ -288,6 +301,7 @@ pub fn kernel_stats(
     let high = counts[counts.len() - 1] + 1;
     let mut thresholds = vec![high; n_bins];
     let mut qvalues = vec![vec![f64::NAN; n_bins]; counts.len()];
+    let mut pixels = vec![0u64; n_bins];
     for b in 0..n_bins {
         // reverse cumulative sums: pixels with count >= counts[r]
         let mut rcs = vec![0u64; counts.len()];
@@ -296,6 +310,7 @@ pub fn kernel_stats(
             acc += rows[r][b];
             rcs[r] = acc;
         }
+        pixels[b] = rcs[0];
         let norm = rcs[0] as f64;
         let lambda = bins.right(b);
         let mut running_max = f64::NEG_INFINITY;
@@ -324,6 +339,7 @@ pub fn kernel_stats(
         counts,
         n_bins,
         thresholds,
+        pixels,
         qvalues,
     })
 }

@@ -65,6 +65,9 @@ pub struct ScanSettings<'a> {
     pub band: usize,
     /// A kernel with this many missing cells or more rejects the pixel.
     pub max_nans_tolerated: usize,
+    /// Pixels with a smaller count are skipped unscored (0: score all). The extraction pass sets
+    /// the smallest threshold a pixel must reach, which leaves most pixels unscored.
+    pub min_count: u64,
 }
 
 /// Score every eligible pixel of `region`, folding them into per-task states (`init`, `visit`)
@@ -300,30 +303,44 @@ fn score_chunk(
     let n_strips = layout.strips.len();
     let mut v_obs = vec![0.0f64; n_strips * width];
     let mut v_miss = vec![0u32; n_strips * width];
+    // prefix sums of the missing counts per strip (exact, integers): NN in two reads a rectangle
+    let mut p_miss = vec![0u32; n_strips * (width + 1)];
     let n_kernels = kernels.len();
     let mut la = vec![0.0f64; n_kernels];
     let mut nn = vec![0u32; n_kernels];
     for i in c0..c1 {
+        let j_end = (i + band).min(e);
+        if j_end <= i + 1 {
+            continue;
+        }
+        // the columns row i's footprints touch
+        let lo = (i + 1 - w - col_lo) as usize;
+        let hi = ((j_end - 1 + w + 1 - col_lo) as usize).min(width);
         // vertical strips for pixel row i
         for (k, &(dy0, dy1)) in layout.strips.iter().enumerate() {
-            let vo = &mut v_obs[k * width..(k + 1) * width];
-            let vm = &mut v_miss[k * width..(k + 1) * width];
+            let vo = &mut v_obs[k * width + lo..k * width + hi];
+            let vm = &mut v_miss[k * width + lo..k * width + hi];
             vo.fill(0.0);
             vm.fill(0);
             for dy in dy0..=dy1 {
                 let r = (i + dy as i64 - row_lo) as usize;
-                let o_row = &obs[r * width..(r + 1) * width];
-                let m_row = &missing[r * width..(r + 1) * width];
-                for c in 0..width {
-                    vo[c] += o_row[c];
-                    vm[c] += m_row[c];
+                let o_row = &obs[r * width + lo..r * width + hi];
+                let m_row = &missing[r * width + lo..r * width + hi];
+                for ((v, &o), (m, &x)) in vo.iter_mut().zip(o_row).zip(vm.iter_mut().zip(m_row)) {
+                    *v += o;
+                    *m += x;
                 }
+            }
+            let pm = &mut p_miss[k * (width + 1)..(k + 1) * (width + 1)];
+            pm[lo] = 0;
+            let vm = &v_miss[k * width..(k + 1) * width];
+            for c in lo..hi {
+                pm[c + 1] = pm[c] + vm[c];
             }
         }
         let wi = weights[i as usize];
         let (cols, counts) = rows.row(i as usize);
         let mut next = 0usize;
-        let j_end = (i + band).min(e);
         for j in (i + 1)..j_end {
             // the raw count at (i, j)
             while next < cols.len() && (cols[next] as i64) < j {
@@ -334,15 +351,16 @@ fn score_chunk(
             } else {
                 0.0
             };
+            if count < settings.min_count as f64 {
+                continue;
+            }
             let base = j - col_lo;
             let mut rejected = false;
             for (kk, rects) in layout.rects.iter().enumerate() {
                 let mut n = 0u32;
                 for &(strip, dx0, dx1) in rects {
-                    let vm = &v_miss[strip * width..(strip + 1) * width];
-                    for c in (base + dx0 as i64)..=(base + dx1 as i64) {
-                        n += vm[c as usize];
-                    }
+                    let pm = &p_miss[strip * (width + 1)..(strip + 1) * (width + 1)];
+                    n += pm[(base + dx1 as i64 + 1) as usize] - pm[(base + dx0 as i64) as usize];
                 }
                 nn[kk] = n;
                 if n as usize >= settings.max_nans_tolerated {
@@ -365,10 +383,9 @@ fn score_chunk(
             for (kk, rects) in layout.rects.iter().enumerate() {
                 let mut ko = 0.0;
                 for &(strip, dx0, dx1) in rects {
-                    let vo = &v_obs[strip * width..(strip + 1) * width];
-                    for c in (base + dx0 as i64)..=(base + dx1 as i64) {
-                        ko += vo[c as usize];
-                    }
+                    let start = strip * width + (base + dx0 as i64) as usize;
+                    let end = strip * width + (base + dx1 as i64) as usize + 1;
+                    ko += v_obs[start..end].iter().sum::<f64>();
                 }
                 let ke = if nn[kk] == 0 {
                     ke0[kk][d as usize]
