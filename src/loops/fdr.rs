@@ -92,6 +92,9 @@ impl LambdaBins {
     /// assert_eq!(bins.right(22), 161.27); // 2^(22/3) = 161.2698..., as pandas labels it
     /// assert_eq!(bins.index(161.2699), 23);
     /// assert_eq!(bins.label_index(161.2699), 22);
+    /// for x in [0.5, 1.0, 1.0000001, 2.0, 2.5198421, 7.9, 8.0, 8192.000000000007, 1e6] {
+    ///     assert_eq!(bins.index(x), bins.edges.partition_point(|&e| e < x) - 1, "{x}");
+    /// }
     /// ```
     pub fn new(n_lambda_bins: usize) -> LambdaBins {
         let b = base();
@@ -114,7 +117,20 @@ impl LambdaBins {
     /// The bin of `x` (pandas' `cut`: the number of edges below `x`, less one); [`Self::len`]
     /// above the last edge.
     pub fn index(&self, x: f64) -> usize {
-        self.edges.partition_point(|&e| e < x).saturating_sub(1)
+        if x <= 1.0 || x.is_nan() {
+            return 0; // (-inf, 1] (and NaN, which cut leaves out; scored pixels have none)
+        }
+        // edges[k] = 2^((k - 1) / 3): start from the bin log2 suggests, then settle on the
+        // exact edges (the guess is off by at most one)
+        let last = self.edges.len() - 1;
+        let mut k = ((3.0 * x.log2()).ceil() as usize + 1).clamp(1, last);
+        while k > 1 && self.edges[k - 1] >= x {
+            k -= 1;
+        }
+        while k <= last && self.edges[k] < x {
+            k += 1;
+        }
+        k - 1
     }
 
     /// The bin of `x` by the labels' rounded edges (how cooltools looks up q-values).

@@ -308,6 +308,24 @@ fn score_chunk(
     let n_kernels = kernels.len();
     let mut la = vec![0.0f64; n_kernels];
     let mut nn = vec![0u32; n_kernels];
+    // each rectangle as offsets from a pixel's column into the strip arrays: (observed, prefix
+    // counts, width)
+    let rects: Vec<Vec<(isize, isize, usize)>> = layout
+        .rects
+        .iter()
+        .map(|rects| {
+            rects
+                .iter()
+                .map(|&(strip, dx0, dx1)| {
+                    (
+                        (strip * width) as isize + dx0 as isize,
+                        (strip * (width + 1)) as isize + dx0 as isize,
+                        (dx1 - dx0 + 1) as usize,
+                    )
+                })
+                .collect()
+        })
+        .collect();
     for i in c0..c1 {
         let j_end = (i + band).min(e);
         if j_end <= i + 1 {
@@ -354,13 +372,13 @@ fn score_chunk(
             if count < settings.min_count as f64 {
                 continue;
             }
-            let base = j - col_lo;
+            let base = (j - col_lo) as isize;
             let mut rejected = false;
-            for (kk, rects) in layout.rects.iter().enumerate() {
+            for (kk, rects) in rects.iter().enumerate() {
                 let mut n = 0u32;
-                for &(strip, dx0, dx1) in rects {
-                    let pm = &p_miss[strip * (width + 1)..(strip + 1) * (width + 1)];
-                    n += pm[(base + dx1 as i64 + 1) as usize] - pm[(base + dx0 as i64) as usize];
+                for &(_, p0, len) in rects {
+                    let start = (base + p0) as usize;
+                    n += p_miss[start + len] - p_miss[start];
                 }
                 nn[kk] = n;
                 if n as usize >= settings.max_nans_tolerated {
@@ -380,12 +398,11 @@ fn score_chunk(
             } else {
                 e_bal / (wi * wj)
             };
-            for (kk, rects) in layout.rects.iter().enumerate() {
+            for (kk, rects) in rects.iter().enumerate() {
                 let mut ko = 0.0;
-                for &(strip, dx0, dx1) in rects {
-                    let start = strip * width + (base + dx0 as i64) as usize;
-                    let end = strip * width + (base + dx1 as i64) as usize + 1;
-                    ko += v_obs[start..end].iter().sum::<f64>();
+                for &(o0, _, len) in rects {
+                    let start = (base + o0) as usize;
+                    ko += v_obs[start..start + len].iter().sum::<f64>();
                 }
                 let ke = if nn[kk] == 0 {
                     ke0[kk][d as usize]
