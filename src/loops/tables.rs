@@ -103,9 +103,15 @@ pub fn enriched_tsv(calls: &DotCalls, bins: &BinTable) -> String {
 
 /// The dots as `cooltools.dots` returns them (22 columns): the 15 of [`enriched_tsv`], then
 /// `region cstart1 cstart2 c_label c_size region1 region2`. `None` when no clustering was done.
+/// Without any enriched pixel cooltools returns an empty table whose last seven columns come in
+/// another order (`region region1 region2 c_label c_size cstart1 cstart2`): so does this.
 pub fn dots_tsv(calls: &DotCalls, bins: &BinTable, view: &View) -> Option<String> {
     let dots = calls.dots.as_ref()?;
     let mut text = header(calls);
+    if calls.enriched.is_empty() {
+        text.push_str("\tregion\tregion1\tregion2\tc_label\tc_size\tcstart1\tcstart2\n");
+        return Some(text);
+    }
     text.push_str("\tregion\tcstart1\tcstart2\tc_label\tc_size\tregion1\tregion2\n");
     for dot in dots {
         pixel_columns(&mut text, bins, &dot.pixel);

@@ -147,3 +147,18 @@ fn dots_on_a_named_view_name_their_regions() {
     }
     assert_close_tables(&dots, &reference);
 }
+
+/// Nothing enriched (an FDR no pixel can meet): the header alone, in the column order of
+/// cooltools' empty result.
+#[test]
+fn no_enriched_pixel_gives_cooltools_empty_table() {
+    let out = run_ok(&["dots", &data("yeast.10kb.cool"), "--fdr", "1e-300"]);
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(lines.len(), 1, "{out}");
+    assert!(
+        lines[0].ends_with(
+            "la_exp.lowleft.qval\tregion\tregion1\tregion2\tc_label\tc_size\tcstart1\tcstart2"
+        ),
+        "{out}"
+    );
+}
