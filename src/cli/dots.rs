@@ -54,7 +54,8 @@ for the enriched pixels; --enriched FILE writes those as well as the dots.
 
 Examples:
   contactmap dots sample.mcool::/resolutions/10000 -o sample.dots.bedpe
-  contactmap dots sample.mcool::/resolutions/5000 --view arms.bed --cooltools-cli -o dots.tsv
+  contactmap dots sample.mcool::/resolutions/5000 --view arms.bed \\
+      --cooltools-cli -o dots.tsv
   contactmap dots map_100kb.cool --w 3 --p 1 --no-cluster -o enriched.tsv")]
 pub struct DotsArgs {
     /// The map (balanced: it needs a weight column).
