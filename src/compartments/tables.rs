@@ -139,6 +139,13 @@ pub fn saddle_table(saddle: &Saddle) -> String {
 }
 
 /// The class edges of a digitized track (PREFIX.edges.tsv): `edge`, one per line.
+///
+/// ```
+/// use contactmap::compartments::saddle::Digitized;
+/// use contactmap::compartments::tables::edges_table;
+/// let digitized = Digitized { edges: vec![-0.5, 0.5], classes: vec![1, 2] };
+/// assert_eq!(edges_table(&digitized), "edge\n-0.5\n0.5\n");
+/// ```
 pub fn edges_table(digitized: &Digitized) -> String {
     let mut edges = String::from("edge\n");
     for e in &digitized.edges {
@@ -149,6 +156,19 @@ pub fn edges_table(digitized: &Digitized) -> String {
 
 /// Each bin's class (PREFIX.digitized.tsv): `chrom start end {column}.d`, as cooltools names
 /// the digitized track.
+///
+/// ```
+/// use contactmap::compartments::saddle::Digitized;
+/// use contactmap::compartments::tables::digitized_table;
+/// use contactmap::genome::{BinTable, Chrom};
+/// let bins = BinTable::fixed(vec![Chrom::new("chr1", 200)], 100)?;
+/// let digitized = Digitized { edges: vec![0.0, 1.0], classes: vec![1, -1] };
+/// assert_eq!(
+///     digitized_table(&bins, "E1", &digitized),
+///     "chrom\tstart\tend\tE1.d\nchr1\t0\t100\t1\nchr1\t100\t200\t-1\n"
+/// );
+/// # Ok::<(), contactmap::Error>(())
+/// ```
 pub fn digitized_table(bins: &BinTable, column: &str, digitized: &Digitized) -> String {
     let mut classes = format!("chrom\tstart\tend\t{column}.d\n");
     for (k, bin) in bins.iter().enumerate() {
@@ -164,6 +184,11 @@ pub fn digitized_table(bins: &BinTable, column: &str, digitized: &Digitized) -> 
 }
 
 /// The saddle strength at every extent `k >= 1` (PREFIX.strength.tsv): `k strength`.
+///
+/// ```
+/// use contactmap::compartments::tables::strength_table;
+/// assert_eq!(strength_table(&[0.0, 2.0, 1.5]), "k\tstrength\n1\t2\n2\t1.5\n");
+/// ```
 pub fn strength_table(strength: &[f64]) -> String {
     let mut text = String::from("k\tstrength\n");
     for (k, s) in strength.iter().enumerate().skip(1) {

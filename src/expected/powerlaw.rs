@@ -687,6 +687,23 @@ pub fn power_law_of_table(
 impl PowerLawReport {
     /// The single power law in one line (what `expected --logbin` and `plot expected --fit`
     /// print): exponent, its 95% interval, R², the distances fitted and the range asked for.
+    ///
+    /// ```
+    /// use contactmap::expected::powerlaw::power_law;
+    /// use contactmap::expected::{CisParams, View};
+    /// use contactmap::io::{load_pixels, open_matrix, OpenOptions};
+    /// let reader = open_matrix("data/yeast.10kb.cool", &OpenOptions::default())?;
+    /// let weights = reader.weights("weight")?.values;
+    /// let pixels = load_pixels(reader.as_ref(), u64::MAX)?;
+    /// let view = View::chromosomes(reader.bins());
+    /// let range = "20k-200k".parse()?;
+    /// let report = power_law(&pixels, Some(&weights), &view, &CisParams::default(), Some(range))?.fit?;
+    /// assert!(report.headline().starts_with("P(s) ~ s^-"));
+    /// assert!(report.headline().ends_with("in 20 kb - 200 kb)"));
+    /// let text = report.summary_text();
+    /// assert!(text.starts_with(&report.headline()) && text.contains("piecewise: "));
+    /// # Ok::<(), contactmap::Error>(())
+    /// ```
     pub fn headline(&self) -> String {
         let fit = &self.fit;
         format!(

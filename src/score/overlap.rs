@@ -175,6 +175,17 @@ pub fn compare_predictions<'a>(
 
 /// The rows of [`compare_predictions`] as the TSV of `score overlap --tsv`: `first second range
 /// min_sep max_sep list k n_first n_second shared jaccard`.
+///
+/// ```
+/// use contactmap::score::contacts::{Prediction, Rounding};
+/// use contactmap::score::lists::{parse_list_size, parse_range};
+/// use contactmap::score::overlap::{compare_predictions, overlap_tsv};
+/// let a = Prediction { pairs: vec![(1, 10, 0.9), (2, 20, 0.8)], ..Default::default() };
+/// let (ranges, sizes) = ([parse_range("all")?], [parse_list_size("L/10")?]);
+/// let (_, rows) = compare_predictions([("a", &a), ("a", &a)], Some(20), &ranges, &sizes, Rounding::Floor)?;
+/// assert_eq!(overlap_tsv("a", "a", &rows).lines().nth(1), Some("a\ta\tall\t6\tinf\tL/10\t2\t2\t2\t2\t1"));
+/// # Ok::<(), contactmap::Error>(())
+/// ```
 pub fn overlap_tsv(first: &str, second: &str, results: &[OverlapRow<'_>]) -> String {
     let mut text = String::from(
         "first\tsecond\trange\tmin_sep\tmax_sep\tlist\tk\tn_first\tn_second\tshared\tjaccard\n",

@@ -202,6 +202,18 @@ pub fn place(
 
 /// [`place`] the chain on the sequence of `prediction` (read from `path`, named in errors);
 /// without a sequence, [`check_numbering`] first, its warning in [`Placed::warning`].
+///
+/// ```
+/// use contactmap::score::contacts::ContactDefinition;
+/// use contactmap::score::target::{load_prediction, place_prediction, read_chain, RegisterChoice};
+/// use std::path::Path;
+/// let (structure, rr) = (Path::new("data/protein/1aapA/1aapA.pdb"), Path::new("data/protein/1aapA/1aapA.rr"));
+/// let chain = read_chain(structure, None)?;
+/// let prediction = load_prediction(rr, None, None)?;
+/// let placed = place_prediction(structure, &chain, &prediction, rr, RegisterChoice::Auto, &ContactDefinition::default())?;
+/// assert!(placed.truth.n_observed() > 50 && placed.warning.is_none());
+/// # Ok::<(), contactmap::Error>(())
+/// ```
 pub fn place_prediction(
     structure: &Path,
     chain: &Chain,
@@ -383,6 +395,30 @@ pub fn curves_tsv(reports: &[PredictionScores]) -> String {
 /// header (the `structure` and `chain` it was scored against, the observed residues, the contact
 /// `definition`, L and where it comes from, the rounding, what was done with unobserved pairs,
 /// the register) and one row per range x list size.
+///
+/// ```
+/// use contactmap::score::contacts::{ContactDefinition, Rounding};
+/// use contactmap::score::lists::{parse_length, parse_list_size, parse_range};
+/// use contactmap::score::target::*;
+/// use std::path::Path;
+/// let (structure, rr) = (Path::new("data/protein/1aapA/1aapA.pdb"), Path::new("data/protein/1aapA/1aapA.rr"));
+/// let chain = read_chain(structure, None)?;
+/// let prediction = load_prediction(rr, None, None)?;
+/// let definition = ContactDefinition::default();
+/// let placed = place_prediction(structure, &chain, &prediction, rr, RegisterChoice::Auto, &definition)?;
+/// let plan = ScorePlan {
+///     ranges: vec![parse_range("long")?],
+///     sizes: vec![parse_list_size("L/5")?],
+///     length: parse_length(None)?,
+///     rounding: Rounding::Floor,
+///     keep_unobserved: false,
+///     curve_size: None,
+/// };
+/// let report = score_prediction(rr, &prediction, &placed, &plan)?;
+/// let text = scores_text("1aapA.pdb", &chain.id, &definition.describe(), &plan, &[report]);
+/// assert!(text.contains("precision") && text.contains("long"));
+/// # Ok::<(), contactmap::Error>(())
+/// ```
 pub fn scores_text(
     structure: &str,
     chain: &str,
@@ -552,6 +588,20 @@ pub fn true_contacts_rr(
 
 /// The distance matrix of the observed residues as TSV (`contacts --matrix`): a header
 /// `residue` then the residue numbers, one row per residue, distances in Å to 3 decimals.
+///
+/// ```
+/// use contactmap::score::contacts::ContactDefinition;
+/// use contactmap::score::target::{distance_matrix_tsv, measure, read_chain};
+/// use std::path::Path;
+/// let path = Path::new("data/protein/toxd/toxd.pdb");
+/// let chain = read_chain(path, None)?;
+/// let truth = measure(path, &chain, &ContactDefinition::default())?;
+/// let text = String::from_utf8(distance_matrix_tsv(&truth)).unwrap();
+/// let n = truth.numbers().len();
+/// assert_eq!(text.lines().count(), n + 1);
+/// assert!(text.lines().nth(1).unwrap().split('\t').nth(1) == Some("0.000"));
+/// # Ok::<(), contactmap::Error>(())
+/// ```
 pub fn distance_matrix_tsv(truth: &TrueContacts) -> Vec<u8> {
     use std::io::Write as _;
     let mut text = Vec::new();

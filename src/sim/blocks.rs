@@ -178,6 +178,16 @@ pub struct BlockMap {
 impl BlockMap {
     /// The true domains as BED (`chrom start end level`, level 0 for top domains), what
     /// `simulate blocks --truth-domains` writes.
+    ///
+    /// ```
+    /// use contactmap::sim::blocks::{block_map, BlockMapParams};
+    /// let map = block_map(&BlockMapParams { n_chroms: 1, n_bins: 100, ..BlockMapParams::default() })?;
+    /// let bed = String::from_utf8(map.truth_domains_bed()).unwrap();
+    /// assert_eq!(bed.lines().count(), map.domains.len());
+    /// let boundaries = String::from_utf8(map.truth_boundaries_bed()).unwrap();
+    /// assert_eq!(boundaries.lines().count(), map.boundaries.len());
+    /// # Ok::<(), contactmap::Error>(())
+    /// ```
     pub fn truth_domains_bed(&self) -> Vec<u8> {
         let rows = self
             .domains
