@@ -97,6 +97,8 @@ step "The saddle of E1 (cooltools saddle) and its strength" \
   "$cm" saddle "$dm6" --track "$work/dm6.cis.vecs.tsv:E1" --n-bins 20 -o "$work/dm6"
 step "Picture: the saddle (B-B top left, A-A bottom right)" \
   "$cm" plot saddle "$work/dm6.saddle.tsv" --title "dm6 100 kb, E1 classes" -o "$figs/dm6_saddle.png"
+step "Loops: cooltools' dot caller on the yeast 10 kb map (four kernels, FDR per lambda bin, BIRCH clusters; cooltools finds the same 2 dots)" \
+  "$cm" dots data/yeast.10kb.cool -o "$work/yeast.dots.tsv" --enriched "$work/yeast.enriched.tsv"
 step "A synthetic map with known domains (power-law decay, Poisson noise, no coverage bias)" \
   "$cm" simulate blocks -o "$work/blocks.cool" --truth-boundaries "$work/truth.bed" --seed 1
 "$cm" info "$work/blocks.cool" | grep -E "nbins|nnz"

@@ -249,6 +249,59 @@ fn strip_zeros(text: &str) -> &str {
     }
 }
 
+/// `value` as Python's `repr` writes a float: the shortest digits that read back to it, fixed
+/// notation for exponents -4 to 15 (`60000.0`, `0.0001`), scientific otherwise (`1e-05`,
+/// `1.5e+16`).
+///
+/// ```
+/// use contactmap::io::output::python_float;
+/// assert_eq!(python_float(60000.0), "60000.0");
+/// assert_eq!(python_float(1e-5), "1e-05");
+/// assert_eq!(python_float(0.0001), "0.0001");
+/// assert_eq!(python_float(8192.000000000007), "8192.000000000007");
+/// assert_eq!(python_float(1.1543498344352284e-111), "1.1543498344352284e-111");
+/// assert_eq!(python_float(2.5e16), "2.5e+16");
+/// assert_eq!(python_float(f64::NAN), "nan");
+/// ```
+pub fn python_float(value: f64) -> String {
+    if value.is_nan() {
+        return "nan".into();
+    }
+    if value.is_infinite() {
+        return if value > 0.0 { "inf" } else { "-inf" }.into();
+    }
+    if value == 0.0 {
+        return if value.is_sign_negative() {
+            "-0.0"
+        } else {
+            "0.0"
+        }
+        .into();
+    }
+    let sci = format!("{:e}", value.abs());
+    let (mantissa, exp) = sci.split_once('e').expect("{:e} has an exponent");
+    let exp: i32 = exp.parse().expect("an integer exponent");
+    let digits: String = mantissa.chars().filter(|c| *c != '.').collect();
+    let sign = if value < 0.0 { "-" } else { "" };
+    if (-4..16).contains(&exp) {
+        let body = if exp >= 0 {
+            let int_len = exp as usize + 1;
+            if digits.len() <= int_len {
+                format!("{}{}.0", digits, "0".repeat(int_len - digits.len()))
+            } else {
+                format!("{}.{}", &digits[..int_len], &digits[int_len..])
+            }
+        } else {
+            format!("0.{}{}", "0".repeat((-exp - 1) as usize), digits)
+        };
+        format!("{sign}{body}")
+    } else {
+        let mut out = Vec::new();
+        write_exponent(&mut out, &format!("{value:e}"), false);
+        String::from_utf8(out).expect("ASCII digits")
+    }
+}
+
 /// True when an output option means standard output: absent, or `-`.
 pub fn is_stdout(path: Option<&Path>) -> bool {
     path.is_none_or(|p| p.as_os_str() == "-")

@@ -178,11 +178,10 @@ impl Histogram {
         }
     }
 
-    /// Count one pixel of `count` in lambda bin `bin` for kernel `kernel`.
+    /// Count one pixel of `count` in lambda bin `bin` (below the number of bins) for kernel
+    /// `kernel`.
     pub fn add(&mut self, kernel: usize, count: u64, bin: usize) {
-        if bin >= self.n_bins {
-            return;
-        }
+        debug_assert!(bin < self.n_bins);
         if count < DENSE_COUNTS {
             let table = &mut self.dense[kernel];
             let k = count as usize * self.n_bins + bin;

@@ -87,8 +87,8 @@ where
     V: Fn(&mut T, Scored<'_>) -> Result<()> + Sync + Send,
     R: Fn(T, T) -> T + Sync + Send,
 {
-    let w = settings.kernels.iter().map(|k| k.w).max().unwrap_or(0);
     let layout = Layout::new(settings.kernels);
+    let w = layout.w;
     let n = region.bins.len();
     let ke0 = expected_sums(settings.kernels, region.expected, settings.band.min(n));
     let mut total = init();
@@ -123,6 +123,8 @@ where
 
 /// The vertical strips the kernels' rectangles use, and each rectangle's strip.
 struct Layout {
+    /// The kernels' outer half-width.
+    w: usize,
     /// Distinct `(dy0, dy1)`.
     strips: Vec<(i32, i32)>,
     /// Per kernel: `(strip, dx0, dx1)`.
@@ -151,7 +153,20 @@ impl Layout {
                     .collect()
             })
             .collect();
-        Layout { strips, rects }
+        Layout {
+            w: kernels.iter().map(|k| k.w).max().unwrap_or(0),
+            strips,
+            rects,
+        }
+    }
+}
+
+/// The expected at diagonal `t`; NaN off the table (below the diagonal, past the region).
+fn expected_at(expected: &[f64], t: i64) -> f64 {
+    if t >= 0 && (t as usize) < expected.len() {
+        expected[t as usize]
+    } else {
+        f64::NAN
     }
 }
 
@@ -164,12 +179,7 @@ fn expected_sums(kernels: &[Kernel], expected: &[f64], band: usize) -> Vec<Vec<f
                 .map(|d| {
                     let mut sum = 0.0;
                     for &(dy, dx) in &kernel.cells {
-                        let t = d as i64 + dx as i64 - dy as i64;
-                        sum += if t >= 0 && (t as usize) < expected.len() {
-                            expected[t as usize]
-                        } else {
-                            f64::NAN
-                        };
+                        sum += expected_at(expected, d as i64 + dx as i64 - dy as i64);
                     }
                     sum
                 })
@@ -249,18 +259,12 @@ fn score_chunk(
     visit: &mut dyn FnMut(Scored<'_>) -> Result<()>,
 ) -> Result<()> {
     let kernels = settings.kernels;
-    let w = kernels.iter().map(|k| k.w).max().unwrap_or(0) as i64;
+    let w = layout.w as i64;
     let (s, e) = (region.bins.start as i64, region.bins.end as i64);
     let band = settings.band as i64;
     let weights = region.weights;
     let expected = region.expected;
-    let exp_at = |t: i64| -> f64 {
-        if t >= 0 && (t as usize) < expected.len() {
-            expected[t as usize]
-        } else {
-            f64::NAN
-        }
-    };
+    let exp_at = |t: i64| expected_at(expected, t);
     let (c0, c1) = (chunk.start as i64, chunk.end as i64);
     // columns any footprint of the chunk's pixels touches
     let col_lo = c0 + 1 - w;
