@@ -245,6 +245,7 @@ pub fn call_dots(
         band,
         max_nans_tolerated: params.max_nans_tolerated,
         min_count: 0,
+        rows: None,
     };
     let lambda = LambdaBins::new(params.n_lambda_bins);
     let n_k = kernels.len();
@@ -268,27 +269,43 @@ pub fn call_dots(
     };
     let mut histogram = Histogram::new(n_k, lambda.len());
     let mut n_scored = 0u64;
+    // per row, the largest count in each lambda bin of the first kernel: rows where none reaches
+    // its bin's threshold hold no enriched pixel, and the extraction pass skips them
+    let mut row_maxima = vec![Vec::new(); bins_table.n_bins()];
     for scan in &scans {
-        let (h, n) = scan_region(
+        let (h, n, maxima) = scan_region(
             reader,
             scan,
             &settings,
-            || (Histogram::new(n_k, lambda.len()), 0u64),
-            |(h, n), pixel| {
+            || (Histogram::new(n_k, lambda.len()), 0u64, Vec::new()),
+            |(h, n, maxima): &mut (Histogram, u64, Vec<(usize, Vec<u16>)>), pixel| {
                 for (k, &x) in pixel.la_exp.iter().enumerate() {
                     let b = lambda.index(x);
                     if b >= lambda.len() {
                         return Err(beyond(x));
                     }
                     h.add(k, pixel.count, b);
+                    if k == 0 {
+                        if maxima.last().is_none_or(|(row, _)| *row != pixel.bin1) {
+                            maxima.push((pixel.bin1, vec![0u16; lambda.len()]));
+                        }
+                        let max = &mut maxima.last_mut().expect("pushed").1[b];
+                        *max = (*max).max(pixel.count.min(u16::MAX as u64) as u16);
+                    }
                 }
                 *n += 1;
                 Ok(())
             },
-            |(a, na), (b, nb)| (a.merge(b), na + nb),
+            |(a, na, mut ma), (b, nb, mut mb)| {
+                ma.append(&mut mb);
+                (a.merge(b), na + nb, ma)
+            },
         )?;
         histogram = histogram.merge(h);
         n_scored += n;
+        for (row, max) in maxima {
+            row_maxima[row] = max;
+        }
     }
     let stats = (0..n_k)
         .map(|k| fdr::kernel_stats(&histogram, k, &lambda, params.fdr))
@@ -306,8 +323,19 @@ pub fn call_dots(
         .map(KernelStats::min_threshold)
         .max()
         .unwrap_or(0);
+    let donut = &stats[0];
+    let wanted: Vec<bool> = row_maxima
+        .iter()
+        .map(|max| {
+            max.iter().enumerate().any(|(b, &m)| {
+                b < donut.n_bins && (m == u16::MAX || m as u64 >= donut.thresholds[b])
+            })
+        })
+        .collect();
+    drop(row_maxima);
     let extraction = ScanSettings {
         min_count,
+        rows: Some(&wanted),
         ..settings
     };
     let mut enriched = Vec::new();

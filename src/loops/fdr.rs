@@ -116,6 +116,7 @@ impl LambdaBins {
 
     /// The bin of `x` (pandas' `cut`: the number of edges below `x`, less one); [`Self::len`]
     /// above the last edge.
+    #[inline]
     pub fn index(&self, x: f64) -> usize {
         if x <= 1.0 || x.is_nan() {
             return 0; // (-inf, 1] (and NaN, which cut leaves out; scored pixels have none)
@@ -123,7 +124,14 @@ impl LambdaBins {
         // edges[k] = 2^((k - 1) / 3): start from the bin log2 suggests, then settle on the
         // exact edges (the guess is off by at most one)
         let last = self.edges.len() - 1;
-        let mut k = ((3.0 * x.log2()).ceil() as usize + 1).clamp(1, last);
+        // 3 log2(x) from the exponent and the mantissa against 2^(1/3), 2^(2/3)
+        let bits = x.to_bits();
+        let exponent = ((bits >> 52) & 0x7ff) as i64 - 1023;
+        let mantissa = f64::from_bits((bits & ((1u64 << 52) - 1)) | (1023u64 << 52));
+        let third = (mantissa > 1.259_921_049_894_873_2) as i64
+            + (mantissa > 1.587_401_051_968_199_4) as i64;
+        let guess = (3 * exponent + third + 2).max(1) as usize;
+        let mut k = guess.min(last);
         while k > 1 && self.edges[k - 1] >= x {
             k -= 1;
         }
@@ -180,6 +188,7 @@ impl Histogram {
 
     /// Count one pixel of `count` in lambda bin `bin` (below the number of bins) for kernel
     /// `kernel`.
+    #[inline]
     pub fn add(&mut self, kernel: usize, count: u64, bin: usize) {
         debug_assert!(bin < self.n_bins);
         if count < DENSE_COUNTS {

@@ -68,6 +68,9 @@ pub struct ScanSettings<'a> {
     /// Pixels with a smaller count are skipped unscored (0: score all). The extraction pass sets
     /// the smallest threshold a pixel must reach, which leaves most pixels unscored.
     pub min_count: u64,
+    /// Only these rows (genome-wide bins, `true` to score) when given; blocks without one are
+    /// not read.
+    pub rows: Option<&'a [bool]>,
 }
 
 /// Score every eligible pixel of `region`, folding them into per-task states (`init`, `visit`)
@@ -95,6 +98,13 @@ where
     let mut b0 = region.bins.start;
     while b0 < region.bins.end {
         let b1 = (b0 + BLOCK_ROWS).min(region.bins.end);
+        if settings
+            .rows
+            .is_some_and(|wanted| !wanted[b0..b1].contains(&true))
+        {
+            b0 = b1;
+            continue;
+        }
         let rows = Rows::read(reader, region, b0..b1, w, settings.band)?;
         let chunks: Vec<Range<usize>> = (b0..b1)
             .step_by(CHUNK_ROWS)
@@ -157,6 +167,97 @@ impl Layout {
             w: kernels.iter().map(|k| k.w).max().unwrap_or(0),
             strips,
             rects,
+        }
+    }
+
+    /// Each kernel's rectangles as offsets into the strip arrays of a grid `width` wide.
+    fn offsets(&self, width: usize) -> Vec<Vec<Rect>> {
+        self.rects
+            .iter()
+            .map(|rects| {
+                rects
+                    .iter()
+                    .map(|&(strip, dx0, dx1)| Rect {
+                        sum: (strip * width) as isize + dx0 as isize,
+                        prefix: (strip * (width + 1)) as isize + dx0 as isize,
+                        len: (dx1 - dx0 + 1) as usize,
+                    })
+                    .collect()
+            })
+            .collect()
+    }
+}
+
+/// A kernel rectangle seen from a pixel at grid column `c`: strip cells `c + sum ..` (`len` of
+/// them) and prefix entries `c + prefix` and `c + prefix + len`.
+#[derive(Clone, Copy, Debug)]
+struct Rect {
+    sum: isize,
+    prefix: isize,
+    len: usize,
+}
+
+/// The sum over `rects` of strip values for the pixel at column `c`: rectangle by rectangle, cell
+/// by cell from the left. [`rect_sums`] adds in the same order, so the two agree to the bit.
+fn rect_sum(strips: &[f64], rects: &[Rect], c: isize) -> f64 {
+    let mut sum = 0.0;
+    for rect in rects {
+        let start = (c + rect.sum) as usize;
+        for &x in &strips[start..start + rect.len] {
+            sum += x;
+        }
+    }
+    sum
+}
+
+/// Pixels per register block of [`rect_sums`].
+const LANES: usize = 8;
+
+/// [`rect_sum`] for the pixels at columns `c0..c0 + out.len()`, into `out`: blocks of
+/// [`LANES`] pixels summed in registers (vectorised across pixels), the same additions per pixel.
+fn rect_sums(strips: &[f64], rects: &[Rect], c0: isize, out: &mut [f64]) {
+    let n = out.len();
+    let mut blocks = out.chunks_exact_mut(LANES);
+    for (b, block) in (&mut blocks).enumerate() {
+        let mut acc = [0.0f64; LANES];
+        for rect in rects {
+            let start = (c0 + rect.sum) as usize + b * LANES;
+            for cells in strips[start..start + rect.len + LANES - 1].windows(LANES) {
+                let cells: &[f64; LANES] = cells.try_into().expect("a window of LANES");
+                for (a, &x) in acc.iter_mut().zip(cells) {
+                    *a += x;
+                }
+            }
+        }
+        block.copy_from_slice(&acc);
+    }
+    let done = n - blocks.into_remainder().len();
+    for (t, o) in out[done..].iter_mut().enumerate() {
+        *o = rect_sum(strips, rects, c0 + (done + t) as isize);
+    }
+}
+
+/// The missing cells under `rects` for the pixel at column `c` (exact, from prefix counts).
+fn rect_count(prefix: &[u32], rects: &[Rect], c: isize) -> u32 {
+    rects
+        .iter()
+        .map(|rect| {
+            let start = (c + rect.prefix) as usize;
+            prefix[start + rect.len] - prefix[start]
+        })
+        .sum()
+}
+
+/// [`rect_count`] for the pixels at columns `c0..c0 + out.len()`, into `out`.
+fn rect_counts(prefix: &[u32], rects: &[Rect], c0: isize, out: &mut [u32]) {
+    out.fill(0);
+    let n = out.len();
+    for rect in rects {
+        let start = (c0 + rect.prefix) as usize;
+        let left = &prefix[start..start + n];
+        let right = &prefix[start + rect.len..start + rect.len + n];
+        for ((o, &l), &r) in out.iter_mut().zip(left).zip(right) {
+            *o += r - l;
         }
     }
 }
@@ -248,7 +349,194 @@ impl Rows {
     }
 }
 
+/// The cells around a chunk of pixel rows, dense: balanced observed (0 where missing), missing
+/// flags and expected (0 where missing), row by row from `row_lo`, columns from `col_lo`.
+struct Grid {
+    row_lo: i64,
+    col_lo: i64,
+    width: usize,
+    obs: Vec<f64>,
+    missing: Vec<u32>,
+    expected: Vec<f64>,
+}
+
+impl Grid {
+    fn new(rows: &Rows, region: &RegionScan<'_>, band: i64, w: i64, chunk: &Range<usize>) -> Grid {
+        let (s, e) = (region.bins.start as i64, region.bins.end as i64);
+        let weights = region.weights;
+        let (c0, c1) = (chunk.start as i64, chunk.end as i64);
+        // columns and rows any footprint of the chunk's pixels touches
+        let col_lo = c0 + 1 - w;
+        let col_hi = (c1 - 1) + (band - 1) + w + 1;
+        let width = (col_hi - col_lo) as usize;
+        let row_lo = c0 - w;
+        let n_rows = (c1 + w - row_lo) as usize;
+        let mut obs = vec![0.0f64; n_rows * width];
+        let mut missing = vec![1u32; n_rows * width];
+        let mut expected = vec![0.0f64; n_rows * width];
+        for r in 0..n_rows {
+            let a = row_lo + r as i64;
+            if a < s || a >= e {
+                continue;
+            }
+            let wa = weights[a as usize];
+            let cells = r * width..(r + 1) * width;
+            let o_row = &mut obs[cells.clone()];
+            let m_row = &mut missing[cells.clone()];
+            let e_row = &mut expected[cells];
+            // present unless masked: cells of the region on or above the diagonal
+            let b_start = a.max(col_lo).max(s);
+            let b_end = col_hi.min(e);
+            for b in b_start..b_end {
+                let o = 0.0 * (wa * weights[b as usize]);
+                let x = expected_at(region.expected, b - a);
+                if !(o.is_nan() || x.is_nan()) {
+                    let k = (b - col_lo) as usize;
+                    m_row[k] = 0;
+                    e_row[k] = x;
+                }
+            }
+            let (cols, counts) = rows.row(a as usize);
+            for (&b, &count) in cols.iter().zip(counts) {
+                let b = b as i64;
+                if b < b_start || b >= b_end {
+                    continue;
+                }
+                let k = (b - col_lo) as usize;
+                if m_row[k] == 0 {
+                    o_row[k] = count * (wa * weights[b as usize]);
+                }
+            }
+        }
+        Grid {
+            row_lo,
+            col_lo,
+            width,
+            obs,
+            missing,
+            expected,
+        }
+    }
+}
+
+/// The vertical strip sums of one pixel row: observed, prefix counts of missing cells and
+/// (on demand) expected, per strip.
+struct Strips {
+    width: usize,
+    obs: Vec<f64>,
+    missing: Vec<u32>,
+    prefix: Vec<u32>,
+    expected: Vec<f64>,
+}
+
+impl Strips {
+    fn new(n_strips: usize, width: usize) -> Strips {
+        Strips {
+            width,
+            obs: vec![0.0; n_strips * width],
+            missing: vec![0; n_strips * width],
+            prefix: vec![0; n_strips * (width + 1)],
+            expected: vec![0.0; n_strips * width],
+        }
+    }
+
+    /// Sum `values` (a grid array) over each strip of pixel row `i`, columns `cols`, into `out`
+    /// (row by row from the strip's top).
+    fn sum<T: Copy + std::ops::AddAssign>(
+        layout: &Layout,
+        grid: &Grid,
+        values: &[T],
+        i: i64,
+        cols: &Range<usize>,
+        out: &mut [T],
+    ) {
+        let width = grid.width;
+        let row = |dy: i32| {
+            let r = (i + dy as i64 - grid.row_lo) as usize;
+            &values[r * width + cols.start..r * width + cols.end]
+        };
+        for (k, &(dy0, dy1)) in layout.strips.iter().enumerate() {
+            let v = &mut out[k * width + cols.start..k * width + cols.end];
+            v.copy_from_slice(row(dy0));
+            for dy in dy0 + 1..=dy1 {
+                for (s, &x) in v.iter_mut().zip(row(dy)) {
+                    *s += x;
+                }
+            }
+        }
+    }
+
+    /// Observed sums and missing prefix counts of pixel row `i`.
+    fn observed(&mut self, layout: &Layout, grid: &Grid, i: i64, cols: &Range<usize>) {
+        Self::sum(layout, grid, &grid.obs, i, cols, &mut self.obs);
+        Self::sum(layout, grid, &grid.missing, i, cols, &mut self.missing);
+        let width = self.width;
+        for k in 0..layout.strips.len() {
+            let p = &mut self.prefix[k * (width + 1) + cols.start..(k + 1) * (width + 1)];
+            let m = &self.missing[k * width + cols.start..k * width + cols.end];
+            let mut acc = 0u32;
+            p[0] = 0;
+            for (p, &m) in p[1..].iter_mut().zip(m) {
+                acc += m;
+                *p = acc;
+            }
+        }
+    }
+
+    /// Expected sums of pixel row `i`.
+    fn expected(&mut self, layout: &Layout, grid: &Grid, i: i64, cols: &Range<usize>) {
+        Self::sum(layout, grid, &grid.expected, i, cols, &mut self.expected);
+    }
+}
+
+/// The raw expected of a pixel (0 when the pixel itself is missing) from its balanced expected
+/// and its two weights.
+fn raw_expected(e_bal: f64, wi: f64, wj: f64) -> f64 {
+    let wij = wi * wj;
+    if (0.0 * wij).is_nan() || e_bal.is_nan() {
+        0.0
+    } else {
+        e_bal / wij
+    }
+}
+
+/// Per-row work arrays of the scoring pass, per kernel `row_len` long.
+struct RowArrays {
+    row_len: usize,
+    counts: Vec<f64>,
+    e_raw: Vec<f64>,
+    nn: Vec<u32>,
+    /// `KO`, then `KO / KE` in place.
+    factor: Vec<f64>,
+    ke: Vec<f64>,
+    la: Vec<f64>,
+}
+
+impl RowArrays {
+    fn new(n_kernels: usize, row_len: usize) -> RowArrays {
+        RowArrays {
+            row_len,
+            counts: vec![0.0; row_len],
+            e_raw: vec![0.0; row_len],
+            nn: vec![0; n_kernels * row_len],
+            factor: vec![0.0; n_kernels * row_len],
+            ke: vec![0.0; n_kernels * row_len],
+            la: vec![0.0; n_kernels * row_len],
+        }
+    }
+
+    /// Kernel `k`'s part of an array, for the row's `n` pixels.
+    fn part(&self, k: usize, n: usize) -> Range<usize> {
+        k * self.row_len..k * self.row_len + n
+    }
+}
+
 /// Score the pixel rows `chunk`.
+///
+/// The scoring pass (`min_count` 0) computes every pixel of a row at once, vectorised across the
+/// row; the extraction pass computes its few candidates one by one with the same operations in
+/// the same order ([`rect_sum`] / [`rect_sums`], [`raw_expected`], `e_raw * (KO / KE)`), so a
+/// pixel gets the same values to the bit in both passes.
 fn score_chunk(
     rows: &Rows,
     region: &RegionScan<'_>,
@@ -258,190 +546,159 @@ fn score_chunk(
     chunk: Range<usize>,
     visit: &mut dyn FnMut(Scored<'_>) -> Result<()>,
 ) -> Result<()> {
-    let kernels = settings.kernels;
     let w = layout.w as i64;
-    let (s, e) = (region.bins.start as i64, region.bins.end as i64);
+    let e = region.bins.end as i64;
     let band = settings.band as i64;
     let weights = region.weights;
-    let expected = region.expected;
-    let exp_at = |t: i64| expected_at(expected, t);
-    let (c0, c1) = (chunk.start as i64, chunk.end as i64);
-    // columns any footprint of the chunk's pixels touches
-    let col_lo = c0 + 1 - w;
-    let col_hi = (c1 - 1) + (band - 1) + w + 1;
-    let width = (col_hi - col_lo) as usize;
-    let row_lo = c0 - w;
-    let n_rows = (c1 + w - row_lo) as usize;
-    // observed (0 where missing) and missing flags of every cell, row by row
-    let mut obs = vec![0.0f64; n_rows * width];
-    let mut missing = vec![1u32; n_rows * width];
-    for r in 0..n_rows {
-        let a = row_lo + r as i64;
-        if a < s || a >= e {
+    let grid = Grid::new(rows, region, band, w, &chunk);
+    let col_lo = grid.col_lo;
+    let rects = layout.offsets(grid.width);
+    let mut strips = Strips::new(layout.strips.len(), grid.width);
+    let n_k = rects.len();
+    let max_nans = settings.max_nans_tolerated;
+    // the balanced expected by diagonal, NaN past the table
+    let exp_band: Vec<f64> = (0..band.max(1))
+        .map(|d| expected_at(region.expected, d))
+        .collect();
+    let dense = settings.min_count == 0;
+    let mut arrays = RowArrays::new(n_k, if dense { exp_band.len() } else { 0 });
+    let mut la = vec![0.0f64; n_k];
+    let mut nn = vec![0u32; n_k];
+    let min_count = settings.min_count as f64;
+    let check_count = |i: i64, j: i64, count: f64| {
+        if count.fract() != 0.0 || count < 0.0 {
+            return Err(Error::Invalid(format!(
+                "dots needs integer counts (raw contacts): pixel ({i}, {j}) has {count}"
+            )));
+        }
+        Ok(count as u64)
+    };
+    for i in chunk.start as i64..chunk.end as i64 {
+        let j_end = (i + band).min(e);
+        if j_end <= i + 1 || settings.rows.is_some_and(|wanted| !wanted[i as usize]) {
             continue;
         }
-        let wa = weights[a as usize];
-        let o_row = &mut obs[r * width..(r + 1) * width];
-        let m_row = &mut missing[r * width..(r + 1) * width];
-        // present unless masked: cells of the region on or above the diagonal
-        let b_start = a.max(col_lo).max(s);
-        let b_end = col_hi.min(e);
-        for b in b_start..b_end {
-            let o = 0.0 * (wa * weights[b as usize]);
-            if !(o.is_nan() || exp_at(b - a).is_nan()) {
-                m_row[(b - col_lo) as usize] = 0;
-            }
-        }
-        let (cols, counts) = rows.row(a as usize);
-        for (&b, &count) in cols.iter().zip(counts) {
-            let b = b as i64;
-            if b < b_start || b >= b_end {
-                continue;
-            }
-            let k = (b - col_lo) as usize;
-            if m_row[k] == 0 {
-                o_row[k] = count * (wa * weights[b as usize]);
-            }
-        }
-    }
-    let n_strips = layout.strips.len();
-    let mut v_obs = vec![0.0f64; n_strips * width];
-    let mut v_miss = vec![0u32; n_strips * width];
-    // prefix sums of the missing counts per strip (exact, integers): NN in two reads a rectangle
-    let mut p_miss = vec![0u32; n_strips * (width + 1)];
-    let n_kernels = kernels.len();
-    let mut la = vec![0.0f64; n_kernels];
-    let mut nn = vec![0u32; n_kernels];
-    // each rectangle as offsets from a pixel's column into the strip arrays: (observed, prefix
-    // counts, width)
-    let rects: Vec<Vec<(isize, isize, usize)>> = layout
-        .rects
-        .iter()
-        .map(|rects| {
-            rects
-                .iter()
-                .map(|&(strip, dx0, dx1)| {
-                    (
-                        (strip * width) as isize + dx0 as isize,
-                        (strip * (width + 1)) as isize + dx0 as isize,
-                        (dx1 - dx0 + 1) as usize,
-                    )
-                })
-                .collect()
-        })
-        .collect();
-    for i in c0..c1 {
-        let j_end = (i + band).min(e);
-        if j_end <= i + 1 {
+        let n_j = (j_end - i - 1) as usize;
+        let (cols, counts) = rows.row(i as usize);
+        // the row's stored pixels in (i, j_end)
+        let from = cols.partition_point(|&b| (b as i64) <= i);
+        let to = cols.partition_point(|&b| (b as i64) < j_end);
+        let (cols, counts) = (&cols[from..to], &counts[from..to]);
+        if !dense && !counts.iter().any(|&c| c >= min_count) {
             continue;
         }
         // the columns row i's footprints touch
-        let lo = (i + 1 - w - col_lo) as usize;
-        let hi = ((j_end - 1 + w + 1 - col_lo) as usize).min(width);
-        // vertical strips for pixel row i
-        for (k, &(dy0, dy1)) in layout.strips.iter().enumerate() {
-            let vo = &mut v_obs[k * width + lo..k * width + hi];
-            let vm = &mut v_miss[k * width + lo..k * width + hi];
-            vo.fill(0.0);
-            vm.fill(0);
-            for dy in dy0..=dy1 {
-                let r = (i + dy as i64 - row_lo) as usize;
-                let o_row = &obs[r * width + lo..r * width + hi];
-                let m_row = &missing[r * width + lo..r * width + hi];
-                for ((v, &o), (m, &x)) in vo.iter_mut().zip(o_row).zip(vm.iter_mut().zip(m_row)) {
-                    *v += o;
-                    *m += x;
-                }
-            }
-            let pm = &mut p_miss[k * (width + 1)..(k + 1) * (width + 1)];
-            pm[lo] = 0;
-            let vm = &v_miss[k * width..(k + 1) * width];
-            for c in lo..hi {
-                pm[c + 1] = pm[c] + vm[c];
-            }
-        }
+        let c_first = i + 1 - col_lo;
+        let span =
+            c_first as usize - layout.w..((j_end - 1 + w + 1 - col_lo) as usize).min(grid.width);
+        strips.observed(layout, &grid, i, &span);
+        let mut expected_ready = false;
         let wi = weights[i as usize];
-        let (cols, counts) = rows.row(i as usize);
-        let mut next = 0usize;
-        for j in (i + 1)..j_end {
-            // the raw count at (i, j)
-            while next < cols.len() && (cols[next] as i64) < j {
-                next += 1;
+        if dense {
+            let a = &mut arrays;
+            let row_counts = &mut a.counts[..n_j];
+            row_counts.fill(0.0);
+            for (&b, &count) in cols.iter().zip(counts) {
+                check_count(i, b as i64, count)?;
+                row_counts[(b as i64 - i - 1) as usize] = count;
             }
-            let count = if next < cols.len() && cols[next] as i64 == j {
-                counts[next]
-            } else {
-                0.0
-            };
-            if count < settings.min_count as f64 {
-                continue;
+            let row_weights = &weights[(i + 1) as usize..j_end as usize];
+            for ((x, &e_bal), &wj) in a.e_raw[..n_j]
+                .iter_mut()
+                .zip(&exp_band[1..=n_j])
+                .zip(row_weights)
+            {
+                *x = raw_expected(e_bal, wi, wj);
             }
-            let base = (j - col_lo) as isize;
-            let mut rejected = false;
             for (kk, rects) in rects.iter().enumerate() {
-                let mut n = 0u32;
-                for &(_, p0, len) in rects {
-                    let start = (base + p0) as usize;
-                    n += p_miss[start + len] - p_miss[start];
-                }
-                nn[kk] = n;
-                if n as usize >= settings.max_nans_tolerated {
-                    rejected = true;
-                    break;
-                }
-            }
-            if rejected {
-                continue;
-            }
-            let d = j - i;
-            let wj = weights[j as usize];
-            let e_bal = exp_at(d);
-            let pixel_missing = (0.0 * (wi * wj)).is_nan() || e_bal.is_nan();
-            let e_raw = if pixel_missing {
-                0.0
-            } else {
-                e_bal / (wi * wj)
-            };
-            for (kk, rects) in rects.iter().enumerate() {
-                let mut ko = 0.0;
-                for &(o0, _, len) in rects {
-                    let start = (base + o0) as usize;
-                    ko += v_obs[start..start + len].iter().sum::<f64>();
-                }
-                let ke = if nn[kk] == 0 {
-                    ke0[kk][d as usize]
-                } else {
-                    let mut sum = 0.0;
-                    for &(dy, dx) in &kernels[kk].cells {
-                        let (a, b) = (i + dy as i64, j + dx as i64);
-                        let r = (a - row_lo) as usize;
-                        if missing[r * width + (b - col_lo) as usize] == 0 {
-                            sum += exp_at(b - a);
+                let part = a.part(kk, n_j);
+                rect_counts(
+                    &strips.prefix,
+                    rects,
+                    c_first as isize,
+                    &mut a.nn[part.clone()],
+                );
+                rect_sums(
+                    &strips.obs,
+                    rects,
+                    c_first as isize,
+                    &mut a.factor[part.clone()],
+                );
+                let ke = &mut a.ke[part.clone()];
+                ke.copy_from_slice(&ke0[kk][1..=n_j]);
+                // footprints with missing cells sum the expected of their present cells
+                for (t, &n) in a.nn[part.clone()].iter().enumerate() {
+                    if n > 0 && (n as usize) < max_nans {
+                        if !expected_ready {
+                            strips.expected(layout, &grid, i, &span);
+                            expected_ready = true;
                         }
+                        ke[t] = rect_sum(&strips.expected, rects, c_first as isize + t as isize);
                     }
-                    sum
-                };
-                let factor = ko / ke;
-                if !factor.is_finite() {
-                    rejected = true;
-                    break;
                 }
-                la[kk] = e_raw * factor;
+                for (((f, &k), l), &x) in a.factor[part.clone()]
+                    .iter_mut()
+                    .zip(&*ke)
+                    .zip(&mut a.la[part])
+                    .zip(&a.e_raw[..n_j])
+                {
+                    *f /= k;
+                    *l = x * *f;
+                }
             }
-            if rejected {
-                continue;
+            'pixel: for t in 0..n_j {
+                for (kk, l) in la.iter_mut().enumerate() {
+                    let k = kk * a.row_len + t;
+                    if a.nn[k] as usize >= max_nans || !a.factor[k].is_finite() {
+                        continue 'pixel;
+                    }
+                    *l = a.la[k];
+                }
+                visit(Scored {
+                    bin1: i as usize,
+                    bin2: (i + 1) as usize + t,
+                    count: a.counts[t] as u64,
+                    la_exp: &la,
+                })?;
             }
-            if count.fract() != 0.0 || count < 0.0 {
-                return Err(Error::Invalid(format!(
-                    "dots needs integer counts (raw contacts): pixel ({i}, {j}) has {count}"
-                )));
+        } else {
+            'candidate: for (&b, &count) in cols.iter().zip(counts) {
+                if count < min_count {
+                    continue;
+                }
+                let c = (b as i64 - col_lo) as isize;
+                for (kk, rects) in rects.iter().enumerate() {
+                    nn[kk] = rect_count(&strips.prefix, rects, c);
+                    if nn[kk] as usize >= max_nans {
+                        continue 'candidate;
+                    }
+                }
+                let d = b as usize - i as usize;
+                let e_raw = raw_expected(exp_band[d], wi, weights[b as usize]);
+                for (kk, rects) in rects.iter().enumerate() {
+                    let ko = rect_sum(&strips.obs, rects, c);
+                    let ke = if nn[kk] == 0 {
+                        ke0[kk][d]
+                    } else {
+                        if !expected_ready {
+                            strips.expected(layout, &grid, i, &span);
+                            expected_ready = true;
+                        }
+                        rect_sum(&strips.expected, rects, c)
+                    };
+                    let factor = ko / ke;
+                    if !factor.is_finite() {
+                        continue 'candidate;
+                    }
+                    la[kk] = e_raw * factor;
+                }
+                visit(Scored {
+                    bin1: i as usize,
+                    bin2: b as usize,
+                    count: check_count(i, b as i64, count)?,
+                    la_exp: &la,
+                })?;
             }
-            visit(Scored {
-                bin1: i as usize,
-                bin2: j as usize,
-                count: count as u64,
-                la_exp: &la,
-            })?;
         }
     }
     Ok(())

@@ -384,7 +384,7 @@ impl ChunkDecoder {
         })?;
         let applied =
             |position: Option<u32>| position.is_some_and(|k| raw.filter_mask & (1 << k) == 0);
-        let mut plain = if applied(self.deflate_position) {
+        let plain = if applied(self.deflate_position) {
             buffer.clear();
             buffer.reserve(chunk_bytes);
             let mut inflater = Decompress::new(true);
@@ -404,34 +404,46 @@ impl ChunkDecoder {
                 plain.len()
             ));
         }
-        if applied(self.shuffle_position) && element_size > 1 {
-            plain = unshuffle(&plain, element_size);
-        }
-        for (k, value) in target.iter_mut().enumerate() {
-            let at = (skip + k) * element_size;
-            *value = T::decode(ElementBytes {
-                bytes: &plain[at..at + element_size],
-                element: self.element,
-            });
+        let shuffled = applied(self.shuffle_position);
+        let element = self.element;
+        match element_size {
+            1 => decode_elements::<1, T>(&plain, false, element, skip, target),
+            2 => decode_elements::<2, T>(&plain, shuffled, element, skip, target),
+            4 => decode_elements::<4, T>(&plain, shuffled, element, skip, target),
+            _ => decode_elements::<8, T>(&plain, shuffled, element, skip, target),
         }
         *buffer = plain;
         Ok(())
     }
 }
 
-/// Undo HDF5's shuffle filter: byte `b` of element `i` was stored at `b * n + i`; trailing bytes
-/// that do not fill an element are left in place.
-fn unshuffle(shuffled: &[u8], element_size: usize) -> Vec<u8> {
-    let n = shuffled.len() / element_size;
-    let mut out = vec![0u8; shuffled.len()];
-    for b in 0..element_size {
-        let plane = &shuffled[b * n..(b + 1) * n];
-        for (i, &byte) in plane.iter().enumerate() {
-            out[i * element_size + b] = byte;
+/// Decode elements `skip..skip + target.len()` of a chunk's `N`-byte elements, undoing HDF5's
+/// shuffle filter on the way when `shuffled` (byte `b` of element `i` was stored at `b * n + i`,
+/// `n` the number of whole elements; trailing bytes are stored as they are).
+fn decode_elements<const N: usize, T: ColumnValue>(
+    plain: &[u8],
+    shuffled: bool,
+    element: Element,
+    skip: usize,
+    target: &mut [T],
+) {
+    let len = target.len();
+    if shuffled {
+        let n = plain.len() / N;
+        let planes: [&[u8]; N] = std::array::from_fn(|b| &plain[b * n + skip..b * n + skip + len]);
+        for (k, value) in target.iter_mut().enumerate() {
+            let bytes: [u8; N] = std::array::from_fn(|b| planes[b][k]);
+            *value = T::decode(ElementBytes {
+                bytes: &bytes,
+                element,
+            });
+        }
+    } else {
+        let elements = plain[skip * N..(skip + len) * N].chunks_exact(N);
+        for (value, bytes) in target.iter_mut().zip(elements) {
+            *value = T::decode(ElementBytes { bytes, element });
         }
     }
-    out[n * element_size..].copy_from_slice(&shuffled[n * element_size..]);
-    out
 }
 
 /// Open the file at `path` for positioned reads.
@@ -444,12 +456,16 @@ mod tests {
     use super::*;
 
     #[test]
-    fn unshuffle_inverts_the_byte_planes() {
-        // Elements 0x0102, 0x0304, 0x0506 (little-endian) shuffled: low bytes then high bytes.
+    fn shuffled_elements_are_decoded_from_the_byte_planes() {
+        // Elements 0x0102, 0x0304, 0x0506 (little-endian) shuffled: low bytes then high bytes,
+        // then a trailing byte.
         let shuffled = [0x02, 0x04, 0x06, 0x01, 0x03, 0x05, 0xff];
-        assert_eq!(
-            unshuffle(&shuffled, 2),
-            vec![0x02, 0x01, 0x04, 0x03, 0x06, 0x05, 0xff]
-        );
+        let mut target = [0i64; 2];
+        decode_elements::<2, i64>(&shuffled, true, Element::U16, 1, &mut target);
+        assert_eq!(target, [0x0304, 0x0506]);
+        let plain = [0x02, 0x01, 0x04, 0x03, 0x06, 0x05];
+        let mut target = [0i64; 3];
+        decode_elements::<2, i64>(&plain, false, Element::I16, 0, &mut target);
+        assert_eq!(target, [0x0102, 0x0304, 0x0506]);
     }
 }
