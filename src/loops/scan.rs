@@ -94,39 +94,56 @@ where
     let w = layout.w;
     let n = region.bins.len();
     let ke0 = expected_sums(settings.kernels, region.expected, settings.band.min(n));
-    let mut total = init();
-    let mut b0 = region.bins.start;
-    while b0 < region.bins.end {
-        let b1 = (b0 + BLOCK_ROWS).min(region.bins.end);
-        if settings
-            .rows
-            .is_some_and(|wanted| !wanted[b0..b1].contains(&true))
-        {
-            b0 = b1;
-            continue;
-        }
-        let rows = Rows::read(reader, region, b0..b1, w, settings.band)?;
-        let chunks: Vec<Range<usize>> = (b0..b1)
+    // the blocks to read (those with a wanted row)
+    let blocks: Vec<Range<usize>> = region
+        .bins
+        .clone()
+        .step_by(BLOCK_ROWS)
+        .map(|b0| b0..(b0 + BLOCK_ROWS).min(region.bins.end))
+        .filter(|block| {
+            settings
+                .rows
+                .is_none_or(|wanted| wanted[block.clone()].contains(&true))
+        })
+        .collect();
+    let score_block = |rows: &Rows, block: &Range<usize>| -> Result<T> {
+        let chunks: Vec<Range<usize>> = block
+            .clone()
             .step_by(CHUNK_ROWS)
-            .map(|c0| c0..(c0 + CHUNK_ROWS).min(b1))
+            .map(|c0| c0..(c0 + CHUNK_ROWS).min(block.end))
             .collect();
-        let part = chunks
+        chunks
             .into_par_iter()
             .try_fold(&init, |mut state, chunk| {
-                score_chunk(
-                    &rows,
-                    region,
-                    settings,
-                    &layout,
-                    &ke0,
-                    chunk,
-                    &mut |pixel| visit(&mut state, pixel),
-                )?;
+                score_chunk(rows, region, settings, &layout, &ke0, chunk, &mut |pixel| {
+                    visit(&mut state, pixel)
+                })?;
                 Ok::<T, Error>(state)
             })
-            .try_reduce(&init, |a, b| Ok(reduce(a, b)))?;
-        total = reduce(total, part);
-        b0 = b1;
+            .try_reduce(&init, |a, b| Ok(reduce(a, b)))
+    };
+    let mut total = init();
+    let Some(first) = blocks.first() else {
+        return Ok(total);
+    };
+    // each block is scored while the next one is read
+    let mut rows = Rows::read(reader, region, first.clone(), w, settings.band)?;
+    for (k, block) in blocks.iter().enumerate() {
+        let (part, next) = std::thread::scope(|scope| {
+            let scoring = scope.spawn(|| score_block(&rows, block));
+            let next = blocks
+                .get(k + 1)
+                .map(|next| Rows::read(reader, region, next.clone(), w, settings.band))
+                .transpose();
+            let part = scoring
+                .join()
+                .unwrap_or_else(|_| Err(Error::Invalid("a dot-scoring thread panicked".into())));
+            (part, next)
+        });
+        total = reduce(total, part?);
+        if let Some(next) = next? {
+            rows = next;
+        }
     }
     Ok(total)
 }
@@ -544,7 +561,7 @@ fn score_chunk(
     layout: &Layout,
     ke0: &[Vec<f64>],
     chunk: Range<usize>,
-    visit: &mut dyn FnMut(Scored<'_>) -> Result<()>,
+    visit: &mut impl FnMut(Scored<'_>) -> Result<()>,
 ) -> Result<()> {
     let w = layout.w as i64;
     let e = region.bins.end as i64;

@@ -82,6 +82,7 @@ pub struct ElementBytes<'a> {
 }
 
 impl ElementBytes<'_> {
+    #[inline]
     fn as_f64(self) -> f64 {
         let b = self.bytes;
         match self.element {
@@ -91,6 +92,7 @@ impl ElementBytes<'_> {
         }
     }
 
+    #[inline]
     fn as_i64(self) -> i64 {
         let b = self.bytes;
         match self.element {
@@ -108,12 +110,14 @@ impl ElementBytes<'_> {
 }
 
 impl ColumnValue for i64 {
+    #[inline]
     fn decode(element: ElementBytes<'_>) -> Self {
         element.as_i64()
     }
 }
 
 impl ColumnValue for f64 {
+    #[inline]
     fn decode(element: ElementBytes<'_>) -> Self {
         element.as_f64()
     }
