@@ -20,6 +20,7 @@ pub mod boundaries;
 pub mod compartments;
 pub mod contacts;
 pub mod lists;
+pub mod loops;
 pub mod overlap;
 pub mod register;
 pub mod target;

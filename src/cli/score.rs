@@ -4,6 +4,7 @@
 //! ([`contactmap::score::contacts`]).
 
 mod compartments;
+mod loops;
 mod overlap;
 
 use std::path::{Path, PathBuf};
@@ -49,6 +50,9 @@ pub enum ScoreCommand {
     /// Two contact predictions against each other, without a structure: shared pairs and
     /// Jaccard index of their top lists.
     Overlap(overlap::OverlapArgs),
+    /// Loop (dot) calls against true loops: precision, recall, F1 within a tolerance, per
+    /// distance class; weak truth loops (held in few samples) left out with --min-fraction.
+    Loops(loops::LoopsScoreArgs),
 }
 
 /// Arguments of `contactmap score boundaries`.
@@ -113,6 +117,7 @@ pub fn run(args: &ScoreArgs) -> Result<()> {
         ScoreCommand::Contacts(contacts) => run_contacts(contacts),
         ScoreCommand::Compartments(args) => compartments::run(args),
         ScoreCommand::Overlap(args) => overlap::run(args),
+        ScoreCommand::Loops(args) => loops::run(args),
     }
 }
 

@@ -183,6 +183,8 @@ pub struct BedpeRecord {
     pub first: BedRecord,
     /// Second anchor.
     pub second: BedRecord,
+    /// The columns after the sixth, as they are.
+    pub rest: Vec<String>,
 }
 
 /// Read the BEDPE file at `path` (plain or gzip): the first six columns of each line; a header
@@ -226,6 +228,7 @@ pub fn read_bedpe(path: &Path) -> Result<Vec<BedpeRecord>> {
             Ok(BedpeRecord {
                 first,
                 second: anchor(fields[3], fields[4], fields[5])?,
+                rest: fields[6..].iter().map(|f| f.to_string()).collect(),
             })
         });
         records.push(pair.map_err(|m: String| Error::parse(path, line_no, m))?);

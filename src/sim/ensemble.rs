@@ -193,11 +193,16 @@ pub struct Ensemble {
     pub radii_of_gyration: Vec<Vec<f64>>,
     /// The sampled conformations, when kept.
     pub conformations: Vec<Vec<[f64; 3]>>,
+    /// With loop extrusion: `(bin1, bin2, samples)`, `bin1 <= bin2`, sorted: the bins of
+    /// boundary-element pairs held bridged by a LEF (both legs captured) and the number of
+    /// samples (conformations) in which at least one such pair of these bins was held.
+    pub held_loops: Vec<(u32, u32, u64)>,
 }
 
 /// What one replica's samples gave.
 pub(crate) struct Replica {
     pixels: Vec<(u64, u64)>,
+    held: Vec<(u64, u64)>,
     radii: Vec<Vec<f64>>,
     conformations: Vec<Vec<[f64; 3]>>,
 }
@@ -209,6 +214,7 @@ pub(crate) struct Sampler<'a> {
     bead_bin: &'a [u32],
     n_bins: u64,
     counts: std::collections::HashMap<u64, u64>,
+    held: std::collections::HashMap<u64, u64>,
     cells: CellList,
     radii: Vec<Vec<f64>>,
     conformations: Vec<Vec<[f64; 3]>>,
@@ -222,6 +228,7 @@ impl<'a> Sampler<'a> {
             bead_bin,
             n_bins,
             counts: std::collections::HashMap::new(),
+            held: std::collections::HashMap::new(),
             cells: CellList::new(),
             radii: Vec::with_capacity(params.samples),
             conformations: Vec::new(),
@@ -253,12 +260,33 @@ impl<'a> Sampler<'a> {
         }
     }
 
+    /// Record the loops `extruder` holds at this sample: the bin pairs of the LEFs whose two
+    /// legs are captured by boundary elements, each bin pair once per sample.
+    pub(crate) fn record_loops(&mut self, extruder: &Extruder) {
+        let mut keys: Vec<u64> = extruder
+            .legs()
+            .iter()
+            .zip(extruder.captured())
+            .filter(|(_, captured)| captured[0] && captured[1])
+            .map(|(&(l, r), _)| {
+                let (x, y) = (self.bead_bin[l] as u64, self.bead_bin[r] as u64);
+                x.min(y) * self.n_bins + x.max(y)
+            })
+            .collect();
+        keys.sort_unstable();
+        keys.dedup();
+        for key in keys {
+            *self.held.entry(key).or_insert(0) += 1;
+        }
+    }
+
     /// The replica's result.
     pub(crate) fn finish(self) -> Replica {
         let mut pixels: Vec<(u64, u64)> = self.counts.into_iter().collect();
         pixels.sort_unstable();
         Replica {
             pixels,
+            held: self.held.into_iter().collect(),
             radii: self.radii,
             conformations: self.conformations,
         }
@@ -273,22 +301,22 @@ pub(crate) fn assemble(
 ) -> Ensemble {
     let n_bins: u64 = bins_per_chain.iter().sum::<usize>() as u64;
     // Merge the sorted per-replica pixel lists (integer sums: order does not matter).
-    let mut all: Vec<(u64, u64)> = replicas
+    let all: Vec<(u64, u64)> = replicas
         .iter()
         .flat_map(|replica| replica.pixels.iter().copied())
         .collect();
-    all.sort_unstable_by_key(|&(key, _)| key);
-    let mut pixels: Vec<(u32, u32, u64)> = Vec::new();
-    for (key, count) in all {
-        let (bin1, bin2) = ((key / n_bins) as u32, (key % n_bins) as u32);
-        match pixels.last_mut() {
-            Some(last) if last.0 == bin1 && last.1 == bin2 => last.2 += count,
-            _ => pixels.push((bin1, bin2, count)),
-        }
-    }
+    let pixels = sum_by_key(all, n_bins);
+    let held = sum_by_key(
+        replicas
+            .iter()
+            .flat_map(|replica| replica.held.iter().copied())
+            .collect(),
+        n_bins,
+    );
     let mut ensemble = Ensemble {
         bins_per_chain,
         pixels,
+        held_loops: held,
         n_conformations: params.replicas * params.samples,
         ..Ensemble::default()
     };
@@ -297,6 +325,20 @@ pub(crate) fn assemble(
         ensemble.conformations.extend(replica.conformations);
     }
     ensemble
+}
+
+/// `(bin1 * n_bins + bin2, count)` pairs summed by key, as sorted `(bin1, bin2, count)`.
+fn sum_by_key(mut all: Vec<(u64, u64)>, n_bins: u64) -> Vec<(u32, u32, u64)> {
+    all.sort_unstable_by_key(|&(key, _)| key);
+    let mut summed: Vec<(u32, u32, u64)> = Vec::new();
+    for (key, count) in all {
+        let (bin1, bin2) = ((key / n_bins) as u32, (key % n_bins) as u32);
+        match summed.last_mut() {
+            Some(last) if last.0 == bin1 && last.1 == bin2 => last.2 += count,
+            _ => summed.push((bin1, bin2, count)),
+        }
+    }
+    summed
 }
 
 /// The loop extrusion of one replica: its coupling, 1D model and generator.
@@ -401,29 +443,33 @@ fn run_replica(
     )?;
     let mut extrusion = replica_extrusion(params, replica)?;
     let mut steps_done = 0usize;
-    let mut advance = |polymer: &mut Polymer, steps: usize| {
-        for _ in 0..steps {
-            if let Some((coupling, extruder, rng)) = extrusion.as_mut() {
-                if steps_done.is_multiple_of(coupling.steps_per_move) {
-                    if steps_done > 0 {
-                        extruder.step(rng);
+    let mut advance =
+        |polymer: &mut Polymer, extrusion: &mut Option<ReplicaExtrusion<'_>>, steps: usize| {
+            for _ in 0..steps {
+                if let Some((coupling, extruder, rng)) = extrusion.as_mut() {
+                    if steps_done.is_multiple_of(coupling.steps_per_move) {
+                        if steps_done > 0 {
+                            extruder.step(rng);
+                        }
+                        polymer.set_extra_bonds(
+                            extruder.legs(),
+                            coupling.bond_length,
+                            coupling.bond_wiggle,
+                        );
                     }
-                    polymer.set_extra_bonds(
-                        extruder.legs(),
-                        coupling.bond_length,
-                        coupling.bond_wiggle,
-                    );
                 }
+                polymer.step();
+                steps_done += 1;
             }
-            polymer.step();
-            steps_done += 1;
-        }
-    };
-    advance(&mut polymer, params.equilibration_steps);
+        };
+    advance(&mut polymer, &mut extrusion, params.equilibration_steps);
     let mut sampler = Sampler::new(params, bead_bin, n_bins);
     for _ in 0..params.samples {
-        advance(&mut polymer, params.sample_every);
+        advance(&mut polymer, &mut extrusion, params.sample_every);
         sampler.sample(polymer.positions(), polymer.space());
+        if let Some((_, extruder, _)) = &extrusion {
+            sampler.record_loops(extruder);
+        }
     }
     Ok(sampler.finish())
 }
@@ -431,6 +477,7 @@ fn run_replica(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sim::extrusion::Orientation;
     use crate::sim::polymer::{Confinement, Repulsion};
 
     fn small(replicas: usize) -> EnsembleParams {
@@ -493,6 +540,56 @@ mod tests {
         let naive: Vec<(u32, u32, u64)> = naive.into_iter().map(|((a, b), c)| (a, b, c)).collect();
         assert_eq!(ensemble.pixels, naive);
         assert_eq!(ensemble.radii_of_gyration.len(), 15);
+    }
+
+    /// The held loops are those of the 1D model replayed on its own, step for step on the 3D
+    /// schedule (one 1D step at every `steps_per_move`-th 3D step after the first): at each
+    /// sample, the bin pairs of the LEFs with both legs captured, once per sample.
+    #[test]
+    fn held_loops_replay_the_extruder() {
+        use crate::sim::extrusion::BoundaryElement;
+        let mut params = small(2);
+        params.samples = 12;
+        let coupling = params.extrusion.as_mut().unwrap();
+        coupling.params.processivity = 60.0;
+        coupling.params.elements = [(5, Orientation::Both), (30, Orientation::Forward)]
+            .into_iter()
+            .chain([(50, Orientation::Reverse), (75, Orientation::Both)])
+            .chain([(95, Orientation::Both)])
+            .map(|(position, orientation)| BoundaryElement {
+                position,
+                orientation,
+                capture: 0.95,
+                release: 0.01,
+            })
+            .collect();
+        let ensemble = run_ensemble(&params, &|_| {}).unwrap();
+        let (bead_bin, _) = params.bins();
+        let spm = params.extrusion.as_ref().unwrap().steps_per_move;
+        let mut naive = std::collections::BTreeMap::new();
+        for replica in 0..params.replicas {
+            let (_, mut extruder, mut rng) = replica_extrusion(&params, replica).unwrap().unwrap();
+            let mut moves = 0;
+            for k in 0..params.samples {
+                let steps_done = params.equilibration_steps + (k + 1) * params.sample_every;
+                while moves < (steps_done - 1) / spm {
+                    extruder.step(&mut rng);
+                    moves += 1;
+                }
+                let mut pairs = std::collections::BTreeSet::new();
+                for (&(l, r), c) in extruder.legs().iter().zip(extruder.captured()) {
+                    if c[0] && c[1] {
+                        pairs.insert((bead_bin[l], bead_bin[r]));
+                    }
+                }
+                for pair in pairs {
+                    *naive.entry(pair).or_insert(0u64) += 1;
+                }
+            }
+        }
+        let naive: Vec<(u32, u32, u64)> = naive.into_iter().map(|((a, b), n)| (a, b, n)).collect();
+        assert!(!naive.is_empty(), "some loops are held");
+        assert_eq!(ensemble.held_loops, naive);
     }
 
     #[test]

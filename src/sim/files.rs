@@ -281,6 +281,37 @@ impl EnsembleParams {
 }
 
 impl Ensemble {
+    /// The loops LEFs held bridged between boundary elements (`simulate polymer --truth-loops`),
+    /// as BEDPE with a header: `chrom1 start1 end1 chrom2 start2 end2 fraction samples`, one
+    /// line per pair of bins (from [`EnsembleParams::bin_table`]) in which some sample held a
+    /// pair of elements, `samples` the number of samples that held one and `fraction` that
+    /// number over all samples. Pairs within one bin are left out (they lie on the diagonal).
+    pub fn truth_loops_bedpe(&self, bins: &BinTable) -> Vec<u8> {
+        use std::io::Write as _;
+        let mut text = b"chrom1\tstart1\tend1\tchrom2\tstart2\tend2\tfraction\tsamples\n".to_vec();
+        let total = self.n_conformations.max(1) as f64;
+        for &(bin1, bin2, samples) in &self.held_loops {
+            if bin1 == bin2 {
+                continue;
+            }
+            let (a, b) = (bins.bin(bin1 as usize), bins.bin(bin2 as usize));
+            let chrom = |id: usize| &bins.chroms()[id].name;
+            writeln!(
+                text,
+                "{}\t{}\t{}\t{}\t{}\t{}\t{}\t{samples}",
+                chrom(a.chrom_id),
+                a.start,
+                a.end,
+                chrom(b.chrom_id),
+                b.start,
+                b.end,
+                samples as f64 / total
+            )
+            .expect("writing to memory");
+        }
+        text
+    }
+
     /// The contact map of the ensemble on `bins` (from [`EnsembleParams::bin_table`]).
     pub fn matrix(&self, bins: BinTable) -> Result<ContactMatrix> {
         let mut builder = MatrixBuilder::new(bins, CountType::Integer);

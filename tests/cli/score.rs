@@ -249,3 +249,123 @@ fn predictions_without_a_sequence_are_checked_against_the_structure() {
         String::from_utf8_lossy(&out.stderr)
     );
 }
+
+/// `score loops` on a hand-made truth (with the fraction of samples) and calls: the counts and
+/// ratios per class worked out by hand; the yeast dots scored against themselves; bad inputs.
+#[test]
+fn score_loops_by_hand() {
+    let dir = tempfile::tempdir().unwrap();
+    let truth = write(
+        dir.path(),
+        "truth.bedpe",
+        "chrom1\tstart1\tend1\tchrom2\tstart2\tend2\tfraction\tsamples\n\
+         chr1\t100000\t105000\tchr1\t200000\t205000\t0.5\t40\n\
+         chr1\t300000\t305000\tchr1\t400000\t405000\t0.1\t8\n\
+         chr1\t1000000\t1005000\tchr1\t3000000\t3005000\t0.3\t24\n",
+    );
+    // one near the first loop, one near the weak second, one far from all, one duplicate
+    let calls = write(
+        dir.path(),
+        "calls.bedpe",
+        "chr1\t105000\t110000\tchr1\t200000\t205000\n\
+         chr1\t300000\t305000\tchr1\t395000\t400000\n\
+         chr1\t2000000\t2005000\tchr1\t2500000\t2505000\n\
+         chr1\t100000\t105000\tchr1\t195000\t200000\n",
+    );
+    let text = run_ok(&[
+        "score",
+        "loops",
+        "--truth",
+        &truth,
+        &calls,
+        "--tolerance",
+        "10k",
+        "--min-fraction",
+        "0.2",
+    ]);
+    let rows: Vec<Vec<&str>> = text.lines().map(|l| l.split('\t').collect()).collect();
+    assert_eq!(rows[0][0], "class");
+    // class n_truth n_calls n_weak truth_matched calls_matched precision recall f1
+    let got: Vec<String> = rows[1..]
+        .iter()
+        .map(|r| [r[0], r[3], r[4], r[5], r[6], r[7], r[8], r[9], r[10]].join(" "))
+        .collect();
+    assert_eq!(
+        got,
+        [
+            "0bp-100kb 0 3 1 0 1 0.500000 0.000000 0.000000",
+            "100kb-1Mb 1 1 0 1 0 0.000000 1.000000 0.000000",
+            "1Mb+ 1 0 0 0 0 0.000000 0.000000 0.000000",
+            "all 2 4 1 1 1 0.333333 0.500000 0.400000",
+        ]
+    );
+    // without --min-fraction every truth loop counts
+    let text = run_ok(&[
+        "score",
+        "loops",
+        "--truth",
+        &truth,
+        &calls,
+        "--tolerance",
+        "10k",
+    ]);
+    let all: Vec<&str> = text.lines().last().unwrap().split('\t').collect();
+    assert_eq!(&all[3..8], ["3", "4", "0", "2", "2"]);
+    // a map's dots against themselves
+    let dots = dir.path().join("dots.tsv");
+    run_ok(&[
+        "dots",
+        &data("yeast.10kb.cool"),
+        "-o",
+        &dots.to_string_lossy(),
+    ]);
+    let dots = dots.to_string_lossy().into_owned();
+    let text = run_ok(&["score", "loops", "--truth", &dots, &dots]);
+    assert!(
+        text.lines()
+            .last()
+            .unwrap()
+            .ends_with("\t1.000000\t1.000000\t1.000000"),
+        "{text}"
+    );
+    // bad inputs: one line, exit 2, no file
+    let out = dir.path().join("out.tsv");
+    let out_s = out.to_string_lossy().into_owned();
+    let line = run_err(&[
+        "score",
+        "loops",
+        "--truth",
+        &calls,
+        &calls,
+        "--min-fraction",
+        "0.2",
+        "-o",
+        &out_s,
+    ]);
+    assert!(line.contains("7th column"), "{line}");
+    let line = run_err(&[
+        "score",
+        "loops",
+        "--truth",
+        &truth,
+        &calls,
+        "--tolerance",
+        "ten",
+        "-o",
+        &out_s,
+    ]);
+    assert!(line.contains("--tolerance"), "{line}");
+    let line = run_err(&[
+        "score",
+        "loops",
+        "--truth",
+        &truth,
+        &calls,
+        "--distance-classes",
+        "5k,1M",
+        "-o",
+        &out_s,
+    ]);
+    assert!(line.contains("start at 0"), "{line}");
+    assert!(!out.exists());
+}

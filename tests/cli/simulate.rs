@@ -236,6 +236,8 @@ fn polymer_ensemble_files_and_reproducibility() {
             &path(&format!("{tag}.domains.bed")),
             "--stats",
             &path(&format!("{tag}.stats.tsv")),
+            "--truth-loops",
+            &path(&format!("{tag}.loops.bedpe")),
         ];
         let output = std::process::Command::new(env!("CARGO_BIN_EXE_contactmap"))
             .args(args)
@@ -275,6 +277,31 @@ fn polymer_ensemble_files_and_reproducibility() {
         run_ok(&["dump", &again, "--join"])
     );
     assert_eq!(stats, std::fs::read_to_string(path("b.stats.tsv")).unwrap());
+    // the held loops: bin pairs of element bins, fraction = samples / (3 replicas x 4 samples)
+    let loops = std::fs::read_to_string(path("a.loops.bedpe")).unwrap();
+    let mut lines = loops.lines();
+    assert_eq!(
+        lines.next(),
+        Some("chrom1\tstart1\tend1\tchrom2\tstart2\tend2\tfraction\tsamples")
+    );
+    let element_bins = ["chr1\t80000", "chr1\t160000", "chr2\t60000"];
+    for line in lines {
+        let f: Vec<&str> = line.split('\t').collect();
+        assert!(
+            element_bins.contains(&format!("{}\t{}", f[0], f[1]).as_str()),
+            "{line}"
+        );
+        assert!(
+            element_bins.contains(&format!("{}\t{}", f[3], f[4]).as_str()),
+            "{line}"
+        );
+        let samples: f64 = f[7].parse().unwrap();
+        assert_eq!(f[6].parse::<f64>().unwrap(), samples / 12.0, "{line}");
+    }
+    assert_eq!(
+        loops,
+        std::fs::read_to_string(path("b.loops.bedpe")).unwrap()
+    );
 }
 
 /// Bad parameters are refused before any work, with one error line and no output file.

@@ -109,6 +109,10 @@ Outputs:
   --truth-boundaries    BED: the bins holding a boundary element (score tads calls against it
                         with `contactmap score boundaries`)
   --truth-domains       BED: the segments between consecutive boundary elements of a chain
+  --truth-loops         BEDPE: chrom1 start1 end1 chrom2 start2 end2 fraction samples, the bin
+                        pairs of boundary elements a LEF held bridged (both legs captured) at a
+                        sample, and the fraction of samples that held them (score dots calls
+                        against it with `contactmap score loops`)
   --truth-compartments  BED: chrom start end TYPE FRACTION_A per bin (with --types): its beads'
                         majority type and the fraction of type A (a phasing track: FILE:5);
                         score eigenvectors with `contactmap score compartments`
@@ -241,6 +245,10 @@ pub struct PolymerArgs {
     /// Write the true domains (BED).
     #[arg(long, value_name = "BED")]
     pub truth_domains: Option<PathBuf>,
+    /// Write the loops LEFs held between boundary elements (BEDPE with the fraction of samples
+    /// that held each), with --extrusion.
+    #[arg(long, value_name = "BEDPE", requires = "extrusion")]
+    pub truth_loops: Option<PathBuf>,
     /// Write each bin's type (BED: chrom start end TYPE FRACTION_A, the majority type of its
     /// beads and the fraction of them of type A), with --types.
     #[arg(long, value_name = "BED", requires = "types")]
@@ -433,6 +441,7 @@ pub fn run(args: &PolymerArgs) -> Result<()> {
             Some(&args.output),
             args.truth_boundaries.as_deref(),
             args.truth_domains.as_deref(),
+            args.truth_loops.as_deref(),
             args.truth_compartments.as_deref(),
             args.conformations.as_deref(),
             args.stats.as_deref(),
@@ -484,6 +493,9 @@ pub fn run(args: &PolymerArgs) -> Result<()> {
     }
     if let Some(path) = &args.truth_domains {
         write_text_file(path, params.truth_domains_bed(&bins, args.monomer_bp))?;
+    }
+    if let Some(path) = &args.truth_loops {
+        write_text_file(path, ensemble.truth_loops_bedpe(&bins))?;
     }
     if let Some(path) = &args.conformations {
         let mut out = Output::open(Some(path))?;

@@ -222,6 +222,11 @@ fn run_batch(
                 .par_iter_mut()
                 .zip(positions.par_chunks(n))
                 .for_each(|(sampler, positions)| sampler.sample(positions, space));
+            for (sampler, extrusion) in samplers.iter_mut().zip(&extrusions) {
+                if let Some((_, extruder, _)) = extrusion {
+                    sampler.record_loops(extruder);
+                }
+            }
             next_sample += params.sample_every;
         }
     }
