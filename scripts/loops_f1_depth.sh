@@ -1,19 +1,21 @@
 #!/usr/bin/env bash
 # F1 of `contactmap dots` against the loops a simulation held (`simulate polymer --truth-loops`),
 # against depth (docs/loops.md, issue 28). Eight independent extrusion ensembles (seeds 1..8) of a
-# 2,000-bead chain with a boundary element every 100 beads; the maps of the first 1, 2, 4 and 8
+# 1,000-bead chain with a boundary element every 100 beads and one LEF per 50 beads, 16 replicas of
+# 5 samples each (many replicas: a chain this long does not relax within a run, so samples of one
+# replica share their large-scale contacts); the maps of the first 1, 2, 4 and 8
 # are merged, balanced, called with `dots` (API defaults, 5 kb bins: w=7, p=4) and scored against
 # the truth of all eight (each bin pair's fraction of samples averaged over the ensembles).
 # Usage: scripts/loops_f1_depth.sh [OUT_DIR=/tmp/loops_f1] [CONTACTMAP=target/release/contactmap]
 set -euo pipefail
 out="${1:-/tmp/loops_f1}"; cm="$(realpath "${2:-target/release/contactmap}")"
 mkdir -p "$out"; cd "$out"
-ctcf=$(seq -s, 100 100 1900)
+ctcf=$(seq -s, 100 100 900)
 for seed in 1 2 3 4 5 6 7 8; do
   [ -f "s$seed.cool" ] && continue
-  "$cm" simulate polymer -o "s$seed.cool" --chains 2000 --density 0.2 --extrusion --ctcf "$ctcf" \
-    --capture 0.99 --release 0.002 --processivity 400 --separation 100 --steps-per-move 50 \
-    --monomers-per-bin 5 --replicas 2 --equilibration 20000 --sample-every 1000 --samples 40 \
+  "$cm" simulate polymer -o "s$seed.cool" --chains 1000 --density 0.2 --extrusion --ctcf "$ctcf" \
+    --capture 0.99 --release 0.002 --processivity 800 --separation 50 --steps-per-move 50 \
+    --monomers-per-bin 5 --replicas 16 --equilibration 10000 --sample-every 2000 --samples 5 \
     --seed "$seed" --truth-loops "s$seed.truth.bedpe" 2>/dev/null
 done
 # the truth of all eight: per bin pair, the mean fraction (every ensemble has as many samples)
@@ -24,7 +26,7 @@ for path in sys.argv[1:]:
     for line in open(path).read().splitlines()[1:]:
         f = line.split("\t")
         held[tuple(f[:6])] += int(f[7])
-total = 80 * (len(sys.argv) - 1)
+total = 16 * 5 * (len(sys.argv) - 1)
 print("chrom1\tstart1\tend1\tchrom2\tstart2\tend2\tfraction\tsamples")
 for key in sorted(held, key=lambda k: (int(k[1]), int(k[4]))):
     print("\t".join(key), held[key] / total, held[key], sep="\t")

@@ -87,8 +87,9 @@ pub enum Command {
     /// `simulate polymer` (bead-spring polymer ensembles with loop extrusion, CPU or GPU).
     Simulate(simulate::SimulateArgs),
     /// Score calls against a truth: `score boundaries` (TAD boundaries and domains), `score
-    /// compartments` (eigenvectors against A/B truth), `score contacts` (protein residue-contact
-    /// predictions against a structure), `score overlap` (two contact predictions).
+    /// compartments` (eigenvectors against A/B truth), `score loops` (dot calls against true
+    /// loops), `score contacts` (protein residue-contact predictions against a structure), `score
+    /// overlap` (two contact predictions).
     Score(score::ScoreArgs),
     /// True residue contacts of a protein structure (PDB / mmCIF) as CASP RR, or its residue
     /// distance matrix.

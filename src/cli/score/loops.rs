@@ -30,11 +30,13 @@ Output: a tab-separated table with a header line:
   precision recall f1
 
 Examples:
-  contactmap simulate polymer -o loops.cool --chains 4000 --density 0.2 --extrusion \\
-      --ctcf 500+,1000-,1500+,2000- --monomers-per-bin 10 --truth-loops truth.bedpe
+  contactmap simulate polymer -o loops.cool --chains 4000 --density 0.2 \\
+      --extrusion --ctcf 500+,1000-,1500+,2000- --monomers-per-bin 10 \\
+      --truth-loops truth.bedpe
   contactmap balance loops.cool --store
   contactmap dots loops.cool --w 3 --p 1 -o dots.bedpe
-  contactmap score loops --truth truth.bedpe dots.bedpe --tolerance 20k --min-fraction 0.2")]
+  contactmap score loops --truth truth.bedpe dots.bedpe --tolerance 20k \\
+      --min-fraction 0.2")]
 pub struct LoopsScoreArgs {
     /// True loops (BEDPE; with --min-fraction its 7th column is each loop's fraction of samples).
     #[arg(long, value_name = "BEDPE")]
