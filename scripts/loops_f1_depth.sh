@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # F1 of `contactmap dots` against the loops a simulation held (`simulate polymer --truth-loops`),
 # against depth (docs/loops.md, issue 28). Eight independent extrusion ensembles (seeds 1..8) of a
-# 1,000-bead chain with a boundary element every 100 beads and one LEF per 50 beads, 16 replicas of
+# 1,000-bead chain with nine convergent pairs of boundary elements (a + element at 100k, a - at
+# 100k + 90: neighbouring loops share no site) and one LEF per 50 beads, 16 replicas of
 # 5 samples each (many replicas: a chain this long does not relax within a run, so samples of one
 # replica share their large-scale contacts); the maps of the first 1, 2, 4 and 8
 # are merged, balanced, called with `dots` (API defaults, 5 kb bins: w=7, p=4) and scored against
@@ -10,11 +11,12 @@
 set -euo pipefail
 out="${1:-/tmp/loops_f1}"; cm="$(realpath "${2:-target/release/contactmap}")"
 mkdir -p "$out"; cd "$out"
-ctcf=$(seq -s, 100 100 900)
+ctcf=$(for k in 1 2 3 4 5 6 7 8 9; do printf "%d+,%d-," $((k * 100)) $((k * 100 + 90)); done)
+ctcf=${ctcf%,}
 for seed in 1 2 3 4 5 6 7 8; do
   [ -f "s$seed.cool" ] && continue
   "$cm" simulate polymer -o "s$seed.cool" --chains 1000 --density 0.2 --extrusion --ctcf "$ctcf" \
-    --capture 0.99 --release 0.002 --processivity 800 --separation 50 --steps-per-move 50 \
+    --capture 0.99 --release 0.0002 --processivity 800 --separation 50 --steps-per-move 50 \
     --monomers-per-bin 5 --replicas 16 --equilibration 10000 --sample-every 2000 --samples 5 \
     --seed "$seed" --truth-loops "s$seed.truth.bedpe" 2>/dev/null
 done
