@@ -4,14 +4,14 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use crate::cli::input::open_balanced;
+use crate::cli::input::{bp_option, open_balanced};
 use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::warnings::Warnings;
 use crate::cli::InputArgs;
 use contactmap::error::{Error, Result};
 use contactmap::expected::table::read_region_column;
 use contactmap::expected::{expected_cis, CisParams};
-use contactmap::genome::parse_bp;
+
 use contactmap::io::output::write_whole;
 use contactmap::loops::kernels::recommended_w_p;
 use contactmap::loops::tables::{dots_tsv, enriched_tsv};
@@ -136,14 +136,11 @@ impl DotsArgs {
         if self.cooltools_cli {
             params = params.cooltools_cli();
         }
-        let bp = |option: &str, text: &str| {
-            parse_bp(text).map_err(|e| Error::Invalid(format!("{option}: {e}")))
-        };
         if let Some(text) = &self.max_separation {
-            params.max_separation_bp = bp("--max-separation", text)?;
+            params.max_separation_bp = bp_option("--max-separation", text)?;
         }
         if let Some(text) = &self.clustering_radius {
-            params.clustering_radius_bp = Some(bp("--clustering-radius", text)? as f64);
+            params.clustering_radius_bp = Some(bp_option("--clustering-radius", text)? as f64);
         }
         if self.no_cluster {
             params.clustering_radius_bp = None;

@@ -163,3 +163,8 @@ pub fn weights_and_view(
 pub fn expected_column(column: Option<&str>, raw: bool) -> &str {
     column.unwrap_or(if raw { "count.avg" } else { "balanced.avg" })
 }
+
+/// The distance given to `option` (`20k`, `1.5M`, `5000`) in bp; the error names the option.
+pub fn bp_option(option: &str, text: &str) -> Result<u64> {
+    contactmap::genome::parse_bp(text).map_err(|e| Error::Invalid(format!("{option}: {e}")))
+}

@@ -5,13 +5,13 @@ use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
 
-use crate::cli::input::weights_and_view;
+use crate::cli::input::{bp_option, weights_and_view};
 use crate::cli::output::{is_stdout, print_json, write_whole};
 use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::warnings::Warnings;
 use crate::cli::InputArgs;
 use contactmap::error::{Error, Result};
-use contactmap::genome::parse_bp;
+
 use contactmap::io::{LoadedPixels, StreamedPixels};
 use contactmap::tads::armatus::ArmatusParams;
 use contactmap::tads::call::{call, Caller};
@@ -248,7 +248,7 @@ fn parse_threshold(args: &TadsArgs) -> Result<Threshold> {
 fn windows_bp(args: &TadsArgs, bin_size: u64) -> Result<Vec<u64>> {
     let mut windows = Vec::with_capacity(args.window.len());
     for text in &args.window {
-        let value = parse_bp(text).map_err(|e| Error::Invalid(format!("--window: {e}")))?;
+        let value = bp_option("--window", text)?;
         if value == 0 || value % bin_size != 0 {
             return Err(Error::Invalid(format!(
                 "--window {text}: a window must be a positive multiple of the bin size ({bin_size} bp)"
@@ -279,8 +279,7 @@ fn caller(args: &TadsArgs, windows: &[u64], bin_size: u64) -> Result<Caller> {
             let calls_window = match &args.bed_window {
                 None => 0,
                 Some(text) => {
-                    let bp =
-                        parse_bp(text).map_err(|e| Error::Invalid(format!("--bed-window: {e}")))?;
+                    let bp = bp_option("--bed-window", text)?;
                     windows.iter().position(|&w| w == bp).ok_or_else(|| {
                         Error::Invalid(format!(
                             "--bed-window {text} is not one of the --window values"
@@ -317,8 +316,7 @@ fn caller(args: &TadsArgs, windows: &[u64], bin_size: u64) -> Result<Caller> {
             ..TopDomParams::default()
         }),
         MethodArg::Armatus => {
-            let max_domain_bp = parse_bp(&args.max_domain)
-                .map_err(|e| Error::Invalid(format!("--max-domain: {e}")))?;
+            let max_domain_bp = bp_option("--max-domain", &args.max_domain)?;
             let mut gammas = args.gamma.clone();
             if gammas.iter().any(|g| !g.is_finite() || *g < 0.0) {
                 return Err(Error::Invalid("--gamma values must be >= 0".into()));

@@ -4,9 +4,9 @@ use std::path::PathBuf;
 
 use clap::Args;
 
+use crate::cli::input::bp_option;
 use crate::cli::output::{refuse_overwrites, Output};
-use contactmap::error::{Error, Result};
-use contactmap::genome::parse_bp;
+use contactmap::error::Result;
 use contactmap::io::bed::read_bedpe;
 use contactmap::score::loops::{loop_score_table, score_loops, Loop, LoopScoreParams};
 
@@ -69,16 +69,13 @@ pub fn run(args: &LoopsScoreArgs) -> Result<()> {
         &[args.truth.as_path(), args.calls.as_path()],
         &[args.out.as_deref()],
     )?;
-    let bp = |option: &str, text: &str| {
-        parse_bp(text).map_err(|e| Error::Invalid(format!("{option}: {e}")))
-    };
     let params = LoopScoreParams {
-        tolerance_bp: bp("--tolerance", &args.tolerance)?,
+        tolerance_bp: bp_option("--tolerance", &args.tolerance)?,
         min_fraction: args.min_fraction.unwrap_or(0.0),
         distance_edges: args
             .distance_classes
             .iter()
-            .map(|text| bp("--distance-classes", text))
+            .map(|text| bp_option("--distance-classes", text))
             .collect::<Result<_>>()?,
     };
     let read = |path: &PathBuf, weighted: bool| -> Result<Vec<Loop>> {
