@@ -93,7 +93,7 @@ where
     let layout = Layout::new(settings.kernels);
     let w = layout.w;
     let n = region.bins.len();
-    let ke0 = expected_sums(settings.kernels, region.expected, settings.band.min(n));
+    let diagonals = Diagonals::new(settings.kernels, region.expected, settings.band.min(n));
     // the blocks to read (those with a wanted row)
     let blocks: Vec<Range<usize>> = region
         .bins
@@ -115,9 +115,15 @@ where
         chunks
             .into_par_iter()
             .try_fold(&init, |mut state, chunk| {
-                score_chunk(rows, region, settings, &layout, &ke0, chunk, &mut |pixel| {
-                    visit(&mut state, pixel)
-                })?;
+                score_chunk(
+                    rows,
+                    region,
+                    settings,
+                    &layout,
+                    &diagonals,
+                    chunk,
+                    &mut |pixel| visit(&mut state, pixel),
+                )?;
                 Ok::<T, Error>(state)
             })
             .try_reduce(&init, |a, b| Ok(reduce(a, b)))
@@ -288,22 +294,37 @@ fn expected_at(expected: &[f64], t: i64) -> f64 {
     }
 }
 
-/// `KE` of a footprint without missing cells, per kernel and diagonal `d < band`.
-fn expected_sums(kernels: &[Kernel], expected: &[f64], band: usize) -> Vec<Vec<f64>> {
-    kernels
-        .iter()
-        .map(|kernel| {
-            (0..band)
-                .map(|d| {
-                    let mut sum = 0.0;
-                    for &(dy, dx) in &kernel.cells {
-                        sum += expected_at(expected, d as i64 + dx as i64 - dy as i64);
-                    }
-                    sum
-                })
-                .collect()
-        })
-        .collect()
+/// A region's tables by diagonal `d < band`, computed once per region.
+struct Diagonals {
+    /// The balanced expected (NaN where the table has none).
+    expected: Vec<f64>,
+    /// Per kernel, `KE` of a footprint without missing cells.
+    ke0: Vec<Vec<f64>>,
+}
+
+impl Diagonals {
+    fn new(kernels: &[Kernel], expected: &[f64], band: usize) -> Diagonals {
+        let ke0 = kernels
+            .iter()
+            .map(|kernel| {
+                (0..band)
+                    .map(|d| {
+                        let mut sum = 0.0;
+                        for &(dy, dx) in &kernel.cells {
+                            sum += expected_at(expected, d as i64 + dx as i64 - dy as i64);
+                        }
+                        sum
+                    })
+                    .collect()
+            })
+            .collect();
+        Diagonals {
+            expected: (0..band.max(1) as i64)
+                .map(|d| expected_at(expected, d))
+                .collect(),
+            ke0,
+        }
+    }
 }
 
 /// The raw counts of the rows a block needs (its rows and `w` more on each side), row by row:
@@ -444,6 +465,8 @@ struct Strips {
     missing: Vec<u32>,
     prefix: Vec<u32>,
     expected: Vec<f64>,
+    /// The pixel row `expected` holds, once asked for.
+    expected_row: Option<i64>,
 }
 
 impl Strips {
@@ -454,6 +477,7 @@ impl Strips {
             missing: vec![0; n_strips * width],
             prefix: vec![0; n_strips * (width + 1)],
             expected: vec![0.0; n_strips * width],
+            expected_row: None,
         }
     }
 
@@ -500,9 +524,13 @@ impl Strips {
         }
     }
 
-    /// Expected sums of pixel row `i`.
-    fn expected(&mut self, layout: &Layout, grid: &Grid, i: i64, cols: &Range<usize>) {
-        Self::sum(layout, grid, &grid.expected, i, cols, &mut self.expected);
+    /// Expected sums of pixel row `i` (computed the first time a row asks for them).
+    fn expected(&mut self, layout: &Layout, grid: &Grid, i: i64, cols: &Range<usize>) -> &[f64] {
+        if self.expected_row != Some(i) {
+            Self::sum(layout, grid, &grid.expected, i, cols, &mut self.expected);
+            self.expected_row = Some(i);
+        }
+        &self.expected
     }
 }
 
@@ -559,7 +587,7 @@ fn score_chunk(
     region: &RegionScan<'_>,
     settings: &ScanSettings<'_>,
     layout: &Layout,
-    ke0: &[Vec<f64>],
+    diagonals: &Diagonals,
     chunk: Range<usize>,
     visit: &mut impl FnMut(Scored<'_>) -> Result<()>,
 ) -> Result<()> {
@@ -573,10 +601,7 @@ fn score_chunk(
     let mut strips = Strips::new(layout.strips.len(), grid.width);
     let n_k = rects.len();
     let max_nans = settings.max_nans_tolerated;
-    // the balanced expected by diagonal, NaN past the table
-    let exp_band: Vec<f64> = (0..band.max(1))
-        .map(|d| expected_at(region.expected, d))
-        .collect();
+    let (exp_band, ke0) = (&diagonals.expected, &diagonals.ke0);
     let dense = settings.min_count == 0;
     let mut arrays = RowArrays::new(n_k, if dense { exp_band.len() } else { 0 });
     let mut la = vec![0.0f64; n_k];
@@ -609,7 +634,6 @@ fn score_chunk(
         let span =
             c_first as usize - layout.w..((j_end - 1 + w + 1 - col_lo) as usize).min(grid.width);
         strips.observed(layout, &grid, i, &span);
-        let mut expected_ready = false;
         let wi = weights[i as usize];
         if dense {
             let a = &mut arrays;
@@ -646,11 +670,8 @@ fn score_chunk(
                 // footprints with missing cells sum the expected of their present cells
                 for (t, &n) in a.nn[part.clone()].iter().enumerate() {
                     if n > 0 && (n as usize) < max_nans {
-                        if !expected_ready {
-                            strips.expected(layout, &grid, i, &span);
-                            expected_ready = true;
-                        }
-                        ke[t] = rect_sum(&strips.expected, rects, c_first as isize + t as isize);
+                        let expected = strips.expected(layout, &grid, i, &span);
+                        ke[t] = rect_sum(expected, rects, c_first as isize + t as isize);
                     }
                 }
                 for (((f, &k), l), &x) in a.factor[part.clone()]
@@ -697,11 +718,7 @@ fn score_chunk(
                     let ke = if nn[kk] == 0 {
                         ke0[kk][d]
                     } else {
-                        if !expected_ready {
-                            strips.expected(layout, &grid, i, &span);
-                            expected_ready = true;
-                        }
-                        rect_sum(&strips.expected, rects, c)
+                        rect_sum(strips.expected(layout, &grid, i, &span), rects, c)
                     };
                     let factor = ko / ke;
                     if !factor.is_finite() {

@@ -19,6 +19,7 @@
 
 use std::fmt::Write as _;
 
+use super::boundaries::boundary_position;
 use super::ratio;
 use crate::error::{Error, Result};
 use crate::io::bed::BedpeRecord;
@@ -42,7 +43,6 @@ impl Loop {
     /// The loop of a BEDPE record, its anchors ordered; `fraction` from its seventh column when
     /// `weighted` (an error naming `source` when that is not a number in `[0, 1]`).
     pub fn from_record(record: &BedpeRecord, weighted: bool, source: &str) -> Result<Loop> {
-        let mid = |r: &crate::io::bed::BedRecord| r.start + (r.end - r.start) / 2;
         let (a, b) = (&record.first, &record.second);
         let fraction = if weighted {
             let text = record.rest.first().ok_or_else(|| {
@@ -64,16 +64,20 @@ impl Loop {
         } else {
             1.0
         };
-        let (first, second) = if (a.chrom.as_str(), mid(a)) <= (b.chrom.as_str(), mid(b)) {
-            (a, b)
-        } else {
-            (b, a)
+        // each anchor at its midpoint, as `score boundaries` places a boundary
+        let (first, second) = {
+            let (a, b) = (boundary_position(a), boundary_position(b));
+            if a <= b {
+                (a, b)
+            } else {
+                (b, a)
+            }
         };
         Ok(Loop {
-            chrom1: first.chrom.clone(),
-            mid1: mid(first),
-            chrom2: second.chrom.clone(),
-            mid2: mid(second),
+            chrom1: first.0,
+            mid1: first.1,
+            chrom2: second.0,
+            mid2: second.1,
             fraction,
         })
     }

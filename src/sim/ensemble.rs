@@ -235,18 +235,32 @@ impl<'a> Sampler<'a> {
         }
     }
 
-    /// Count one conformation of the replica.
-    pub(crate) fn sample(&mut self, positions: &[[f64; 3]], space: Space) {
+    /// The key of the pixel of beads `i` and `j` (either order): `bin1 * n_bins + bin2`,
+    /// `bin1 <= bin2`.
+    fn pixel_key(bead_bin: &[u32], n_bins: u64, i: usize, j: usize) -> u64 {
+        let (x, y) = (bead_bin[i] as u64, bead_bin[j] as u64);
+        x.min(y) * n_bins + x.max(y)
+    }
+
+    /// Count one conformation of the replica and, with loop extrusion, the loops its 1D model
+    /// holds at that moment (see [`Self::record_loops`]).
+    pub(crate) fn sample(
+        &mut self,
+        positions: &[[f64; 3]],
+        space: Space,
+        extruder: Option<&Extruder>,
+    ) {
         let (bead_bin, n_bins, counts) = (self.bead_bin, self.n_bins, &mut self.counts);
         self.cells
             .build(positions, self.params.contact_radius, space);
         let order = self.cells.order();
         self.cells.for_each_pair(|a, b, _, _| {
-            let (i, j) = (order[a] as usize, order[b] as usize);
-            let (x, y) = (bead_bin[i] as u64, bead_bin[j] as u64);
-            let (x, y) = (x.min(y), x.max(y));
-            *counts.entry(x * n_bins + y).or_insert(0) += 1;
+            let key = Self::pixel_key(bead_bin, n_bins, order[a] as usize, order[b] as usize);
+            *counts.entry(key).or_insert(0) += 1;
         });
+        if let Some(extruder) = extruder {
+            self.record_loops(extruder);
+        }
         self.radii.push(
             self.params
                 .polymer
@@ -262,16 +276,13 @@ impl<'a> Sampler<'a> {
 
     /// Record the loops `extruder` holds at this sample: the bin pairs of the LEFs whose two
     /// legs are captured by boundary elements, each bin pair once per sample.
-    pub(crate) fn record_loops(&mut self, extruder: &Extruder) {
+    fn record_loops(&mut self, extruder: &Extruder) {
         let mut keys: Vec<u64> = extruder
             .legs()
             .iter()
             .zip(extruder.captured())
             .filter(|(_, captured)| captured[0] && captured[1])
-            .map(|(&(l, r), _)| {
-                let (x, y) = (self.bead_bin[l] as u64, self.bead_bin[r] as u64);
-                x.min(y) * self.n_bins + x.max(y)
-            })
+            .map(|(&(l, r), _)| Self::pixel_key(self.bead_bin, self.n_bins, l, r))
             .collect();
         keys.sort_unstable();
         keys.dedup();
@@ -466,10 +477,8 @@ fn run_replica(
     let mut sampler = Sampler::new(params, bead_bin, n_bins);
     for _ in 0..params.samples {
         advance(&mut polymer, &mut extrusion, params.sample_every);
-        sampler.sample(polymer.positions(), polymer.space());
-        if let Some((_, extruder, _)) = &extrusion {
-            sampler.record_loops(extruder);
-        }
+        let extruder = extrusion.as_ref().map(|(_, extruder, _)| extruder);
+        sampler.sample(polymer.positions(), polymer.space(), extruder);
     }
     Ok(sampler.finish())
 }

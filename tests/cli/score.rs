@@ -331,41 +331,16 @@ fn score_loops_by_hand() {
     // bad inputs: one line, exit 2, no file
     let out = dir.path().join("out.tsv");
     let out_s = out.to_string_lossy().into_owned();
-    let line = run_err(&[
-        "score",
-        "loops",
-        "--truth",
-        &calls,
-        &calls,
-        "--min-fraction",
-        "0.2",
-        "-o",
-        &out_s,
-    ]);
-    assert!(line.contains("7th column"), "{line}");
-    let line = run_err(&[
-        "score",
-        "loops",
-        "--truth",
-        &truth,
-        &calls,
-        "--tolerance",
-        "ten",
-        "-o",
-        &out_s,
-    ]);
-    assert!(line.contains("--tolerance"), "{line}");
-    let line = run_err(&[
-        "score",
-        "loops",
-        "--truth",
-        &truth,
-        &calls,
-        "--distance-classes",
-        "5k,1M",
-        "-o",
-        &out_s,
-    ]);
-    assert!(line.contains("start at 0"), "{line}");
+    let cases: [(&str, [&str; 2], &str); 3] = [
+        (&calls, ["--min-fraction", "0.2"], "7th column"),
+        (&truth, ["--tolerance", "ten"], "--tolerance"),
+        (&truth, ["--distance-classes", "5k,1M"], "start at 0"),
+    ];
+    for (truth, [option, value], expected) in cases {
+        let line = run_err(&[
+            "score", "loops", "--truth", truth, &calls, option, value, "-o", &out_s,
+        ]);
+        assert!(line.contains(expected), "{option} {value}: {line}");
+    }
     assert!(!out.exists());
 }

@@ -221,12 +221,11 @@ fn run_batch(
             samplers
                 .par_iter_mut()
                 .zip(positions.par_chunks(n))
-                .for_each(|(sampler, positions)| sampler.sample(positions, space));
-            for (sampler, extrusion) in samplers.iter_mut().zip(&extrusions) {
-                if let Some((_, extruder, _)) = extrusion {
-                    sampler.record_loops(extruder);
-                }
-            }
+                .zip(extrusions.par_iter())
+                .for_each(|((sampler, positions), extrusion)| {
+                    let extruder = extrusion.as_ref().map(|(_, extruder, _)| extruder);
+                    sampler.sample(positions, space, extruder)
+                });
             next_sample += params.sample_every;
         }
     }
