@@ -99,6 +99,15 @@ step "Picture: the saddle (B-B top left, A-A bottom right)" \
   "$cm" plot saddle "$work/dm6.saddle.tsv" --title "dm6 100 kb, E1 classes" -o "$figs/dm6_saddle.png"
 step "Loops: cooltools' dot caller on the yeast 10 kb map (four kernels, FDR per lambda bin, BIRCH clusters; cooltools finds the same 2 dots)" \
   "$cm" dots data/yeast.10kb.cool -o "$work/yeast.dots.tsv" --enriched "$work/yeast.enriched.tsv"
+sim=data/sim_extrusion.5kb.cool
+step "Loops on a simulated loop-extrusion map (data/sim_extrusion.5kb.cool: 200 beads of 5 kb, five pairs of boundary elements), scored against the element pairs its LEFs held in >= 20% of the samples" \
+  "$cm" dots "$sim" -o "$work/sim.dots.bedpe"
+"$cm" score loops --truth data/sim_extrusion.truth_loops.bedpe "$work/sim.dots.bedpe" --min-fraction 0.2
+step "The same map at 5, 10 and 25 kb: dots at each level, merged as Juicer's HiCCUPS merges them (a resolution column says where each loop came from)" \
+  "$cm" zoomify "$sim" -o "$work/sim.mcool" -r 5000,10000,25000 --balance
+"$cm" dots "$work/sim.mcool" --resolutions 5k,10k,25k -o "$work/sim.loops.bedpe"
+step "Picture: the simulated map with its 5 kb dots outlined" \
+  "$cm" plot map "$sim" --region chr1 --loops "$work/sim.dots.bedpe" -o "$figs/sim_dots.png"
 step "A synthetic map with known domains (power-law decay, Poisson noise, no coverage bias)" \
   "$cm" simulate blocks -o "$work/blocks.cool" --truth-boundaries "$work/truth.bed" --seed 1
 "$cm" info "$work/blocks.cool" | grep -E "nbins|nnz"

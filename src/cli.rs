@@ -83,6 +83,8 @@ pub enum Command {
     /// Loops (dots) as cooltools' dot caller: locally adjusted expected of four kernels, FDR
     /// per lambda bin, BIRCH clustering, HiCCUPS filter.
     Dots(dots::DotsArgs),
+    /// Dot calls at 5, 10 and 25 kb merged into one list as Juicer's HiCCUPS merges them.
+    DotsMerge(dots::DotsMergeArgs),
     /// Simulated maps with a known truth: `simulate blocks` (block-structured map with TADs),
     /// `simulate polymer` (bead-spring polymer ensembles with loop extrusion, CPU or GPU).
     Simulate(simulate::SimulateArgs),
@@ -245,6 +247,7 @@ pub fn run(cli: Cli) -> Result<Status> {
         Command::Compartments(args) => compartments::run(&args),
         Command::Saddle(args) => saddle::run(&args),
         Command::Dots(args) => dots::run(&args),
+        Command::DotsMerge(args) => dots::run_merge(&args),
         Command::Simulate(args) => simulate::run(&args),
         Command::Score(args) => score::run(&args),
         Command::Contacts(args) => contacts::run(&args),

@@ -32,6 +32,7 @@
 pub mod birch;
 pub mod fdr;
 pub mod kernels;
+pub mod merge;
 pub mod scan;
 pub mod tables;
 #[cfg(test)]

@@ -69,6 +69,13 @@ pub fn data(name: &str) -> String {
     path.to_string_lossy().into_owned()
 }
 
+/// Write `text` to `dir/name`; its path.
+pub fn write(dir: &std::path::Path, name: &str, text: &str) -> String {
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path.to_string_lossy().into_owned()
+}
+
 /// Run the binary with `args`.
 pub fn run(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_contactmap"))

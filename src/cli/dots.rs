@@ -12,10 +12,13 @@ use contactmap::error::{Error, Result};
 use contactmap::expected::table::read_region_column;
 use contactmap::expected::{expected_cis, CisParams};
 
+use contactmap::io::bed::read_bedpe_table;
 use contactmap::io::output::write_whole;
+use contactmap::io::MatrixReader;
 use contactmap::loops::kernels::recommended_w_p;
+use contactmap::loops::merge::{check_resolutions, merge_resolutions, MergeParams, ResolutionCall};
 use contactmap::loops::tables::{dots_tsv, enriched_tsv};
-use contactmap::loops::{call_dots, DotsParams};
+use contactmap::loops::{call_dots, DotCalls, DotsParams};
 
 /// Arguments of `contactmap dots`.
 #[derive(Debug, Args)]
@@ -52,8 +55,14 @@ count la_exp.{donut,vertical,horizontal,lowleft}.value la_exp.{...}.qval region 
 c_label c_size region1 region2 (22 columns: one row per dot); --no-cluster writes the first 15
 for the enriched pixels; --enriched FILE writes those as well as the dots.
 
+Several resolutions: --resolutions 5000,10000,25000 on an .mcool or .hic (the file alone, no
+::/resolutions/N) calls dots at each (cooltools' kernels for each bin size, each level's own
+weights and expected) and merges the three lists as Juicer's HiCCUPS does (`contactmap
+dots-merge --help`); the table gets a last column, resolution.
+
 Examples:
   contactmap dots sample.mcool::/resolutions/10000 -o sample.dots.bedpe
+  contactmap dots sample.mcool --resolutions 5k,10k,25k -o merged.bedpe
   contactmap dots sample.mcool::/resolutions/5000 --view arms.bed \\
       --cooltools-cli -o dots.tsv
   contactmap dots map_100kb.cool --w 3 --p 1 --no-cluster -o enriched.tsv")]
@@ -110,6 +119,10 @@ pub struct DotsArgs {
     /// --clustering-radius 39000 (options given still win).
     #[arg(long)]
     pub cooltools_cli: bool,
+    /// Call at each of these resolutions of a multi-resolution file (5k,10k,25k or some of
+    /// them) and merge the calls as HiCCUPS does.
+    #[arg(long, value_name = "BP,...", value_delimiter = ',')]
+    pub resolutions: Option<Vec<String>>,
     /// Options for text inputs.
     #[command(flatten)]
     pub input: InputArgs,
@@ -165,25 +178,18 @@ impl DotsArgs {
     }
 }
 
-/// Run `contactmap dots`.
-pub fn run(args: &DotsArgs) -> Result<()> {
-    let inputs: Vec<&std::path::Path> = std::iter::once(uri_file(&args.uri))
-        .chain(args.view.as_deref())
-        .chain(args.expected.as_deref().map(std::path::Path::new))
-        .chain(args.input.files())
-        .collect();
-    refuse_overwrites(&inputs, &[args.out.as_deref(), args.enriched.as_deref()])?;
-    if args.no_cluster && args.enriched.is_some() {
-        return Err(Error::Invalid(
-            "--no-cluster writes the enriched pixels to -o: leave out --enriched".into(),
-        ));
-    }
-    let (reader, weights, view) = open_balanced(
-        &args.uri,
-        &args.input,
-        &args.weight_name,
-        args.view.as_deref(),
-    )?;
+/// A map's dots, with what is needed to write and report them.
+struct Called {
+    reader: Box<dyn MatrixReader>,
+    view: contactmap::expected::View,
+    params: DotsParams,
+    calls: DotCalls,
+}
+
+/// Call the dots of `uri` with the options of `args`.
+fn call(args: &DotsArgs, uri: &str) -> Result<Called> {
+    let (reader, weights, view) =
+        open_balanced(uri, &args.input, &args.weight_name, args.view.as_deref())?;
     let bins = reader.bins();
     let bin_size = bins.bin_size_bp().ok_or_else(|| {
         Error::format(
@@ -201,19 +207,19 @@ pub fn run(args: &DotsArgs) -> Result<()> {
         }
     };
     let calls = call_dots(reader.as_ref(), &weights, &view, &expected, &params)?;
-    let table = match dots_tsv(&calls, bins, &view) {
-        Some(dots) => {
-            if let Some(path) = &args.enriched {
-                write_whole(Some(path), enriched_tsv(&calls, bins).as_bytes())?;
-            }
-            dots
-        }
-        None => enriched_tsv(&calls, bins),
-    };
-    write_whole(args.out.as_deref(), table.as_bytes())?;
-    let mut notes = Warnings::new();
+    Ok(Called {
+        reader,
+        view,
+        params,
+        calls,
+    })
+}
+
+/// The one-line summary of a call, and its warnings, to `notes`.
+fn report(called: &Called, notes: &mut Warnings, label: &str) {
+    let Called { calls, params, .. } = called;
     let mut summary = format!(
-        "dots: {} pixels scored (w={}, p={}, up to {} bp), {} enriched",
+        "dots{label}: {} pixels scored (w={}, p={}, up to {} bp), {} enriched",
         calls.n_scored,
         params.w,
         params.p,
@@ -231,7 +237,341 @@ pub fn run(args: &DotsArgs) -> Result<()> {
             calls.extra_lambda_bins
         ));
     }
-    notes.extend(reader.warnings());
+    notes.extend(called.reader.warnings());
+}
+
+/// Run `contactmap dots`.
+pub fn run(args: &DotsArgs) -> Result<()> {
+    let inputs: Vec<&std::path::Path> = std::iter::once(uri_file(&args.uri))
+        .chain(args.view.as_deref())
+        .chain(args.expected.as_deref().map(std::path::Path::new))
+        .chain(args.input.files())
+        .collect();
+    refuse_overwrites(&inputs, &[args.out.as_deref(), args.enriched.as_deref()])?;
+    if args.no_cluster && args.enriched.is_some() {
+        return Err(Error::Invalid(
+            "--no-cluster writes the enriched pixels to -o: leave out --enriched".into(),
+        ));
+    }
+    if let Some(resolutions) = &args.resolutions {
+        return run_resolutions(args, resolutions);
+    }
+    let called = call(args, &args.uri)?;
+    let bins = called.reader.bins();
+    let table = match dots_tsv(&called.calls, bins, &called.view) {
+        Some(dots) => {
+            if let Some(path) = &args.enriched {
+                write_whole(Some(path), enriched_tsv(&called.calls, bins).as_bytes())?;
+            }
+            dots
+        }
+        None => enriched_tsv(&called.calls, bins),
+    };
+    write_whole(args.out.as_deref(), table.as_bytes())?;
+    let mut notes = Warnings::new();
+    report(&called, &mut notes, "");
+    notes.print();
+    Ok(())
+}
+
+/// `dots --resolutions`: call each level of a multi-resolution file, merge as HiCCUPS.
+fn run_resolutions(args: &DotsArgs, resolutions: &[String]) -> Result<()> {
+    let refuse = |option: &str, why: &str| -> Result<()> {
+        Err(Error::Invalid(format!(
+            "--resolutions: leave out {option} ({why})"
+        )))
+    };
+    if args.w.is_some() {
+        refuse(
+            "--w / --p",
+            "each resolution takes cooltools' kernel for its bin size",
+        )?;
+    }
+    if args.expected.is_some() {
+        refuse(
+            "--expected",
+            "each resolution's expected is computed from its own level",
+        )?;
+    }
+    if args.enriched.is_some() || args.no_cluster {
+        refuse(
+            "--enriched and --no-cluster",
+            "the merge works on clustered dots",
+        )?;
+    }
+    if contactmap::io::split_uri(&args.uri).1.is_some() {
+        return Err(Error::Invalid(format!(
+            "--resolutions needs the multi-resolution file alone, not '{}': the levels come \
+             from --resolutions",
+            args.uri
+        )));
+    }
+    let resolutions = resolutions
+        .iter()
+        .map(|text| bp_option("--resolutions", text))
+        .collect::<Result<Vec<u64>>>()?;
+    check_resolutions(&resolutions)?;
+    let mut tables = Vec::new();
+    let mut notes = Warnings::new();
+    for resolution in resolutions {
+        let uri = format!("{}::/resolutions/{resolution}", args.uri);
+        let called = call(args, &uri)?;
+        report(&called, &mut notes, &format!(" at {resolution} bp"));
+        let bins = called.reader.bins();
+        let text = dots_tsv(&called.calls, bins, &called.view).unwrap_or_default();
+        let mut lines = text.lines();
+        let header = lines.next().unwrap_or_default().to_string();
+        let dots = called.calls.dots.as_deref().unwrap_or_default();
+        let calls = dots
+            .iter()
+            .map(|dot| {
+                let (b1, b2) = (bins.bin(dot.pixel.bin1), bins.bin(dot.pixel.bin2));
+                ResolutionCall {
+                    chrom1: bins.chroms()[b1.chrom_id].name.clone(),
+                    start1: b1.start,
+                    chrom2: bins.chroms()[b2.chrom_id].name.clone(),
+                    start2: b2.start,
+                    count: dot.pixel.count as f64,
+                }
+            })
+            .collect();
+        tables.push(ResolutionTable {
+            source: uri,
+            resolution,
+            header,
+            rows: lines.map(str::to_string).collect(),
+            calls,
+        });
+    }
+    let (table, summary) = merged_table(&tables, &MergeParams::default())?;
+    write_whole(args.out.as_deref(), table.as_bytes())?;
+    notes.note(summary);
+    notes.print();
+    Ok(())
+}
+
+/// One resolution's list of calls: its rows as text and what the merge rule reads of them.
+struct ResolutionTable {
+    source: String,
+    resolution: u64,
+    header: String,
+    rows: Vec<String>,
+    calls: Vec<ResolutionCall>,
+}
+
+/// The merged table (the kept rows with a last column `resolution`, sorted by chromosome in
+/// order of appearance, start1, start2, resolution) and a one-line summary.
+fn merged_table(tables: &[ResolutionTable], params: &MergeParams) -> Result<(String, String)> {
+    // Tables without rows may carry another column order (cooltools' empty result): only the
+    // headers of tables with rows must agree.
+    let with_rows: Vec<&ResolutionTable> = tables.iter().filter(|t| !t.rows.is_empty()).collect();
+    let header = with_rows
+        .first()
+        .copied()
+        .or(tables.first())
+        .map_or("", |t| &t.header);
+    if let Some(other) = with_rows.iter().find(|t| t.header != header) {
+        return Err(Error::Invalid(format!(
+            "{} and {} have different columns: merge lists written the same way (cooltools' \
+             dots tables, all with or all without --no-cluster)",
+            with_rows[0].source, other.source
+        )));
+    }
+    let lists: Vec<(u64, &[ResolutionCall])> = tables
+        .iter()
+        .map(|t| (t.resolution, &t.calls[..]))
+        .collect();
+    let mut kept = merge_resolutions(&lists, params)?;
+    let mut chroms: Vec<&str> = Vec::new();
+    for call in tables.iter().flat_map(|t| &t.calls) {
+        if !chroms.contains(&call.chrom1.as_str()) {
+            chroms.push(&call.chrom1);
+        }
+    }
+    let order = |name: &str| chroms.iter().position(|&c| c == name);
+    kept.sort_by_key(|&(l, k)| {
+        let c = &tables[l].calls[k];
+        (
+            order(&c.chrom1),
+            c.start1,
+            order(&c.chrom2),
+            c.start2,
+            tables[l].resolution,
+        )
+    });
+    let mut text = format!("{header}\tresolution\n");
+    for &(l, k) in &kept {
+        text.push_str(&format!(
+            "{}\t{}\n",
+            tables[l].rows[k], tables[l].resolution
+        ));
+    }
+    let counts: Vec<String> = tables
+        .iter()
+        .enumerate()
+        .map(|(l, t)| {
+            let n = kept.iter().filter(|&&(kl, _)| kl == l).count();
+            format!("{n} of {} at {} bp", t.calls.len(), t.resolution)
+        })
+        .collect();
+    let summary = format!("merged {} loops: {}", kept.len(), counts.join(", "));
+    Ok((text, summary))
+}
+
+/// Arguments of `contactmap dots-merge`.
+#[derive(Debug, Args)]
+#[command(after_long_help = "\
+Merges dot calls made at 5, 10 and 25 kb into one list as Juicer's HiCCUPS merges its
+resolutions (HiCCUPSUtils.mergeAllResolutions):
+  1. 5 and 10 kb: the 5 kb calls with a 10 kb call within 20 kb (confirmed), the 10 kb calls with
+     no 5 kb call within 20 kb, and the 5 kb calls near the diagonal (anchors' starts less than
+     --near-diagonal apart, 110 kb) or strong (count above --strong, 100), confirmed or not;
+     with only one of the two lists, all of its calls;
+  2. 25 kb: the calls with no call of step 1 within 50 kb (all of them without a 5 or 10 kb list).
+Distances are between the calls' (start1, start2), as Juicer measures them. Juicer defines the
+rule for these three resolutions only: another resolution is an error here (Juicer drops it).
+
+Inputs: `contactmap dots` (or cooltools dots) tables, each as FILE@RESOLUTION, or FILE alone when
+its rows are all one bin wide (the resolution is their width). The strength is the `count`
+column (cooltools) or `observed` (Juicer); the files must have the same columns.
+
+Output: the kept rows as they were, with a last column, resolution; sorted by chromosome, start1,
+start2.
+
+Examples:
+  contactmap dots s.mcool::/resolutions/5000 -o d5.bedpe
+  contactmap dots s.mcool::/resolutions/10000 -o d10.bedpe
+  contactmap dots s.mcool::/resolutions/25000 -o d25.bedpe
+  contactmap dots-merge d5.bedpe@5000 d10.bedpe@10000 d25.bedpe@25000 \\
+      -o merged.bedpe
+  # the same, in one step:
+  contactmap dots s.mcool --resolutions 5k,10k,25k -o merged.bedpe")]
+pub struct DotsMergeArgs {
+    /// Dot tables, each FILE@RESOLUTION (bp: 5000, 10k ...) or FILE.
+    #[arg(required = true, value_name = "FILE[@RES]")]
+    pub lists: Vec<String>,
+    /// Output table (standard output when not given or `-`; .gz compresses).
+    #[arg(short, long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+    /// 5 kb calls with anchors' starts closer than this are kept unconfirmed (bp).
+    #[arg(long, value_name = "BP", default_value = "110000")]
+    pub near_diagonal: String,
+    /// 5 kb calls with a count above this are kept unconfirmed.
+    #[arg(long, default_value_t = 100.0)]
+    pub strong: f64,
+}
+
+/// `FILE@RES` split; `None` for the resolution when there is no `@` followed by a bp value.
+fn split_list(text: &str) -> Result<(&str, Option<u64>)> {
+    match text.rsplit_once('@') {
+        Some((path, res)) if !std::path::Path::new(text).exists() => {
+            Ok((path, Some(bp_option(&format!("{text}: resolution"), res)?)))
+        }
+        _ => Ok((text, None)),
+    }
+}
+
+/// Read one dots table for the merge.
+fn read_list(text: &str) -> Result<ResolutionTable> {
+    let (path_text, given) = split_list(text)?;
+    let path = std::path::Path::new(path_text);
+    let table = read_bedpe_table(path)?;
+    let column = table
+        .rest_column("count")
+        .or_else(|| table.rest_column("observed"))
+        .ok_or_else(|| {
+            Error::format(
+                path,
+                "no header line with a `count` (cooltools) or `observed` (Juicer) column: \
+                 dots-merge reads dot tables as `contactmap dots` writes them",
+            )
+        })?;
+    let mut widths = std::collections::BTreeSet::new();
+    let mut calls = Vec::new();
+    let mut rows = Vec::new();
+    for record in &table.records {
+        let count_text = record.rest.get(column).map_or("", String::as_str);
+        let count: f64 = count_text.parse().map_err(|_| {
+            Error::parse(
+                path,
+                record.line,
+                format!("count '{count_text}' is not a number"),
+            )
+        })?;
+        widths.insert(record.first.end - record.first.start);
+        widths.insert(record.second.end - record.second.start);
+        calls.push(ResolutionCall {
+            chrom1: record.first.chrom.clone(),
+            start1: record.first.start,
+            chrom2: record.second.chrom.clone(),
+            start2: record.second.start,
+            count,
+        });
+        let mut row = format!(
+            "{}\t{}\t{}\t{}\t{}\t{}",
+            record.first.chrom,
+            record.first.start,
+            record.first.end,
+            record.second.chrom,
+            record.second.start,
+            record.second.end
+        );
+        for field in &record.rest {
+            row.push('\t');
+            row.push_str(field);
+        }
+        rows.push(row);
+    }
+    let resolution = match (given, widths.len()) {
+        (Some(r), _) => r,
+        (None, 1) => *widths.first().expect("one width"),
+        (None, 0) => {
+            return Err(Error::Invalid(format!(
+            "{path_text}: no calls to take the resolution from: give it as {path_text}@RESOLUTION"
+        )))
+        }
+        (None, _) => {
+            return Err(Error::Invalid(format!(
+                "{path_text}: calls of several widths ({}): give the resolution as \
+                 {path_text}@RESOLUTION",
+                widths
+                    .iter()
+                    .map(u64::to_string)
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )))
+        }
+    };
+    Ok(ResolutionTable {
+        source: path_text.to_string(),
+        resolution,
+        header: table.header.unwrap_or_default().join("\t"),
+        rows,
+        calls,
+    })
+}
+
+/// Run `contactmap dots-merge`.
+pub fn run_merge(args: &DotsMergeArgs) -> Result<()> {
+    let mut paths = Vec::new();
+    for text in &args.lists {
+        paths.push(split_list(text)?.0);
+    }
+    let inputs: Vec<&std::path::Path> = paths.iter().map(std::path::Path::new).collect();
+    refuse_overwrites(&inputs, &[args.out.as_deref()])?;
+    let tables = args
+        .lists
+        .iter()
+        .map(|text| read_list(text))
+        .collect::<Result<Vec<_>>>()?;
+    let params = MergeParams {
+        near_diagonal_bp: bp_option("--near-diagonal", &args.near_diagonal)?,
+        strong_count: args.strong,
+    };
+    let (table, summary) = merged_table(&tables, &params)?;
+    write_whole(args.out.as_deref(), table.as_bytes())?;
+    let mut notes = Warnings::new();
+    notes.note(summary);
     notes.print();
     Ok(())
 }

@@ -185,6 +185,8 @@ pub struct BedpeRecord {
     pub second: BedRecord,
     /// The columns after the sixth, as they are.
     pub rest: Vec<String>,
+    /// The record's 1-based line in its file (for error messages).
+    pub line: u64,
 }
 
 /// Read the BEDPE file at `path` (plain or gzip): the first six columns of each line; a header
@@ -202,7 +204,43 @@ pub struct BedpeRecord {
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn read_bedpe(path: &Path) -> Result<Vec<BedpeRecord>> {
+    Ok(read_bedpe_table(path)?.records)
+}
+
+/// A BEDPE file's records and its header line, when it has one.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BedpeTable {
+    /// The column names of the header line (`chrom1 start1 end1 ...`), if there is one.
+    pub header: Option<Vec<String>>,
+    /// The records.
+    pub records: Vec<BedpeRecord>,
+}
+
+impl BedpeTable {
+    /// The index of the column named `name` among [`BedpeRecord::rest`] (the columns after the
+    /// sixth), from the header.
+    pub fn rest_column(&self, name: &str) -> Option<usize> {
+        let header = self.header.as_ref()?;
+        header.iter().skip(6).position(|h| h == name)
+    }
+}
+
+/// Read the BEDPE file at `path` as [`read_bedpe`] does, keeping the header line's column names.
+///
+/// # Examples
+///
+/// ```
+/// let path = std::env::temp_dir().join(format!("dots-{}.bedpe", std::process::id()));
+/// std::fs::write(&path, "chrom1\tstart1\tend1\tchrom2\tstart2\tend2\tcount\nchr1\t0\t10\tchr1\t90\t100\t7\n")?;
+/// let table = contactmap::io::bed::read_bedpe_table(&path)?;
+/// assert_eq!(table.rest_column("count"), Some(0));
+/// assert_eq!(table.records[0].rest[0], "7");
+/// # std::fs::remove_file(&path)?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn read_bedpe_table(path: &Path) -> Result<BedpeTable> {
     let mut records = Vec::new();
+    let mut header = None;
     for_each_line(path, |line_no, _, fields| {
         if fields.len() < 6 {
             return Err(Error::parse(
@@ -218,6 +256,7 @@ pub fn read_bedpe(path: &Path) -> Result<Vec<BedpeRecord>> {
             && fields[1].parse::<u64>().is_err()
             && fields[4].parse::<u64>().is_err()
         {
+            header = Some(fields.iter().map(|f| f.to_string()).collect());
             return Ok(()); // header line
         }
         let anchor = |chrom: &str, start: &str, end: &str| {
@@ -229,12 +268,13 @@ pub fn read_bedpe(path: &Path) -> Result<Vec<BedpeRecord>> {
                 first,
                 second: anchor(fields[3], fields[4], fields[5])?,
                 rest: fields[6..].iter().map(|f| f.to_string()).collect(),
+                line: line_no,
             })
         });
         records.push(pair.map_err(|m: String| Error::parse(path, line_no, m))?);
         Ok(())
     })?;
-    Ok(records)
+    Ok(BedpeTable { header, records })
 }
 
 /// `start` and `end` as numbers, `start <= end`.

@@ -1,18 +1,10 @@
 //! `contactmap score contacts` and `contactmap contacts` on the protein fixtures of
 //! `data/protein/` (reference numbers from `data/protein/README.md`).
 
-use std::path::Path;
-
-use crate::{data, parse_table, run_err, run_ok};
+use crate::{data, parse_table, run_err, run_ok, write};
 
 fn protein(name: &str) -> String {
     data(&format!("protein/{name}"))
-}
-
-fn write(dir: &Path, name: &str, text: &str) -> String {
-    let path = dir.join(name);
-    std::fs::write(&path, text).unwrap();
-    path.to_string_lossy().into_owned()
 }
 
 /// `score contacts --tsv` with `args`: rows as (prediction, range, list, tp, n_scored,

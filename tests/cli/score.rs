@@ -1,14 +1,6 @@
 //! `contactmap score boundaries` on hand-made examples.
 
-use std::path::Path;
-
-use crate::{data, run_err, run_ok};
-
-fn write(dir: &Path, name: &str, text: &str) -> String {
-    let path = dir.join(name);
-    std::fs::write(&path, text).unwrap();
-    path.to_string_lossy().into_owned()
-}
+use crate::{data, run_err, run_ok, write};
 
 /// Bins of 10 kb at these bin indices on chr1, as BED text.
 fn bins(indices: &[u64]) -> String {
