@@ -46,9 +46,11 @@ unless --expected gives a cooltools table (same bins, same view).
 
 Defaults are the cooltools API's (max separation 10 Mb, FDR 0.1, 40 lambda bins, clustering
 radius 20 kb); cooltools' command line uses others: --cooltools-cli sets them (2 Mb, FDR 0.02,
-45 lambda bins, 39 kb). Unlike cooltools, a pixel above the last lambda bin (8192 raw counts of
-local expected for 40 bins) is not an error: the bins continue; and nothing depends on a tile
-size (there are no tiles: the band is read a block of rows at a time).
+45 lambda bins, 39 kb); on deep maps the API's FDR 0.1 also calls weaker structure (on
+simulated extrusion maps the preset keeps only the true loops: docs/loops.md). Unlike
+cooltools, a pixel above the last lambda bin (8192 raw counts of local expected for 40 bins) is
+not an error: the bins continue; and nothing depends on a tile size (there are no tiles: the
+band is read a block of rows at a time).
 
 Output: cooltools' columns, tab-separated, with a header: chrom1 start1 end1 chrom2 start2 end2
 count la_exp.{donut,vertical,horizontal,lowleft}.value la_exp.{...}.qval region cstart1 cstart2
