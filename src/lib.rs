@@ -318,6 +318,7 @@ pub mod loops;
 pub mod matrix;
 pub mod normalize;
 pub mod numeric;
+pub mod pileup;
 pub mod plot;
 pub mod score;
 pub mod sim;
