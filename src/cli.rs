@@ -15,6 +15,7 @@ pub mod matrix_output;
 pub mod merge;
 pub mod normalize;
 pub mod output;
+pub mod pileup;
 pub mod plot;
 pub mod progress;
 pub mod protein;
@@ -85,6 +86,9 @@ pub enum Command {
     Dots(dots::DotsArgs),
     /// Dot calls at 5, 10 and 25 kb merged into one list as Juicer's HiCCUPS merges them.
     DotsMerge(dots::DotsMergeArgs),
+    /// Aggregate maps at features (loops, TADs, peaks) as coolpuppy, with coolpuppy's and Juicer
+    /// APA's scores.
+    Pileup(pileup::PileupArgs),
     /// Simulated maps with a known truth: `simulate blocks` (block-structured map with TADs),
     /// `simulate polymer` (bead-spring polymer ensembles with loop extrusion, CPU or GPU).
     Simulate(simulate::SimulateArgs),
@@ -248,6 +252,7 @@ pub fn run(cli: Cli) -> Result<Status> {
         Command::Saddle(args) => saddle::run(&args),
         Command::Dots(args) => dots::run(&args),
         Command::DotsMerge(args) => dots::run_merge(&args),
+        Command::Pileup(args) => pileup::run(&args),
         Command::Simulate(args) => simulate::run(&args),
         Command::Score(args) => score::run(&args),
         Command::Contacts(args) => contacts::run(&args),

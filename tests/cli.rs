@@ -33,6 +33,8 @@ mod merge;
 mod normalize;
 #[path = "cli/overwrite.rs"]
 mod overwrite;
+#[path = "cli/pileup.rs"]
+mod pileup;
 #[path = "cli/plot.rs"]
 mod plot;
 #[path = "cli/plot_contacts.rs"]

@@ -277,6 +277,51 @@ pub fn read_bedpe_table(path: &Path) -> Result<BedpeTable> {
     Ok(BedpeTable { header, records })
 }
 
+/// The two interval formats a feature file can be in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FeatureKind {
+    /// One interval per line: `chrom start end ...`.
+    Bed,
+    /// A pair of intervals per line: `chrom1 start1 end1 chrom2 start2 end2 ...`.
+    Bedpe,
+}
+
+/// Whether the file at `path` holds BED or BEDPE records, from its first data line (headers,
+/// `track` / `browser` lines and `#` comments skipped): BEDPE when columns 2, 3, 5 and 6 are
+/// whole numbers and column 4 is not a number (BED's 5th column, the score, is a number and its
+/// 6th, the strand, is not). `None` for a file without a data line.
+///
+/// # Examples
+///
+/// ```
+/// use contactmap::io::bed::{feature_kind, FeatureKind};
+///
+/// let path = std::env::temp_dir().join(format!("kind-{}.txt", std::process::id()));
+/// std::fs::write(&path, "chr1\t0\t10\tchr1\t90\t100\n")?;
+/// assert_eq!(feature_kind(&path)?, Some(FeatureKind::Bedpe));
+/// std::fs::write(&path, "chr1\t0\t10\tpeak\t5\t+\n")?;
+/// assert_eq!(feature_kind(&path)?, Some(FeatureKind::Bed));
+/// # std::fs::remove_file(&path)?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn feature_kind(path: &Path) -> Result<Option<FeatureKind>> {
+    let mut kind = None;
+    for_each_line(path, |_, _, fields| {
+        let whole = |k: usize| fields.get(k).is_some_and(|f| f.parse::<u64>().is_ok());
+        if kind.is_some() || !whole(1) || !whole(2) {
+            return Ok(()); // decided, or a header line
+        }
+        let pair = fields.len() >= 6 && whole(4) && whole(5) && fields[3].parse::<f64>().is_err();
+        kind = Some(if pair {
+            FeatureKind::Bedpe
+        } else {
+            FeatureKind::Bed
+        });
+        Ok(())
+    })?;
+    Ok(kind)
+}
+
 /// `start` and `end` as numbers, `start <= end`.
 fn interval(start: &str, end: &str) -> std::result::Result<(u64, u64), String> {
     let coordinate = |what: &str, text: &str| {

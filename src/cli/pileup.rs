@@ -1,0 +1,301 @@
+//! `contactmap pileup`: aggregate maps at features, as coolpuppy ([`contactmap::pileup`]).
+
+use std::path::{Path, PathBuf};
+
+use clap::Args;
+
+use crate::cli::input::{bp_option, open_balanced, open_for_analysis};
+use crate::cli::output::{refuse_overwrites, uri_file, write_text_file};
+use crate::cli::warnings::Warnings;
+use crate::cli::InputArgs;
+use contactmap::error::{Error, Result};
+use contactmap::expected::table::read_region_column;
+use contactmap::expected::{expected_cis, CisParams, View};
+use contactmap::io::bed::{feature_kind, read_bed, read_bedpe, FeatureKind};
+use contactmap::io::output::python_float;
+use contactmap::io::{LoadedPixels, StreamedPixels};
+use contactmap::pileup::scores::{
+    apa_corner_width, apa_scores, corner_cv, enrichment, insulation_strength,
+};
+use contactmap::pileup::{pileup, Features, Pileup, PileupParams};
+
+/// `--features-format`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum FeaturesFormat {
+    /// from the file's first data line
+    Auto,
+    /// one interval per line
+    Bed,
+    /// a pair of intervals per line
+    Bedpe,
+}
+
+/// Arguments of `contactmap pileup`.
+#[derive(Debug, Args)]
+#[command(after_long_help = "\
+As coolpuppy 1.1.0 (coolpup.py), the same numbers: each feature at its midpoint's bin, a window
+of --flank each side (a whole number of bins); BEDPE lines are pairs (anchor 1 the rows, anchor 2
+the columns), BED features pair with each other (every two of a chromosome within --mindist and
+--maxdist, the upstream one as rows) or, with --local, each with itself (on the diagonal). A
+window that leaves its chromosome (or --view region) is skipped and counted. Pixels closer to the
+diagonal than --ignore-diags, and the lower triangle, are left out; so are bins without a weight.
+
+Normalisation: by default each snippet is divided pixel by pixel by the expected of its diagonal
+(computed as `contactmap expected` does, or --expected TSV, cooltools' columns) and the pileup is
+the mean of these observed/expected snippets (coolpuppy's default with --expected). --no-expected
+gives the mean of the balanced (or --raw) snippets, as Juicer APA aggregates.
+
+The format of FEATURES is read from its first data line (BEDPE: columns 2, 3, 5, 6 whole
+numbers, column 4 not a number), not from its extension (coolpuppy's guess from the extension
+reads a .bed.gz as BEDPE); --features-format forces it. The run says what it read.
+
+Outputs (PREFIX as given by -o):
+  PREFIX.pileup.tsv   the pileup, one line per row of the grid (nan where no snippet has a value)
+  PREFIX.scores.tsv   n, then coolpuppy's scores (enrichment of the central --center pixels,
+                      corner CV; insulation strength for --local) and Juicer APA's (P2M, P2UL,
+                      P2UR, P2LL, P2LR, ZscoreLL; corners 3 wide at 5 kb, 6 otherwise)
+
+Examples:
+  contactmap pileup s.mcool::/resolutions/10000 loops.bedpe -o loops
+  contactmap pileup s.mcool::/resolutions/10000 ctcf.bed --flank 200k -o ctcf
+  contactmap pileup s.mcool::/resolutions/10000 tads.bed --local -o tads
+  contactmap pileup map.cool loops.bedpe --no-expected -o apa")]
+pub struct PileupArgs {
+    /// The map (balanced unless --raw).
+    pub uri: String,
+    /// Features: BED or BEDPE.
+    pub features: PathBuf,
+    /// Output prefix.
+    #[arg(short, long, value_name = "PREFIX")]
+    pub out: PathBuf,
+    /// Format of FEATURES.
+    #[arg(long, value_enum, default_value = "auto")]
+    pub features_format: FeaturesFormat,
+    /// Flank each side of the feature's bin (bp: 100k, 50000 ...).
+    #[arg(long, value_name = "BP", default_value = "100000")]
+    pub flank: String,
+    /// Smallest distance between paired features' midpoints (bp; default 2 x flank + 2 bins).
+    #[arg(long, value_name = "BP")]
+    pub mindist: Option<String>,
+    /// Largest distance between paired features' midpoints (bp; default none).
+    #[arg(long, value_name = "BP")]
+    pub maxdist: Option<String>,
+    /// BED features on the diagonal, each with itself (TADs, boundaries).
+    #[arg(long)]
+    pub local: bool,
+    /// Pixels with j - i below this are left out.
+    #[arg(long, default_value_t = 2)]
+    pub ignore_diags: usize,
+    /// A cooltools cis expected table on the same bins and view, instead of computing it.
+    #[arg(long, value_name = "TSV")]
+    pub expected: Option<String>,
+    /// Column of --expected to use.
+    #[arg(long, default_value = "balanced.avg", requires = "expected")]
+    pub expected_column: String,
+    /// No expected: the mean of the snippets themselves (Juicer APA style).
+    #[arg(long, conflicts_with = "expected")]
+    pub no_expected: bool,
+    /// Raw counts instead of balanced ones.
+    #[arg(long)]
+    pub raw: bool,
+    /// Weight column.
+    #[arg(long, alias = "balanced", default_value = "weight")]
+    pub weight_name: String,
+    /// Regions (BED: chrom, start, end, optional name) instead of whole chromosomes.
+    #[arg(long)]
+    pub view: Option<PathBuf>,
+    /// Side of the central square of the enrichment score (pixels).
+    #[arg(long, default_value_t = 3)]
+    pub center: usize,
+    /// Options for text inputs.
+    #[command(flatten)]
+    pub input: InputArgs,
+}
+
+/// Run `contactmap pileup`.
+pub fn run(args: &PileupArgs) -> Result<()> {
+    let prefix = args.out.to_string_lossy().into_owned();
+    let outputs = [
+        PathBuf::from(format!("{prefix}.pileup.tsv")),
+        PathBuf::from(format!("{prefix}.scores.tsv")),
+    ];
+    let inputs: Vec<&Path> = [uri_file(&args.uri), args.features.as_path()]
+        .into_iter()
+        .chain(args.view.as_deref())
+        .chain(args.expected.as_deref().map(Path::new))
+        .chain(args.input.files())
+        .collect();
+    refuse_overwrites(&inputs, &[Some(&outputs[0]), Some(&outputs[1])])?;
+    let kind = match args.features_format {
+        FeaturesFormat::Bed => FeatureKind::Bed,
+        FeaturesFormat::Bedpe => FeatureKind::Bedpe,
+        FeaturesFormat::Auto => feature_kind(&args.features)?.ok_or_else(|| {
+            Error::format(&args.features, "no feature in this file (no data line)")
+        })?,
+    };
+    let mut notes = Warnings::new();
+    let features = match kind {
+        FeatureKind::Bed => {
+            let features = read_bed(&args.features)?;
+            notes.note(format!(
+                "read {} BED features from {}{}",
+                features.len(),
+                args.features.display(),
+                if args.local {
+                    " (on the diagonal)"
+                } else {
+                    " (paired)"
+                }
+            ));
+            Features::Bed {
+                features,
+                local: args.local,
+            }
+        }
+        FeatureKind::Bedpe => {
+            if args.local {
+                return Err(Error::Invalid(format!(
+                    "--local piles up BED features on the diagonal; {} is BEDPE (pairs)",
+                    args.features.display()
+                )));
+            }
+            let pairs = read_bedpe(&args.features)?;
+            notes.note(format!(
+                "read {} BEDPE pairs from {}",
+                pairs.len(),
+                args.features.display()
+            ));
+            Features::Bedpe(pairs)
+        }
+    };
+    let (reader, weights, view) = if args.raw {
+        let reader = open_for_analysis(&args.uri, &args.input)?;
+        let view = match &args.view {
+            Some(path) => View::read_bed(path, reader.bins())?,
+            None => View::chromosomes(reader.bins()),
+        };
+        (reader, None, view)
+    } else {
+        let (reader, weights, view) = open_balanced(
+            &args.uri,
+            &args.input,
+            &args.weight_name,
+            args.view.as_deref(),
+        )?;
+        (reader, Some(weights), view)
+    };
+    let bins = reader.bins();
+    let bin_size = bins
+        .bin_size_bp()
+        .ok_or_else(|| Error::format(reader.source(), "pileups need fixed-size bins"))?;
+    let flank_bp = bp_option("--flank", &args.flank)?;
+    if flank_bp < bin_size || flank_bp % bin_size != 0 {
+        return Err(Error::Invalid(format!(
+            "--flank {flank_bp}: a whole number of bins ({bin_size} bp here), at least one"
+        )));
+    }
+    let params = PileupParams {
+        flank_bp,
+        min_dist_bp: match &args.mindist {
+            Some(text) => Some(bp_option("--mindist", text)? as f64),
+            None => None,
+        },
+        max_dist_bp: match &args.maxdist {
+            Some(text) => Some(bp_option("--maxdist", text)? as f64),
+            None => None,
+        },
+        ignore_diags: args.ignore_diags,
+    };
+    let expected = if args.no_expected {
+        None
+    } else if let Some(path) = &args.expected {
+        Some(read_region_column(
+            path,
+            bins,
+            &view,
+            &args.expected_column,
+        )?)
+    } else {
+        let pixels = LoadedPixels::Streamed(StreamedPixels::new(reader.as_ref()));
+        let table = expected_cis(&pixels, weights.as_deref(), &view, &CisParams::default())?;
+        Some(table.average_by_region())
+    };
+    let pup = pileup(
+        reader.as_ref(),
+        weights.as_deref(),
+        &view,
+        &features,
+        expected.as_deref(),
+        &params,
+    )?;
+    let scores = scores_table(&pup, args.local, args.center, apa_corner_width(bin_size))?;
+    write_text_file(format!("{prefix}.pileup.tsv"), grid_table(&pup))?;
+    write_text_file(format!("{prefix}.scores.tsv"), scores)?;
+    let s = &pup.skipped;
+    let limits = if args.local {
+        String::from("on the diagonal")
+    } else {
+        format!("pairs {} bp apart or more", pup.min_dist_bp)
+    };
+    notes.note(format!(
+        "pileup of {} snippets ({} x {} bins, {limits}); left out: {} on chromosomes the map \
+         lacks, {} outside the view, {} outside the distance limits, {} too close to an edge",
+        pup.n,
+        pup.data.nrows(),
+        pup.data.ncols(),
+        s.unknown_chromosome,
+        s.outside_view,
+        s.distance,
+        s.at_edge
+    ));
+    notes.extend(reader.warnings());
+    notes.print();
+    Ok(())
+}
+
+/// The grid, tab-separated, one line per row.
+fn grid_table(pup: &Pileup) -> String {
+    let mut text = String::new();
+    for row in pup.data.rows() {
+        let fields: Vec<String> = row.iter().map(|&v| python_float(v)).collect();
+        text.push_str(&fields.join("\t"));
+        text.push('\n');
+    }
+    text
+}
+
+/// `score value` lines: n, coolpuppy's scores, Juicer APA's.
+fn scores_table(pup: &Pileup, local: bool, center: usize, apa_width: usize) -> Result<String> {
+    let data = pup.data.view();
+    let mut rows: Vec<(String, f64)> = Vec::new();
+    if local {
+        let value = insulation_strength(data, 0, 2).unwrap_or(f64::NAN);
+        rows.push(("insulation_strength".into(), value));
+    } else {
+        let value = enrichment(data, center).ok_or_else(|| {
+            Error::Invalid(format!(
+                "--center {center}: the pileup is {} pixels wide, the centre square must fit in \
+                 half of it",
+                data.nrows()
+            ))
+        })?;
+        rows.push((format!("enrichment_{center}x{center}"), value));
+        rows.push(("corner_cv".into(), corner_cv(data, 4)));
+        let apa = apa_scores(data, apa_width);
+        for (name, value) in [
+            ("P2M", apa.p2m),
+            ("P2UL", apa.p2ul),
+            ("P2UR", apa.p2ur),
+            ("P2LL", apa.p2ll),
+            ("P2LR", apa.p2lr),
+            ("ZscoreLL", apa.zscore_ll),
+        ] {
+            rows.push((name.into(), value));
+        }
+    }
+    let mut text = format!("score\tvalue\nn\t{}\n", pup.n);
+    for (name, value) in rows {
+        text.push_str(&format!("{name}\t{}\n", python_float(value)));
+    }
+    Ok(text)
+}
