@@ -4,13 +4,13 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
-use crate::cli::input::{bp_option, open_balanced, open_for_analysis};
+use crate::cli::input::{bp_option, expected_column, open_for_analysis, weights_and_view};
 use crate::cli::output::{refuse_overwrites, uri_file, write_text_file};
 use crate::cli::warnings::Warnings;
 use crate::cli::InputArgs;
 use contactmap::error::{Error, Result};
 use contactmap::expected::table::read_region_column;
-use contactmap::expected::{expected_cis, CisParams, View};
+use contactmap::expected::{expected_cis, CisParams};
 use contactmap::io::bed::{feature_kind, read_bed, read_bedpe, FeatureKind};
 use contactmap::io::output::python_float;
 use contactmap::io::{LoadedPixels, StreamedPixels};
@@ -89,9 +89,9 @@ pub struct PileupArgs {
     /// A cooltools cis expected table on the same bins and view, instead of computing it.
     #[arg(long, value_name = "TSV")]
     pub expected: Option<String>,
-    /// Column of --expected to use.
-    #[arg(long, default_value = "balanced.avg", requires = "expected")]
-    pub expected_column: String,
+    /// Column of --expected to use [default: balanced.avg, count.avg with --raw].
+    #[arg(long, requires = "expected")]
+    pub expected_column: Option<String>,
     /// No expected: the mean of the snippets themselves (Juicer APA style).
     #[arg(long, conflicts_with = "expected")]
     pub no_expected: bool,
@@ -168,22 +168,13 @@ pub fn run(args: &PileupArgs) -> Result<()> {
             Features::Bedpe(pairs)
         }
     };
-    let (reader, weights, view) = if args.raw {
-        let reader = open_for_analysis(&args.uri, &args.input)?;
-        let view = match &args.view {
-            Some(path) => View::read_bed(path, reader.bins())?,
-            None => View::chromosomes(reader.bins()),
-        };
-        (reader, None, view)
-    } else {
-        let (reader, weights, view) = open_balanced(
-            &args.uri,
-            &args.input,
-            &args.weight_name,
-            args.view.as_deref(),
-        )?;
-        (reader, Some(weights), view)
-    };
+    let reader = open_for_analysis(&args.uri, &args.input)?;
+    let (weights, view) = weights_and_view(
+        reader.as_ref(),
+        args.raw,
+        &args.weight_name,
+        args.view.as_deref(),
+    )?;
     let bins = reader.bins();
     let bin_size = bins
         .bin_size_bp()
@@ -209,12 +200,8 @@ pub fn run(args: &PileupArgs) -> Result<()> {
     let expected = if args.no_expected {
         None
     } else if let Some(path) = &args.expected {
-        Some(read_region_column(
-            path,
-            bins,
-            &view,
-            &args.expected_column,
-        )?)
+        let column = expected_column(args.expected_column.as_deref(), args.raw);
+        Some(read_region_column(path, bins, &view, column)?)
     } else {
         let pixels = LoadedPixels::Streamed(StreamedPixels::new(reader.as_ref()));
         let table = expected_cis(&pixels, weights.as_deref(), &view, &CisParams::default())?;
