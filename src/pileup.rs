@@ -81,6 +81,9 @@ pub struct Pileup {
     pub skipped: Skipped,
     /// The minimum distance used (bp).
     pub min_dist_bp: f64,
+    /// Snippets whose anchor 2 lies upstream of anchor 1 (BEDPE pairs given that way): below
+    /// the diagonal, every pixel left out, yet counted in `n` (as coolpuppy counts them).
+    pub below_diagonal: usize,
 }
 
 /// Per-snippet sums and counts.
@@ -195,12 +198,14 @@ pub fn pileup(
             }
         });
     }
+    let below_diagonal = windows.iter().filter(|w| w.distance < 0.0).count();
     Ok(Pileup {
         data,
         num: sums.num,
         n: sums.n,
         skipped,
         min_dist_bp: min_dist,
+        below_diagonal,
     })
 }
 

@@ -235,6 +235,17 @@ pub fn run(args: &PileupArgs) -> Result<()> {
         s.distance,
         s.at_edge
     ));
+    if pup.n == 0 {
+        notes.push("no snippet was piled up: the pileup is NaN everywhere (see what was left out)");
+    }
+    if pup.below_diagonal > 0 {
+        notes.push(format!(
+            "{} pairs have anchor 2 upstream of anchor 1: their snippets lie below the diagonal, \
+             where every pixel is left out, yet count in n (as in coolpuppy); swap their anchors \
+             to pile them up",
+            pup.below_diagonal
+        ));
+    }
     notes.extend(reader.warnings());
     notes.print();
     Ok(())

@@ -111,4 +111,24 @@ fn pileup_refuses_bad_inputs_without_writing() {
         stderr.contains("1 on chromosomes the map lacks"),
         "{stderr}"
     );
+    // reversed anchors: piled up (all NaN) and said; nothing piled up: said
+    let reversed = write(
+        dir.path(),
+        "reversed.bedpe",
+        "chr1\t500000\t505000\tchr1\t300000\t305000\n",
+    );
+    let out = run(&["pileup", &sim, &reversed, "--flank", "20k", "-o", &prefix]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("warning: 1 pairs have anchor 2 upstream"),
+        "{stderr}"
+    );
+    let far = write(dir.path(), "far.bed", "chr1\t0\t5000\n");
+    let out = run(&["pileup", &sim, &far, "--local", "-o", &prefix]);
+    assert!(out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("warning: no snippet was piled up"),
+        "{stderr}"
+    );
 }
