@@ -17,6 +17,7 @@
 //! Snippets are summed as they are cut (never a stack of them in memory).
 
 pub mod scores;
+pub mod tables;
 #[cfg(test)]
 mod tests;
 pub mod windows;
@@ -65,6 +66,21 @@ impl Default for PileupParams {
             max_dist_bp: None,
             ignore_diags: 2,
         }
+    }
+}
+
+impl PileupParams {
+    /// An error unless the flank is a whole number of bins of `bin_size_bp`, at least one
+    /// (coolpuppy gives a map of another size, or fails, otherwise).
+    pub fn check(&self, bin_size_bp: u64) -> Result<()> {
+        if self.flank_bp == 0 || !self.flank_bp.is_multiple_of(bin_size_bp) {
+            return Err(Error::parameter(
+                "flank",
+                self.flank_bp,
+                format!("a whole number of bins ({bin_size_bp} bp here), at least one"),
+            ));
+        }
+        Ok(())
     }
 }
 
@@ -142,17 +158,13 @@ pub fn pileup(
     let res = bins
         .bin_size_bp()
         .ok_or_else(|| Error::format(reader.source(), "pileups need fixed-size bins"))?;
-    if !params.flank_bp.is_multiple_of(res) || params.flank_bp == 0 {
-        return Err(Error::Invalid(format!(
-            "flank {} bp: a pileup's flank is a whole number of bins ({res} bp here), at least one",
-            params.flank_bp
-        )));
-    }
+    params.check(res)?;
     let flank_bins = (params.flank_bp / res) as usize;
     let min_dist = params
         .min_dist_bp
         .unwrap_or((2 * params.flank_bp + 2 * res) as f64);
     let window_params = WindowParams {
+        bin_size_bp: res,
         flank_bins,
         min_dist,
         max_dist: params.max_dist_bp.unwrap_or(f64::INFINITY),

@@ -4,19 +4,18 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use crate::cli::input::{bp_option, open_balanced};
+use crate::cli::input::{bp_option, cis_expected_by_region, open_balanced};
 use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::warnings::Warnings;
 use crate::cli::InputArgs;
 use contactmap::error::{Error, Result};
-use contactmap::expected::table::read_region_column;
-use contactmap::expected::{expected_cis, CisParams};
-
 use contactmap::io::bed::read_bedpe_table;
 use contactmap::io::output::write_whole;
 use contactmap::io::MatrixReader;
 use contactmap::loops::kernels::recommended_w_p;
-use contactmap::loops::merge::{check_resolutions, merge_resolutions, MergeParams, ResolutionCall};
+use contactmap::loops::merge::{
+    check_resolutions, merge_resolutions, sort_merged, MergeParams, ResolutionCall,
+};
 use contactmap::loops::tables::{dots_tsv, enriched_tsv};
 use contactmap::loops::{call_dots, DotCalls, DotsParams};
 
@@ -200,14 +199,13 @@ fn call(args: &DotsArgs, uri: &str) -> Result<Called> {
         )
     })?;
     let params = args.params(bin_size)?;
-    let expected = match &args.expected {
-        Some(path) => read_region_column(path, bins, &view, &args.expected_column)?,
-        None => {
-            let pixels = contactmap::io::StreamedPixels::new(reader.as_ref());
-            let pixels = contactmap::io::LoadedPixels::Streamed(pixels);
-            expected_cis(&pixels, Some(&weights), &view, &CisParams::default())?.average_by_region()
-        }
-    };
+    let expected = cis_expected_by_region(
+        reader.as_ref(),
+        Some(&weights),
+        &view,
+        args.expected.as_deref(),
+        &args.expected_column,
+    )?;
     let calls = call_dots(reader.as_ref(), &weights, &view, &expected, &params)?;
     Ok(Called {
         reader,
@@ -324,19 +322,7 @@ fn run_resolutions(args: &DotsArgs, resolutions: &[String]) -> Result<()> {
         let mut lines = text.lines();
         let header = lines.next().unwrap_or_default().to_string();
         let dots = called.calls.dots.as_deref().unwrap_or_default();
-        let calls = dots
-            .iter()
-            .map(|dot| {
-                let (b1, b2) = (bins.bin(dot.pixel.bin1), bins.bin(dot.pixel.bin2));
-                ResolutionCall {
-                    chrom1: bins.chroms()[b1.chrom_id].name.clone(),
-                    start1: b1.start,
-                    chrom2: bins.chroms()[b2.chrom_id].name.clone(),
-                    start2: b2.start,
-                    count: dot.pixel.count as f64,
-                }
-            })
-            .collect();
+        let calls = ResolutionCall::of_dots(dots, bins);
         tables.push(ResolutionTable {
             source: uri,
             resolution,
@@ -384,23 +370,7 @@ fn merged_table(tables: &[ResolutionTable], params: &MergeParams) -> Result<(Str
         .map(|t| (t.resolution, &t.calls[..]))
         .collect();
     let mut kept = merge_resolutions(&lists, params)?;
-    let mut chroms: Vec<&str> = Vec::new();
-    for call in tables.iter().flat_map(|t| &t.calls) {
-        if !chroms.contains(&call.chrom1.as_str()) {
-            chroms.push(&call.chrom1);
-        }
-    }
-    let order = |name: &str| chroms.iter().position(|&c| c == name);
-    kept.sort_by_key(|&(l, k)| {
-        let c = &tables[l].calls[k];
-        (
-            order(&c.chrom1),
-            c.start1,
-            order(&c.chrom2),
-            c.start2,
-            tables[l].resolution,
-        )
-    });
+    sort_merged(&lists, &mut kept);
     let mut text = format!("{header}\tresolution\n");
     for &(l, k) in &kept {
         text.push_str(&format!(
@@ -500,8 +470,8 @@ fn read_list(text: &str) -> Result<ResolutionTable> {
                 format!("count '{count_text}' is not a number"),
             )
         })?;
-        widths.insert(record.first.end - record.first.start);
-        widths.insert(record.second.end - record.second.start);
+        widths.insert(record.first.width());
+        widths.insert(record.second.width());
         calls.push(ResolutionCall {
             chrom1: record.first.chrom.clone(),
             start1: record.first.start,
@@ -509,20 +479,7 @@ fn read_list(text: &str) -> Result<ResolutionTable> {
             start2: record.second.start,
             count,
         });
-        let mut row = format!(
-            "{}\t{}\t{}\t{}\t{}\t{}",
-            record.first.chrom,
-            record.first.start,
-            record.first.end,
-            record.second.chrom,
-            record.second.start,
-            record.second.end
-        );
-        for field in &record.rest {
-            row.push('\t');
-            row.push_str(field);
-        }
-        rows.push(row);
+        rows.push(record.tsv_line());
     }
     let resolution = match (given, widths.len()) {
         (Some(r), _) => r,

@@ -9,7 +9,9 @@ use std::path::Path;
 
 use crate::cli::InputArgs;
 use contactmap::error::{Error, Result};
+use contactmap::expected::table::read_region_column;
 use contactmap::expected::view::View;
+use contactmap::expected::{expected_cis, CisParams};
 use contactmap::genome::BinTable;
 use contactmap::io::{self, CheckedCounts, MatrixReader};
 
@@ -162,6 +164,27 @@ pub fn weights_and_view(
 /// else `balanced.avg`, or `count.avg` for raw counts.
 pub fn expected_column(column: Option<&str>, raw: bool) -> &str {
     column.unwrap_or(if raw { "count.avg" } else { "balanced.avg" })
+}
+
+/// The cis expected of each view region by diagonal (`[region][d]`) for an analysis that divides
+/// by it (dots, pileup): the column `column` of the cooltools table at `path` (same bins and
+/// view), or computed from `reader`'s pixels as `contactmap expected` does (balanced by
+/// `weights`; raw counts without).
+pub fn cis_expected_by_region(
+    reader: &dyn MatrixReader,
+    weights: Option<&[f64]>,
+    view: &View,
+    path: Option<&str>,
+    column: &str,
+) -> Result<Vec<Vec<f64>>> {
+    match path {
+        Some(path) => read_region_column(path, reader.bins(), view, column),
+        None => {
+            let pixels = io::LoadedPixels::Streamed(io::StreamedPixels::new(reader));
+            let table = expected_cis(&pixels, weights, view, &CisParams::default())?;
+            Ok(table.average_by_region())
+        }
+    }
 }
 
 /// The distance given to `option` (`20k`, `1.5M`, `5000`) in bp; the error names the option.

@@ -4,20 +4,17 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
-use crate::cli::input::{bp_option, expected_column, open_for_analysis, weights_and_view};
+use crate::cli::input::{
+    bp_option, cis_expected_by_region, expected_column, open_for_analysis, weights_and_view,
+};
 use crate::cli::output::{refuse_overwrites, uri_file, write_text_file};
 use crate::cli::warnings::Warnings;
 use crate::cli::InputArgs;
 use contactmap::error::{Error, Result};
-use contactmap::expected::table::read_region_column;
-use contactmap::expected::{expected_cis, CisParams};
 use contactmap::io::bed::{feature_kind, read_bed, read_bedpe, FeatureKind};
-use contactmap::io::output::python_float;
-use contactmap::io::{LoadedPixels, StreamedPixels};
-use contactmap::pileup::scores::{
-    apa_corner_width, apa_scores, corner_cv, enrichment, insulation_strength,
-};
-use contactmap::pileup::{pileup, Features, Pileup, PileupParams};
+use contactmap::pileup::scores::pileup_scores;
+use contactmap::pileup::tables::{grid_tsv, scores_tsv};
+use contactmap::pileup::{pileup, Features, PileupParams};
 
 /// `--features-format`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -179,14 +176,8 @@ pub fn run(args: &PileupArgs) -> Result<()> {
     let bin_size = bins
         .bin_size_bp()
         .ok_or_else(|| Error::format(reader.source(), "pileups need fixed-size bins"))?;
-    let flank_bp = bp_option("--flank", &args.flank)?;
-    if flank_bp < bin_size || flank_bp % bin_size != 0 {
-        return Err(Error::Invalid(format!(
-            "--flank {flank_bp}: a whole number of bins ({bin_size} bp here), at least one"
-        )));
-    }
     let params = PileupParams {
-        flank_bp,
+        flank_bp: bp_option("--flank", &args.flank)?,
         min_dist_bp: match &args.mindist {
             Some(text) => Some(bp_option("--mindist", text)? as f64),
             None => None,
@@ -197,15 +188,18 @@ pub fn run(args: &PileupArgs) -> Result<()> {
         },
         ignore_diags: args.ignore_diags,
     };
+    params.check(bin_size)?;
     let expected = if args.no_expected {
         None
-    } else if let Some(path) = &args.expected {
-        let column = expected_column(args.expected_column.as_deref(), args.raw);
-        Some(read_region_column(path, bins, &view, column)?)
     } else {
-        let pixels = LoadedPixels::Streamed(StreamedPixels::new(reader.as_ref()));
-        let table = expected_cis(&pixels, weights.as_deref(), &view, &CisParams::default())?;
-        Some(table.average_by_region())
+        let column = expected_column(args.expected_column.as_deref(), args.raw);
+        Some(cis_expected_by_region(
+            reader.as_ref(),
+            weights.as_deref(),
+            &view,
+            args.expected.as_deref(),
+            column,
+        )?)
     };
     let pup = pileup(
         reader.as_ref(),
@@ -215,9 +209,9 @@ pub fn run(args: &PileupArgs) -> Result<()> {
         expected.as_deref(),
         &params,
     )?;
-    let scores = scores_table(&pup, args.local, args.center, apa_corner_width(bin_size))?;
-    write_text_file(format!("{prefix}.pileup.tsv"), grid_table(&pup))?;
-    write_text_file(format!("{prefix}.scores.tsv"), scores)?;
+    let scores = pileup_scores(pup.data.view(), args.local, args.center, bin_size)?;
+    write_text_file(format!("{prefix}.pileup.tsv"), grid_tsv(&pup))?;
+    write_text_file(format!("{prefix}.scores.tsv"), scores_tsv(&pup, &scores))?;
     let s = &pup.skipped;
     let limits = if args.local {
         String::from("on the diagonal")
@@ -249,51 +243,4 @@ pub fn run(args: &PileupArgs) -> Result<()> {
     notes.extend(reader.warnings());
     notes.print();
     Ok(())
-}
-
-/// The grid, tab-separated, one line per row.
-fn grid_table(pup: &Pileup) -> String {
-    let mut text = String::new();
-    for row in pup.data.rows() {
-        let fields: Vec<String> = row.iter().map(|&v| python_float(v)).collect();
-        text.push_str(&fields.join("\t"));
-        text.push('\n');
-    }
-    text
-}
-
-/// `score value` lines: n, coolpuppy's scores, Juicer APA's.
-fn scores_table(pup: &Pileup, local: bool, center: usize, apa_width: usize) -> Result<String> {
-    let data = pup.data.view();
-    let mut rows: Vec<(String, f64)> = Vec::new();
-    if local {
-        let value = insulation_strength(data, 0, 2).unwrap_or(f64::NAN);
-        rows.push(("insulation_strength".into(), value));
-    } else {
-        let value = enrichment(data, center).ok_or_else(|| {
-            Error::Invalid(format!(
-                "--center {center}: the pileup is {} pixels wide, the centre square must fit in \
-                 half of it",
-                data.nrows()
-            ))
-        })?;
-        rows.push((format!("enrichment_{center}x{center}"), value));
-        rows.push(("corner_cv".into(), corner_cv(data, 4)));
-        let apa = apa_scores(data, apa_width);
-        for (name, value) in [
-            ("P2M", apa.p2m),
-            ("P2UL", apa.p2ul),
-            ("P2UR", apa.p2ur),
-            ("P2LL", apa.p2ll),
-            ("P2LR", apa.p2lr),
-            ("ZscoreLL", apa.zscore_ll),
-        ] {
-            rows.push((name.into(), value));
-        }
-    }
-    let mut text = format!("score\tvalue\nn\t{}\n", pup.n);
-    for (name, value) in rows {
-        text.push_str(&format!("{name}\t{}\n", python_float(value)));
-    }
-    Ok(text)
 }

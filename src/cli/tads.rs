@@ -11,7 +11,6 @@ use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::warnings::Warnings;
 use crate::cli::InputArgs;
 use contactmap::error::{Error, Result};
-
 use contactmap::io::{LoadedPixels, StreamedPixels};
 use contactmap::tads::armatus::ArmatusParams;
 use contactmap::tads::call::{call, Caller};

@@ -189,6 +189,23 @@ pub struct BedpeRecord {
     pub line: u64,
 }
 
+impl BedpeRecord {
+    /// The record as a tab-separated line (without its newline): the six coordinates, then the
+    /// other columns as they were.
+    pub fn tsv_line(&self) -> String {
+        let (a, b) = (&self.first, &self.second);
+        let mut line = format!(
+            "{}\t{}\t{}\t{}\t{}\t{}",
+            a.chrom, a.start, a.end, b.chrom, b.start, b.end
+        );
+        for field in &self.rest {
+            line.push('\t');
+            line.push_str(field);
+        }
+        line
+    }
+}
+
 /// Read the BEDPE file at `path` (plain or gzip): the first six columns of each line; a header
 /// line whose coordinates are not numbers (`chrom1 start1 end1 ...`, as HiCCUPS and cooltools
 /// write) and `#` comments are skipped. Errors name the file and the 1-based line.
@@ -235,6 +252,7 @@ impl BedpeTable {
 /// let table = contactmap::io::bed::read_bedpe_table(&path)?;
 /// assert_eq!(table.rest_column("count"), Some(0));
 /// assert_eq!(table.records[0].rest[0], "7");
+/// assert_eq!(table.records[0].tsv_line(), "chr1\t0\t10\tchr1\t90\t100\t7");
 /// # std::fs::remove_file(&path)?;
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```

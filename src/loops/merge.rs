@@ -18,7 +18,9 @@
 
 use std::collections::BTreeSet;
 
+use super::Dot;
 use crate::error::{Error, Result};
+use crate::genome::BinTable;
 
 /// One call of a list at one resolution: what the merge rule looks at.
 #[derive(Clone, Debug, PartialEq)]
@@ -33,6 +35,24 @@ pub struct ResolutionCall {
     pub start2: u64,
     /// The call's raw count (cooltools' `count`, HiCCUPS' `observed`).
     pub count: f64,
+}
+
+impl ResolutionCall {
+    /// The calls of `dots` (their representative pixels) on `bins`.
+    pub fn of_dots(dots: &[Dot], bins: &BinTable) -> Vec<ResolutionCall> {
+        dots.iter()
+            .map(|dot| {
+                let (b1, b2) = (bins.bin(dot.pixel.bin1), bins.bin(dot.pixel.bin2));
+                ResolutionCall {
+                    chrom1: bins.chroms()[b1.chrom_id].name.clone(),
+                    start1: b1.start,
+                    chrom2: bins.chroms()[b2.chrom_id].name.clone(),
+                    start2: b2.start,
+                    count: dot.pixel.count as f64,
+                }
+            })
+            .collect()
+    }
 }
 
 /// The merge's thresholds; the defaults are Juicer's.
@@ -118,6 +138,29 @@ pub fn merge_resolutions(
         }
     }
     Ok(dedup_locations(lists, kept))
+}
+
+/// `kept` (as [`merge_resolutions`] returns it) in the merged list's order: by first chromosome
+/// (in order of first appearance in `lists`), `start1`, second chromosome, `start2`, then
+/// resolution.
+pub fn sort_merged(lists: &[(u64, &[ResolutionCall])], kept: &mut [(usize, usize)]) {
+    let mut chroms: Vec<&str> = Vec::new();
+    for call in lists.iter().flat_map(|(_, calls)| calls.iter()) {
+        if !chroms.contains(&call.chrom1.as_str()) {
+            chroms.push(&call.chrom1);
+        }
+    }
+    let order = |name: &str| chroms.iter().position(|&c| c == name);
+    kept.sort_by_key(|&(l, k)| {
+        let c = &lists[l].1[k];
+        (
+            order(&c.chrom1),
+            c.start1,
+            order(&c.chrom2),
+            c.start2,
+            lists[l].0,
+        )
+    });
 }
 
 /// An error unless `resolutions` are distinct and among 5, 10 and 25 kb (what

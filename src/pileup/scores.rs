@@ -5,17 +5,13 @@
 //! `nanmean` / `nansum` leave them out.
 
 use ndarray::{s, Array2, ArrayView2};
+use statrs::statistics::Statistics;
+
+use crate::error::{Error, Result};
 
 /// The mean of the non-NaN values of `values` (NaN when there are none).
 fn nanmean<'a>(values: impl IntoIterator<Item = &'a f64>) -> f64 {
-    let (mut sum, mut n) = (0.0, 0usize);
-    for &v in values {
-        if !v.is_nan() {
-            sum += v;
-            n += 1;
-        }
-    }
-    sum / n as f64
+    values.into_iter().filter(|v| !v.is_nan()).mean()
 }
 
 fn nansum<'a>(values: impl IntoIterator<Item = &'a f64>) -> f64 {
@@ -45,9 +41,7 @@ pub fn corner_cv(pileup: ArrayView2<f64>, i: usize) -> f64 {
         .copied()
         .filter(|v| v.is_finite())
         .collect();
-    let mean = values.iter().sum::<f64>() / values.len() as f64;
-    let var = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / values.len() as f64;
-    var.sqrt() / mean
+    values.iter().population_std_dev() / values.iter().mean()
 }
 
 /// The central part of a rescaled local pileup, `c = n / (2 flank + 1)` pixels in from each side;
@@ -143,12 +137,10 @@ pub fn apa_scores(pileup: ArrayView2<f64>, width: usize) -> ApaScores {
     let corner = |rows: std::ops::Range<usize>, cols: std::ops::Range<usize>| -> Vec<f64> {
         a.slice(s![rows, cols]).iter().copied().collect()
     };
-    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+    let mean = |v: &[f64]| v.iter().mean();
     let (ul, ur) = (corner(0..w, 0..w), corner(0..w, l - w..l));
     let (ll, lr) = (corner(l - w..l, 0..w), corner(l - w..l, l - w..l));
-    let ll_mean = mean(&ll);
-    let sd =
-        (ll.iter().map(|v| (v - ll_mean).powi(2)).sum::<f64>() / (ll.len() as f64 - 1.0)).sqrt();
+    let (ll_mean, sd) = (mean(&ll), ll.iter().std_dev());
     ApaScores {
         p2m: centre / ((total - centre) / (l * l - 1) as f64),
         p2ul: centre / mean(&ul),
@@ -157,6 +149,43 @@ pub fn apa_scores(pileup: ArrayView2<f64>, width: usize) -> ApaScores {
         p2lr: centre / mean(&lr),
         zscore_ll: (centre - ll_mean) / sd,
     }
+}
+
+/// The scores of a pileup by name, in the order `contactmap pileup` writes them: for a local
+/// pileup coolpuppy's insulation strength; otherwise coolpuppy's enrichment of the central
+/// `center` pixels (`enrichment_{center}x{center}`) and corner CV (4 x 4 corners), then Juicer
+/// APA's scores with its corner width for `bin_size_bp`.
+pub fn pileup_scores(
+    pileup: ArrayView2<f64>,
+    local: bool,
+    center: usize,
+    bin_size_bp: u64,
+) -> Result<Vec<(String, f64)>> {
+    if local {
+        let value = insulation_strength(pileup, 0, 2).unwrap_or(f64::NAN);
+        return Ok(vec![("insulation_strength".into(), value)]);
+    }
+    let value = enrichment(pileup, center).ok_or_else(|| {
+        Error::parameter(
+            "center",
+            center,
+            format!(
+                "the pileup is {} pixels wide: the centre square must fit in half of it",
+                pileup.nrows()
+            ),
+        )
+    })?;
+    let apa = apa_scores(pileup, apa_corner_width(bin_size_bp));
+    Ok(vec![
+        (format!("enrichment_{center}x{center}"), value),
+        ("corner_cv".into(), corner_cv(pileup, 4)),
+        ("P2M".into(), apa.p2m),
+        ("P2UL".into(), apa.p2ul),
+        ("P2UR".into(), apa.p2ur),
+        ("P2LL".into(), apa.p2ll),
+        ("P2LR".into(), apa.p2lr),
+        ("ZscoreLL".into(), apa.zscore_ll),
+    ])
 }
 
 /// Juicer APA's corner width for a bin size: 3 at 5 kb, 6 otherwise (its `-q` defaults).

@@ -47,6 +47,8 @@ pub struct Skipped {
 /// Where and how far snippets reach.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct WindowParams {
+    /// The map's bin size (bp).
+    pub bin_size_bp: u64,
     /// Bins each side of the centre bin.
     pub flank_bins: usize,
     /// Smallest distance between paired anchors (bp, inclusive).
@@ -69,17 +71,13 @@ fn window(
     bins: &BinTable,
     view: &View,
     region: usize,
-    chrom_id: usize,
-    start: u64,
-    end: u64,
-    flank_bins: usize,
+    (chrom_id, start, end): (usize, u64, u64),
+    params: &WindowParams,
 ) -> Option<Range<usize>> {
-    let res = bins.bin_size_bp()? as f64;
-    let centre = (start as f64 + end as f64) / 2.0;
-    let centre_bin = (centre / res).floor() as i64;
+    let centre_bin = (midpoint(start, end) / params.bin_size_bp as f64).floor() as i64;
     let offset = bins.chrom_bins(chrom_id).start as i64;
-    let first = offset + centre_bin - flank_bins as i64;
-    let last = offset + centre_bin + flank_bins as i64 + 1;
+    let flank = params.flank_bins as i64;
+    let (first, last) = (offset + centre_bin - flank, offset + centre_bin + flank + 1);
     let span = &view.regions()[region].bins;
     (first >= span.start as i64 && last <= span.end as i64).then_some(first as usize..last as usize)
 }
@@ -111,30 +109,13 @@ pub fn bedpe_windows(
             continue;
         };
         let region = region_of(view, chrom1, a.start, a.end);
-        if chrom1 != chrom2 || region.is_none() || region != region_of(view, chrom2, b.start, b.end)
-        {
-            skipped.outside_view += 1;
+        let Some(region) = region.filter(|&r| Some(r) == region_of(view, chrom2, b.start, b.end))
+        else {
+            skipped.outside_view += 1; // outside, or anchors in two regions (or chromosomes)
             continue;
-        }
-        let region = region.unwrap_or_default();
-        let rows = window(
-            bins,
-            view,
-            region,
-            chrom1,
-            a.start,
-            a.end,
-            params.flank_bins,
-        );
-        let cols = window(
-            bins,
-            view,
-            region,
-            chrom2,
-            b.start,
-            b.end,
-            params.flank_bins,
-        );
+        };
+        let rows = window(bins, view, region, (chrom1, a.start, a.end), params);
+        let cols = window(bins, view, region, (chrom2, b.start, b.end), params);
         match (rows, cols) {
             (Some(rows), Some(cols)) => out.push(PairWindow {
                 region,
@@ -158,26 +139,24 @@ pub fn bed_windows(
     params: &WindowParams,
     skipped: &mut Skipped,
 ) -> Vec<PairWindow> {
-    // per region, (start, end, chrom_id) in start order (stable: ties keep input order)
-    let mut by_region: Vec<Vec<(u64, u64, usize)>> = vec![Vec::new(); view.len()];
+    // per region, (chrom_id, start, end) in start order (stable: ties keep input order)
+    let mut by_region: Vec<Vec<(usize, u64, u64)>> = vec![Vec::new(); view.len()];
     for feature in features {
         let Some(chrom_id) = bins.chrom_id(&feature.chrom) else {
             skipped.unknown_chromosome += 1;
             continue;
         };
         match region_of(view, chrom_id, feature.start, feature.end) {
-            Some(region) => by_region[region].push((feature.start, feature.end, chrom_id)),
+            Some(region) => by_region[region].push((chrom_id, feature.start, feature.end)),
             None => skipped.outside_view += 1,
         }
     }
     let mut out = Vec::new();
     for (region, features) in by_region.iter_mut().enumerate() {
-        features.sort_by_key(|f| f.0);
+        features.sort_by_key(|f| f.1);
         let windows: Vec<Option<Range<usize>>> = features
             .iter()
-            .map(|&(start, end, chrom)| {
-                window(bins, view, region, chrom, start, end, params.flank_bins)
-            })
+            .map(|&feature| window(bins, view, region, feature, params))
             .collect();
         if local {
             for w in windows {
@@ -196,7 +175,7 @@ pub fn bed_windows(
         for lag in 1..features.len() {
             for a in 0..features.len() - lag {
                 let (f1, f2) = (features[a], features[a + lag]);
-                let distance = midpoint(f2.0, f2.1) - midpoint(f1.0, f1.1);
+                let distance = midpoint(f2.1, f2.2) - midpoint(f1.1, f1.2);
                 if !(params.min_dist..=params.max_dist).contains(&distance.abs()) {
                     skipped.distance += 1;
                     continue;
