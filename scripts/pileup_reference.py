@@ -1,17 +1,37 @@
 #!/usr/bin/env python3
-"""coolpuppy 1.1.0 pileup references for `contactmap pileup` (tests/, issue 29).
+"""coolpuppy 1.1.0 and cooltools 0.7.1 pileup references for `contactmap pileup` (tests/,
+issue 29).
 
 Usage: pileup_reference.py OUT_DIR   (run from the repository root; needs coolpuppy 1.1.0,
 cooltools 0.7.1, pandas < 3)
 
-On data/sim_extrusion.5kb.cool (balanced, 5 kb) with cooltools' expected_cis (defaults), writes
-for each case NAME.tsv.gz: a header line `# n=N` then the pileup grid (tab-separated, `nan` for
-NaN, Python's repr of each float). Cases:
+Each case NAME.tsv.gz holds one block per group (the group of all snippets last; ungrouped
+cases have only that one), each a header line `# n=N [control_n=M] [group=LABEL]` then the
+pileup grid (tab-separated, `nan` for NaN, Python's repr of each float). LABEL is as contactmap
+prints it: strands `+-`, distance band `0.05Mb-0.1Mb` or `0.4Mb+`, joined by `,`.
+
+On data/sim_extrusion.5kb.cool (balanced, 5 kb) with cooltools' expected_cis (defaults):
   bedpe_oe     the truth loops (data/sim_extrusion.truth_loops.bedpe), observed/expected, flank 20 kb
-  bed_raw      ten anchors (data/reference/pileup/anchors.bed) paired, raw counts, flank 30 kb,
-               maxdist 400 kb
+  bed_raw      ten anchors (anchors.bed) paired, raw counts, flank 30 kb, maxdist 400 kb
   bed_local_oe the same anchors on the diagonal (local), observed/expected, flank 50 kb
   bed_oe       the anchors paired, balanced, observed/expected, flank 20 kb, mindist 100 kb
+  bed_local_rescale_oe  four domains (domains.bed) on the diagonal, rescaled (flank 1, 33
+               pixels), observed/expected
+  bedpe_rescale_shifts  the truth loops rescaled (flank 2, 11 pixels), 2 shifted controls, seed 3
+  bed_shifts   the anchors paired, 5 shifted controls, seed 7, flank 30 kb
+  bed_local_shifts  the anchors on the diagonal, 3 shifted controls, seed 1, flank 50 kb
+  bed_by_distance_oe  the anchors paired, by distance band (coolpuppy's edges), observed/expected,
+               flank 20 kb, mindist 100 kb
+  bed_by_distance_raw  the anchors paired, raw counts, edges 150, 300, 600 kb, flank 30 kb
+  bed_by_strand_flip_oe  the stranded anchors (anchors.stranded.bed) by strand, minus-strand
+               snippets flipped, observed/expected, flank 20 kb, mindist 100 kb
+On data/yeast.10kb.cool (a real map, with masked bins), cooltools' expected_cis:
+  yeast_bed_oe  anchors (yeast_anchors.bed) paired, observed/expected, flank 30 kb, maxdist 300 kb
+  yeast_local_rescale_oe  domains (yeast_domains.bed) rescaled (flank 1, 21 pixels), obs/exp
+  yeast_bed_shifts  the anchors paired, 4 shifted controls, seed 5, flank 30 kb, maxdist 300 kb
+cooltools 0.7.1 `pileup` (the nanmean of its snippet stack) where the two overlap:
+  cooltools_bedpe_oe        the truth loops, observed/expected, flank 20 kb
+  cooltools_yeast_local_oe  the yeast anchors on the diagonal, observed/expected, flank 30 kb
 and scores.tsv: coolpuppy's scores (lib/numutils.py) of those pileups (case, score, argument,
 value).
 """
@@ -23,6 +43,7 @@ import warnings
 
 import cooler
 import cooltools
+import cooltools.lib
 import numpy as np
 import pandas as pd
 from coolpuppy import coolpup
@@ -36,32 +57,115 @@ os.makedirs(out, exist_ok=True)
 clr = cooler.Cooler("data/sim_extrusion.5kb.cool")
 expected = cooltools.expected_cis(clr, nproc=1)
 loops = pd.read_csv("data/sim_extrusion.truth_loops.bedpe", sep="\t")
-anchors = pd.read_csv(
-    "data/reference/pileup/anchors.bed", sep="\t", header=None, names=["chrom", "start", "end"]
-)
+
+
+def bed(name, names=("chrom", "start", "end")):
+    return pd.read_csv(os.path.join("data/reference/pileup", name), sep="\t", header=None,
+                       names=list(names))
+
+
+anchors = bed("anchors.bed")
+domains = bed("domains.bed")
+stranded = bed("anchors.stranded.bed", ("chrom", "start", "end", "name", "score", "strand"))
+yeast = cooler.Cooler("data/yeast.10kb.cool")
+yeast_expected = cooltools.expected_cis(yeast, nproc=1)
+yeast_anchors = bed("yeast_anchors.bed")
+yeast_domains = bed("yeast_domains.bed")
+
+
+def mb(bp):
+    return f"{float(bp) / 1e6!r}Mb"
+
+
+def label(row):
+    if isinstance(row["group"], str) and row["group"] == "all":
+        return "all"
+    parts = []
+    if "strand1" in row.index:
+        parts.append(f"{row['strand1']}{row['strand2']}")
+    if "distance_band" in row.index:
+        band = row["distance_band"]
+        parts.append(f"{mb(band[0])}-{mb(band[1])}" if len(band) == 2 else f"{mb(band[0])}+")
+    return ",".join(parts)
+
+
+def grid_lines(f, data):
+    for row in data:
+        f.write("\t".join("nan" if np.isnan(v) else repr(float(v)) for v in row) + "\n")
 
 
 def write(name, pup):
-    data = pup["data"].iloc[0]
+    """Every group (the group of all last); returns the grid of all."""
+    rows = [r for _, r in pup.iterrows()]
+    rows = [r for r in rows if label(r) != "all"] + [r for r in rows if label(r) == "all"]
     with gzip.open(os.path.join(out, f"{name}.tsv.gz"), "wt") as f:
-        f.write(f"# n={int(pup['n'].iloc[0])}\n")
-        for row in data:
-            f.write("\t".join("nan" if np.isnan(v) else repr(float(v)) for v in row) + "\n")
-    print(name, data.shape, int(pup["n"].iloc[0]))
-    return data
+        for row in rows:
+            head = f"# n={int(row['n'])}"
+            if "control_n" in row.index:
+                head += f" control_n={int(row['control_n'])}"
+            if label(row) != "all":
+                head += f" group={label(row)}"
+            f.write(head + "\n")
+            grid_lines(f, row["data"])
+    print(name, rows[-1]["data"].shape, [(label(r), int(r["n"])) for r in rows])
+    return rows[-1]["data"]
+
+
+def write_stack_mean(name, stack):
+    """cooltools' snippet stack (n x D x D): its nanmean over the snippets."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        data = np.nanmean(stack, axis=0)
+    with gzip.open(os.path.join(out, f"{name}.tsv.gz"), "wt") as f:
+        f.write(f"# n={stack.shape[0]}\n")
+        grid_lines(f, data)
+    print(name, data.shape, stack.shape[0])
 
 
 pups = {
-    "bedpe_oe": write("bedpe_oe", coolpup.pileup(clr, loops, features_format="bedpe",
-                                                 expected_df=expected, flank=20000)),
-    "bed_raw": write("bed_raw", coolpup.pileup(clr, anchors, features_format="bed",
-                                               clr_weight_name=None, flank=30000, maxdist=400000)),
-    "bed_local_oe": write("bed_local_oe", coolpup.pileup(clr, anchors, features_format="bed",
-                                                         local=True, expected_df=expected,
-                                                         flank=50000)),
-    "bed_oe": write("bed_oe", coolpup.pileup(clr, anchors, features_format="bed",
-                                             expected_df=expected, flank=20000, mindist=100000)),
+    "bedpe_oe": write("bedpe_oe", coolpup.pileup(
+        clr, loops, features_format="bedpe", expected_df=expected, flank=20000)),
+    "bed_raw": write("bed_raw", coolpup.pileup(
+        clr, anchors, features_format="bed", clr_weight_name=None, flank=30000, maxdist=400000)),
+    "bed_local_oe": write("bed_local_oe", coolpup.pileup(
+        clr, anchors, features_format="bed", local=True, expected_df=expected, flank=50000)),
+    "bed_oe": write("bed_oe", coolpup.pileup(
+        clr, anchors, features_format="bed", expected_df=expected, flank=20000, mindist=100000)),
+    "bed_local_rescale_oe": write("bed_local_rescale_oe", coolpup.pileup(
+        clr, domains, features_format="bed", local=True, rescale=True, rescale_flank=1,
+        rescale_size=33, expected_df=expected)),
+    "bedpe_rescale_shifts": write("bedpe_rescale_shifts", coolpup.pileup(
+        clr, loops, features_format="bedpe", rescale=True, rescale_flank=2, rescale_size=11,
+        nshifts=2, seed=3)),
+    "bed_shifts": write("bed_shifts", coolpup.pileup(
+        clr, anchors, features_format="bed", nshifts=5, seed=7, flank=30000)),
+    "bed_local_shifts": write("bed_local_shifts", coolpup.pileup(
+        clr, anchors, features_format="bed", local=True, nshifts=3, seed=1, flank=50000)),
+    "bed_by_distance_oe": write("bed_by_distance_oe", coolpup.pileup(
+        clr, anchors, features_format="bed", expected_df=expected, flank=20000, mindist=100000,
+        by_distance=True)),
+    "bed_by_distance_raw": write("bed_by_distance_raw", coolpup.pileup(
+        clr, anchors, features_format="bed", clr_weight_name=None, flank=30000,
+        by_distance=[150000, 300000, 600000])),
+    "bed_by_strand_flip_oe": write("bed_by_strand_flip_oe", coolpup.pileup(
+        clr, stranded, features_format="bed", expected_df=expected, flank=20000, mindist=100000,
+        by_strand=True, flip_negative_strand=True)),
+    "yeast_bed_oe": write("yeast_bed_oe", coolpup.pileup(
+        yeast, yeast_anchors, features_format="bed", expected_df=yeast_expected, flank=30000,
+        maxdist=300000)),
+    "yeast_local_rescale_oe": write("yeast_local_rescale_oe", coolpup.pileup(
+        yeast, yeast_domains, features_format="bed", local=True, rescale=True, rescale_flank=1,
+        rescale_size=21, expected_df=yeast_expected)),
+    "yeast_bed_shifts": write("yeast_bed_shifts", coolpup.pileup(
+        yeast, yeast_anchors, features_format="bed", nshifts=4, seed=5, flank=30000,
+        maxdist=300000)),
 }
+write_stack_mean("cooltools_bedpe_oe", cooltools.pileup(
+    clr, loops, expected_df=expected, flank=20000))
+write_stack_mean("cooltools_yeast_local_oe", cooltools.pileup(
+    yeast, yeast_anchors, view_df=cooltools.lib.make_cooler_view(yeast),
+    expected_df=yeast_expected, flank=30000))
+
 with open(os.path.join(out, "scores.tsv"), "w") as f:
     f.write("case\tscore\targument\tvalue\n")
     for case in ["bedpe_oe", "bed_raw", "bed_oe"]:
@@ -72,3 +176,9 @@ with open(os.path.join(out, "scores.tsv"), "w") as f:
     for k in [0, 3]:
         value = float(numutils.get_insulation_strength(pups["bed_local_oe"], k))
         f.write(f"bed_local_oe\tinsulation_strength\t{k}\t{value!r}\n")
+    for case in ["bed_local_rescale_oe", "yeast_local_rescale_oe"]:
+        for score, fn in [("domain_score", numutils.get_domain_score),
+                          ("local_enrichment", numutils.get_local_enrichment)]:
+            f.write(f"{case}\t{score}\t1\t{float(fn(pups[case], 1))!r}\n")
+    for case in ["bed_shifts", "yeast_bed_oe", "yeast_bed_shifts", "bedpe_rescale_shifts"]:
+        f.write(f"{case}\tenrichment\t3\t{float(numutils.get_enrichment(pups[case], 3))!r}\n")

@@ -23,6 +23,8 @@ printf "pairs\tn\tenrichment_3x3\tP2LL\n"
 for pairs in strong random; do
   rm -f "pileup_$pairs.pileup.tsv" "pileup_$pairs.scores.tsv"
   "$cm" pileup m16.cool "$pairs.bedpe" --flank 20k --mindist 0 -o "pileup_$pairs" 2>/dev/null
-  awk -v p="$pairs" '{v[$1] = $2} END {print p "\t" v["n"] "\t" v["enrichment_3x3"] "\t" v["P2LL"]}' \
+  # the scores table: a header, then one line per group (here only "all")
+  awk -F'\t' -v p="$pairs" 'NR == 1 {for (i = 1; i <= NF; i++) c[$i] = i}
+    $1 == "all" {print p "\t" $c["n"] "\t" $c["enrichment_3x3"] "\t" $c["P2LL"]}' \
     "pileup_$pairs.scores.tsv"
 done

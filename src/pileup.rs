@@ -14,13 +14,23 @@
 //!    becomes NaN at the end; a local pileup is made symmetric (mean of it and its transpose,
 //!    NaN left out), which fills its lower triangle from the upper one.
 //!
-//! Snippets are summed as they are cut (never a stack of them in memory).
+//! Snippets are summed as they are cut (never a stack of them in memory), on every core
+//! ([`cut`]). Beside observed / expected, coolpuppy's other normalisations: shifted random
+//! controls ([`shifts`]: the pileup is the mean snippet over the mean control) or none; snippets
+//! of any size rescaled to one grid ([`rescale`]); groups by distance band or strands
+//! ([`groups`]), each with its own pileup beside the one of all snippets.
 
+pub mod cut;
+pub mod groups;
+pub mod rescale;
 pub mod scores;
+pub mod shifts;
 pub mod tables;
 #[cfg(test)]
 mod tests;
 pub mod windows;
+
+use std::collections::BTreeMap;
 
 use ndarray::Array2;
 
@@ -28,7 +38,10 @@ use crate::error::{Error, Result};
 use crate::expected::View;
 use crate::io::bed::{BedRecord, BedpeRecord};
 use crate::io::MatrixReader;
-use windows::{bed_windows, bedpe_windows, PairWindow, Skipped, WindowParams};
+use cut::{Cutter, Make, Snip, Sums};
+use groups::{band_of, distance_edges, GroupKey};
+use shifts::{batch_shifts, Mt19937, ShiftParams};
+use windows::{bed_batches, bedpe_batches, Batch, Pair, Skipped, WindowParams};
 
 /// The features to pile up.
 #[derive(Clone, Debug)]
@@ -44,6 +57,31 @@ pub enum Features {
     Bedpe(Vec<BedpeRecord>),
 }
 
+impl Features {
+    fn local(&self) -> bool {
+        matches!(self, Features::Bed { local: true, .. })
+    }
+}
+
+/// Rescaling (coolpuppy's `--rescale`): each window reaches `flank` times its feature's length
+/// each side, and every snippet is zoomed to `size x size`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RescaleParams {
+    /// The window's reach each side, in lengths of its feature: 1.
+    pub flank: f64,
+    /// The side of the grid (odd): 99.
+    pub size: usize,
+}
+
+impl Default for RescaleParams {
+    fn default() -> Self {
+        RescaleParams {
+            flank: 1.0,
+            size: 99,
+        }
+    }
+}
+
 /// The pileup's parameters; the defaults are coolpuppy's.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PileupParams {
@@ -56,6 +94,17 @@ pub struct PileupParams {
     pub max_dist_bp: Option<f64>,
     /// Pixels with `j - i` below this are NaN: 2.
     pub ignore_diags: usize,
+    /// Snippets rescaled to one grid (the flank is then only used for the minimum distance).
+    pub rescale: Option<RescaleParams>,
+    /// Shifted random controls (not with an expected).
+    pub shifts: Option<ShiftParams>,
+    /// Groups by distance band: `Some(vec![])` for coolpuppy's default edges (0, 50 kb, 100 kb,
+    /// 200 kb ...), else the edges (bp).
+    pub by_distance: Option<Vec<u64>>,
+    /// Groups by the anchors' strands.
+    pub by_strand: bool,
+    /// Snippets whose anchor 1 is on the minus strand flipped about the anti-diagonal.
+    pub flip_negative_strand: bool,
 }
 
 impl Default for PileupParams {
@@ -65,13 +114,19 @@ impl Default for PileupParams {
             min_dist_bp: None,
             max_dist_bp: None,
             ignore_diags: 2,
+            rescale: None,
+            shifts: None,
+            by_distance: None,
+            by_strand: false,
+            flip_negative_strand: false,
         }
     }
 }
 
 impl PileupParams {
     /// An error unless the flank is a whole number of bins of `bin_size_bp`, at least one
-    /// (coolpuppy gives a map of another size, or fails, otherwise).
+    /// (coolpuppy gives a map of another size, or fails, otherwise), and the other parameters
+    /// are ones coolpuppy takes.
     pub fn check(&self, bin_size_bp: u64) -> Result<()> {
         if self.flank_bp == 0 || !self.flank_bp.is_multiple_of(bin_size_bp) {
             return Err(Error::parameter(
@@ -80,48 +135,88 @@ impl PileupParams {
                 format!("a whole number of bins ({bin_size_bp} bp here), at least one"),
             ));
         }
+        if let Some(rescale) = &self.rescale {
+            if rescale.size.is_multiple_of(2) {
+                return Err(Error::parameter(
+                    "rescale-size",
+                    rescale.size,
+                    "an odd number of pixels (the grid has a centre)",
+                ));
+            }
+            if !(rescale.flank.is_finite() && rescale.flank >= 0.0) {
+                return Err(Error::parameter(
+                    "rescale-flank",
+                    rescale.flank,
+                    "a number of feature lengths, 0 or more",
+                ));
+            }
+        }
+        if let Some(shifts) = &self.shifts {
+            if shifts.n == 0 {
+                return Err(Error::parameter("nshifts", 0, "1 or more"));
+            }
+            if shifts.max_bp <= shifts.min_bp || shifts.max_bp - shifts.min_bp - 1 > u32::MAX as u64
+            {
+                return Err(Error::parameter(
+                    "maxshift",
+                    shifts.max_bp,
+                    format!(
+                        "more than --minshift ({}), by less than 2^32 bp",
+                        shifts.min_bp
+                    ),
+                ));
+            }
+        }
         Ok(())
     }
 }
 
-/// A pileup: the mean snippet and how many went into it.
+/// The pileup of one group of snippets.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Pileup {
-    /// The mean snippet (`2 f + 1` square).
+    /// The group (the one of all snippets: [`GroupKey::all`]).
+    pub key: GroupKey,
+    /// The mean snippet (over the mean control with shifts).
     pub data: Array2<f64>,
     /// Per pixel, the number of snippets with a finite value there.
     pub num: Array2<u64>,
     /// Snippets piled up.
     pub n: usize,
+    /// Controls piled up (with shifts).
+    pub control_n: Option<usize>,
+}
+
+/// The pileups of a set of features: per group, then the one of all snippets.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Pileups {
+    /// Per group (sorted by strands, then distance band), the group of all snippets last.
+    pub groups: Vec<Pileup>,
     /// Features left out, by reason.
     pub skipped: Skipped,
+    /// Controls left out: their window left the region.
+    pub controls_at_edge: usize,
     /// The minimum distance used (bp).
     pub min_dist_bp: f64,
     /// Snippets whose anchor 2 lies upstream of anchor 1 (BEDPE pairs given that way): below
     /// the diagonal, every pixel left out, yet counted in `n` (as coolpuppy counts them).
     pub below_diagonal: usize,
+    /// The distance bands' edges (bp) with `by_distance`.
+    pub distance_edges: Option<Vec<u64>>,
 }
 
-/// Per-snippet sums and counts.
-struct Sums {
-    sum: Array2<f64>,
-    num: Array2<u64>,
-    n: usize,
-}
-
-impl Sums {
-    fn new(size: usize) -> Sums {
-        Sums {
-            sum: Array2::zeros((size, size)),
-            num: Array2::zeros((size, size)),
-            n: 0,
-        }
+impl Pileups {
+    /// The pileup of all snippets.
+    pub fn all(&self) -> &Pileup {
+        self.groups
+            .last()
+            .expect("the group of all snippets is always there")
     }
 }
 
 /// Pile up `features` on `reader`'s map: balanced by `weights` (a weight per bin, NaN for a
 /// masked bin) or raw counts (`None`), over the regions of `view`, divided by `expected` (per
-/// view region, the expected of each diagonal, as `contactmap expected` computes it) when given.
+/// view region, the expected of each diagonal, as `contactmap expected` computes it) when given,
+/// or by shifted controls with `params.shifts`.
 ///
 /// # Examples
 ///
@@ -140,8 +235,9 @@ impl Sums {
 /// let expected = expected_cis(&pixels, Some(&weights), &view, &CisParams::default())?;
 /// let loops = contactmap::io::bed::read_bedpe("data/sim_extrusion.truth_loops.bedpe".as_ref())?;
 /// let params = PileupParams { flank_bp: 20_000, ..PileupParams::default() };
-/// let pup = pileup(reader.as_ref(), Some(&weights), &view, &Features::Bedpe(loops),
-///                  Some(&expected.average_by_region()), &params)?;
+/// let pups = pileup(reader.as_ref(), Some(&weights), &view, &Features::Bedpe(loops),
+///                   Some(&expected.average_by_region()), &params)?;
+/// let pup = pups.all();
 /// assert_eq!((pup.data.dim(), pup.n), ((9, 9), 8));
 /// assert!(pup.data[[4, 4]] > 5.0);
 /// # Ok::<(), contactmap::Error>(())
@@ -153,12 +249,23 @@ pub fn pileup(
     features: &Features,
     expected: Option<&[Vec<f64>]>,
     params: &PileupParams,
-) -> Result<Pileup> {
+) -> Result<Pileups> {
     let bins = reader.bins();
     let res = bins
         .bin_size_bp()
         .ok_or_else(|| Error::format(reader.source(), "pileups need fixed-size bins"))?;
     params.check(res)?;
+    let local = features.local();
+    if expected.is_some() && params.shifts.is_some() {
+        return Err(Error::Invalid(
+            "shifted controls and an expected are two normalisations: give one".into(),
+        ));
+    }
+    if local && params.by_distance.is_some() {
+        return Err(Error::Invalid(
+            "local pileups have no distance to group by (--by-distance is for pairs)".into(),
+        ));
+    }
     let flank_bins = (params.flank_bp / res) as usize;
     let min_dist = params
         .min_dist_bp
@@ -168,107 +275,159 @@ pub fn pileup(
         flank_bins,
         min_dist,
         max_dist: params.max_dist_bp.unwrap_or(f64::INFINITY),
+        rescale_flank: params.rescale.map(|r| r.flank),
     };
     let mut skipped = Skipped::default();
-    let (windows, local) = match features {
-        Features::Bed { features, local } => (
-            bed_windows(bins, view, features, *local, &window_params, &mut skipped),
-            *local,
-        ),
-        Features::Bedpe(pairs) => (
-            bedpe_windows(bins, view, pairs, &window_params, &mut skipped),
-            false,
-        ),
+    let batches = match features {
+        Features::Bed { features, local } => {
+            bed_batches(bins, view, features, *local, &window_params, &mut skipped)?
+        }
+        Features::Bedpe(pairs) => bedpe_batches(bins, view, pairs, &window_params, &mut skipped)?,
     };
-    let size = 2 * flank_bins + 1;
+    let edges = params
+        .by_distance
+        .as_ref()
+        .map(|e| distance_edges((!e.is_empty()).then_some(&e[..]), min_dist));
+    let key_of = |pair: &Pair| -> Result<GroupKey> {
+        let strands =
+            if params.by_strand {
+                match pair.strands {
+                    (Some(a), Some(b)) => Some((a, b)),
+                    _ => return Err(Error::Invalid(
+                        "--by-strand needs the strand (+ or -) of every feature: a feature has \
+                         none (BED column 6, BEDPE columns 9 and 10)"
+                            .into(),
+                    )),
+                }
+            } else {
+                None
+            };
+        let band = edges.as_ref().and_then(|e| band_of(e, pair.distance));
+        Ok(GroupKey { strands, band })
+    };
+    // the groups, sorted, the one of all snippets last
+    let mut keys = BTreeMap::new();
+    for pair in batches.iter().flat_map(|b| &b.pairs) {
+        let key = key_of(pair)?;
+        if !key.is_all() {
+            keys.insert(key, 0usize);
+        }
+    }
+    let grouped = params.by_strand || params.by_distance.is_some();
+    let n_groups = keys.len() + 1;
+    for (k, slot) in keys.values_mut().enumerate() {
+        *slot = k;
+    }
+    let all = n_groups - 1;
+    // slots: group g's snippets at 2 g, its controls at 2 g + 1
+    let mut snips: Vec<Vec<Snip>> = vec![Vec::new(); view.len()];
+    let mut rng = params.shifts.as_ref().map(|s| Mt19937::new(s.seed));
+    let mut controls_at_edge = 0;
+    let mut below_diagonal = 0;
+    for Batch { region, pairs } in &batches {
+        let region_bins = &view.regions()[*region].bins;
+        let mut add = |pair: &Pair, control: bool| -> Result<bool> {
+            if !pair.fits(region_bins.len()) {
+                return Ok(false);
+            }
+            let key = key_of(pair)?;
+            let mut slots = vec![2 * all + control as usize];
+            if grouped && !key.is_all() {
+                slots.push(2 * keys[&key] + control as usize);
+            }
+            let at =
+                |(a, b): (i64, i64)| region_bins.start + a as usize..region_bins.start + b as usize;
+            snips[*region].push(Snip {
+                rows: at(pair.rows),
+                cols: at(pair.cols),
+                region: *region,
+                slots,
+                flip: params.flip_negative_strand && pair.strands.0 == Some('-'),
+            });
+            Ok(true)
+        };
+        for pair in pairs {
+            if add(pair, false)? {
+                below_diagonal += (pair.distance < 0.0) as usize;
+            } else {
+                skipped.at_edge += 1;
+            }
+        }
+        if let (Some(rng), Some(shifts)) = (rng.as_mut(), &params.shifts) {
+            let moves = batch_shifts(rng, shifts, pairs.len(), res);
+            for (k, &bins) in moves.iter().enumerate() {
+                if !add(&pairs[k % pairs.len()].shifted(bins), true)? {
+                    controls_at_edge += 1;
+                }
+            }
+        }
+    }
+    let size = match params.rescale {
+        Some(r) => r.size,
+        None => 2 * flank_bins + 1,
+    };
     let cutter = Cutter {
         reader,
-        weights,
-        expected,
-        ignore_diags: params.ignore_diags,
+        make: Make {
+            weights,
+            expected,
+            ignore_diags: params.ignore_diags,
+            rescale: params.rescale.map(|r| r.size),
+            local,
+            size,
+        },
     };
-    let mut sums = Sums::new(size);
-    for window in &windows {
-        cutter.add(window, &mut sums)?;
-    }
-    let mut data = Array2::from_shape_fn((size, size), |(r, c)| {
-        let mean = sums.sum[[r, c]] / sums.num[[r, c]] as f64;
-        if mean == f64::INFINITY {
-            f64::NAN
+    let mut sums: Vec<Sums> = Vec::new();
+    for region_snips in snips {
+        let part = cutter.sum(region_snips, 2 * n_groups)?;
+        if sums.is_empty() {
+            sums = part;
         } else {
-            mean
-        }
-    });
-    if local {
-        let t = data.t().to_owned();
-        data.zip_mut_with(&t, |a, &b| {
-            *a = match (a.is_nan(), b.is_nan()) {
-                (true, true) => f64::NAN,
-                (true, false) => b,
-                (false, true) => *a,
-                (false, false) => (*a + b) / 2.0,
+            for (s, p) in sums.iter_mut().zip(&part) {
+                s.sum += &p.sum;
+                s.num += &p.num;
+                s.n += p.n;
             }
-        });
+        }
     }
-    let below_diagonal = windows.iter().filter(|w| w.distance < 0.0).count();
-    Ok(Pileup {
-        data,
-        num: sums.num,
-        n: sums.n,
+    let mut ordered: Vec<(GroupKey, usize)> = keys.into_iter().collect();
+    ordered.push((GroupKey::all(), all));
+    let groups = ordered
+        .into_iter()
+        .map(|(key, g)| {
+            let (roi, control) = (&sums[2 * g], &sums[2 * g + 1]);
+            let shifted = params.shifts.is_some();
+            let mut data = Array2::from_shape_fn((size, size), |(r, c)| {
+                let mean = roi.sum[[r, c]] / roi.num[[r, c]] as f64;
+                let value = if shifted {
+                    mean / (control.sum[[r, c]] / control.num[[r, c]] as f64)
+                } else {
+                    mean
+                };
+                if value == f64::INFINITY {
+                    f64::NAN
+                } else {
+                    value
+                }
+            });
+            if local {
+                rescale::symmetrise(&mut data);
+            }
+            Pileup {
+                key,
+                data,
+                num: roi.num.clone(),
+                n: roi.n,
+                control_n: shifted.then_some(control.n),
+            }
+        })
+        .collect();
+    Ok(Pileups {
+        groups,
         skipped,
+        controls_at_edge,
         min_dist_bp: min_dist,
         below_diagonal,
+        distance_edges: edges,
     })
-}
-
-/// Cuts snippets out of the map and adds them to sums.
-struct Cutter<'a> {
-    reader: &'a dyn MatrixReader,
-    weights: Option<&'a [f64]>,
-    expected: Option<&'a [Vec<f64>]>,
-    ignore_diags: usize,
-}
-
-impl Cutter<'_> {
-    /// Add the snippet of `window` to `sums`.
-    fn add(&self, window: &PairWindow, sums: &mut Sums) -> Result<()> {
-        let (r0, c0) = (window.rows.start, window.cols.start);
-        let (h, w) = (window.rows.len(), window.cols.len());
-        let mut snippet = Array2::<f64>::zeros((h, w));
-        // the upper triangle is what coolpuppy keeps of a cis snippet: the stored pixels
-        self.reader
-            .read_pixels(window.rows.clone(), window.cols.clone(), &mut |block| {
-                for k in 0..block.len() {
-                    let (i, j) = (block.bin1[k] as usize, block.bin2[k] as usize);
-                    let value = match self.weights {
-                        Some(wt) => (wt[i] * wt[j]) * block.count[k],
-                        None => block.count[k],
-                    };
-                    snippet[[i - r0, j - c0]] = value;
-                }
-                Ok(())
-            })?;
-        let expected = self.expected.map(|e| &e[window.region]);
-        for ((p, q), value) in snippet.indexed_iter_mut() {
-            let (i, j) = (r0 + p, c0 + q);
-            let masked = self
-                .weights
-                .is_some_and(|wt| wt[i].is_nan() || wt[j].is_nan());
-            if masked || (j as i64 - i as i64) < self.ignore_diags as i64 {
-                *value = f64::NAN;
-            } else if let Some(expected) = expected {
-                *value /= expected.get(j - i).copied().unwrap_or(f64::NAN);
-            }
-        }
-        for ((p, q), &value) in snippet.indexed_iter() {
-            if !value.is_nan() {
-                sums.sum[[p, q]] += value;
-                if value.is_finite() {
-                    sums.num[[p, q]] += 1;
-                }
-            }
-        }
-        sums.n += 1;
-        Ok(())
-    }
 }

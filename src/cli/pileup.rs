@@ -13,8 +13,9 @@ use crate::cli::InputArgs;
 use contactmap::error::{Error, Result};
 use contactmap::io::bed::{feature_kind, read_bed, read_bedpe, FeatureKind};
 use contactmap::pileup::scores::pileup_scores;
-use contactmap::pileup::tables::{grid_tsv, scores_tsv};
-use contactmap::pileup::{pileup, Features, PileupParams};
+use contactmap::pileup::shifts::ShiftParams;
+use contactmap::pileup::tables::{grid_tsv, groups_tsv, scores_tsv};
+use contactmap::pileup::{pileup, Features, PileupParams, RescaleParams};
 
 /// `--features-format`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -101,6 +102,52 @@ pub struct PileupArgs {
     /// Regions (BED: chrom, start, end, optional name) instead of whole chromosomes.
     #[arg(long)]
     pub view: Option<PathBuf>,
+    /// Shifted random controls per pair instead of an expected: the pileup is the mean snippet
+    /// over the mean control (coolpuppy's CLI default is 10).
+    #[arg(long, value_name = "N", conflicts_with_all = ["expected", "no_expected"])]
+    pub nshifts: Option<usize>,
+    /// Smallest shift of a control (bp).
+    #[arg(
+        long,
+        value_name = "BP",
+        default_value = "100000",
+        requires = "nshifts"
+    )]
+    pub minshift: String,
+    /// Largest shift of a control (bp, excluded).
+    #[arg(
+        long,
+        value_name = "BP",
+        default_value = "1000000",
+        requires = "nshifts"
+    )]
+    pub maxshift: String,
+    /// Seed of the controls' random draws (numpy's MT19937: coolpuppy's --seed gives the same
+    /// controls).
+    #[arg(long, default_value_t = 0, requires = "nshifts")]
+    pub seed: u32,
+    /// Windows of each feature's own size (widened by --rescale-flank of its length each side),
+    /// all zoomed to one grid of --rescale-size pixels: domains, genes of any length.
+    #[arg(long)]
+    pub rescale: bool,
+    /// Reach of a rescaled window each side, in lengths of its feature.
+    #[arg(long, value_name = "X", default_value_t = 1.0, requires = "rescale")]
+    pub rescale_flank: f64,
+    /// Side of the rescaled grid (odd, pixels).
+    #[arg(long, value_name = "N", default_value_t = 99, requires = "rescale")]
+    pub rescale_size: usize,
+    /// A pileup per distance band between the anchors, beside the one of all: coolpuppy's bands
+    /// (0, 50k, 100k, 200k ... doubling), or the edges given as --by-distance=150k,300k,600k.
+    #[arg(long, value_name = "EDGES", num_args = 0..=1, require_equals = true,
+          default_missing_value = "default", conflicts_with = "local")]
+    pub by_distance: Option<String>,
+    /// A pileup per pair of strands of the anchors (++, +-, -+, --), beside the one of all.
+    #[arg(long)]
+    pub by_strand: bool,
+    /// Snippets whose (first) anchor is on the minus strand flipped about the anti-diagonal,
+    /// so that every feature points the same way.
+    #[arg(long)]
+    pub flip_negative_strand: bool,
     /// Side of the central square of the enrichment score (pixels).
     #[arg(long, default_value_t = 3)]
     pub center: usize,
@@ -112,9 +159,11 @@ pub struct PileupArgs {
 /// Run `contactmap pileup`.
 pub fn run(args: &PileupArgs) -> Result<()> {
     let prefix = args.out.to_string_lossy().into_owned();
+    let grouped = args.by_distance.is_some() || args.by_strand;
     let outputs = [
         PathBuf::from(format!("{prefix}.pileup.tsv")),
         PathBuf::from(format!("{prefix}.scores.tsv")),
+        PathBuf::from(format!("{prefix}.groups.tsv")),
     ];
     let inputs: Vec<&Path> = [uri_file(&args.uri), args.features.as_path()]
         .into_iter()
@@ -122,7 +171,14 @@ pub fn run(args: &PileupArgs) -> Result<()> {
         .chain(args.expected.as_deref().map(Path::new))
         .chain(args.input.files())
         .collect();
-    refuse_overwrites(&inputs, &[Some(&outputs[0]), Some(&outputs[1])])?;
+    refuse_overwrites(
+        &inputs,
+        &[
+            Some(&outputs[0]),
+            Some(&outputs[1]),
+            grouped.then_some(&outputs[2]),
+        ],
+    )?;
     let kind = match args.features_format {
         FeaturesFormat::Bed => FeatureKind::Bed,
         FeaturesFormat::Bedpe => FeatureKind::Bedpe,
@@ -187,9 +243,33 @@ pub fn run(args: &PileupArgs) -> Result<()> {
             None => None,
         },
         ignore_diags: args.ignore_diags,
+        rescale: args.rescale.then_some(RescaleParams {
+            flank: args.rescale_flank,
+            size: args.rescale_size,
+        }),
+        shifts: match args.nshifts {
+            Some(n) => Some(ShiftParams {
+                n,
+                min_bp: bp_option("--minshift", &args.minshift)?,
+                max_bp: bp_option("--maxshift", &args.maxshift)?,
+                seed: args.seed,
+            }),
+            None => None,
+        },
+        by_distance: match args.by_distance.as_deref() {
+            None => None,
+            Some("default") => Some(Vec::new()),
+            Some(text) => Some(
+                text.split(',')
+                    .map(|edge| bp_option("--by-distance", edge.trim()))
+                    .collect::<Result<Vec<u64>>>()?,
+            ),
+        },
+        by_strand: args.by_strand,
+        flip_negative_strand: args.flip_negative_strand,
     };
     params.check(bin_size)?;
-    let expected = if args.no_expected {
+    let expected = if args.no_expected || args.nshifts.is_some() {
         None
     } else {
         let column = expected_column(args.expected_column.as_deref(), args.raw);
@@ -201,7 +281,7 @@ pub fn run(args: &PileupArgs) -> Result<()> {
             column,
         )?)
     };
-    let pup = pileup(
+    let pups = pileup(
         reader.as_ref(),
         weights.as_deref(),
         &view,
@@ -209,14 +289,32 @@ pub fn run(args: &PileupArgs) -> Result<()> {
         expected.as_deref(),
         &params,
     )?;
-    let scores = pileup_scores(pup.data.view(), args.local, args.center, bin_size)?;
-    write_text_file(format!("{prefix}.pileup.tsv"), grid_tsv(&pup))?;
-    write_text_file(format!("{prefix}.scores.tsv"), scores_tsv(&pup, &scores))?;
-    let s = &pup.skipped;
+    let rescale_flank = args.rescale.then_some(args.rescale_flank);
+    let scores = pups
+        .groups
+        .iter()
+        .map(|p| {
+            pileup_scores(
+                p.data.view(),
+                args.local,
+                rescale_flank,
+                args.center,
+                bin_size,
+            )
+            .map(|s| (p, s))
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let pup = pups.all();
+    write_text_file(format!("{prefix}.pileup.tsv"), grid_tsv(pup))?;
+    if grouped {
+        write_text_file(format!("{prefix}.groups.tsv"), groups_tsv(&pups))?;
+    }
+    write_text_file(format!("{prefix}.scores.tsv"), scores_tsv(&scores))?;
+    let s = &pups.skipped;
     let limits = if args.local {
         String::from("on the diagonal")
     } else {
-        format!("pairs {} bp apart or more", pup.min_dist_bp)
+        format!("pairs {} bp apart or more", pups.min_dist_bp)
     };
     notes.note(format!(
         "pileup of {} snippets ({} x {} bins, {limits}); left out: {} on chromosomes the map \
@@ -232,12 +330,29 @@ pub fn run(args: &PileupArgs) -> Result<()> {
     if pup.n == 0 {
         notes.push("no snippet was piled up: the pileup is NaN everywhere (see what was left out)");
     }
-    if pup.below_diagonal > 0 {
+    if let Some(control_n) = pup.control_n {
+        notes.note(format!(
+            "{control_n} shifted controls (seed {}), {} more left their region",
+            args.seed, pups.controls_at_edge
+        ));
+    }
+    if grouped {
+        notes.note(format!(
+            "{} groups beside the one of all: {}",
+            pups.groups.len() - 1,
+            pups.groups[..pups.groups.len() - 1]
+                .iter()
+                .map(|p| format!("{} (n={})", p.key, p.n))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ));
+    }
+    if pups.below_diagonal > 0 {
         notes.push(format!(
             "{} pairs have anchor 2 upstream of anchor 1: their snippets lie below the diagonal, \
              where every pixel is left out, yet count in n (as in coolpuppy); swap their anchors \
              to pile them up",
-            pup.below_diagonal
+            pups.below_diagonal
         ));
     }
     notes.extend(reader.warnings());

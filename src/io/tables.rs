@@ -13,60 +13,88 @@ use rayon::prelude::*;
 use crate::error::{Error, Result};
 use crate::genome::BinTable;
 
-/// A whole TSV table held in memory, columns addressed by header name.
+/// A whole TSV table held in memory, columns addressed by header name: the rows' text in one
+/// string and each field's bounds in it (no string per field: an expected table of a 5 kb
+/// genome has tens of millions of fields).
 #[derive(Clone, Debug)]
 pub struct Table {
     path: String,
     header: Vec<String>,
-    rows: Vec<Vec<String>>,
+    text: String,
+    /// Per row, per column: the field's `(start, end)` in `text`.
+    fields: Vec<(usize, usize)>,
+    n_rows: usize,
 }
 
 impl Table {
     /// Read `path` (`-` for stdin, gzip detected from the content).
     pub fn read(path: &str) -> Result<Table> {
-        let reader = crate::io::open_text(std::path::Path::new(path))?;
-        let mut header = None;
-        let mut rows = Vec::new();
-        for (index, line) in reader.lines().enumerate() {
-            let line = line.map_err(|e| Error::io(path, e))?;
+        let mut reader = crate::io::open_text(std::path::Path::new(path))?;
+        let mut header: Option<Vec<String>> = None;
+        let (mut text, mut fields, mut n_rows) = (String::new(), Vec::new(), 0);
+        let mut line = String::new();
+        let mut index = 0u64;
+        loop {
+            line.clear();
+            if reader
+                .read_line(&mut line)
+                .map_err(|e| Error::io(path, e))?
+                == 0
+            {
+                break;
+            }
+            index += 1;
+            let line = line.strip_suffix('\n').unwrap_or(&line);
+            let line = line.strip_suffix('\r').unwrap_or(line);
             if line.is_empty() || line.starts_with('#') {
                 continue;
             }
-            let fields: Vec<String> = line.split('\t').map(str::to_string).collect();
-            match &header {
-                None => header = Some(fields),
-                Some(h) => {
-                    if fields.len() != h.len() {
-                        return Err(Error::parse(
-                            path,
-                            index as u64 + 1,
-                            format!(
-                                "expected {} tab-separated columns (as the header), found {}",
-                                h.len(),
-                                fields.len()
-                            ),
-                        ));
-                    }
-                    rows.push(fields);
+            let Some(h) = &header else {
+                header = Some(line.split('\t').map(str::to_string).collect());
+                continue;
+            };
+            let offset = text.len();
+            let before = fields.len();
+            let mut start = 0;
+            for (k, byte) in line.bytes().enumerate() {
+                if byte == b'\t' {
+                    fields.push((offset + start, offset + k));
+                    start = k + 1;
                 }
             }
+            fields.push((offset + start, offset + line.len()));
+            let found = fields.len() - before;
+            if found != h.len() {
+                return Err(Error::parse(
+                    path,
+                    index,
+                    format!(
+                        "expected {} tab-separated columns (as the header), found {found}",
+                        h.len()
+                    ),
+                ));
+            }
+            text.push_str(line);
+            n_rows += 1;
         }
         let header = header.ok_or_else(|| Error::format(path, "empty table: no header line"))?;
         Ok(Table {
             path: path.to_string(),
             header,
-            rows,
+            text,
+            fields,
+            n_rows,
         })
     }
 
     /// Number of data rows.
     pub fn len(&self) -> usize {
-        self.rows.len()
+        self.n_rows
     }
 
     /// True when the table has no data row.
     pub fn is_empty(&self) -> bool {
-        self.rows.is_empty()
+        self.n_rows == 0
     }
 
     /// The header names.
@@ -86,12 +114,13 @@ impl Table {
 
     /// The text of column `column` in row `row`.
     pub fn text(&self, row: usize, column: usize) -> &str {
-        &self.rows[row][column]
+        let (start, end) = self.fields[row * self.header.len() + column];
+        &self.text[start..end]
     }
 
     /// The number in column `column` of row `row` (NaN for `nan`, `NA` and empty fields).
     pub fn number(&self, row: usize, column: usize) -> Result<f64> {
-        let text = self.rows[row][column].trim();
+        let text = self.text(row, column).trim();
         if text.is_empty() || text.eq_ignore_ascii_case("nan") || text == "NA" {
             return Ok(f64::NAN);
         }

@@ -158,9 +158,21 @@ pub fn apa_scores(pileup: ArrayView2<f64>, width: usize) -> ApaScores {
 pub fn pileup_scores(
     pileup: ArrayView2<f64>,
     local: bool,
+    rescale_flank: Option<f64>,
     center: usize,
     bin_size_bp: u64,
 ) -> Result<Vec<(String, f64)>> {
+    if let (true, Some(flank)) = (local, rescale_flank) {
+        // the domain is the central third (flank 1) ...: defined for whole flanks
+        let whole = (flank.fract() == 0.0).then_some(flank as usize);
+        let score = |f: fn(ArrayView2<f64>, usize) -> Option<f64>| {
+            whole.and_then(|w| f(pileup, w)).unwrap_or(f64::NAN)
+        };
+        return Ok(vec![
+            ("domain_score".into(), score(domain_score)),
+            ("local_enrichment".into(), score(local_enrichment)),
+        ]);
+    }
     if local {
         let value = insulation_strength(pileup, 0, 2).unwrap_or(f64::NAN);
         return Ok(vec![("insulation_strength".into(), value)]);

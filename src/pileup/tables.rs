@@ -1,25 +1,61 @@
-//! A pileup's tables as `contactmap pileup` writes them: the grid and the scores, floats in
+//! A pileup's tables as `contactmap pileup` writes them: the grids and the scores, floats in
 //! Python's shortest round-trip form.
 
-use super::Pileup;
+use super::{Pileup, Pileups};
 use crate::io::output::python_float;
+
+fn grid_lines(pileup: &Pileup, prefix: &str, text: &mut String) {
+    for (r, row) in pileup.data.rows().into_iter().enumerate() {
+        let fields: Vec<String> = row.iter().map(|&v| python_float(v)).collect();
+        if !prefix.is_empty() {
+            text.push_str(&format!("{prefix}\t{r}\t"));
+        }
+        text.push_str(&fields.join("\t"));
+        text.push('\n');
+    }
+}
 
 /// The grid, tab-separated, one line per row (`nan` where no snippet has a value).
 pub fn grid_tsv(pileup: &Pileup) -> String {
     let mut text = String::new();
-    for row in pileup.data.rows() {
-        let fields: Vec<String> = row.iter().map(|&v| python_float(v)).collect();
-        text.push_str(&fields.join("\t"));
-        text.push('\n');
+    grid_lines(pileup, "", &mut text);
+    text
+}
+
+/// Every group's grid, stacked: a header (`group`, `row`, then the columns' indices), then per
+/// group (the one of all snippets last) its rows, each led by the group's label and row index.
+pub fn groups_tsv(pileups: &Pileups) -> String {
+    let size = pileups.all().data.ncols();
+    let columns: Vec<String> = (0..size).map(|c| c.to_string()).collect();
+    let mut text = format!("group\trow\t{}\n", columns.join("\t"));
+    for pileup in &pileups.groups {
+        grid_lines(pileup, &pileup.key.to_string(), &mut text);
     }
     text
 }
 
-/// `score value` lines with a header: `n` (the snippets piled up), then `scores` in order.
-pub fn scores_tsv(pileup: &Pileup, scores: &[(String, f64)]) -> String {
-    let mut text = format!("score\tvalue\nn\t{}\n", pileup.n);
-    for (name, value) in scores {
-        text.push_str(&format!("{name}\t{}\n", python_float(*value)));
+/// One line per group (the one of all snippets last): its label, `n` (snippets piled up),
+/// `control_n` (with shifted controls), then its scores (the same names for every group).
+pub fn scores_tsv(rows: &[(&Pileup, Vec<(String, f64)>)]) -> String {
+    let controls = rows.iter().any(|(p, _)| p.control_n.is_some());
+    let names: Vec<&str> = rows
+        .first()
+        .map(|(_, s)| s.iter().map(|(n, _)| n.as_str()).collect())
+        .unwrap_or_default();
+    let mut text = format!(
+        "group\tn{}\t{}\n",
+        if controls { "\tcontrol_n" } else { "" },
+        names.join("\t")
+    );
+    for (pileup, scores) in rows {
+        text.push_str(&format!("{}\t{}", pileup.key, pileup.n));
+        if controls {
+            text.push_str(&format!("\t{}", pileup.control_n.unwrap_or(0)));
+        }
+        for (_, value) in scores {
+            text.push_str(&format!("\t{}", python_float(*value)));
+        }
+        text.push('\n');
     }
     text
 }

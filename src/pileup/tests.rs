@@ -1,5 +1,5 @@
-//! The pileups against coolpuppy 1.1.0 on the simulated extrusion map
-//! (`data/reference/pileup/`, `scripts/pileup_reference.py`).
+//! The pileups against coolpuppy 1.1.0 and cooltools 0.7.1 on the simulated extrusion map and
+//! the yeast map (`data/reference/pileup/`, `scripts/pileup_reference.py`).
 
 use std::io::Read as _;
 
@@ -8,40 +8,72 @@ use crate::expected::{expected_cis, CisParams};
 use crate::io::bed::{read_bed, read_bedpe};
 use crate::io::{open_matrix, LoadedPixels, OpenOptions, StreamedPixels};
 
-/// coolpuppy's pileup `name`: its `n` and grid.
-fn reference(name: &str) -> (usize, Vec<Vec<f64>>) {
+/// One group of a reference: its header fields and grid.
+struct RefGroup {
+    n: usize,
+    control_n: Option<usize>,
+    label: String,
+    grid: Vec<Vec<f64>>,
+}
+
+/// The reference `name`: its groups, the group of all last.
+fn reference(name: &str) -> Vec<RefGroup> {
     let mut text = String::new();
     let path = format!("data/reference/pileup/{name}.tsv.gz");
     flate2::read::GzDecoder::new(std::fs::File::open(path).unwrap())
         .read_to_string(&mut text)
         .unwrap();
-    let mut lines = text.lines();
-    let n = lines
-        .next()
-        .unwrap()
-        .trim_start_matches("# n=")
-        .parse()
-        .unwrap();
-    let grid = lines
-        .map(|l| l.split('\t').map(|v| v.parse().unwrap()).collect())
-        .collect();
-    (n, grid)
+    let mut groups: Vec<RefGroup> = Vec::new();
+    for line in text.lines() {
+        if let Some(head) = line.strip_prefix("# ") {
+            let field = |key: &str| {
+                head.split(' ')
+                    .find_map(|f| f.strip_prefix(&format!("{key}=")).map(str::to_string))
+            };
+            groups.push(RefGroup {
+                n: field("n").unwrap().parse().unwrap(),
+                control_n: field("control_n").map(|v| v.parse().unwrap()),
+                label: field("group").unwrap_or_else(|| "all".into()),
+                grid: Vec::new(),
+            });
+        } else {
+            let row = line.split('\t').map(|v| v.parse().unwrap()).collect();
+            groups.last_mut().unwrap().grid.push(row);
+        }
+    }
+    groups
 }
 
-/// Our pileup of `features` with `params` (balanced unless `raw`; observed / expected when
-/// `oe`) equals coolpuppy's `name`: the same `n`, NaN where it has NaN, values to 1e-12; and
-/// so do the scores of it that `scores.tsv` holds.
-fn check(name: &str, features: Features, params: PileupParams, raw: bool, oe: bool) {
-    let reader = open_matrix("data/sim_extrusion.5kb.cool", &OpenOptions::default()).unwrap();
+/// A map and its cooltools expected (balanced).
+fn map(path: &str) -> (Box<dyn MatrixReader>, Vec<f64>, View, Vec<Vec<f64>>) {
+    let reader = open_matrix(path, &OpenOptions::default()).unwrap();
     let weights = reader.weights("weight").unwrap().values;
     let view = View::chromosomes(reader.bins());
     let pixels = LoadedPixels::Streamed(StreamedPixels::new(reader.as_ref()));
     let expected = expected_cis(&pixels, Some(&weights), &view, &CisParams::default())
         .unwrap()
         .average_by_region();
+    (reader, weights, view, expected)
+}
+
+const SIM: &str = "data/sim_extrusion.5kb.cool";
+const YEAST: &str = "data/yeast.10kb.cool";
+
+/// Our pileups of `features` on `map_path` with `params` (balanced unless `raw`; observed /
+/// expected when `oe`) equal the reference `name`: per group (by label) the same `n` and
+/// `control_n`, NaN where it has NaN, values to 1e-12 relative; returns them.
+fn check(
+    name: &str,
+    map_path: &str,
+    features: Features,
+    params: PileupParams,
+    raw: bool,
+    oe: bool,
+) -> Pileups {
+    let (reader, weights, view, expected) = map(map_path);
     let weights = (!raw).then_some(&weights[..]);
     let expected = oe.then_some(&expected[..]);
-    let pup = pileup(
+    let pups = pileup(
         reader.as_ref(),
         weights,
         &view,
@@ -50,21 +82,42 @@ fn check(name: &str, features: Features, params: PileupParams, raw: bool, oe: bo
         &params,
     )
     .unwrap();
-    let (n, grid) = reference(name);
-    assert_eq!(pup.n, n, "{name}: n");
-    assert_eq!(pup.data.nrows(), grid.len(), "{name}: size");
+    let groups = reference(name);
+    let labels: Vec<String> = pups.groups.iter().map(|p| p.key.to_string()).collect();
+    let mut want_labels: Vec<String> = groups.iter().map(|g| g.label.clone()).collect();
+    want_labels.sort();
+    let mut got_labels = labels.clone();
+    got_labels.sort();
+    assert_eq!(got_labels, want_labels, "{name}: groups");
+    assert_eq!(labels.last().unwrap(), "all");
+    for group in &groups {
+        let pup = &pups.groups[labels.iter().position(|l| *l == group.label).unwrap()];
+        let what = format!("{name} group {}", group.label);
+        assert_eq!(pup.n, group.n, "{what}: n");
+        assert_eq!(pup.control_n, group.control_n, "{what}: control_n");
+        assert_eq!(pup.data.nrows(), group.grid.len(), "{what}: size");
+        compare_grid(&what, &pup.data, &group.grid);
+    }
+    check_scores(name, &pups.all().data);
+    pups
+}
+
+fn compare_grid(what: &str, data: &Array2<f64>, grid: &[Vec<f64>]) {
     for (r, row) in grid.iter().enumerate() {
         for (c, &want) in row.iter().enumerate() {
-            let got = pup.data[[r, c]];
+            let got = data[[r, c]];
             assert!(
                 (got.is_nan() && want.is_nan())
                     || (got - want).abs() <= 1e-12 * want.abs().max(got.abs()),
-                "{name} [{r}, {c}]: {got} vs coolpuppy {want}"
+                "{what} [{r}, {c}]: {got} vs {want}"
             );
         }
     }
+}
+
+/// The scores of `data` that `scores.tsv` holds for case `name`.
+fn check_scores(name: &str, data: &Array2<f64>) {
     let table = std::fs::read_to_string("data/reference/pileup/scores.tsv").unwrap();
-    let mut checked = 0;
     for line in table.lines().skip(1) {
         let f: Vec<&str> = line.split('\t').collect();
         if f[0] != name {
@@ -72,60 +125,274 @@ fn check(name: &str, features: Features, params: PileupParams, raw: bool, oe: bo
         }
         let (k, want): (usize, f64) = (f[2].parse().unwrap(), f[3].parse().unwrap());
         let got = match f[1] {
-            "enrichment" => scores::enrichment(pup.data.view(), k).unwrap(),
-            "corner_cv" => scores::corner_cv(pup.data.view(), k),
-            "insulation_strength" => scores::insulation_strength(pup.data.view(), k, 2).unwrap(),
+            "enrichment" => scores::enrichment(data.view(), k).unwrap(),
+            "corner_cv" => scores::corner_cv(data.view(), k),
+            "insulation_strength" => scores::insulation_strength(data.view(), k, 2).unwrap(),
+            "domain_score" => scores::domain_score(data.view(), k).unwrap(),
+            "local_enrichment" => scores::local_enrichment(data.view(), k).unwrap(),
             other => panic!("{other}"),
         };
         assert!((got - want).abs() <= 1e-12 * want.abs(), "{line}: {got}");
-        checked += 1;
     }
-    assert!(checked > 0, "{name}: scores");
 }
 
-fn anchors() -> Vec<crate::io::bed::BedRecord> {
-    read_bed("data/reference/pileup/anchors.bed".as_ref()).unwrap()
+fn bed(name: &str) -> Vec<crate::io::bed::BedRecord> {
+    read_bed(format!("data/reference/pileup/{name}").as_ref()).unwrap()
+}
+
+fn loops() -> Vec<BedpeRecord> {
+    read_bedpe("data/sim_extrusion.truth_loops.bedpe".as_ref()).unwrap()
+}
+
+fn paired(name: &str) -> Features {
+    Features::Bed {
+        features: bed(name),
+        local: false,
+    }
+}
+
+fn local(name: &str) -> Features {
+    Features::Bed {
+        features: bed(name),
+        local: true,
+    }
+}
+
+fn flank(flank_bp: u64) -> PileupParams {
+    PileupParams {
+        flank_bp,
+        ..PileupParams::default()
+    }
 }
 
 #[test]
 fn bedpe_observed_over_expected_is_coolpuppy() {
-    let loops = read_bedpe("data/sim_extrusion.truth_loops.bedpe".as_ref()).unwrap();
-    let params = PileupParams {
-        flank_bp: 20_000,
-        ..PileupParams::default()
-    };
-    check("bedpe_oe", Features::Bedpe(loops), params, false, true);
+    check(
+        "bedpe_oe",
+        SIM,
+        Features::Bedpe(loops()),
+        flank(20_000),
+        false,
+        true,
+    );
 }
 
 #[test]
 fn bed_pairs_raw_and_observed_over_expected_are_coolpuppy() {
-    let features = Features::Bed {
-        features: anchors(),
-        local: false,
-    };
     let params = PileupParams {
-        flank_bp: 30_000,
         max_dist_bp: Some(400_000.0),
-        ..PileupParams::default()
+        ..flank(30_000)
     };
-    check("bed_raw", features.clone(), params, true, false);
+    check("bed_raw", SIM, paired("anchors.bed"), params, true, false);
     let params = PileupParams {
-        flank_bp: 20_000,
         min_dist_bp: Some(100_000.0),
-        ..PileupParams::default()
+        ..flank(20_000)
     };
-    check("bed_oe", features, params, false, true);
+    check("bed_oe", SIM, paired("anchors.bed"), params, false, true);
+    let params = PileupParams {
+        max_dist_bp: Some(300_000.0),
+        ..flank(30_000)
+    };
+    check(
+        "yeast_bed_oe",
+        YEAST,
+        paired("yeast_anchors.bed"),
+        params,
+        false,
+        true,
+    );
 }
 
 #[test]
 fn bed_local_observed_over_expected_is_coolpuppy() {
-    let features = Features::Bed {
-        features: anchors(),
-        local: true,
-    };
-    let params = PileupParams {
-        flank_bp: 50_000,
+    check(
+        "bed_local_oe",
+        SIM,
+        local("anchors.bed"),
+        flank(50_000),
+        false,
+        true,
+    );
+}
+
+#[test]
+fn rescaled_pileups_are_coolpuppy() {
+    let rescaled = |flank, size| PileupParams {
+        rescale: Some(RescaleParams { flank, size }),
         ..PileupParams::default()
     };
-    check("bed_local_oe", features, params, false, true);
+    check(
+        "bed_local_rescale_oe",
+        SIM,
+        local("domains.bed"),
+        rescaled(1.0, 33),
+        false,
+        true,
+    );
+    let params = rescaled(1.0, 21);
+    check(
+        "yeast_local_rescale_oe",
+        YEAST,
+        local("yeast_domains.bed"),
+        params,
+        false,
+        true,
+    );
+    let params = PileupParams {
+        shifts: Some(ShiftParams {
+            n: 2,
+            seed: 3,
+            ..ShiftParams::default()
+        }),
+        ..rescaled(2.0, 11)
+    };
+    check(
+        "bedpe_rescale_shifts",
+        SIM,
+        Features::Bedpe(loops()),
+        params,
+        false,
+        false,
+    );
+}
+
+/// coolpuppy's shifted controls, drawn from numpy's generator with the same seed: the same
+/// controls, so the same pileups; and a seed gives the same result every time.
+#[test]
+fn shifted_controls_are_coolpuppy_seed_for_seed() {
+    let shifted = |n, seed, flank_bp| PileupParams {
+        shifts: Some(ShiftParams {
+            n,
+            seed,
+            ..ShiftParams::default()
+        }),
+        ..flank(flank_bp)
+    };
+    let first = check(
+        "bed_shifts",
+        SIM,
+        paired("anchors.bed"),
+        shifted(5, 7, 30_000),
+        false,
+        false,
+    );
+    let again = check(
+        "bed_shifts",
+        SIM,
+        paired("anchors.bed"),
+        shifted(5, 7, 30_000),
+        false,
+        false,
+    );
+    assert_eq!(first, again);
+    check(
+        "bed_local_shifts",
+        SIM,
+        local("anchors.bed"),
+        shifted(3, 1, 50_000),
+        false,
+        false,
+    );
+    let params = PileupParams {
+        max_dist_bp: Some(300_000.0),
+        ..shifted(4, 5, 30_000)
+    };
+    check(
+        "yeast_bed_shifts",
+        YEAST,
+        paired("yeast_anchors.bed"),
+        params,
+        false,
+        false,
+    );
+    // another seed, other controls
+    let (reader, weights, view, _) = map(SIM);
+    let other = pileup(
+        reader.as_ref(),
+        Some(&weights),
+        &view,
+        &paired("anchors.bed"),
+        None,
+        &shifted(5, 8, 30_000),
+    )
+    .unwrap();
+    assert_ne!(other.all().data, first.all().data);
+}
+
+#[test]
+fn groups_by_distance_and_strand_are_coolpuppy() {
+    let params = PileupParams {
+        min_dist_bp: Some(100_000.0),
+        by_distance: Some(Vec::new()),
+        ..flank(20_000)
+    };
+    let pups = check(
+        "bed_by_distance_oe",
+        SIM,
+        paired("anchors.bed"),
+        params,
+        false,
+        true,
+    );
+    assert_eq!(
+        pups.distance_edges.as_ref().unwrap()[..3],
+        [0, 50_000, 100_000]
+    );
+    let params = PileupParams {
+        by_distance: Some(vec![600_000, 150_000, 300_000]),
+        ..flank(30_000)
+    };
+    check(
+        "bed_by_distance_raw",
+        SIM,
+        paired("anchors.bed"),
+        params,
+        true,
+        false,
+    );
+    let params = PileupParams {
+        min_dist_bp: Some(100_000.0),
+        by_strand: true,
+        flip_negative_strand: true,
+        ..flank(20_000)
+    };
+    check(
+        "bed_by_strand_flip_oe",
+        SIM,
+        paired("anchors.stranded.bed"),
+        params,
+        false,
+        true,
+    );
+}
+
+/// cooltools `pileup` keeps snippets near an edge (padded with NaN) and masks both triangles'
+/// central diagonals; where every window is inside and off the diagonal band, or on the
+/// diagonal (where a symmetric snippet's mean is our mirrored one), the mean of its stack is
+/// our pileup.
+#[test]
+fn where_they_overlap_cooltools_pileup_is_ours() {
+    for (name, path, features, flank_bp) in [
+        ("cooltools_bedpe_oe", SIM, Features::Bedpe(loops()), 20_000),
+        (
+            "cooltools_yeast_local_oe",
+            YEAST,
+            local("yeast_anchors.bed"),
+            30_000,
+        ),
+    ] {
+        let (reader, weights, view, expected) = map(path);
+        let pups = pileup(
+            reader.as_ref(),
+            Some(&weights),
+            &view,
+            &features,
+            Some(&expected),
+            &flank(flank_bp),
+        )
+        .unwrap();
+        let want = reference(name);
+        assert_eq!(pups.all().n, want[0].n, "{name}: n");
+        compare_grid(name, &pups.all().data, &want[0].grid);
+    }
 }

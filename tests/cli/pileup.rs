@@ -39,14 +39,8 @@ fn pileup_of_loops_is_coolpuppy() {
             assert!((x - y).abs() <= 1e-12 * y.abs(), "{x} vs {y}");
         }
     }
-    let scores = std::fs::read_to_string(format!("{prefix}.scores.tsv")).unwrap();
-    let value = |name: &str| -> f64 {
-        let line = scores
-            .lines()
-            .find(|l| l.starts_with(&format!("{name}\t")))
-            .unwrap();
-        line.split('\t').nth(1).unwrap().parse().unwrap()
-    };
+    let scores = scores_table(&format!("{prefix}.scores.tsv"));
+    let value = |name: &str| score(&scores, "all", name);
     assert_eq!(value("n"), 8.0);
     let table = std::fs::read_to_string(data("reference/pileup/scores.tsv")).unwrap();
     let want: f64 = table
@@ -59,6 +53,181 @@ fn pileup_of_loops_is_coolpuppy() {
         .parse()
         .unwrap();
     assert!((value("enrichment_3x3") - want).abs() <= 1e-12 * want);
+}
+
+/// The scores table: its header and rows.
+fn scores_table(path: &str) -> (Vec<String>, Vec<Vec<String>>) {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text
+        .lines()
+        .map(|l| l.split('\t').map(str::to_string).collect());
+    (lines.next().unwrap(), lines.collect())
+}
+
+/// The score `name` of group `group`.
+fn score(table: &(Vec<String>, Vec<Vec<String>>), group: &str, name: &str) -> f64 {
+    let column = table.0.iter().position(|h| h == name).unwrap();
+    let row = table.1.iter().find(|r| r[0] == group).unwrap();
+    row[column].parse().unwrap()
+}
+
+/// A reference grid of `data/reference/pileup/NAME.tsv.gz` for group `label` (see
+/// scripts/pileup_reference.py): its `n` and rows.
+fn reference_group(name: &str, label: &str) -> (usize, Vec<Vec<f64>>) {
+    let table = reference_table(&format!("reference/pileup/{name}.tsv.gz"));
+    // reference_table takes the first line as the header: the first group's
+    let mut groups: Vec<(String, Vec<Vec<f64>>)> = vec![(table.header.join("\t"), Vec::new())];
+    for row in &table.rows {
+        if row[0].starts_with('#') {
+            groups.push((row.join("\t"), Vec::new()));
+        } else {
+            let values = row.iter().map(|v| v.parse().unwrap()).collect();
+            groups.last_mut().unwrap().1.push(values);
+        }
+    }
+    let wanted = |head: &str| {
+        let group = head.split(' ').find_map(|f| f.strip_prefix("group="));
+        group.unwrap_or("all") == label
+    };
+    let (head, grid) = groups.into_iter().find(|(h, _)| wanted(h)).unwrap();
+    let n = head.split(' ').find_map(|f| f.strip_prefix("n=")).unwrap();
+    (n.parse().unwrap(), grid)
+}
+
+/// Our grid file's rows equal the reference's to 1e-12 relative (NaN where it is NaN).
+fn same_grid(ours: &[Vec<f64>], theirs: &[Vec<f64>]) {
+    assert_eq!(ours.len(), theirs.len());
+    for (a, b) in ours.iter().zip(theirs) {
+        assert_eq!(a.len(), b.len());
+        for (x, y) in a.iter().zip(b) {
+            assert!(
+                (x.is_nan() && y.is_nan()) || (x - y).abs() <= 1e-12 * y.abs(),
+                "{x} vs {y}"
+            );
+        }
+    }
+}
+
+/// Shifted controls with a seed, rescaled domains, distance groups: coolpuppy's pileups, the
+/// groups' grids in PREFIX.groups.tsv, their scores one line per group.
+#[test]
+fn pileup_options_give_coolpuppys_pileups() {
+    let dir = tempfile::tempdir().unwrap();
+    let sim = data("sim_extrusion.5kb.cool");
+    let grid = |path: String| -> Vec<Vec<f64>> {
+        std::fs::read_to_string(path)
+            .unwrap()
+            .lines()
+            .map(|l| l.split('\t').map(|v| v.parse().unwrap()).collect())
+            .collect()
+    };
+    // shifts: same seed, same file; coolpuppy's pileup
+    let mut outputs = Vec::new();
+    for k in 0..2 {
+        let prefix = dir
+            .path()
+            .join(format!("shifts{k}"))
+            .to_string_lossy()
+            .into_owned();
+        let args = [
+            "pileup",
+            &sim,
+            &data("reference/pileup/anchors.bed"),
+            "--nshifts",
+            "5",
+            "--seed",
+            "7",
+            "--flank",
+            "30k",
+            "-o",
+            &prefix,
+        ];
+        let out = run(&args);
+        assert!(out.status.success());
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(stderr.contains("shifted controls (seed 7)"), "{stderr}");
+        outputs.push(std::fs::read(format!("{prefix}.pileup.tsv")).unwrap());
+        let scores = scores_table(&format!("{prefix}.scores.tsv"));
+        assert_eq!(score(&scores, "all", "control_n"), 39.0);
+        same_grid(
+            &grid(format!("{prefix}.pileup.tsv")),
+            &reference_group("bed_shifts", "all").1,
+        );
+    }
+    assert_eq!(outputs[0], outputs[1]);
+    // rescaled local domains
+    let prefix = dir.path().join("domains").to_string_lossy().into_owned();
+    let out = run(&[
+        "pileup",
+        &sim,
+        &data("reference/pileup/domains.bed"),
+        "--local",
+        "--rescale",
+        "--rescale-size",
+        "33",
+        "-o",
+        &prefix,
+    ]);
+    assert!(out.status.success());
+    same_grid(
+        &grid(format!("{prefix}.pileup.tsv")),
+        &reference_group("bed_local_rescale_oe", "all").1,
+    );
+    let scores = scores_table(&format!("{prefix}.scores.tsv"));
+    assert!(score(&scores, "all", "domain_score") > 1.0);
+    // by distance: a grid per band in PREFIX.groups.tsv
+    let prefix = dir.path().join("bands").to_string_lossy().into_owned();
+    let out = run(&[
+        "pileup",
+        &sim,
+        &data("reference/pileup/anchors.bed"),
+        "--flank",
+        "20k",
+        "--mindist",
+        "100k",
+        "--by-distance",
+        "-o",
+        &prefix,
+    ]);
+    assert!(out.status.success());
+    let groups = std::fs::read_to_string(format!("{prefix}.groups.tsv")).unwrap();
+    let band: Vec<Vec<f64>> = groups
+        .lines()
+        .filter(|l| l.starts_with("0.2Mb-0.4Mb\t"))
+        .map(|l| l.split('\t').skip(2).map(|v| v.parse().unwrap()).collect())
+        .collect();
+    let (n, want) = reference_group("bed_by_distance_oe", "0.2Mb-0.4Mb");
+    same_grid(&band, &want);
+    let scores = scores_table(&format!("{prefix}.scores.tsv"));
+    assert_eq!(score(&scores, "0.2Mb-0.4Mb", "n"), n as f64);
+    assert_eq!(scores.1.last().unwrap()[0], "all");
+    // shifts and an expected are two normalisations
+    let line = run_err(&[
+        "pileup",
+        &sim,
+        &data("reference/pileup/anchors.bed"),
+        "--nshifts",
+        "2",
+        "--no-expected",
+        "-o",
+        &prefix,
+    ]);
+    assert!(
+        line.contains("--no-expected") && line.contains("--nshifts"),
+        "{line}"
+    );
+    let line = run_err(&[
+        "pileup",
+        &sim,
+        &data("reference/pileup/domains.bed"),
+        "--local",
+        "--rescale",
+        "--rescale-size",
+        "32",
+        "-o",
+        &dir.path().join("even").to_string_lossy(),
+    ]);
+    assert!(line.contains("--rescale-size 32"), "{line}");
 }
 
 #[test]

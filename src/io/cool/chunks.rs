@@ -70,56 +70,31 @@ impl Element {
 
 /// Values that a column can be decoded into.
 pub trait ColumnValue: Copy + Default + Send + Sync + hdf5::H5Type {
-    /// Convert one little-endian element.
-    fn decode(element: ElementBytes<'_>) -> Self;
-}
-
-/// The bytes of one element and its stored type.
-#[derive(Clone, Copy, Debug)]
-pub struct ElementBytes<'a> {
-    bytes: &'a [u8],
-    element: Element,
-}
-
-impl ElementBytes<'_> {
-    #[inline]
-    fn as_f64(self) -> f64 {
-        let b = self.bytes;
-        match self.element {
-            Element::F32 => f32::from_le_bytes([b[0], b[1], b[2], b[3]]) as f64,
-            Element::F64 => f64::from_le_bytes(b.try_into().expect("8 bytes")),
-            _ => self.as_i64() as f64,
-        }
-    }
-
-    #[inline]
-    fn as_i64(self) -> i64 {
-        let b = self.bytes;
-        match self.element {
-            Element::I8 => b[0] as i8 as i64,
-            Element::U8 => b[0] as i64,
-            Element::I16 => i16::from_le_bytes([b[0], b[1]]) as i64,
-            Element::U16 => u16::from_le_bytes([b[0], b[1]]) as i64,
-            Element::I32 => i32::from_le_bytes([b[0], b[1], b[2], b[3]]) as i64,
-            Element::U32 => u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as i64,
-            Element::I64 => i64::from_le_bytes(b.try_into().expect("8 bytes")),
-            Element::U64 => u64::from_le_bytes(b.try_into().expect("8 bytes")) as i64,
-            Element::F32 | Element::F64 => self.as_f64() as i64,
-        }
-    }
+    /// From a stored integer.
+    fn from_int(v: i64) -> Self;
+    /// From a stored float.
+    fn from_float(v: f64) -> Self;
 }
 
 impl ColumnValue for i64 {
     #[inline]
-    fn decode(element: ElementBytes<'_>) -> Self {
-        element.as_i64()
+    fn from_int(v: i64) -> Self {
+        v
+    }
+    #[inline]
+    fn from_float(v: f64) -> Self {
+        v as i64
     }
 }
 
 impl ColumnValue for f64 {
     #[inline]
-    fn decode(element: ElementBytes<'_>) -> Self {
-        element.as_f64()
+    fn from_int(v: i64) -> Self {
+        v as f64
+    }
+    #[inline]
+    fn from_float(v: f64) -> Self {
+        v
     }
 }
 
@@ -423,7 +398,8 @@ impl ChunkDecoder {
 
 /// Decode elements `skip..skip + target.len()` of a chunk's `N`-byte elements, undoing HDF5's
 /// shuffle filter on the way when `shuffled` (byte `b` of element `i` was stored at `b * n + i`,
-/// `n` the number of whole elements; trailing bytes are stored as they are).
+/// `n` the number of whole elements; trailing bytes are stored as they are). The element type is
+/// matched once per chunk, not per element.
 fn decode_elements<const N: usize, T: ColumnValue>(
     plain: &[u8],
     shuffled: bool,
@@ -431,21 +407,59 @@ fn decode_elements<const N: usize, T: ColumnValue>(
     skip: usize,
     target: &mut [T],
 ) {
+    match element {
+        Element::I8 => fill::<N, T, _>(plain, shuffled, skip, target, |v| {
+            T::from_int(v as u8 as i8 as i64)
+        }),
+        Element::U8 => fill::<N, T, _>(plain, shuffled, skip, target, |v| T::from_int(v as i64)),
+        Element::I16 => fill::<N, T, _>(plain, shuffled, skip, target, |v| {
+            T::from_int(v as u16 as i16 as i64)
+        }),
+        Element::U16 => fill::<N, T, _>(plain, shuffled, skip, target, |v| T::from_int(v as i64)),
+        Element::I32 => fill::<N, T, _>(plain, shuffled, skip, target, |v| {
+            T::from_int(v as u32 as i32 as i64)
+        }),
+        Element::U32 => fill::<N, T, _>(plain, shuffled, skip, target, |v| T::from_int(v as i64)),
+        Element::I64 | Element::U64 => {
+            fill::<N, T, _>(plain, shuffled, skip, target, |v| T::from_int(v as i64))
+        }
+        Element::F32 => fill::<N, T, _>(plain, shuffled, skip, target, |v| {
+            T::from_float(f32::from_bits(v as u32) as f64)
+        }),
+        Element::F64 => fill::<N, T, _>(plain, shuffled, skip, target, |v| {
+            T::from_float(f64::from_bits(v))
+        }),
+    }
+}
+
+/// The loop of [`decode_elements`]: each element's `N` little-endian bytes as a `u64`, converted.
+#[inline(always)]
+fn fill<const N: usize, T, F: Fn(u64) -> T>(
+    plain: &[u8],
+    shuffled: bool,
+    skip: usize,
+    target: &mut [T],
+    convert: F,
+) {
     let len = target.len();
     if shuffled {
         let n = plain.len() / N;
         let planes: [&[u8]; N] = std::array::from_fn(|b| &plain[b * n + skip..b * n + skip + len]);
         for (k, value) in target.iter_mut().enumerate() {
-            let bytes: [u8; N] = std::array::from_fn(|b| planes[b][k]);
-            *value = T::decode(ElementBytes {
-                bytes: &bytes,
-                element,
-            });
+            let mut v = 0u64;
+            for (b, plane) in planes.iter().enumerate() {
+                v |= (plane[k] as u64) << (8 * b);
+            }
+            *value = convert(v);
         }
     } else {
         let elements = plain[skip * N..(skip + len) * N].chunks_exact(N);
         for (value, bytes) in target.iter_mut().zip(elements) {
-            *value = T::decode(ElementBytes { bytes, element });
+            let mut v = 0u64;
+            for (b, &byte) in bytes.iter().enumerate() {
+                v |= (byte as u64) << (8 * b);
+            }
+            *value = convert(v);
         }
     }
 }

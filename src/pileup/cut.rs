@@ -1,0 +1,284 @@
+//! Snippets cut out of the map and summed as they are cut, on every core.
+//!
+//! The snippets of a view region are sorted by their first row and gathered in runs of nearby
+//! rows; each run's pixels (the upper triangle, within the columns its snippets reach) are read
+//! once into rows of `(column, value)` while the previous run is cut, in parallel, in fixed
+//! chunks whose sums are added in order (the same result on any number of threads). Memory: one
+//! run's pixels and one sum per group and core, never a stack of snippets.
+
+use std::ops::Range;
+
+use ndarray::Array2;
+use rayon::prelude::*;
+
+use super::rescale::rescale_snippet;
+use crate::error::{Error, Result};
+use crate::io::MatrixReader;
+
+/// Rows read together at most (unless one snippet is taller).
+const RUN_ROWS: usize = 512;
+/// Snippets whose rows are this close to a run's join it.
+const RUN_GAP: usize = 64;
+/// Snippets cut per parallel task.
+const CHUNK: usize = 64;
+
+/// One snippet to cut: genome-wide bins, and where its values go.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Snip {
+    /// Rows (anchor 1).
+    pub rows: Range<usize>,
+    /// Columns (anchor 2).
+    pub cols: Range<usize>,
+    /// Index of the view region (for the expected).
+    pub region: usize,
+    /// The sums it adds to.
+    pub slots: Vec<usize>,
+    /// Flipped about the anti-diagonal (negative strand).
+    pub flip: bool,
+}
+
+/// Per slot: the sum of the snippets' values (NaN left out), the number of finite values per
+/// pixel, the number of snippets.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Sums {
+    /// Sum of the non-NaN values.
+    pub sum: Array2<f64>,
+    /// Finite values per pixel.
+    pub num: Array2<u64>,
+    /// Snippets added.
+    pub n: usize,
+}
+
+impl Sums {
+    fn new(size: usize) -> Sums {
+        Sums {
+            sum: Array2::zeros((size, size)),
+            num: Array2::zeros((size, size)),
+            n: 0,
+        }
+    }
+
+    fn add(&mut self, snippet: &Array2<f64>) {
+        for ((s, k), &v) in self.sum.iter_mut().zip(self.num.iter_mut()).zip(snippet) {
+            if !v.is_nan() {
+                *s += v;
+                *k += v.is_finite() as u64;
+            }
+        }
+        self.n += 1;
+    }
+
+    fn merge(&mut self, other: &Sums) {
+        self.sum += &other.sum;
+        self.num += &other.num;
+        self.n += other.n;
+    }
+}
+
+/// Reads the map and cuts snippets out of it.
+pub struct Cutter<'a> {
+    /// The map.
+    pub reader: &'a dyn MatrixReader,
+    /// How snippets are made.
+    pub make: Make<'a>,
+}
+
+/// How snippets are made from the pixels read.
+pub struct Make<'a> {
+    /// Balancing weights (NaN for a masked bin), or raw counts.
+    pub weights: Option<&'a [f64]>,
+    /// Per view region, the expected of each diagonal (observed / expected), or none.
+    pub expected: Option<&'a [Vec<f64>]>,
+    /// Pixels with `j - i` below this are NaN.
+    pub ignore_diags: usize,
+    /// Rescaled to this size.
+    pub rescale: Option<usize>,
+    /// On the diagonal (symmetrised before rescaling).
+    pub local: bool,
+    /// The side of the pileup.
+    pub size: usize,
+}
+
+/// The stored pixels of some rows, row by row: `(column, value)` sorted by column.
+struct Rows {
+    first: usize,
+    ptr: Vec<usize>,
+    cols: Vec<u32>,
+    values: Vec<f64>,
+}
+
+impl Rows {
+    fn read(cutter: &Cutter<'_>, rows: Range<usize>, cols: Range<usize>) -> Result<Rows> {
+        let weights = cutter.make.weights;
+        let first = rows.start;
+        let mut ptr = vec![0usize; rows.len() + 1];
+        let (mut col_out, mut values) = (Vec::new(), Vec::new());
+        let mut row = first;
+        let (col_lo, col_hi) = (cols.start as u64, cols.end as u64);
+        // whole rows (the reader then copies nothing), the columns kept here
+        let n_bins = cutter.reader.bins().n_bins();
+        cutter
+            .reader
+            .read_pixels(rows.clone(), 0..n_bins, &mut |block| {
+                for k in 0..block.len() {
+                    if block.bin2[k] < col_lo || block.bin2[k] >= col_hi {
+                        continue;
+                    }
+                    let (i, j) = (block.bin1[k] as usize, block.bin2[k] as usize);
+                    while row < i {
+                        row += 1;
+                        ptr[row - first] = col_out.len();
+                    }
+                    col_out.push(j as u32);
+                    values.push(match weights {
+                        Some(w) => (w[i] * w[j]) * block.count[k],
+                        None => block.count[k],
+                    });
+                }
+                Ok(())
+            })?;
+        while row < rows.end {
+            row += 1;
+            ptr[row - first] = col_out.len();
+        }
+        Ok(Rows {
+            first,
+            ptr,
+            cols: col_out,
+            values,
+        })
+    }
+
+    /// The stored pixels of row `i` in `cols`.
+    fn row(&self, i: usize, cols: &Range<usize>) -> impl Iterator<Item = (usize, f64)> + '_ {
+        let k = i - self.first;
+        let (c, v) = (
+            &self.cols[self.ptr[k]..self.ptr[k + 1]],
+            &self.values[self.ptr[k]..self.ptr[k + 1]],
+        );
+        let from = c.partition_point(|&j| (j as usize) < cols.start);
+        let end = cols.end;
+        c[from..]
+            .iter()
+            .zip(&v[from..])
+            .take_while(move |(&j, _)| (j as usize) < end)
+            .map(|(&j, &v)| (j as usize, v))
+    }
+}
+
+impl Make<'_> {
+    /// The snippet of `snip`: masked, observed / expected, rescaled and flipped as asked.
+    fn snippet(&self, rows: &Rows, snip: &Snip) -> Array2<f64> {
+        let (r0, c0) = (snip.rows.start, snip.cols.start);
+        let mut s = Array2::<f64>::zeros((snip.rows.len(), snip.cols.len()));
+        for i in snip.rows.clone() {
+            for (j, v) in rows.row(i, &snip.cols) {
+                s[[i - r0, j - c0]] = v;
+            }
+        }
+        let expected = self.expected.map(|e| &e[snip.region]);
+        for ((p, q), value) in s.indexed_iter_mut() {
+            let (i, j) = (r0 + p, c0 + q);
+            let masked = self.weights.is_some_and(|w| w[i].is_nan() || w[j].is_nan());
+            if masked || (j as i64 - i as i64) < self.ignore_diags as i64 {
+                *value = f64::NAN;
+            } else if let Some(expected) = expected {
+                *value /= expected.get(j - i).copied().unwrap_or(f64::NAN);
+            }
+        }
+        if let Some(size) = self.rescale {
+            s = rescale_snippet(&s, size, self.local);
+        }
+        if snip.flip {
+            let (h, w) = s.dim();
+            s = Array2::from_shape_fn((w, h), |(i, j)| s[[h - 1 - j, w - 1 - i]]);
+        }
+        s
+    }
+
+    fn cut_run(&self, rows: &Rows, snips: &[Snip], n_slots: usize) -> Result<Vec<Sums>> {
+        let parts: Vec<Vec<Sums>> = snips
+            .par_chunks(CHUNK)
+            .map(|chunk| {
+                let mut sums = vec![Sums::new(self.size); n_slots];
+                for snip in chunk {
+                    let s = self.snippet(rows, snip);
+                    for &slot in &snip.slots {
+                        sums[slot].add(&s);
+                    }
+                }
+                sums
+            })
+            .collect();
+        let mut total = vec![Sums::new(self.size); n_slots];
+        for part in &parts {
+            for (t, p) in total.iter_mut().zip(part) {
+                t.merge(p);
+            }
+        }
+        Ok(total)
+    }
+}
+
+impl Cutter<'_> {
+    /// The sums of `snips` (all in one view region) into `n_slots` slots.
+    pub fn sum(&self, mut snips: Vec<Snip>, n_slots: usize) -> Result<Vec<Sums>> {
+        snips.sort_by_key(|s| s.rows.start);
+        let runs = runs(&snips);
+        let mut total = vec![Sums::new(self.make.size); n_slots];
+        let Some(first) = runs.first() else {
+            return Ok(total);
+        };
+        let mut rows = self.read_run(&snips[first.clone()])?;
+        for (k, run) in runs.iter().enumerate() {
+            let make = &self.make;
+            let (parts, next) = std::thread::scope(|scope| {
+                let cutting = scope.spawn(|| make.cut_run(&rows, &snips[run.clone()], n_slots));
+                let next = runs
+                    .get(k + 1)
+                    .map(|next| self.read_run(&snips[next.clone()]))
+                    .transpose();
+                let parts = cutting
+                    .join()
+                    .unwrap_or_else(|_| Err(Error::Invalid("a pileup thread panicked".into())));
+                (parts, next)
+            });
+            for (t, p) in total.iter_mut().zip(&parts?) {
+                t.merge(p);
+            }
+            if let Some(next) = next? {
+                rows = next;
+            }
+        }
+        Ok(total)
+    }
+
+    fn read_run(&self, snips: &[Snip]) -> Result<Rows> {
+        let rows = snips.iter().map(|s| s.rows.start).min().unwrap_or(0)
+            ..snips.iter().map(|s| s.rows.end).max().unwrap_or(0);
+        let cols = snips.iter().map(|s| s.cols.start).min().unwrap_or(0)
+            ..snips.iter().map(|s| s.cols.end).max().unwrap_or(0);
+        Rows::read(self, rows, cols)
+    }
+}
+
+/// Runs of snippets (sorted by first row) to read together: rows within `RUN_GAP` of the run,
+/// the run at most `RUN_ROWS` tall.
+fn runs(snips: &[Snip]) -> Vec<Range<usize>> {
+    let mut out = Vec::new();
+    let mut k = 0;
+    while k < snips.len() {
+        let (start, mut end) = (snips[k].rows.start, snips[k].rows.end);
+        let mut m = k + 1;
+        while m < snips.len()
+            && snips[m].rows.start <= end + RUN_GAP
+            && snips[m].rows.end.max(end) - start <= RUN_ROWS
+        {
+            end = end.max(snips[m].rows.end);
+            m += 1;
+        }
+        out.push(k..m);
+        k = m;
+    }
+    out
+}
