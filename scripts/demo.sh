@@ -108,6 +108,14 @@ step "The same map at 5, 10 and 25 kb: dots at each level, merged as Juicer's Hi
 "$cm" dots "$work/sim.mcool" --resolutions 5k,10k,25k -o "$work/sim.loops.bedpe"
 step "Picture: the simulated map with its 5 kb dots outlined" \
   "$cm" plot map "$sim" --region chr1 --loops "$work/sim.dots.bedpe" -o "$figs/sim_dots.png"
+step "Pileup (coolpuppy): the simulated map observed/expected at its held loops, by distance, with Juicer's APA scores" \
+  "$cm" pileup "$sim" data/sim_extrusion.truth_loops.bedpe --flank 20k --mindist 0 --by-distance -o "$work/sim.loops"
+cut -f1-4,8 "$work/sim.loops.scores.tsv"
+step "The same with shifted random controls instead of the expected (coolpuppy's draws: --seed 1 gives coolpuppy's controls)" \
+  "$cm" pileup "$sim" data/sim_extrusion.truth_loops.bedpe --flank 20k --mindist 0 --nshifts 10 --seed 1 -o "$work/sim.loops.shifts"
+cut -f1-4 "$work/sim.loops.shifts.scores.tsv"
+step "Picture: the pileups per distance band, as plotpup draws them (centre enrichment in the corner)" \
+  "$cm" plot pileup "$work/sim.loops" -o "$figs/sim_loops_pileup.png"
 step "A synthetic map with known domains (power-law decay, Poisson noise, no coverage bias)" \
   "$cm" simulate blocks -o "$work/blocks.cool" --truth-boundaries "$work/truth.bed" --seed 1
 "$cm" info "$work/blocks.cool" | grep -E "nbins|nnz"

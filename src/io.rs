@@ -27,6 +27,7 @@ pub mod hic;
 pub mod hicexplorer;
 pub mod info;
 pub mod merged;
+pub mod npz;
 pub mod output;
 pub mod predictions;
 pub mod structure;

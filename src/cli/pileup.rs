@@ -12,9 +12,10 @@ use crate::cli::warnings::Warnings;
 use crate::cli::InputArgs;
 use contactmap::error::{Error, Result};
 use contactmap::io::bed::{feature_kind, read_bed, read_bedpe, FeatureKind};
+use contactmap::io::npz::npz_bytes;
 use contactmap::pileup::scores::pileup_scores;
 use contactmap::pileup::shifts::ShiftParams;
-use contactmap::pileup::tables::{grid_tsv, groups_tsv, scores_tsv};
+use contactmap::pileup::tables::{grid_tsv, groups_tsv, pileup_arrays, scores_tsv};
 use contactmap::pileup::{pileup, Features, PileupParams, RescaleParams};
 
 /// `--features-format`.
@@ -49,7 +50,10 @@ reads a .bed.gz as BEDPE); --features-format forces it. The run says what it rea
 
 Outputs (PREFIX as given by -o):
   PREFIX.pileup.tsv   the pileup, one line per row of the grid (nan where no snippet has a value)
-  PREFIX.scores.tsv   n, then coolpuppy's scores (enrichment of the central --center pixels,
+  PREFIX.groups.tsv   with --by-distance / --by-strand: every group's grid, rows led by the
+                      group's label and the row's index (the group of all last)
+  PREFIX.npz          with --npz: the grids, per-pixel counts, n and labels for numpy
+  PREFIX.scores.tsv   one line per group: n, then coolpuppy's scores (enrichment of the central --center pixels,
                       corner CV; insulation strength for --local) and Juicer APA's (P2M, P2UL,
                       P2UR, P2LL, P2LR, ZscoreLL; corners 3 wide at 5 kb, 6 otherwise)
 
@@ -148,6 +152,10 @@ pub struct PileupArgs {
     /// so that every feature points the same way.
     #[arg(long)]
     pub flip_negative_strand: bool,
+    /// Also write PREFIX.npz (numpy.load): every group's pileup (data, G x N x N), its
+    /// per-pixel counts (num), n, control_n (with shifts) and labels (group), all last.
+    #[arg(long)]
+    pub npz: bool,
     /// Side of the central square of the enrichment score (pixels).
     #[arg(long, default_value_t = 3)]
     pub center: usize,
@@ -164,6 +172,7 @@ pub fn run(args: &PileupArgs) -> Result<()> {
         PathBuf::from(format!("{prefix}.pileup.tsv")),
         PathBuf::from(format!("{prefix}.scores.tsv")),
         PathBuf::from(format!("{prefix}.groups.tsv")),
+        PathBuf::from(format!("{prefix}.npz")),
     ];
     let inputs: Vec<&Path> = [uri_file(&args.uri), args.features.as_path()]
         .into_iter()
@@ -310,6 +319,9 @@ pub fn run(args: &PileupArgs) -> Result<()> {
         write_text_file(format!("{prefix}.groups.tsv"), groups_tsv(&pups))?;
     }
     write_text_file(format!("{prefix}.scores.tsv"), scores_tsv(&scores))?;
+    if args.npz {
+        write_text_file(format!("{prefix}.npz"), npz_bytes(&pileup_arrays(&pups))?)?;
+    }
     let s = &pups.skipped;
     let limits = if args.local {
         String::from("on the diagonal")

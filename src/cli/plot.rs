@@ -1,12 +1,14 @@
 //! `contactmap plot`: figures as PNG or SVG. `plot map` draws a contact-map heatmap (square or
 //! 45-degree, with overlays and tracks); `plot expected` P(s) curves with their slopes and power
 //! laws; `plot contacts` a protein contact map with the predictions coloured true / false
-//! positive and the precision curve; `plot saddle` a compartment saddle; the options every
+//! positive and the precision curve; `plot saddle` a compartment saddle; `plot pileup` the
+//! pileups of `contactmap pileup`, as plotpup draws them; the options every
 //! figure shares (output, format, size, dpi, title) live here.
 
 mod contacts;
 mod expected;
 mod map;
+mod pileup;
 mod saddle;
 
 use std::path::PathBuf;
@@ -42,6 +44,9 @@ pub enum PlotCommand {
     /// Saddle plot of `contactmap saddle`'s table: mean observed/expected by pair of track
     /// classes (cooltools' saddleplot).
     Saddle(Box<saddle::SaddlePlotArgs>),
+    /// The pileups of `contactmap pileup` as plotpup draws them: a heatmap per group, log colour
+    /// scale centred at 1, the centre score in a corner.
+    Pileup(Box<pileup::PileupPlotArgs>),
 }
 
 /// Run `contactmap plot`.
@@ -51,6 +56,7 @@ pub fn run(args: &PlotArgs) -> Result<()> {
         PlotCommand::Expected(args) => expected::run(args),
         PlotCommand::Contacts(args) => contacts::run(args),
         PlotCommand::Saddle(args) => saddle::run(args),
+        PlotCommand::Pileup(args) => pileup::run(args),
     }
 }
 

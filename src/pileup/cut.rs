@@ -99,44 +99,42 @@ pub struct Make<'a> {
     pub size: usize,
 }
 
-/// The stored pixels of some rows, row by row: `(column, value)` sorted by column.
+/// The stored pixels of some rows, row by row: columns (sorted) and raw counts.
 struct Rows {
     first: usize,
     ptr: Vec<usize>,
-    cols: Vec<u32>,
-    values: Vec<f64>,
+    cols: Vec<u64>,
+    counts: Vec<f64>,
 }
 
 impl Rows {
-    fn read(cutter: &Cutter<'_>, rows: Range<usize>, cols: Range<usize>) -> Result<Rows> {
-        let weights = cutter.make.weights;
+    /// Rows `rows`, the pixels in `cols` kept: each row's stretch of them copied whole (the
+    /// reader hands out whole rows sorted by column), weights applied later, when cutting.
+    fn read(reader: &dyn MatrixReader, rows: Range<usize>, cols: Range<usize>) -> Result<Rows> {
         let first = rows.start;
         let mut ptr = vec![0usize; rows.len() + 1];
-        let (mut col_out, mut values) = (Vec::new(), Vec::new());
+        let (mut col_out, mut counts) = (Vec::new(), Vec::new());
         let mut row = first;
         let (col_lo, col_hi) = (cols.start as u64, cols.end as u64);
-        // whole rows (the reader then copies nothing), the columns kept here
-        let n_bins = cutter.reader.bins().n_bins();
-        cutter
-            .reader
-            .read_pixels(rows.clone(), 0..n_bins, &mut |block| {
-                for k in 0..block.len() {
-                    if block.bin2[k] < col_lo || block.bin2[k] >= col_hi {
-                        continue;
-                    }
-                    let (i, j) = (block.bin1[k] as usize, block.bin2[k] as usize);
-                    while row < i {
-                        row += 1;
-                        ptr[row - first] = col_out.len();
-                    }
-                    col_out.push(j as u32);
-                    values.push(match weights {
-                        Some(w) => (w[i] * w[j]) * block.count[k],
-                        None => block.count[k],
-                    });
+        let n_bins = reader.bins().n_bins();
+        reader.read_pixels(rows.clone(), 0..n_bins, &mut |block| {
+            let mut k = 0;
+            while k < block.len() {
+                let i = block.bin1[k];
+                let end = k + block.bin1[k..].partition_point(|&b| b == i);
+                let stretch = &block.bin2[k..end];
+                let from = k + stretch.partition_point(|&j| j < col_lo);
+                let to = k + stretch.partition_point(|&j| j < col_hi);
+                while row < i as usize {
+                    row += 1;
+                    ptr[row - first] = col_out.len();
                 }
-                Ok(())
-            })?;
+                col_out.extend_from_slice(&block.bin2[from..to]);
+                counts.extend_from_slice(&block.count[from..to]);
+                k = end;
+            }
+            Ok(())
+        })?;
         while row < rows.end {
             row += 1;
             ptr[row - first] = col_out.len();
@@ -145,23 +143,23 @@ impl Rows {
             first,
             ptr,
             cols: col_out,
-            values,
+            counts,
         })
     }
 
-    /// The stored pixels of row `i` in `cols`.
+    /// The stored pixels of row `i` in `cols`: `(column, count)`.
     fn row(&self, i: usize, cols: &Range<usize>) -> impl Iterator<Item = (usize, f64)> + '_ {
         let k = i - self.first;
         let (c, v) = (
             &self.cols[self.ptr[k]..self.ptr[k + 1]],
-            &self.values[self.ptr[k]..self.ptr[k + 1]],
+            &self.counts[self.ptr[k]..self.ptr[k + 1]],
         );
         let from = c.partition_point(|&j| (j as usize) < cols.start);
-        let end = cols.end;
+        let end = cols.end as u64;
         c[from..]
             .iter()
             .zip(&v[from..])
-            .take_while(move |(&j, _)| (j as usize) < end)
+            .take_while(move |(&j, _)| j < end)
             .map(|(&j, &v)| (j as usize, v))
     }
 }
@@ -172,8 +170,11 @@ impl Make<'_> {
         let (r0, c0) = (snip.rows.start, snip.cols.start);
         let mut s = Array2::<f64>::zeros((snip.rows.len(), snip.cols.len()));
         for i in snip.rows.clone() {
-            for (j, v) in rows.row(i, &snip.cols) {
-                s[[i - r0, j - c0]] = v;
+            for (j, count) in rows.row(i, &snip.cols) {
+                s[[i - r0, j - c0]] = match self.weights {
+                    Some(w) => (w[i] * w[j]) * count,
+                    None => count,
+                };
             }
         }
         let expected = self.expected.map(|e| &e[snip.region]);
@@ -258,7 +259,7 @@ impl Cutter<'_> {
             ..snips.iter().map(|s| s.rows.end).max().unwrap_or(0);
         let cols = snips.iter().map(|s| s.cols.start).min().unwrap_or(0)
             ..snips.iter().map(|s| s.cols.end).max().unwrap_or(0);
-        Rows::read(self, rows, cols)
+        Rows::read(self.reader, rows, cols)
     }
 }
 

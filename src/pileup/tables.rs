@@ -2,6 +2,7 @@
 //! Python's shortest round-trip form.
 
 use super::{Pileup, Pileups};
+use crate::io::npz::{NpyArray, NpyData};
 use crate::io::output::python_float;
 
 fn grid_lines(pileup: &Pileup, prefix: &str, text: &mut String) {
@@ -58,4 +59,52 @@ pub fn scores_tsv(rows: &[(&Pileup, Vec<(String, f64)>)]) -> String {
         text.push('\n');
     }
     text
+}
+
+/// The arrays of `PREFIX.npz`: `data` (groups x N x N), `num` (the same, finite values per
+/// pixel), `n`, `control_n` (with shifts) and `group` (labels), the group of all last.
+pub fn pileup_arrays(pileups: &Pileups) -> Vec<NpyArray> {
+    let groups = &pileups.groups;
+    let size = pileups.all().data.nrows();
+    let shape = vec![groups.len(), size, size];
+    let mut arrays = vec![
+        NpyArray {
+            name: "data".into(),
+            shape: shape.clone(),
+            data: NpyData::F64(groups.iter().flat_map(|p| p.data.iter().copied()).collect()),
+        },
+        NpyArray {
+            name: "num".into(),
+            shape,
+            data: NpyData::I64(
+                groups
+                    .iter()
+                    .flat_map(|p| p.num.iter().map(|&k| k as i64))
+                    .collect(),
+            ),
+        },
+        NpyArray {
+            name: "n".into(),
+            shape: vec![groups.len()],
+            data: NpyData::I64(groups.iter().map(|p| p.n as i64).collect()),
+        },
+    ];
+    if groups.iter().any(|p| p.control_n.is_some()) {
+        arrays.push(NpyArray {
+            name: "control_n".into(),
+            shape: vec![groups.len()],
+            data: NpyData::I64(
+                groups
+                    .iter()
+                    .map(|p| p.control_n.unwrap_or(0) as i64)
+                    .collect(),
+            ),
+        });
+    }
+    arrays.push(NpyArray {
+        name: "group".into(),
+        shape: vec![groups.len()],
+        data: NpyData::Text(groups.iter().map(|p| p.key.to_string()).collect()),
+    });
+    arrays
 }

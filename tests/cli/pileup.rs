@@ -230,6 +230,73 @@ fn pileup_options_give_coolpuppys_pileups() {
     assert!(line.contains("--rescale-size 32"), "{line}");
 }
 
+/// The groups' grids in PREFIX.npz (numpy's layout, read back here from the archive) and their
+/// picture: one panel per group.
+#[test]
+fn pileup_npz_and_picture() {
+    let dir = tempfile::tempdir().unwrap();
+    let prefix = dir.path().join("g").to_string_lossy().into_owned();
+    let out = run(&[
+        "pileup",
+        &data("sim_extrusion.5kb.cool"),
+        &data("reference/pileup/anchors.stranded.bed"),
+        "--flank",
+        "20k",
+        "--mindist",
+        "100k",
+        "--by-strand",
+        "--npz",
+        "-o",
+        &prefix,
+    ]);
+    assert!(out.status.success());
+    let bytes = std::fs::read(format!("{prefix}.npz")).unwrap();
+    let mut archive = zip::ZipArchive::new(std::io::Cursor::new(bytes)).unwrap();
+    let mut names: Vec<String> = archive.file_names().map(str::to_string).collect();
+    names.sort();
+    assert_eq!(names, ["data.npy", "group.npy", "n.npy", "num.npy"]);
+    let mut data = Vec::new();
+    std::io::Read::read_to_end(&mut archive.by_name("data.npy").unwrap(), &mut data).unwrap();
+    let header_len = u16::from_le_bytes([data[8], data[9]]) as usize;
+    let header = std::str::from_utf8(&data[10..10 + header_len]).unwrap();
+    // four strand pairs and all, 9 x 9 each
+    assert!(header.contains("'shape': (5, 9, 9)"), "{header}");
+    let values: Vec<f64> = data[10 + header_len..]
+        .chunks_exact(8)
+        .map(|b| f64::from_le_bytes(b.try_into().unwrap()))
+        .collect();
+    // the last grid is the pileup of all, as PREFIX.pileup.tsv holds it
+    let grid: Vec<f64> = std::fs::read_to_string(format!("{prefix}.pileup.tsv"))
+        .unwrap()
+        .split(['\t', '\n'])
+        .filter(|v| !v.is_empty())
+        .map(|v| v.parse().unwrap())
+        .collect();
+    for (a, b) in values[4 * 81..].iter().zip(&grid) {
+        assert!(a == b || (a.is_nan() && b.is_nan()));
+    }
+    let png = dir.path().join("g.png").to_string_lossy().into_owned();
+    let out = run(&["plot", "pileup", &prefix, "-o", &png, "--width", "6"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let bytes = std::fs::read(&png).unwrap();
+    assert_eq!(&bytes[1..4], b"PNG");
+    assert_eq!(u32::from_be_bytes(bytes[16..20].try_into().unwrap()), 600);
+    let svg = run(&["plot", "pileup", &prefix, "-o", "-", "--to", "svg"]);
+    let text = String::from_utf8_lossy(&svg.stdout);
+    // five panels and the colour bar
+    assert_eq!(text.matches("<image").count(), 6);
+    assert!(text.contains(">+-<") && text.contains(">all<"));
+    let line = run_err(&["plot", "pileup", &prefix, "--vmax", "0.5", "-o", &png]);
+    assert!(line.contains("--vmax 0.5"), "{line}");
+    let missing = dir.path().join("none").to_string_lossy().into_owned();
+    let line = run_err(&["plot", "pileup", &missing, "-o", &png]);
+    assert!(line.contains("none.pileup.tsv"), "{line}");
+}
+
 #[test]
 fn pileup_refuses_bad_inputs_without_writing() {
     let dir = tempfile::tempdir().unwrap();
