@@ -29,6 +29,12 @@ On data/yeast.10kb.cool (a real map, with masked bins), cooltools' expected_cis:
   yeast_bed_oe  anchors (yeast_anchors.bed) paired, observed/expected, flank 30 kb, maxdist 300 kb
   yeast_local_rescale_oe  domains (yeast_domains.bed) rescaled (flank 1, 21 pixels), obs/exp
   yeast_bed_shifts  the anchors paired, 4 shifted controls, seed 5, flank 30 kb, maxdist 300 kb
+Coverage normalisation (raw counts; coolpuppy stores the coverage in the cooler, so it runs on
+copies of the maps in a temporary directory):
+  bed_covnorm  the anchors paired, flank 30 kb
+  bedpe_covnorm_shifts  the truth loops, 3 shifted controls, seed 2, flank 20 kb
+  yeast_bed_covnorm  the yeast anchors paired, flank 30 kb, maxdist 300 kb (total coverage: trans
+               pixels count)
 cooltools 0.7.1 `pileup` (the nanmean of its snippet stack) where the two overlap:
   cooltools_bedpe_oe        the truth loops, observed/expected, flank 20 kb
   cooltools_yeast_local_oe  the yeast anchors on the diagonal, observed/expected, flank 30 kb
@@ -38,7 +44,9 @@ value).
 import gzip
 import logging
 import os
+import shutil
 import sys
+import tempfile
 import warnings
 
 import cooler
@@ -160,6 +168,25 @@ pups = {
         yeast, yeast_anchors, features_format="bed", nshifts=4, seed=5, flank=30000,
         maxdist=300000)),
 }
+copies = tempfile.mkdtemp()
+for name in ["sim_extrusion.5kb.cool", "yeast.10kb.cool"]:
+    shutil.copy(os.path.join("data", name), copies)
+sim_copy = cooler.Cooler(os.path.join(copies, "sim_extrusion.5kb.cool"))
+yeast_copy = cooler.Cooler(os.path.join(copies, "yeast.10kb.cool"))
+# coolpuppy 1.1.0 computes missing coverage columns with a call that cooltools 0.7.1 refuses
+# (`map=`): store them first, as it would (cooltools coverage, ignore_diags = 2, raw)
+for c in [sim_copy, yeast_copy]:
+    cooltools.coverage(c, ignore_diags=2, store=True)
+pups["bed_covnorm"] = write("bed_covnorm", coolpup.pileup(
+    sim_copy, anchors, features_format="bed", clr_weight_name=None, coverage_norm=True,
+    flank=30000))
+pups["bedpe_covnorm_shifts"] = write("bedpe_covnorm_shifts", coolpup.pileup(
+    sim_copy, loops, features_format="bedpe", clr_weight_name=None, coverage_norm=True,
+    nshifts=3, seed=2, flank=20000))
+pups["yeast_bed_covnorm"] = write("yeast_bed_covnorm", coolpup.pileup(
+    yeast_copy, yeast_anchors, features_format="bed", clr_weight_name=None, coverage_norm=True,
+    flank=30000, maxdist=300000))
+shutil.rmtree(copies)
 write_stack_mean("cooltools_bedpe_oe", cooltools.pileup(
     clr, loops, expected_df=expected, flank=20000))
 write_stack_mean("cooltools_yeast_local_oe", cooltools.pileup(

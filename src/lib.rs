@@ -309,6 +309,7 @@
 
 pub mod balance;
 pub mod compartments;
+pub mod coverage;
 pub mod error;
 pub mod expected;
 pub mod export;

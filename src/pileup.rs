@@ -105,6 +105,20 @@ pub struct PileupParams {
     pub by_strand: bool,
     /// Snippets whose anchor 1 is on the minus strand flipped about the anti-diagonal.
     pub flip_negative_strand: bool,
+    /// Normalise raw pileups by coverage (coolpuppy's `coverage_norm`): the summed snippets
+    /// divided by the outer product of their rows' and columns' summed coverage, scaled to mean
+    /// 1. Only with raw counts.
+    pub coverage_norm: Option<CoverageNorm>,
+}
+
+/// Which coverage normalises (coolpuppy's `coverage_norm`: `total` or `cis`; cooltools'
+/// `cov_tot_raw`, `cov_cis_raw`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CoverageNorm {
+    /// From every pixel of the bin's row and column.
+    Total,
+    /// From the pixels within the bin's chromosome.
+    Cis,
 }
 
 impl Default for PileupParams {
@@ -119,6 +133,7 @@ impl Default for PileupParams {
             by_distance: None,
             by_strand: false,
             flip_negative_strand: false,
+            coverage_norm: None,
         }
     }
 }
@@ -266,6 +281,21 @@ pub fn pileup(
             "local pileups have no distance to group by (--by-distance is for pairs)".into(),
         ));
     }
+    if params.coverage_norm.is_some() && weights.is_some() {
+        return Err(Error::Invalid(
+            "coverage normalisation is for raw counts (as in coolpuppy): add --raw".into(),
+        ));
+    }
+    let coverage = match params.coverage_norm {
+        None => None,
+        Some(kind) => {
+            let cov = crate::coverage::coverage(reader, params.ignore_diags)?;
+            Some(match kind {
+                CoverageNorm::Total => cov.total,
+                CoverageNorm::Cis => cov.cis,
+            })
+        }
+    };
     let flank_bins = (params.flank_bp / res) as usize;
     let min_dist = params
         .min_dist_bp
@@ -375,6 +405,7 @@ pub fn pileup(
             rescale: params.rescale.map(|r| r.size),
             local,
             size,
+            coverage: coverage.as_deref(),
         },
     };
     let mut sums: Vec<Sums> = Vec::new();
@@ -384,9 +415,7 @@ pub fn pileup(
             sums = part;
         } else {
             for (s, p) in sums.iter_mut().zip(&part) {
-                s.sum += &p.sum;
-                s.num += &p.num;
-                s.n += p.n;
+                s.merge(p);
             }
         }
     }
@@ -395,8 +424,14 @@ pub fn pileup(
     let groups = ordered
         .into_iter()
         .map(|(key, g)| {
-            let (roi, control) = (&sums[2 * g], &sums[2 * g + 1]);
+            let (mut roi, mut control) = (sums[2 * g].clone(), sums[2 * g + 1].clone());
             let shifted = params.shifts.is_some();
+            if coverage.is_some() {
+                normalise_by_coverage(&mut roi);
+                if shifted {
+                    normalise_by_coverage(&mut control);
+                }
+            }
             let mut data = Array2::from_shape_fn((size, size), |(r, c)| {
                 let mean = roi.sum[[r, c]] / roi.num[[r, c]] as f64;
                 let value = if shifted {
@@ -416,7 +451,7 @@ pub fn pileup(
             Pileup {
                 key,
                 data,
-                num: roi.num.clone(),
+                num: roi.num,
                 n: roi.n,
                 control_n: shifted.then_some(control.n),
             }
@@ -430,4 +465,18 @@ pub fn pileup(
         below_diagonal,
         distance_edges: edges,
     })
+}
+
+/// coolpuppy's `norm_coverage`: the summed snippets over the outer product of the summed
+/// coverage of their rows and columns, scaled to mean 1 (NaN left out of the mean); NaN sums
+/// (0 / 0) become 0.
+fn normalise_by_coverage(sums: &mut Sums) {
+    let size = sums.sum.nrows();
+    let outer = Array2::from_shape_fn((size, size), |(r, c)| sums.cov_start[r] * sums.cov_end[c]);
+    let finite: Vec<f64> = outer.iter().copied().filter(|v| !v.is_nan()).collect();
+    let mean = finite.iter().sum::<f64>() / finite.len() as f64;
+    sums.sum.zip_mut_with(&outer, |s, &c| {
+        let v = *s / (c / mean);
+        *s = if v.is_nan() { 0.0 } else { v };
+    });
 }

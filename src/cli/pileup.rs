@@ -16,7 +16,7 @@ use contactmap::io::npz::npz_bytes;
 use contactmap::pileup::scores::pileup_scores;
 use contactmap::pileup::shifts::ShiftParams;
 use contactmap::pileup::tables::{grid_tsv, groups_tsv, pileup_arrays, scores_tsv};
-use contactmap::pileup::{pileup, Features, PileupParams, RescaleParams};
+use contactmap::pileup::{pileup, CoverageNorm, Features, PileupParams, RescaleParams};
 
 /// `--features-format`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -86,7 +86,7 @@ pub struct PileupArgs {
     #[arg(long)]
     pub local: bool,
     /// Pixels with j - i below this are left out.
-    #[arg(long, default_value_t = 2)]
+    #[arg(long, alias = "min-diag", default_value_t = 2)]
     pub ignore_diags: usize,
     /// A cooltools cis expected table on the same bins and view, instead of computing it.
     #[arg(long, value_name = "TSV")]
@@ -152,6 +152,12 @@ pub struct PileupArgs {
     /// so that every feature points the same way.
     #[arg(long)]
     pub flip_negative_strand: bool,
+    /// Normalise a raw pileup (--raw) by coverage as coolpuppy's --coverage_norm: the summed
+    /// snippets over the outer product of their bins' summed coverage (cooltools' cov_tot_raw,
+    /// or cov_cis_raw with `cis`), scaled to mean 1.
+    #[arg(long, value_name = "KIND", num_args = 0..=1, require_equals = true,
+          default_missing_value = "total", value_parser = ["total", "cis"])]
+    pub coverage_norm: Option<String>,
     /// Also write PREFIX.npz (numpy.load): every group's pileup (data, G x N x N), its
     /// per-pixel counts (num), n, control_n (with shifts) and labels (group), all last.
     #[arg(long)]
@@ -276,6 +282,11 @@ pub fn run(args: &PileupArgs) -> Result<()> {
         },
         by_strand: args.by_strand,
         flip_negative_strand: args.flip_negative_strand,
+        coverage_norm: match args.coverage_norm.as_deref() {
+            None => None,
+            Some("cis") => Some(CoverageNorm::Cis),
+            Some(_) => Some(CoverageNorm::Total),
+        },
     };
     params.check(bin_size)?;
     let expected = if args.no_expected || args.nshifts.is_some() {

@@ -11,7 +11,7 @@ use std::ops::Range;
 use ndarray::Array2;
 use rayon::prelude::*;
 
-use super::rescale::rescale_snippet;
+use super::rescale::{rescale_snippet, zoom_axis};
 use crate::error::{Error, Result};
 use crate::io::MatrixReader;
 
@@ -47,6 +47,10 @@ pub struct Sums {
     pub num: Array2<u64>,
     /// Snippets added.
     pub n: usize,
+    /// Summed coverage of the rows' bins (with a coverage to normalise by).
+    pub cov_start: Vec<f64>,
+    /// Summed coverage of the columns' bins.
+    pub cov_end: Vec<f64>,
 }
 
 impl Sums {
@@ -55,10 +59,19 @@ impl Sums {
             sum: Array2::zeros((size, size)),
             num: Array2::zeros((size, size)),
             n: 0,
+            cov_start: vec![0.0; size],
+            cov_end: vec![0.0; size],
         }
     }
 
-    fn add(&mut self, snippet: &Array2<f64>) {
+    fn add(&mut self, snippet: &Array2<f64>, coverage: Option<&(Vec<f64>, Vec<f64>)>) {
+        if let Some((start, end)) = coverage {
+            self.cov_start
+                .iter_mut()
+                .zip(start)
+                .for_each(|(s, v)| *s += v);
+            self.cov_end.iter_mut().zip(end).for_each(|(s, v)| *s += v);
+        }
         for ((s, k), &v) in self.sum.iter_mut().zip(self.num.iter_mut()).zip(snippet) {
             if !v.is_nan() {
                 *s += v;
@@ -68,10 +81,19 @@ impl Sums {
         self.n += 1;
     }
 
-    fn merge(&mut self, other: &Sums) {
+    /// Add `other` to these sums.
+    pub fn merge(&mut self, other: &Sums) {
         self.sum += &other.sum;
         self.num += &other.num;
         self.n += other.n;
+        self.cov_start
+            .iter_mut()
+            .zip(&other.cov_start)
+            .for_each(|(s, v)| *s += v);
+        self.cov_end
+            .iter_mut()
+            .zip(&other.cov_end)
+            .for_each(|(s, v)| *s += v);
     }
 }
 
@@ -97,6 +119,8 @@ pub struct Make<'a> {
     pub local: bool,
     /// The side of the pileup.
     pub size: usize,
+    /// Per bin, the coverage to normalise by (coolpuppy's `coverage_norm`).
+    pub coverage: Option<&'a [f64]>,
 }
 
 /// The stored pixels of some rows, row by row: columns (sorted) and raw counts.
@@ -204,8 +228,15 @@ impl Make<'_> {
                 let mut sums = vec![Sums::new(self.size); n_slots];
                 for snip in chunk {
                     let s = self.snippet(rows, snip);
+                    let coverage = self.coverage.map(|c| {
+                        let cut = |bins: &Range<usize>| match self.rescale {
+                            Some(size) => zoom_axis(&c[bins.clone()], size),
+                            None => c[bins.clone()].to_vec(),
+                        };
+                        (cut(&snip.rows), cut(&snip.cols))
+                    });
                     for &slot in &snip.slots {
-                        sums[slot].add(&s);
+                        sums[slot].add(&s, coverage.as_ref());
                     }
                 }
                 sums

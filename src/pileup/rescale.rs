@@ -11,7 +11,7 @@
 use ndarray::Array2;
 
 /// One axis zoomed from `a.len()` values to `f` (see the module's description).
-fn zoom_axis(a: &[f64], f: usize) -> Vec<f64> {
+pub(crate) fn zoom_axis(a: &[f64], f: usize) -> Vec<f64> {
     let n = a.len();
     let m = if f < n { n.div_ceil(f) } else { 1 };
     let t_len = f * m;

@@ -396,3 +396,49 @@ fn where_they_overlap_cooltools_pileup_is_ours() {
         compare_grid(name, &pups.all().data, &want[0].grid);
     }
 }
+
+/// coolpuppy's coverage normalisation of raw pileups (its coverage from cooltools `coverage`,
+/// total: trans pixels count on the yeast map), with and without shifted controls.
+#[test]
+fn coverage_normalised_pileups_are_coolpuppy() {
+    let cov = |params: PileupParams| PileupParams {
+        coverage_norm: Some(CoverageNorm::Total),
+        ..params
+    };
+    check(
+        "bed_covnorm",
+        SIM,
+        paired("anchors.bed"),
+        cov(flank(30_000)),
+        true,
+        false,
+    );
+    let params = PileupParams {
+        shifts: Some(ShiftParams {
+            n: 3,
+            seed: 2,
+            ..ShiftParams::default()
+        }),
+        ..cov(flank(20_000))
+    };
+    check(
+        "bedpe_covnorm_shifts",
+        SIM,
+        Features::Bedpe(loops()),
+        params,
+        true,
+        false,
+    );
+    let params = PileupParams {
+        max_dist_bp: Some(300_000.0),
+        ..cov(flank(30_000))
+    };
+    check(
+        "yeast_bed_covnorm",
+        YEAST,
+        paired("yeast_anchors.bed"),
+        params,
+        true,
+        false,
+    );
+}

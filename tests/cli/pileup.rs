@@ -201,6 +201,34 @@ fn pileup_options_give_coolpuppys_pileups() {
     let scores = scores_table(&format!("{prefix}.scores.tsv"));
     assert_eq!(score(&scores, "0.2Mb-0.4Mb", "n"), n as f64);
     assert_eq!(scores.1.last().unwrap()[0], "all");
+    // coverage normalisation: raw counts only (as coolpuppy); with --raw, coolpuppy's
+    let line = run_err(&[
+        "pileup",
+        &sim,
+        &data("reference/pileup/anchors.bed"),
+        "--coverage-norm",
+        "-o",
+        &prefix,
+    ]);
+    assert!(line.contains("--raw"), "{line}");
+    let prefix = dir.path().join("cov").to_string_lossy().into_owned();
+    let out = run(&[
+        "pileup",
+        &sim,
+        &data("reference/pileup/anchors.bed"),
+        "--coverage-norm",
+        "--raw",
+        "--no-expected",
+        "--flank",
+        "30k",
+        "-o",
+        &prefix,
+    ]);
+    assert!(out.status.success());
+    same_grid(
+        &grid(format!("{prefix}.pileup.tsv")),
+        &reference_group("bed_covnorm", "all").1,
+    );
     // shifts and an expected are two normalisations
     let line = run_err(&[
         "pileup",
