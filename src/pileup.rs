@@ -335,15 +335,15 @@ pub fn pileup(
         let band = edges.as_ref().and_then(|e| band_of(e, pair.distance));
         Ok(GroupKey { strands, band })
     };
-    // the groups, sorted, the one of all snippets last
+    // each pair's group (its controls keep it), then the groups, sorted, the one of all last
+    let pair_keys = batches
+        .iter()
+        .map(|b| b.pairs.iter().map(key_of).collect::<Result<Vec<_>>>())
+        .collect::<Result<Vec<_>>>()?;
     let mut keys = BTreeMap::new();
-    for pair in batches.iter().flat_map(|b| &b.pairs) {
-        let key = key_of(pair)?;
-        if !key.is_all() {
-            keys.insert(key, 0usize);
-        }
+    for key in pair_keys.iter().flatten().filter(|k| !k.is_all()) {
+        keys.insert(key.clone(), 0usize);
     }
-    let grouped = params.by_strand || params.by_distance.is_some();
     let n_groups = keys.len() + 1;
     for (k, slot) in keys.values_mut().enumerate() {
         *slot = k;
@@ -354,16 +354,15 @@ pub fn pileup(
     let mut rng = params.shifts.as_ref().map(|s| Mt19937::new(s.seed));
     let mut controls_at_edge = 0;
     let mut below_diagonal = 0;
-    for Batch { region, pairs } in &batches {
+    for (Batch { region, pairs }, batch_keys) in batches.iter().zip(&pair_keys) {
         let region_bins = &view.regions()[*region].bins;
-        let mut add = |pair: &Pair, control: bool| -> Result<bool> {
+        let mut add = |pair: &Pair, key: &GroupKey, control: bool| -> bool {
             if !pair.fits(region_bins.len()) {
-                return Ok(false);
+                return false;
             }
-            let key = key_of(pair)?;
             let mut slots = vec![2 * all + control as usize];
-            if grouped && !key.is_all() {
-                slots.push(2 * keys[&key] + control as usize);
+            if !key.is_all() {
+                slots.push(2 * keys[key] + control as usize);
             }
             let at =
                 |(a, b): (i64, i64)| region_bins.start + a as usize..region_bins.start + b as usize;
@@ -374,10 +373,10 @@ pub fn pileup(
                 slots,
                 flip: params.flip_negative_strand && pair.strands.0 == Some('-'),
             });
-            Ok(true)
+            true
         };
-        for pair in pairs {
-            if add(pair, false)? {
+        for (pair, key) in pairs.iter().zip(batch_keys) {
+            if add(pair, key, false) {
                 below_diagonal += (pair.distance < 0.0) as usize;
             } else {
                 skipped.at_edge += 1;
@@ -386,7 +385,8 @@ pub fn pileup(
         if let (Some(rng), Some(shifts)) = (rng.as_mut(), &params.shifts) {
             let moves = batch_shifts(rng, shifts, pairs.len(), res);
             for (k, &bins) in moves.iter().enumerate() {
-                if !add(&pairs[k % pairs.len()].shifted(bins), true)? {
+                let roi = k % pairs.len();
+                if !add(&pairs[roi].shifted(bins), &batch_keys[roi], true) {
                     controls_at_edge += 1;
                 }
             }

@@ -13,7 +13,7 @@ use crate::cli::InputArgs;
 use contactmap::error::{Error, Result};
 use contactmap::io::bed::{feature_kind, read_bed, read_bedpe, FeatureKind};
 use contactmap::io::npz::npz_bytes;
-use contactmap::pileup::scores::pileup_scores;
+use contactmap::pileup::scores::group_scores;
 use contactmap::pileup::shifts::ShiftParams;
 use contactmap::pileup::tables::{grid_tsv, groups_tsv, pileup_arrays, scores_tsv};
 use contactmap::pileup::{pileup, CoverageNorm, Features, PileupParams, RescaleParams};
@@ -170,6 +170,13 @@ pub struct PileupArgs {
     pub input: InputArgs,
 }
 
+/// An optional distance option in bp.
+fn distance(option: &str, text: &Option<String>) -> Result<Option<f64>> {
+    text.as_deref()
+        .map(|t| bp_option(option, t).map(|bp| bp as f64))
+        .transpose()
+}
+
 /// Run `contactmap pileup`.
 pub fn run(args: &PileupArgs) -> Result<()> {
     let prefix = args.out.to_string_lossy().into_owned();
@@ -249,14 +256,8 @@ pub fn run(args: &PileupArgs) -> Result<()> {
         .ok_or_else(|| Error::format(reader.source(), "pileups need fixed-size bins"))?;
     let params = PileupParams {
         flank_bp: bp_option("--flank", &args.flank)?,
-        min_dist_bp: match &args.mindist {
-            Some(text) => Some(bp_option("--mindist", text)? as f64),
-            None => None,
-        },
-        max_dist_bp: match &args.maxdist {
-            Some(text) => Some(bp_option("--maxdist", text)? as f64),
-            None => None,
-        },
+        min_dist_bp: distance("--mindist", &args.mindist)?,
+        max_dist_bp: distance("--maxdist", &args.maxdist)?,
         ignore_diags: args.ignore_diags,
         rescale: args.rescale.then_some(RescaleParams {
             flank: args.rescale_flank,
@@ -310,20 +311,7 @@ pub fn run(args: &PileupArgs) -> Result<()> {
         &params,
     )?;
     let rescale_flank = args.rescale.then_some(args.rescale_flank);
-    let scores = pups
-        .groups
-        .iter()
-        .map(|p| {
-            pileup_scores(
-                p.data.view(),
-                args.local,
-                rescale_flank,
-                args.center,
-                bin_size,
-            )
-            .map(|s| (p, s))
-        })
-        .collect::<Result<Vec<_>>>()?;
+    let scores = group_scores(&pups, args.local, rescale_flank, args.center, bin_size)?;
     let pup = pups.all();
     write_text_file(format!("{prefix}.pileup.tsv"), grid_tsv(pup))?;
     if grouped {

@@ -209,6 +209,26 @@ pub fn apa_corner_width(bin_size_bp: u64) -> usize {
     }
 }
 
+/// A group's pileup and its scores by name.
+pub type GroupScores<'a> = (&'a super::Pileup, Vec<(String, f64)>);
+
+/// The scores of every group of `pileups` ([`pileup_scores`] of each), in the groups' order.
+pub fn group_scores(
+    pileups: &super::Pileups,
+    local: bool,
+    rescale_flank: Option<f64>,
+    center: usize,
+    bin_size_bp: u64,
+) -> Result<Vec<GroupScores<'_>>> {
+    pileups
+        .groups
+        .iter()
+        .map(|p| {
+            pileup_scores(p.data.view(), local, rescale_flank, center, bin_size_bp).map(|s| (p, s))
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

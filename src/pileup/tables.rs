@@ -37,7 +37,7 @@ pub fn groups_tsv(pileups: &Pileups) -> String {
 
 /// One line per group (the one of all snippets last): its label, `n` (snippets piled up),
 /// `control_n` (with shifted controls), then its scores (the same names for every group).
-pub fn scores_tsv(rows: &[(&Pileup, Vec<(String, f64)>)]) -> String {
+pub fn scores_tsv(rows: &[super::scores::GroupScores<'_>]) -> String {
     let controls = rows.iter().any(|(p, _)| p.control_n.is_some());
     let names: Vec<&str> = rows
         .first()

@@ -158,6 +158,18 @@ fn local(name: &str) -> Features {
     }
 }
 
+/// `params` with `n` shifted controls drawn from `seed`.
+fn shifted(n: usize, seed: u32, params: PileupParams) -> PileupParams {
+    PileupParams {
+        shifts: Some(ShiftParams {
+            n,
+            seed,
+            ..ShiftParams::default()
+        }),
+        ..params
+    }
+}
+
 fn flank(flank_bp: u64) -> PileupParams {
     PileupParams {
         flank_bp,
@@ -238,14 +250,7 @@ fn rescaled_pileups_are_coolpuppy() {
         false,
         true,
     );
-    let params = PileupParams {
-        shifts: Some(ShiftParams {
-            n: 2,
-            seed: 3,
-            ..ShiftParams::default()
-        }),
-        ..rescaled(2.0, 11)
-    };
+    let params = shifted(2, 3, rescaled(2.0, 11));
     check(
         "bedpe_rescale_shifts",
         SIM,
@@ -260,14 +265,7 @@ fn rescaled_pileups_are_coolpuppy() {
 /// controls, so the same pileups; and a seed gives the same result every time.
 #[test]
 fn shifted_controls_are_coolpuppy_seed_for_seed() {
-    let shifted = |n, seed, flank_bp| PileupParams {
-        shifts: Some(ShiftParams {
-            n,
-            seed,
-            ..ShiftParams::default()
-        }),
-        ..flank(flank_bp)
-    };
+    let shifted = |n, seed, flank_bp| shifted(n, seed, flank(flank_bp));
     let first = check(
         "bed_shifts",
         SIM,
@@ -413,14 +411,7 @@ fn coverage_normalised_pileups_are_coolpuppy() {
         true,
         false,
     );
-    let params = PileupParams {
-        shifts: Some(ShiftParams {
-            n: 3,
-            seed: 2,
-            ..ShiftParams::default()
-        }),
-        ..cov(flank(20_000))
-    };
+    let params = shifted(3, 2, cov(flank(20_000)));
     check(
         "bedpe_covnorm_shifts",
         SIM,
