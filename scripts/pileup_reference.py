@@ -8,7 +8,8 @@ cooltools 0.7.1, pandas < 3)
 Each case NAME.tsv.gz holds one block per group (the group of all snippets last; ungrouped
 cases have only that one), each a header line `# n=N [control_n=M] [group=LABEL]` then the
 pileup grid (tab-separated, `nan` for NaN, Python's repr of each float). LABEL is as contactmap
-prints it: strands `+-`, distance band `0.05Mb-0.1Mb` or `0.4Mb+`, joined by `,`.
+prints it: strands `+-`, distance band `0.05Mb-0.1Mb` or `0.4Mb+`, then the values of the
+groupby columns, joined by `,`.
 
 On data/sim_extrusion.5kb.cool (balanced, 5 kb) with cooltools' expected_cis (defaults):
   bedpe_oe     the truth loops (data/sim_extrusion.truth_loops.bedpe), observed/expected, flank 20 kb
@@ -25,10 +26,19 @@ On data/sim_extrusion.5kb.cool (balanced, 5 kb) with cooltools' expected_cis (de
   bed_by_distance_raw  the anchors paired, raw counts, edges 150, 300, 600 kb, flank 30 kb
   bed_by_strand_flip_oe  the stranded anchors (anchors.stranded.bed) by strand, minus-strand
                snippets flipped, observed/expected, flank 20 kb, mindist 100 kb
+  bed_groupby_oe  the anchors with a class in their name column (anchors.grouped.bed, no header)
+               paired, grouped by name1 and name2, observed/expected, flank 20 kb, mindist 100 kb
+  bedpe_groupby_shifts  the truth loops with a class column (loops.grouped.bedpe, header),
+               grouped by it, 3 shifted controls, seed 9, flank 20 kb
 On data/yeast.10kb.cool (a real map, with masked bins), cooltools' expected_cis:
   yeast_bed_oe  anchors (yeast_anchors.bed) paired, observed/expected, flank 30 kb, maxdist 300 kb
   yeast_local_rescale_oe  domains (yeast_domains.bed) rescaled (flank 1, 21 pixels), obs/exp
   yeast_bed_shifts  the anchors paired, 4 shifted controls, seed 5, flank 30 kb, maxdist 300 kb
+  yeast_trans_oe  the anchors paired between chromosomes (trans: chrII x chrIV), observed over
+               cooltools' expected_trans, flank 30 kb
+  yeast_trans_shifts  the same, 2 shifted controls, seed 4
+  yeast_trans_bedpe_raw  12 chrII-chrIV pairs (yeast_trans.bedpe), trans, raw counts, flank
+               20 kb, mindist 0 (coolpuppy applies mindist to trans pairs too)
 Coverage normalisation (raw counts; coolpuppy stores the coverage in the cooler, so it runs on
 copies of the maps in a temporary directory):
   bed_covnorm  the anchors paired, flank 30 kb
@@ -85,7 +95,7 @@ def mb(bp):
     return f"{float(bp) / 1e6!r}Mb"
 
 
-def label(row):
+def label(row, groupby=()):
     if isinstance(row["group"], str) and row["group"] == "all":
         return "all"
     parts = []
@@ -94,6 +104,7 @@ def label(row):
     if "distance_band" in row.index:
         band = row["distance_band"]
         parts.append(f"{mb(band[0])}-{mb(band[1])}" if len(band) == 2 else f"{mb(band[0])}+")
+    parts.extend(str(row[column]) for column in groupby)
     return ",".join(parts)
 
 
@@ -102,8 +113,11 @@ def grid_lines(f, data):
         f.write("\t".join("nan" if np.isnan(v) else repr(float(v)) for v in row) + "\n")
 
 
-def write(name, pup):
+def write(name, pup, groupby=()):
     """Every group (the group of all last); returns the grid of all."""
+    label = globals()["label"]
+    if groupby:
+        label = lambda row, plain=label: plain(row, groupby)  # noqa: E731
     rows = [r for _, r in pup.iterrows()]
     rows = [r for r in rows if label(r) != "all"] + [r for r in rows if label(r) == "all"]
     with gzip.open(os.path.join(out, f"{name}.tsv.gz"), "wt") as f:
@@ -168,6 +182,25 @@ pups = {
         yeast, yeast_anchors, features_format="bed", nshifts=4, seed=5, flank=30000,
         maxdist=300000)),
 }
+grouped = bed("anchors.grouped.bed", ("chrom", "start", "end", "name"))
+pups["bed_groupby_oe"] = write("bed_groupby_oe", coolpup.pileup(
+    clr, grouped, features_format="bed", expected_df=expected, flank=20000, mindist=100000,
+    groupby=["name1", "name2"]), ("name1", "name2"))
+grouped_loops = pd.read_csv("data/reference/pileup/loops.grouped.bedpe", sep="\t")
+pups["bedpe_groupby_shifts"] = write("bedpe_groupby_shifts", coolpup.pileup(
+    clr, grouped_loops, features_format="bedpe", nshifts=3, seed=9, flank=20000,
+    groupby=["class"]), ("class",))
+yeast_trans_expected = cooltools.expected_trans(yeast, nproc=1)
+pups["yeast_trans_oe"] = write("yeast_trans_oe", coolpup.pileup(
+    yeast, yeast_anchors, features_format="bed", trans=True, expected_df=yeast_trans_expected,
+    flank=30000))
+pups["yeast_trans_shifts"] = write("yeast_trans_shifts", coolpup.pileup(
+    yeast, yeast_anchors, features_format="bed", trans=True, nshifts=2, seed=4, flank=30000))
+trans_pairs = pd.read_csv("data/reference/pileup/yeast_trans.bedpe", sep="\t", header=None,
+                          names=["chrom1", "start1", "end1", "chrom2", "start2", "end2"])
+pups["yeast_trans_bedpe_raw"] = write("yeast_trans_bedpe_raw", coolpup.pileup(
+    yeast, trans_pairs, features_format="bedpe", trans=True, clr_weight_name=None, flank=20000,
+    mindist=0))
 copies = tempfile.mkdtemp()
 for name in ["sim_extrusion.5kb.cool", "yeast.10kb.cool"]:
     shutil.copy(os.path.join("data", name), copies)
@@ -207,5 +240,6 @@ with open(os.path.join(out, "scores.tsv"), "w") as f:
         for score, fn in [("domain_score", numutils.get_domain_score),
                           ("local_enrichment", numutils.get_local_enrichment)]:
             f.write(f"{case}\t{score}\t1\t{float(fn(pups[case], 1))!r}\n")
-    for case in ["bed_shifts", "yeast_bed_oe", "yeast_bed_shifts", "bedpe_rescale_shifts"]:
+    for case in ["bed_shifts", "yeast_bed_oe", "yeast_bed_shifts", "bedpe_rescale_shifts",
+                 "yeast_trans_oe", "yeast_trans_shifts", "bed_groupby_oe"]:
         f.write(f"{case}\tenrichment\t3\t{float(numutils.get_enrichment(pups[case], 3))!r}\n")

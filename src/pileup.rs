@@ -39,9 +39,12 @@ use crate::expected::View;
 use crate::io::bed::{BedRecord, BedpeRecord};
 use crate::io::MatrixReader;
 use cut::{Cutter, Make, Snip, Sums};
-use groups::{band_of, distance_edges, GroupKey};
+use groups::{band_of, distance_edges, GroupBy, GroupKey};
 use shifts::{batch_shifts, Mt19937, ShiftParams};
-use windows::{bed_batches, bedpe_batches, Batch, Pair, Skipped, WindowParams};
+use windows::{
+    bed_batches, bed_trans_batches, bedpe_batches, bedpe_trans_batches, Batch, Pair, Skipped,
+    WindowParams,
+};
 
 /// The features to pile up.
 #[derive(Clone, Debug)]
@@ -105,6 +108,13 @@ pub struct PileupParams {
     pub by_strand: bool,
     /// Snippets whose anchor 1 is on the minus strand flipped about the anti-diagonal.
     pub flip_negative_strand: bool,
+    /// Groups by the values of feature columns (coolpuppy's `groupby`).
+    pub groupby: Option<GroupBy>,
+    /// Pairs between chromosomes instead of within them (coolpuppy's `trans`): BED features of
+    /// two chromosomes paired (every feature of one with every feature of the other), or the
+    /// BEDPE pairs with anchors on two chromosomes; observed / expected divides by the trans
+    /// expected of the two regions, and no diagonal is left out.
+    pub trans: bool,
     /// Normalise raw pileups by coverage (coolpuppy's `coverage_norm`): the summed snippets
     /// divided by the outer product of their rows' and columns' summed coverage, scaled to mean
     /// 1. Only with raw counts.
@@ -133,6 +143,8 @@ impl Default for PileupParams {
             by_distance: None,
             by_strand: false,
             flip_negative_strand: false,
+            groupby: None,
+            trans: false,
             coverage_norm: None,
         }
     }
@@ -229,9 +241,10 @@ impl Pileups {
 }
 
 /// Pile up `features` on `reader`'s map: balanced by `weights` (a weight per bin, NaN for a
-/// masked bin) or raw counts (`None`), over the regions of `view`, divided by `expected` (per
-/// view region, the expected of each diagonal, as `contactmap expected` computes it) when given,
-/// or by shifted controls with `params.shifts`.
+/// masked bin) or raw counts (`None`), over the regions of `view`, divided by `expected` when
+/// given, or by shifted controls with `params.shifts`. The `expected` is per view region, the
+/// expected of each diagonal (`CisExpected::average_by_region`); with `params.trans`, per two
+/// view regions `[a][b]` (`a < b`), their trans expected (`TransExpected::average_by_pair`).
 ///
 /// # Examples
 ///
@@ -281,6 +294,38 @@ pub fn pileup(
             "local pileups have no distance to group by (--by-distance is for pairs)".into(),
         ));
     }
+    if params.trans {
+        if local {
+            return Err(Error::Invalid(
+                "local pileups are on the diagonal, trans ones between chromosomes: give one"
+                    .into(),
+            ));
+        }
+        if params.by_distance.is_some() {
+            return Err(Error::Invalid(
+                "trans pairs have no distance to group by (--by-distance is for cis pairs)".into(),
+            ));
+        }
+        let mut chroms: Vec<usize> = view.regions().iter().map(|r| r.chrom_id).collect();
+        chroms.dedup();
+        if chroms.len() < 2 {
+            return Err(Error::Invalid(
+                "trans pileups need a view of two chromosomes or more".into(),
+            ));
+        }
+    }
+    if let Some(groupby) = &params.groupby {
+        let n = match features {
+            Features::Bed { features, .. } => features.len(),
+            Features::Bedpe(pairs) => pairs.len(),
+        };
+        if groupby.values.len() != n {
+            return Err(Error::Invalid(format!(
+                "--groupby has the values of {} features for {n} features",
+                groupby.values.len()
+            )));
+        }
+    }
     if params.coverage_norm.is_some() && weights.is_some() {
         return Err(Error::Invalid(
             "coverage normalisation is for raw counts (as in coolpuppy): add --raw".into(),
@@ -308,11 +353,19 @@ pub fn pileup(
         rescale_flank: params.rescale.map(|r| r.flank),
     };
     let mut skipped = Skipped::default();
-    let batches = match features {
-        Features::Bed { features, local } => {
+    let batches = match (features, params.trans) {
+        (Features::Bed { features, .. }, true) => {
+            bed_trans_batches(bins, view, features, &window_params, &mut skipped)?
+        }
+        (Features::Bed { features, local }, false) => {
             bed_batches(bins, view, features, *local, &window_params, &mut skipped)?
         }
-        Features::Bedpe(pairs) => bedpe_batches(bins, view, pairs, &window_params, &mut skipped)?,
+        (Features::Bedpe(pairs), true) => {
+            bedpe_trans_batches(bins, view, pairs, &window_params, &mut skipped)?
+        }
+        (Features::Bedpe(pairs), false) => {
+            bedpe_batches(bins, view, pairs, &window_params, &mut skipped)?
+        }
     };
     let edges = params
         .by_distance
@@ -333,7 +386,15 @@ pub fn pileup(
                 None
             };
         let band = edges.as_ref().and_then(|e| band_of(e, pair.distance));
-        Ok(GroupKey { strands, band })
+        let values = match &params.groupby {
+            Some(groupby) => groupby.values_of(pair.features),
+            None => Vec::new(),
+        };
+        Ok(GroupKey {
+            strands,
+            band,
+            values,
+        })
     };
     // each pair's group (its controls keep it), then the groups, sorted, the one of all last
     let pair_keys = batches
@@ -354,22 +415,25 @@ pub fn pileup(
     let mut rng = params.shifts.as_ref().map(|s| Mt19937::new(s.seed));
     let mut controls_at_edge = 0;
     let mut below_diagonal = 0;
-    for (Batch { region, pairs }, batch_keys) in batches.iter().zip(&pair_keys) {
-        let region_bins = &view.regions()[*region].bins;
+    let regions = view.regions();
+    for (Batch { pairs }, batch_keys) in batches.iter().zip(&pair_keys) {
         let mut add = |pair: &Pair, key: &GroupKey, control: bool| -> bool {
-            if !pair.fits(region_bins.len()) {
+            let (row_bins, col_bins) = (&regions[pair.region].bins, &regions[pair.col_region].bins);
+            if !pair.fits(row_bins.len(), col_bins.len()) {
                 return false;
             }
             let mut slots = vec![2 * all + control as usize];
             if !key.is_all() {
                 slots.push(2 * keys[key] + control as usize);
             }
-            let at =
-                |(a, b): (i64, i64)| region_bins.start + a as usize..region_bins.start + b as usize;
-            snips[*region].push(Snip {
-                rows: at(pair.rows),
-                cols: at(pair.cols),
-                region: *region,
+            let at = |bins: &std::ops::Range<usize>, (a, b): (i64, i64)| {
+                bins.start + a as usize..bins.start + b as usize
+            };
+            snips[pair.region].push(Snip {
+                rows: at(row_bins, pair.rows),
+                cols: at(col_bins, pair.cols),
+                region: pair.region,
+                col_region: pair.col_region,
                 slots,
                 flip: params.flip_negative_strand && pair.strands.0 == Some('-'),
             });
@@ -383,7 +447,7 @@ pub fn pileup(
             }
         }
         if let (Some(rng), Some(shifts)) = (rng.as_mut(), &params.shifts) {
-            let moves = batch_shifts(rng, shifts, pairs.len(), res);
+            let moves = batch_shifts(rng, shifts, pairs.len(), res, params.trans);
             for (k, &bins) in moves.iter().enumerate() {
                 let roi = k % pairs.len();
                 if !add(&pairs[roi].shifted(bins), &batch_keys[roi], true) {
@@ -404,6 +468,7 @@ pub fn pileup(
             ignore_diags: params.ignore_diags,
             rescale: params.rescale.map(|r| r.size),
             local,
+            trans: params.trans,
             size,
             coverage: coverage.as_deref(),
         },

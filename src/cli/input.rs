@@ -9,9 +9,9 @@ use std::path::Path;
 
 use crate::cli::InputArgs;
 use contactmap::error::{Error, Result};
-use contactmap::expected::table::read_region_column;
+use contactmap::expected::table::{read_pair_column, read_region_column};
 use contactmap::expected::view::View;
-use contactmap::expected::{expected_cis, CisParams};
+use contactmap::expected::{expected_cis, expected_trans, CisParams};
 use contactmap::genome::BinTable;
 use contactmap::io::{self, CheckedCounts, MatrixReader};
 
@@ -183,6 +183,24 @@ pub fn cis_expected_by_region(
             let pixels = io::LoadedPixels::Streamed(io::StreamedPixels::new(reader));
             let table = expected_cis(&pixels, weights, view, &CisParams::default())?;
             Ok(table.average_by_region())
+        }
+    }
+}
+
+/// The trans expected of every two regions of `view` (`[a][b]`, `a < b`): `column` of the
+/// cooltools trans expected table at `path`, or computed from the map as `expected --trans`.
+pub fn trans_expected_by_pair(
+    reader: &dyn MatrixReader,
+    weights: Option<&[f64]>,
+    view: &View,
+    path: Option<&str>,
+    column: &str,
+) -> Result<Vec<Vec<f64>>> {
+    match path {
+        Some(path) => read_pair_column(path, view, column),
+        None => {
+            let pixels = io::LoadedPixels::Streamed(io::StreamedPixels::new(reader));
+            Ok(expected_trans(&pixels, weights, view)?.average_by_pair(view))
         }
     }
 }

@@ -5,14 +5,16 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 
 use crate::cli::input::{
-    bp_option, cis_expected_by_region, expected_column, open_for_analysis, weights_and_view,
+    bp_option, cis_expected_by_region, expected_column, open_for_analysis, trans_expected_by_pair,
+    weights_and_view,
 };
 use crate::cli::output::{refuse_overwrites, uri_file, write_text_file};
 use crate::cli::warnings::Warnings;
 use crate::cli::InputArgs;
 use contactmap::error::{Error, Result};
-use contactmap::io::bed::{feature_kind, read_bed, read_bedpe, FeatureKind};
+use contactmap::io::bed::{feature_kind, read_bed_table, read_bedpe_table, FeatureKind};
 use contactmap::io::npz::npz_bytes;
+use contactmap::pileup::groups::GroupBy;
 use contactmap::pileup::scores::group_scores;
 use contactmap::pileup::shifts::ShiftParams;
 use contactmap::pileup::tables::{grid_tsv, groups_tsv, pileup_arrays, scores_tsv};
@@ -50,8 +52,8 @@ reads a .bed.gz as BEDPE); --features-format forces it. The run says what it rea
 
 Outputs (PREFIX as given by -o):
   PREFIX.pileup.tsv   the pileup, one line per row of the grid (nan where no snippet has a value)
-  PREFIX.groups.tsv   with --by-distance / --by-strand: every group's grid, rows led by the
-                      group's label and the row's index (the group of all last)
+  PREFIX.groups.tsv   with --by-distance / --by-strand / --groupby: every group's grid, rows
+                      led by the group's label and the row's index (the group of all last)
   PREFIX.npz          with --npz: the grids, per-pixel counts, n and labels for numpy
   PREFIX.scores.tsv   one line per group: n, then coolpuppy's scores (enrichment of the central --center pixels,
                       corner CV; insulation strength for --local) and Juicer APA's (P2M, P2UL,
@@ -61,6 +63,8 @@ Examples:
   contactmap pileup s.mcool::/resolutions/10000 loops.bedpe -o loops
   contactmap pileup s.mcool::/resolutions/10000 ctcf.bed --flank 200k -o ctcf
   contactmap pileup s.mcool::/resolutions/10000 tads.bed --local -o tads
+  contactmap pileup map.cool peaks.bed --groupby name1,name2 -o by_name
+  contactmap pileup map.cool centromeres.bed --trans -o trans
   contactmap pileup map.cool loops.bedpe --no-expected -o apa")]
 pub struct PileupArgs {
     /// The map (balanced unless --raw).
@@ -88,7 +92,8 @@ pub struct PileupArgs {
     /// Pixels with j - i below this are left out.
     #[arg(long, alias = "min-diag", default_value_t = 2)]
     pub ignore_diags: usize,
-    /// A cooltools cis expected table on the same bins and view, instead of computing it.
+    /// A cooltools cis expected table (trans with --trans) on the same bins and view, instead
+    /// of computing it.
     #[arg(long, value_name = "TSV")]
     pub expected: Option<String>,
     /// Column of --expected to use [default: balanced.avg, count.avg with --raw].
@@ -148,6 +153,17 @@ pub struct PileupArgs {
     /// A pileup per pair of strands of the anchors (++, +-, -+, --), beside the one of all.
     #[arg(long)]
     pub by_strand: bool,
+    /// A pileup per value of feature columns, beside the one of all: column names of the
+    /// file's header line, or coolpuppy's (BED: chrom start end name score strand ...; BEDPE:
+    /// chrom1 ... end2 name score strand1 strand2). BED pairs take the anchor's suffix as in
+    /// coolpuppy: name1 is the upstream feature's name, name2 the other's.
+    #[arg(long, value_name = "COLUMNS", value_delimiter = ',', num_args = 1..)]
+    pub groupby: Vec<String>,
+    /// Pairs between chromosomes instead of within them: every BED feature of one chromosome
+    /// with every one of another, or the BEDPE pairs whose anchors are on two chromosomes;
+    /// observed/expected divides by the chromosomes' trans expected; no distance limits.
+    #[arg(long, conflicts_with_all = ["local", "by_distance"])]
+    pub trans: bool,
     /// Snippets whose (first) anchor is on the minus strand flipped about the anti-diagonal,
     /// so that every feature points the same way.
     #[arg(long)]
@@ -180,7 +196,7 @@ fn distance(option: &str, text: &Option<String>) -> Result<Option<f64>> {
 /// Run `contactmap pileup`.
 pub fn run(args: &PileupArgs) -> Result<()> {
     let prefix = args.out.to_string_lossy().into_owned();
-    let grouped = args.by_distance.is_some() || args.by_strand;
+    let grouped = args.by_distance.is_some() || args.by_strand || !args.groupby.is_empty();
     let outputs = [
         PathBuf::from(format!("{prefix}.pileup.tsv")),
         PathBuf::from(format!("{prefix}.scores.tsv")),
@@ -209,9 +225,13 @@ pub fn run(args: &PileupArgs) -> Result<()> {
         })?,
     };
     let mut notes = Warnings::new();
-    let features = match kind {
+    let (features, groupby) = match kind {
         FeatureKind::Bed => {
-            let features = read_bed(&args.features)?;
+            let table = read_bed_table(&args.features)?;
+            let groupby = (!args.groupby.is_empty())
+                .then(|| GroupBy::bed(&table, &args.groupby, args.local))
+                .transpose()?;
+            let features = table.records;
             notes.note(format!(
                 "read {} BED features from {}{}",
                 features.len(),
@@ -222,10 +242,13 @@ pub fn run(args: &PileupArgs) -> Result<()> {
                     " (paired)"
                 }
             ));
-            Features::Bed {
-                features,
-                local: args.local,
-            }
+            (
+                Features::Bed {
+                    features,
+                    local: args.local,
+                },
+                groupby,
+            )
         }
         FeatureKind::Bedpe => {
             if args.local {
@@ -234,13 +257,17 @@ pub fn run(args: &PileupArgs) -> Result<()> {
                     args.features.display()
                 )));
             }
-            let pairs = read_bedpe(&args.features)?;
+            let table = read_bedpe_table(&args.features)?;
+            let groupby = (!args.groupby.is_empty())
+                .then(|| GroupBy::bedpe(&table, &args.groupby))
+                .transpose()?;
+            let pairs = table.records;
             notes.note(format!(
                 "read {} BEDPE pairs from {}",
                 pairs.len(),
                 args.features.display()
             ));
-            Features::Bedpe(pairs)
+            (Features::Bedpe(pairs), groupby)
         }
     };
     let reader = open_for_analysis(&args.uri, &args.input)?;
@@ -283,6 +310,8 @@ pub fn run(args: &PileupArgs) -> Result<()> {
         },
         by_strand: args.by_strand,
         flip_negative_strand: args.flip_negative_strand,
+        groupby,
+        trans: args.trans,
         coverage_norm: match args.coverage_norm.as_deref() {
             None => None,
             Some("cis") => Some(CoverageNorm::Cis),
@@ -294,7 +323,12 @@ pub fn run(args: &PileupArgs) -> Result<()> {
         None
     } else {
         let column = expected_column(args.expected_column.as_deref(), args.raw);
-        Some(cis_expected_by_region(
+        let by = if args.trans {
+            trans_expected_by_pair
+        } else {
+            cis_expected_by_region
+        };
+        Some(by(
             reader.as_ref(),
             weights.as_deref(),
             &view,
@@ -324,17 +358,26 @@ pub fn run(args: &PileupArgs) -> Result<()> {
     let s = &pups.skipped;
     let limits = if args.local {
         String::from("on the diagonal")
+    } else if args.trans {
+        String::from("between chromosomes")
     } else {
         format!("pairs {} bp apart or more", pups.min_dist_bp)
     };
     notes.note(format!(
         "pileup of {} snippets ({} x {} bins, {limits}); left out: {} on chromosomes the map \
-         lacks, {} outside the view, {} outside the distance limits, {} too close to an edge",
+         lacks, {} outside the view, {} {}, {} outside the distance limits, {} too close to an \
+         edge",
         pup.n,
         pup.data.nrows(),
         pup.data.ncols(),
         s.unknown_chromosome,
         s.outside_view,
+        s.other_kind,
+        if args.trans {
+            "within one chromosome"
+        } else {
+            "between chromosomes (see --trans)"
+        },
         s.distance,
         s.at_edge
     ));

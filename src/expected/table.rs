@@ -439,3 +439,46 @@ pub fn read_region_column(
     }
     Ok(values)
 }
+
+/// Column `column` of a cooltools trans expected table (`expected-trans` / `contactmap expected
+/// --trans`) for every two regions of `view`, as a matrix `[a][b]` with `a < b` (view order;
+/// NaN where the table has no row), as [`TransExpected::average_by_pair`] gives it.
+///
+/// [`TransExpected::average_by_pair`]: super::TransExpected::average_by_pair
+///
+/// ```
+/// use contactmap::expected::{expected_trans, table::read_pair_column, View};
+/// use contactmap::io::{open_matrix, LoadedPixels, OpenOptions, StreamedPixels};
+/// let reader = open_matrix("data/yeast.10kb.cool", &OpenOptions::default())?;
+/// let view = View::chromosomes(reader.bins());
+/// let pixels = LoadedPixels::Streamed(StreamedPixels::new(reader.as_ref()));
+/// let table = expected_trans(&pixels, None, &view)?;
+/// let path = std::env::temp_dir().join(format!("trans-{}.tsv", std::process::id()));
+/// let mut text = String::from("region1\tregion2\tcount.avg\n");
+/// for ((r1, r2), v) in table.region1.iter().zip(&table.region2).zip(&table.count_avg) {
+///     text.push_str(&format!("{r1}\t{r2}\t{v}\n"));
+/// }
+/// std::fs::write(&path, text)?;
+/// let values = read_pair_column(path.to_str().unwrap(), &view, "count.avg")?;
+/// // the same matrix (NaN below the diagonal, so compared as text)
+/// assert_eq!(format!("{values:?}"), format!("{:?}", table.average_by_pair(&view)));
+/// # std::fs::remove_file(&path)?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn read_pair_column(path: &str, view: &super::View, column: &str) -> Result<Vec<Vec<f64>>> {
+    let table = &Table::read(path)?;
+    let (c1, c2) = (table.column("region1")?, table.column("region2")?);
+    let value = table.column(column)?;
+    let regions = view.regions();
+    let index = |name: &str| regions.iter().position(|r| r.name == name);
+    let mut values = vec![vec![f64::NAN; regions.len()]; regions.len()];
+    for row in 0..table.len() {
+        let (r1, r2) = (table.text(row, c1), table.text(row, c2));
+        if let (Some(a), Some(b)) = (index(r1), index(r2)) {
+            if a != b {
+                values[a.min(b)][a.max(b)] = table.number(row, value)?;
+            }
+        }
+    }
+    Ok(values)
+}

@@ -120,6 +120,55 @@ pub fn read_bed(path: &Path) -> Result<Vec<BedRecord>> {
     Ok(records)
 }
 
+/// A BED file's records, each with all its fields as written, and its header line (column
+/// names) when it has one.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BedTable {
+    /// The column names of the header line, if there is one: a first line whose start and end
+    /// are not numbers (`chrom start end name ...`).
+    pub header: Option<Vec<String>>,
+    /// The records.
+    pub records: Vec<BedRecord>,
+    /// Per record, all its fields (the coordinates too), as written.
+    pub fields: Vec<Vec<String>>,
+}
+
+/// Read the BED file at `path` as [`read_bed`] does, keeping each record's fields and the header
+/// line's column names (a header is only taken before the first record).
+///
+/// # Examples
+///
+/// ```
+/// let path = std::env::temp_dir().join(format!("table-{}.bed", std::process::id()));
+/// std::fs::write(&path, "chrom\tstart\tend\tclass\nchr1\t100\t250\tCTCF\n")?;
+/// let table = contactmap::io::bed::read_bed_table(&path)?;
+/// assert_eq!(table.header.as_ref().unwrap()[3], "class");
+/// assert_eq!((table.records[0].start, table.fields[0][3].as_str()), (100, "CTCF"));
+/// # std::fs::remove_file(&path)?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn read_bed_table(path: &Path) -> Result<BedTable> {
+    let mut table = BedTable {
+        header: None,
+        records: Vec::new(),
+        fields: Vec::new(),
+    };
+    for_each_line(path, |line_no, line, fields| {
+        let number = |k: usize| fields.get(k).is_some_and(|f| f.parse::<u64>().is_ok());
+        if table.records.is_empty() && table.header.is_none() && !number(1) && !number(2) {
+            table.header = Some(fields.iter().map(|f| f.to_string()).collect());
+            return Ok(());
+        }
+        let record = parse_fields(line, fields).map_err(|m| Error::parse(path, line_no, m))?;
+        table.records.push(record);
+        table
+            .fields
+            .push(fields.iter().map(|f| f.to_string()).collect());
+        Ok(())
+    })?;
+    Ok(table)
+}
+
 /// The bins of `bins` that overlap an interval of the BED file at `path` (a blacklist), sorted
 /// and unique. Lines whose coordinates are not numbers (a header) are skipped; an interval on a
 /// chromosome the bins do not have is an error naming the file and line; intervals are clipped

@@ -29,8 +29,10 @@ pub struct Snip {
     pub rows: Range<usize>,
     /// Columns (anchor 2).
     pub cols: Range<usize>,
-    /// Index of the view region (for the expected).
+    /// Index of the view region of the rows (for the expected).
     pub region: usize,
+    /// Index of the view region of the columns (the rows' in cis).
+    pub col_region: usize,
     /// The sums it adds to.
     pub slots: Vec<usize>,
     /// Flipped about the anti-diagonal (negative strand).
@@ -109,7 +111,8 @@ pub struct Cutter<'a> {
 pub struct Make<'a> {
     /// Balancing weights (NaN for a masked bin), or raw counts.
     pub weights: Option<&'a [f64]>,
-    /// Per view region, the expected of each diagonal (observed / expected), or none.
+    /// Per view region, the expected of each diagonal (observed / expected); in trans, per
+    /// two regions `[a][b]` (`a < b`), their expected; or none.
     pub expected: Option<&'a [Vec<f64>]>,
     /// Pixels with `j - i` below this are NaN.
     pub ignore_diags: usize,
@@ -117,6 +120,8 @@ pub struct Make<'a> {
     pub rescale: Option<usize>,
     /// On the diagonal (symmetrised before rescaling).
     pub local: bool,
+    /// Between chromosomes: no diagonal left out, one expected per two regions.
+    pub trans: bool,
     /// The side of the pileup.
     pub size: usize,
     /// Per bin, the coverage to normalise by (coolpuppy's `coverage_norm`).
@@ -189,7 +194,9 @@ impl Rows {
 }
 
 impl Make<'_> {
-    /// The snippet of `snip`: masked, observed / expected, rescaled and flipped as asked.
+    /// The snippet of `snip`: masked, observed / expected, rescaled and flipped as asked. (In
+    /// trans the rows' region comes first in the view, which is sorted, so its rows precede
+    /// its columns in the stored upper triangle.)
     fn snippet(&self, rows: &Rows, snip: &Snip) -> Array2<f64> {
         let (r0, c0) = (snip.rows.start, snip.cols.start);
         let mut s = Array2::<f64>::zeros((snip.rows.len(), snip.cols.len()));
@@ -201,12 +208,21 @@ impl Make<'_> {
                 };
             }
         }
+        let trans_expected = match self.expected {
+            Some(e) if self.trans => {
+                let (a, b) = (snip.region, snip.col_region);
+                Some(e[a.min(b)][a.max(b)])
+            }
+            _ => None,
+        };
         let expected = self.expected.map(|e| &e[snip.region]);
         for ((p, q), value) in s.indexed_iter_mut() {
             let (i, j) = (r0 + p, c0 + q);
             let masked = self.weights.is_some_and(|w| w[i].is_nan() || w[j].is_nan());
-            if masked || (j as i64 - i as i64) < self.ignore_diags as i64 {
+            if masked || (!self.trans && (j as i64 - i as i64) < self.ignore_diags as i64) {
                 *value = f64::NAN;
+            } else if let Some(e) = trans_expected {
+                *value /= e;
             } else if let Some(expected) = expected {
                 *value /= expected.get(j - i).copied().unwrap_or(f64::NAN);
             }

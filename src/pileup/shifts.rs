@@ -107,16 +107,23 @@ impl Default for ShiftParams {
 }
 
 /// For a batch of `m` pairs, the bin shift of each of its `n * m` controls (control `k` moves
-/// pair `k mod m`), drawn from `rng` as coolpuppy draws them.
+/// pair `k mod m`), drawn from `rng` as coolpuppy draws them. In `trans` coolpuppy draws a
+/// second shift and sign for anchor 2 but moves both windows by the first (only its base-pair
+/// columns take the second): the draws are made and left unused, so that seeds agree.
 pub fn batch_shifts(
     rng: &mut Mt19937,
     params: &ShiftParams,
     m: usize,
     bin_size_bp: u64,
+    trans: bool,
 ) -> Vec<i64> {
     let count = params.n * m;
     let shifts = rng.randint(params.min_bp as i64, params.max_bp as i64, count);
     let signs = rng.randint(0, 2, count);
+    if trans {
+        rng.randint(params.min_bp as i64, params.max_bp as i64, count);
+        rng.randint(0, 2, count);
+    }
     shifts
         .iter()
         .zip(&signs)

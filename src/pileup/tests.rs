@@ -4,8 +4,8 @@
 use std::io::Read as _;
 
 use super::*;
-use crate::expected::{expected_cis, CisParams};
-use crate::io::bed::{read_bed, read_bedpe};
+use crate::expected::{expected_cis, expected_trans, CisParams};
+use crate::io::bed::{read_bed, read_bed_table, read_bedpe, read_bedpe_table};
 use crate::io::{open_matrix, LoadedPixels, OpenOptions, StreamedPixels};
 
 /// One group of a reference: its header fields and grid.
@@ -70,7 +70,13 @@ fn check(
     raw: bool,
     oe: bool,
 ) -> Pileups {
-    let (reader, weights, view, expected) = map(map_path);
+    let (reader, weights, view, mut expected) = map(map_path);
+    if params.trans {
+        let pixels = LoadedPixels::Streamed(StreamedPixels::new(reader.as_ref()));
+        expected = expected_trans(&pixels, Some(&weights), &view)
+            .unwrap()
+            .average_by_pair(&view);
+    }
     let weights = (!raw).then_some(&weights[..]);
     let expected = oe.then_some(&expected[..]);
     let pups = pileup(
@@ -432,4 +438,166 @@ fn coverage_normalised_pileups_are_coolpuppy() {
         true,
         false,
     );
+}
+
+#[test]
+fn groups_by_feature_columns_are_coolpuppy() {
+    // BED without a header: coolpuppy's positional names, the anchor's suffix
+    let path = "data/reference/pileup/anchors.grouped.bed";
+    let table = read_bed_table(path.as_ref()).unwrap();
+    let names = ["name1".to_string(), "name2".to_string()];
+    let params = PileupParams {
+        min_dist_bp: Some(100_000.0),
+        groupby: Some(GroupBy::bed(&table, &names, false).unwrap()),
+        ..flank(20_000)
+    };
+    let features = Features::Bed {
+        features: table.records.clone(),
+        local: false,
+    };
+    check("bed_groupby_oe", SIM, features, params, false, true);
+    // BEDPE with a header: its names; the controls keep their pair's group
+    let path = "data/reference/pileup/loops.grouped.bedpe";
+    let table = read_bedpe_table(path.as_ref()).unwrap();
+    let groupby = GroupBy::bedpe(&table, &["class".to_string()]).unwrap();
+    let params = shifted(
+        3,
+        9,
+        PileupParams {
+            groupby: Some(groupby),
+            ..flank(20_000)
+        },
+    );
+    let pups = check(
+        "bedpe_groupby_shifts",
+        SIM,
+        Features::Bedpe(table.records.clone()),
+        params,
+        false,
+        false,
+    );
+    assert_eq!(pups.groups.len(), 3);
+    // a column the file lacks, or a BED column without the anchor's suffix, is refused
+    let bed_table = read_bed_table("data/reference/pileup/anchors.grouped.bed".as_ref()).unwrap();
+    for name in ["class", "name", "name3"] {
+        let err = GroupBy::bed(&bed_table, &[name.to_string()], false).unwrap_err();
+        assert!(err.to_string().contains("name1"), "{err}");
+    }
+    assert!(GroupBy::bed(&bed_table, &["name".to_string()], true).is_ok());
+    assert!(GroupBy::bedpe(&table, &["name".to_string()]).is_err());
+}
+
+#[test]
+fn trans_pileups_are_coolpuppy() {
+    let trans = |params: PileupParams| PileupParams {
+        trans: true,
+        ..params
+    };
+    check(
+        "yeast_trans_oe",
+        YEAST,
+        paired("yeast_anchors.bed"),
+        trans(flank(30_000)),
+        false,
+        true,
+    );
+    // controls: coolpuppy draws a second shift per control in trans and leaves it unused
+    check(
+        "yeast_trans_shifts",
+        YEAST,
+        paired("yeast_anchors.bed"),
+        shifted(2, 4, trans(flank(30_000))),
+        false,
+        false,
+    );
+    let pairs = read_bedpe("data/reference/pileup/yeast_trans.bedpe".as_ref()).unwrap();
+    let pups = check(
+        "yeast_trans_bedpe_raw",
+        YEAST,
+        Features::Bedpe(pairs.clone()),
+        trans(flank(20_000)),
+        true,
+        false,
+    );
+    // a pair given the other way round (chrIV first) is piled up as its mirror, the rows on
+    // the earlier chromosome (coolpuppy reads such a pair at the wrong bins)
+    let mut reversed = pairs.clone();
+    for pair in &mut reversed {
+        std::mem::swap(&mut pair.first, &mut pair.second);
+    }
+    let (reader, _, view, _) = map(YEAST);
+    let swapped = pileup(
+        reader.as_ref(),
+        None,
+        &view,
+        &Features::Bedpe(reversed),
+        None,
+        &trans(flank(20_000)),
+    )
+    .unwrap();
+    assert_eq!(swapped.all().n, pups.all().n);
+    compare_grid(
+        "reversed pairs",
+        &swapped.all().data,
+        &pups
+            .all()
+            .data
+            .rows()
+            .into_iter()
+            .map(|r| r.to_vec())
+            .collect::<Vec<_>>(),
+    );
+    // the cis pairs of a BEDPE are left out of a trans pileup, and counted
+    let mixed = [pairs.clone(), loops_on(&pairs[0].first.chrom)].concat();
+    let pups = pileup(
+        reader.as_ref(),
+        None,
+        &view,
+        &Features::Bedpe(mixed),
+        None,
+        &trans(flank(20_000)),
+    )
+    .unwrap();
+    assert_eq!((pups.all().n, pups.skipped.other_kind), (12, 2));
+    // a view of one chromosome, local and by-distance pileups are refused in trans
+    let spec = |chrom: &str, end_bp| crate::expected::view::RegionSpec {
+        chrom: chrom.into(),
+        start_bp: 0,
+        end_bp,
+        name: None,
+    };
+    let one = View::new(reader.bins(), &[spec("chrII", 800_000)]).unwrap();
+
+    let refused = |view: &View, features: &Features, params: PileupParams| {
+        pileup(reader.as_ref(), None, view, features, None, &params).is_err()
+    };
+    assert!(refused(
+        &one,
+        &paired("yeast_anchors.bed"),
+        trans(flank(20_000))
+    ));
+    assert!(refused(
+        &view,
+        &local("yeast_anchors.bed"),
+        trans(flank(20_000))
+    ));
+    let by_distance = PileupParams {
+        by_distance: Some(Vec::new()),
+        ..trans(flank(20_000))
+    };
+    assert!(refused(&view, &paired("yeast_anchors.bed"), by_distance));
+}
+
+/// Two cis pairs on `chrom`.
+fn loops_on(chrom: &str) -> Vec<BedpeRecord> {
+    let anchor = |start| crate::io::bed::BedRecord::new(chrom, start, start + 5_000);
+    [(100_000, 200_000), (300_000, 450_000)]
+        .into_iter()
+        .map(|(a, b)| BedpeRecord {
+            first: anchor(a),
+            second: anchor(b),
+            rest: Vec::new(),
+            line: 1,
+        })
+        .collect()
 }

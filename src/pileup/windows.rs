@@ -19,20 +19,24 @@ use crate::expected::View;
 use crate::genome::BinTable;
 use crate::io::bed::{BedRecord, BedpeRecord};
 
-/// One pair of windows, in bins from the start of its view region (`[start, end)`, possibly
+/// One pair of windows, in bins from the start of their view regions (`[start, end)`, possibly
 /// outside the region).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Pair {
-    /// Index of the view region.
+    /// Index of the view region of the rows.
     pub region: usize,
+    /// Index of the view region of the columns (the rows' in cis).
+    pub col_region: usize,
     /// Rows (anchor 1).
     pub rows: (i64, i64),
     /// Columns (anchor 2).
     pub cols: (i64, i64),
-    /// `c2 - c1`, the signed distance between the anchors' midpoints (bp).
+    /// `c2 - c1`, the signed distance between the anchors' midpoints (bp); NaN in trans.
     pub distance: f64,
     /// The anchors' strands (`+` or `-`), where the features give them.
     pub strands: (Option<char>, Option<char>),
+    /// The anchors' features: indices in the features given (a BEDPE line's twice).
+    pub features: (usize, usize),
 }
 
 impl Pair {
@@ -45,19 +49,19 @@ impl Pair {
         }
     }
 
-    /// True when both windows lie in `[0, n_bins)` (coolpuppy's bounds rule).
-    pub fn fits(&self, n_bins: usize) -> bool {
-        let n = n_bins as i64;
-        self.rows.0 >= 0 && self.rows.1 <= n && self.cols.0 >= 0 && self.cols.1 <= n
+    /// True when the rows lie in `[0, row_bins)` and the columns in `[0, col_bins)`, the sizes
+    /// of their regions (coolpuppy's bounds rule).
+    pub fn fits(&self, row_bins: usize, col_bins: usize) -> bool {
+        let (n, m) = (row_bins as i64, col_bins as i64);
+        self.rows.0 >= 0 && self.rows.1 <= n && self.cols.0 >= 0 && self.cols.1 <= m
     }
 }
 
 /// Pairs drawn together: controls are drawn per batch (one per region for BEDPE and local BED,
-/// one per distance lag for paired BED), in this order.
+/// one per distance lag for paired BED; in trans one per pair of regions for BEDPE, one per
+/// pair of features for BED), in this order.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Batch {
-    /// Index of the view region.
-    pub region: usize,
     /// The pairs, in coolpuppy's order.
     pub pairs: Vec<Pair>,
 }
@@ -68,8 +72,11 @@ pub struct Skipped {
     /// Features (BED) or pairs (BEDPE) on a chromosome the map does not have.
     pub unknown_chromosome: usize,
     /// Features or pairs outside every view region (coolpuppy's rule: `start >= region start`
-    /// and `end < region end`), or BEDPE pairs with anchors on two chromosomes.
+    /// and `end < region end`), or BEDPE pairs with anchors in two regions of one chromosome.
     pub outside_view: usize,
+    /// BEDPE pairs of the other kind: anchors on two chromosomes in a cis pileup, on one in a
+    /// trans pileup.
+    pub other_kind: usize,
     /// Pairs whose anchors are closer than the minimum or farther than the maximum distance.
     pub distance: usize,
     /// Snippets whose window leaves their region (too close to its edge).
@@ -140,6 +147,48 @@ fn check_order(
     Ok(())
 }
 
+/// The view regions of a BEDPE pair's anchors, when both are inside the view and the pair is of
+/// the kind asked (`trans`: anchors on two chromosomes; cis: in one region), its anchors'
+/// order checked; else `None`, counted in `skipped`.
+fn pair_regions(
+    bins: &BinTable,
+    view: &View,
+    pair: &BedpeRecord,
+    trans: bool,
+    params: &WindowParams,
+    skipped: &mut Skipped,
+) -> Result<Option<(usize, usize)>> {
+    let (a, b) = (&pair.first, &pair.second);
+    let (Some(chrom1), Some(chrom2)) = (bins.chrom_id(&a.chrom), bins.chrom_id(&b.chrom)) else {
+        skipped.unknown_chromosome += 1;
+        return Ok(None);
+    };
+    let (Some(r1), Some(r2)) = (
+        region_of(view, chrom1, a.start, a.end),
+        region_of(view, chrom2, b.start, b.end),
+    ) else {
+        skipped.outside_view += 1;
+        return Ok(None);
+    };
+    if (chrom1 != chrom2) != trans {
+        skipped.other_kind += 1;
+        return Ok(None);
+    }
+    if !trans && r1 != r2 {
+        skipped.outside_view += 1; // anchors in two regions of the chromosome
+        return Ok(None);
+    }
+    for anchor in [a, b] {
+        check_order(
+            anchor.start,
+            anchor.end,
+            &|| format!("line {}", pair.line),
+            params,
+        )?;
+    }
+    Ok(Some((r1, r2)))
+}
+
 /// The pairs of BEDPE `pairs` (cis: both anchors in one region), per region in view order,
 /// sorted by `(start1, start2)` within it (ties in input order), as coolpuppy sorts them.
 pub fn bedpe_batches(
@@ -150,70 +199,51 @@ pub fn bedpe_batches(
     skipped: &mut Skipped,
 ) -> Result<Vec<Batch>> {
     let mut by_region: Vec<Vec<(u64, u64, Pair)>> = vec![Vec::new(); view.len()];
-    for pair in pairs {
+    for (index, pair) in pairs.iter().enumerate() {
         let (a, b) = (&pair.first, &pair.second);
         let distance = midpoint(b.start, b.end) - midpoint(a.start, a.end);
         if !(params.min_dist..=params.max_dist).contains(&distance.abs()) {
             skipped.distance += 1;
             continue;
         }
-        let (Some(chrom1), Some(chrom2)) = (bins.chrom_id(&a.chrom), bins.chrom_id(&b.chrom))
-        else {
-            skipped.unknown_chromosome += 1;
+        let Some((region, _)) = pair_regions(bins, view, pair, false, params, skipped)? else {
             continue;
         };
-        let region = region_of(view, chrom1, a.start, a.end);
-        let Some(region) = region.filter(|&r| Some(r) == region_of(view, chrom2, b.start, b.end))
-        else {
-            skipped.outside_view += 1; // outside, or anchors in two regions (or chromosomes)
-            continue;
-        };
-        for anchor in [a, b] {
-            check_order(
-                anchor.start,
-                anchor.end,
-                &|| format!("line {}", pair.line),
-                params,
-            )?;
-        }
         by_region[region].push((
             a.start,
             b.start,
             Pair {
                 region,
+                col_region: region,
                 rows: window(view, region, a.start, a.end, params),
                 cols: window(view, region, b.start, b.end, params),
                 distance,
                 strands: (a.strand, b.strand),
+                features: (index, index),
             },
         ));
     }
     Ok(by_region
         .into_iter()
-        .enumerate()
-        .map(|(region, mut pairs)| {
+        .map(|mut pairs| {
             pairs.sort_by_key(|p| (p.0, p.1));
             Batch {
-                region,
                 pairs: pairs.into_iter().map(|p| p.2).collect(),
             }
         })
         .collect())
 }
 
-/// The pairs of BED `features`: each feature with itself (`local`; one batch per region), or
-/// every two features of a region (sorted by start, the upstream one as rows) within the
-/// distance limits (one batch per lag between their ranks).
-pub fn bed_batches(
+/// The BED `features` of each view region (coolpuppy's rule), in start order (ties in input
+/// order), each with its index in `features`.
+fn bed_by_region<'a>(
     bins: &BinTable,
     view: &View,
-    features: &[BedRecord],
-    local: bool,
+    features: &'a [BedRecord],
     params: &WindowParams,
     skipped: &mut Skipped,
-) -> Result<Vec<Batch>> {
-    // per region, the features in start order (stable: ties keep input order)
-    let mut by_region: Vec<Vec<&BedRecord>> = vec![Vec::new(); view.len()];
+) -> Result<Vec<Vec<(usize, &'a BedRecord)>>> {
+    let mut by_region: Vec<Vec<(usize, &BedRecord)>> = vec![Vec::new(); view.len()];
     for (k, feature) in features.iter().enumerate() {
         let Some(chrom_id) = bins.chrom_id(&feature.chrom) else {
             skipped.unknown_chromosome += 1;
@@ -227,37 +257,56 @@ pub fn bed_batches(
                     &|| format!("feature {}", k + 1),
                     params,
                 )?;
-                by_region[region].push(feature)
+                by_region[region].push((k, feature))
             }
             None => skipped.outside_view += 1,
         }
     }
+    for features in &mut by_region {
+        features.sort_by_key(|f| f.1.start);
+    }
+    Ok(by_region)
+}
+
+/// The pairs of BED `features`: each feature with itself (`local`; one batch per region), or
+/// every two features of a region (sorted by start, the upstream one as rows) within the
+/// distance limits (one batch per lag between their ranks).
+pub fn bed_batches(
+    bins: &BinTable,
+    view: &View,
+    features: &[BedRecord],
+    local: bool,
+    params: &WindowParams,
+    skipped: &mut Skipped,
+) -> Result<Vec<Batch>> {
+    let by_region = bed_by_region(bins, view, features, params, skipped)?;
     let mut out = Vec::new();
-    for (region, features) in by_region.iter_mut().enumerate() {
-        features.sort_by_key(|f| f.start);
+    for (region, features) in by_region.iter().enumerate() {
         let windows: Vec<(i64, i64)> = features
             .iter()
-            .map(|f| window(view, region, f.start, f.end, params))
+            .map(|(_, f)| window(view, region, f.start, f.end, params))
             .collect();
         if local {
             let pairs = features
                 .iter()
                 .zip(&windows)
-                .map(|(f, &w)| Pair {
+                .map(|(&(k, f), &w)| Pair {
                     region,
+                    col_region: region,
                     rows: w,
                     cols: w,
                     distance: 0.0,
                     strands: (f.strand, f.strand),
+                    features: (k, k),
                 })
                 .collect();
-            out.push(Batch { region, pairs });
+            out.push(Batch { pairs });
             continue;
         }
         for lag in 1..features.len() {
             let mut pairs = Vec::new();
             for a in 0..features.len() - lag {
-                let (f1, f2) = (features[a], features[a + lag]);
+                let ((k1, f1), (k2, f2)) = (features[a], features[a + lag]);
                 let distance = midpoint(f2.start, f2.end) - midpoint(f1.start, f1.end);
                 if !(params.min_dist..=params.max_dist).contains(&distance.abs()) {
                     skipped.distance += 1;
@@ -265,14 +314,127 @@ pub fn bed_batches(
                 }
                 pairs.push(Pair {
                     region,
+                    col_region: region,
                     rows: windows[a],
                     cols: windows[a + lag],
                     distance,
                     strands: (f1.strand, f2.strand),
+                    features: (k1, k2),
                 });
             }
-            out.push(Batch { region, pairs });
+            out.push(Batch { pairs });
         }
     }
     Ok(out)
+}
+
+/// The pairs of view regions on different chromosomes, in view order (`a < b`), as coolpuppy
+/// visits them in trans.
+fn trans_region_pairs(view: &View) -> Vec<(usize, usize)> {
+    let regions = view.regions();
+    let mut out = Vec::new();
+    for a in 0..regions.len() {
+        for b in a + 1..regions.len() {
+            if regions[a].chrom_id != regions[b].chrom_id {
+                out.push((a, b));
+            }
+        }
+    }
+    out
+}
+
+/// The trans pair of anchor `a` (rows) in its region and anchor `b` (columns) in its.
+fn trans_pair(
+    view: &View,
+    (ra, a): (usize, &BedRecord),
+    (rb, b): (usize, &BedRecord),
+    features: (usize, usize),
+    params: &WindowParams,
+) -> Pair {
+    Pair {
+        region: ra,
+        col_region: rb,
+        rows: window(view, ra, a.start, a.end, params),
+        cols: window(view, rb, b.start, b.end, params),
+        distance: f64::NAN,
+        strands: (a.strand, b.strand),
+        features,
+    }
+}
+
+/// Trans pairs of BED `features`: for every two regions on different chromosomes (view order),
+/// every feature of the first (rows) with every feature of the second (columns), first-region
+/// major, each pair its own batch (coolpuppy draws controls per pair in trans). No distance
+/// limits.
+pub fn bed_trans_batches(
+    bins: &BinTable,
+    view: &View,
+    features: &[BedRecord],
+    params: &WindowParams,
+    skipped: &mut Skipped,
+) -> Result<Vec<Batch>> {
+    let by_region = bed_by_region(bins, view, features, params, skipped)?;
+    let mut out = Vec::new();
+    for (a, b) in trans_region_pairs(view) {
+        for &(k1, f1) in &by_region[a] {
+            for &(k2, f2) in &by_region[b] {
+                out.push(Batch {
+                    pairs: vec![trans_pair(view, (a, f1), (b, f2), (k1, k2), params)],
+                });
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// Trans pairs of BEDPE `pairs` (anchors on two chromosomes): one batch per pair of regions
+/// on different chromosomes (view order), holding the pairs whose anchor 1 is in the first
+/// region and anchor 2 in the second, then those given the other way round, each group sorted
+/// by `(start1, start2)` as coolpuppy sorts them. The latter have their anchors swapped (the
+/// earlier region's anchor as the rows): coolpuppy reads them at the wrong bins instead. No
+/// distance limits (coolpuppy still applies `mindist` to the anchors' positions on their two
+/// chromosomes).
+pub fn bedpe_trans_batches(
+    bins: &BinTable,
+    view: &View,
+    pairs: &[BedpeRecord],
+    params: &WindowParams,
+    skipped: &mut Skipped,
+) -> Result<Vec<Batch>> {
+    // per (earlier, later) region pair: the pairs as given, then the swapped ones, each with
+    // its (start1, start2) as given to sort by
+    type Sortable = Vec<(u64, u64, Pair)>;
+    let mut by_pair: std::collections::HashMap<(usize, usize), [Sortable; 2]> =
+        std::collections::HashMap::new();
+    for (index, pair) in pairs.iter().enumerate() {
+        let (a, b) = (&pair.first, &pair.second);
+        let Some((r1, r2)) = pair_regions(bins, view, pair, true, params, skipped)? else {
+            continue;
+        };
+        let swapped = r1 > r2;
+        let ((ra, fa), (rb, fb)) = if swapped {
+            ((r2, b), (r1, a))
+        } else {
+            ((r1, a), (r2, b))
+        };
+        by_pair.entry((ra, rb)).or_default()[swapped as usize].push((
+            a.start,
+            b.start,
+            trans_pair(view, (ra, fa), (rb, fb), (index, index), params),
+        ));
+    }
+    Ok(trans_region_pairs(view)
+        .into_iter()
+        .filter_map(|key| by_pair.remove(&key))
+        .map(|groups| {
+            let pairs = groups
+                .into_iter()
+                .flat_map(|mut group| {
+                    group.sort_by_key(|p| (p.0, p.1));
+                    group.into_iter().map(|p| p.2)
+                })
+                .collect();
+            Batch { pairs }
+        })
+        .collect())
 }

@@ -396,3 +396,88 @@ fn pileup_refuses_bad_inputs_without_writing() {
         "{stderr}"
     );
 }
+
+/// --groupby and --trans: coolpuppy's grids, the groups in PREFIX.groups.tsv; an unknown
+/// grouping column refused in one line.
+#[test]
+fn pileup_groupby_and_trans_are_coolpuppy() {
+    let dir = tempfile::tempdir().unwrap();
+    let grid = |path: String| -> Vec<Vec<f64>> {
+        std::fs::read_to_string(path)
+            .unwrap()
+            .lines()
+            .map(|l| l.split('\t').map(|v| v.parse().unwrap()).collect())
+            .collect()
+    };
+    let prefix = dir.path().join("grouped").to_string_lossy().into_owned();
+    let grouped = data("reference/pileup/anchors.grouped.bed");
+    let args = [
+        "pileup",
+        &data("sim_extrusion.5kb.cool"),
+        &grouped,
+        "--groupby",
+        "name1,name2",
+        "--flank",
+        "20k",
+        "--mindist",
+        "100k",
+        "-o",
+        &prefix,
+    ];
+    let out = run(&args);
+    assert!(out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("4 groups beside the one of all"),
+        "{stderr}"
+    );
+    same_grid(
+        &grid(format!("{prefix}.pileup.tsv")),
+        &reference_group("bed_groupby_oe", "all").1,
+    );
+    let groups = std::fs::read_to_string(format!("{prefix}.groups.tsv")).unwrap();
+    let b_a: Vec<Vec<f64>> = groups
+        .lines()
+        .filter(|l| l.starts_with("B,A\t"))
+        .map(|l| l.split('\t').skip(2).map(|v| v.parse().unwrap()).collect())
+        .collect();
+    same_grid(&b_a, &reference_group("bed_groupby_oe", "B,A").1);
+    let scores = scores_table(&format!("{prefix}.scores.tsv"));
+    assert_eq!(score(&scores, "A,A", "n"), 20.0);
+    // between chromosomes: every chrII anchor with every chrIV one, over the trans expected
+    let prefix = dir.path().join("trans").to_string_lossy().into_owned();
+    let out = run(&[
+        "pileup",
+        &data("yeast.10kb.cool"),
+        &data("reference/pileup/yeast_anchors.bed"),
+        "--trans",
+        "--flank",
+        "30k",
+        "-o",
+        &prefix,
+    ]);
+    assert!(out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("pileup of 406 snippets (7 x 7 bins, between chromosomes)"),
+        "{stderr}"
+    );
+    same_grid(
+        &grid(format!("{prefix}.pileup.tsv")),
+        &reference_group("yeast_trans_oe", "all").1,
+    );
+    // a grouping column the file lacks: one line naming the columns it has
+    let line = run_err(&[
+        "pileup",
+        &data("sim_extrusion.5kb.cool"),
+        &grouped,
+        "--groupby",
+        "class1",
+        "-o",
+        &prefix,
+    ]);
+    assert!(
+        line.contains("--groupby class1") && line.contains("chrom, start, end, name"),
+        "{line}"
+    );
+}
