@@ -5,7 +5,8 @@ issue 29).
 Usage: pileup_reference.py OUT_DIR   (run from the repository root; needs coolpuppy 1.1.0,
 cooltools 0.7.1, pandas < 3)
 
-Each case NAME.tsv.gz holds one block per group (the group of all snippets last; ungrouped
+Every case goes into pileups.tsv.gz, led by a line `## NAME`; each holds one block per group
+(the group of all snippets last; ungrouped
 cases have only that one), each a header line `# n=N [control_n=M] [group=LABEL]` then the
 pileup grid (tab-separated, `nan` for NaN, Python's repr of each float). LABEL is as contactmap
 prints it: strands `+-`, distance band `0.05Mb-0.1Mb` or `0.4Mb+`, then the values of the
@@ -225,6 +226,16 @@ write_stack_mean("cooltools_bedpe_oe", cooltools.pileup(
 write_stack_mean("cooltools_yeast_local_oe", cooltools.pileup(
     yeast, yeast_anchors, view_df=cooltools.lib.make_cooler_view(yeast),
     expected_df=yeast_expected, flank=30000))
+
+# one file for all the cases (each led by `## NAME`): small files cost a disk block each
+names = sorted(f[:-7] for f in os.listdir(out) if f.endswith(".tsv.gz") and f != "pileups.tsv.gz")
+with open(os.path.join(out, "pileups.tsv.gz"), "wb") as raw:
+    with gzip.GzipFile(fileobj=raw, mode="wb", mtime=0) as f:
+        for name in names:
+            f.write(f"## {name}\n".encode())
+            with gzip.open(os.path.join(out, f"{name}.tsv.gz")) as case:
+                f.write(case.read())
+            os.remove(os.path.join(out, f"{name}.tsv.gz"))
 
 with open(os.path.join(out, "scores.tsv"), "w") as f:
     f.write("case\tscore\targument\tvalue\n")

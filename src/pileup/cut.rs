@@ -208,23 +208,25 @@ impl Make<'_> {
                 };
             }
         }
-        let trans_expected = match self.expected {
-            Some(e) if self.trans => {
+        // the expected of pixel (i, j): of its diagonal in the region, or in trans one value
+        // for the two regions
+        let expected = |i: usize, j: usize| {
+            self.expected.map(|e| {
                 let (a, b) = (snip.region, snip.col_region);
-                Some(e[a.min(b)][a.max(b)])
-            }
-            _ => None,
+                if self.trans {
+                    e[a.min(b)][a.max(b)]
+                } else {
+                    e[a].get(j - i).copied().unwrap_or(f64::NAN)
+                }
+            })
         };
-        let expected = self.expected.map(|e| &e[snip.region]);
         for ((p, q), value) in s.indexed_iter_mut() {
             let (i, j) = (r0 + p, c0 + q);
             let masked = self.weights.is_some_and(|w| w[i].is_nan() || w[j].is_nan());
             if masked || (!self.trans && (j as i64 - i as i64) < self.ignore_diags as i64) {
                 *value = f64::NAN;
-            } else if let Some(e) = trans_expected {
+            } else if let Some(e) = expected(i, j) {
                 *value /= e;
-            } else if let Some(expected) = expected {
-                *value /= expected.get(j - i).copied().unwrap_or(f64::NAN);
             }
         }
         if let Some(size) = self.rescale {

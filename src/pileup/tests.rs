@@ -16,15 +16,20 @@ struct RefGroup {
     grid: Vec<Vec<f64>>,
 }
 
-/// The reference `name`: its groups, the group of all last.
+/// The reference case `name` (of `pileups.tsv.gz`): its groups, the group of all last.
 fn reference(name: &str) -> Vec<RefGroup> {
     let mut text = String::new();
-    let path = format!("data/reference/pileup/{name}.tsv.gz");
+    let path = "data/reference/pileup/pileups.tsv.gz";
     flate2::read::GzDecoder::new(std::fs::File::open(path).unwrap())
         .read_to_string(&mut text)
         .unwrap();
     let mut groups: Vec<RefGroup> = Vec::new();
-    for line in text.lines() {
+    let case = text
+        .lines()
+        .skip_while(|l| *l != format!("## {name}"))
+        .skip(1)
+        .take_while(|l| !l.starts_with("## "));
+    for line in case {
         if let Some(head) = line.strip_prefix("# ") {
             let field = |key: &str| {
                 head.split(' ')

@@ -147,6 +147,13 @@ fn check_order(
     Ok(())
 }
 
+/// BEDPE pairs sorted by their anchors' starts `(start1, start2)` as given (stable: ties in
+/// input order), as coolpuppy sorts them.
+fn by_starts(mut pairs: Vec<(u64, u64, Pair)>) -> impl Iterator<Item = Pair> {
+    pairs.sort_by_key(|p| (p.0, p.1));
+    pairs.into_iter().map(|p| p.2)
+}
+
 /// The view regions of a BEDPE pair's anchors, when both are inside the view and the pair is of
 /// the kind asked (`trans`: anchors on two chromosomes; cis: in one region), its anchors'
 /// order checked; else `None`, counted in `skipped`.
@@ -225,11 +232,8 @@ pub fn bedpe_batches(
     }
     Ok(by_region
         .into_iter()
-        .map(|mut pairs| {
-            pairs.sort_by_key(|p| (p.0, p.1));
-            Batch {
-                pairs: pairs.into_iter().map(|p| p.2).collect(),
-            }
+        .map(|pairs| Batch {
+            pairs: by_starts(pairs).collect(),
         })
         .collect())
 }
@@ -427,13 +431,7 @@ pub fn bedpe_trans_batches(
         .into_iter()
         .filter_map(|key| by_pair.remove(&key))
         .map(|groups| {
-            let pairs = groups
-                .into_iter()
-                .flat_map(|mut group| {
-                    group.sort_by_key(|p| (p.0, p.1));
-                    group.into_iter().map(|p| p.2)
-                })
-                .collect();
+            let pairs = groups.into_iter().flat_map(by_starts).collect();
             Batch { pairs }
         })
         .collect())

@@ -27,18 +27,9 @@ fn pileup_of_loops_is_coolpuppy() {
     assert!(out.status.success());
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(stderr.contains("read 8 BEDPE pairs"), "{stderr}");
-    let grid = std::fs::read_to_string(format!("{prefix}.pileup.tsv")).unwrap();
-    let reference = reference_table("reference/pileup/bedpe_oe.tsv.gz");
-    // the reference's first line (# n=8) is its header
-    assert_eq!(reference.header, ["# n=8"]);
-    assert_eq!(grid.lines().count(), reference.rows.len());
-    for (ours, theirs) in grid.lines().zip(&reference.rows) {
-        assert_eq!(ours.split('\t').count(), theirs.len());
-        for (x, y) in ours.split('\t').zip(theirs) {
-            let (x, y): (f64, f64) = (x.parse().unwrap(), y.parse().unwrap());
-            assert!((x - y).abs() <= 1e-12 * y.abs(), "{x} vs {y}");
-        }
-    }
+    let (n, reference) = reference_group("bedpe_oe", "all");
+    assert_eq!(n, 8);
+    same_grid(&read_grid(&format!("{prefix}.pileup.tsv")), &reference);
     let scores = scores_table(&format!("{prefix}.scores.tsv"));
     let value = |name: &str| score(&scores, "all", name);
     assert_eq!(value("n"), 8.0);
@@ -71,17 +62,35 @@ fn score(table: &(Vec<String>, Vec<Vec<String>>), group: &str, name: &str) -> f6
     row[column].parse().unwrap()
 }
 
-/// A reference grid of `data/reference/pileup/NAME.tsv.gz` for group `label` (see
-/// scripts/pileup_reference.py): its `n` and rows.
+/// A grid file as written (tab-separated numbers, `nan`).
+fn read_grid(path: &str) -> Vec<Vec<f64>> {
+    std::fs::read_to_string(path)
+        .unwrap()
+        .lines()
+        .map(|l| l.split('\t').map(|v| v.parse().unwrap()).collect())
+        .collect()
+}
+
+/// A reference grid of case NAME of `data/reference/pileup/pileups.tsv.gz` for group `label`
+/// (see scripts/pileup_reference.py): its `n` and rows.
 fn reference_group(name: &str, label: &str) -> (usize, Vec<Vec<f64>>) {
-    let table = reference_table(&format!("reference/pileup/{name}.tsv.gz"));
-    // reference_table takes the first line as the header: the first group's
-    let mut groups: Vec<(String, Vec<Vec<f64>>)> = vec![(table.header.join("\t"), Vec::new())];
-    for row in &table.rows {
-        if row[0].starts_with('#') {
-            groups.push((row.join("\t"), Vec::new()));
+    use std::io::Read;
+    let mut text = String::new();
+    let path = data("reference/pileup/pileups.tsv.gz");
+    flate2::read::GzDecoder::new(std::fs::File::open(path).unwrap())
+        .read_to_string(&mut text)
+        .unwrap();
+    let mut groups: Vec<(String, Vec<Vec<f64>>)> = Vec::new();
+    let case = text
+        .lines()
+        .skip_while(|l| *l != format!("## {name}"))
+        .skip(1)
+        .take_while(|l| !l.starts_with("## "));
+    for line in case {
+        if line.starts_with('#') {
+            groups.push((line.to_string(), Vec::new()));
         } else {
-            let values = row.iter().map(|v| v.parse().unwrap()).collect();
+            let values = line.split('\t').map(|v| v.parse().unwrap()).collect();
             groups.last_mut().unwrap().1.push(values);
         }
     }
@@ -114,13 +123,6 @@ fn same_grid(ours: &[Vec<f64>], theirs: &[Vec<f64>]) {
 fn pileup_options_give_coolpuppys_pileups() {
     let dir = tempfile::tempdir().unwrap();
     let sim = data("sim_extrusion.5kb.cool");
-    let grid = |path: String| -> Vec<Vec<f64>> {
-        std::fs::read_to_string(path)
-            .unwrap()
-            .lines()
-            .map(|l| l.split('\t').map(|v| v.parse().unwrap()).collect())
-            .collect()
-    };
     // shifts: same seed, same file; coolpuppy's pileup
     let mut outputs = Vec::new();
     for k in 0..2 {
@@ -150,7 +152,7 @@ fn pileup_options_give_coolpuppys_pileups() {
         let scores = scores_table(&format!("{prefix}.scores.tsv"));
         assert_eq!(score(&scores, "all", "control_n"), 39.0);
         same_grid(
-            &grid(format!("{prefix}.pileup.tsv")),
+            &read_grid(&format!("{prefix}.pileup.tsv")),
             &reference_group("bed_shifts", "all").1,
         );
     }
@@ -170,7 +172,7 @@ fn pileup_options_give_coolpuppys_pileups() {
     ]);
     assert!(out.status.success());
     same_grid(
-        &grid(format!("{prefix}.pileup.tsv")),
+        &read_grid(&format!("{prefix}.pileup.tsv")),
         &reference_group("bed_local_rescale_oe", "all").1,
     );
     let scores = scores_table(&format!("{prefix}.scores.tsv"));
@@ -226,7 +228,7 @@ fn pileup_options_give_coolpuppys_pileups() {
     ]);
     assert!(out.status.success());
     same_grid(
-        &grid(format!("{prefix}.pileup.tsv")),
+        &read_grid(&format!("{prefix}.pileup.tsv")),
         &reference_group("bed_covnorm", "all").1,
     );
     // shifts and an expected are two normalisations
@@ -402,13 +404,6 @@ fn pileup_refuses_bad_inputs_without_writing() {
 #[test]
 fn pileup_groupby_and_trans_are_coolpuppy() {
     let dir = tempfile::tempdir().unwrap();
-    let grid = |path: String| -> Vec<Vec<f64>> {
-        std::fs::read_to_string(path)
-            .unwrap()
-            .lines()
-            .map(|l| l.split('\t').map(|v| v.parse().unwrap()).collect())
-            .collect()
-    };
     let prefix = dir.path().join("grouped").to_string_lossy().into_owned();
     let grouped = data("reference/pileup/anchors.grouped.bed");
     let args = [
@@ -432,7 +427,7 @@ fn pileup_groupby_and_trans_are_coolpuppy() {
         "{stderr}"
     );
     same_grid(
-        &grid(format!("{prefix}.pileup.tsv")),
+        &read_grid(&format!("{prefix}.pileup.tsv")),
         &reference_group("bed_groupby_oe", "all").1,
     );
     let groups = std::fs::read_to_string(format!("{prefix}.groups.tsv")).unwrap();
@@ -463,7 +458,7 @@ fn pileup_groupby_and_trans_are_coolpuppy() {
         "{stderr}"
     );
     same_grid(
-        &grid(format!("{prefix}.pileup.tsv")),
+        &read_grid(&format!("{prefix}.pileup.tsv")),
         &reference_group("yeast_trans_oe", "all").1,
     );
     // a grouping column the file lacks: one line naming the columns it has
