@@ -11,6 +11,7 @@ use crate::cli::InputArgs;
 use contactmap::error::{Error, Result};
 use contactmap::io::bed::read_bedpe_table;
 use contactmap::io::output::write_whole;
+use contactmap::io::tables::Table;
 use contactmap::io::MatrixReader;
 use contactmap::loops::kernels::recommended_w_p;
 use contactmap::loops::merge::{
@@ -199,11 +200,12 @@ fn call(args: &DotsArgs, uri: &str) -> Result<Called> {
         )
     })?;
     let params = args.params(bin_size)?;
+    let table = args.expected.as_deref().map(Table::read).transpose()?;
     let expected = cis_expected_by_region(
         reader.as_ref(),
         Some(&weights),
         &view,
-        args.expected.as_deref(),
+        table.as_ref(),
         &args.expected_column,
     )?;
     let calls = call_dots(reader.as_ref(), &weights, &view, &expected, &params)?;

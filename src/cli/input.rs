@@ -9,10 +9,11 @@ use std::path::Path;
 
 use crate::cli::InputArgs;
 use contactmap::error::{Error, Result};
-use contactmap::expected::table::{read_pair_column, read_region_column};
+use contactmap::expected::table::{pair_column, region_column};
 use contactmap::expected::view::View;
 use contactmap::expected::{expected_cis, expected_trans, CisParams};
 use contactmap::genome::BinTable;
+use contactmap::io::tables::Table;
 use contactmap::io::{self, CheckedCounts, MatrixReader};
 
 /// Open the matrix at `uri` (with the text-input options `input`) for an analysis: its counts are
@@ -174,11 +175,11 @@ pub fn cis_expected_by_region(
     reader: &dyn MatrixReader,
     weights: Option<&[f64]>,
     view: &View,
-    path: Option<&str>,
+    table: Option<&Table>,
     column: &str,
 ) -> Result<Vec<Vec<f64>>> {
-    match path {
-        Some(path) => read_region_column(path, reader.bins(), view, column),
+    match table {
+        Some(table) => region_column(table, reader.bins(), view, column),
         None => {
             let pixels = io::LoadedPixels::Streamed(io::StreamedPixels::new(reader));
             let table = expected_cis(&pixels, weights, view, &CisParams::default())?;
@@ -193,15 +194,40 @@ pub fn trans_expected_by_pair(
     reader: &dyn MatrixReader,
     weights: Option<&[f64]>,
     view: &View,
-    path: Option<&str>,
+    table: Option<&Table>,
     column: &str,
 ) -> Result<Vec<Vec<f64>>> {
-    match path {
-        Some(path) => read_pair_column(path, view, column),
+    match table {
+        Some(table) => pair_column(table, view, column),
         None => {
             let pixels = io::LoadedPixels::Streamed(io::StreamedPixels::new(reader));
             Ok(expected_trans(&pixels, weights, view)?.average_by_pair(view))
         }
+    }
+}
+
+/// A table (an `--expected`) read on another thread while the map is opened: the two are
+/// independent, and a genome's expected table is tens of megabytes of text.
+pub struct TableReading(Option<std::thread::JoinHandle<Result<Table>>>);
+
+impl TableReading {
+    /// Start reading `path` (nothing to read without one).
+    pub fn start(path: Option<&str>) -> TableReading {
+        TableReading(path.map(|path| {
+            let path = path.to_string();
+            std::thread::spawn(move || Table::read(&path))
+        }))
+    }
+
+    /// The table, once read (none without a path).
+    pub fn finish(self) -> Result<Option<Table>> {
+        self.0
+            .map(|reading| {
+                reading.join().unwrap_or_else(|_| {
+                    Err(Error::Invalid("the thread reading a table panicked".into()))
+                })
+            })
+            .transpose()
     }
 }
 

@@ -6,7 +6,7 @@ use clap::Args;
 
 use crate::cli::input::{
     bp_option, cis_expected_by_region, expected_column, open_for_analysis, trans_expected_by_pair,
-    weights_and_view,
+    weights_and_view, TableReading,
 };
 use crate::cli::output::{refuse_overwrites, uri_file, write_text_file};
 use crate::cli::warnings::Warnings;
@@ -217,6 +217,11 @@ pub fn run(args: &PileupArgs) -> Result<()> {
             grouped.then_some(&outputs[2]),
         ],
     )?;
+    // the expected table read while the features are read and the map opened
+    let expected_table = TableReading::start(match args.no_expected || args.nshifts.is_some() {
+        true => None,
+        false => args.expected.as_deref(),
+    });
     let kind = match args.features_format {
         FeaturesFormat::Bed => FeatureKind::Bed,
         FeaturesFormat::Bedpe => FeatureKind::Bedpe,
@@ -319,6 +324,7 @@ pub fn run(args: &PileupArgs) -> Result<()> {
         },
     };
     params.check(bin_size)?;
+    let expected_table = expected_table.finish()?;
     let expected = if args.no_expected || args.nshifts.is_some() {
         None
     } else {
@@ -332,7 +338,7 @@ pub fn run(args: &PileupArgs) -> Result<()> {
             reader.as_ref(),
             weights.as_deref(),
             &view,
-            args.expected.as_deref(),
+            expected_table.as_ref(),
             column,
         )?)
     };

@@ -379,7 +379,16 @@ pub fn read_region_column(
     view: &super::View,
     column: &str,
 ) -> Result<Vec<Vec<f64>>> {
-    let table = &Table::read(path)?;
+    region_column(&Table::read(path)?, bins, view, column)
+}
+
+/// [`read_region_column`] of a table already read.
+pub fn region_column(
+    table: &Table,
+    bins: &BinTable,
+    view: &super::View,
+    column: &str,
+) -> Result<Vec<Vec<f64>>> {
     let (c1, c2, dist) = (
         table.column("region1")?,
         table.column("region2")?,
@@ -466,7 +475,11 @@ pub fn read_region_column(
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn read_pair_column(path: &str, view: &super::View, column: &str) -> Result<Vec<Vec<f64>>> {
-    let table = &Table::read(path)?;
+    pair_column(&Table::read(path)?, view, column)
+}
+
+/// [`read_pair_column`] of a table already read.
+pub fn pair_column(table: &Table, view: &super::View, column: &str) -> Result<Vec<Vec<f64>>> {
     let (c1, c2) = (table.column("region1")?, table.column("region2")?);
     let value = table.column(column)?;
     let regions = view.regions();

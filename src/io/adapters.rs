@@ -73,6 +73,17 @@ impl<F: Fn(&PixelBlock) -> Result<()>> MatrixReader for Inspect<'_, F> {
             sink(block)
         })
     }
+
+    fn read_rows_owned(
+        &self,
+        rows: Range<usize>,
+        sink: &mut dyn FnMut(PixelBlock) -> Result<()>,
+    ) -> Result<()> {
+        self.inner.read_rows_owned(rows, &mut |block| {
+            (self.on_block)(&block)?;
+            sink(block)
+        })
+    }
 }
 
 /// A reader whose counts are checked as they stream: the first pixel whose count is negative, NaN
@@ -164,5 +175,13 @@ impl MatrixReader for CheckedCounts {
     ) -> Result<()> {
         Inspect::new(self.inner.as_ref(), |block| self.check(block))
             .read_stored_pixels(rows, cols, sink)
+    }
+
+    fn read_rows_owned(
+        &self,
+        rows: Range<usize>,
+        sink: &mut dyn FnMut(PixelBlock) -> Result<()>,
+    ) -> Result<()> {
+        Inspect::new(self.inner.as_ref(), |block| self.check(block)).read_rows_owned(rows, sink)
     }
 }

@@ -153,6 +153,18 @@ pub trait MatrixReader {
         self.read_pixels(rows, cols, sink)
     }
 
+    /// Stream the pixels of whole rows `rows` (every column, as [`MatrixReader::read_pixels`]
+    /// gives them), each block handed over to keep: readers that decode every block afresh
+    /// (cooler) give their blocks without a copy; by default each block is copied.
+    fn read_rows_owned(
+        &self,
+        rows: Range<usize>,
+        sink: &mut dyn FnMut(PixelBlock) -> Result<()>,
+    ) -> Result<()> {
+        let n = self.bins().n_bins();
+        self.read_pixels(rows, 0..n, &mut |block| sink(block.clone()))
+    }
+
     /// Number of stored pixels and sum of their counts (streams every pixel unless the format
     /// stores both).
     fn totals(&self) -> Result<(u64, f64)> {

@@ -6,14 +6,14 @@
 //! ([`write_real`]: the shortest digits that read back the same value, `nan`), and tables of
 //! region pairs by [`region_table`].
 
-use std::io::BufRead;
+use std::io::{BufRead, Read};
 
 use rayon::prelude::*;
 
 use crate::error::{Error, Result};
 use crate::genome::BinTable;
 
-/// A whole TSV table held in memory, columns addressed by header name: the rows' text in one
+/// A whole TSV table held in memory, columns addressed by header name: the file's text in one
 /// string and each field's bounds in it (no string per field: an expected table of a 5 kb
 /// genome has tens of millions of fields).
 #[derive(Clone, Debug)]
@@ -29,52 +29,50 @@ pub struct Table {
 impl Table {
     /// Read `path` (`-` for stdin, gzip detected from the content).
     pub fn read(path: &str) -> Result<Table> {
-        let mut reader = crate::io::open_text(std::path::Path::new(path))?;
+        // The whole text read once; the fields' bounds point into it (no copy per line).
+        let mut text = String::new();
+        crate::io::open_text(std::path::Path::new(path))?
+            .read_to_string(&mut text)
+            .map_err(|e| Error::io(path, e))?;
         let mut header: Option<Vec<String>> = None;
-        let (mut text, mut fields, mut n_rows) = (String::new(), Vec::new(), 0);
-        let mut line = String::new();
-        let mut index = 0u64;
-        loop {
-            line.clear();
-            if reader
-                .read_line(&mut line)
-                .map_err(|e| Error::io(path, e))?
-                == 0
-            {
-                break;
-            }
-            index += 1;
-            let line = line.strip_suffix('\n').unwrap_or(&line);
+        let (mut fields, mut n_rows) = (Vec::new(), 0);
+        let mut offset = 0;
+        for (index, raw) in text.split_inclusive('\n').enumerate() {
+            let line_start = offset;
+            offset += raw.len();
+            let line = raw.strip_suffix('\n').unwrap_or(raw);
             let line = line.strip_suffix('\r').unwrap_or(line);
             if line.is_empty() || line.starts_with('#') {
                 continue;
             }
             let Some(h) = &header else {
-                header = Some(line.split('\t').map(str::to_string).collect());
+                let names: Vec<String> = line.split('\t').map(str::to_string).collect();
+                // room for every line's fields at once (a count of the lines is cheap)
+                let n_lines = text[offset..].bytes().filter(|&b| b == b'\n').count() + 1;
+                fields.reserve(n_lines * names.len());
+                header = Some(names);
                 continue;
             };
-            let offset = text.len();
             let before = fields.len();
-            let mut start = 0;
+            let mut start = line_start;
             for (k, byte) in line.bytes().enumerate() {
                 if byte == b'\t' {
-                    fields.push((offset + start, offset + k));
-                    start = k + 1;
+                    fields.push((start, line_start + k));
+                    start = line_start + k + 1;
                 }
             }
-            fields.push((offset + start, offset + line.len()));
+            fields.push((start, line_start + line.len()));
             let found = fields.len() - before;
             if found != h.len() {
                 return Err(Error::parse(
                     path,
-                    index,
+                    index as u64 + 1,
                     format!(
                         "expected {} tab-separated columns (as the header), found {found}",
                         h.len()
                     ),
                 ));
             }
-            text.push_str(line);
             n_rows += 1;
         }
         let header = header.ok_or_else(|| Error::format(path, "empty table: no header line"))?;

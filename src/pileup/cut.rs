@@ -1,8 +1,8 @@
 //! Snippets cut out of the map and summed as they are cut, on every core.
 //!
 //! The snippets of a view region are sorted by their first row and gathered in runs of nearby
-//! rows; each run's pixels (the upper triangle, within the columns its snippets reach) are read
-//! once into rows of `(column, value)` while the previous run is cut, in parallel, in fixed
+//! rows; each run's pixels (the upper triangle, its rows whole) are read once, kept in the
+//! reader's own blocks, while the previous run is cut, in parallel, in fixed
 //! chunks whose sums are added in order (the same result on any number of threads). Memory: one
 //! run's pixels and one sum per group and core, never a stack of snippets.
 
@@ -14,6 +14,7 @@ use rayon::prelude::*;
 use super::rescale::{rescale_snippet, zoom_axis};
 use crate::error::{Error, Result};
 use crate::io::MatrixReader;
+use crate::matrix::PixelBlock;
 
 /// Rows read together at most (unless one snippet is taller).
 const RUN_ROWS: usize = 512;
@@ -128,61 +129,45 @@ pub struct Make<'a> {
     pub coverage: Option<&'a [f64]>,
 }
 
-/// The stored pixels of some rows, row by row: columns (sorted) and raw counts.
+/// The stored pixels of some rows, row by row: the reader's blocks as they came (no copy), and
+/// where in them each row lies.
 struct Rows {
     first: usize,
-    ptr: Vec<usize>,
-    cols: Vec<u64>,
-    counts: Vec<f64>,
+    blocks: Vec<PixelBlock>,
+    /// Per row from `first`: its block and its stretch of that block's pixels.
+    spans: Vec<(usize, Range<usize>)>,
 }
 
 impl Rows {
-    /// Rows `rows`, the pixels in `cols` kept: each row's stretch of them copied whole (the
-    /// reader hands out whole rows sorted by column), weights applied later, when cutting.
-    fn read(reader: &dyn MatrixReader, rows: Range<usize>, cols: Range<usize>) -> Result<Rows> {
+    /// The whole rows `rows` (the reader hands out rows whole, sorted by column; weights are
+    /// applied later, when cutting).
+    fn read(reader: &dyn MatrixReader, rows: Range<usize>) -> Result<Rows> {
         let first = rows.start;
-        let mut ptr = vec![0usize; rows.len() + 1];
-        let (mut col_out, mut counts) = (Vec::new(), Vec::new());
-        let mut row = first;
-        let (col_lo, col_hi) = (cols.start as u64, cols.end as u64);
-        let n_bins = reader.bins().n_bins();
-        reader.read_pixels(rows.clone(), 0..n_bins, &mut |block| {
+        let mut spans = vec![(0, 0..0); rows.len()];
+        let mut blocks = Vec::new();
+        reader.read_rows_owned(rows, &mut |block| {
             let mut k = 0;
             while k < block.len() {
                 let i = block.bin1[k];
                 let end = k + block.bin1[k..].partition_point(|&b| b == i);
-                let stretch = &block.bin2[k..end];
-                let from = k + stretch.partition_point(|&j| j < col_lo);
-                let to = k + stretch.partition_point(|&j| j < col_hi);
-                while row < i as usize {
-                    row += 1;
-                    ptr[row - first] = col_out.len();
-                }
-                col_out.extend_from_slice(&block.bin2[from..to]);
-                counts.extend_from_slice(&block.count[from..to]);
+                spans[i as usize - first] = (blocks.len(), k..end);
                 k = end;
             }
+            blocks.push(block);
             Ok(())
         })?;
-        while row < rows.end {
-            row += 1;
-            ptr[row - first] = col_out.len();
-        }
         Ok(Rows {
             first,
-            ptr,
-            cols: col_out,
-            counts,
+            blocks,
+            spans,
         })
     }
 
     /// The stored pixels of row `i` in `cols`: `(column, count)`.
     fn row(&self, i: usize, cols: &Range<usize>) -> impl Iterator<Item = (usize, f64)> + '_ {
-        let k = i - self.first;
-        let (c, v) = (
-            &self.cols[self.ptr[k]..self.ptr[k + 1]],
-            &self.counts[self.ptr[k]..self.ptr[k + 1]],
-        );
+        let (b, span) = &self.spans[i - self.first];
+        let block = &self.blocks[*b];
+        let (c, v) = (&block.bin2[span.clone()], &block.count[span.clone()]);
         let from = c.partition_point(|&j| (j as usize) < cols.start);
         let end = cols.end as u64;
         c[from..]
@@ -198,35 +183,51 @@ impl Make<'_> {
     /// trans the rows' region comes first in the view, which is sorted, so its rows precede
     /// its columns in the stored upper triangle.)
     fn snippet(&self, rows: &Rows, snip: &Snip) -> Array2<f64> {
-        let (r0, c0) = (snip.rows.start, snip.cols.start);
-        let mut s = Array2::<f64>::zeros((snip.rows.len(), snip.cols.len()));
-        for i in snip.rows.clone() {
-            for (j, count) in rows.row(i, &snip.cols) {
-                s[[i - r0, j - c0]] = match self.weights {
-                    Some(w) => (w[i] * w[j]) * count,
-                    None => count,
-                };
-            }
-        }
-        // the expected of pixel (i, j): of its diagonal in the region, or in trans one value
-        // for the two regions
-        let expected = |i: usize, j: usize| {
-            self.expected.map(|e| {
+        let c0 = snip.cols.start;
+        let width = snip.cols.len();
+        let mut s = Array2::<f64>::zeros((snip.rows.len(), width));
+        let values = s.as_slice_mut().expect("a new array is contiguous");
+        let col_weights = self.weights.map(|w| &w[snip.cols.clone()]);
+        // in trans, one expected for the two regions
+        let trans_expected = match (self.expected, self.trans) {
+            (Some(e), true) => {
                 let (a, b) = (snip.region, snip.col_region);
-                if self.trans {
-                    e[a.min(b)][a.max(b)]
-                } else {
-                    e[a].get(j - i).copied().unwrap_or(f64::NAN)
-                }
-            })
+                Some(e[a.min(b)][a.max(b)])
+            }
+            _ => None,
         };
-        for ((p, q), value) in s.indexed_iter_mut() {
-            let (i, j) = (r0 + p, c0 + q);
-            let masked = self.weights.is_some_and(|w| w[i].is_nan() || w[j].is_nan());
-            if masked || (!self.trans && (j as i64 - i as i64) < self.ignore_diags as i64) {
-                *value = f64::NAN;
-            } else if let Some(e) = expected(i, j) {
-                *value /= e;
+        for (row, i) in values.chunks_exact_mut(width).zip(snip.rows.clone()) {
+            match self.weights {
+                Some(w) => {
+                    for (j, count) in rows.row(i, &snip.cols) {
+                        row[j - c0] = (w[i] * w[j]) * count;
+                    }
+                }
+                None => {
+                    for (j, count) in rows.row(i, &snip.cols) {
+                        row[j - c0] = count;
+                    }
+                }
+            }
+            // masked: a NaN weight, or in cis a diagonal below --ignore-diags (j - i < it)
+            if self.weights.is_some_and(|w| w[i].is_nan()) {
+                row.fill(f64::NAN);
+                continue;
+            }
+            let kept = match self.trans {
+                true => 0,
+                false => (i + self.ignore_diags).saturating_sub(c0).min(width),
+            };
+            row[..kept].fill(f64::NAN);
+            for (q, value) in row.iter_mut().enumerate().skip(kept) {
+                if col_weights.is_some_and(|w| w[q].is_nan()) {
+                    *value = f64::NAN;
+                } else if let Some(e) = trans_expected {
+                    *value /= e;
+                } else if let Some(e) = self.expected {
+                    // the expected of the pixel's diagonal in its region
+                    *value /= e[snip.region].get(c0 + q - i).copied().unwrap_or(f64::NAN);
+                }
             }
         }
         if let Some(size) = self.rescale {
@@ -306,9 +307,7 @@ impl Cutter<'_> {
     fn read_run(&self, snips: &[Snip]) -> Result<Rows> {
         let rows = snips.iter().map(|s| s.rows.start).min().unwrap_or(0)
             ..snips.iter().map(|s| s.rows.end).max().unwrap_or(0);
-        let cols = snips.iter().map(|s| s.cols.start).min().unwrap_or(0)
-            ..snips.iter().map(|s| s.cols.end).max().unwrap_or(0);
-        Rows::read(self.reader, rows, cols)
+        Rows::read(self.reader, rows)
     }
 }
 

@@ -257,10 +257,10 @@ impl Column {
                 };
                 tasks
                     .into_par_iter()
-                    .map_init(Vec::new, |buffer, (raw, skip, target)| match raw {
+                    .map_init(Scratch::new, |scratch, (raw, skip, target)| match raw {
                         None => Ok(()),
                         Some(raw) => decoder
-                            .decode(file, &raw, buffer, skip, target)
+                            .decode(file, &raw, scratch, skip, target)
                             .map_err(|message| {
                                 Error::format(
                                     &self.path,
@@ -344,7 +344,7 @@ impl ChunkDecoder {
         &self,
         file: &File,
         raw: &RawChunk,
-        buffer: &mut Vec<u8>,
+        scratch: &mut Scratch,
         skip: usize,
         target: &mut [T],
     ) -> std::result::Result<(), String> {
@@ -357,25 +357,35 @@ impl ChunkDecoder {
                 "stored size {stored_size} is implausible for a {chunk_bytes}-byte chunk"
             ));
         }
-        let mut stored = vec![0u8; stored_size];
-        file.read_exact_at(&mut stored, raw.address).map_err(|e| {
+        let stored = scratch.stored(stored_size);
+        file.read_exact_at(stored, raw.address).map_err(|e| {
             format!("cannot read {stored_size} bytes: {e} (is the file truncated?)")
         })?;
         let applied =
             |position: Option<u32>| position.is_some_and(|k| raw.filter_mask & (1 << k) == 0);
-        let plain = if applied(self.deflate_position) {
-            buffer.clear();
-            buffer.reserve(chunk_bytes);
-            let mut inflater = Decompress::new(true);
+        let plain: &[u8] = if applied(self.deflate_position) {
+            let Scratch {
+                stored,
+                plain,
+                inflater,
+            } = scratch;
+            if plain.len() < chunk_bytes {
+                plain.resize(chunk_bytes, 0);
+            }
+            inflater.reset(true);
             let status = inflater
-                .decompress_vec(&stored, buffer, FlushDecompress::Finish)
+                .decompress(&stored[..stored_size], plain, FlushDecompress::Finish)
                 .map_err(|e| format!("corrupt deflate data ({e})"))?;
             if status != Status::StreamEnd {
-                return Err("deflate stream does not end where the chunk ends".into());
+                return Err(if inflater.total_out() as usize >= plain.len() {
+                    format!("the chunk inflates to more than {chunk_bytes} bytes")
+                } else {
+                    "deflate stream does not end where the chunk ends".into()
+                });
             }
-            std::mem::take(buffer)
+            &plain[..inflater.total_out() as usize]
         } else {
-            stored
+            &scratch.stored[..stored_size]
         };
         if plain.len() < (skip + target.len()) * element_size {
             return Err(format!(
@@ -386,13 +396,38 @@ impl ChunkDecoder {
         let shuffled = applied(self.shuffle_position);
         let element = self.element;
         match element_size {
-            1 => decode_elements::<1, T>(&plain, false, element, skip, target),
-            2 => decode_elements::<2, T>(&plain, shuffled, element, skip, target),
-            4 => decode_elements::<4, T>(&plain, shuffled, element, skip, target),
-            _ => decode_elements::<8, T>(&plain, shuffled, element, skip, target),
+            1 => decode_elements::<1, T>(plain, false, element, skip, target),
+            2 => decode_elements::<2, T>(plain, shuffled, element, skip, target),
+            4 => decode_elements::<4, T>(plain, shuffled, element, skip, target),
+            _ => decode_elements::<8, T>(plain, shuffled, element, skip, target),
         }
-        *buffer = plain;
         Ok(())
+    }
+}
+
+/// What one task reuses from chunk to chunk: the stored bytes, the inflated bytes and the
+/// inflater (set up once, not per chunk).
+struct Scratch {
+    stored: Vec<u8>,
+    plain: Vec<u8>,
+    inflater: Decompress,
+}
+
+impl Scratch {
+    fn new() -> Scratch {
+        Scratch {
+            stored: Vec::new(),
+            plain: Vec::new(),
+            inflater: Decompress::new(true),
+        }
+    }
+
+    /// Room for `size` stored bytes.
+    fn stored(&mut self, size: usize) -> &mut [u8] {
+        if self.stored.len() < size {
+            self.stored.resize(size, 0);
+        }
+        &mut self.stored[..size]
     }
 }
 
@@ -445,12 +480,27 @@ fn fill<const N: usize, T, F: Fn(u64) -> T>(
     if shuffled {
         let n = plain.len() / N;
         let planes: [&[u8]; N] = std::array::from_fn(|b| &plain[b * n + skip..b * n + skip + len]);
-        for (k, value) in target.iter_mut().enumerate() {
-            let mut v = 0u64;
-            for (b, plane) in planes.iter().enumerate() {
-                v |= (plane[k] as u64) << (8 * b);
+        // Small non-negative values leave the high byte planes zero (bin ids need 3 of their 8
+        // bytes, counts 1 or 2 of 4): only the planes up to the last non-zero one are read.
+        let used = planes
+            .iter()
+            .rposition(|plane| plane.iter().fold(0u8, |a, &b| a | b) != 0)
+            .map_or(0, |b| b + 1);
+        // plane by plane over short runs of elements (each pass a simple loop that vectorises)
+        const RUN: usize = 512;
+        let mut values = [0u64; RUN];
+        for (r, out) in target.chunks_mut(RUN).enumerate() {
+            let (at, values) = (r * RUN, &mut values[..out.len()]);
+            values.fill(0);
+            for (b, plane) in planes[..used].iter().enumerate() {
+                let bytes = &plane[at..at + out.len()];
+                for (v, &byte) in values.iter_mut().zip(bytes) {
+                    *v |= (byte as u64) << (8 * b);
+                }
             }
-            *value = convert(v);
+            for (value, &v) in out.iter_mut().zip(values.iter()) {
+                *value = convert(v);
+            }
         }
     } else {
         let elements = plain[skip * N..(skip + len) * N].chunks_exact(N);

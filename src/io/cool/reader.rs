@@ -463,7 +463,7 @@ impl CoolReader {
         rows: Range<usize>,
         cols: Range<usize>,
         upper_only: bool,
-        sink: &mut dyn FnMut(&PixelBlock) -> Result<()>,
+        sink: &mut dyn FnMut(PixelBlock) -> Result<()>,
     ) -> Result<()> {
         let n_bins = self.bins.n_bins();
         let rows = rows.start.min(n_bins)..rows.end.min(n_bins);
@@ -481,30 +481,34 @@ impl CoolReader {
         } else {
             None
         };
-        while let Some(mut block) = current.take() {
+        while let Some(block) = current.take() {
             start += block.len();
             let end = self.block_end(start, hi);
-            let (next, consumed) = std::thread::scope(|scope| {
-                let reader = scope.spawn(|| {
-                    (start < hi)
-                        .then(|| self.read_block(start, end))
-                        .transpose()
-                });
+            let mut consume = |mut block: PixelBlock| {
                 if !whole_rows {
                     block.retain_cols(&cols64);
                 }
                 if upper_only && self.square {
                     block.retain_upper();
                 }
-                let consumed = if block.is_empty() {
+                if block.is_empty() {
                     Ok(())
                 } else {
-                    sink(&block)
-                };
+                    sink(block)
+                }
+            };
+            // the last block: nothing to read beside it
+            if start >= hi {
+                consume(block)?;
+                break;
+            }
+            let (next, consumed) = std::thread::scope(|scope| {
+                let reader = scope.spawn(|| self.read_block(start, end));
+                let consumed = consume(block);
                 let next = reader.join().unwrap_or_else(|_| {
                     Err(Error::Invalid("the pixel reading thread panicked".into()))
                 });
-                (next, consumed)
+                (next.map(Some), consumed)
             });
             consumed?;
             current = next?;
@@ -600,7 +604,15 @@ impl MatrixReader for CoolReader {
         cols: Range<usize>,
         sink: &mut dyn FnMut(&PixelBlock) -> Result<()>,
     ) -> Result<()> {
-        self.stream(rows, cols, true, sink)
+        self.stream(rows, cols, true, &mut |block| sink(&block))
+    }
+
+    fn read_rows_owned(
+        &self,
+        rows: Range<usize>,
+        sink: &mut dyn FnMut(PixelBlock) -> Result<()>,
+    ) -> Result<()> {
+        self.stream(rows, 0..self.bins.n_bins(), true, sink)
     }
 
     fn stores_both_triangles(&self) -> bool {
@@ -613,7 +625,7 @@ impl MatrixReader for CoolReader {
         cols: Range<usize>,
         sink: &mut dyn FnMut(&PixelBlock) -> Result<()>,
     ) -> Result<()> {
-        self.stream(rows, cols, false, sink)
+        self.stream(rows, cols, false, &mut |block| sink(&block))
     }
 
     fn totals(&self) -> Result<(u64, f64)> {
