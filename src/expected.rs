@@ -649,6 +649,30 @@ pub fn expected_trans<S: PixelSource>(
     Ok(table)
 }
 
+/// The expected that an analysis divides by (pileups, dots): in cis, per view region, the
+/// expected of each diagonal (`[region][d]`, as [`CisExpected::average_by_region`]); with
+/// `trans`, per two view regions (`[a][b]`, `a < b`, as [`TransExpected::average_by_pair`]).
+/// Column `column` of a cooltools expected table when one is given (on the same bins and view),
+/// else computed from `pixels` as `contactmap expected` computes it (balanced by `weights`, raw
+/// counts without).
+pub fn expected_to_divide_by<S: PixelSource>(
+    pixels: &S,
+    weights: Option<&[f64]>,
+    view: &View,
+    table: Option<&crate::io::tables::Table>,
+    column: &str,
+    trans: bool,
+) -> Result<Vec<Vec<f64>>> {
+    match (table, trans) {
+        (Some(table), false) => table::region_column(table, pixels.bins(), view, column),
+        (Some(table), true) => table::pair_column(table, view, column),
+        (None, false) => {
+            Ok(expected_cis(pixels, weights, view, &CisParams::default())?.average_by_region())
+        }
+        (None, true) => Ok(expected_trans(pixels, weights, view)?.average_by_pair(view)),
+    }
+}
+
 /// Per-chromosome expected curves for observed / expected ([`crate::normalize`]): the cis
 /// expected over whole chromosomes without smoothing, with `balanced.avg` (`count.avg` for raw
 /// counts) and `n_valid` per diagonal.

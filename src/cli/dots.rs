@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use crate::cli::input::{bp_option, cis_expected_by_region, open_balanced};
+use crate::cli::input::{bp_option, expected_to_divide, open_balanced};
 use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::warnings::Warnings;
 use crate::cli::InputArgs;
@@ -201,12 +201,13 @@ fn call(args: &DotsArgs, uri: &str) -> Result<Called> {
     })?;
     let params = args.params(bin_size)?;
     let table = args.expected.as_deref().map(Table::read).transpose()?;
-    let expected = cis_expected_by_region(
+    let expected = expected_to_divide(
         reader.as_ref(),
         Some(&weights),
         &view,
         table.as_ref(),
         &args.expected_column,
+        false,
     )?;
     let calls = call_dots(reader.as_ref(), &weights, &view, &expected, &params)?;
     Ok(Called {

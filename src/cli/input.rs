@@ -9,9 +9,8 @@ use std::path::Path;
 
 use crate::cli::InputArgs;
 use contactmap::error::{Error, Result};
-use contactmap::expected::table::{pair_column, region_column};
+use contactmap::expected::expected_to_divide_by;
 use contactmap::expected::view::View;
-use contactmap::expected::{expected_cis, expected_trans, CisParams};
 use contactmap::genome::BinTable;
 use contactmap::io::tables::Table;
 use contactmap::io::{self, CheckedCounts, MatrixReader};
@@ -167,43 +166,19 @@ pub fn expected_column(column: Option<&str>, raw: bool) -> &str {
     column.unwrap_or(if raw { "count.avg" } else { "balanced.avg" })
 }
 
-/// The cis expected of each view region by diagonal (`[region][d]`) for an analysis that divides
-/// by it (dots, pileup): the column `column` of the cooltools table at `path` (same bins and
-/// view), or computed from `reader`'s pixels as `contactmap expected` does (balanced by
-/// `weights`; raw counts without).
-pub fn cis_expected_by_region(
+/// The expected that dots and pileups divide by ([`expected_to_divide_by`]): cis per region
+/// and diagonal, or with `trans` per two regions; from `table` (an `--expected`) or computed
+/// from `reader`'s pixels.
+pub fn expected_to_divide(
     reader: &dyn MatrixReader,
     weights: Option<&[f64]>,
     view: &View,
     table: Option<&Table>,
     column: &str,
+    trans: bool,
 ) -> Result<Vec<Vec<f64>>> {
-    match table {
-        Some(table) => region_column(table, reader.bins(), view, column),
-        None => {
-            let pixels = io::LoadedPixels::Streamed(io::StreamedPixels::new(reader));
-            let table = expected_cis(&pixels, weights, view, &CisParams::default())?;
-            Ok(table.average_by_region())
-        }
-    }
-}
-
-/// The trans expected of every two regions of `view` (`[a][b]`, `a < b`): `column` of the
-/// cooltools trans expected table at `path`, or computed from the map as `expected --trans`.
-pub fn trans_expected_by_pair(
-    reader: &dyn MatrixReader,
-    weights: Option<&[f64]>,
-    view: &View,
-    table: Option<&Table>,
-    column: &str,
-) -> Result<Vec<Vec<f64>>> {
-    match table {
-        Some(table) => pair_column(table, view, column),
-        None => {
-            let pixels = io::LoadedPixels::Streamed(io::StreamedPixels::new(reader));
-            Ok(expected_trans(&pixels, weights, view)?.average_by_pair(view))
-        }
-    }
+    let pixels = io::LoadedPixels::Streamed(io::StreamedPixels::new(reader));
+    expected_to_divide_by(&pixels, weights, view, table, column, trans)
 }
 
 /// A table (an `--expected`) read on another thread while the map is opened: the two are

@@ -5,8 +5,8 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 
 use crate::cli::input::{
-    bp_option, cis_expected_by_region, expected_column, open_for_analysis, trans_expected_by_pair,
-    weights_and_view, TableReading,
+    bp_option, expected_column, expected_to_divide, open_for_analysis, weights_and_view,
+    TableReading,
 };
 use crate::cli::output::{refuse_overwrites, uri_file, write_text_file};
 use crate::cli::warnings::Warnings;
@@ -329,17 +329,13 @@ pub fn run(args: &PileupArgs) -> Result<()> {
         None
     } else {
         let column = expected_column(args.expected_column.as_deref(), args.raw);
-        let by = if args.trans {
-            trans_expected_by_pair
-        } else {
-            cis_expected_by_region
-        };
-        Some(by(
+        Some(expected_to_divide(
             reader.as_ref(),
             weights.as_deref(),
             &view,
             expected_table.as_ref(),
             column,
+            args.trans,
         )?)
     };
     let pups = pileup(

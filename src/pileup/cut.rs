@@ -183,51 +183,35 @@ impl Make<'_> {
     /// trans the rows' region comes first in the view, which is sorted, so its rows precede
     /// its columns in the stored upper triangle.)
     fn snippet(&self, rows: &Rows, snip: &Snip) -> Array2<f64> {
-        let c0 = snip.cols.start;
-        let width = snip.cols.len();
-        let mut s = Array2::<f64>::zeros((snip.rows.len(), width));
-        let values = s.as_slice_mut().expect("a new array is contiguous");
-        let col_weights = self.weights.map(|w| &w[snip.cols.clone()]);
-        // in trans, one expected for the two regions
-        let trans_expected = match (self.expected, self.trans) {
-            (Some(e), true) => {
+        let (r0, c0) = (snip.rows.start, snip.cols.start);
+        let mut s = Array2::<f64>::zeros((snip.rows.len(), snip.cols.len()));
+        for i in snip.rows.clone() {
+            for (j, count) in rows.row(i, &snip.cols) {
+                s[[i - r0, j - c0]] = match self.weights {
+                    Some(w) => (w[i] * w[j]) * count,
+                    None => count,
+                };
+            }
+        }
+        // the expected of pixel (i, j): of its diagonal in the region, or in trans one value
+        // for the two regions
+        let expected = |i: usize, j: usize| {
+            self.expected.map(|e| {
                 let (a, b) = (snip.region, snip.col_region);
-                Some(e[a.min(b)][a.max(b)])
-            }
-            _ => None,
+                if self.trans {
+                    e[a.min(b)][a.max(b)]
+                } else {
+                    e[a].get(j - i).copied().unwrap_or(f64::NAN)
+                }
+            })
         };
-        for (row, i) in values.chunks_exact_mut(width).zip(snip.rows.clone()) {
-            match self.weights {
-                Some(w) => {
-                    for (j, count) in rows.row(i, &snip.cols) {
-                        row[j - c0] = (w[i] * w[j]) * count;
-                    }
-                }
-                None => {
-                    for (j, count) in rows.row(i, &snip.cols) {
-                        row[j - c0] = count;
-                    }
-                }
-            }
-            // masked: a NaN weight, or in cis a diagonal below --ignore-diags (j - i < it)
-            if self.weights.is_some_and(|w| w[i].is_nan()) {
-                row.fill(f64::NAN);
-                continue;
-            }
-            let kept = match self.trans {
-                true => 0,
-                false => (i + self.ignore_diags).saturating_sub(c0).min(width),
-            };
-            row[..kept].fill(f64::NAN);
-            for (q, value) in row.iter_mut().enumerate().skip(kept) {
-                if col_weights.is_some_and(|w| w[q].is_nan()) {
-                    *value = f64::NAN;
-                } else if let Some(e) = trans_expected {
-                    *value /= e;
-                } else if let Some(e) = self.expected {
-                    // the expected of the pixel's diagonal in its region
-                    *value /= e[snip.region].get(c0 + q - i).copied().unwrap_or(f64::NAN);
-                }
+        for ((p, q), value) in s.indexed_iter_mut() {
+            let (i, j) = (r0 + p, c0 + q);
+            let masked = self.weights.is_some_and(|w| w[i].is_nan() || w[j].is_nan());
+            if masked || (!self.trans && (j as i64 - i as i64) < self.ignore_diags as i64) {
+                *value = f64::NAN;
+            } else if let Some(e) = expected(i, j) {
+                *value /= e;
             }
         }
         if let Some(size) = self.rescale {

@@ -1,52 +1,18 @@
 //! The pileups against coolpuppy 1.1.0 and cooltools 0.7.1 on the simulated extrusion map and
 //! the yeast map (`data/reference/pileup/`, `scripts/pileup_reference.py`).
 
-use std::io::Read as _;
-
 use super::*;
 use crate::expected::{expected_cis, expected_trans, CisParams};
 use crate::io::bed::{read_bed, read_bed_table, read_bedpe, read_bedpe_table};
 use crate::io::{open_matrix, LoadedPixels, OpenOptions, StreamedPixels};
 
-/// One group of a reference: its header fields and grid.
-struct RefGroup {
-    n: usize,
-    control_n: Option<usize>,
-    label: String,
-    grid: Vec<Vec<f64>>,
-}
+#[path = "../../tests/support/pileup_reference.rs"]
+mod pileup_reference;
+use pileup_reference::{reference_case, RefGroup};
 
 /// The reference case `name` (of `pileups.tsv.gz`): its groups, the group of all last.
 fn reference(name: &str) -> Vec<RefGroup> {
-    let mut text = String::new();
-    let path = "data/reference/pileup/pileups.tsv.gz";
-    flate2::read::GzDecoder::new(std::fs::File::open(path).unwrap())
-        .read_to_string(&mut text)
-        .unwrap();
-    let mut groups: Vec<RefGroup> = Vec::new();
-    let case = text
-        .lines()
-        .skip_while(|l| *l != format!("## {name}"))
-        .skip(1)
-        .take_while(|l| !l.starts_with("## "));
-    for line in case {
-        if let Some(head) = line.strip_prefix("# ") {
-            let field = |key: &str| {
-                head.split(' ')
-                    .find_map(|f| f.strip_prefix(&format!("{key}=")).map(str::to_string))
-            };
-            groups.push(RefGroup {
-                n: field("n").unwrap().parse().unwrap(),
-                control_n: field("control_n").map(|v| v.parse().unwrap()),
-                label: field("group").unwrap_or_else(|| "all".into()),
-                grid: Vec::new(),
-            });
-        } else {
-            let row = line.split('\t').map(|v| v.parse().unwrap()).collect();
-            groups.last_mut().unwrap().grid.push(row);
-        }
-    }
-    groups
+    reference_case("data/reference/pileup/pileups.tsv.gz".as_ref(), name)
 }
 
 /// A map and its cooltools expected (balanced).

@@ -3,6 +3,11 @@
 
 use super::*;
 
+#[allow(dead_code)] // the CLI tests read the grids and counts, not the controls
+#[path = "../support/pileup_reference.rs"]
+mod pileup_reference;
+use pileup_reference::reference_case;
+
 /// The truth loops of the simulated map piled up as observed/expected: coolpuppy's grid and
 /// scores; the features' format read from the content.
 #[test]
@@ -74,33 +79,12 @@ fn read_grid(path: &str) -> Vec<Vec<f64>> {
 /// A reference grid of case NAME of `data/reference/pileup/pileups.tsv.gz` for group `label`
 /// (see scripts/pileup_reference.py): its `n` and rows.
 fn reference_group(name: &str, label: &str) -> (usize, Vec<Vec<f64>>) {
-    use std::io::Read;
-    let mut text = String::new();
     let path = data("reference/pileup/pileups.tsv.gz");
-    flate2::read::GzDecoder::new(std::fs::File::open(path).unwrap())
-        .read_to_string(&mut text)
+    let group = reference_case(path.as_ref(), name)
+        .into_iter()
+        .find(|g| g.label == label)
         .unwrap();
-    let mut groups: Vec<(String, Vec<Vec<f64>>)> = Vec::new();
-    let case = text
-        .lines()
-        .skip_while(|l| *l != format!("## {name}"))
-        .skip(1)
-        .take_while(|l| !l.starts_with("## "));
-    for line in case {
-        if line.starts_with('#') {
-            groups.push((line.to_string(), Vec::new()));
-        } else {
-            let values = line.split('\t').map(|v| v.parse().unwrap()).collect();
-            groups.last_mut().unwrap().1.push(values);
-        }
-    }
-    let wanted = |head: &str| {
-        let group = head.split(' ').find_map(|f| f.strip_prefix("group="));
-        group.unwrap_or("all") == label
-    };
-    let (head, grid) = groups.into_iter().find(|(h, _)| wanted(h)).unwrap();
-    let n = head.split(' ').find_map(|f| f.strip_prefix("n=")).unwrap();
-    (n.parse().unwrap(), grid)
+    (group.n, group.grid)
 }
 
 /// Our grid file's rows equal the reference's to 1e-12 relative (NaN where it is NaN).

@@ -480,27 +480,12 @@ fn fill<const N: usize, T, F: Fn(u64) -> T>(
     if shuffled {
         let n = plain.len() / N;
         let planes: [&[u8]; N] = std::array::from_fn(|b| &plain[b * n + skip..b * n + skip + len]);
-        // Small non-negative values leave the high byte planes zero (bin ids need 3 of their 8
-        // bytes, counts 1 or 2 of 4): only the planes up to the last non-zero one are read.
-        let used = planes
-            .iter()
-            .rposition(|plane| plane.iter().fold(0u8, |a, &b| a | b) != 0)
-            .map_or(0, |b| b + 1);
-        // plane by plane over short runs of elements (each pass a simple loop that vectorises)
-        const RUN: usize = 512;
-        let mut values = [0u64; RUN];
-        for (r, out) in target.chunks_mut(RUN).enumerate() {
-            let (at, values) = (r * RUN, &mut values[..out.len()]);
-            values.fill(0);
-            for (b, plane) in planes[..used].iter().enumerate() {
-                let bytes = &plane[at..at + out.len()];
-                for (v, &byte) in values.iter_mut().zip(bytes) {
-                    *v |= (byte as u64) << (8 * b);
-                }
+        for (k, value) in target.iter_mut().enumerate() {
+            let mut v = 0u64;
+            for (b, plane) in planes.iter().enumerate() {
+                v |= (plane[k] as u64) << (8 * b);
             }
-            for (value, &v) in out.iter_mut().zip(values.iter()) {
-                *value = convert(v);
-            }
+            *value = convert(v);
         }
     } else {
         let elements = plain[skip * N..(skip + len) * N].chunks_exact(N);
