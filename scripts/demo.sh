@@ -116,6 +116,12 @@ step "The same with shifted random controls instead of the expected (coolpuppy's
 cut -f1-4 "$work/sim.loops.shifts.scores.tsv"
 step "Picture: the pileups per distance band, as plotpup draws them (centre enrichment in the corner)" \
   "$cm" plot pileup "$work/sim.loops" -o "$figs/sim_loops_pileup.png"
+step "Comparing samples: the yeast map downsampled twice to a third of its contacts, exactly (cooltools random-sample --exact; two seeds)" \
+  "$cm" sample data/yeast.10kb.cool --fraction 0.33 --exact --seed 1 -o "$work/yeast.third_a.cool"
+"$cm" sample data/yeast.10kb.cool --fraction 0.33 --exact --seed 2 -o "$work/yeast.third_b.cool"
+step "HiCRep reproducibility of the full map and the two thirds (hicrep 0.2.6's SCC per pair and chromosome; genome-wide rows shown; h = 3 bins, 500 kb)" \
+  "$cm" hicrep data/yeast.10kb.cool "$work/yeast.third_a.cool" "$work/yeast.third_b.cool" --h 3 --max-distance 500k --names full,third_a,third_b -o "$work/yeast.scc.tsv"
+grep genome "$work/yeast.scc.tsv"
 step "A synthetic map with known domains (power-law decay, Poisson noise, no coverage bias)" \
   "$cm" simulate blocks -o "$work/blocks.cool" --truth-boundaries "$work/truth.bed" --seed 1
 "$cm" info "$work/blocks.cool" | grep -E "nbins|nnz"

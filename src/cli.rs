@@ -5,10 +5,12 @@ pub mod balance;
 pub mod compartments;
 pub mod contacts;
 pub mod convert;
+pub mod coverage;
 pub mod dots;
 pub mod dump;
 pub mod expected;
 pub mod hic_output;
+pub mod hicrep;
 pub mod info;
 pub mod input;
 pub mod matrix_output;
@@ -20,11 +22,13 @@ pub mod plot;
 pub mod progress;
 pub mod protein;
 pub mod saddle;
+pub mod sample;
 pub mod score;
 pub mod shell;
 pub mod simulate;
 pub mod tads;
 pub mod validate;
+pub mod virtual4c;
 pub mod warnings;
 pub mod zoomify;
 
@@ -89,6 +93,15 @@ pub enum Command {
     /// Aggregate maps at features (loops, TADs, peaks) as coolpuppy, with coolpuppy's and Juicer
     /// APA's scores.
     Pileup(pileup::PileupArgs),
+    /// HiCRep's stratum-adjusted correlation (SCC) of replicates or samples, per chromosome and
+    /// genome-wide, as hicrep 0.2.6 (h trained as hicreppy with --h auto).
+    Hicrep(hicrep::HicrepArgs),
+    /// Downsample contacts to a count or a fraction (seeded), as cooltools random-sample.
+    Sample(sample::SampleArgs),
+    /// Cis and total coverage per bin (raw or balanced), as cooltools coverage.
+    Coverage(coverage::CoverageArgs),
+    /// A viewpoint's contacts with the whole genome (virtual 4C), as cooltools virtual4c.
+    Virtual4c(virtual4c::Virtual4cArgs),
     /// Simulated maps with a known truth: `simulate blocks` (block-structured map with TADs),
     /// `simulate polymer` (bead-spring polymer ensembles with loop extrusion, CPU or GPU).
     Simulate(simulate::SimulateArgs),
@@ -253,6 +266,10 @@ pub fn run(cli: Cli) -> Result<Status> {
         Command::Dots(args) => dots::run(&args),
         Command::DotsMerge(args) => dots::run_merge(&args),
         Command::Pileup(args) => pileup::run(&args),
+        Command::Hicrep(args) => hicrep::run(&args),
+        Command::Sample(args) => sample::run(&args),
+        Command::Coverage(args) => coverage::run(&args),
+        Command::Virtual4c(args) => virtual4c::run(&args),
         Command::Simulate(args) => simulate::run(&args),
         Command::Score(args) => score::run(&args),
         Command::Contacts(args) => contacts::run(&args),

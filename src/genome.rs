@@ -213,6 +213,51 @@ impl BinTable {
         Ok(variable)
     }
 
+    /// Why `other` is not this bin table (`None` when it is): the first difference of
+    /// chromosomes, bin size or bins, worded for an error message.
+    ///
+    /// ```
+    /// use contactmap::genome::{BinTable, Chrom};
+    /// let a = BinTable::fixed(vec![Chrom::new("chr1", 1_000)], 100)?;
+    /// let b = BinTable::fixed(vec![Chrom::new("chr1", 1_000)], 200)?;
+    /// assert_eq!(a.difference(&a), None);
+    /// assert_eq!(a.difference(&b).as_deref(), Some("bin size 200 instead of 100"));
+    /// # Ok::<(), contactmap::Error>(())
+    /// ```
+    pub fn difference(&self, other: &BinTable) -> Option<String> {
+        let (a, b) = (self, other);
+        if a.n_chroms() != b.n_chroms() {
+            return Some(format!(
+                "{} chromosomes instead of {}",
+                b.n_chroms(),
+                a.n_chroms()
+            ));
+        }
+        for (x, y) in a.chroms().iter().zip(b.chroms()) {
+            if x.name != y.name || x.length_bp != y.length_bp {
+                return Some(format!(
+                    "chromosome {} of {} bp where {} of {} bp was expected",
+                    y.name, y.length_bp, x.name, x.length_bp
+                ));
+            }
+        }
+        if a.bin_size_bp() != b.bin_size_bp() {
+            return Some(match (a.bin_size_bp(), b.bin_size_bp()) {
+                (Some(x), Some(y)) => format!("bin size {y} instead of {x}"),
+                _ => "variable bins on one side only".into(),
+            });
+        }
+        if a.n_bins() != b.n_bins() {
+            return Some(format!("{} bins instead of {}", b.n_bins(), a.n_bins()));
+        }
+        if a.bin_size_bp().is_none() {
+            if let Some(k) = (0..a.n_bins()).find(|&k| a.bin(k) != b.bin(k)) {
+                return Some(format!("bin {k} differs"));
+            }
+        }
+        None
+    }
+
     /// The chromosome table.
     pub fn chroms(&self) -> &[Chrom] {
         &self.chroms

@@ -308,8 +308,8 @@
 //! ```
 
 pub mod balance;
+pub mod compare;
 pub mod compartments;
-pub mod coverage;
 pub mod error;
 pub mod expected;
 pub mod export;

@@ -1,5 +1,5 @@
 //! numpy's rules for the few array operations whose last digits the peers' results depend on
-//! (cooler's MAD filter, cooltools' compartments and saddles).
+//! (cooler's MAD filter, cooltools' compartments and saddles, hicrep's per-diagonal sums).
 
 /// numpy's `linspace(start, stop, num)` (endpoint included), element for element.
 pub fn linspace(start: f64, stop: f64, num: usize) -> Vec<f64> {
@@ -50,6 +50,53 @@ pub fn quantile_of_sorted(sorted: &[f64], fraction: f64) -> f64 {
         sorted[(below as usize + 1).min(n - 1)],
         gamma,
     )
+}
+
+/// numpy's pairwise summation kernel (`pairwise_sum` of its add loop): below 8 values one by
+/// one, up to 128 in 8 interleaved accumulators, beyond that the two halves (cut at a multiple of
+/// 8) summed apart.
+pub fn pairwise_sum(a: &[f64]) -> f64 {
+    let n = a.len();
+    if n < 8 {
+        a.iter().fold(-0.0, |s, &x| s + x)
+    } else if n <= 128 {
+        let mut r = [0.0; 8];
+        r.copy_from_slice(&a[..8]);
+        let full = n - n % 8;
+        let mut i = 8;
+        while i < full {
+            for (j, slot) in r.iter_mut().enumerate() {
+                *slot += a[i + j];
+            }
+            i += 8;
+        }
+        let mut res = ((r[0] + r[1]) + (r[2] + r[3])) + ((r[4] + r[5]) + (r[6] + r[7]));
+        for &x in &a[full..] {
+            res += x;
+        }
+        res
+    } else {
+        let mut n2 = n / 2;
+        n2 -= n2 % 8;
+        pairwise_sum(&a[..n2]) + pairwise_sum(&a[n2..])
+    }
+}
+
+/// The sum numpy's `add.reduceat` gives a segment (scipy's row sums of a sparse matrix): its
+/// first value, plus the pairwise sum of the others (0 for none).
+///
+/// ```
+/// use contactmap::numeric::reduceat_sum;
+/// let values: Vec<f64> = (0..300).map(|k| 0.1 * k as f64).collect();
+/// let naive: f64 = values.iter().sum();
+/// assert!((reduceat_sum(&values) - naive).abs() < 1e-9);
+/// assert_eq!(reduceat_sum(&[]), 0.0);
+/// ```
+pub fn reduceat_sum(a: &[f64]) -> f64 {
+    match a.split_first() {
+        None => 0.0,
+        Some((first, rest)) => first + pairwise_sum(rest),
+    }
 }
 
 #[cfg(test)]

@@ -334,7 +334,7 @@ pub fn pileup(
     let coverage = match params.coverage_norm {
         None => None,
         Some(kind) => {
-            let cov = crate::coverage::coverage(reader, params.ignore_diags)?;
+            let cov = crate::compare::coverage::coverage(reader, params.ignore_diags)?;
             Some(match kind {
                 CoverageNorm::Total => cov.total,
                 CoverageNorm::Cis => cov.cis,

@@ -3,6 +3,8 @@
 
 #[path = "cli/balance.rs"]
 mod balance;
+#[path = "cli/compare.rs"]
+mod compare;
 #[path = "cli/compartments.rs"]
 mod compartments;
 #[path = "cli/contacts.rs"]

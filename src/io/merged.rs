@@ -28,7 +28,7 @@ impl<'a> MergedReader<'a> {
             return Err(Error::Invalid("nothing to merge: no input".into()));
         };
         for other in &readers[1..] {
-            if let Some(why) = bins_differ(first.bins(), other.bins()) {
+            if let Some(why) = first.bins().difference(other.bins()) {
                 return Err(Error::format(
                     other.source(),
                     format!(
@@ -48,40 +48,6 @@ impl<'a> MergedReader<'a> {
         );
         Ok(MergedReader { readers, source })
     }
-}
-
-/// Why two bin tables differ, or `None` when they are the same.
-fn bins_differ(a: &BinTable, b: &BinTable) -> Option<String> {
-    if a.n_chroms() != b.n_chroms() {
-        return Some(format!(
-            "{} chromosomes instead of {}",
-            b.n_chroms(),
-            a.n_chroms()
-        ));
-    }
-    for (x, y) in a.chroms().iter().zip(b.chroms()) {
-        if x.name != y.name || x.length_bp != y.length_bp {
-            return Some(format!(
-                "chromosome {} of {} bp where {} of {} bp was expected",
-                y.name, y.length_bp, x.name, x.length_bp
-            ));
-        }
-    }
-    if a.n_bins() != b.n_bins() {
-        return Some(format!("{} bins instead of {}", b.n_bins(), a.n_bins()));
-    }
-    if a.bin_size_bp() != b.bin_size_bp() {
-        return Some(match (a.bin_size_bp(), b.bin_size_bp()) {
-            (Some(x), Some(y)) => format!("bin size {y} instead of {x}"),
-            _ => "variable bins on one side only".into(),
-        });
-    }
-    if a.bin_size_bp().is_none() {
-        if let Some(k) = (0..a.n_bins()).find(|&k| a.bin(k) != b.bin(k)) {
-            return Some(format!("bin {k} differs"));
-        }
-    }
-    None
 }
 
 /// Sum the pixels of `parts` (each sorted by `(bin1, bin2)`) into one sorted list.

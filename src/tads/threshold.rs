@@ -58,33 +58,7 @@ impl Threshold {
 
 /// numpy's pairwise summation (`np.add.reduce` on a contiguous float64 array).
 pub(crate) fn numpy_sum(a: &[f64]) -> f64 {
-    fn pairwise(a: &[f64]) -> f64 {
-        let n = a.len();
-        if n < 8 {
-            a.iter().fold(0.0, |s, &x| s + x)
-        } else if n <= 128 {
-            let mut r = [0.0; 8];
-            r.copy_from_slice(&a[..8]);
-            let full = n - n % 8;
-            let mut i = 8;
-            while i < full {
-                for (j, slot) in r.iter_mut().enumerate() {
-                    *slot += a[i + j];
-                }
-                i += 8;
-            }
-            let mut res = ((r[0] + r[1]) + (r[2] + r[3])) + ((r[4] + r[5]) + (r[6] + r[7]));
-            for &x in &a[full..] {
-                res += x;
-            }
-            res
-        } else {
-            let mut n2 = n / 2;
-            n2 -= n2 % 8;
-            pairwise(&a[..n2]) + pairwise(&a[n2..])
-        }
-    }
-    0.0 + pairwise(a)
+    0.0 + crate::numeric::pairwise_sum(a)
 }
 
 fn numpy_mean(a: &[f64]) -> f64 {

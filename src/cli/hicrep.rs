@@ -1,0 +1,285 @@
+//! `contactmap hicrep`: HiCRep's stratum-adjusted correlation (SCC) of every pair of samples,
+//! per chromosome and genome-wide, as hicrep 0.2.6 computes it.
+
+use std::path::{Path, PathBuf};
+
+use clap::Args;
+
+use crate::cli::input::{bp_option, open_for_analysis};
+use crate::cli::output::{refuse_overwrites, uri_file, Output};
+use crate::cli::warnings::Warnings;
+use crate::cli::InputArgs;
+use contactmap::compare::hicrep::{check_comparable, scc, train_h, SccParams, DEFAULT_H_MAX};
+use contactmap::error::{Error, Result};
+use contactmap::io::output::python_float;
+use contactmap::io::MatrixReader;
+
+/// Arguments of `contactmap hicrep`.
+#[derive(Debug, Args)]
+#[command(after_long_help = "\
+The SCC of hicrep 0.2.6 (`hicrepSCC`), per chromosome: raw counts of the upper triangle from
+the first diagonal to --max-distance, smoothed by a 2D mean filter of half-width --h bins, then
+per diagonal Pearson's correlation of the two maps over the pixels where either is not zero,
+averaged with the weights N (1 + 1/N) / 12 (N pixels). Genome-wide: the chromosomes' SCCs
+averaged weighted by length (hicreppy's genome_scc), NaN ones left out. A chromosome without
+contacts in one map (where hicrep stops on an assertion) gets nan and a note.
+
+--h auto chooses h as HiCRep's training (hicreppy h_train): h = 0, 1, ... below --h-max,
+each chromosome of both maps subsampled 10 times to 10% of its contacts; the first h whose
+genome-wide SCC gains less than 0.01 stops the search and the h before it is used. With more
+than two samples, h is trained on the first two and used for every pair (SCCs are comparable
+only at one h). --downsample resamples the deeper map of each chromosome to the other's depth
+(hicrep's --bDownSample; our seeded random stream, not numpy's).
+
+Output (tab-separated, header): sample1 sample2 chrom length scc, a row per chromosome then
+the genome-wide row (chrom `genome`), for every pair; --json for the same with the parameters
+and the training.
+
+Examples:
+  contactmap hicrep rep1.cool rep2.cool --h 5 --max-distance 5M
+  contactmap hicrep rep1.mcool::/resolutions/10000 \\
+      rep2.mcool::/resolutions/10000 --h auto
+  contactmap hicrep s1.cool s2.cool s3.cool s4.cool --h 3 -o scc.tsv")]
+pub struct HicrepArgs {
+    /// Two maps or more on the same bins (URIs).
+    #[arg(value_name = "URI", required = true, num_args = 2..)]
+    pub uris: Vec<String>,
+    /// Half-width of the mean filter in bins (0: none), or `auto` (HiCRep's training).
+    #[arg(long = "h", value_name = "N|auto", default_value = "auto")]
+    pub h: String,
+    /// The training tries h = 0 .. h-max - 1.
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_H_MAX)]
+    pub h_max: usize,
+    /// Largest distance compared (bp, or 5M, 500k ...), or `all` (whole chromosomes).
+    #[arg(long, value_name = "BP|all", default_value = "5M")]
+    pub max_distance: String,
+    /// Resample the deeper map of each chromosome to the other's depth.
+    #[arg(long)]
+    pub downsample: bool,
+    /// Seed of --downsample and of the training's subsamples.
+    #[arg(long, default_value_t = 10)]
+    pub seed: u64,
+    /// Only these chromosomes (comma-separated names), in this order.
+    #[arg(long, value_delimiter = ',', value_name = "CHROMS")]
+    pub chroms: Vec<String>,
+    /// Sample names for the table (comma-separated; default: the URIs).
+    #[arg(long, value_delimiter = ',', value_name = "NAMES")]
+    pub names: Vec<String>,
+    /// JSON instead of the table.
+    #[arg(long)]
+    pub json: bool,
+    /// Write to FILE instead of standard output.
+    #[arg(short, long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+    /// Options for text inputs.
+    #[command(flatten)]
+    pub input: InputArgs,
+}
+
+/// `--h`: a number of bins or `auto`.
+fn parse_h(text: &str) -> Result<Option<usize>> {
+    if text.eq_ignore_ascii_case("auto") {
+        return Ok(None);
+    }
+    text.trim().parse::<usize>().map(Some).map_err(|_| {
+        Error::parameter(
+            "h",
+            text,
+            "a non-negative integer (the filter's half-width in bins) or auto",
+        )
+    })
+}
+
+/// `--max-distance`: bp or `all`.
+fn parse_max_distance(text: &str) -> Result<Option<u64>> {
+    if text.eq_ignore_ascii_case("all") {
+        return Ok(None);
+    }
+    bp_option("--max-distance", text).map(Some)
+}
+
+/// Run `contactmap hicrep`.
+pub fn run(args: &HicrepArgs) -> Result<()> {
+    let inputs: Vec<&Path> = args
+        .uris
+        .iter()
+        .map(|uri| uri_file(uri))
+        .chain(args.input.files())
+        .collect();
+    refuse_overwrites(&inputs, &[args.out.as_deref()])?;
+    let h = parse_h(&args.h)?;
+    let max_distance_bp = parse_max_distance(&args.max_distance)?;
+    if !args.names.is_empty() && args.names.len() != args.uris.len() {
+        return Err(Error::Invalid(format!(
+            "--names: {} names for {} maps",
+            args.names.len(),
+            args.uris.len()
+        )));
+    }
+    let names: Vec<&str> = if args.names.is_empty() {
+        args.uris.iter().map(String::as_str).collect()
+    } else {
+        args.names.iter().map(String::as_str).collect()
+    };
+    let readers: Vec<Box<dyn MatrixReader>> = args
+        .uris
+        .iter()
+        .map(|uri| open_for_analysis(uri, &args.input))
+        .collect::<Result<_>>()?;
+    for other in &readers[1..] {
+        check_comparable(readers[0].as_ref(), other.as_ref())?;
+    }
+    let bins = readers[0].bins();
+    let chroms: Vec<usize> = if args.chroms.is_empty() {
+        (0..bins.n_chroms()).collect()
+    } else {
+        args.chroms
+            .iter()
+            .map(|name| {
+                bins.chrom_id(name).ok_or_else(|| {
+                    Error::parameter(
+                        "chroms",
+                        name,
+                        format!(
+                            "chromosomes of {} ({})",
+                            readers[0].source(),
+                            bins.chroms()
+                                .iter()
+                                .map(|c| c.name.as_str())
+                                .collect::<Vec<_>>()
+                                .join(", ")
+                        ),
+                    )
+                })
+            })
+            .collect::<Result<_>>()?
+    };
+    let mut warnings = Warnings::new();
+    let training = match h {
+        Some(_) => None,
+        None => {
+            let trained = train_h(
+                readers[0].as_ref(),
+                readers[1].as_ref(),
+                &chroms,
+                max_distance_bp,
+                args.h_max,
+                args.seed,
+            )?;
+            let tried: Vec<String> = trained
+                .tried
+                .iter()
+                .map(|(h, s)| format!("h={h}: {s:.4}"))
+                .collect();
+            warnings.note(format!(
+                "h = {} chosen by training on {} and {} (SCC of 10% subsamples: {})",
+                trained.h,
+                names[0],
+                names[1],
+                tried.join(", ")
+            ));
+            Some(trained)
+        }
+    };
+    let params = SccParams {
+        h: h.unwrap_or_else(|| training.as_ref().map_or(0, |t| t.h)),
+        max_distance_bp,
+        downsample: args.downsample,
+        seed: args.seed,
+    };
+    let mut results = Vec::new();
+    for a in 0..readers.len() {
+        for b in a + 1..readers.len() {
+            let result = scc(readers[a].as_ref(), readers[b].as_ref(), &chroms, &params)?;
+            for c in &result.chroms {
+                if let Some(note) = &c.note {
+                    warnings.note(format!("{} vs {}, {}: {note}", names[a], names[b], c.chrom));
+                }
+            }
+            results.push((a, b, result));
+        }
+    }
+    let text = if args.json {
+        let pairs: Vec<serde_json::Value> = results
+            .iter()
+            .map(|(a, b, r)| {
+                serde_json::json!({
+                    "sample1": names[*a],
+                    "sample2": names[*b],
+                    "genome_wide": finite(r.genome_wide),
+                    "chroms": r.chroms.iter().map(|c| serde_json::json!({
+                        "chrom": c.chrom, "length": c.length_bp, "scc": finite(c.scc),
+                        "note": c.note,
+                    })).collect::<Vec<_>>(),
+                })
+            })
+            .collect();
+        let value = serde_json::json!({
+            "h": params.h,
+            "max_distance": max_distance_bp,
+            "downsample": params.downsample,
+            "seed": params.seed,
+            "training": training.as_ref().map(|t| serde_json::json!({
+                "h_max": args.h_max,
+                "chroms": t.chroms,
+                "tried": t.tried.iter().map(|(h, s)| serde_json::json!({"h": h, "scc": finite(*s)})).collect::<Vec<_>>(),
+                "h": t.h,
+            })),
+            "pairs": pairs,
+        });
+        serde_json::to_string_pretty(&value).unwrap_or_default() + "\n"
+    } else {
+        let mut text = String::from("sample1\tsample2\tchrom\tlength\tscc\n");
+        for (a, b, r) in &results {
+            for c in &r.chroms {
+                text.push_str(&format!(
+                    "{}\t{}\t{}\t{}\t{}\n",
+                    names[*a],
+                    names[*b],
+                    c.chrom,
+                    c.length_bp,
+                    python_float(c.scc)
+                ));
+            }
+            let length: u64 = r.chroms.iter().map(|c| c.length_bp).sum();
+            text.push_str(&format!(
+                "{}\t{}\tgenome\t{length}\t{}\n",
+                names[*a],
+                names[*b],
+                python_float(r.genome_wide)
+            ));
+        }
+        text
+    };
+    let mut out = Output::open(args.out.as_deref())?;
+    out.write_all(text.as_bytes())?;
+    out.finish()?;
+    warnings.print();
+    for reader in &readers {
+        crate::cli::warnings::print_reader_warnings(reader.warnings());
+    }
+    Ok(())
+}
+
+/// A number for JSON: NaN as null.
+fn finite(value: f64) -> Option<f64> {
+    value.is_finite().then_some(value)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn h_and_distances_are_parsed_or_refused() {
+        assert_eq!(parse_h("auto").unwrap(), None);
+        assert_eq!(parse_h("3").unwrap(), Some(3));
+        for bad in ["-1", "1.5", "x", ""] {
+            let message = parse_h(bad).unwrap_err().to_string();
+            assert!(message.contains("non-negative integer"), "{message}");
+        }
+        assert_eq!(parse_max_distance("all").unwrap(), None);
+        assert_eq!(parse_max_distance("5M").unwrap(), Some(5_000_000));
+        assert!(parse_max_distance("five").is_err());
+    }
+}

@@ -1,0 +1,727 @@
+//! Downsampling contacts, as cooltools 0.7.1 `random-sample` does (`cooltools.api.sample`):
+//!
+//! - **by fraction** ([`Target::Fraction`], cooltools' default): each pixel's count `c` becomes a
+//!   binomial draw `Binomial(c, f)` (binomial thinning: every contact kept with probability `f`,
+//!   independently), so the total is `f` times the input's on average;
+//! - **exactly** ([`Target::Count`], or a fraction with `exact`, cooltools' `--exact`): `N`
+//!   distinct contacts drawn without replacement from all of them (a multivariate hypergeometric
+//!   draw), so the total is exactly `N` (`round(f * total)`, halves to even, for a fraction).
+//!
+//! Pixels left with no contact are dropped. The draws are made per block of
+//! [`CHUNK_ROWS`] rows, each block with its own random stream derived from the seed (and, in the
+//! exact mode, its share of `N` drawn first from the blocks' totals), so a seed gives the same
+//! sample whatever the number of threads and whatever part of the map is read. cooltools draws
+//! from numpy's global generator, unseeded: its samples cannot be reproduced, ours can; the
+//! distribution is the same.
+//!
+//! The same draws serve HiCRep ([`super::hicrep`]): [`draw_without_replacement`] for hicreppy's
+//! 10% subsamples, [`draw_with_replacement`] for hicrep's `bDownSample`.
+
+use std::ops::Range;
+
+use rand::Rng;
+use rand_distr::{Binomial, Distribution};
+use rayon::prelude::*;
+
+use crate::error::{Error, Result};
+use crate::genome::BinTable;
+use crate::io::{MatrixInfo, MatrixReader};
+use crate::matrix::{CountType, PixelBlock, Weights};
+use crate::sim::stream_rng;
+
+/// Rows per block of draws: each block has its own random stream.
+pub const CHUNK_ROWS: usize = 256;
+
+/// Rows read at a time (a whole number of blocks).
+const BATCH_ROWS: usize = 32 * CHUNK_ROWS;
+
+/// Stream tags of the seed (see [`crate::sim::stream_seed`]).
+const TAG_BLOCK: u64 = 0x5a3_b10c;
+const TAG_SHARES: u64 = 0x5a3_54a2;
+
+/// How many contacts a sample keeps.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Target {
+    /// Each contact kept with this probability (in `(0, 1]`).
+    Fraction(f64),
+    /// Exactly this many contacts (at most the map's total).
+    Count(u64),
+}
+
+/// The parameters of [`Sampled`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SampleParams {
+    /// How many contacts to keep.
+    pub target: Target,
+    /// With [`Target::Fraction`]: keep exactly `round(f * total)` contacts instead of thinning
+    /// each pixel independently (always exact with [`Target::Count`]).
+    pub exact: bool,
+    /// Seed of the random streams.
+    pub seed: u64,
+}
+
+/// A count as a whole number of contacts, or why it is not one.
+fn whole(count: f64, at: impl FnOnce() -> String) -> Result<u64> {
+    // (a cast and back instead of fract(), which is a libm call on baseline x86-64)
+    if (0.0..9_007_199_254_740_992.0).contains(&count) && (count as u64) as f64 == count {
+        Ok(count as u64)
+    } else {
+        Err(Error::Invalid(format!(
+            "{}: count {count} is not a whole number of contacts; sampling draws contacts, so \
+             it needs raw integer counts",
+            at()
+        )))
+    }
+}
+
+/// Binomial thinning: each count `c` becomes a draw of `Binomial(c, fraction)`.
+///
+/// ```
+/// use contactmap::compare::sample::thin;
+/// use rand::SeedableRng;
+///
+/// let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(1);
+/// let mut counts = vec![10.0, 0.0, 3.0];
+/// thin(&mut counts, 1.0, &mut rng);
+/// assert_eq!(counts, [10.0, 0.0, 3.0]); // a fraction of 1 keeps everything
+/// thin(&mut counts, 0.5, &mut rng);
+/// assert!(counts[0] <= 10.0 && counts[1] == 0.0 && counts[2] <= 3.0);
+/// ```
+pub fn thin(counts: &mut [f64], fraction: f64, rng: &mut impl Rng) {
+    if fraction >= 1.0 {
+        return;
+    }
+    let tables = ThinningTables::new(fraction);
+    for count in counts {
+        *count = tables.draw(*count as u64, rng) as f64;
+    }
+}
+
+/// Counts up to this are thinned by inverting a table of the binomial distribution (one uniform
+/// draw and a binary search); larger ones by rand_distr's sampler.
+const TABLE_MAX: usize = 64;
+
+/// The cumulative binomial probabilities `P(X <= k)`, `X ~ Binomial(c, p)`, for `c` up to
+/// [`TABLE_MAX`] (most pixels' counts).
+struct ThinningTables {
+    fraction: f64,
+    /// Table `c - 1`: `P(X <= k)` for `k = 0 .. c`.
+    cdf: Vec<Vec<f64>>,
+}
+
+impl ThinningTables {
+    fn new(p: f64) -> ThinningTables {
+        let cdf = (1..=TABLE_MAX)
+            .map(|c| {
+                let mut pmf = (1.0 - p).powi(c as i32);
+                let mut sum = pmf;
+                let mut table = Vec::with_capacity(c + 1);
+                table.push(sum);
+                for k in 1..=c {
+                    pmf *= (c - k + 1) as f64 / k as f64 * p / (1.0 - p);
+                    sum += pmf;
+                    table.push(sum);
+                }
+                table
+            })
+            .collect();
+        ThinningTables { fraction: p, cdf }
+    }
+
+    /// A draw of `Binomial(count, p)`.
+    fn draw(&self, count: u64, rng: &mut impl Rng) -> u64 {
+        match count {
+            0 => 0,
+            c if c as usize <= TABLE_MAX => {
+                let table = &self.cdf[c as usize - 1];
+                let u: f64 = rng.gen();
+                (table.partition_point(|&x| x <= u) as u64).min(c)
+            }
+            c => Binomial::new(c, self.fraction).map_or(0, |b| b.sample(rng)),
+        }
+    }
+}
+
+/// `n_draw` contacts drawn without replacement from all of `counts` (a multivariate
+/// hypergeometric draw, pixel by pixel: pixel `k` keeps `Hypergeometric(remaining contacts, c_k,
+/// remaining draws)`); each count becomes the number drawn from it. `n_draw` is at most the total.
+///
+/// ```
+/// use contactmap::compare::sample::draw_without_replacement;
+/// use rand::SeedableRng;
+///
+/// let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(7);
+/// let mut counts = vec![4.0, 0.0, 6.0, 5.0];
+/// draw_without_replacement(&mut counts, 9, &mut rng);
+/// assert_eq!(counts.iter().sum::<f64>(), 9.0);
+/// assert!(counts[0] <= 4.0 && counts[1] == 0.0 && counts[2] <= 6.0 && counts[3] <= 5.0);
+/// ```
+pub fn draw_without_replacement(counts: &mut [f64], n_draw: u64, rng: &mut impl Rng) {
+    let mut remaining: u64 = counts.iter().map(|&c| c as u64).sum();
+    let mut to_draw = n_draw.min(remaining);
+    for count in counts {
+        let c = *count as u64;
+        let drawn = if to_draw == 0 || c == 0 {
+            0
+        } else if c == remaining || to_draw == remaining {
+            c.min(to_draw)
+        } else {
+            hypergeometric(remaining, c, to_draw, rng)
+        };
+        remaining -= c;
+        to_draw -= drawn;
+        *count = drawn as f64;
+    }
+}
+
+/// A draw of `Hypergeometric(population, successes, draws)`: the successes among `draws` items
+/// taken without replacement. Exact, by sequential trials over the smallest of its symmetric
+/// forms (`min(K, n, N - K, N - n)` trials): cheap for the small counts of most pixels, and never
+/// more trials than contacts. (rand_distr 0.4's sampler sets up in time proportional to the
+/// population, which is hours for a map's hundreds of millions of contacts.)
+pub fn hypergeometric(population: u64, successes: u64, draws: u64, rng: &mut impl Rng) -> u64 {
+    let (n_total, k, n) = (population, successes.min(population), draws.min(population));
+    let smallest = k.min(n).min(n_total - k).min(n_total - n);
+    if smallest == k {
+        special_among(n_total, n, k, rng)
+    } else if smallest == n {
+        special_among(n_total, k, n, rng)
+    } else if smallest == n_total - k {
+        // the failures drawn
+        n - special_among(n_total, n, n_total - k, rng)
+    } else {
+        // the successes left undrawn
+        k - special_among(n_total, k, n_total - n, rng)
+    }
+}
+
+/// The number of `special` items among `picks` items taken without replacement from
+/// `population`, trial by trial.
+fn special_among(population: u64, special: u64, picks: u64, rng: &mut impl Rng) -> u64 {
+    let (mut left, mut special_left, mut found) = (population, special, 0);
+    for taken in 0..picks {
+        if special_left == 0 {
+            break;
+        }
+        if special_left == left {
+            return found + (picks - taken);
+        }
+        if rng.gen::<f64>() * (left as f64) < special_left as f64 {
+            found += 1;
+            special_left -= 1;
+        }
+        left -= 1;
+    }
+    found
+}
+
+/// `n_draw` contacts drawn with replacement, each pixel chosen with probability proportional to
+/// its count (a multinomial draw, made pixel by pixel as binomials of the remaining draws, as
+/// hicrep's `resample` with `np.random.choice(p=...)`); each count becomes the number of draws
+/// that chose it.
+///
+/// ```
+/// use contactmap::compare::sample::draw_with_replacement;
+/// use rand::SeedableRng;
+///
+/// let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(3);
+/// let mut counts = vec![1.0, 0.0, 2.0];
+/// draw_with_replacement(&mut counts, 10, &mut rng); // more draws than contacts
+/// assert_eq!(counts.iter().sum::<f64>(), 10.0);
+/// assert_eq!(counts[1], 0.0);
+/// ```
+pub fn draw_with_replacement(counts: &mut [f64], n_draw: u64, rng: &mut impl Rng) {
+    let mut remaining: f64 = counts.iter().sum();
+    let mut to_draw = n_draw;
+    for count in counts {
+        let c = *count;
+        let drawn = if to_draw == 0 || c <= 0.0 {
+            0
+        } else if c >= remaining {
+            to_draw
+        } else {
+            Binomial::new(to_draw, c / remaining).map_or(0, |b| b.sample(rng))
+        };
+        remaining -= c;
+        to_draw -= drawn;
+        *count = drawn as f64;
+    }
+}
+
+/// A map downsampled: a [`MatrixReader`] whose pixels are drawn from `inner`'s as [`SampleParams`]
+/// say (see the module documentation), ready for any writer.
+///
+/// # Examples
+///
+/// A tenth of the yeast map, exactly: the same sample whatever is read, and whenever.
+///
+/// ```
+/// use contactmap::compare::sample::{SampleParams, Sampled, Target};
+/// use contactmap::io::{open_matrix, MatrixReader, OpenOptions};
+///
+/// let input = open_matrix("data/yeast.10kb.cool", &OpenOptions::default())?;
+/// let (_, total) = input.totals()?;
+/// let params = SampleParams { target: Target::Fraction(0.1), exact: true, seed: 5 };
+/// let sampled = Sampled::new(input.as_ref(), params)?;
+/// let (_, sum) = sampled.totals()?;
+/// assert_eq!(sum, (0.1 * total).round_ties_even());
+/// assert_eq!(sampled.totals()?, Sampled::new(input.as_ref(), params)?.totals()?);
+/// # Ok::<(), contactmap::Error>(())
+/// ```
+pub struct Sampled<'a> {
+    inner: &'a dyn MatrixReader,
+    /// Binomial thinning with this probability, when not exact.
+    fraction: Option<f64>,
+    /// In the exact mode, the number of contacts drawn from each block of rows.
+    shares: Vec<u64>,
+    seed: u64,
+    source: String,
+}
+
+impl<'a> Sampled<'a> {
+    /// Sample `inner`. The exact mode reads `inner` once here (the totals of its blocks); a
+    /// count above the map's total, a fraction outside `(0, 1]` or counts that are not whole
+    /// numbers are errors.
+    pub fn new(inner: &'a dyn MatrixReader, params: SampleParams) -> Result<Self> {
+        if let Target::Fraction(f) = params.target {
+            if !(f > 0.0 && f <= 1.0) {
+                return Err(Error::parameter(
+                    "fraction",
+                    f,
+                    "a fraction of the contacts, in (0, 1]",
+                ));
+            }
+        }
+        if params.target == Target::Count(0) {
+            return Err(Error::parameter("count", 0, "at least one contact to keep"));
+        }
+        let exact = params.exact || matches!(params.target, Target::Count(_));
+        let source = format!("{} (downsampled)", inner.source());
+        if !exact {
+            let Target::Fraction(f) = params.target else {
+                unreachable!("a count is exact")
+            };
+            return Ok(Sampled {
+                inner,
+                fraction: Some(f),
+                shares: Vec::new(),
+                seed: params.seed,
+                source,
+            });
+        }
+        let n = inner.bins().n_bins();
+        let mut totals = vec![0u64; n.div_ceil(CHUNK_ROWS)];
+        inner.read_pixels(0..n, 0..n, &mut |block| {
+            for k in 0..block.len() {
+                let c = whole(block.count[k], || {
+                    format!(
+                        "{}, pixel ({}, {})",
+                        inner.source(),
+                        block.bin1[k],
+                        block.bin2[k]
+                    )
+                })?;
+                totals[block.bin1[k] as usize / CHUNK_ROWS] += c;
+            }
+            Ok(())
+        })?;
+        let total: u64 = totals.iter().sum();
+        let n_draw = match params.target {
+            Target::Count(count) if count > total => {
+                return Err(Error::parameter(
+                    "count",
+                    count,
+                    format!(
+                    "at most the {total} contacts of {}: a sample cannot hold more than the map",
+                    inner.source()
+                ),
+                ))
+            }
+            Target::Count(count) => count,
+            Target::Fraction(f) => (f * total as f64).round_ties_even() as u64,
+        };
+        let mut shares: Vec<f64> = totals.iter().map(|&t| t as f64).collect();
+        draw_without_replacement(
+            &mut shares,
+            n_draw,
+            &mut stream_rng(params.seed, TAG_SHARES, 0),
+        );
+        Ok(Sampled {
+            inner,
+            fraction: None,
+            shares: shares.into_iter().map(|s| s as u64).collect(),
+            seed: params.seed,
+            source,
+        })
+    }
+}
+
+/// Draw block `chunk`'s pixels (all of its rows' stored pixels, in order) in place: binomial
+/// thinning by `fraction`, or `share` contacts without replacement.
+fn draw(
+    source: &str,
+    fraction: Option<f64>,
+    share: u64,
+    seed: u64,
+    chunk: usize,
+    pixels: (&[u64], &[u64], &mut [f64]),
+) -> Result<()> {
+    let (bin1, bin2, counts) = pixels;
+    for (k, &count) in counts.iter().enumerate() {
+        whole(count, || {
+            format!("{source}, pixel ({}, {})", bin1[k], bin2[k])
+        })?;
+    }
+    let mut rng = stream_rng(seed, TAG_BLOCK, chunk as u64);
+    match fraction {
+        Some(f) => thin(counts, f, &mut rng),
+        None => draw_without_replacement(counts, share, &mut rng),
+    }
+    Ok(())
+}
+
+impl MatrixReader for Sampled<'_> {
+    fn source(&self) -> &str {
+        &self.source
+    }
+
+    fn bins(&self) -> &BinTable {
+        self.inner.bins()
+    }
+
+    fn count_type(&self) -> CountType {
+        CountType::Integer
+    }
+
+    fn weight_names(&self) -> Vec<String> {
+        Vec::new()
+    }
+
+    fn weights(&self, name: &str) -> Result<Weights> {
+        Err(Error::Invalid(format!(
+            "{}: a downsampled map has no weight column '{name}' (balance the sample itself)",
+            self.source
+        )))
+    }
+
+    fn info(&self) -> MatrixInfo {
+        let mut info = self.inner.info();
+        info.notes
+            .push("pixels downsampled (contactmap sample); weights not carried over".into());
+        info
+    }
+
+    fn read_pixels(
+        &self,
+        rows: Range<usize>,
+        cols: Range<usize>,
+        sink: &mut dyn FnMut(&PixelBlock) -> Result<()>,
+    ) -> Result<()> {
+        let n = self.bins().n_bins();
+        let (rows, cols) = (rows.start..rows.end.min(n), cols.start..cols.end.min(n));
+        if rows.is_empty() || cols.is_empty() {
+            return Ok(());
+        }
+        // Whole blocks are read and drawn (a block's draws depend on all of its pixels), then
+        // cut to the rectangle asked for.
+        let first = rows.start / CHUNK_ROWS * CHUNK_ROWS;
+        let whole_rows = cols.start == 0 && cols.end == n;
+        let mut start = first;
+        while start < rows.end {
+            let end = (start + BATCH_ROWS).min(n);
+            // The batch's pixels in one block (the reader's first block kept, the others
+            // appended).
+            let mut batch = PixelBlock::default();
+            self.inner.read_rows_owned(start..end, &mut |block| {
+                if batch.is_empty() {
+                    batch = block;
+                } else {
+                    batch.bin1.extend_from_slice(&block.bin1);
+                    batch.bin2.extend_from_slice(&block.bin2);
+                    batch.count.extend_from_slice(&block.count);
+                }
+                Ok(())
+            })?;
+            // Each block of rows drawn in place, in parallel.
+            let mut pieces = Vec::new();
+            let mut rest: &mut [f64] = &mut batch.count;
+            let mut offset = 0;
+            for chunk_start in (start..end).step_by(CHUNK_ROWS) {
+                let chunk_end = (chunk_start + CHUNK_ROWS).min(end) as u64;
+                let stop = batch.bin1.partition_point(|&b| b < chunk_end);
+                let (head, tail) = rest.split_at_mut(stop - offset);
+                pieces.push((chunk_start / CHUNK_ROWS, offset, head));
+                rest = tail;
+                offset = stop;
+            }
+            let source = self.inner.source();
+            let (fraction, shares, seed) = (self.fraction, &self.shares, self.seed);
+            let (bin1, bin2) = (&batch.bin1, &batch.bin2);
+            pieces
+                .into_par_iter()
+                .try_for_each(|(chunk, offset, counts)| {
+                    let span = offset..offset + counts.len();
+                    let share = shares.get(chunk).copied().unwrap_or(0);
+                    let pixels = (&bin1[span.clone()], &bin2[span], counts);
+                    draw(source, fraction, share, seed, chunk, pixels)
+                })?;
+            // Kept: contacts left, inside the rectangle asked for.
+            let mut kept = 0;
+            for k in 0..batch.len() {
+                let (i, j) = (batch.bin1[k] as usize, batch.bin2[k] as usize);
+                let inside = rows.contains(&i) && (whole_rows || cols.contains(&j));
+                if batch.count[k] > 0.0 && inside {
+                    batch.bin1[kept] = batch.bin1[k];
+                    batch.bin2[kept] = batch.bin2[k];
+                    batch.count[kept] = batch.count[k];
+                    kept += 1;
+                }
+            }
+            batch.bin1.truncate(kept);
+            batch.bin2.truncate(kept);
+            batch.count.truncate(kept);
+            if !batch.is_empty() {
+                sink(&batch)?;
+            }
+            start = end;
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::genome::Chrom;
+    use crate::io::InMemory;
+    use crate::matrix::MatrixBuilder;
+    use rand::SeedableRng;
+    use statrs::distribution::{ChiSquared, ContinuousCDF};
+
+    fn rng(seed: u64) -> rand_xoshiro::Xoshiro256PlusPlus {
+        rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(seed)
+    }
+
+    /// Binomial probabilities of `0..=n` successes (independent of the sampler: by the recurrence
+    /// of the probability mass function).
+    fn binomial_pmf(n: u64, p: f64) -> Vec<f64> {
+        let mut pmf = vec![(1.0 - p).powi(n as i32)];
+        for k in 1..=n {
+            let prev = pmf[k as usize - 1];
+            pmf.push(prev * (n - k + 1) as f64 / k as f64 * p / (1.0 - p));
+        }
+        pmf
+    }
+
+    /// Pearson's chi-square p-value of `observed` counts against probabilities `pmf`.
+    fn chi_square_p(observed: &[u64], pmf: &[f64]) -> f64 {
+        let total: u64 = observed.iter().sum();
+        let statistic: f64 = observed
+            .iter()
+            .zip(pmf)
+            .map(|(&o, &p)| {
+                let e = p * total as f64;
+                (o as f64 - e).powi(2) / e
+            })
+            .sum();
+        1.0 - ChiSquared::new((pmf.len() - 1) as f64)
+            .unwrap()
+            .cdf(statistic)
+    }
+
+    #[test]
+    fn thinning_draws_binomial_counts() {
+        // 20,000 pixels of c contacts thinned to 30%: the kept counts follow Binomial(c, 0.3),
+        // for a count inverted from the table (8) and one drawn by rand_distr (100).
+        for c in [8u64, 100] {
+            let mut counts = vec![c as f64; 20_000];
+            thin(&mut counts, 0.3, &mut rng(11));
+            let mut observed = vec![0u64; c as usize + 1];
+            for k in &counts {
+                observed[*k as usize] += 1;
+            }
+            let pmf = binomial_pmf(c, 0.3);
+            // classes expecting fewer than 5 pooled into one
+            let (mut kept_pmf, mut kept) = (Vec::new(), Vec::new());
+            let (mut rest_p, mut rest) = (0.0, 0u64);
+            for (p, o) in pmf.iter().zip(&observed) {
+                if p * 20_000.0 >= 5.0 {
+                    kept_pmf.push(*p);
+                    kept.push(*o);
+                } else {
+                    rest_p += p;
+                    rest += o;
+                }
+            }
+            kept_pmf.push(rest_p);
+            kept.push(rest);
+            let p = chi_square_p(&kept, &kept_pmf);
+            assert!(p > 1e-3, "c {c}: chi-square p = {p}, observed {observed:?}");
+        }
+    }
+
+    #[test]
+    fn exact_draws_are_hypergeometric() {
+        // Each of the sampler's four forms (trials over K, n, N - K or N - n), checked by
+        // chi-square against the closed form C(K,k) C(N-K,n-k) / C(N,n).
+        fn choose(n: u64, k: u64) -> f64 {
+            (0..k).fold(1.0, |acc, i| acc * (n - i) as f64 / (i + 1) as f64)
+        }
+        let mut r = rng(2);
+        for (n_total, k, n) in [(20u64, 3u64, 10u64), (20, 6, 5), (20, 15, 12), (20, 9, 17)] {
+            let support = (n + k).saturating_sub(n_total)..=k.min(n);
+            let pmf: Vec<f64> = support
+                .clone()
+                .map(|x| choose(k, x) * choose(n_total - k, n - x) / choose(n_total, n))
+                .collect();
+            let mut observed = vec![0u64; pmf.len()];
+            for _ in 0..20_000 {
+                let x = hypergeometric(n_total, k, n, &mut r);
+                assert!(support.contains(&x), "{x} outside {support:?}");
+                observed[(x - support.start()) as usize] += 1;
+            }
+            let keep: Vec<usize> = (0..pmf.len())
+                .filter(|&i| pmf[i] * 20_000.0 >= 5.0)
+                .collect();
+            let mut kept_pmf: Vec<f64> = keep.iter().map(|&i| pmf[i]).collect();
+            let mut kept: Vec<u64> = keep.iter().map(|&i| observed[i]).collect();
+            // the rare classes pooled into the last kept one
+            let last = kept.len() - 1;
+            kept_pmf[last] += 1.0 - kept_pmf.iter().sum::<f64>();
+            kept[last] += 20_000 - kept.iter().sum::<u64>();
+            let p = chi_square_p(&kept, &kept_pmf);
+            assert!(
+                p > 1e-3,
+                "N {n_total} K {k} n {n}: p = {p}, observed {observed:?}"
+            );
+        }
+        // Two pixels: the total drawn is exact.
+        for _ in 0..1000 {
+            let mut counts = [6.0, 14.0];
+            draw_without_replacement(&mut counts, 5, &mut r);
+            assert_eq!(counts[0] + counts[1], 5.0);
+        }
+    }
+
+    #[test]
+    fn draws_with_replacement_are_multinomial() {
+        // 12 draws over counts 1 : 3: the first pixel gets Binomial(12, 0.25).
+        let mut observed = vec![0u64; 13];
+        let mut r = rng(4);
+        for _ in 0..20_000 {
+            let mut counts = [1.0, 3.0];
+            draw_with_replacement(&mut counts, 12, &mut r);
+            assert_eq!(counts[0] + counts[1], 12.0);
+            observed[counts[0] as usize] += 1;
+        }
+        // Classes with an expectation under 5 pooled into the last kept one.
+        let pmf = binomial_pmf(12, 0.25);
+        let keep = pmf.iter().take_while(|&&p| p * 20_000.0 >= 5.0).count();
+        let mut pooled_pmf = pmf[..keep].to_vec();
+        let mut pooled = observed[..keep].to_vec();
+        pooled_pmf[keep - 1] += pmf[keep..].iter().sum::<f64>();
+        pooled[keep - 1] += observed[keep..].iter().sum::<u64>();
+        let p = chi_square_p(&pooled, &pooled_pmf);
+        assert!(p > 1e-3, "chi-square p = {p}, observed {observed:?}");
+    }
+
+    fn toy() -> InMemory {
+        // 600 bins over two chromosomes (three blocks of rows), every pixel within 5 bins of
+        // the diagonal with 1..=9 contacts.
+        let bins =
+            BinTable::fixed(vec![Chrom::new("a", 40_000), Chrom::new("b", 20_000)], 100).unwrap();
+        let mut builder = MatrixBuilder::new(bins, CountType::Integer);
+        for i in 0..600u64 {
+            for j in i..(i + 5).min(600) {
+                builder
+                    .push(i, j, (1 + (i * 7 + j * 3) % 9) as f64)
+                    .unwrap();
+            }
+        }
+        InMemory::new("toy".into(), builder.build())
+    }
+
+    fn pixels(reader: &dyn MatrixReader, rows: Range<usize>) -> Vec<(u64, u64, f64)> {
+        let mut out = Vec::new();
+        let n = reader.bins().n_bins();
+        reader
+            .read_pixels(rows, 0..n, &mut |b| {
+                out.extend((0..b.len()).map(|k| (b.bin1[k], b.bin2[k], b.count[k])));
+                Ok(())
+            })
+            .unwrap();
+        out
+    }
+
+    #[test]
+    fn samples_are_reproducible_exact_and_independent_of_what_is_read() {
+        let map = toy();
+        let total: f64 = pixels(&map, 0..600).iter().map(|p| p.2).sum();
+        for target in [Target::Count(1234), Target::Fraction(0.25)] {
+            for exact in [false, true] {
+                let params = SampleParams {
+                    target,
+                    exact,
+                    seed: 9,
+                };
+                let sampled = Sampled::new(&map, params).unwrap();
+                let all = pixels(&sampled, 0..600);
+                // Same seed, same sample, under one thread or several.
+                let one_thread = rayon::ThreadPoolBuilder::new()
+                    .num_threads(1)
+                    .build()
+                    .unwrap()
+                    .install(|| pixels(&Sampled::new(&map, params).unwrap(), 0..600));
+                assert_eq!(all, one_thread);
+                // A part read alone is that part of the whole.
+                let part = pixels(&sampled, 300..420);
+                let want: Vec<_> = all
+                    .iter()
+                    .copied()
+                    .filter(|p| (300..420).contains(&(p.0 as usize)))
+                    .collect();
+                assert_eq!(part, want);
+                let sum: f64 = all.iter().map(|p| p.2).sum();
+                match (target, exact) {
+                    (Target::Count(n), _) => assert_eq!(sum, n as f64),
+                    (Target::Fraction(f), true) => assert_eq!(sum, (f * total).round_ties_even()),
+                    // Binomial thinning: within 5 standard deviations of f * total.
+                    (Target::Fraction(f), false) => {
+                        let sd = (total * f * (1.0 - f)).sqrt();
+                        assert!((sum - f * total).abs() < 5.0 * sd, "{sum} vs {}", f * total);
+                    }
+                }
+                // Every kept pixel is a pixel of the input with at most its count.
+                let input = pixels(&map, 0..600);
+                for p in &all {
+                    let q = input.iter().find(|q| (q.0, q.1) == (p.0, p.1)).unwrap();
+                    assert!(p.2 >= 1.0 && p.2 <= q.2);
+                }
+                // Another seed, another sample.
+                let other = Sampled::new(&map, SampleParams { seed: 10, ..params }).unwrap();
+                assert_ne!(pixels(&other, 0..600), all);
+            }
+        }
+    }
+
+    #[test]
+    fn bad_targets_are_refused() {
+        let map = toy();
+        for f in [0.0, -0.5, 1.5, f64::NAN] {
+            let params = SampleParams {
+                target: Target::Fraction(f),
+                exact: false,
+                seed: 0,
+            };
+            let message = Sampled::new(&map, params).err().unwrap().to_string();
+            assert!(message.contains("(0, 1]"), "{message}");
+        }
+        let params = SampleParams {
+            target: Target::Count(1_000_000),
+            exact: true,
+            seed: 0,
+        };
+        let message = Sampled::new(&map, params).err().unwrap().to_string();
+        assert!(message.contains("at most the"), "{message}");
+    }
+}
