@@ -194,32 +194,30 @@ impl Band {
             ..Band::default()
         };
         let end = offset + geometry.n;
-        reader.read_pixels(
-            offset + rows.start..offset + rows.end,
-            offset..end,
-            &mut |block| {
-                for k in 0..block.len() {
-                    let (i, j) = (
-                        block.bin1[k] as usize - offset,
-                        block.bin2[k] as usize - offset,
-                    );
-                    let d = j - i;
-                    if (d == 0 && !geometry.main_diagonal)
-                        || d >= geometry.n_diags
-                        || block.count[k] == 0.0
-                    {
-                        continue;
-                    }
-                    while band.first + band.row_start.len() - 1 <= i {
-                        band.row_start.push(band.count.len());
-                    }
-                    band.diagonal.push(d as u32);
-                    band.count.push(block.count[k]);
-                    *band.row_start.last_mut().expect("one row at least") = band.count.len();
+        reader.read_rows_owned(offset + rows.start..offset + rows.end, &mut |block| {
+            for k in 0..block.len() {
+                let (i, j) = (block.bin1[k] as usize, block.bin2[k] as usize);
+                // (a file that stores both triangles hands its lower one over too)
+                if j < i || j >= end {
+                    continue;
                 }
-                Ok(())
-            },
-        )?;
+                let d = j - i;
+                if (d == 0 && !geometry.main_diagonal)
+                    || d >= geometry.n_diags
+                    || block.count[k] == 0.0
+                {
+                    continue;
+                }
+                let i = i - offset;
+                while band.first + band.row_start.len() - 1 <= i {
+                    band.row_start.push(band.count.len());
+                }
+                band.diagonal.push(d as u32);
+                band.count.push(block.count[k]);
+                *band.row_start.last_mut().expect("one row at least") = band.count.len();
+            }
+            Ok(())
+        })?;
         while band.row_start.len() - 1 < rows.len() {
             band.row_start.push(band.count.len());
         }
@@ -690,17 +688,44 @@ pub fn scc(
             }
             (band_strata(&x, &y, geometry, divisors), empty)
         } else {
+            // Segments in turn, the next one read while the current one is smoothed.
             let mut sums = Strata::new(geometry.n_diags);
             let mut empty = [true, true];
-            for start in (0..geometry.n).step_by(SEGMENT_ROWS) {
-                let rows = start..(start + SEGMENT_ROWS).min(geometry.n);
-                let around =
-                    rows.start.saturating_sub(params.h)..(rows.end + params.h).min(geometry.n);
-                let x = Band::read(a, range.start, geometry, around.clone())?;
-                let y = Band::read(b, range.start, geometry, around)?;
-                empty[0] &= x.count.is_empty();
-                empty[1] &= y.count.is_empty();
-                sums.merge(&strata(&x, &y, geometry, rows, totals));
+            let mut starts = (0..geometry.n).step_by(SEGMENT_ROWS);
+            let mut current: Option<(Band, Band, Range<usize>)> = None;
+            loop {
+                let next = starts
+                    .next()
+                    .map(|start| start..(start + SEGMENT_ROWS).min(geometry.n));
+                let (computed, read) = std::thread::scope(|scope| {
+                    let handle = current.as_ref().map(|(x, y, rows)| {
+                        scope.spawn(move || strata(x, y, geometry, rows.clone(), totals))
+                    });
+                    let read = next
+                        .clone()
+                        .map(|rows| -> Result<(Band, Band)> {
+                            let around = rows.start.saturating_sub(params.h)
+                                ..(rows.end + params.h).min(geometry.n);
+                            Ok((
+                                Band::read(a, range.start, geometry, around.clone())?,
+                                Band::read(b, range.start, geometry, around)?,
+                            ))
+                        })
+                        .transpose();
+                    let computed = handle.map(|h| h.join().expect("the smoothing does not panic"));
+                    (computed, read)
+                });
+                if let Some(piece) = computed {
+                    sums.merge(&piece);
+                }
+                match (read?, next) {
+                    (Some((x, y)), Some(rows)) => {
+                        empty[0] &= x.count.is_empty();
+                        empty[1] &= y.count.is_empty();
+                        current = Some((x, y, rows));
+                    }
+                    _ => break,
+                }
             }
             (sums, empty)
         };
