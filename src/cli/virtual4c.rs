@@ -8,7 +8,7 @@ use clap::Args;
 use crate::cli::input::{open_for_analysis, read_weights};
 use crate::cli::output::{refuse_overwrites, uri_file, Output};
 use crate::cli::InputArgs;
-use contactmap::compare::virtual4c::virtual4c;
+use contactmap::compare::virtual4c::{viewpoint_bins, virtual4c};
 use contactmap::error::{Error, Result};
 use contactmap::genome::Region;
 use contactmap::io::output::python_float;
@@ -56,10 +56,9 @@ pub fn run(args: &Virtual4cArgs) -> Result<()> {
     refuse_overwrites(&inputs, &[args.out.as_deref()])?;
     let reader = open_for_analysis(&args.uri, &args.input)?;
     let bins = reader.bins();
-    let region = Region::parse(&args.viewpoint)
-        .and_then(|region| bins.region_bins(&region).map(|range| (region, range)))
+    let (viewpoint, inside) = Region::parse(&args.viewpoint)
+        .and_then(|region| viewpoint_bins(bins, &region))
         .map_err(|e| Error::parameter("viewpoint", &args.viewpoint, e.to_string()))?;
-    let (region, viewpoint) = region;
     if viewpoint.is_empty() {
         return Err(Error::parameter(
             "viewpoint",
@@ -67,18 +66,6 @@ pub fn run(args: &Virtual4cArgs) -> Result<()> {
             format!("a region that covers a bin of {}", reader.source()),
         ));
     }
-    let (start, end) = region_span(&region, bins, &viewpoint);
-    let inside: Vec<usize> = viewpoint
-        .clone()
-        .filter(|&k| {
-            let bin = bins.bin(k);
-            bin.start >= start && bin.end <= end
-        })
-        .collect();
-    let inside = match (inside.first(), inside.last()) {
-        (Some(&a), Some(&b)) => a..b + 1,
-        _ => 0..0,
-    };
     let weights = if args.raw {
         None
     } else {
@@ -106,19 +93,4 @@ pub fn run(args: &Virtual4cArgs) -> Result<()> {
     out.finish()?;
     crate::cli::warnings::print_reader_warnings(reader.warnings());
     Ok(())
-}
-
-/// The viewpoint's span in bp: the region's bounds, or the whole chromosome when it names only
-/// one.
-fn region_span(
-    region: &Region,
-    bins: &contactmap::genome::BinTable,
-    viewpoint: &std::ops::Range<usize>,
-) -> (u64, u64) {
-    let first = bins.bin(viewpoint.start);
-    let last = bins.bin(viewpoint.end - 1);
-    (
-        region.start.unwrap_or(first.start),
-        region.end.unwrap_or(last.end),
-    )
 }

@@ -7,6 +7,7 @@
 use std::ops::Range;
 
 use crate::error::Result;
+use crate::genome::{BinTable, Region};
 use crate::io::MatrixReader;
 
 /// The virtual 4C profile of `reader`'s map at the viewpoint `viewpoint` (bins), balanced by
@@ -75,4 +76,27 @@ pub fn virtual4c(
             }
         })
         .collect())
+}
+
+/// The bins of a viewpoint `region`: those it overlaps (cooler's fetch), and among them those
+/// lying wholly inside it (cooltools sets these to NaN); a region naming a whole chromosome
+/// covers it whole. An error for a region outside the bin table.
+pub fn viewpoint_bins(bins: &BinTable, region: &Region) -> Result<(Range<usize>, Range<usize>)> {
+    let viewpoint = bins.region_bins(region)?;
+    if viewpoint.is_empty() {
+        return Ok((viewpoint.clone(), viewpoint));
+    }
+    let start = region.start.unwrap_or(bins.bin(viewpoint.start).start);
+    let end = region.end.unwrap_or(bins.bin(viewpoint.end - 1).end);
+    let inside = |k: &usize| {
+        let bin = bins.bin(*k);
+        bin.start >= start && bin.end <= end
+    };
+    let first = viewpoint.clone().find(inside);
+    let last = viewpoint.clone().rev().find(inside);
+    let inside = match (first, last) {
+        (Some(a), Some(b)) => a..b + 1,
+        _ => 0..0,
+    };
+    Ok((viewpoint, inside))
 }
