@@ -122,6 +122,10 @@ step "Comparing samples: the yeast map downsampled twice to a third of its conta
 step "HiCRep reproducibility of the full map and the two thirds (hicrep 0.2.6's SCC per pair and chromosome; genome-wide rows shown; h = 3 bins, 500 kb)" \
   "$cm" hicrep data/yeast.10kb.cool "$work/yeast.third_a.cool" "$work/yeast.third_b.cool" --h 3 --max-distance 500k --names full,third_a,third_b -o "$work/yeast.scc.tsv"
 grep genome "$work/yeast.scc.tsv"
+step "Picture: the SCCs as a clustered heatmap (average linkage of 1 - SCC, as seaborn's clustermap)" \
+  "$cm" plot hicrep "$work/yeast.scc.tsv" --title "yeast, 10 kb" -o "$figs/yeast_scc.png"
+step "Picture: two samples in one map, the full map above the diagonal and a third below, brought to the full map's depth by their totals" \
+  "$cm" plot map data/yeast.10kb.cool -r chrIV:200k-900k --compare "$work/yeast.third_a.cool" --raw -o "$figs/yeast_compare.png"
 step "A synthetic map with known domains (power-law decay, Poisson noise, no coverage bias)" \
   "$cm" simulate blocks -o "$work/blocks.cool" --truth-boundaries "$work/truth.bed" --seed 1
 "$cm" info "$work/blocks.cool" | grep -E "nbins|nnz"

@@ -50,13 +50,13 @@ bin_size_option() { # URI OPTIONS BIN_SIZE: `--bin-size BIN_SIZE` where the inge
   echo "--bin-size $3"
 }
 
-echo "== analysis workflow (2 samples, local executor, 2 cores)"
+echo "== analysis workflow (the example sheet, local executor, 2 cores)"
 out="$work/results"
 "$SNAKEMAKE" -s workflows/analysis/Snakefile --cores 2 -q --config contactmap="$cm" outdir="$out" \
   > "$work/analysis.log" 2>&1 || { cat "$work/analysis.log"; fail "the analysis workflow"; }
 hand="$work/hand"
 # (tabs turned into unit separators: IFS whitespace would merge the empty columns)
-tail -n +2 workflows/example/samples.tsv | tr '\t' '\037' | while IFS=$'\037' read -r sample input bin_size fasta options; do
+tail -n +2 workflows/example/samples.tsv | tr '\t' '\037' | while IFS=$'\037' read -r sample input bin_size fasta options _group; do
   o="$out/$sample"; h="$hand/$sample"; mkdir -p "$h"
   # shellcheck disable=SC2046,SC2086
   quiet "$cm" convert "$input" "$h/base.cool" $options $(bin_size_option "$input" "$options" "$bin_size")
@@ -84,6 +84,19 @@ tail -n +2 workflows/example/samples.tsv | tr '\t' '\037' | while IFS=$'\037' re
   for f in info.json powerlaw.json balance.json; do same_json "$o/$f" "$h/$f"; done
   echo "   $sample: 4 maps, 5 .mcool levels, 12 files, 3 JSON equal to the commands by hand"
 done
+# HiCRep per group of the sheet (column 6), samples in sheet order
+groups=$(tail -n +2 workflows/example/samples.tsv | awk -F'\t' '$6 != "" {print $6}' | sort -u)
+[ -n "$groups" ] || fail "the example sheet has no group"
+mkdir -p "$hand/hicrep"
+for group in $groups; do
+  members=$(tail -n +2 workflows/example/samples.tsv | awk -F'\t' -v g="$group" '$6 == g {print $1}')
+  maps=(); for m in $members; do maps+=("$hand/$m/base.cool"); done
+  quiet "$cm" hicrep "${maps[@]}" --names "$(echo $members | tr ' ' ',')" --h auto --max-distance 5M \
+    --seed 10 -o "$hand/hicrep/$group.scc.tsv"
+  quiet "$cm" plot hicrep "$hand/hicrep/$group.scc.tsv" --title "$group" -o "$hand/hicrep/$group.scc.png"
+  for f in "$group.scc.tsv" "$group.scc.png"; do same "$out/hicrep/$f" "$hand/hicrep/$f"; done
+  echo "   hicrep $group ($(echo $members | tr ' ' ',')): SCC table and heatmap equal to the commands by hand"
+done
 "$py" - "$out/report.tsv" "$hand" workflows/example/samples.tsv <<'PY' || fail "report.tsv"
 import csv, json, sys
 report, hand, sheet = sys.argv[1:]
@@ -102,8 +115,36 @@ for row in rows:
     for key, value in want.items():
         assert float(row[key]) == float(value), (row["sample"], key, row[key], value)
     assert row["saddle_strength_20pct"] == strength[10], row
+    group = next(r.get("group", "") for r in csv.DictReader(open(sheet), delimiter="\t")
+                 if r["sample"] == row["sample"])
+    assert row["group"] == group, row
+    if group:
+        sccs = [float(r["scc"]) for r in csv.DictReader(open(f"{hand}/hicrep/{group}.scc.tsv"),
+                                                         delimiter="\t")
+                if r["chrom"] == "genome" and row["sample"] in (r["sample1"], r["sample2"])]
+        assert sccs and float(row["mean_scc"]) == sum(sccs) / len(sccs), row
+    else:
+        assert row["mean_scc"] == "", row
 print(f"   report.tsv: {len(rows)} rows equal to the by-hand values")
 PY
+
+echo "== HiCRep at equal depth (hicrep_equal_depth: true) against sample + hicrep by hand"
+group=$(echo $groups | cut -d ' ' -f 1)
+members=$(tail -n +2 workflows/example/samples.tsv | awk -F'\t' -v g="$group" '$6 == g {print $1}')
+"$SNAKEMAKE" -s workflows/analysis/Snakefile --cores 2 -q --config contactmap="$cm" outdir="$out" \
+  hicrep_equal_depth=true -- "$out/hicrep/$group.scc.tsv" > "$work/equal.log" 2>&1 \
+  || { cat "$work/equal.log"; fail "the equal-depth HiCRep"; }
+depth=$(for m in $members; do "$py" -c 'import json, sys; print(json.load(open(sys.argv[1]))["sum"])' "$hand/$m/info.json"; done | sort -n | head -n 1)
+maps=(); rank=0
+for m in $members; do
+  quiet "$cm" sample "$hand/$m/base.cool" --count "$depth" --seed $((10 + rank)) -o "$hand/hicrep/$m.equal.cool"
+  same_map "$out/hicrep/$group/$m.cool" "$hand/hicrep/$m.equal.cool"
+  maps+=("$hand/hicrep/$m.equal.cool"); rank=$((rank + 1))
+done
+quiet "$cm" hicrep "${maps[@]}" --names "$(echo $members | tr ' ' ',')" --h auto --max-distance 5M \
+  --seed 10 -o "$hand/hicrep/$group.equal.scc.tsv"
+same "$out/hicrep/$group.scc.tsv" "$hand/hicrep/$group.equal.scc.tsv"
+echo "   $group: $depth contacts per sample, maps and SCC table equal to the commands by hand"
 
 echo "== analysis workflow's ingest, one sample per input URI form, against convert by hand"
 # form | URI | bin_size | input_options | what convert needs by hand besides the options
@@ -135,10 +176,10 @@ while IFS='|' read -r form uri bin_size options extra; do
   echo "   $form: $uri${options:+ $options}${extra:+ $extra}: base.cool equal to convert by hand"
 done < "$forms"
 
-echo "== dry run on a 200-sample sheet"
+echo "== dry run on a 200-sample sheet in 50 groups"
 sheet="$work/200.tsv"
-printf "sample\tinput\tbin_size\n" > "$sheet"
-for k in $(seq 1 200); do printf "s%03d\tdata/cooler_test_file.mcool::/resolutions/100000\t100000\n" "$k" >> "$sheet"; done
+printf "sample\tinput\tbin_size\tfasta\tinput_options\tgroup\n" > "$sheet"
+for k in $(seq 1 200); do printf "s%03d\tdata/cooler_test_file.mcool::/resolutions/100000\t100000\t\t\tg%02d\n" "$k" $(((k - 1) / 4)) >> "$sheet"; done
 "$SNAKEMAKE" -s workflows/analysis/Snakefile -n --config contactmap="$cm" samples="$sheet" outdir="$work/r200" \
   > "$work/dry.log" 2>&1 || { cat "$work/dry.log"; fail "dry run"; }
 "$py" - "$work/dry.log" <<'PY' || fail "dry-run job counts"
@@ -149,8 +190,9 @@ per_sample = ["ingest", "balance", "zoomify", "info", "expected", "insulation", 
               "saddle", "pictures"]
 for rule in per_sample:
     assert counts.get(rule) == "200", (rule, counts)
-assert counts["report"] == "1" and counts["all"] == "1" and counts["total"] == str(200 * 9 + 2), counts
-print(f"   {counts['total']} jobs: 200 of each of {len(per_sample)} per-sample rules, 1 report, 1 all")
+assert counts["hicrep"] == "50", counts
+assert counts["report"] == "1" and counts["all"] == "1" and counts["total"] == str(200 * 9 + 50 + 2), counts
+print(f"   {counts['total']} jobs: 200 of each of {len(per_sample)} per-sample rules, 50 hicrep (groups of 4), 1 report, 1 all")
 PY
 
 echo "== simulation workflow (2 batches) against simulate + merge by hand"

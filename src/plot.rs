@@ -19,6 +19,7 @@ pub mod pileup;
 pub mod protein;
 pub mod render;
 pub mod saddle;
+pub mod similarity;
 pub mod svg;
 
 pub use colormap::{ColorMap, ColorScale, ScaleKind};

@@ -39,6 +39,8 @@ mod overwrite;
 mod pileup;
 #[path = "cli/plot.rs"]
 mod plot;
+#[path = "cli/plot_compare.rs"]
+mod plot_compare;
 #[path = "cli/plot_contacts.rs"]
 mod plot_contacts;
 #[path = "cli/plot_expected.rs"]

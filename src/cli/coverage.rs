@@ -7,9 +7,10 @@ use clap::Args;
 use crate::cli::input::{open_for_analysis, read_weights};
 use crate::cli::output::{refuse_overwrites, uri_file, Output};
 use crate::cli::InputArgs;
-use contactmap::compare::coverage::{balanced_coverage, coverage};
+use contactmap::compare::coverage::{balanced_coverage, coverage, store};
 use contactmap::error::{Error, Result};
 use contactmap::io::output::python_float;
+use contactmap::io::{self, FileKind, WriteLock};
 
 /// Arguments of `contactmap coverage`.
 #[derive(Debug, Args)]
@@ -24,10 +25,15 @@ Output (tab-separated, header): chrom start end cov_cis_raw cov_tot_raw (integer
 nan at bins without a weight. --ignore-diags defaults, as cooltools, to the ignore_diags the
 map's `weight` column was balanced with.
 
+--store also writes the two columns into the cooler's bins (replacing columns of those names, as
+cooltools does), and for raw coverage the cooler attribute `cis` (the number of cis contacts);
+the file is locked while it is written.
+
 Examples:
   contactmap coverage data/CN.mm9.10000kb.cool
   contactmap coverage data/yeast.10kb.cool --ignore-diags 0 -o yeast.cov.tsv
-  contactmap coverage data/CN.mm9.10000kb.cool --weight-name weight")]
+  contactmap coverage data/CN.mm9.10000kb.cool --weight-name weight
+  contactmap coverage copy.cool --store -o copy.cov.tsv")]
 pub struct CoverageArgs {
     /// Matrix URI: file.cool, file.mcool::/resolutions/N, file.hic[::/resolutions/N], text table.
     pub uri: String,
@@ -37,6 +43,9 @@ pub struct CoverageArgs {
     /// Balanced coverage with this weight column (default: raw counts).
     #[arg(long, value_name = "COLUMN")]
     pub weight_name: Option<String>,
+    /// Also store the columns in the cooler (.cool, or an .mcool resolution).
+    #[arg(long)]
+    pub store: bool,
     /// Write to FILE (gzip if it ends in .gz) instead of standard output.
     #[arg(short, long, value_name = "FILE")]
     pub out: Option<PathBuf>,
@@ -51,6 +60,18 @@ pub fn run(args: &CoverageArgs) -> Result<()> {
         .chain(args.input.files())
         .collect();
     refuse_overwrites(&inputs, &[args.out.as_deref()])?;
+    let _lock = if args.store {
+        let (path, _) = io::split_uri(&args.uri);
+        if io::detect_kind(path)? != FileKind::Hdf5 {
+            return Err(Error::Invalid(format!(
+                "{}: --store writes into .cool / .mcool files only",
+                args.uri
+            )));
+        }
+        Some(WriteLock::acquire(Path::new(path))?)
+    } else {
+        None
+    };
     let reader = open_for_analysis(&args.uri, &args.input)?;
     let ignore_diags = match args.ignore_diags {
         Some(n) => n,
@@ -96,9 +117,14 @@ pub fn run(args: &CoverageArgs) -> Result<()> {
             value(cov.total[k])
         ));
     }
+    let warnings = reader.warnings();
+    drop(reader);
+    if args.store {
+        store(&args.uri, &cov, args.weight_name.as_deref())?;
+    }
     let mut out = Output::open(args.out.as_deref())?;
     out.write_all(text.as_bytes())?;
     out.finish()?;
-    crate::cli::warnings::print_reader_warnings(reader.warnings());
+    crate::cli::warnings::print_reader_warnings(warnings);
     Ok(())
 }

@@ -9,7 +9,9 @@ use crate::cli::input::{bp_option, open_for_analysis};
 use crate::cli::output::{refuse_overwrites, uri_file, Output};
 use crate::cli::warnings::Warnings;
 use crate::cli::InputArgs;
-use contactmap::compare::hicrep::{check_comparable, scc, train_h, SccParams, DEFAULT_H_MAX};
+use contactmap::compare::hicrep::{
+    chrom_ids, compare_samples, SccParams, Smoothing, DEFAULT_H_MAX,
+};
 use contactmap::error::{Error, Result};
 use contactmap::io::output::python_float;
 use contactmap::io::MatrixReader;
@@ -126,88 +128,56 @@ pub fn run(args: &HicrepArgs) -> Result<()> {
         .iter()
         .map(|uri| open_for_analysis(uri, &args.input))
         .collect::<Result<_>>()?;
-    for other in &readers[1..] {
-        check_comparable(readers[0].as_ref(), other.as_ref())?;
-    }
-    let bins = readers[0].bins();
-    let chroms: Vec<usize> = if args.chroms.is_empty() {
-        (0..bins.n_chroms()).collect()
-    } else {
-        args.chroms
-            .iter()
-            .map(|name| {
-                bins.chrom_id(name).ok_or_else(|| {
-                    Error::parameter(
-                        "chroms",
-                        name,
-                        format!(
-                            "chromosomes of {} ({})",
-                            readers[0].source(),
-                            bins.chroms()
-                                .iter()
-                                .map(|c| c.name.as_str())
-                                .collect::<Vec<_>>()
-                                .join(", ")
-                        ),
-                    )
-                })
-            })
-            .collect::<Result<_>>()?
-    };
-    let mut warnings = Warnings::new();
-    let training = match h {
-        Some(_) => None,
-        None => {
-            let trained = train_h(
-                readers[0].as_ref(),
-                readers[1].as_ref(),
-                &chroms,
-                max_distance_bp,
-                args.h_max,
-                args.seed,
-            )?;
-            let tried: Vec<String> = trained
-                .tried
-                .iter()
-                .map(|(h, s)| format!("h={h}: {s:.4}"))
-                .collect();
-            warnings.note(format!(
-                "h = {} chosen by training on {} and {} (SCC of 10% subsamples: {})",
-                trained.h,
-                names[0],
-                names[1],
-                tried.join(", ")
-            ));
-            Some(trained)
-        }
+    let samples: Vec<&dyn MatrixReader> = readers.iter().map(|r| r.as_ref()).collect();
+    let chroms = chrom_ids(samples[0].bins(), &args.chroms, samples[0].source())?;
+    let smoothing = match h {
+        Some(h) => Smoothing::Fixed(h),
+        None => Smoothing::Trained { h_max: args.h_max },
     };
     let params = SccParams {
-        h: h.unwrap_or_else(|| training.as_ref().map_or(0, |t| t.h)),
+        h: 0,
         max_distance_bp,
         downsample: args.downsample,
         seed: args.seed,
     };
-    let mut results = Vec::new();
-    for a in 0..readers.len() {
-        for b in a + 1..readers.len() {
-            let result = scc(readers[a].as_ref(), readers[b].as_ref(), &chroms, &params)?;
-            for c in &result.chroms {
-                if let Some(note) = &c.note {
-                    warnings.note(format!("{} vs {}, {}: {note}", names[a], names[b], c.chrom));
-                }
+    let comparison = compare_samples(&samples, &chroms, smoothing, &params)?;
+    let mut warnings = Warnings::new();
+    if let Some(trained) = &comparison.training {
+        let tried: Vec<String> = trained
+            .tried
+            .iter()
+            .map(|(h, s)| format!("h={h}: {s:.4}"))
+            .collect();
+        warnings.note(format!(
+            "h = {} chosen by training on {} and {} (SCC of 10% subsamples: {})",
+            trained.h,
+            names[0],
+            names[1],
+            tried.join(", ")
+        ));
+    }
+    for pair in &comparison.pairs {
+        for c in &pair.scc.chroms {
+            if let Some(note) = &c.note {
+                warnings.note(format!(
+                    "{} vs {}, {}: {note}",
+                    names[pair.first], names[pair.second], c.chrom
+                ));
             }
-            results.push((a, b, result));
         }
     }
+    let params = &comparison.params;
+    let training = &comparison.training;
     let text = if args.json {
-        let pairs: Vec<serde_json::Value> = results
+        let pairs: Vec<serde_json::Value> = comparison
+            .pairs
             .iter()
-            .map(|(a, b, r)| {
+            .map(|pair| {
                 serde_json::json!({
-                    "sample1": names[*a],
-                    "sample2": names[*b],
-                    "genome_wide": finite(r.genome_wide),
-                    "chroms": r.chroms.iter().map(|c| serde_json::json!({
+                    "sample1": names[pair.first],
+                    "sample2": names[pair.second],
+                    "genome_wide": finite(pair.scc.genome_wide),
+                    "chroms": pair.scc.chroms.iter().map(|c| serde_json::json!({
                         "chrom": c.chrom, "length": c.length_bp, "scc": finite(c.scc),
                         "note": c.note,
                     })).collect::<Vec<_>>(),
@@ -230,12 +200,13 @@ pub fn run(args: &HicrepArgs) -> Result<()> {
         serde_json::to_string_pretty(&value).unwrap_or_default() + "\n"
     } else {
         let mut text = String::from("sample1\tsample2\tchrom\tlength\tscc\n");
-        for (a, b, r) in &results {
+        for pair in &comparison.pairs {
+            let (a, b, r) = (pair.first, pair.second, &pair.scc);
             for c in &r.chroms {
                 text.push_str(&format!(
                     "{}\t{}\t{}\t{}\t{}\n",
-                    names[*a],
-                    names[*b],
+                    names[a],
+                    names[b],
                     c.chrom,
                     c.length_bp,
                     python_float(c.scc)
@@ -244,8 +215,8 @@ pub fn run(args: &HicrepArgs) -> Result<()> {
             let length: u64 = r.chroms.iter().map(|c| c.length_bp).sum();
             text.push_str(&format!(
                 "{}\t{}\tgenome\t{length}\t{}\n",
-                names[*a],
-                names[*b],
+                names[a],
+                names[b],
                 python_float(r.genome_wide)
             ));
         }

@@ -2,11 +2,13 @@
 //! 45-degree, with overlays and tracks); `plot expected` P(s) curves with their slopes and power
 //! laws; `plot contacts` a protein contact map with the predictions coloured true / false
 //! positive and the precision curve; `plot saddle` a compartment saddle; `plot pileup` the
-//! pileups of `contactmap pileup`, as plotpup draws them; the options every
+//! pileups of `contactmap pileup`, as plotpup draws them; `plot hicrep` the SCCs of
+//! `contactmap hicrep` as a clustered heatmap; the options every
 //! figure shares (output, format, size, dpi, title) live here.
 
 mod contacts;
 mod expected;
+mod hicrep;
 mod map;
 mod pileup;
 mod saddle;
@@ -47,6 +49,9 @@ pub enum PlotCommand {
     /// The pileups of `contactmap pileup` as plotpup draws them: a heatmap per group, log colour
     /// scale centred at 1, the centre score in a corner.
     Pileup(Box<pileup::PileupPlotArgs>),
+    /// The SCC table of `contactmap hicrep` as a clustered heatmap (samples ordered by
+    /// average-linkage clustering, the tree above, the SCCs in the cells).
+    Hicrep(Box<hicrep::HicrepPlotArgs>),
 }
 
 /// Run `contactmap plot`.
@@ -57,6 +62,7 @@ pub fn run(args: &PlotArgs) -> Result<()> {
         PlotCommand::Contacts(args) => contacts::run(args),
         PlotCommand::Saddle(args) => saddle::run(args),
         PlotCommand::Pileup(args) => pileup::run(args),
+        PlotCommand::Hicrep(args) => hicrep::run(args),
     }
 }
 

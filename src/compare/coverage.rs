@@ -98,3 +98,94 @@ fn sums(
     })?;
     Ok(Coverage { cis, total })
 }
+
+/// The total of a map: the sum of its stored pixels (each contact once), raw, or balanced by
+/// `weights` (pixels of a bin without a weight left out), for bringing two maps to one depth.
+///
+/// ```
+/// use contactmap::compare::coverage::{balanced_coverage, total};
+/// use contactmap::io::{open_matrix, MatrixReader, OpenOptions};
+///
+/// let reader = open_matrix("data/CN.mm9.10000kb.cool", &OpenOptions::default())?;
+/// assert_eq!(total(reader.as_ref(), None)?, reader.totals()?.1);
+/// // each contact counts twice in the coverage (once per bin)
+/// let weights = reader.weights("weight")?.values;
+/// let coverage: f64 = balanced_coverage(reader.as_ref(), 0, &weights)?
+///     .total
+///     .iter()
+///     .filter(|v| !v.is_nan())
+///     .sum();
+/// let balanced = total(reader.as_ref(), Some(&weights))?;
+/// assert!((2.0 * balanced - coverage).abs() < 1e-9 * coverage);
+/// # Ok::<(), contactmap::Error>(())
+/// ```
+pub fn total(reader: &dyn MatrixReader, weights: Option<&[f64]>) -> Result<f64> {
+    let Some(weights) = weights else {
+        return Ok(reader.totals()?.1);
+    };
+    let n = reader.bins().n_bins();
+    let mut sum = 0.0;
+    reader.read_pixels(0..n, 0..n, &mut |block| {
+        for k in 0..block.len() {
+            let value =
+                weights[block.bin1[k] as usize] * weights[block.bin2[k] as usize] * block.count[k];
+            if !value.is_nan() {
+                sum += value;
+            }
+        }
+        Ok(())
+    })?;
+    Ok(sum)
+}
+
+/// Store the coverage in the cooler at `uri` as cooltools `coverage --store` does: columns
+/// `bins/cov_cis_raw` and `bins/cov_tot_raw` (64-bit integers) with the cooler attribute `cis`
+/// (the number of cis contacts, half the cis coverage's sum), or for a coverage balanced by
+/// `weight_name` W the float columns `bins/cov_cis_W` and `bins/cov_tot_W`. Existing columns of
+/// those names are replaced (as cooltools does).
+///
+/// ```
+/// use contactmap::compare::coverage::{coverage, store};
+/// use contactmap::io::{open_matrix, OpenOptions};
+///
+/// let dir = std::env::temp_dir().join(format!("contactmap-coverage-{}", std::process::id()));
+/// std::fs::create_dir_all(&dir)?;
+/// let path = dir.join("mm9.cool");
+/// std::fs::copy("data/CN.mm9.10000kb.cool", &path)?;
+/// let uri = path.to_str().unwrap();
+/// let cov = coverage(open_matrix(uri, &OpenOptions::default())?.as_ref(), 2)?;
+/// store(uri, &cov, None)?;
+/// let file = hdf5::File::open(&path)?;
+/// let total: Vec<i64> = file.dataset("bins/cov_tot_raw")?.read_raw()?;
+/// assert!(total.iter().zip(&cov.total).all(|(&a, &b)| a as f64 == b));
+/// let cis: i64 = file.attr("cis")?.read_scalar()?;
+/// assert_eq!(cis as f64, (cov.cis.iter().sum::<f64>() / 2.0).floor());
+/// std::fs::remove_dir_all(&dir)?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn store(uri: &str, cov: &Coverage, weight_name: Option<&str>) -> Result<()> {
+    use crate::io::cool::store::{store_bin_columns, AttrValue, BinColumn};
+    match weight_name {
+        None => {
+            let int = |v: &[f64]| -> Vec<i64> { v.iter().map(|&x| x as i64).collect() };
+            let (cis, total) = (int(&cov.cis), int(&cov.total));
+            let n_cis = (cov.cis.iter().sum::<f64>() / 2.0).floor() as i64;
+            store_bin_columns(
+                uri,
+                &[
+                    ("cov_cis_raw", BinColumn::Int(&cis)),
+                    ("cov_tot_raw", BinColumn::Int(&total)),
+                ],
+                &[("cis".to_string(), AttrValue::Int(n_cis))],
+            )
+        }
+        Some(name) => store_bin_columns(
+            uri,
+            &[
+                (&format!("cov_cis_{name}"), BinColumn::Float(&cov.cis)),
+                (&format!("cov_tot_{name}"), BinColumn::Float(&cov.total)),
+            ],
+            &[],
+        ),
+    }
+}

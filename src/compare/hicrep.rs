@@ -36,6 +36,7 @@ use std::ops::Range;
 
 use rayon::prelude::*;
 
+use crate::compare::check_comparable;
 use crate::compare::sample::{draw_with_replacement, draw_without_replacement};
 use crate::error::{Error, Result};
 use crate::genome::BinTable;
@@ -105,22 +106,6 @@ pub struct Scc {
     pub chroms: Vec<ChromScc>,
     /// Length-weighted mean of the chromosomes' SCCs (NaN ones left out).
     pub genome_wide: f64,
-}
-
-/// Why two maps cannot be compared bin by bin (`None` when they can): chromosomes, lengths or
-/// bins differ.
-pub fn check_comparable(a: &dyn MatrixReader, b: &dyn MatrixReader) -> Result<()> {
-    match a.bins().difference(b.bins()) {
-        None => Ok(()),
-        Some(why) => Err(Error::format(
-            b.source(),
-            format!(
-                "its bins differ from those of {} ({why}): maps are compared bin by bin, so \
-                 they must have the same chromosomes and bins (same resolution)",
-                a.source()
-            ),
-        )),
-    }
 }
 
 /// The bin size that turns a distance into diagonals: the fixed bin size, or the median bin
@@ -194,27 +179,35 @@ impl Band {
             ..Band::default()
         };
         let end = offset + geometry.n;
+        let first_diagonal = usize::from(!geometry.main_diagonal);
+        // Pixels come sorted by (bin1, bin2): each row's band is one stretch of its pixels.
         reader.read_rows_owned(offset + rows.start..offset + rows.end, &mut |block| {
-            for k in 0..block.len() {
-                let (i, j) = (block.bin1[k] as usize, block.bin2[k] as usize);
-                // (a file that stores both triangles hands its lower one over too)
-                if j < i || j >= end {
-                    continue;
-                }
-                let d = j - i;
-                if (d == 0 && !geometry.main_diagonal)
-                    || d >= geometry.n_diags
-                    || block.count[k] == 0.0
-                {
-                    continue;
-                }
-                let i = i - offset;
-                while band.first + band.row_start.len() - 1 <= i {
+            let (bin1, bin2, count) = (&block.bin1, &block.bin2, &block.count);
+            band.diagonal.reserve(block.len());
+            band.count.reserve(block.len());
+            let mut k = 0;
+            while k < block.len() {
+                let row = bin1[k];
+                let row_end = k + bin1[k..].iter().take_while(|&&b| b == row).count();
+                let i = row as usize;
+                let local = i - offset;
+                while band.first + band.row_start.len() - 1 <= local {
                     band.row_start.push(band.count.len());
                 }
-                band.diagonal.push(d as u32);
-                band.count.push(block.count[k]);
+                // columns i + first_diagonal .. min(i + n_diags, chromosome end); a file that
+                // stores both triangles hands its lower one over too, left out here
+                let (low, high) = (i + first_diagonal, (i + geometry.n_diags).min(end));
+                let row_bin2 = &bin2[k..row_end];
+                let from = k + row_bin2.partition_point(|&j| (j as usize) < low);
+                let to = k + row_bin2.partition_point(|&j| (j as usize) < high);
+                for (&j, &c) in bin2[from..to].iter().zip(&count[from..to]) {
+                    if c != 0.0 {
+                        band.diagonal.push((j as usize - i) as u32);
+                        band.count.push(c);
+                    }
+                }
                 *band.row_start.last_mut().expect("one row at least") = band.count.len();
+                k = row_end;
             }
             Ok(())
         })?;
@@ -236,6 +229,14 @@ impl Band {
 
     fn sum(&self) -> f64 {
         self.count.iter().sum()
+    }
+
+    /// True when every count is a positive whole number (below 2^53): window sums of such
+    /// counts are exact, and zero exactly where a window holds no pixel.
+    fn whole_counts(&self) -> bool {
+        self.count
+            .iter()
+            .all(|&c| c > 0.0 && c < 9_007_199_254_740_992.0 && (c as u64) as f64 == c)
     }
 
     /// A tenth of the band's contacts drawn without replacement (hicreppy's subsample).
@@ -268,8 +269,11 @@ impl Band {
     }
 }
 
-/// The mean filter of one map, row by row (see the module documentation).
-struct Smoother<'a> {
+/// The mean filter of one map, row by row (see the module documentation). With `TRACK`, the
+/// numbers of pixels under each window sum are kept beside the sums, so that a window without a
+/// pixel gives exactly 0 whatever the rounding of the sums; without it (a band of positive whole
+/// counts, whose sums are exact) the sums alone say so.
+struct Smoother<'a, const TRACK: bool> {
     band: &'a Band,
     geometry: Geometry,
     /// Row sums `R(r, e)`, `e` the offset from the diagonal in `1 - h ..= n_diags - 1 + h`, of
@@ -291,24 +295,25 @@ struct Smoother<'a> {
     divisor: f64,
 }
 
-impl<'a> Smoother<'a> {
+impl<'a, const TRACK: bool> Smoother<'a, TRACK> {
     fn width(g: Geometry) -> usize {
         g.n_diags - 1 + 2 * g.h
     }
 
     /// Ready to give row `first`.
-    fn new(band: &'a Band, geometry: Geometry, first: usize, divisor: f64) -> Smoother<'a> {
+    fn new(band: &'a Band, geometry: Geometry, first: usize, divisor: f64) -> Self {
         let g = geometry;
         let width = Self::width(g);
+        let tracked = |len: usize| if TRACK { len } else { 0 };
         let mut smoother = Smoother {
             band,
             geometry,
             rows_sum: vec![0.0; (2 * g.h + 2) * width],
-            rows_nonzero: vec![0; (2 * g.h + 2) * width],
+            rows_nonzero: vec![0; tracked((2 * g.h + 2) * width)],
             columns_sum: vec![0.0; g.n_diags + 4 * g.h + 2],
-            columns_nonzero: vec![0; g.n_diags + 4 * g.h + 2],
+            columns_nonzero: vec![0; tracked(g.n_diags + 4 * g.h + 2)],
             spread_sum: vec![0.0; g.n_diags + 4 * g.h],
-            spread_nonzero: vec![0; g.n_diags + 4 * g.h],
+            spread_nonzero: vec![0; tracked(g.n_diags + 4 * g.h)],
             out: vec![0.0; g.n_diags],
             row: first,
             divisor,
@@ -326,27 +331,39 @@ impl<'a> Smoother<'a> {
         let width = Self::width(self.geometry);
         // Diagonal d' at place d' + 2h.
         self.spread_sum.fill(0.0);
-        self.spread_nonzero.fill(0);
         let (diagonals, counts) = self.band.row(r);
         for (&d, &c) in diagonals.iter().zip(counts) {
             self.spread_sum[d as usize + 2 * h] = c;
-            self.spread_nonzero[d as usize + 2 * h] = 1;
         }
         // R(r, e) at index e + h - 1 = sum of diagonals e - h ..= e + h, places idx + 1 ..=
         // idx + 1 + 2h.
         let slot = (r % (2 * h + 2)) * width;
-        let (mut sum, mut nonzero) = (0.0, 0u32);
-        for p in 1..=2 * h + 1 {
-            sum += self.spread_sum[p];
-            nonzero += self.spread_nonzero[p];
-        }
-        for idx in 0..width {
-            if idx > 0 {
-                sum = sum + self.spread_sum[idx + 1 + 2 * h] - self.spread_sum[idx];
-                nonzero = nonzero + self.spread_nonzero[idx + 1 + 2 * h] - self.spread_nonzero[idx];
+        let spread = &self.spread_sum;
+        let out = &mut self.rows_sum[slot..slot + width];
+        let mut sum: f64 = spread[1..=2 * h + 1].iter().sum();
+        if TRACK {
+            self.spread_nonzero.fill(0);
+            for &d in diagonals {
+                self.spread_nonzero[d as usize + 2 * h] = 1;
             }
-            self.rows_sum[slot + idx] = if nonzero == 0 { 0.0 } else { sum };
-            self.rows_nonzero[slot + idx] = nonzero;
+            let nonzero_of = &self.spread_nonzero;
+            let counts = &mut self.rows_nonzero[slot..slot + width];
+            let mut nonzero: u32 = nonzero_of[1..=2 * h + 1].iter().sum();
+            for idx in 0..width {
+                if idx > 0 {
+                    sum = sum + spread[idx + 1 + 2 * h] - spread[idx];
+                    nonzero = nonzero + nonzero_of[idx + 1 + 2 * h] - nonzero_of[idx];
+                }
+                out[idx] = if nonzero == 0 { 0.0 } else { sum };
+                counts[idx] = nonzero;
+            }
+        } else {
+            // whole counts: the running sums are exact
+            out[0] = sum;
+            for idx in 1..width {
+                sum = sum + spread[idx + 1 + 2 * h] - spread[idx];
+                out[idx] = sum;
+            }
         }
         self.add_to_columns(r, true);
     }
@@ -360,25 +377,42 @@ impl<'a> Smoother<'a> {
         // Column j = r + idx + 1 - h; columns before the first do not exist.
         let skip = h.saturating_sub(r + 1).min(width);
         let mut column = (r + skip + 1 - h) % len;
-        for idx in skip..width {
-            let (s, z) = (self.rows_sum[slot + idx], self.rows_nonzero[slot + idx]);
-            if z != 0 {
-                if add {
-                    self.columns_sum[column] += s;
-                    self.columns_nonzero[column] += z;
-                } else {
-                    self.columns_nonzero[column] -= z;
-                    self.columns_sum[column] = if self.columns_nonzero[column] == 0 {
-                        0.0
-                    } else {
-                        self.columns_sum[column] - s
-                    };
+        // In runs that do not wrap around the ring; a row's window sum is 0 exactly where it
+        // holds no pixel, so adding it everywhere changes nothing there (no branch).
+        let mut idx = skip;
+        while idx < width {
+            let run = (width - idx).min(len - column);
+            let sums = &self.rows_sum[slot + idx..slot + idx + run];
+            let column_sums = &mut self.columns_sum[column..column + run];
+            match (TRACK, add) {
+                (false, true) => {
+                    for (c, &s) in column_sums.iter_mut().zip(sums) {
+                        *c += s;
+                    }
+                }
+                (false, false) => {
+                    for (c, &s) in column_sums.iter_mut().zip(sums) {
+                        *c -= s;
+                    }
+                }
+                (true, _) => {
+                    let counts = &self.rows_nonzero[slot + idx..slot + idx + run];
+                    let column_counts = &mut self.columns_nonzero[column..column + run];
+                    for (k, (&s, &z)) in sums.iter().zip(counts).enumerate() {
+                        if add {
+                            column_sums[k] += s;
+                            column_counts[k] += z;
+                        } else {
+                            let left = column_counts[k] - z;
+                            column_counts[k] = left;
+                            // no pixel left: exactly 0, whatever the rounding of the sums
+                            column_sums[k] = if left == 0 { 0.0 } else { column_sums[k] - s };
+                        }
+                    }
                 }
             }
-            column += 1;
-            if column == len {
-                column = 0;
-            }
+            idx += run;
+            column = (column + run) % len;
         }
     }
 
@@ -391,6 +425,8 @@ impl<'a> Smoother<'a> {
         let scale = 1.0 / self.divisor;
         let len = self.columns_sum.len();
         self.out.fill(0.0);
+        // Columns h ..= n - 1 - h have the full window: one divisor for all of them.
+        let inner = dim_i * (2 * h + 1) as f64;
         // Diagonals 1.. up to the matrix's edge, in two runs of the column ring (no modulo).
         let last = n_diags.min(n - i);
         let mut d = 1;
@@ -398,12 +434,30 @@ impl<'a> Smoother<'a> {
         while d < last {
             let run = (last - d).min(len - column);
             let sums = &self.columns_sum[column..column + run];
-            let nonzero = &self.columns_nonzero[column..column + run];
             let out = &mut self.out[d..d + run];
-            for (k, ((o, &s), &z)) in out.iter_mut().zip(sums).zip(nonzero).enumerate() {
-                if z != 0 {
-                    // count times 1 / total first, as hicrep (scipy divides so)
-                    *o = s * scale / (dim_i * n_dim(i + d + k));
+            // count times 1 / total first, as hicrep (scipy divides so); a window without a
+            // pixel gives 0
+            let first = i + d;
+            let interior = first >= h && first + run + h <= n;
+            if TRACK {
+                let nonzero = &self.columns_nonzero[column..column + run];
+                for (k, ((o, &s), &z)) in out.iter_mut().zip(sums).zip(nonzero).enumerate() {
+                    if z != 0 {
+                        let den = if interior {
+                            inner
+                        } else {
+                            dim_i * n_dim(first + k)
+                        };
+                        *o = s * scale / den;
+                    }
+                }
+            } else if interior {
+                for (o, &s) in out.iter_mut().zip(sums) {
+                    *o = s * scale / inner;
+                }
+            } else {
+                for (k, (o, &s)) in out.iter_mut().zip(sums).enumerate() {
+                    *o = s * scale / (dim_i * n_dim(first + k));
                 }
             }
             d += run;
@@ -451,17 +505,24 @@ impl Strata {
         }
     }
 
+    /// Add one row of both smoothed maps (diagonals `1..`). A pixel where both are zero adds
+    /// zeros to the sums (no change) and is not counted: no branch, so the loop vectorises.
     fn add_row(&mut self, x: &[f64], y: &[f64]) {
-        for d in 1..x.len() {
-            let (a, b) = (x[d], y[d]);
-            if a != 0.0 || b != 0.0 {
-                self.n[d] += 1;
-                self.s1[d] += a;
-                self.s2[d] += b;
-                self.s11[d] += a * a;
-                self.s22[d] += b * b;
-                self.s12[d] += a * b;
-            }
+        let len = x.len().min(y.len()).min(self.n.len());
+        let n = &mut self.n[1..len];
+        let (s1, s2) = (&mut self.s1[1..len], &mut self.s2[1..len]);
+        let (s11, s22, s12) = (
+            &mut self.s11[1..len],
+            &mut self.s22[1..len],
+            &mut self.s12[1..len],
+        );
+        for (k, (&a, &b)) in x[1..len].iter().zip(&y[1..len]).enumerate() {
+            n[k] += u64::from(a != 0.0 || b != 0.0);
+            s1[k] += a;
+            s2[k] += b;
+            s11[k] += a * a;
+            s22[k] += b * b;
+            s12[k] += a * b;
         }
     }
 
@@ -509,22 +570,17 @@ fn strata(
 ) -> Strata {
     let first_piece = rows.start / PIECE_ROWS;
     let last_piece = rows.end.div_ceil(PIECE_ROWS);
+    let whole = a.whole_counts() && b.whole_counts();
     let pieces: Vec<Strata> = (first_piece..last_piece)
         .into_par_iter()
         .map(|p| {
             let start = (p * PIECE_ROWS).max(rows.start);
             let end = ((p + 1) * PIECE_ROWS).min(rows.end);
-            let mut sums = Strata::new(geometry.n_diags);
-            let mut x = Smoother::new(a, geometry, start, divisors[0]);
-            let mut y = Smoother::new(b, geometry, start, divisors[1]);
-            for i in start..end {
-                sums.add_row(&x.out, &y.out);
-                if i + 1 < end {
-                    x.advance();
-                    y.advance();
-                }
+            if whole {
+                piece_strata::<false>(a, b, geometry, start..end, divisors)
+            } else {
+                piece_strata::<true>(a, b, geometry, start..end, divisors)
             }
-            sums
         })
         .collect();
     let mut total = Strata::new(geometry.n_diags);
@@ -532,6 +588,27 @@ fn strata(
         total.merge(piece);
     }
     total
+}
+
+/// The per-diagonal sums of rows `rows` (one piece), smoothed row by row.
+fn piece_strata<const TRACK: bool>(
+    a: &Band,
+    b: &Band,
+    geometry: Geometry,
+    rows: Range<usize>,
+    divisors: [f64; 2],
+) -> Strata {
+    let mut sums = Strata::new(geometry.n_diags);
+    let mut x = Smoother::<TRACK>::new(a, geometry, rows.start, divisors[0]);
+    let mut y = Smoother::<TRACK>::new(b, geometry, rows.start, divisors[1]);
+    for i in rows.clone() {
+        sums.add_row(&x.out, &y.out);
+        if i + 1 < rows.end {
+            x.advance();
+            y.advance();
+        }
+    }
+    sums
 }
 
 /// Without smoothing, hicrep's per-diagonal sums bit for bit: scipy sums each diagonal's
@@ -610,7 +687,7 @@ fn band_strata(a: &Band, b: &Band, geometry: Geometry, divisors: [f64; 2]) -> St
     }
 }
 
-/// The SCC of `a` and `b` (on the same bins: [`check_comparable`]) on chromosomes `chroms`
+/// The SCC of `a` and `b` (on the same bins: [`check_comparable`](crate::compare::check_comparable)) on chromosomes `chroms`
 /// (ids into the bin table).
 ///
 /// # Examples
@@ -763,6 +840,241 @@ fn total_contacts(reader: &dyn MatrixReader) -> Result<f64> {
         Some(sum) if sum > 0.0 => Ok(sum),
         _ => Ok(reader.totals()?.1),
     }
+}
+
+/// How the smoothing `h` of [`compare_samples`] is chosen.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Smoothing {
+    /// This half-width, in bins.
+    Fixed(usize),
+    /// HiCRep's training ([`train_h`]) on the first two samples, trying `h = 0 .. h_max - 1`.
+    Trained {
+        /// One more than the largest `h` tried.
+        h_max: usize,
+    },
+}
+
+/// The SCC of one pair of samples.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PairScc {
+    /// Index of the first sample.
+    pub first: usize,
+    /// Index of the second sample (`first < second`).
+    pub second: usize,
+    /// Per chromosome and genome-wide.
+    pub scc: Scc,
+}
+
+/// The SCC of every pair of samples at one `h`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SampleComparison {
+    /// The parameters used (with the `h` chosen).
+    pub params: SccParams,
+    /// The training, when `h` was trained.
+    pub training: Option<Training>,
+    /// Pairs `(0, 1), (0, 2), ..., (1, 2), ...`.
+    pub pairs: Vec<PairScc>,
+}
+
+impl SampleComparison {
+    /// The genome-wide SCCs of the samples called `names` (in the order given to
+    /// [`compare_samples`]) as a matrix.
+    pub fn genome_table(&self, names: &[String]) -> SccTable {
+        let n = names.len();
+        let mut values = vec![f64::NAN; n * n];
+        for k in 0..n {
+            values[k * n + k] = 1.0;
+        }
+        for pair in &self.pairs {
+            values[pair.first * n + pair.second] = pair.scc.genome_wide;
+            values[pair.second * n + pair.first] = pair.scc.genome_wide;
+        }
+        SccTable {
+            names: names.to_vec(),
+            values,
+        }
+    }
+}
+
+/// The SCCs of samples two by two as a symmetric matrix (1 on the diagonal).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SccTable {
+    /// Sample names.
+    pub names: Vec<String>,
+    /// Row-major `n x n` SCCs.
+    pub values: Vec<f64>,
+}
+
+impl SccTable {
+    /// The matrix of pairs `(sample1, sample2, scc)` (rows of `contactmap hicrep`'s table for
+    /// one chromosome): samples in the order they first appear; every pair of samples must
+    /// appear once (either way round), else the reason.
+    ///
+    /// ```
+    /// use contactmap::compare::hicrep::SccTable;
+    ///
+    /// let pair = |a: &str, b: &str, v: f64| (a.to_string(), b.to_string(), v);
+    /// let rows = [pair("a", "b", 0.9), pair("a", "c", 0.5), pair("b", "c", f64::NAN)];
+    /// let table = SccTable::from_pairs(&rows).unwrap();
+    /// assert_eq!(table.names, ["a", "b", "c"]);
+    /// assert_eq!(table.values[3], 0.9); // (b, a)
+    /// // 1 - SCC, and 1 where the SCC is NaN
+    /// assert_eq!(table.distances()[5], 1.0);
+    /// assert!(SccTable::from_pairs(&rows[..2]).unwrap_err().contains("b and c"));
+    /// ```
+    pub fn from_pairs(rows: &[(String, String, f64)]) -> std::result::Result<SccTable, String> {
+        let mut names: Vec<String> = Vec::new();
+        let mut index = |name: &str| match names.iter().position(|n| n == name) {
+            Some(k) => k,
+            None => {
+                names.push(name.to_string());
+                names.len() - 1
+            }
+        };
+        let pairs: Vec<(usize, usize, f64)> = rows
+            .iter()
+            .map(|(a, b, v)| (index(a), index(b), *v))
+            .collect();
+        let n = names.len();
+        if n < 2 {
+            return Err(format!(
+                "{} sample(s) in the table: a comparison needs two or more",
+                n
+            ));
+        }
+        let mut values = vec![f64::NAN; n * n];
+        let mut seen = vec![false; n * n];
+        for k in 0..n {
+            values[k * n + k] = 1.0;
+        }
+        for (a, b, v) in pairs {
+            if a == b {
+                return Err(format!("{} is compared with itself", names[a]));
+            }
+            if seen[a * n + b] {
+                return Err(format!("{} and {} are compared twice", names[a], names[b]));
+            }
+            seen[a * n + b] = true;
+            seen[b * n + a] = true;
+            values[a * n + b] = v;
+            values[b * n + a] = v;
+        }
+        for a in 0..n {
+            for b in a + 1..n {
+                if !seen[a * n + b] {
+                    return Err(format!(
+                        "no SCC for {} and {}: the table must hold every pair of its samples",
+                        names[a], names[b]
+                    ));
+                }
+            }
+        }
+        Ok(SccTable { names, values })
+    }
+
+    /// The distances `1 - SCC` (1 where the SCC is NaN; 0 on the diagonal), for clustering.
+    pub fn distances(&self) -> Vec<f64> {
+        let n = self.names.len();
+        self.values
+            .iter()
+            .enumerate()
+            .map(|(k, v)| match (k / n == k % n, v.is_nan()) {
+                (true, _) => 0.0,
+                (false, true) => 1.0,
+                (false, false) => 1.0 - v,
+            })
+            .collect()
+    }
+}
+
+/// The chromosome ids of `names` in `bins` (every chromosome, in order, when `names` is
+/// empty); an unknown name is an error listing the chromosomes of `source`.
+pub fn chrom_ids(bins: &BinTable, names: &[String], source: &str) -> Result<Vec<usize>> {
+    if names.is_empty() {
+        return Ok((0..bins.n_chroms()).collect());
+    }
+    names
+        .iter()
+        .map(|name| {
+            bins.chrom_id(name).ok_or_else(|| {
+                let known: Vec<&str> = bins.chroms().iter().map(|c| c.name.as_str()).collect();
+                Error::parameter(
+                    "chroms",
+                    name,
+                    format!("chromosomes of {source} ({})", known.join(", ")),
+                )
+            })
+        })
+        .collect()
+}
+
+/// The SCC of every pair of `samples` (two or more maps on the same bins) on chromosomes
+/// `chroms`, at one `h`: fixed, or trained on the first two samples (SCCs are comparable only
+/// at one `h`). `params.h` is replaced by the `h` chosen.
+///
+/// # Examples
+///
+/// ```
+/// use contactmap::compare::hicrep::{compare_samples, SccParams, Smoothing};
+/// use contactmap::io::{open_matrix, MatrixReader, OpenOptions};
+///
+/// let open = || open_matrix("data/CN.mm9.10000kb.cool", &OpenOptions::default());
+/// let (a, b, c) = (open()?, open()?, open()?);
+/// let samples: [&dyn MatrixReader; 3] = [a.as_ref(), b.as_ref(), c.as_ref()];
+/// let params = SccParams { max_distance_bp: Some(50_000_000), ..SccParams::default() };
+/// let result = compare_samples(&samples, &[0, 1], Smoothing::Fixed(1), &params)?;
+/// assert_eq!(result.pairs.len(), 3);
+/// assert_eq!((result.pairs[2].first, result.pairs[2].second), (1, 2));
+/// // the same map three times: every SCC is 1
+/// let names = ["a", "b", "c"].map(String::from);
+/// assert!(result.genome_table(&names).values.iter().all(|v| (v - 1.0).abs() < 1e-12));
+/// # Ok::<(), contactmap::Error>(())
+/// ```
+pub fn compare_samples(
+    samples: &[&dyn MatrixReader],
+    chroms: &[usize],
+    smoothing: Smoothing,
+    params: &SccParams,
+) -> Result<SampleComparison> {
+    if samples.len() < 2 {
+        return Err(Error::Invalid(format!(
+            "HiCRep compares two maps or more ({} given)",
+            samples.len()
+        )));
+    }
+    for other in &samples[1..] {
+        check_comparable(samples[0], *other)?;
+    }
+    let (h, training) = match smoothing {
+        Smoothing::Fixed(h) => (h, None),
+        Smoothing::Trained { h_max } => {
+            let trained = train_h(
+                samples[0],
+                samples[1],
+                chroms,
+                params.max_distance_bp,
+                h_max,
+                params.seed,
+            )?;
+            (trained.h, Some(trained))
+        }
+    };
+    let params = SccParams {
+        h,
+        ..params.clone()
+    };
+    let mut pairs = Vec::new();
+    for first in 0..samples.len() {
+        for second in first + 1..samples.len() {
+            let scc = scc(samples[first], samples[second], chroms, &params)?;
+            pairs.push(PairScc { first, second, scc });
+        }
+    }
+    Ok(SampleComparison {
+        params,
+        training,
+        pairs,
+    })
 }
 
 /// The mean of the chromosomes' SCCs weighted by their lengths, NaN ones left out.

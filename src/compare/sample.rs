@@ -270,12 +270,18 @@ pub fn draw_with_replacement(counts: &mut [f64], n_draw: u64, rng: &mut impl Rng
 /// ```
 pub struct Sampled<'a> {
     inner: &'a dyn MatrixReader,
-    /// Binomial thinning with this probability, when not exact.
-    fraction: Option<f64>,
-    /// In the exact mode, the number of contacts drawn from each block of rows.
-    shares: Vec<u64>,
+    draws: Draws,
     seed: u64,
     source: String,
+}
+
+/// What each block of rows draws.
+#[derive(Clone, Debug, PartialEq)]
+enum Draws {
+    /// Binomial thinning with this probability.
+    Thin(f64),
+    /// Exactly this many contacts from each block of rows (its share of the total asked for).
+    Exact(Vec<u64>),
 }
 
 impl<'a> Sampled<'a> {
@@ -295,16 +301,11 @@ impl<'a> Sampled<'a> {
         if params.target == Target::Count(0) {
             return Err(Error::parameter("count", 0, "at least one contact to keep"));
         }
-        let exact = params.exact || matches!(params.target, Target::Count(_));
         let source = format!("{} (downsampled)", inner.source());
-        if !exact {
-            let Target::Fraction(f) = params.target else {
-                unreachable!("a count is exact")
-            };
+        if let (Target::Fraction(f), false) = (params.target, params.exact) {
             return Ok(Sampled {
                 inner,
-                fraction: Some(f),
-                shares: Vec::new(),
+                draws: Draws::Thin(f),
                 seed: params.seed,
                 source,
             });
@@ -348,8 +349,7 @@ impl<'a> Sampled<'a> {
         );
         Ok(Sampled {
             inner,
-            fraction: None,
-            shares: shares.into_iter().map(|s| s as u64).collect(),
+            draws: Draws::Exact(shares.into_iter().map(|s| s as u64).collect()),
             seed: params.seed,
             source,
         })
@@ -357,25 +357,30 @@ impl<'a> Sampled<'a> {
 }
 
 /// Draw block `chunk`'s pixels (all of its rows' stored pixels, in order) in place: binomial
-/// thinning by `fraction`, or `share` contacts without replacement.
+/// thinning, or the block's share of contacts without replacement (whose counts
+/// [`Sampled::new`] checked already).
 fn draw(
     source: &str,
-    fraction: Option<f64>,
-    share: u64,
+    draws: &Draws,
     seed: u64,
     chunk: usize,
     pixels: (&[u64], &[u64], &mut [f64]),
 ) -> Result<()> {
     let (bin1, bin2, counts) = pixels;
-    for (k, &count) in counts.iter().enumerate() {
-        whole(count, || {
-            format!("{source}, pixel ({}, {})", bin1[k], bin2[k])
-        })?;
-    }
     let mut rng = stream_rng(seed, TAG_BLOCK, chunk as u64);
-    match fraction {
-        Some(f) => thin(counts, f, &mut rng),
-        None => draw_without_replacement(counts, share, &mut rng),
+    match draws {
+        Draws::Thin(f) => {
+            for (k, &count) in counts.iter().enumerate() {
+                whole(count, || {
+                    format!("{source}, pixel ({}, {})", bin1[k], bin2[k])
+                })?;
+            }
+            thin(counts, *f, &mut rng);
+        }
+        Draws::Exact(shares) => {
+            let share = shares.get(chunk).copied().unwrap_or(0);
+            draw_without_replacement(counts, share, &mut rng);
+        }
     }
     Ok(())
 }
@@ -455,15 +460,14 @@ impl MatrixReader for Sampled<'_> {
                 offset = stop;
             }
             let source = self.inner.source();
-            let (fraction, shares, seed) = (self.fraction, &self.shares, self.seed);
+            let (draws, seed) = (&self.draws, self.seed);
             let (bin1, bin2) = (&batch.bin1, &batch.bin2);
             pieces
                 .into_par_iter()
                 .try_for_each(|(chunk, offset, counts)| {
                     let span = offset..offset + counts.len();
-                    let share = shares.get(chunk).copied().unwrap_or(0);
                     let pixels = (&bin1[span.clone()], &bin2[span], counts);
-                    draw(source, fraction, share, seed, chunk, pixels)
+                    draw(source, draws, seed, chunk, pixels)
                 })?;
             // Kept: contacts left, inside the rectangle asked for.
             let mut kept = 0;

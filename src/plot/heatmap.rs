@@ -269,10 +269,100 @@ impl CellGrid {
     }
 }
 
+/// How [`CellGrid::compared`] combines the grids of two maps.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum GridComparison {
+    /// The first map on and above the diagonal, the second below it, multiplied by
+    /// `scale_second` (to the first map's depth).
+    Split {
+        /// Factor of the second map's cells.
+        scale_second: f64,
+    },
+    /// `log2(first / (second * scale_second))` per cell: NaN where either cell is NaN or not
+    /// positive.
+    Log2Ratio {
+        /// Factor of the second map's cells.
+        scale_second: f64,
+    },
+}
+
+impl CellGrid {
+    /// The grid of two maps drawn on the same cells (same bins, same grid size): their cell
+    /// means split along the diagonal (rows and columns the same region) or their log2 ratio.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use contactmap::plot::heatmap::{AxisCells, CellGrid, GridComparison};
+    ///
+    /// let grid = |value: f64| {
+    ///     let mut g = CellGrid::new(AxisCells::new(0..3, 3), AxisCells::new(0..3, 3), &|_| true, 0, true);
+    ///     for i in 0..3 {
+    ///         for j in 0..3 {
+    ///             g.add(i, j, value);
+    ///         }
+    ///     }
+    ///     g
+    /// };
+    /// let (a, b) = (grid(4.0), grid(1.0));
+    /// let split = CellGrid::compared(&a, &b, GridComparison::Split { scale_second: 2.0 })?;
+    /// assert_eq!((split.value(0, 2), split.value(1, 1), split.value(2, 0)), (4.0, 4.0, 2.0));
+    /// let ratio = CellGrid::compared(&a, &b, GridComparison::Log2Ratio { scale_second: 2.0 })?;
+    /// assert_eq!(ratio.value(2, 0), 1.0); // log2(4 / (1 * 2))
+    /// # Ok::<(), contactmap::Error>(())
+    /// ```
+    pub fn compared(first: &CellGrid, second: &CellGrid, how: GridComparison) -> Result<CellGrid> {
+        if first.rows != second.rows || first.cols != second.cols {
+            return Err(crate::error::Error::Invalid(
+                "the two maps are drawn on different cells: they must cover the same bins".into(),
+            ));
+        }
+        if matches!(how, GridComparison::Split { .. }) && first.rows != first.cols {
+            return Err(crate::error::Error::Invalid(
+                "a split map shows one region (rows and columns the same bins)".into(),
+            ));
+        }
+        let (n_rows, n_cols) = (first.rows.n_cells, first.cols.n_cells);
+        let mut sum = vec![f64::NAN; n_rows * n_cols];
+        for r in 0..n_rows {
+            for c in 0..n_cols {
+                let (a, b) = (first.value(r, c), second.value(r, c));
+                sum[r * n_cols + c] = match how {
+                    GridComparison::Split { scale_second } if c < r => b * scale_second,
+                    GridComparison::Split { .. } => a,
+                    GridComparison::Log2Ratio { scale_second } => {
+                        let ratio = a / (b * scale_second);
+                        if a > 0.0 && b > 0.0 && ratio.is_finite() {
+                            ratio.log2()
+                        } else {
+                            f64::NAN
+                        }
+                    }
+                };
+            }
+        }
+        let n_valid = sum
+            .iter()
+            .map(|v| if v.is_nan() { 0.0 } else { 1.0 })
+            .collect();
+        let sum = sum
+            .into_iter()
+            .map(|v| if v.is_nan() { 0.0 } else { v })
+            .collect();
+        Ok(CellGrid {
+            rows: first.rows.clone(),
+            cols: first.cols.clone(),
+            sum,
+            n_valid,
+        })
+    }
+}
+
 /// The colour limits of a map drawn on a `kind` scale: the `low` and `high` percentiles of the
-/// drawn values ([`percentile_limits`]), made symmetric about 1 (in log space on a log scale)
-/// when `centre_on_one` (observed / expected), and widened around a single value (half and
-/// twice it on a log scale, +-0.5 on a linear one). `None` when no value can be drawn.
+/// drawn values ([`percentile_limits`]), made symmetric about `centre` when given (in log space
+/// on a log scale: 1 for observed / expected; 0 for a linear log2 ratio), and widened around a
+/// single value (half and twice it on a log scale, +-0.5 on a linear one). `None` when no value
+/// can be drawn.
 ///
 /// # Examples
 ///
@@ -281,26 +371,32 @@ impl CellGrid {
 /// use contactmap::plot::ScaleKind;
 ///
 /// let oe = [0.5, 1.0, 1.5, f64::NAN];
-/// let (low, high) = colour_limits(&oe, ScaleKind::Log, 0.0, 100.0, true).unwrap();
+/// let (low, high) = colour_limits(&oe, ScaleKind::Log, 0.0, 100.0, Some(1.0)).unwrap();
 /// assert!((low - 0.5).abs() < 1e-12 && (high - 2.0).abs() < 1e-12);
-/// assert_eq!(colour_limits(&[3.0], ScaleKind::Linear, 0.0, 100.0, false), Some((2.5, 3.5)));
-/// assert_eq!(colour_limits(&[0.0], ScaleKind::Log, 0.0, 100.0, false), None);
+/// let log2_ratio = [-0.5, 0.25, 1.0];
+/// assert_eq!(colour_limits(&log2_ratio, ScaleKind::Linear, 0.0, 100.0, Some(0.0)), Some((-1.0, 1.0)));
+/// assert_eq!(colour_limits(&[3.0], ScaleKind::Linear, 0.0, 100.0, None), Some((2.5, 3.5)));
+/// assert_eq!(colour_limits(&[0.0], ScaleKind::Log, 0.0, 100.0, None), None);
 /// ```
 pub fn colour_limits(
     values: &[f64],
     kind: ScaleKind,
     low: f64,
     high: f64,
-    centre_on_one: bool,
+    centre: Option<f64>,
 ) -> Option<(f64, f64)> {
     let (mut a, mut b) = percentile_limits(values, kind == ScaleKind::Log, low, high)?;
-    if centre_on_one {
+    if let Some(centre) = centre {
         if kind == ScaleKind::Log {
-            let m = a.ln().abs().max(b.ln().abs()).max(1e-3);
-            (a, b) = ((-m).exp(), m.exp());
+            let m = (a / centre)
+                .ln()
+                .abs()
+                .max((b / centre).ln().abs())
+                .max(1e-3);
+            (a, b) = (centre * (-m).exp(), centre * m.exp());
         } else {
-            let m = (a - 1.0).abs().max((b - 1.0).abs()).max(1e-3);
-            (a, b) = (1.0 - m, 1.0 + m);
+            let m = (a - centre).abs().max((b - centre).abs()).max(1e-3);
+            (a, b) = (centre - m, centre + m);
         }
     }
     if a == b {

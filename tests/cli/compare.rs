@@ -28,6 +28,12 @@ fn number(text: &str) -> f64 {
     }
 }
 
+/// The map's total contacts, from `contactmap info --json`.
+fn total_contacts(uri: &str) -> f64 {
+    let info: serde_json::Value = serde_json::from_str(&run_ok(&["info", uri, "--json"])).unwrap();
+    info["sum"].as_f64().expect("a sum")
+}
+
 /// `contactmap sample` of `uri` with `args` into `dir`; the output's path.
 fn sampled(dir: &std::path::Path, uri: &str, args: &[&str], name: &str) -> String {
     let out = dir
@@ -305,8 +311,7 @@ fn samples_have_exact_totals_and_the_same_pixels_for_a_seed() {
         &["--count", "100000", "--seed", "8"],
         "c",
     );
-    let info: serde_json::Value = serde_json::from_str(&run_ok(&["info", &a, "--json"])).unwrap();
-    assert_eq!(info["sum"], 100000);
+    assert_eq!(total_contacts(&a), 100000.0);
     run_ok(&["validate", &a]);
     assert_eq!(run_ok(&["dump", &a]), run_ok(&["dump", &b]));
     assert_ne!(run_ok(&["dump", &a]), run_ok(&["dump", &c]));
@@ -323,11 +328,8 @@ fn samples_have_exact_totals_and_the_same_pixels_for_a_seed() {
     assert_eq!(run_ok(&["dump", &out]), run_ok(&["dump", &a]));
     // --fraction --exact: round(F x total).
     let q = sampled(dir.path(), &yeast, &["--fraction", "0.25", "--exact"], "q");
-    let total: serde_json::Value =
-        serde_json::from_str(&run_ok(&["info", &yeast, "--json"])).unwrap();
-    let want = (0.25 * total["sum"].as_f64().unwrap()).round_ties_even();
-    let got: serde_json::Value = serde_json::from_str(&run_ok(&["info", &q, "--json"])).unwrap();
-    assert_eq!(got["sum"].as_f64().unwrap(), want);
+    let want = (0.25 * total_contacts(&yeast)).round_ties_even();
+    assert_eq!(total_contacts(&q), want);
 }
 
 #[test]
@@ -474,8 +476,7 @@ fn coverage_and_virtual4c_equal_cooltools() {
     // The raw coverage sums to twice the contacts off the ignored diagonals.
     let table = parse_table(&run_ok(&["coverage", &mm9, "--ignore-diags", "0"]));
     let total: f64 = table.rows.iter().map(|r| number(&r[4])).sum();
-    let info: serde_json::Value = serde_json::from_str(&run_ok(&["info", &mm9, "--json"])).unwrap();
-    let sum = info["sum"].as_f64().unwrap();
+    let sum = total_contacts(&mm9);
     let diagonal: f64 = run_ok(&["dump", &mm9])
         .lines()
         .map(|l| l.split('\t').collect::<Vec<_>>())
@@ -485,6 +486,66 @@ fn coverage_and_virtual4c_equal_cooltools() {
     // a diagonal pixel counts twice for its bin, like any pixel
     assert_eq!(total, 2.0 * sum);
     assert!(diagonal > 0.0);
+}
+
+#[test]
+fn coverage_is_stored_in_the_cooler_as_cooltools_stores_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let copy = dir.path().join("mm9.cool").to_string_lossy().into_owned();
+    std::fs::copy(data("CN.mm9.10000kb.cool"), &copy).unwrap();
+    let refs = cooltools_references();
+    // the printed table is unchanged by --store; storing twice replaces the columns
+    for _ in 0..2 {
+        let table = run_ok(&["coverage", &copy, "--store", "--weight-name", "weight"]);
+        assert_table_matches(&table, &refs["coverage_mm9_weight"], "stored");
+        run_ok(&["coverage", &copy, "--store"]);
+    }
+    // the balanced columns read back (float columns are listed with the weights)
+    let bins = parse_table(&run_ok(&[
+        "dump",
+        "-t",
+        "bins",
+        &copy,
+        "-H",
+        "--float-format",
+        ".17g",
+        "--na-rep",
+        "nan",
+    ]));
+    assert_eq!(
+        bins.header,
+        [
+            "chrom",
+            "start",
+            "end",
+            "cov_cis_weight",
+            "cov_tot_weight",
+            "weight"
+        ]
+    );
+    let reference = &refs["coverage_mm9_weight"];
+    let mut compared = 0;
+    for (ours, want) in bins.rows.iter().zip(&reference.rows) {
+        assert_eq!(ours[..3], want[..3]);
+        for k in [3, 4] {
+            let (a, b) = (number(&ours[k]), number(&want[k]));
+            assert!(
+                (a.is_nan() && b.is_nan()) || (a - b).abs() <= 1e-12 * b.abs(),
+                "{ours:?} vs {want:?}"
+            );
+        }
+        compared += 1;
+    }
+    // (the reference holds chr1 to chr4)
+    assert!(
+        compared == reference.rows.len() && compared > 50,
+        "{compared} rows"
+    );
+    // --store writes into coolers only
+    let text = dir.path().join("m.bg2").to_string_lossy().into_owned();
+    std::fs::write(&text, "chr1\t0\t10\tchr1\t0\t10\t1\n").unwrap();
+    let line = run_err(&["coverage", &text, "--store", "--ignore-diags", "0"]);
+    assert!(line.contains("--store writes into .cool"), "{line}");
 }
 
 #[test]

@@ -139,7 +139,7 @@ fn known_value(i: usize, j: usize) -> f64 {
 
 /// matplotlib 3.11.2 `Greys(k / 255, bytes=True)` grey level at the lookup entries a value in
 /// [0, 10] takes on a linear 0..10 scale: 0 -> entry 0, 2.5 -> 64, 5 -> 128, 10 -> 255.
-fn greys_linear(value: f64) -> u8 {
+pub fn greys_linear(value: f64) -> u8 {
     if value == 0.0 {
         255
     } else if value == 2.5 {
@@ -153,7 +153,7 @@ fn greys_linear(value: f64) -> u8 {
     }
 }
 
-fn known_args<'a>(table: &'a str, sizes: &'a str, extra: &[&'a str]) -> Vec<&'a str> {
+pub fn known_args<'a>(table: &'a str, sizes: &'a str, extra: &[&'a str]) -> Vec<&'a str> {
     let mut args = vec![
         "plot",
         "map",
@@ -175,7 +175,7 @@ fn known_args<'a>(table: &'a str, sizes: &'a str, extra: &[&'a str]) -> Vec<&'a 
 }
 
 /// The heatmap's place in the figure: the first `<image>` of the SVG.
-fn heatmap_rect(args: &[&str]) -> (f64, f64, f64, f64) {
+pub fn heatmap_rect(args: &[&str]) -> (f64, f64, f64, f64) {
     svg_rects(&plot_svg(args), "image", "", "")[0]
 }
 

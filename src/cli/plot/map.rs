@@ -3,19 +3,21 @@
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
-use clap::Args;
+use clap::{Args, ValueEnum};
 
 use super::{write_figure, FigureArgs};
 use crate::cli::input::expected_column;
 use crate::cli::input::{open_for_analysis, read_weights};
 use crate::cli::output::{column_file, refuse_overwrites, uri_file};
 use crate::cli::InputArgs;
+use contactmap::compare::check_comparable;
+use contactmap::compare::coverage::total;
 use contactmap::error::{Error, Result};
 use contactmap::genome::{BinTable, Region};
 use contactmap::io::bed::{read_bed, read_bedpe, BedRecord};
 use contactmap::io::{LoadedPixels, MatrixReader, StreamedPixels};
 use contactmap::normalize::{Method, Normalizer};
-use contactmap::plot::heatmap::{colour_limits, AxisCells, CellGrid};
+use contactmap::plot::heatmap::{colour_limits, AxisCells, CellGrid, GridComparison};
 use contactmap::plot::map::{
     draw_map, GenomicSpan, MapFigure, MapLayout, MapStyle, MapView, Overlays, Track,
 };
@@ -49,6 +51,12 @@ FILE is a per-bin table starting `chrom start end` (a cooltools or `contactmap t
 table, a directionality table, an eigenvector table, a bedGraph), COLUMN a header name or a
 1-based column number, and its rows over the region must be the map's bins.
 
+--compare B draws a second map on the same bins: the first map on and above the diagonal, B
+below it (one region, square view), or with --ratio log2(first / B) per cell (a diverging
+colour map, RdBu_r by default, symmetric about 0). --compare-mode total multiplies B by the
+ratio of the maps' totals (the sums of their contacts over the whole map, raw or balanced as
+drawn); --compare-mode expected divides each map by its own expected (computed on the fly).
+
 Examples:
   contactmap plot map data/yeast.10kb.cool -r chrIV:200k-800k -o map.png
   contactmap plot map in.mcool::/resolutions/10000 -r chr2L:5M-10M \\
@@ -56,7 +64,10 @@ Examples:
       --track insulation.tsv:log2_insulation_score_100000 -o tads.svg
   contactmap plot map in.cool -r chr1 --oe -o oe.png
   contactmap plot map in.cool -r chr1 --region2 chr2 --raw --cmap viridis \\
-      -o trans.png")]
+      -o trans.png
+  contactmap plot map wt.cool -r chr2:10M-15M --compare ko.cool -o split.png
+  contactmap plot map wt.cool -r chr2:10M-15M --compare ko.cool --ratio \\
+      --compare-mode expected -o log2ratio.png")]
 pub struct MapArgs {
     /// Matrix URI: file.cool, file.mcool::/resolutions/N, file.hic[::/resolutions/N], text table.
     pub uri: String,
@@ -125,6 +136,17 @@ pub struct MapArgs {
     /// A track panel under the map: FILE:COLUMN (repeat for several).
     #[arg(long, value_name = "FILE:COLUMN")]
     pub track: Vec<String>,
+    /// A second map on the same bins: drawn below the diagonal (the first map above), or the
+    /// log2 ratio of the two with --ratio.
+    #[arg(long, value_name = "URI", conflicts_with = "oe")]
+    pub compare: Option<String>,
+    /// With --compare: draw log2(first / second) on a diverging scale centred at 0.
+    #[arg(long, requires = "compare")]
+    pub ratio: bool,
+    /// With --compare: bring the maps to one scale by their totals (`total`, the default) or
+    /// divide each by its own expected (`expected`).
+    #[arg(long, value_enum, value_name = "MODE", requires = "compare")]
+    pub compare_mode: Option<CompareMode>,
     /// Output, size, dpi, title.
     #[command(flatten)]
     pub figure: FigureArgs,
@@ -133,12 +155,23 @@ pub struct MapArgs {
     pub input: InputArgs,
 }
 
+/// How `--compare` puts two maps on one scale.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum CompareMode {
+    /// The second map times the first map's total over its own (total contacts, raw or
+    /// balanced).
+    Total,
+    /// Each map divided by its own expected (observed / expected).
+    Expected,
+}
+
 /// Default figure width in inches.
 const DEFAULT_WIDTH_IN: f64 = 6.0;
 
 /// Run `contactmap plot map`.
 pub fn run(args: &MapArgs) -> Result<()> {
     let inputs: Vec<&Path> = std::iter::once(uri_file(&args.uri))
+        .chain(args.compare.as_deref().map(uri_file))
         .chain(args.expected.as_deref().map(Path::new))
         .chain(args.domains.as_deref())
         .chain(args.boundaries.as_deref())
@@ -148,12 +181,14 @@ pub fn run(args: &MapArgs) -> Result<()> {
         .collect();
     refuse_overwrites(&inputs, &[Some(&args.figure.out)])?;
     let figure = args.figure.check(DEFAULT_WIDTH_IN)?;
-    let colour_map =
-        ColorMap::by_name(
-            args.cmap
-                .as_deref()
-                .unwrap_or(if args.oe { "RdBu_r" } else { "fall" }),
-        )?;
+    // With --compare-mode expected, each map is drawn as observed / expected.
+    let oe =
+        args.oe || (args.compare.is_some() && args.compare_mode == Some(CompareMode::Expected));
+    let colour_map = ColorMap::by_name(args.cmap.as_deref().unwrap_or(if oe || args.ratio {
+        "RdBu_r"
+    } else {
+        "fall"
+    }))?;
     let nan = Rgb::parse(&args.nan_color).ok_or_else(|| {
         Error::Invalid(format!(
             "--nan-color '{}' is not a colour (#rrggbb, #rgb or a name such as lightgrey)",
@@ -199,9 +234,18 @@ pub fn run(args: &MapArgs) -> Result<()> {
     } else {
         MapView::Square
     };
-    if args.oe && !same_chrom {
+    if args.compare.is_some() && !args.ratio && (rows != cols || args.triangle) {
         return Err(Error::Invalid(
-            "--oe needs both regions on one chromosome (the expected is per diagonal)".into(),
+            "--compare splits one square map along its diagonal: leave out --region2 and \
+             --triangle, or draw the log2 ratio (--ratio)"
+                .into(),
+        ));
+    }
+    if oe && !same_chrom {
+        return Err(Error::Invalid(
+            "observed / expected (--oe, --compare-mode expected) needs both regions on one \
+             chromosome (the expected is per diagonal)"
+                .into(),
         ));
     }
     let weight_name = args.balanced.as_deref().unwrap_or("weight");
@@ -215,11 +259,25 @@ pub fn run(args: &MapArgs) -> Result<()> {
             true,
         )?)
     };
-    let normalizer = if args.oe {
-        Some(oe_normalizer(args, reader.as_ref(), weights.clone())?)
-    } else {
-        None
-    };
+    let second = args
+        .compare
+        .as_deref()
+        .map(|uri| -> Result<_> {
+            let other = open_for_analysis(uri, &args.input)?;
+            check_comparable(reader.as_ref(), other.as_ref())?;
+            let weights = if args.raw {
+                None
+            } else {
+                Some(read_weights(
+                    other.as_ref(),
+                    weight_name,
+                    "--balanced",
+                    true,
+                )?)
+            };
+            Ok((other, weights))
+        })
+        .transpose()?;
 
     let overlays = read_overlays(args, &row_span, &col_span)?;
     let tracks = args
@@ -244,18 +302,53 @@ pub fn run(args: &MapArgs) -> Result<()> {
         MapView::Square => (layout.map_height_px(), layout.map_width_px()),
         MapView::Triangle { .. } => (layout.map_width_px(), layout.map_width_px()),
     };
-    let valid = |bin: usize| weights.as_ref().is_none_or(|w| w[bin].is_finite());
-    let mut grid = CellGrid::new(
-        AxisCells::new(rows.clone(), max_rows),
-        AxisCells::new(cols.clone(), max_cols),
-        &valid,
-        if args.oe { args.ignore_diags } else { 0 },
-        same_chrom,
-    );
-    grid.fill(reader.as_ref(), weights.as_deref(), normalizer.as_ref())?;
+    let fill = |reader: &dyn MatrixReader, weights: Option<&[f64]>| -> Result<CellGrid> {
+        let normalizer = match oe {
+            true => Some(oe_normalizer(args, reader, weights.map(<[f64]>::to_vec))?),
+            false => None,
+        };
+        let valid = |bin: usize| weights.is_none_or(|w| w[bin].is_finite());
+        let mut grid = CellGrid::new(
+            AxisCells::new(rows.clone(), max_rows),
+            AxisCells::new(cols.clone(), max_cols),
+            &valid,
+            if oe { args.ignore_diags } else { 0 },
+            same_chrom,
+        );
+        grid.fill(reader, weights, normalizer.as_ref())?;
+        Ok(grid)
+    };
+    let grid = fill(reader.as_ref(), weights.as_deref())?;
+    let grid = match &second {
+        None => grid,
+        Some((other, other_weights)) => {
+            let other_grid = fill(other.as_ref(), other_weights.as_deref())?;
+            let scale_second = if oe {
+                1.0
+            } else {
+                total(reader.as_ref(), weights.as_deref())?
+                    / total(other.as_ref(), other_weights.as_deref())?
+            };
+            let how = match args.ratio {
+                true => GridComparison::Log2Ratio { scale_second },
+                false => GridComparison::Split { scale_second },
+            };
+            CellGrid::compared(&grid, &other_grid, how)?
+        }
+    };
 
-    let scale = colour_scale(args, &grid.values(), &args.region)?;
-    let colour_label = if args.oe {
+    let scale = colour_scale(args, oe, &grid.values(), &args.region)?;
+    let name = |uri: &str| {
+        let path = uri_file(uri);
+        path.file_stem().map_or_else(
+            || path.display().to_string(),
+            |stem| stem.to_string_lossy().into_owned(),
+        )
+    };
+    let second_name = args.compare.as_deref().map(name);
+    let colour_label = if let (true, Some(second)) = (args.ratio, &second_name) {
+        format!("log2({} / {second})", name(&args.uri))
+    } else if oe {
         "observed / expected".to_string()
     } else if args.raw {
         "contacts".to_string()
@@ -269,7 +362,13 @@ pub fn run(args: &MapArgs) -> Result<()> {
         scale,
         nan,
         colour_label,
-        title: args.figure.title.clone().unwrap_or_default(),
+        title: match (&args.figure.title, &second_name) {
+            (Some(title), _) => title.clone(),
+            (None, Some(second)) if !args.ratio => {
+                format!("{} (upper) vs {second} (lower)", name(&args.uri))
+            }
+            (None, _) => String::new(),
+        },
     };
     let svg = draw_map(&MapFigure {
         layout: &layout,
@@ -320,8 +419,8 @@ fn oe_normalizer(
 }
 
 /// The colour scale from the options and the drawn values.
-fn colour_scale(args: &MapArgs, values: &[f64], region: &str) -> Result<ColorScale> {
-    let kind = if args.linear {
+fn colour_scale(args: &MapArgs, oe: bool, values: &[f64], region: &str) -> Result<ColorScale> {
+    let kind = if args.linear || args.ratio {
         ScaleKind::Linear
     } else {
         ScaleKind::Log
@@ -329,13 +428,18 @@ fn colour_scale(args: &MapArgs, values: &[f64], region: &str) -> Result<ColorSca
     let (vmin, vmax) = match (args.vmin, args.vmax) {
         (Some(a), Some(b)) => (a, b),
         (low, high) => {
-            let centre_on_one = args.oe && low.is_none() && high.is_none();
+            let free = low.is_none() && high.is_none();
+            let centre = match (args.ratio, oe) {
+                (true, _) if free => Some(0.0),
+                (false, true) if free => Some(1.0),
+                _ => None,
+            };
             let (a, b) = colour_limits(
                 values,
                 kind,
                 args.percentiles[0],
                 args.percentiles[1],
-                centre_on_one,
+                centre,
             )
             .ok_or_else(|| {
                 Error::region(

@@ -1,4 +1,5 @@
-//! Storing a weight column into an existing cooler, as `cooler balance` does.
+//! Storing a weight column into an existing cooler, as `cooler balance` does, and other bin
+//! columns (cooltools' coverage, [`store_bin_columns`]).
 //!
 //! The column is written as `bins/<name>`, float64, gzip level 6 (as h5py writes it for cooler),
 //! with the attributes the caller gives (cooler's `converged`, `scale`, `var`, `ignore_diags`,
@@ -134,57 +135,181 @@ pub fn store_weights(
         .open_rw(path)
         .map_err(err("opening the file for writing".into()))?;
     {
-        let group = match group_path.map(|g| g.trim_start_matches('/')) {
-            None | Some("") => file
-                .as_group()
-                .map_err(err("opening the root group".into()))?,
-            Some(g) => file.group(g).map_err(err(format!("opening group {g}")))?,
-        };
+        let group = open_group(&file, path, group_path)?;
         let bins = group.group("bins").map_err(err("opening bins".into()))?;
-        let exists = bins.link_exists(name);
-        if exists && !overwrite {
+        if bins.link_exists(name) && !overwrite {
             return Err(existing_column(uri, name));
         }
-        let pid = std::process::id();
-        let tmp = format!(".{name}.contactmap-new-{pid}");
-        let backup = format!(".{name}.contactmap-old-{pid}");
-        for leftover in [&tmp, &backup] {
-            if bins.link_exists(leftover) {
-                bins.unlink(leftover)
-                    .map_err(err(format!("removing bins/{leftover}")))?;
-            }
+        replace_column(path, &bins, name, |bins, tmp| {
+            write_column(path, bins, tmp, weights, attributes)
+        })?;
+    }
+    file.flush().map_err(err("flushing the file".into()))?;
+    file.close().map_err(err("closing the file".into()))
+}
+
+/// The cooler's group in the open file (the root without a group path).
+fn open_group(file: &hdf5::File, path: &str, group_path: Option<&str>) -> Result<hdf5::Group> {
+    match group_path.map(|g| g.trim_start_matches('/')) {
+        None | Some("") => file
+            .as_group()
+            .map_err(|e| Error::hdf5(path, "opening the root group", e)),
+        Some(g) => file
+            .group(g)
+            .map_err(|e| Error::hdf5(path, format!("opening group {g}"), e)),
+    }
+}
+
+/// Write `bins/<name>` by `write(bins, temporary_name)` and move it into place, replacing a
+/// column of that name: the steps always leave one complete column under some name.
+fn replace_column(
+    path: &str,
+    bins: &hdf5::Group,
+    name: &str,
+    write: impl FnOnce(&hdf5::Group, &str) -> Result<()>,
+) -> Result<()> {
+    let err = |what: String| move |e| Error::hdf5(path, what, e);
+    let exists = bins.link_exists(name);
+    let pid = std::process::id();
+    let tmp = format!(".{name}.contactmap-new-{pid}");
+    let backup = format!(".{name}.contactmap-old-{pid}");
+    for leftover in [&tmp, &backup] {
+        if bins.link_exists(leftover) {
+            bins.unlink(leftover)
+                .map_err(err(format!("removing bins/{leftover}")))?;
         }
-        if let Err(e) = write_column(path, &bins, &tmp, weights, attributes) {
+    }
+    if let Err(e) = write(bins, &tmp) {
+        let _ = bins.unlink(&tmp);
+        return Err(e);
+    }
+    if exists {
+        if let Err(e) = bins.relink(name, &backup) {
             let _ = bins.unlink(&tmp);
-            return Err(e);
-        }
-        if exists {
-            if let Err(e) = bins.relink(name, &backup) {
-                let _ = bins.unlink(&tmp);
-                return Err(Error::hdf5(
-                    path,
-                    format!("renaming bins/{name} (the file is unchanged)"),
-                    e,
-                ));
-            }
-        }
-        if let Err(e) = bins.relink(&tmp, name) {
-            let restored = !exists || bins.relink(&backup, name).is_ok();
-            let _ = bins.unlink(&tmp);
-            let state = if restored {
-                "the old column is kept"
-            } else {
-                "the old column is left under the name bins/.<name>.contactmap-old-<pid>"
-            };
             return Err(Error::hdf5(
                 path,
-                format!("moving the new column into bins/{name} ({state})"),
+                format!("renaming bins/{name} (the file is unchanged)"),
                 e,
             ));
         }
-        if exists {
-            bins.unlink(&backup)
-                .map_err(err(format!("removing the old column bins/{backup}")))?;
+    }
+    if let Err(e) = bins.relink(&tmp, name) {
+        let restored = !exists || bins.relink(&backup, name).is_ok();
+        let _ = bins.unlink(&tmp);
+        let state = if restored {
+            "the old column is kept"
+        } else {
+            "the old column is left under the name bins/.<name>.contactmap-old-<pid>"
+        };
+        return Err(Error::hdf5(
+            path,
+            format!("moving the new column into bins/{name} ({state})"),
+            e,
+        ));
+    }
+    if exists {
+        bins.unlink(&backup)
+            .map_err(err(format!("removing the old column bins/{backup}")))?;
+    }
+    Ok(())
+}
+
+/// Values of a bin column written by [`store_bin_columns`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum BinColumn<'a> {
+    /// 64-bit integers (cooltools' raw coverage).
+    Int(&'a [i64]),
+    /// 64-bit floats.
+    Float(&'a [f64]),
+}
+
+impl BinColumn<'_> {
+    fn len(&self) -> usize {
+        match self {
+            BinColumn::Int(v) => v.len(),
+            BinColumn::Float(v) => v.len(),
+        }
+    }
+}
+
+/// Write `columns` (one value per bin) into `bins/` of the cooler at `uri`, gzip level 6 as h5py
+/// writes them for cooltools, replacing columns of the same names (as cooltools `--store`
+/// does), and set `attributes` on the cooler's group (replacing them). Each column is written under a temporary
+/// name first and moved into place, so a failure leaves the old column.
+///
+/// ```
+/// use contactmap::io::cool::store::{store_bin_columns, AttrValue, BinColumn};
+/// use contactmap::io::{open_matrix, MatrixReader, OpenOptions};
+///
+/// let dir = std::env::temp_dir().join(format!("contactmap-columns-{}", std::process::id()));
+/// std::fs::create_dir_all(&dir)?;
+/// let path = dir.join("mm9.cool");
+/// std::fs::copy("data/CN.mm9.10000kb.cool", &path)?;
+/// let uri = path.to_str().unwrap();
+/// let n = open_matrix(uri, &OpenOptions::default())?.bins().n_bins();
+/// let ranks: Vec<i64> = (0..n as i64).collect();
+/// let attributes = [("cis".to_string(), AttrValue::Int(7))];
+/// store_bin_columns(uri, &[("rank", BinColumn::Int(&ranks))], &attributes)?;
+/// store_bin_columns(uri, &[("rank", BinColumn::Int(&ranks))], &attributes)?; // replaced
+/// let file = hdf5::File::open(&path)?;
+/// assert_eq!(file.dataset("bins/rank")?.read_raw::<i64>()?, ranks);
+/// assert_eq!(file.attr("cis")?.read_scalar::<i64>()?, 7);
+/// std::fs::remove_dir_all(&dir)?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn store_bin_columns(
+    uri: &str,
+    columns: &[(&str, BinColumn<'_>)],
+    attributes: &[(String, AttrValue)],
+) -> Result<()> {
+    let n_bins = n_bins_of(uri)?;
+    for (name, values) in columns {
+        check_name(uri, name)?;
+        if values.len() != n_bins {
+            return Err(Error::Invalid(format!(
+                "{uri}: column {name} has {} values for {n_bins} bins",
+                values.len()
+            )));
+        }
+    }
+    let (path, group_path) = crate::io::split_uri(uri);
+    let err = |what: String| move |e| Error::hdf5(path, what, e);
+    let file = file_builder()
+        .open_rw(path)
+        .map_err(err("opening the file for writing".into()))?;
+    {
+        let group = open_group(&file, path, group_path)?;
+        let bins = group.group("bins").map_err(err("opening bins".into()))?;
+        for (name, values) in columns {
+            replace_column(path, &bins, name, |bins, dataset_name| {
+                let builder = bins.new_dataset_builder();
+                let created = match values {
+                    BinColumn::Int(v) if !v.is_empty() => builder
+                        .with_data(v)
+                        .chunk(v.len().min(1 << 16))
+                        .deflate(6)
+                        .create(dataset_name),
+                    BinColumn::Int(v) => builder.with_data(v).create(dataset_name),
+                    BinColumn::Float(v) if !v.is_empty() => builder
+                        .with_data(v)
+                        .chunk(v.len().min(1 << 16))
+                        .deflate(6)
+                        .create(dataset_name),
+                    BinColumn::Float(v) => builder.with_data(v).create(dataset_name),
+                };
+                created
+                    .map(|_| ())
+                    .map_err(err(format!("writing bins/{name}")))
+            })?;
+        }
+        for (key, value) in attributes {
+            if group.attr_names().is_ok_and(|names| names.contains(key)) {
+                group
+                    .delete_attr(key)
+                    .map_err(err(format!("replacing attribute {key} of the cooler")))?;
+            }
+            write_attr(&group, key, value)
+                .map_err(err(format!("writing attribute {key} of the cooler")))?;
         }
     }
     file.flush().map_err(err("flushing the file".into()))?;
@@ -229,26 +354,26 @@ fn write_column(
     )))
 }
 
-fn write_attr(dataset: &hdf5::Dataset, key: &str, value: &AttrValue) -> hdf5::Result<()> {
+fn write_attr(location: &hdf5::Location, key: &str, value: &AttrValue) -> hdf5::Result<()> {
     match value {
-        AttrValue::Bool(v) => dataset.new_attr::<bool>().create(key)?.write_scalar(v),
-        AttrValue::Int(v) => dataset.new_attr::<i64>().create(key)?.write_scalar(v),
-        AttrValue::Float(v) => dataset.new_attr::<f64>().create(key)?.write_scalar(v),
+        AttrValue::Bool(v) => location.new_attr::<bool>().create(key)?.write_scalar(v),
+        AttrValue::Int(v) => location.new_attr::<i64>().create(key)?.write_scalar(v),
+        AttrValue::Float(v) => location.new_attr::<f64>().create(key)?.write_scalar(v),
         AttrValue::Str(v) => {
             let text: VarLenUnicode = v
                 .parse()
                 .map_err(|e| hdf5::Error::from(format!("attribute {key}: {e}")))?;
-            dataset
+            location
                 .new_attr::<VarLenUnicode>()
                 .create(key)?
                 .write_scalar(&text)
         }
-        AttrValue::Bools(v) => dataset
+        AttrValue::Bools(v) => location
             .new_attr_builder()
             .with_data(&v[..])
             .create(key)
             .map(|_| ()),
-        AttrValue::Floats(v) => dataset
+        AttrValue::Floats(v) => location
             .new_attr_builder()
             .with_data(&v[..])
             .create(key)
