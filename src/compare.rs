@@ -3,7 +3,7 @@
 //! ([`coverage`]), a viewpoint's row of the map ([`virtual4c`]), and the clustering of samples by
 //! their SCCs ([`cluster`]).
 //!
-//! Each function reads maps through [`MatrixReader`](crate::io::MatrixReader) and returns plain
+//! Each function reads maps through [`MatrixReader`] and returns plain
 //! tables; random draws take an explicit seed and never depend on the number of threads.
 
 pub mod cluster;

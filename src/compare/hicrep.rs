@@ -687,7 +687,7 @@ fn band_strata(a: &Band, b: &Band, geometry: Geometry, divisors: [f64; 2]) -> St
     }
 }
 
-/// The SCC of `a` and `b` (on the same bins: [`check_comparable`](crate::compare::check_comparable)) on chromosomes `chroms`
+/// The SCC of `a` and `b` (on the same bins: [`check_comparable`]) on chromosomes `chroms`
 /// (ids into the bin table).
 ///
 /// # Examples
