@@ -129,35 +129,39 @@ pub fn store_weights(
             weights.values.len()
         )));
     }
+    in_cooler(uri, |path, _, bins| {
+        if bins.link_exists(name) && !overwrite {
+            return Err(existing_column(uri, name));
+        }
+        replace_column(path, bins, name, |bins, tmp| {
+            write_column(path, bins, tmp, weights, attributes)
+        })
+    })
+}
+
+/// Open the cooler at `uri` for writing, run `write(path, group, bins)` on its group and its
+/// `bins` group, then flush and close the file.
+fn in_cooler(
+    uri: &str,
+    write: impl FnOnce(&str, &hdf5::Group, &hdf5::Group) -> Result<()>,
+) -> Result<()> {
     let (path, group_path) = crate::io::split_uri(uri);
     let err = |what: String| move |e| Error::hdf5(path, what, e);
     let file = file_builder()
         .open_rw(path)
         .map_err(err("opening the file for writing".into()))?;
     {
-        let group = open_group(&file, path, group_path)?;
+        let group = match group_path.map(|g| g.trim_start_matches('/')) {
+            None | Some("") => file
+                .as_group()
+                .map_err(err("opening the root group".into()))?,
+            Some(g) => file.group(g).map_err(err(format!("opening group {g}")))?,
+        };
         let bins = group.group("bins").map_err(err("opening bins".into()))?;
-        if bins.link_exists(name) && !overwrite {
-            return Err(existing_column(uri, name));
-        }
-        replace_column(path, &bins, name, |bins, tmp| {
-            write_column(path, bins, tmp, weights, attributes)
-        })?;
+        write(path, &group, &bins)?;
     }
     file.flush().map_err(err("flushing the file".into()))?;
     file.close().map_err(err("closing the file".into()))
-}
-
-/// The cooler's group in the open file (the root without a group path).
-fn open_group(file: &hdf5::File, path: &str, group_path: Option<&str>) -> Result<hdf5::Group> {
-    match group_path.map(|g| g.trim_start_matches('/')) {
-        None | Some("") => file
-            .as_group()
-            .map_err(|e| Error::hdf5(path, "opening the root group", e)),
-        Some(g) => file
-            .group(g)
-            .map_err(|e| Error::hdf5(path, format!("opening group {g}"), e)),
-    }
 }
 
 /// Write `bins/<name>` by `write(bins, temporary_name)` and move it into place, replacing a
@@ -272,34 +276,16 @@ pub fn store_bin_columns(
             )));
         }
     }
-    let (path, group_path) = crate::io::split_uri(uri);
-    let err = |what: String| move |e| Error::hdf5(path, what, e);
-    let file = file_builder()
-        .open_rw(path)
-        .map_err(err("opening the file for writing".into()))?;
-    {
-        let group = open_group(&file, path, group_path)?;
-        let bins = group.group("bins").map_err(err("opening bins".into()))?;
+    in_cooler(uri, |path, group, bins| {
+        let err = |what: String| move |e| Error::hdf5(path, what, e);
         for (name, values) in columns {
-            replace_column(path, &bins, name, |bins, dataset_name| {
-                let builder = bins.new_dataset_builder();
-                let created = match values {
-                    BinColumn::Int(v) if !v.is_empty() => builder
-                        .with_data(v)
-                        .chunk(v.len().min(1 << 16))
-                        .deflate(6)
-                        .create(dataset_name),
-                    BinColumn::Int(v) => builder.with_data(v).create(dataset_name),
-                    BinColumn::Float(v) if !v.is_empty() => builder
-                        .with_data(v)
-                        .chunk(v.len().min(1 << 16))
-                        .deflate(6)
-                        .create(dataset_name),
-                    BinColumn::Float(v) => builder.with_data(v).create(dataset_name),
-                };
-                created
-                    .map(|_| ())
-                    .map_err(err(format!("writing bins/{name}")))
+            replace_column(path, bins, name, |bins, dataset_name| {
+                match values {
+                    BinColumn::Int(v) => create_column(bins, dataset_name, v),
+                    BinColumn::Float(v) => create_column(bins, dataset_name, v),
+                }
+                .map(|_| ())
+                .map_err(err(format!("writing bins/{name}")))
             })?;
         }
         for (key, value) in attributes {
@@ -308,12 +294,29 @@ pub fn store_bin_columns(
                     .delete_attr(key)
                     .map_err(err(format!("replacing attribute {key} of the cooler")))?;
             }
-            write_attr(&group, key, value)
+            write_attr(group, key, value)
                 .map_err(err(format!("writing attribute {key} of the cooler")))?;
         }
+        Ok(())
+    })
+}
+
+/// Create `bins/<name>` holding `values`, gzip level 6 in chunks of up to 65,536 values (as
+/// h5py writes cooler's bin columns).
+fn create_column<T: hdf5::H5Type>(
+    bins: &hdf5::Group,
+    name: &str,
+    values: &[T],
+) -> hdf5::Result<hdf5::Dataset> {
+    let builder = bins.new_dataset_builder().with_data(values);
+    if values.is_empty() {
+        builder.create(name)
+    } else {
+        builder
+            .chunk(values.len().min(1 << 16))
+            .deflate(6)
+            .create(name)
     }
-    file.flush().map_err(err("flushing the file".into()))?;
-    file.close().map_err(err("closing the file".into()))
 }
 
 fn write_column(
@@ -330,14 +333,7 @@ fn write_column(
     } else {
         weights.values.clone()
     };
-    let builder = bins.new_dataset_builder().with_data(&values[..]);
-    let builder = if values.is_empty() {
-        builder
-    } else {
-        builder.chunk(values.len().min(1 << 16)).deflate(6)
-    };
-    let dataset = builder
-        .create(dataset_name)
+    let dataset = create_column(bins, dataset_name, &values)
         .map_err(err(format!("writing bins/{}", weights.name)))?;
     for (key, value) in attributes {
         if key == "divisive_weights" {
