@@ -497,6 +497,23 @@ fn fill<const N: usize, T, F: Fn(u64) -> T>(
                 start += 8;
             }
         }
+        if N == 4 {
+            // Eight 4-byte elements at a time: a word of eight bytes per plane, transposed as two
+            // 4 x 4 byte matrices side by side (elements 0-3 in the low halves, 4-7 in the high).
+            while start + 8 <= len {
+                let mut words = [0u64; 4];
+                for (word, plane) in words.iter_mut().zip(&planes) {
+                    let bytes: [u8; 8] = plane[start..start + 8].try_into().expect("8 bytes");
+                    *word = u64::from_le_bytes(bytes);
+                }
+                transpose_bytes_4(&mut words);
+                for (c, &word) in words.iter().enumerate() {
+                    target[start + c] = convert(word & 0xFFFF_FFFF);
+                    target[start + 4 + c] = convert(word >> 32);
+                }
+                start += 8;
+            }
+        }
         for (k, value) in target.iter_mut().enumerate().skip(start) {
             let mut v = 0u64;
             for (b, plane) in planes.iter().enumerate() {
@@ -513,6 +530,23 @@ fn fill<const N: usize, T, F: Fn(u64) -> T>(
             }
             *value = convert(v);
         }
+    }
+}
+
+/// Transpose the two 4 x 4 byte matrices held side by side in `words` (row `r` is `words[r]`'s
+/// low four bytes for the first, its high four for the second): afterwards byte `r` of each half
+/// of `words[c]` is what byte `c` of that half of `words[r]` was.
+#[inline(always)]
+fn transpose_bytes_4(words: &mut [u64; 4]) {
+    for r in [0, 1] {
+        let (a, b) = (words[r], words[r + 2]);
+        words[r] = (a & 0x0000_FFFF_0000_FFFF) | ((b & 0x0000_FFFF_0000_FFFF) << 16);
+        words[r + 2] = (b & 0xFFFF_0000_FFFF_0000) | ((a & 0xFFFF_0000_FFFF_0000) >> 16);
+    }
+    for r in [0, 2] {
+        let (a, b) = (words[r], words[r + 1]);
+        words[r] = (a & 0x00FF_00FF_00FF_00FF) | ((b & 0x00FF_00FF_00FF_00FF) << 8);
+        words[r + 1] = (b & 0xFF00_FF00_FF00_FF00) | ((a & 0xFF00_FF00_FF00_FF00) >> 8);
     }
 }
 
@@ -548,7 +582,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn eight_byte_elements_are_unshuffled_eight_at_a_time_and_one_by_one() {
+    fn wide_elements_are_unshuffled_eight_at_a_time_and_one_by_one() {
         // shuffled by the writer's filter (its own implementation), decoded at every offset
         // and length: the transposed blocks of eight and the element-by-element tail agree
         let values: Vec<i64> = (0..53i64)
@@ -560,6 +594,17 @@ mod tests {
                 let mut target = vec![0i64; len];
                 decode_elements::<8, i64>(&shuffled, true, Element::I64, skip, &mut target);
                 assert_eq!(target, values[skip..skip + len], "skip {skip} len {len}");
+            }
+        }
+        // 4-byte elements (cooler's int32 counts), signed and float
+        let ints: Vec<i32> = values.iter().map(|&v| (v >> 13) as i32).collect();
+        let shuffled_ints = crate::io::cool::chunk_writer::shuffle(&ints);
+        for skip in [0, 1, 7, 8, 13] {
+            for len in [0, 1, 8, 9, 16, 40 - skip.min(8)] {
+                let mut target = vec![0i64; len];
+                decode_elements::<4, i64>(&shuffled_ints, true, Element::I32, skip, &mut target);
+                let want: Vec<i64> = ints[skip..skip + len].iter().map(|&v| v as i64).collect();
+                assert_eq!(target, want, "int32 skip {skip} len {len}");
             }
         }
         let floats: Vec<f64> = values.iter().map(|&v| v as f64 / 7.0).collect();
