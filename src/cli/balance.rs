@@ -1,19 +1,19 @@
 //! `contactmap balance`: ICE as `cooler balance`, VC, VC_SQRT, KR and SCALE as Juicer; weights to a TSV
 //! or stored into the cooler.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
 
 use crate::cli::input::open_for_analysis;
-use crate::cli::output::{is_stdout, print_json, refuse_overwrites, uri_file, Output};
+use crate::cli::output::{is_stdout, print_json, refuse_overwrites, store_lock, uri_file, Output};
 use crate::cli::InputArgs;
 use contactmap::balance::store::{balance_reader, store_balanced, weights_table, Balanced};
 use contactmap::balance::{BalanceParams, Method, Scope};
 use contactmap::error::{Error, Result};
 use contactmap::genome::BinTable;
 use contactmap::io::cool::store::check_target;
-use contactmap::io::{self, default_memory_budget, parse_memory_size, FileKind, WriteLock};
+use contactmap::io::{self, default_memory_budget, parse_memory_size};
 use contactmap::matrix::Weights;
 
 /// Balancing methods, for `--method`.
@@ -186,14 +186,7 @@ pub fn run(args: &BalanceArgs) -> Result<()> {
     // that a second `balance --store` on it refuses at once instead of overwriting the column the
     // first one reports as stored.
     let _lock = if args.store {
-        let (path, _) = io::split_uri(&args.uri);
-        if io::detect_kind(path)? != FileKind::Hdf5 {
-            return Err(Error::Invalid(format!(
-                "{}: --store writes into .cool / .mcool files only; write a table with -o instead",
-                args.uri
-            )));
-        }
-        let lock = WriteLock::acquire(Path::new(path))?;
+        let lock = store_lock(&args.uri, "; write a table with -o instead")?;
         check_target(&args.uri, &args.name, args.force)?;
         Some(lock)
     } else {

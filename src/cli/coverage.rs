@@ -5,12 +5,11 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 
 use crate::cli::input::{open_for_analysis, read_weights};
-use crate::cli::output::{refuse_overwrites, uri_file, Output};
+use crate::cli::output::{refuse_overwrites, store_lock, uri_file, Output};
 use crate::cli::InputArgs;
 use contactmap::compare::coverage::{balanced_coverage, coverage, store};
 use contactmap::error::{Error, Result};
 use contactmap::io::output::python_float;
-use contactmap::io::{self, FileKind, WriteLock};
 
 /// Arguments of `contactmap coverage`.
 #[derive(Debug, Args)]
@@ -60,18 +59,7 @@ pub fn run(args: &CoverageArgs) -> Result<()> {
         .chain(args.input.files())
         .collect();
     refuse_overwrites(&inputs, &[args.out.as_deref()])?;
-    let _lock = if args.store {
-        let (path, _) = io::split_uri(&args.uri);
-        if io::detect_kind(path)? != FileKind::Hdf5 {
-            return Err(Error::Invalid(format!(
-                "{}: --store writes into .cool / .mcool files only",
-                args.uri
-            )));
-        }
-        Some(WriteLock::acquire(Path::new(path))?)
-    } else {
-        None
-    };
+    let _lock = args.store.then(|| store_lock(&args.uri, "")).transpose()?;
     let reader = open_for_analysis(&args.uri, &args.input)?;
     let ignore_diags = match args.ignore_diags {
         Some(n) => n,

@@ -31,3 +31,16 @@ pub fn print_json(value: &serde_json::Value) -> Result<()> {
     out.write_all(text.as_bytes())?;
     out.finish()
 }
+
+/// The lock of a `--store` into the cooler at `uri`: the file must be a .cool / .mcool (else
+/// the error says so, with `instead` as the advice), and is locked until the lock is dropped, so
+/// that a second store into it refuses at once.
+pub fn store_lock(uri: &str, instead: &str) -> Result<contactmap::io::WriteLock> {
+    let (path, _) = contactmap::io::split_uri(uri);
+    if contactmap::io::detect_kind(path)? != contactmap::io::FileKind::Hdf5 {
+        return Err(contactmap::error::Error::Invalid(format!(
+            "{uri}: --store writes into .cool / .mcool files only{instead}"
+        )));
+    }
+    contactmap::io::WriteLock::acquire(Path::new(path))
+}

@@ -99,6 +99,19 @@ pub struct ChromScc {
     pub note: Option<String>,
 }
 
+impl ChromScc {
+    /// Chromosome `c` of `bins`, its SCC not computed yet (NaN).
+    fn unscored(bins: &BinTable, c: usize) -> ChromScc {
+        let chrom = &bins.chroms()[c];
+        ChromScc {
+            chrom: chrom.name.clone(),
+            length_bp: chrom.length_bp,
+            scc: f64::NAN,
+            note: None,
+        }
+    }
+}
+
 /// The SCC of two maps, per chromosome and genome-wide.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Scc {
@@ -732,13 +745,7 @@ pub fn scc(
             h: params.h,
             main_diagonal: false,
         };
-        let chrom = &bins.chroms()[c];
-        let mut result = ChromScc {
-            chrom: chrom.name.clone(),
-            length_bp: chrom.length_bp,
-            scc: f64::NAN,
-            note: None,
-        };
+        let mut result = ChromScc::unscored(bins, c);
         if geometry.n_diags < 2 {
             result.note = Some("a chromosome of one bin: no diagonal to compare".into());
             out.push(result);
@@ -876,26 +883,6 @@ pub struct SampleComparison {
     pub pairs: Vec<PairScc>,
 }
 
-impl SampleComparison {
-    /// The genome-wide SCCs of the samples called `names` (in the order given to
-    /// [`compare_samples`]) as a matrix.
-    pub fn genome_table(&self, names: &[String]) -> SccTable {
-        let n = names.len();
-        let mut values = vec![f64::NAN; n * n];
-        for k in 0..n {
-            values[k * n + k] = 1.0;
-        }
-        for pair in &self.pairs {
-            values[pair.first * n + pair.second] = pair.scc.genome_wide;
-            values[pair.second * n + pair.first] = pair.scc.genome_wide;
-        }
-        SccTable {
-            names: names.to_vec(),
-            values,
-        }
-    }
-}
-
 /// The SCCs of samples two by two as a symmetric matrix (1 on the diagonal).
 #[derive(Clone, Debug, PartialEq)]
 pub struct SccTable {
@@ -1026,8 +1013,7 @@ pub fn chrom_ids(bins: &BinTable, names: &[String], source: &str) -> Result<Vec<
 /// assert_eq!(result.pairs.len(), 3);
 /// assert_eq!((result.pairs[2].first, result.pairs[2].second), (1, 2));
 /// // the same map three times: every SCC is 1
-/// let names = ["a", "b", "c"].map(String::from);
-/// assert!(result.genome_table(&names).values.iter().all(|v| (v - 1.0).abs() < 1e-12));
+/// assert!(result.pairs.iter().all(|p| (p.scc.genome_wide - 1.0).abs() < 1e-12));
 /// # Ok::<(), contactmap::Error>(())
 /// ```
 pub fn compare_samples(
@@ -1168,13 +1154,7 @@ pub fn train_h(
                 h,
                 main_diagonal: true,
             };
-            let chrom = &bins.chroms()[c];
-            let mut scc_of = ChromScc {
-                chrom: chrom.name.clone(),
-                length_bp: chrom.length_bp,
-                scc: f64::NAN,
-                note: None,
-            };
+            let mut scc_of = ChromScc::unscored(bins, c);
             let x = Band::read(a, range.start, geometry, 0..n)?;
             let y = Band::read(b, range.start, geometry, 0..n)?;
             let samples: Vec<f64> = (0..10u64)

@@ -249,32 +249,20 @@ pub fn run(args: &MapArgs) -> Result<()> {
         ));
     }
     let weight_name = args.balanced.as_deref().unwrap_or("weight");
-    let weights = if args.raw {
-        None
-    } else {
-        Some(read_weights(
-            reader.as_ref(),
-            weight_name,
-            "--balanced",
-            true,
-        )?)
+    // the weights drawn with (none for --raw)
+    let weights_of = |reader: &dyn MatrixReader| {
+        (!args.raw)
+            .then(|| read_weights(reader, weight_name, "--balanced", true))
+            .transpose()
     };
+    let weights = weights_of(reader.as_ref())?;
     let second = args
         .compare
         .as_deref()
         .map(|uri| -> Result<_> {
             let other = open_for_analysis(uri, &args.input)?;
             check_comparable(reader.as_ref(), other.as_ref())?;
-            let weights = if args.raw {
-                None
-            } else {
-                Some(read_weights(
-                    other.as_ref(),
-                    weight_name,
-                    "--balanced",
-                    true,
-                )?)
-            };
+            let weights = weights_of(other.as_ref())?;
             Ok((other, weights))
         })
         .transpose()?;

@@ -485,13 +485,10 @@ fn fill<const N: usize, T, F: Fn(u64) -> T>(
             // Eight 8-byte elements at a time: eight words, one per plane, transposed as an
             // 8 x 8 byte matrix.
             while start + 8 <= len {
-                let mut words = [0u64; 8];
-                for (word, plane) in words.iter_mut().zip(&planes) {
-                    let bytes: [u8; 8] = plane[start..start + 8].try_into().expect("8 bytes");
-                    *word = u64::from_le_bytes(bytes);
-                }
-                transpose_bytes(&mut words);
-                for (value, &word) in target[start..start + 8].iter_mut().zip(&words) {
+                let mut words = plane_words(&planes, start);
+                let words: &mut [u64; 8] = (&mut words[..]).try_into().expect("eight planes");
+                transpose_bytes(words);
+                for (value, &word) in target[start..start + 8].iter_mut().zip(words.iter()) {
                     *value = convert(word);
                 }
                 start += 8;
@@ -501,12 +498,9 @@ fn fill<const N: usize, T, F: Fn(u64) -> T>(
             // Eight 4-byte elements at a time: a word of eight bytes per plane, transposed as two
             // 4 x 4 byte matrices side by side (elements 0-3 in the low halves, 4-7 in the high).
             while start + 8 <= len {
-                let mut words = [0u64; 4];
-                for (word, plane) in words.iter_mut().zip(&planes) {
-                    let bytes: [u8; 8] = plane[start..start + 8].try_into().expect("8 bytes");
-                    *word = u64::from_le_bytes(bytes);
-                }
-                transpose_bytes_4(&mut words);
+                let mut words = plane_words(&planes, start);
+                let words: &mut [u64; 4] = (&mut words[..]).try_into().expect("four planes");
+                transpose_bytes_4(words);
                 for (c, &word) in words.iter().enumerate() {
                     target[start + c] = convert(word & 0xFFFF_FFFF);
                     target[start + 4 + c] = convert(word >> 32);
@@ -531,6 +525,15 @@ fn fill<const N: usize, T, F: Fn(u64) -> T>(
             *value = convert(v);
         }
     }
+}
+
+/// Bytes `start..start + 8` of each plane as a little-endian word.
+#[inline(always)]
+fn plane_words<const N: usize>(planes: &[&[u8]; N], start: usize) -> [u64; N] {
+    std::array::from_fn(|b| {
+        let bytes: [u8; 8] = planes[b][start..start + 8].try_into().expect("8 bytes");
+        u64::from_le_bytes(bytes)
+    })
 }
 
 /// Transpose the two 4 x 4 byte matrices held side by side in `words` (row `r` is `words[r]`'s
