@@ -9,7 +9,9 @@ usage: scripts/bench_sim.py [BINARY] [--device gpu|cpu] [--threads N] [--only 10
 Each system runs twice with different step counts (one sample at the end, no equilibration) and
 the rate is the extra monomer-steps over the extra seconds, so set-up (initial conformations,
 shader compilation, writing the .cool) cancels out. --scale multiplies the step counts (default 1:
-a few seconds per run on an H100). With --openmm, scripts/openmm_baseline.py runs the single-chain
+a few seconds per run on the CPU; on an H100 / H200 use --scale 10, since at scale 1 the extra
+steps of the GPU runs last well under a second and start-up noise swamps them: a rate whose extra
+time is under 1 s is flagged as unreliable). With --openmm, scripts/openmm_baseline.py runs the single-chain
 systems on that platform (mixed precision on CUDA) and the ratio is printed.
 """
 import os
@@ -73,6 +75,8 @@ for name in only:
     t_short, where = run(n, replicas, short)
     t_long, _ = run(n, replicas, long)
     rate = n * replicas * (long - short) / max(t_long - t_short, 1e-9)
+    if t_long - t_short < 1.0:
+        where += "; UNRELIABLE: the extra steps took under 1 s, raise --scale"
     print(f"{name}: {n} beads x {replicas} replicas, {short} and {long} steps: {t_short:.2f} s and {t_long:.2f} s "
           f"-> {rate / 1e6:.1f} M monomer-steps/s ({where})", flush=True)
     if openmm and replicas == 1:
