@@ -28,9 +28,12 @@
 //! each column of the `2h + 1` rows around it (exact for integer counts, so a smoothed pixel is
 //! zero exactly where its window holds no contact). Rows are cut into pieces of [`PIECE_ROWS`]
 //! computed in parallel, each summed into its own per-diagonal sums, added in order: the result
-//! does not depend on the number of threads. Chromosomes are read [`SEGMENT_ROWS`] rows at a
-//! time (with `h` rows around), so memory stays bounded; `downsample` and the training read a
-//! chromosome whole (its draws span it).
+//! does not depend on the number of threads. Each piece is smoothed only as far from the
+//! diagonal as the pixels of its rows (and the `h` rows around) reach plus `2h`: beyond, every
+//! smoothed value is 0. Chromosomes are read [`SEGMENT_ROWS`] rows at a time (with `h` rows
+//! around; small enough that the two maps' rows stay in cache until smoothed), the next segment,
+//! of this chromosome or the next, read while the current one is smoothed, the two maps side by
+//! side; `downsample` and the training read a chromosome whole (its draws span it).
 
 use std::ops::Range;
 
@@ -47,8 +50,12 @@ use crate::sim::stream_rng;
 /// Rows computed by one task.
 pub const PIECE_ROWS: usize = 256;
 
-/// Rows of a chromosome read at a time.
-pub const SEGMENT_ROWS: usize = 16 * PIECE_ROWS;
+/// Independent running sums along a row of window sums (whole counts).
+const LANES: usize = 8;
+
+/// Rows of a chromosome read at a time (512: at 10 kb and 5 Mb, about 3 MB of pixels per map;
+/// segments of 4,096 rows took a fifth more time and three times the memory on big.cool).
+pub const SEGMENT_ROWS: usize = 2 * PIECE_ROWS;
 
 /// The largest distance compared by default, in bp (the HiCRep paper's, hicrep's help).
 pub const DEFAULT_MAX_DISTANCE_BP: u64 = 5_000_000;
@@ -213,11 +220,19 @@ impl Band {
                 let row_bin2 = &bin2[k..row_end];
                 let from = k + row_bin2.partition_point(|&j| (j as usize) < low);
                 let to = k + row_bin2.partition_point(|&j| (j as usize) < high);
-                for (&j, &c) in bin2[from..to].iter().zip(&count[from..to]) {
-                    if c != 0.0 {
-                        band.diagonal.push((j as usize - i) as u32);
-                        band.count.push(c);
+                let (columns, counts) = (&bin2[from..to], &count[from..to]);
+                if counts.contains(&0.0) {
+                    for (&j, &c) in columns.iter().zip(counts) {
+                        if c != 0.0 {
+                            band.diagonal.push((j as usize - i) as u32);
+                            band.count.push(c);
+                        }
                     }
+                } else {
+                    // the usual case (no stored zero): whole stretches, which vectorise
+                    band.diagonal
+                        .extend(columns.iter().map(|&j| (j as usize - i) as u32));
+                    band.count.extend_from_slice(counts);
                 }
                 *band.row_start.last_mut().expect("one row at least") = band.count.len();
                 k = row_end;
@@ -238,6 +253,21 @@ impl Band {
         let k = r - self.first;
         let span = self.row_start[k]..self.row_start[k + 1];
         (&self.diagonal[span.clone()], &self.count[span])
+    }
+
+    /// The farthest diagonal holding a pixel in rows `rows` (0 when none).
+    fn farthest(&self, rows: Range<usize>) -> usize {
+        let last = self.first + self.row_start.len() - 1;
+        let (lo, hi) = (rows.start.max(self.first), rows.end.min(last));
+        (lo..hi)
+            .filter_map(|r| {
+                let k = r - self.first;
+                // each row's pixels come sorted by column: its last is its farthest
+                (self.row_start[k + 1] > self.row_start[k])
+                    .then(|| self.diagonal[self.row_start[k + 1] - 1] as usize)
+            })
+            .max()
+            .unwrap_or(0)
     }
 
     fn sum(&self) -> f64 {
@@ -325,7 +355,8 @@ impl<'a, const TRACK: bool> Smoother<'a, TRACK> {
             rows_nonzero: vec![0; tracked((2 * g.h + 2) * width)],
             columns_sum: vec![0.0; g.n_diags + 4 * g.h + 2],
             columns_nonzero: vec![0; tracked(g.n_diags + 4 * g.h + 2)],
-            spread_sum: vec![0.0; g.n_diags + 4 * g.h],
+            // LANES - 1 places more: the lanes' last stretch runs past the row's end
+            spread_sum: vec![0.0; g.n_diags + 4 * g.h + LANES - 1],
             spread_nonzero: vec![0; tracked(g.n_diags + 4 * g.h)],
             out: vec![0.0; g.n_diags],
             row: first,
@@ -371,11 +402,24 @@ impl<'a, const TRACK: bool> Smoother<'a, TRACK> {
                 counts[idx] = nonzero;
             }
         } else {
-            // whole counts: the running sums are exact
-            out[0] = sum;
-            for idx in 1..width {
-                sum = sum + spread[idx + 1 + 2 * h] - spread[idx];
-                out[idx] = sum;
+            // Whole counts: the running sums are exact in any order, so the row is cut into
+            // LANES stretches summed side by side (independent chains of additions instead of
+            // one).
+            let stretch = width.div_ceil(LANES);
+            let mut sums: [f64; LANES] = std::array::from_fn(|lane| {
+                let start = lane * stretch;
+                spread[start + 1..=start + 1 + 2 * h].iter().sum()
+            });
+            for t in 0..stretch {
+                for (lane, sum) in sums.iter_mut().enumerate() {
+                    let idx = lane * stretch + t;
+                    if t > 0 {
+                        *sum = *sum + spread[idx + 1 + 2 * h] - spread[idx];
+                    }
+                    if idx < width {
+                        out[idx] = *sum;
+                    }
+                }
             }
         }
         self.add_to_columns(r, true);
@@ -539,8 +583,9 @@ impl Strata {
         }
     }
 
+    /// Add `other`'s sums (of as many diagonals or fewer: the others are zeros).
     fn merge(&mut self, other: &Strata) {
-        for d in 0..self.n.len() {
+        for d in 0..other.n.len() {
             self.n[d] += other.n[d];
             self.s1[d] += other.s1[d];
             self.s2[d] += other.s2[d];
@@ -589,10 +634,20 @@ fn strata(
         .map(|p| {
             let start = (p * PIECE_ROWS).max(rows.start);
             let end = ((p + 1) * PIECE_ROWS).min(rows.end);
+            // A smoothed pixel's window spans diagonals d - 2h ..= d + 2h of the rows within h:
+            // beyond the farthest pixel of those rows plus 2h every smoothed value is 0, which
+            // adds nothing to the sums. Smooth up to there only (a band that stops short of the
+            // largest distance costs what it holds).
+            let around = start.saturating_sub(geometry.h)..end + geometry.h;
+            let farthest = a.farthest(around.clone()).max(b.farthest(around));
+            let piece = Geometry {
+                n_diags: geometry.n_diags.min(farthest + 2 * geometry.h + 1),
+                ..geometry
+            };
             if whole {
-                piece_strata::<false>(a, b, geometry, start..end, divisors)
+                piece_strata::<false>(a, b, piece, start..end, divisors)
             } else {
-                piece_strata::<true>(a, b, geometry, start..end, divisors)
+                piece_strata::<true>(a, b, piece, start..end, divisors)
             }
         })
         .collect();
@@ -736,27 +791,28 @@ pub fn scc(
     } else {
         [total_contacts(a)?, total_contacts(b)?]
     };
-    let mut out = Vec::with_capacity(chroms.len());
-    for &c in chroms {
-        let range = bins.chrom_bins(c);
-        let geometry = Geometry {
-            n: range.len(),
-            n_diags: d_max.min(range.len()),
+    // Per chromosome: its shape, and its sums once computed with whether each map was empty.
+    let geometries: Vec<Geometry> = chroms
+        .iter()
+        .map(|&c| Geometry {
+            n: bins.chrom_bins(c).len(),
+            n_diags: d_max.min(bins.chrom_bins(c).len()),
             h: params.h,
             main_diagonal: false,
-        };
-        let mut result = ChromScc::unscored(bins, c);
-        if geometry.n_diags < 2 {
-            result.note = Some("a chromosome of one bin: no diagonal to compare".into());
-            out.push(result);
-            continue;
-        }
-        // Whole chromosomes where resampling or hicrep's unsmoothed sums need them; else
-        // segments of rows.
-        let (sums, empty) = if params.downsample || params.h == 0 {
+        })
+        .collect();
+    let mut computed: Vec<Option<(Strata, [bool; 2])>> = vec![None; chroms.len()];
+    if params.downsample || params.h == 0 {
+        // Whole chromosomes, where resampling or hicrep's unsmoothed sums need them.
+        for (k, &c) in chroms.iter().enumerate() {
+            let geometry = geometries[k];
+            if geometry.n_diags < 2 {
+                continue;
+            }
+            let offset = bins.chrom_bins(c).start;
             let whole = 0..geometry.n;
-            let mut x = Band::read(a, range.start, geometry, whole.clone())?;
-            let mut y = Band::read(b, range.start, geometry, whole)?;
+            let mut x = Band::read(a, offset, geometry, whole.clone())?;
+            let mut y = Band::read(b, offset, geometry, whole)?;
             let empty = [&x, &y].map(|band| band.count.is_empty());
             let mut divisors = totals;
             if params.downsample && !empty.contains(&true) {
@@ -770,58 +826,71 @@ pub fn scc(
                     *deeper = deeper.with_counts(&counts);
                 }
             }
-            (band_strata(&x, &y, geometry, divisors), empty)
-        } else {
-            // Segments in turn, the next one read while the current one is smoothed.
-            let mut sums = Strata::new(geometry.n_diags);
-            let mut empty = [true, true];
-            let mut starts = (0..geometry.n).step_by(SEGMENT_ROWS);
-            let mut current: Option<(Band, Band, Range<usize>)> = None;
-            loop {
-                let next = starts
-                    .next()
-                    .map(|start| start..(start + SEGMENT_ROWS).min(geometry.n));
-                let (computed, read) = std::thread::scope(|scope| {
-                    let handle = current.as_ref().map(|(x, y, rows)| {
-                        scope.spawn(move || strata(x, y, geometry, rows.clone(), totals))
-                    });
-                    let read = next
-                        .clone()
-                        .map(|rows| -> Result<(Band, Band)> {
-                            let around = rows.start.saturating_sub(params.h)
-                                ..(rows.end + params.h).min(geometry.n);
-                            Ok((
-                                Band::read(a, range.start, geometry, around.clone())?,
-                                Band::read(b, range.start, geometry, around)?,
-                            ))
-                        })
-                        .transpose();
-                    let computed = handle.map(|h| h.join().expect("the smoothing does not panic"));
-                    (computed, read)
-                });
-                if let Some(piece) = computed {
-                    sums.merge(&piece);
-                }
-                match (read?, next) {
-                    (Some((x, y)), Some(rows)) => {
-                        empty[0] &= x.count.is_empty();
-                        empty[1] &= y.count.is_empty();
-                        current = Some((x, y, rows));
-                    }
-                    _ => break,
-                }
-            }
-            (sums, empty)
+            computed[k] = Some((band_strata(&x, &y, geometry, divisors), empty));
+        }
+    } else {
+        // Segments of rows of every chromosome in turn, the next one (of this chromosome or
+        // the next) read while the current one is smoothed, the two maps side by side.
+        let mut segments = chroms.iter().enumerate().flat_map(|(k, _)| {
+            let g = geometries[k];
+            let n = if g.n_diags < 2 { 0 } else { g.n };
+            (0..n)
+                .step_by(SEGMENT_ROWS)
+                .map(move |start| (k, start..(start + SEGMENT_ROWS).min(n)))
+        });
+        let read = |k: usize, rows: &Range<usize>| -> Result<(Band, Band)> {
+            let (geometry, offset) = (geometries[k], bins.chrom_bins(chroms[k]).start);
+            let around = rows.start.saturating_sub(params.h)..(rows.end + params.h).min(geometry.n);
+            let (x, y) = rayon::join(
+                || Band::read(a, offset, geometry, around.clone()),
+                || Band::read(b, offset, geometry, around.clone()),
+            );
+            Ok((x?, y?))
         };
-        if let Some(k) = empty.iter().position(|&e| e) {
-            result.note = Some(format!(
-                "no contacts off the diagonal within the distance in {}",
-                [a, b][k].source()
-            ));
-        } else {
-            result.scc = sums.scc();
-            if result.scc.is_nan() {
-                result.note = Some("no diagonal with two pixels or more".into());
+        let mut current: Option<(usize, Band, Band, Range<usize>)> = None;
+        loop {
+            let next = segments.next();
+            let (piece, bands) = std::thread::scope(|scope| {
+                let handle = current.as_ref().map(|(k, x, y, rows)| {
+                    let geometry = geometries[*k];
+                    scope.spawn(move || strata(x, y, geometry, rows.clone(), totals))
+                });
+                let bands = next.as_ref().map(|(k, rows)| read(*k, rows)).transpose();
+                let piece = handle.map(|h| h.join().expect("the smoothing does not panic"));
+                (piece, bands)
+            });
+            if let (Some(piece), Some((k, x, y, _))) = (piece, &current) {
+                let (sums, empty) = computed[*k]
+                    .get_or_insert_with(|| (Strata::new(geometries[*k].n_diags), [true, true]));
+                sums.merge(&piece);
+                empty[0] &= x.count.is_empty();
+                empty[1] &= y.count.is_empty();
+            }
+            match (bands?, next) {
+                (Some((x, y)), Some((k, rows))) => current = Some((k, x, y, rows)),
+                _ => break,
+            }
+        }
+    }
+    let mut out = Vec::with_capacity(chroms.len());
+    for (k, &c) in chroms.iter().enumerate() {
+        let mut result = ChromScc::unscored(bins, c);
+        match &computed[k] {
+            None => {
+                result.note = Some("a chromosome of one bin: no diagonal to compare".into());
+            }
+            Some((_, empty)) if empty.contains(&true) => {
+                let which = empty.iter().position(|&e| e).expect("one is empty");
+                result.note = Some(format!(
+                    "no contacts off the diagonal within the distance in {}",
+                    [a, b][which].source()
+                ));
+            }
+            Some((sums, _)) => {
+                result.scc = sums.scc();
+                if result.scc.is_nan() {
+                    result.note = Some("no diagonal with two pixels or more".into());
+                }
             }
         }
         out.push(result);

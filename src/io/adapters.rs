@@ -40,14 +40,14 @@ pub struct Inspect<'a, F> {
     on_block: F,
 }
 
-impl<'a, F: Fn(&PixelBlock) -> Result<()>> Inspect<'a, F> {
+impl<'a, F: Fn(&PixelBlock) -> Result<()> + Send + Sync> Inspect<'a, F> {
     /// Show the blocks `inner` streams to `on_block`.
     pub fn new(inner: &'a dyn MatrixReader, on_block: F) -> Self {
         Inspect { inner, on_block }
     }
 }
 
-impl<F: Fn(&PixelBlock) -> Result<()>> MatrixReader for Inspect<'_, F> {
+impl<F: Fn(&PixelBlock) -> Result<()> + Send + Sync> MatrixReader for Inspect<'_, F> {
     forward_reader_metadata!(inner);
 
     fn read_pixels(

@@ -44,7 +44,11 @@ impl MatrixInfo {
 ///
 /// Pixel queries return the stored upper triangle (`bin1 <= bin2`) restricted to `bin1 in rows`
 /// and `bin2 in cols`, sorted by `(bin1, bin2)`, in blocks of bounded size.
-pub trait MatrixReader {
+///
+/// Readers are `Send + Sync`: one reader may be queried from several threads at once (`hicrep`
+/// reads its two maps side by side; libhdf5's calls still take its one lock, the raw chunks are
+/// read with positioned reads).
+pub trait MatrixReader: Send + Sync {
     /// The URI or path the matrix was read from (used in messages).
     fn source(&self) -> &str;
 

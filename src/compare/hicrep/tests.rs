@@ -190,6 +190,55 @@ fn long_chromosomes_are_read_in_segments_with_the_same_result() {
 }
 
 #[test]
+fn pieces_smooth_only_as_far_as_their_pixels_reach() {
+    // Pixels within 6 diagonals, but rows 300..340 (inside the second piece) reach 35: the
+    // pieces stop at different diagonals, and the sums still equal the direct computation.
+    let n = 3 * PIECE_ROWS + 17;
+    let map = |seed: u64, float: bool| {
+        let bins = BinTable::fixed(vec![Chrom::new("c0", n as u64 * 100)], 100).unwrap();
+        let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(seed);
+        let kind = if float {
+            CountType::Float
+        } else {
+            CountType::Integer
+        };
+        let mut builder = MatrixBuilder::new(bins, kind);
+        for i in 0..n {
+            let reach = if (300..340).contains(&i) { 36 } else { 7 };
+            for j in i..(i + reach).min(n) {
+                if rng.gen::<f64>() < 0.5 {
+                    let fraction = if float { rng.gen::<f64>() } else { 0.0 };
+                    builder
+                        .push(
+                            i as u64,
+                            j as u64,
+                            (rng.gen::<f64>() * 9.0).floor() + 1.0 + fraction,
+                        )
+                        .unwrap();
+                }
+            }
+        }
+        InMemory::new(format!("reach {seed}"), builder.build())
+    };
+    for float in [false, true] {
+        let (a, b) = (map(7, float), map(8, float));
+        for h in [1, 3] {
+            let params = SccParams {
+                h,
+                max_distance_bp: Some(5_000),
+                ..SccParams::default()
+            };
+            let got = scc(&a, &b, &[0], &params).unwrap().chroms[0].scc;
+            let want = direct_scc(&a, &b, 0, h, 51);
+            assert!(
+                (got - want).abs() < 1e-11,
+                "h {h} float {float}: {got} vs {want}"
+            );
+        }
+    }
+}
+
+#[test]
 fn a_map_against_itself_or_a_scaled_copy_scores_one() {
     let a = random_map(&[60, 40], 20, 3, false);
     let params = SccParams {
