@@ -5,11 +5,11 @@
 //! libhdf5 would write (same chunking and filters; deflate streams are zlib streams, as the HDF5
 //! deflate filter writes them), and it reads back through any HDF5 reader.
 
-use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
 use rayon::prelude::*;
 
+use super::chunks::{transpose_bytes, transpose_bytes_4};
 use crate::error::{Error, Result};
 
 /// Full chunks gathered before they are compressed together (keeps every core busy).
@@ -17,59 +17,94 @@ const CHUNKS_PER_FLUSH: usize = 64;
 
 /// An element of a column: its little-endian bytes.
 pub trait ChunkValue: Copy + Send + Sync + hdf5::H5Type {
-    /// Bytes per element.
+    /// Bytes per element (4 or 8).
     const SIZE: usize;
-    /// Append the little-endian bytes of `self`.
-    fn put(self, out: &mut Vec<u8>);
+    /// The element's bytes as the low `SIZE` bytes of a word (little endian).
+    fn bits(self) -> u64;
 }
 
 impl ChunkValue for i64 {
     const SIZE: usize = 8;
-    fn put(self, out: &mut Vec<u8>) {
-        out.extend_from_slice(&self.to_le_bytes());
+    fn bits(self) -> u64 {
+        self as u64
     }
 }
 
 impl ChunkValue for i32 {
     const SIZE: usize = 4;
-    fn put(self, out: &mut Vec<u8>) {
-        out.extend_from_slice(&self.to_le_bytes());
+    fn bits(self) -> u64 {
+        u64::from(self as u32)
     }
 }
 
 impl ChunkValue for f64 {
     const SIZE: usize = 8;
-    fn put(self, out: &mut Vec<u8>) {
-        out.extend_from_slice(&self.to_le_bytes());
+    fn bits(self) -> u64 {
+        self.to_bits()
     }
 }
 
-/// HDF5's shuffle filter: byte `b` of element `e` goes to position `b * n + e`.
+/// HDF5's shuffle filter: byte `b` of element `e` goes to position `b * n + e`. Eight elements
+/// at a time as a byte matrix transposed in registers (the reader's transposes: a transpose is
+/// its own inverse), the rest one by one.
 pub fn shuffle<T: ChunkValue>(values: &[T]) -> Vec<u8> {
-    let mut bytes = Vec::with_capacity(values.len() * T::SIZE);
-    for &v in values {
-        v.put(&mut bytes);
-    }
     let n = values.len();
-    let mut out = vec![0u8; bytes.len()];
-    for (e, element) in bytes.chunks_exact(T::SIZE).enumerate() {
-        for (b, &byte) in element.iter().enumerate() {
+    let size = T::SIZE;
+    let mut out = vec![0u8; n * size];
+    let mut start = 0;
+    let put_words = |out: &mut [u8], start: usize, words: &[u64]| {
+        for (b, word) in words.iter().enumerate() {
+            out[b * n + start..b * n + start + 8].copy_from_slice(&word.to_le_bytes());
+        }
+    };
+    if size == 8 {
+        while start + 8 <= n {
+            let mut words: [u64; 8] = std::array::from_fn(|k| values[start + k].bits());
+            transpose_bytes(&mut words);
+            put_words(&mut out, start, &words);
+            start += 8;
+        }
+    } else if size == 4 {
+        while start + 8 <= n {
+            // elements 0-3 in the low halves, 4-7 in the high halves
+            let mut words: [u64; 4] = std::array::from_fn(|k| {
+                values[start + k].bits() | (values[start + 4 + k].bits() << 32)
+            });
+            transpose_bytes_4(&mut words);
+            put_words(&mut out, start, &words);
+            start += 8;
+        }
+    }
+    for (e, value) in values.iter().enumerate().skip(start) {
+        let bytes = value.bits().to_le_bytes();
+        for (b, &byte) in bytes[..size].iter().enumerate() {
             out[b * n + e] = byte;
         }
     }
     out
 }
 
-/// A zlib stream of `bytes` at `level` (what HDF5's deflate filter stores).
-pub fn deflate(bytes: &[u8], level: u8) -> Vec<u8> {
-    let mut encoder = flate2::write::ZlibEncoder::new(
-        Vec::with_capacity(bytes.len() / 2),
-        flate2::Compression::new(u32::from(level)),
-    );
-    encoder
-        .write_all(bytes)
-        .expect("writing into a Vec does not fail");
-    encoder.finish().expect("writing into a Vec does not fail")
+/// A zlib compressor at `level` (what HDF5's deflate filter writes), to be used by [`deflate`].
+pub fn compressor(level: u8) -> flate2::Compress {
+    flate2::Compress::new(flate2::Compression::new(u32::from(level)), true)
+}
+
+/// `bytes` as one zlib stream, by `compressor` (reset first: one compressor serves many chunks
+/// without setting up its tables again).
+pub fn deflate(compressor: &mut flate2::Compress, bytes: &[u8]) -> Vec<u8> {
+    compressor.reset();
+    let mut out = Vec::with_capacity(bytes.len() / 2 + 64);
+    loop {
+        let input = &bytes[compressor.total_in() as usize..];
+        let status = compressor
+            .compress_vec(input, &mut out, flate2::FlushCompress::Finish)
+            .expect("deflating into memory does not fail");
+        if status == flate2::Status::StreamEnd {
+            return out;
+        }
+        // the output is full: room for as much again
+        out.reserve(out.capacity().max(64));
+    }
 }
 
 /// `H5Dwrite_chunk` of the already filtered `bytes` at element `offset` of the one-dimensional
@@ -146,7 +181,10 @@ impl<T: ChunkValue> ChunkedColumn<T> {
         let level = self.level;
         let compressed: Vec<Vec<u8>> = self.pending[..n_full * self.chunk]
             .par_chunks(self.chunk)
-            .map(|values| deflate(&shuffle(values), level))
+            .map_init(
+                || compressor(level),
+                |compressor, values| deflate(compressor, &shuffle(values)),
+            )
             .collect();
         let end = self.written + n_full * self.chunk;
         self.dataset
@@ -195,6 +233,36 @@ mod tests {
         let out = shuffle(&[0x0102_i32, 0x0304_0506]);
         // Element bytes (LE): [02 01 00 00], [06 05 04 03].
         assert_eq!(out, vec![0x02, 0x06, 0x01, 0x05, 0x00, 0x04, 0x00, 0x03]);
+    }
+
+    /// The shuffle filter's definition, byte by byte.
+    fn naive_shuffle(bytes: &[u8], size: usize) -> Vec<u8> {
+        let n = bytes.len() / size;
+        let mut out = vec![0u8; bytes.len()];
+        for e in 0..n {
+            for b in 0..size {
+                out[b * n + e] = bytes[e * size + b];
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn shuffle_equals_the_definition_at_every_length() {
+        // lengths around the blocks of eight; values with every byte different
+        for n in 0..40usize {
+            let wide: Vec<i64> = (0..n as i64)
+                .map(|k| (k * 0x0102_0304_0506_0709) ^ -0x7766_5544_3322_1100)
+                .collect();
+            let bytes: Vec<u8> = wide.iter().flat_map(|v| v.to_le_bytes()).collect();
+            assert_eq!(shuffle(&wide), naive_shuffle(&bytes, 8), "i64, {n}");
+            let floats: Vec<f64> = wide.iter().map(|&v| v as f64 / 7.0).collect();
+            let bytes: Vec<u8> = floats.iter().flat_map(|v| v.to_le_bytes()).collect();
+            assert_eq!(shuffle(&floats), naive_shuffle(&bytes, 8), "f64, {n}");
+            let narrow: Vec<i32> = wide.iter().map(|&v| (v >> 16) as i32).collect();
+            let bytes: Vec<u8> = narrow.iter().flat_map(|v| v.to_le_bytes()).collect();
+            assert_eq!(shuffle(&narrow), naive_shuffle(&bytes, 4), "i32, {n}");
+        }
     }
 
     #[test]

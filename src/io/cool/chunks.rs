@@ -540,7 +540,7 @@ fn plane_words<const N: usize>(planes: &[&[u8]; N], start: usize) -> [u64; N] {
 /// low four bytes for the first, its high four for the second): afterwards byte `r` of each half
 /// of `words[c]` is what byte `c` of that half of `words[r]` was.
 #[inline(always)]
-fn transpose_bytes_4(words: &mut [u64; 4]) {
+pub(crate) fn transpose_bytes_4(words: &mut [u64; 4]) {
     for r in [0, 1] {
         let (a, b) = (words[r], words[r + 2]);
         words[r] = (a & 0x0000_FFFF_0000_FFFF) | ((b & 0x0000_FFFF_0000_FFFF) << 16);
@@ -557,7 +557,7 @@ fn transpose_bytes_4(words: &mut [u64; 4]) {
 /// endian): afterwards byte `r` of `words[c]` is what byte `c` of `words[r]` was. Off-diagonal
 /// blocks of 4, then 2, then 1 bytes are swapped.
 #[inline(always)]
-fn transpose_bytes(words: &mut [u64; 8]) {
+pub(crate) fn transpose_bytes(words: &mut [u64; 8]) {
     for r in 0..4 {
         let (a, b) = (words[r], words[r + 4]);
         words[r] = (a & 0x0000_0000_FFFF_FFFF) | (b << 32);

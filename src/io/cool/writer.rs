@@ -402,7 +402,9 @@ impl GroupWriter {
             CountColumn::Integer(column) => {
                 let mut counts = Vec::with_capacity(block.len());
                 for (k, &c) in block.count.iter().enumerate() {
-                    if c.fract() != 0.0 || c < i32::MIN as f64 || c > i32::MAX as f64 {
+                    // (a cast and back: fract() is a libm call on baseline x86-64; NaN fails)
+                    let fits = (i32::MIN as f64..=i32::MAX as f64).contains(&c);
+                    if !fits || (c as i32) as f64 != c {
                         return Err(Error::format(
                             &self.source,
                             format!(
