@@ -143,6 +143,44 @@ fn a_duplicated_pixel_is_refused_not_dropped() {
     }
 }
 
+#[test]
+fn a_pixel_out_of_range_or_below_the_diagonal_is_refused() {
+    // the reader checks a sorted row by its first and last columns: a fault at either end
+    let bins = {
+        let file = hdf5::File::open(data("layouts/base.cool")).unwrap();
+        file.dataset("bins/start").unwrap().size() as i64
+    };
+    for (what, at_end) in [("past the last bin", true), ("below the diagonal", false)] {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("bad.cool");
+        std::fs::copy(data("layouts/base.cool"), &path).unwrap();
+        {
+            let file = hdf5::File::open_rw(&path).unwrap();
+            let offsets: Vec<i64> = file
+                .dataset("indexes/bin1_offset")
+                .unwrap()
+                .read_raw()
+                .unwrap();
+            let dataset = file.dataset("pixels/bin2_id").unwrap();
+            let mut bin2: Vec<i64> = dataset.read_raw().unwrap();
+            // the first row from 1 holding two pixels or more
+            let row = (1..offsets.len() - 1)
+                .find(|&r| offsets[r + 1] - offsets[r] >= 2)
+                .unwrap();
+            if at_end {
+                bin2[offsets[row + 1] as usize - 1] = bins;
+            } else {
+                bin2[offsets[row] as usize] = row as i64 - 1;
+            }
+            dataset.write_raw(&bin2).unwrap();
+        }
+        let path = path.to_string_lossy().into_owned();
+        let line = crate::run_err(&["dump", &path]);
+        assert!(line.contains("is out of range for"), "{what}: {line}");
+        assert!(line.contains(&path), "{what}: {line}");
+    }
+}
+
 /// Every column of `theirs` (a cooler / cooltools table written with `%.10g`) in `ours`, row by
 /// row: numbers within `relative` (+ 1e-9 absolute; NaN where they have NaN), the rest exactly (`True` / `False`
 /// as cooltools writes booleans, `true` / `false` as we do).
