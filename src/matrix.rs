@@ -77,11 +77,11 @@ impl PixelBlock {
         self.count.clear();
     }
 
-    /// Keep only the pixels of the upper triangle (`bin2 >= bin1`).
-    pub fn retain_upper(&mut self) {
+    /// Keep only the pixels `(bin1, bin2, count)` for which `keep` is true, in order.
+    pub fn retain(&mut self, keep: impl Fn(u64, u64, f64) -> bool) {
         let mut kept = 0;
         for k in 0..self.len() {
-            if self.bin2[k] >= self.bin1[k] {
+            if keep(self.bin1[k], self.bin2[k], self.count[k]) {
                 self.bin1[kept] = self.bin1[k];
                 self.bin2[kept] = self.bin2[k];
                 self.count[kept] = self.count[k];
@@ -93,20 +93,14 @@ impl PixelBlock {
         self.count.truncate(kept);
     }
 
+    /// Keep only the pixels of the upper triangle (`bin2 >= bin1`).
+    pub fn retain_upper(&mut self) {
+        self.retain(|bin1, bin2, _| bin2 >= bin1);
+    }
+
     /// Keep only the pixels whose `bin2` lies in `cols`.
     pub fn retain_cols(&mut self, cols: &Range<u64>) {
-        let mut kept = 0;
-        for i in 0..self.len() {
-            if cols.contains(&self.bin2[i]) {
-                self.bin1[kept] = self.bin1[i];
-                self.bin2[kept] = self.bin2[i];
-                self.count[kept] = self.count[i];
-                kept += 1;
-            }
-        }
-        self.bin1.truncate(kept);
-        self.bin2.truncate(kept);
-        self.count.truncate(kept);
+        self.retain(|_, bin2, _| cols.contains(&bin2));
     }
 }
 

@@ -420,20 +420,11 @@ impl Sampled<'_> {
                 draw(source, draws, seed, chunk, pixels)
             })?;
         // Kept: contacts left, inside the rectangle asked for.
-        let mut kept = 0;
-        for k in 0..batch.len() {
-            let (i, j) = (batch.bin1[k] as usize, batch.bin2[k] as usize);
-            let inside = rows.contains(&i) && (whole_rows || cols.contains(&j));
-            if batch.count[k] > 0.0 && inside {
-                batch.bin1[kept] = batch.bin1[k];
-                batch.bin2[kept] = batch.bin2[k];
-                batch.count[kept] = batch.count[k];
-                kept += 1;
-            }
-        }
-        batch.bin1.truncate(kept);
-        batch.bin2.truncate(kept);
-        batch.count.truncate(kept);
+        batch.retain(|i, j, count| {
+            count > 0.0
+                && rows.contains(&(i as usize))
+                && (whole_rows || cols.contains(&(j as usize)))
+        });
         if batch.is_empty() {
             Ok(())
         } else {
