@@ -43,7 +43,7 @@ use crate::compare::check_comparable;
 use crate::compare::sample::{draw_with_replacement, draw_without_replacement};
 use crate::error::{Error, Result};
 use crate::genome::BinTable;
-use crate::io::MatrixReader;
+use crate::io::{read_ahead, MatrixReader};
 use crate::numeric::reduceat_sum;
 use crate::sim::stream_rng;
 
@@ -384,8 +384,8 @@ impl<'a, const TRACK: bool> Smoother<'a, TRACK> {
         let slot = (r % (2 * h + 2)) * width;
         let spread = &self.spread_sum;
         let out = &mut self.rows_sum[slot..slot + width];
-        let mut sum: f64 = spread[1..=2 * h + 1].iter().sum();
         if TRACK {
+            let mut sum: f64 = spread[1..=2 * h + 1].iter().sum();
             self.spread_nonzero.fill(0);
             for &d in diagonals {
                 self.spread_nonzero[d as usize + 2 * h] = 1;
@@ -831,14 +831,14 @@ pub fn scc(
     } else {
         // Segments of rows of every chromosome in turn, the next one (of this chromosome or
         // the next) read while the current one is smoothed, the two maps side by side.
-        let mut segments = chroms.iter().enumerate().flat_map(|(k, _)| {
+        let segments = (0..chroms.len()).flat_map(|k| {
             let g = geometries[k];
             let n = if g.n_diags < 2 { 0 } else { g.n };
             (0..n)
                 .step_by(SEGMENT_ROWS)
                 .map(move |start| (k, start..(start + SEGMENT_ROWS).min(n)))
         });
-        let read = |k: usize, rows: &Range<usize>| -> Result<(Band, Band)> {
+        let read = |&(k, ref rows): &(usize, Range<usize>)| -> Result<(Band, Band)> {
             let (geometry, offset) = (geometries[k], bins.chrom_bins(chroms[k]).start);
             let around = rows.start.saturating_sub(params.h)..(rows.end + params.h).min(geometry.n);
             let (x, y) = rayon::join(
@@ -847,30 +847,15 @@ pub fn scc(
             );
             Ok((x?, y?))
         };
-        let mut current: Option<(usize, Band, Band, Range<usize>)> = None;
-        loop {
-            let next = segments.next();
-            let (piece, bands) = std::thread::scope(|scope| {
-                let handle = current.as_ref().map(|(k, x, y, rows)| {
-                    let geometry = geometries[*k];
-                    scope.spawn(move || strata(x, y, geometry, rows.clone(), totals))
-                });
-                let bands = next.as_ref().map(|(k, rows)| read(*k, rows)).transpose();
-                let piece = handle.map(|h| h.join().expect("the smoothing does not panic"));
-                (piece, bands)
-            });
-            if let (Some(piece), Some((k, x, y, _))) = (piece, &current) {
-                let (sums, empty) = computed[*k]
-                    .get_or_insert_with(|| (Strata::new(geometries[*k].n_diags), [true, true]));
-                sums.merge(&piece);
-                empty[0] &= x.count.is_empty();
-                empty[1] &= y.count.is_empty();
-            }
-            match (bands?, next) {
-                (Some((x, y)), Some((k, rows))) => current = Some((k, x, y, rows)),
-                _ => break,
-            }
-        }
+        read_ahead(segments, read, |(k, rows), (x, y)| {
+            let piece = strata(&x, &y, geometries[k], rows, totals);
+            let (sums, empty) = computed[k]
+                .get_or_insert_with(|| (Strata::new(geometries[k].n_diags), [true, true]));
+            sums.merge(&piece);
+            empty[0] &= x.count.is_empty();
+            empty[1] &= y.count.is_empty();
+            Ok(())
+        })?;
     }
     let mut out = Vec::with_capacity(chroms.len());
     for (k, &c) in chroms.iter().enumerate() {

@@ -25,7 +25,7 @@ use rayon::prelude::*;
 
 use crate::error::{Error, Result};
 use crate::genome::BinTable;
-use crate::io::{MatrixInfo, MatrixReader};
+use crate::io::{read_ahead, MatrixInfo, MatrixReader};
 use crate::matrix::{CountType, PixelBlock, Weights};
 use crate::sim::stream_rng;
 
@@ -479,43 +479,34 @@ impl MatrixReader for Sampled<'_> {
         // cut to the rectangle asked for.
         let first = rows.start / CHUNK_ROWS * CHUNK_ROWS;
         let whole_rows = cols.start == 0 && cols.end == n;
-        // The batch of rows `start..`'s pixels in one block (the reader's first block kept, the
-        // others appended).
-        let read_batch = |start: usize| -> Result<(Range<usize>, PixelBlock)> {
-            let end = (start + BATCH_ROWS).min(n);
+        // The batch of rows starting at `start`, its pixels in one block (the reader's first
+        // block kept, the others appended).
+        let batch_rows = |start: usize| start..(start + BATCH_ROWS).min(n);
+        let read_batch = |&start: &usize| -> Result<PixelBlock> {
             let mut batch = PixelBlock::default();
-            self.inner.read_rows_owned(start..end, &mut |block| {
-                if batch.is_empty() {
-                    batch = block;
-                } else {
-                    batch.bin1.extend_from_slice(&block.bin1);
-                    batch.bin2.extend_from_slice(&block.bin2);
-                    batch.count.extend_from_slice(&block.count);
-                }
-                Ok(())
-            })?;
-            Ok((start..end, batch))
+            self.inner
+                .read_rows_owned(batch_rows(start), &mut |block| {
+                    if batch.is_empty() {
+                        batch = block;
+                    } else {
+                        batch.bin1.extend_from_slice(&block.bin1);
+                        batch.bin2.extend_from_slice(&block.bin2);
+                        batch.count.extend_from_slice(&block.count);
+                    }
+                    Ok(())
+                })?;
+            Ok(batch)
         };
-        let mut current = Some(read_batch(first)?);
-        while let Some((batch_rows, mut batch)) = current.take() {
-            // The next batch read while this one is drawn and handed on.
-            let next_start = batch_rows.end;
-            let (next, handed) = std::thread::scope(|scope| {
-                let reader =
-                    (next_start < rows.end).then(|| scope.spawn(|| read_batch(next_start)));
-                let handed =
-                    self.draw_batch(batch_rows, &mut batch, (&rows, &cols, whole_rows), sink);
-                let next = reader.map(|r| {
-                    r.join().unwrap_or_else(|_| {
-                        Err(Error::Invalid("the pixel reading thread panicked".into()))
-                    })
-                });
-                (next, handed)
-            });
-            handed?;
-            current = next.transpose()?;
-        }
-        Ok(())
+        // The next batch read while this one is drawn and handed on.
+        let batches = (first..rows.end).step_by(BATCH_ROWS);
+        read_ahead(batches, read_batch, |start, mut batch| {
+            self.draw_batch(
+                batch_rows(start),
+                &mut batch,
+                (&rows, &cols, whole_rows),
+                sink,
+            )
+        })
     }
 }
 

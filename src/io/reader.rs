@@ -274,3 +274,51 @@ impl MatrixReader for InMemory {
         Ok((self.matrix.nnz() as u64, self.matrix.sum()))
     }
 }
+
+/// Read `items` in turn with `read` and hand each, with what was read, to `process`, the next
+/// item read on another thread meanwhile: reading and processing overlap, and at most two items'
+/// data are in memory. Stops at the first error (the processing's first, then the reading's).
+///
+/// ```
+/// use contactmap::io::read_ahead;
+///
+/// let mut seen = Vec::new();
+/// read_ahead(1..=3, |&k| Ok(k * 10), |k, data| {
+///     seen.push((k, data));
+///     Ok(())
+/// })?;
+/// assert_eq!(seen, [(1, 10), (2, 20), (3, 30)]);
+/// # Ok::<(), contactmap::Error>(())
+/// ```
+pub fn read_ahead<I: Sync, T: Send>(
+    items: impl IntoIterator<Item = I>,
+    read: impl Fn(&I) -> Result<T> + Sync,
+    mut process: impl FnMut(I, T) -> Result<()>,
+) -> Result<()> {
+    let mut items = items.into_iter();
+    let mut current = match items.next() {
+        Some(item) => {
+            let data = read(&item)?;
+            Some((item, data))
+        }
+        None => None,
+    };
+    while let Some((item, data)) = current.take() {
+        let next = items.next();
+        let (read_next, processed) = std::thread::scope(|scope| {
+            // the last item: no thread beside it
+            let reading = next.as_ref().map(|n| scope.spawn(|| read(n)));
+            let processed = process(item, data);
+            let read_next = reading.map(|r| {
+                r.join()
+                    .unwrap_or_else(|_| Err(Error::Invalid("a reading thread panicked".into())))
+            });
+            (read_next, processed)
+        });
+        processed?;
+        if let (Some(item), Some(data)) = (next, read_next) {
+            current = Some((item, data?));
+        }
+    }
+    Ok(())
+}

@@ -25,7 +25,7 @@ use rayon::prelude::*;
 
 use super::kernels::Kernel;
 use crate::error::{Error, Result};
-use crate::io::MatrixReader;
+use crate::io::{read_ahead, MatrixReader};
 
 /// Rows of pixels read from the file at a time (their memory: rows times the band).
 const BLOCK_ROWS: usize = 2048;
@@ -128,29 +128,17 @@ where
             })
             .try_reduce(&init, |a, b| Ok(reduce(a, b)))
     };
-    let mut total = init();
-    let Some(first) = blocks.first() else {
-        return Ok(total);
-    };
     // each block is scored while the next one is read
-    let mut rows = Rows::read(reader, region, first.clone(), w, settings.band)?;
-    for (k, block) in blocks.iter().enumerate() {
-        let (part, next) = std::thread::scope(|scope| {
-            let scoring = scope.spawn(|| score_block(&rows, block));
-            let next = blocks
-                .get(k + 1)
-                .map(|next| Rows::read(reader, region, next.clone(), w, settings.band))
-                .transpose();
-            let part = scoring
-                .join()
-                .unwrap_or_else(|_| Err(Error::Invalid("a dot-scoring thread panicked".into())));
-            (part, next)
-        });
-        total = reduce(total, part?);
-        if let Some(next) = next? {
-            rows = next;
-        }
-    }
+    let mut total = init();
+    read_ahead(
+        blocks.iter(),
+        |block| Rows::read(reader, region, (*block).clone(), w, settings.band),
+        |block, rows| {
+            let part = score_block(&rows, block)?;
+            total = reduce(std::mem::replace(&mut total, init()), part);
+            Ok(())
+        },
+    )?;
     Ok(total)
 }
 

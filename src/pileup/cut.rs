@@ -12,8 +12,8 @@ use ndarray::Array2;
 use rayon::prelude::*;
 
 use super::rescale::{rescale_snippet, zoom_axis};
-use crate::error::{Error, Result};
-use crate::io::MatrixReader;
+use crate::error::Result;
+use crate::io::{read_ahead, MatrixReader};
 use crate::matrix::PixelBlock;
 
 /// Rows read together at most (unless one snippet is taller).
@@ -261,30 +261,18 @@ impl Cutter<'_> {
         snips.sort_by_key(|s| s.rows.start);
         let runs = runs(&snips);
         let mut total = vec![Sums::new(self.make.size); n_slots];
-        let Some(first) = runs.first() else {
-            return Ok(total);
-        };
-        let mut rows = self.read_run(&snips[first.clone()])?;
-        for (k, run) in runs.iter().enumerate() {
-            let make = &self.make;
-            let (parts, next) = std::thread::scope(|scope| {
-                let cutting = scope.spawn(|| make.cut_run(&rows, &snips[run.clone()], n_slots));
-                let next = runs
-                    .get(k + 1)
-                    .map(|next| self.read_run(&snips[next.clone()]))
-                    .transpose();
-                let parts = cutting
-                    .join()
-                    .unwrap_or_else(|_| Err(Error::Invalid("a pileup thread panicked".into())));
-                (parts, next)
-            });
-            for (t, p) in total.iter_mut().zip(&parts?) {
-                t.merge(p);
-            }
-            if let Some(next) = next? {
-                rows = next;
-            }
-        }
+        // each run is cut while the next one is read
+        read_ahead(
+            &runs,
+            |run| self.read_run(&snips[(*run).clone()]),
+            |run, rows| {
+                let parts = self.make.cut_run(&rows, &snips[run.clone()], n_slots)?;
+                for (t, p) in total.iter_mut().zip(&parts) {
+                    t.merge(p);
+                }
+                Ok(())
+            },
+        )?;
         Ok(total)
     }
 

@@ -7,6 +7,7 @@ use super::{
     Weights, BLOCK_PIXELS, DIVISIVE_BY_NAME,
 };
 use crate::error::{Error, Result};
+use crate::io::read_ahead;
 use std::path::Path;
 
 /// Juicer's SCALE vector: divisive when hic2cool wrote it, although cooler reads it as multiplicative.
@@ -491,17 +492,15 @@ impl CoolReader {
         let hi = self.bin1_offsets[rows.end] as usize;
         let whole_rows = cols.start == 0 && cols.end >= n_bins;
         let cols64 = cols.start as u64..cols.end as u64;
-        let mut start = lo;
-        // Read the next block while the sink consumes the current one.
-        let mut current = if start < hi {
-            Some(self.read_block(start, self.block_end(start, hi))?)
-        } else {
-            None
-        };
-        while let Some(block) = current.take() {
-            start += block.len();
-            let end = self.block_end(start, hi);
-            let mut consume = |mut block: PixelBlock| {
+        // Blocks of whole rows, the next one read while the sink consumes the current one.
+        let blocks = std::iter::successors(
+            (lo < hi).then(|| (lo, self.block_end(lo, hi))),
+            |&(_, end)| (end < hi).then(|| (end, self.block_end(end, hi))),
+        );
+        read_ahead(
+            blocks,
+            |&(start, end)| self.read_block(start, end),
+            |_, mut block| {
                 if !whole_rows {
                     block.retain_cols(&cols64);
                 }
@@ -513,24 +512,8 @@ impl CoolReader {
                 } else {
                     sink(block)
                 }
-            };
-            // the last block: nothing to read beside it
-            if start >= hi {
-                consume(block)?;
-                break;
-            }
-            let (next, consumed) = std::thread::scope(|scope| {
-                let reader = scope.spawn(|| self.read_block(start, end));
-                let consumed = consume(block);
-                let next = reader.join().unwrap_or_else(|_| {
-                    Err(Error::Invalid("the pixel reading thread panicked".into()))
-                });
-                (next.map(Some), consumed)
-            });
-            consumed?;
-            current = next?;
-        }
-        Ok(())
+            },
+        )
     }
 }
 
