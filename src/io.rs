@@ -85,6 +85,10 @@ macro_rules! forward_reader_metadata {
         fn warnings(&self) -> Vec<String> {
             self.$field.warnings()
         }
+
+        fn recycle(&self, block: $crate::matrix::PixelBlock) {
+            self.$field.recycle(block)
+        }
     };
 }
 

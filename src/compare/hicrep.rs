@@ -237,6 +237,7 @@ impl Band {
                 *band.row_start.last_mut().expect("one row at least") = band.count.len();
                 k = row_end;
             }
+            reader.recycle(block);
             Ok(())
         })?;
         while band.row_start.len() - 1 < rows.len() {

@@ -492,6 +492,7 @@ impl MatrixReader for Sampled<'_> {
                         batch.bin1.extend_from_slice(&block.bin1);
                         batch.bin2.extend_from_slice(&block.bin2);
                         batch.count.extend_from_slice(&block.count);
+                        self.inner.recycle(block);
                     }
                     Ok(())
                 })?;
@@ -505,7 +506,9 @@ impl MatrixReader for Sampled<'_> {
                 &mut batch,
                 (&rows, &cols, whole_rows),
                 sink,
-            )
+            )?;
+            self.inner.recycle(batch);
+            Ok(())
         })
     }
 }

@@ -169,6 +169,13 @@ pub trait MatrixReader: Send + Sync {
         self.read_pixels(rows, 0..n, &mut |block| sink(block.clone()))
     }
 
+    /// Hand back a block from [`MatrixReader::read_rows_owned`] that is no longer needed: a reader
+    /// that decodes into fresh buffers (cooler) reads its next blocks into it instead of
+    /// allocating and zeroing new ones. By default the block is dropped.
+    fn recycle(&self, block: PixelBlock) {
+        drop(block);
+    }
+
     /// Number of stored pixels and sum of their counts (streams every pixel unless the format
     /// stores both).
     fn totals(&self) -> Result<(u64, f64)> {
@@ -290,35 +297,55 @@ impl MatrixReader for InMemory {
 /// assert_eq!(seen, [(1, 10), (2, 20), (3, 30)]);
 /// # Ok::<(), contactmap::Error>(())
 /// ```
-pub fn read_ahead<I: Sync, T: Send>(
+pub fn read_ahead<I: Send, T: Send>(
     items: impl IntoIterator<Item = I>,
+    read: impl Fn(&I) -> Result<T> + Sync,
+    process: impl FnMut(I, T) -> Result<()>,
+) -> Result<()> {
+    read_ahead_by(items, 1, read, process)
+}
+
+/// [`read_ahead`] with up to `depth` items read ahead at once (each on its own thread), for
+/// readings that leave cores idle part of the time (a serial check after a parallel decoding):
+/// at most `depth + 1` items' data are in memory. `depth` 0 reads and processes in turn.
+pub fn read_ahead_by<I: Send, T: Send>(
+    items: impl IntoIterator<Item = I>,
+    depth: usize,
     read: impl Fn(&I) -> Result<T> + Sync,
     mut process: impl FnMut(I, T) -> Result<()>,
 ) -> Result<()> {
+    let read = &read;
     let mut items = items.into_iter();
-    let mut current = match items.next() {
-        Some(item) => {
-            let data = read(&item)?;
-            Some((item, data))
-        }
-        None => None,
+    let Some(first) = items.next() else {
+        return Ok(());
     };
-    while let Some((item, data)) = current.take() {
-        let next = items.next();
-        let (read_next, processed) = std::thread::scope(|scope| {
-            // the last item: no thread beside it
-            let reading = next.as_ref().map(|n| scope.spawn(|| read(n)));
-            let processed = process(item, data);
-            let read_next = reading.map(|r| {
-                r.join()
-                    .unwrap_or_else(|_| Err(Error::Invalid("a reading thread panicked".into())))
-            });
-            (read_next, processed)
-        });
-        processed?;
-        if let (Some(item), Some(data)) = (next, read_next) {
-            current = Some((item, data?));
+    let data = read(&first)?;
+    std::thread::scope(|scope| {
+        let mut current = (first, data);
+        let mut pending = std::collections::VecDeque::with_capacity(depth);
+        loop {
+            while pending.len() < depth {
+                let Some(item) = items.next() else { break };
+                pending.push_back(scope.spawn(move || {
+                    let data = read(&item);
+                    (item, data)
+                }));
+            }
+            let (item, data) = current;
+            process(item, data)?;
+            let next = match pending.pop_front() {
+                Some(reading) => reading
+                    .join()
+                    .map_err(|_| Error::Invalid("a reading thread panicked".into()))?,
+                None => match items.next() {
+                    Some(item) => {
+                        let data = read(&item);
+                        (item, data)
+                    }
+                    None => return Ok(()),
+                },
+            };
+            current = (next.0, next.1?);
         }
-    }
-    Ok(())
+    })
 }

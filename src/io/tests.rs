@@ -142,3 +142,111 @@ fn memory_sizes_parse() {
     assert_eq!(parse_memory_size("1.5GiB").unwrap(), 3 << 29);
     assert!(parse_memory_size("lots").is_err());
 }
+
+#[test]
+fn blocks_handed_back_are_read_into_without_changing_what_is_read() {
+    // A reader that reads into recycled blocks (longer and shorter than the next read, holding
+    // other rows' pixels) gives exactly what a fresh reader gives.
+    let uri = concat!(env!("CARGO_MANIFEST_DIR"), "/data/yeast.10kb.cool");
+    let collect = |reader: &dyn MatrixReader, rows: Range<usize>, recycle: bool| {
+        let mut pixels = Vec::new();
+        let mut blocks = Vec::new();
+        reader
+            .read_rows_owned(rows, &mut |block| {
+                pixels.extend(
+                    (0..block.len()).map(|k| (block.bin1[k], block.bin2[k], block.count[k])),
+                );
+                blocks.push(block);
+                Ok(())
+            })
+            .unwrap();
+        if recycle {
+            for block in blocks {
+                reader.recycle(block);
+            }
+        }
+        pixels
+    };
+    let recycling = open_matrix(uri, &OpenOptions::default()).unwrap();
+    let n = recycling.bins().n_bins();
+    assert!(n > 1000);
+    let reads = [0..n, 100..130, 0..n, 500..900, 7..8, 300..n];
+    for (k, rows) in reads.iter().enumerate() {
+        let fresh = open_matrix(uri, &OpenOptions::default()).unwrap();
+        let want = collect(fresh.as_ref(), rows.clone(), false);
+        assert!(!want.is_empty());
+        let got = collect(recycling.as_ref(), rows.clone(), true);
+        assert_eq!(got, want, "read {k}: rows {rows:?}");
+    }
+    // the streamed reads recycle their blocks themselves
+    let mut streamed = Vec::new();
+    recycling
+        .read_pixels(200..260, 0..n, &mut |block| {
+            streamed.extend((0..block.len()).map(|k| (block.bin1[k], block.bin2[k])));
+            Ok(())
+        })
+        .unwrap();
+    let fresh = open_matrix(uri, &OpenOptions::default()).unwrap();
+    let want: Vec<(u64, u64)> = collect(fresh.as_ref(), 200..260, false)
+        .into_iter()
+        .map(|(i, j, _)| (i, j))
+        .collect();
+    assert_eq!(streamed, want);
+}
+
+#[test]
+fn reading_ahead_at_any_depth_keeps_the_order_and_stops_at_the_first_error() {
+    for depth in [0, 1, 2, 5] {
+        let mut seen = Vec::new();
+        read_ahead_by(
+            0..20u32,
+            depth,
+            |&k| Ok(k * k),
+            |k, data| {
+                seen.push((k, data));
+                Ok(())
+            },
+        )
+        .unwrap();
+        let want: Vec<(u32, u32)> = (0..20).map(|k| (k, k * k)).collect();
+        assert_eq!(seen, want, "depth {depth}");
+        // a failed read: the items before it processed, none after
+        let mut processed = Vec::new();
+        let err = read_ahead_by(
+            0..20u32,
+            depth,
+            |&k| {
+                if k == 7 {
+                    Err(Error::Invalid(format!("item {k}")))
+                } else {
+                    Ok(k)
+                }
+            },
+            |k, _| {
+                processed.push(k);
+                Ok(())
+            },
+        )
+        .unwrap_err();
+        assert!(err.to_string().contains("item 7"), "{err}");
+        assert_eq!(processed, (0..7).collect::<Vec<_>>(), "depth {depth}");
+        // a failed processing stops the loop
+        let mut processed = 0;
+        let err = read_ahead_by(
+            0..20u32,
+            depth,
+            |&k| Ok(k),
+            |k, _| {
+                processed += 1;
+                if k == 3 {
+                    Err(Error::Invalid("stop".into()))
+                } else {
+                    Ok(())
+                }
+            },
+        )
+        .unwrap_err();
+        assert!(err.to_string().contains("stop"));
+        assert_eq!(processed, 4, "depth {depth}");
+    }
+}

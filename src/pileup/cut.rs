@@ -13,7 +13,7 @@ use rayon::prelude::*;
 
 use super::rescale::{rescale_snippet, zoom_axis};
 use crate::error::Result;
-use crate::io::{read_ahead, MatrixReader};
+use crate::io::{read_ahead_by, MatrixReader};
 use crate::matrix::PixelBlock;
 
 /// Rows read together at most (unless one snippet is taller).
@@ -22,6 +22,9 @@ const RUN_ROWS: usize = 512;
 const RUN_GAP: usize = 64;
 /// Snippets cut per parallel task.
 const CHUNK: usize = 64;
+/// Runs read ahead at once: two, so that one run's decoding keeps the cores busy while another
+/// run's rows are checked (serial).
+const READ_AHEAD_RUNS: usize = 2;
 
 /// One snippet to cut: genome-wide bins, and where its values go.
 #[derive(Clone, Debug, PartialEq)]
@@ -261,14 +264,18 @@ impl Cutter<'_> {
         snips.sort_by_key(|s| s.rows.start);
         let runs = runs(&snips);
         let mut total = vec![Sums::new(self.make.size); n_slots];
-        // each run is cut while the next one is read
-        read_ahead(
+        // each run is cut while the next ones are read
+        read_ahead_by(
             &runs,
+            READ_AHEAD_RUNS,
             |run| self.read_run(&snips[(*run).clone()]),
             |run, rows| {
                 let parts = self.make.cut_run(&rows, &snips[run.clone()], n_slots)?;
                 for (t, p) in total.iter_mut().zip(&parts) {
                     t.merge(p);
+                }
+                for block in rows.blocks {
+                    self.reader.recycle(block);
                 }
                 Ok(())
             },

@@ -87,6 +87,19 @@ impl ColumnValue for i64 {
     }
 }
 
+/// Bin ids read as `u64`, the pixel block's type: a negative stored id wraps to a huge one, which
+/// the range checks refuse.
+impl ColumnValue for u64 {
+    #[inline]
+    fn from_int(v: i64) -> Self {
+        v as u64
+    }
+    #[inline]
+    fn from_float(v: f64) -> Self {
+        v as i64 as u64
+    }
+}
+
 impl ColumnValue for f64 {
     #[inline]
     fn from_int(v: i64) -> Self {
@@ -201,6 +214,20 @@ impl Column {
 
     /// Read elements `lo..hi` (in parallel when the layout allows it).
     pub fn read<T: ColumnValue>(&self, file: &File, lo: usize, hi: usize) -> Result<Vec<T>> {
+        let mut out = Vec::new();
+        self.read_into(file, lo, hi, &mut out)?;
+        Ok(out)
+    }
+
+    /// Read elements `lo..hi` into `out`, reusing its allocation: `out` ends `hi - lo` long, each
+    /// element written (a buffer handed back by a reader is not zeroed again first).
+    pub fn read_into<T: ColumnValue>(
+        &self,
+        file: &File,
+        lo: usize,
+        hi: usize,
+        out: &mut Vec<T>,
+    ) -> Result<()> {
         if lo > hi || hi > self.len {
             return Err(Error::format(
                 &self.path,
@@ -211,11 +238,15 @@ impl Column {
             ));
         }
         match &self.plan {
-            Plan::Library => self
-                .dataset
-                .read_slice_1d::<T, _>(lo..hi)
-                .map(|a| a.to_vec())
-                .map_err(|e| Error::hdf5(&self.path, format!("reading {}", self.name), e)),
+            Plan::Library => {
+                let values = self
+                    .dataset
+                    .read_slice_1d::<T, _>(lo..hi)
+                    .map_err(|e| Error::hdf5(&self.path, format!("reading {}", self.name), e))?;
+                out.clear();
+                out.extend(values.iter());
+                Ok(())
+            }
             Plan::Direct {
                 element,
                 chunk_len,
@@ -223,14 +254,18 @@ impl Column {
                 deflate_position,
                 chunks,
             } => {
-                let mut out = vec![T::default(); hi - lo];
+                // every element is written below: only growth is zeroed
+                if out.len() < hi - lo {
+                    out.resize(hi - lo, T::default());
+                }
+                out.truncate(hi - lo);
                 if lo == hi {
-                    return Ok(out);
+                    return Ok(());
                 }
                 // Split the output into one slice per chunk overlapping lo..hi.
                 let first_chunk = lo / chunk_len;
                 let mut tasks = Vec::new();
-                let mut rest: &mut [T] = &mut out;
+                let mut rest: &mut [T] = out;
                 let mut position = lo;
                 let mut chunk_index =
                     chunks.partition_point(|c| (c.first as usize) < first_chunk * chunk_len);
@@ -258,7 +293,10 @@ impl Column {
                 tasks
                     .into_par_iter()
                     .map_init(Scratch::new, |scratch, (raw, skip, target)| match raw {
-                        None => Ok(()),
+                        None => {
+                            target.fill(T::default());
+                            Ok(())
+                        }
                         Some(raw) => decoder
                             .decode(file, &raw, scratch, skip, target)
                             .map_err(|message| {
@@ -271,8 +309,7 @@ impl Column {
                                 )
                             }),
                     })
-                    .collect::<Result<()>>()?;
-                Ok(out)
+                    .collect::<Result<()>>()
             }
         }
     }

@@ -9,6 +9,11 @@ use super::{
 use crate::error::{Error, Result};
 use crate::io::read_ahead;
 use std::path::Path;
+use std::sync::Mutex;
+
+/// The most blocks a reader keeps to read into again: one being read ahead, one being handed
+/// over, one spare.
+const SPARE_BLOCKS: usize = 3;
 
 /// Juicer's SCALE vector: divisive when hic2cool wrote it, although cooler reads it as multiplicative.
 const HIC2COOL_SCALE: &str = "SCALE";
@@ -30,6 +35,9 @@ pub struct CoolReader {
     pub(super) count: Column,
     /// `storage-mode: square`: both triangles are stored.
     pub(super) square: bool,
+    /// Blocks handed back ([`MatrixReader::recycle`]), read into again (at most
+    /// [`SPARE_BLOCKS`]).
+    pub(super) spare: Mutex<Vec<PixelBlock>>,
     /// Remarks on the layout for `info` (an index one entry short, ...).
     pub(super) layout_notes: Vec<String>,
 }
@@ -256,6 +264,7 @@ impl CoolReader {
         Ok(CoolReader {
             square,
             layout_notes,
+            spare: Mutex::new(Vec::new()),
             uri: uri.to_string(),
             path: path.to_string(),
             raw: chunks::open_raw(Path::new(path))?,
@@ -375,17 +384,26 @@ impl CoolReader {
     /// `bin2_id` are not sorted (legacy cooler 0.6-0.7 multires levels, which cooler reads) are
     /// sorted here.
     fn read_block(&self, lo: usize, hi: usize) -> Result<PixelBlock> {
-        let ((bin1, bin2), count) = rayon::join(
+        // a block handed back (`recycle`) is read into, its columns not zeroed again
+        let spare = self.spare.lock().ok().and_then(|mut spare| spare.pop());
+        let PixelBlock {
+            mut bin1,
+            mut bin2,
+            mut count,
+        } = spare.unwrap_or_default();
+        let ((read1, read2), read_count) = rayon::join(
             || {
                 rayon::join(
-                    || self.bin1.read::<i64>(&self.raw, lo, hi),
-                    || self.bin2.read::<i64>(&self.raw, lo, hi),
+                    || self.bin1.read_into(&self.raw, lo, hi, &mut bin1),
+                    || self.bin2.read_into(&self.raw, lo, hi, &mut bin2),
                 )
             },
-            || self.count.read::<f64>(&self.raw, lo, hi),
+            || self.count.read_into(&self.raw, lo, hi, &mut count),
         );
-        let (bin1, mut bin2, mut count) = (bin1?, bin2?, count?);
-        let n_bins = self.bins.n_bins() as i64;
+        read1?;
+        read2?;
+        read_count?;
+        let n_bins = self.bins.n_bins() as u64;
         let offsets = &self.bin1_offsets;
         let mut row = offsets.partition_point(|&o| o as usize <= lo) - 1;
         let mut k = 0;
@@ -399,8 +417,8 @@ impl CoolReader {
             let row_bin1 = &bin1[k..row_end];
             let wrong_row = row_bin1
                 .iter()
-                .fold(false, |wrong, &b| wrong | (b != row as i64))
-                .then(|| row_bin1.iter().position(|&b| b != row as i64))
+                .fold(false, |wrong, &b| wrong | (b != row as u64))
+                .then(|| row_bin1.iter().position(|&b| b != row as u64))
                 .flatten();
             if let Some(at) = wrong_row {
                 let at = k + at;
@@ -409,11 +427,11 @@ impl CoolReader {
                     format!(
                         "pixel {}: bin1_id {} where indexes/bin1_offset puts row {row}: the pixels are not sorted by bin1_id or the index is wrong (`contactmap validate` reports, `--repair` rebuilds)",
                         lo + at,
-                        bin1[at]
+                        bin1[at] as i64
                     ),
                 ));
             }
-            let low = if self.square { 0 } else { row as i64 };
+            let low = if self.square { 0 } else { row as u64 };
             let row_bin2 = &bin2[k..row_end];
             // strictly increasing columns are in range when the first and the last are
             let sorted = row_bin2
@@ -434,8 +452,8 @@ impl CoolReader {
                     format!(
                         "pixel {}: (bin1_id {}, bin2_id {}) is out of range for {} bins or below the diagonal",
                         lo + at,
-                        bin1[at],
-                        bin2[at],
+                        bin1[at] as i64,
+                        bin2[at] as i64,
                         n_bins
                     ),
                 ));
@@ -444,7 +462,7 @@ impl CoolReader {
                 let row_bin2 = &mut bin2[k..row_end];
                 let mut order: Vec<usize> = (0..row_bin2.len()).collect();
                 order.sort_by_key(|&m| row_bin2[m]);
-                let sorted_bin2: Vec<i64> = order.iter().map(|&m| row_bin2[m]).collect();
+                let sorted_bin2: Vec<u64> = order.iter().map(|&m| row_bin2[m]).collect();
                 if let Some(dup) = sorted_bin2.windows(2).position(|w| w[0] == w[1]) {
                     let (a, b) = (
                         order[dup].min(order[dup + 1]),
@@ -467,11 +485,7 @@ impl CoolReader {
             }
             k = row_end;
         }
-        Ok(PixelBlock {
-            bin1: bin1.into_iter().map(|v| v as u64).collect(),
-            bin2: bin2.into_iter().map(|v| v as u64).collect(),
-            count,
-        })
+        Ok(PixelBlock { bin1, bin2, count })
     }
 
     /// Stream the stored pixels of `rows x cols` (both triangles for square storage, where
@@ -604,7 +618,19 @@ impl MatrixReader for CoolReader {
         cols: Range<usize>,
         sink: &mut dyn FnMut(&PixelBlock) -> Result<()>,
     ) -> Result<()> {
-        self.stream(rows, cols, true, &mut |block| sink(&block))
+        self.stream(rows, cols, true, &mut |block| {
+            sink(&block)?;
+            self.recycle(block);
+            Ok(())
+        })
+    }
+
+    fn recycle(&self, block: PixelBlock) {
+        if let Ok(mut spare) = self.spare.lock() {
+            if spare.len() < SPARE_BLOCKS {
+                spare.push(block);
+            }
+        }
     }
 
     fn read_rows_owned(
@@ -625,7 +651,11 @@ impl MatrixReader for CoolReader {
         cols: Range<usize>,
         sink: &mut dyn FnMut(&PixelBlock) -> Result<()>,
     ) -> Result<()> {
-        self.stream(rows, cols, false, &mut |block| sink(&block))
+        self.stream(rows, cols, false, &mut |block| {
+            sink(&block)?;
+            self.recycle(block);
+            Ok(())
+        })
     }
 
     fn totals(&self) -> Result<(u64, f64)> {
