@@ -10,7 +10,7 @@ endif
 
 BIN := target/release/contactmap
 
-.PHONY: all build demo test lint man check-peers bench clean
+.PHONY: all build demo test lint man check-peers bench clean python
 
 all: build
 
@@ -28,6 +28,11 @@ test: lint
 	$(CARGO) test --doc
 	RUSTDOCFLAGS="-D warnings" $(CARGO) doc --no-deps --quiet
 	scripts/test_workflows.sh target/debug/contactmap
+	scripts/test_python.sh target/debug/contactmap
+
+## make python: the Python package (python/) built with optimisations into .venv-python, tested
+python: build
+	scripts/test_python.sh $(BIN) --release
 
 ## make man: one man page per command into target/man (man -l target/man/contactmap-balance.1)
 man: build
@@ -36,6 +41,7 @@ man: build
 lint:
 	$(CARGO) fmt --all -- --check
 	$(CARGO) clippy --all-targets -- -D warnings
+	$(CARGO) clippy -p contactmap-python --all-targets -- -D warnings
 
 ## make check-peers: open every file we write with cooler 0.11 (needs a venv: see docs/peers.md)
 check-peers: build

@@ -95,6 +95,7 @@ macro_rules! forward_reader_metadata {
 mod adapters;
 mod open;
 mod pixels;
+mod query;
 mod reader;
 #[cfg(test)]
 mod tests;
@@ -102,4 +103,5 @@ mod tests;
 pub use adapters::*;
 pub use open::*;
 pub use pixels::*;
+pub use query::*;
 pub use reader::*;

@@ -104,6 +104,11 @@ impl CheckedCounts {
         CheckedCounts { inner }
     }
 
+    /// The reader whose counts are checked, unchecked (to show a file as it is).
+    pub fn inner(&self) -> &dyn MatrixReader {
+        self.inner.as_ref()
+    }
+
     /// Fail on the first count of `block` that is not finite and `>= 0`.
     fn check(&self, block: &PixelBlock) -> Result<()> {
         // A branch-free pass over the block; the position is looked for only on failure.

@@ -180,6 +180,51 @@ impl InsulationTable {
             })
             .collect()
     }
+
+    /// The windows' columns after `chrom start end region is_bad_bin [dist_bad_bin]`, named and
+    /// ordered as cooltools' `insulation` returns them: per window `log2_insulation_score_W`,
+    /// `n_valid_pixels_W` (and `sum_counts_W`, `sum_balanced_W` when kept), then every
+    /// `boundary_strength_W`, then every `is_boundary_W`.
+    pub fn track_columns(&self) -> Vec<(String, TrackValues<'_>)> {
+        let mut columns = Vec::new();
+        for track in &self.tracks {
+            let w = track.window_bp;
+            columns.push((
+                format!("log2_insulation_score_{w}"),
+                TrackValues::Real(&track.log2_insulation_score),
+            ));
+            columns.push((
+                format!("n_valid_pixels_{w}"),
+                TrackValues::Real(&track.n_valid_pixels),
+            ));
+            if let (Some(counts), Some(balanced)) = (&track.sum_counts, &track.sum_balanced) {
+                columns.push((format!("sum_counts_{w}"), TrackValues::Real(counts)));
+                columns.push((format!("sum_balanced_{w}"), TrackValues::Real(balanced)));
+            }
+        }
+        for track in &self.tracks {
+            columns.push((
+                format!("boundary_strength_{}", track.window_bp),
+                TrackValues::Real(&track.boundary_strength),
+            ));
+        }
+        for track in &self.tracks {
+            columns.push((
+                format!("is_boundary_{}", track.window_bp),
+                TrackValues::Flag(&track.is_boundary),
+            ));
+        }
+        columns
+    }
+}
+
+/// One column of an insulation track ([`InsulationTable::track_columns`]).
+#[derive(Clone, Copy, Debug)]
+pub enum TrackValues<'a> {
+    /// Real numbers (NaN for missing).
+    Real(&'a [f64]),
+    /// True / false.
+    Flag(&'a [bool]),
 }
 
 /// Names of the view regions with fewer bins than `window_bins` (their diamonds are all

@@ -5,7 +5,7 @@
 use super::call::{TadCalls, TadTrack};
 use super::directionality::DirectionalityTable;
 use super::hmm::DiState;
-use super::insulation::InsulationTable;
+use super::insulation::{InsulationTable, TrackValues};
 use super::topdom::{TopDomRegion, TopDomTag};
 use super::Domain;
 use crate::genome::BinTable;
@@ -105,20 +105,10 @@ fn insulation_text(bins: &BinTable, table: &InsulationTable, region_names: &[Str
     if table.dist_bad_bin.is_some() {
         text.extend_from_slice(b"\tdist_bad_bin");
     }
-    for track in &table.tracks {
-        let w = track.window_bp;
-        text.extend_from_slice(
-            format!("\tlog2_insulation_score_{w}\tn_valid_pixels_{w}").as_bytes(),
-        );
-        if track.sum_counts.is_some() {
-            text.extend_from_slice(format!("\tsum_counts_{w}\tsum_balanced_{w}").as_bytes());
-        }
-    }
-    for track in &table.tracks {
-        text.extend_from_slice(format!("\tboundary_strength_{}", track.window_bp).as_bytes());
-    }
-    for track in &table.tracks {
-        text.extend_from_slice(format!("\tis_boundary_{}", track.window_bp).as_bytes());
+    let columns = table.track_columns();
+    for (name, _) in &columns {
+        text.push(b'\t');
+        text.extend_from_slice(name.as_bytes());
     }
     text.push(b'\n');
     for (row, &bin) in table.bins.iter().enumerate() {
@@ -131,25 +121,12 @@ fn insulation_text(bins: &BinTable, table: &InsulationTable, region_names: &[Str
             text.push(b'\t');
             write_u64(&mut text, d[row] as u64);
         }
-        for track in &table.tracks {
+        for (_, values) in &columns {
             text.push(b'\t');
-            write_real(&mut text, track.log2_insulation_score[row]);
-            text.push(b'\t');
-            write_real(&mut text, track.n_valid_pixels[row]);
-            if let (Some(counts), Some(balanced)) = (&track.sum_counts, &track.sum_balanced) {
-                text.push(b'\t');
-                write_real(&mut text, counts[row]);
-                text.push(b'\t');
-                write_real(&mut text, balanced[row]);
+            match values {
+                TrackValues::Real(v) => write_real(&mut text, v[row]),
+                TrackValues::Flag(v) => push_bool(&mut text, v[row]),
             }
-        }
-        for track in &table.tracks {
-            text.push(b'\t');
-            write_real(&mut text, track.boundary_strength[row]);
-        }
-        for track in &table.tracks {
-            text.push(b'\t');
-            push_bool(&mut text, track.is_boundary[row]);
         }
         text.push(b'\n');
     }

@@ -1,0 +1,81 @@
+"""Type stubs of the native module (Rust, pyo3): the library's functions, converted."""
+
+from typing import Any, final
+
+import numpy as np
+import numpy.typing as npt
+
+__all__ = ["ContactmapError", "NativeFile", "balance", "expected_cis", "insulation", "resolutions"]
+
+class ContactmapError(ValueError):
+    """An input contactmap cannot use: the command line's one-line message."""
+
+_Region = tuple[str, int, int, str | None]
+_Column = tuple[str, npt.NDArray[Any]]
+
+@final
+class NativeFile:
+    def __new__(cls, uri: str) -> NativeFile: ...
+    def uri(self) -> str: ...
+    def format(self) -> str: ...
+    def chromosomes(self) -> list[tuple[str, int]]: ...
+    def resolution(self) -> int | None: ...
+    def bin_columns(
+        self,
+    ) -> tuple[npt.NDArray[np.uint32], npt.NDArray[np.uint64], npt.NDArray[np.uint64]]: ...
+    def attributes_json(self) -> str: ...
+    def weight_names(self) -> list[str]: ...
+    def weights(self, name: str) -> npt.NDArray[np.float64]: ...
+    def region_bins(self, region: str) -> tuple[int, int]: ...
+    def totals(self) -> tuple[int, float]: ...
+    def fetch_dense(
+        self, rows: tuple[int, int], cols: tuple[int, int], weight_name: str | None = None
+    ) -> npt.NDArray[np.float64]: ...
+    def fetch_pixels(
+        self, rows: tuple[int, int], cols: tuple[int, int], weight_name: str | None = None
+    ) -> tuple[
+        npt.NDArray[np.uint64],
+        npt.NDArray[np.uint64],
+        npt.NDArray[np.float64],
+        npt.NDArray[np.float64] | None,
+    ]: ...
+
+def expected_cis(
+    file: NativeFile,
+    view: list[_Region] | None,
+    weight_name: str | None,
+    ignore_diags: int = 2,
+    smooth: bool = True,
+    aggregate_smoothed: bool = True,
+    smooth_sigma: float = 0.1,
+) -> tuple[list[str], list[str], list[_Column]]: ...
+def insulation(
+    file: NativeFile,
+    window_bp: list[int],
+    view: list[_Region] | None,
+    weight_name: str | None,
+    ignore_diags: int = 2,
+    min_frac_valid_pixels: float = 0.66,
+    min_dist_bad_bin: int = 0,
+    threshold: str = "Li",
+    append_raw_scores: bool = False,
+) -> tuple[
+    npt.NDArray[np.uint64],
+    npt.NDArray[np.uint32],
+    npt.NDArray[np.bool_],
+    list[str],
+    list[_Column],
+]: ...
+def balance(
+    file: NativeFile,
+    method: str = "ice",
+    cis_only: bool = False,
+    ignore_diags: int | None = None,
+    mad_max: float | None = None,
+    min_nnz: int | None = None,
+    min_count: float | None = None,
+    tol: float | None = None,
+    max_iters: int | None = None,
+    rescale_marginals: bool | None = None,
+) -> tuple[npt.NDArray[np.float64], dict[str, Any]]: ...
+def resolutions(path: str) -> list[int]: ...

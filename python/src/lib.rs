@@ -1,0 +1,457 @@
+//! `contactmap._native`: the library's functions as Python sees them. This crate only converts
+//! (Python arguments to the library's parameters, its results to numpy arrays, lists and
+//! strings); every computation is the library's, the same calls the command line makes. The
+//! GIL is released while the library works, and numpy arrays take over the library's vectors
+//! without a copy.
+
+use std::ops::Range;
+
+use contactmap::balance::{balance as balance_pixels, BalanceParams, Method, Scope};
+use contactmap::error::Error;
+use contactmap::expected::{expected_cis as cis_expected, CisParams, RegionSpec, View};
+use contactmap::io::tables::Column;
+use contactmap::io::{
+    self, load_pixels_for_balancing, query_dense_into, query_pixels, CheckedCounts, LoadedPixels,
+    MatrixReader, OpenOptions, StreamedPixels,
+};
+use contactmap::tads::insulation::{insulation as insulation_table, InsulationParams, TrackValues};
+use contactmap::tads::threshold::Threshold;
+use numpy::{PyArray1, PyArray2, PyArrayMethods};
+use pyo3::create_exception;
+use pyo3::exceptions::{PyFileNotFoundError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+create_exception!(
+    contactmap,
+    ContactmapError,
+    PyValueError,
+    "An input contactmap cannot use (a file, a region, a parameter): the command line's one-line message."
+);
+
+/// The library's error as a Python exception: a missing file as FileNotFoundError, anything
+/// else as ContactmapError (a ValueError), with the command line's message.
+fn py_err(error: Error) -> PyErr {
+    if let Error::Io { source, .. } = &error {
+        if source.kind() == std::io::ErrorKind::NotFound {
+            return PyFileNotFoundError::new_err(error.to_string());
+        }
+    }
+    ContactmapError::new_err(error.to_string())
+}
+
+fn vec1<'py, T: numpy::Element>(py: Python<'py>, values: Vec<T>) -> Bound<'py, PyArray1<T>> {
+    PyArray1::from_vec(py, values)
+}
+
+/// A view region from Python: (chrom, start, end, name).
+type RegionTuple = (String, u64, u64, Option<String>);
+
+/// Per bin: chromosome index, start, end.
+type BinArrays<'py> = (
+    Bound<'py, PyArray1<u32>>,
+    Bound<'py, PyArray1<u64>>,
+    Bound<'py, PyArray1<u64>>,
+);
+
+/// A named column: (name, numpy array).
+type NamedColumn<'py> = (String, Bound<'py, PyAny>);
+
+/// A contact map opened by contactmap (`.cool`, `.mcool::/resolutions/R`, `.hic` with `@R`,
+/// HiCExplorer `.h5`, text tables).
+#[pyclass(frozen, module = "contactmap._native")]
+struct NativeFile {
+    reader: CheckedCounts,
+}
+
+impl NativeFile {
+    fn raw(&self) -> &dyn MatrixReader {
+        self.reader.inner()
+    }
+
+    fn weights_of(&self, name: Option<&str>) -> Result<Option<Vec<f64>>, Error> {
+        match name {
+            None => Ok(None),
+            Some(name) => {
+                let reader = self.raw();
+                if !reader.weight_names().iter().any(|n| n == name) {
+                    return Err(Error::Invalid(format!(
+                        "{}: no weight column '{name}' (the file has: {})",
+                        reader.source(),
+                        if reader.weight_names().is_empty() {
+                            "none; balance it first".to_string()
+                        } else {
+                            reader.weight_names().join(", ")
+                        }
+                    )));
+                }
+                Ok(Some(reader.weights(name)?.values))
+            }
+        }
+    }
+}
+
+fn range(pair: (usize, usize)) -> Range<usize> {
+    pair.0..pair.1
+}
+
+#[pymethods]
+impl NativeFile {
+    #[new]
+    fn new(py: Python<'_>, uri: &str) -> PyResult<Self> {
+        let reader = py
+            .detach(|| io::open_matrix(uri, &OpenOptions::default()))
+            .map_err(py_err)?;
+        Ok(NativeFile {
+            reader: CheckedCounts::new(reader),
+        })
+    }
+
+    /// The URI as opened.
+    fn uri(&self) -> String {
+        self.raw().source().to_string()
+    }
+
+    /// The format and version, as `contactmap info` names it.
+    fn format(&self) -> String {
+        self.raw().info().format
+    }
+
+    /// (name, length in bp) per chromosome, in the file's order.
+    fn chromosomes(&self) -> Vec<(String, u64)> {
+        self.raw()
+            .bins()
+            .chroms()
+            .iter()
+            .map(|c| (c.name.clone(), c.length_bp))
+            .collect()
+    }
+
+    /// The bin size in bp, or None for variable bins.
+    fn resolution(&self) -> Option<u64> {
+        self.raw().bins().bin_size_bp()
+    }
+
+    /// Per bin: chromosome index, start, end (bp).
+    fn bin_columns<'py>(&self, py: Python<'py>) -> BinArrays<'py> {
+        let bins = self.raw().bins();
+        let n = bins.n_bins();
+        let (mut chrom, mut start, mut end) = (
+            Vec::with_capacity(n),
+            Vec::with_capacity(n),
+            Vec::with_capacity(n),
+        );
+        for bin in bins.iter() {
+            chrom.push(bin.chrom_id as u32);
+            start.push(bin.start);
+            end.push(bin.end);
+        }
+        (vec1(py, chrom), vec1(py, start), vec1(py, end))
+    }
+
+    /// The file's attributes as JSON text.
+    fn attributes_json(&self) -> String {
+        let map: serde_json::Map<String, serde_json::Value> =
+            self.raw().info().attributes.into_iter().collect();
+        serde_json::Value::Object(map).to_string()
+    }
+
+    /// The weight columns (normalisations) the file has.
+    fn weight_names(&self) -> Vec<String> {
+        self.raw().weight_names()
+    }
+
+    /// The weights `name` (multiplicative, cooler's convention; NaN for masked bins).
+    fn weights<'py>(&self, py: Python<'py>, name: &str) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let values = py
+            .detach(|| self.weights_of(Some(name)))
+            .map_err(py_err)?
+            .unwrap_or_default();
+        Ok(vec1(py, values))
+    }
+
+    /// The bins of a region (`chr2L`, `chr2L:1,000,000-2,000,000`): (first, end).
+    fn region_bins(&self, region: &str) -> PyResult<(usize, usize)> {
+        let bins = self
+            .raw()
+            .bins()
+            .parse_region_bins(region)
+            .map_err(py_err)?;
+        Ok((bins.start, bins.end))
+    }
+
+    /// Stored pixel count and sum of counts.
+    fn totals(&self, py: Python<'_>) -> PyResult<(u64, f64)> {
+        py.detach(|| self.raw().totals()).map_err(py_err)
+    }
+
+    /// The dense rectangle `rows x cols` of the symmetric matrix (`io::query_dense_into`),
+    /// written into a numpy array that numpy allocates zeroed (huge pages, pages of empty
+    /// parts never touched).
+    #[pyo3(signature = (rows, cols, weight_name=None))]
+    fn fetch_dense<'py>(
+        &self,
+        py: Python<'py>,
+        rows: (usize, usize),
+        cols: (usize, usize),
+        weight_name: Option<&str>,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let weights = py.detach(|| self.weights_of(weight_name)).map_err(py_err)?;
+        let (rows, cols) = (range(rows), range(cols));
+        let shape = [rows.len(), cols.len()];
+        let array = PyArray2::<f64>::zeros(py, shape, false);
+        {
+            let mut values = array.readwrite();
+            let out = values
+                .as_slice_mut()
+                .map_err(|e| PyValueError::new_err(e.to_string()))?;
+            py.detach(|| query_dense_into(self.raw(), rows, cols, weights.as_deref(), out))
+                .map_err(py_err)?;
+        }
+        Ok(array)
+    }
+
+    /// The stored pixels of the query (`io::query_pixels`): bin1, bin2, count and balanced.
+    #[allow(clippy::type_complexity)]
+    #[pyo3(signature = (rows, cols, weight_name=None))]
+    fn fetch_pixels<'py>(
+        &self,
+        py: Python<'py>,
+        rows: (usize, usize),
+        cols: (usize, usize),
+        weight_name: Option<&str>,
+    ) -> PyResult<(
+        Bound<'py, PyArray1<u64>>,
+        Bound<'py, PyArray1<u64>>,
+        Bound<'py, PyArray1<f64>>,
+        Option<Bound<'py, PyArray1<f64>>>,
+    )> {
+        let q = py
+            .detach(|| {
+                let weights = self.weights_of(weight_name)?;
+                query_pixels(self.raw(), range(rows), range(cols), weights.as_deref())
+            })
+            .map_err(py_err)?;
+        let p = q.pixels;
+        Ok((
+            vec1(py, p.bin1),
+            vec1(py, p.bin2),
+            vec1(py, p.count),
+            q.balanced.map(|b| vec1(py, b)),
+        ))
+    }
+}
+
+/// The view: the regions given as (chrom, start, end, name) or the whole chromosomes.
+fn view_of(reader: &dyn MatrixReader, regions: Option<Vec<RegionTuple>>) -> Result<View, Error> {
+    match regions {
+        None => Ok(View::chromosomes(reader.bins())),
+        Some(regions) => {
+            let specs: Vec<RegionSpec> = regions
+                .into_iter()
+                .map(|(chrom, start_bp, end_bp, name)| RegionSpec {
+                    chrom,
+                    start_bp,
+                    end_bp,
+                    name,
+                })
+                .collect();
+            View::new(reader.bins(), &specs)
+        }
+    }
+}
+
+fn column<'py>(py: Python<'py>, values: Column<'_>) -> Bound<'py, PyAny> {
+    match values {
+        Column::Integer(v) => vec1(py, v.to_vec()).into_any(),
+        Column::Real(v) => vec1(py, v.to_vec()).into_any(),
+    }
+}
+
+/// cooltools' `expected_cis`: (region1, region2, [(column, values)]).
+#[allow(clippy::too_many_arguments, clippy::type_complexity)]
+#[pyfunction]
+#[pyo3(signature = (file, view, weight_name, ignore_diags=2, smooth=true, aggregate_smoothed=true, smooth_sigma=0.1))]
+fn expected_cis<'py>(
+    py: Python<'py>,
+    file: &NativeFile,
+    view: Option<Vec<RegionTuple>>,
+    weight_name: Option<String>,
+    ignore_diags: usize,
+    smooth: bool,
+    aggregate_smoothed: bool,
+    smooth_sigma: f64,
+) -> PyResult<(Vec<String>, Vec<String>, Vec<NamedColumn<'py>>)> {
+    let table = py
+        .detach(|| {
+            let reader: &dyn MatrixReader = &file.reader;
+            let view = view_of(reader, view)?;
+            let weights = file.weights_of(weight_name.as_deref())?;
+            let params = CisParams {
+                ignore_diags,
+                smooth,
+                aggregate_smoothed: smooth && aggregate_smoothed,
+                smooth_sigma_log10: smooth_sigma,
+            };
+            let pixels = LoadedPixels::Streamed(StreamedPixels::new(reader));
+            cis_expected(&pixels, weights.as_deref(), &view, &params)
+        })
+        .map_err(py_err)?;
+    let names: Vec<String> = (0..table.n_rows())
+        .map(|r| table.region_name(r).to_string())
+        .collect();
+    let columns = table
+        .columns()
+        .into_iter()
+        .map(|(name, values)| (name, column(py, values)))
+        .collect();
+    Ok((names.clone(), names, columns))
+}
+
+/// cooltools' `insulation`: per row the bin id, the region's index, is_bad_bin, and the
+/// windows' columns; plus the view's region names.
+#[allow(clippy::too_many_arguments, clippy::type_complexity)]
+#[pyfunction]
+#[pyo3(signature = (file, window_bp, view, weight_name, ignore_diags=2, min_frac_valid_pixels=0.66, min_dist_bad_bin=0, threshold="Li", append_raw_scores=false))]
+fn insulation<'py>(
+    py: Python<'py>,
+    file: &NativeFile,
+    window_bp: Vec<u64>,
+    view: Option<Vec<RegionTuple>>,
+    weight_name: Option<String>,
+    ignore_diags: usize,
+    min_frac_valid_pixels: f64,
+    min_dist_bad_bin: usize,
+    threshold: &str,
+    append_raw_scores: bool,
+) -> PyResult<(
+    Bound<'py, PyArray1<u64>>,
+    Bound<'py, PyArray1<u32>>,
+    Bound<'py, PyArray1<bool>>,
+    Vec<String>,
+    Vec<NamedColumn<'py>>,
+)> {
+    let threshold: Threshold = threshold
+        .parse()
+        .map_err(|e: Error| ContactmapError::new_err(e.to_string()))?;
+    let (table, regions) = py
+        .detach(|| {
+            let reader: &dyn MatrixReader = &file.reader;
+            let view = view_of(reader, view)?;
+            let weights = file.weights_of(weight_name.as_deref())?;
+            let params = InsulationParams {
+                ignore_diags,
+                min_frac_valid_pixels,
+                min_dist_bad_bin,
+                threshold,
+                append_raw_scores,
+                ..InsulationParams::new(window_bp)
+            };
+            let pixels = LoadedPixels::Streamed(StreamedPixels::new(reader));
+            let table = insulation_table(&pixels, weights.as_deref(), &view, &params)?;
+            let regions: Vec<String> = view.regions().iter().map(|r| r.name.clone()).collect();
+            Ok::<_, Error>((table, regions))
+        })
+        .map_err(py_err)?;
+    let columns = table
+        .track_columns()
+        .into_iter()
+        .map(|(name, values)| {
+            let array = match values {
+                TrackValues::Real(v) => vec1(py, v.to_vec()).into_any(),
+                TrackValues::Flag(v) => vec1(py, v.to_vec()).into_any(),
+            };
+            (name, array)
+        })
+        .collect();
+    Ok((
+        vec1(py, table.bins.iter().map(|&b| b as u64).collect()),
+        vec1(py, table.region.iter().map(|&r| r as u32).collect()),
+        vec1(py, table.is_bad_bin.clone()),
+        regions,
+        columns,
+    ))
+}
+
+/// Balance a map: (weights, summary dict). Parameters left out take the method's reference
+/// defaults (`BalanceParams::for_method`: cooler's for ICE, Juicer's for the others).
+#[allow(clippy::too_many_arguments)]
+#[pyfunction]
+#[pyo3(signature = (file, method="ice", cis_only=false, ignore_diags=None, mad_max=None, min_nnz=None, min_count=None, tol=None, max_iters=None, rescale_marginals=None))]
+fn balance<'py>(
+    py: Python<'py>,
+    file: &NativeFile,
+    method: &str,
+    cis_only: bool,
+    ignore_diags: Option<u64>,
+    mad_max: Option<f64>,
+    min_nnz: Option<u64>,
+    min_count: Option<f64>,
+    tol: Option<f64>,
+    max_iters: Option<usize>,
+    rescale_marginals: Option<bool>,
+) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyDict>)> {
+    let method = Method::from_juicer_name(method).ok_or_else(|| {
+        ContactmapError::new_err(format!(
+            "method '{method}': expected ice, kr, vc, vc_sqrt or scale"
+        ))
+    })?;
+    let defaults = BalanceParams::for_method(method);
+    let params = BalanceParams {
+        method,
+        scope: if cis_only {
+            Scope::Cis
+        } else {
+            Scope::GenomeWide
+        },
+        ignore_diags: ignore_diags.unwrap_or(defaults.ignore_diags),
+        mad_max: mad_max.unwrap_or(defaults.mad_max),
+        min_nnz: min_nnz.unwrap_or(defaults.min_nnz),
+        min_count: min_count.unwrap_or(defaults.min_count),
+        tol: tol.unwrap_or(defaults.tol),
+        max_iters: max_iters.unwrap_or(defaults.max_iters),
+        rescale_marginals: rescale_marginals.unwrap_or(defaults.rescale_marginals),
+        ..defaults
+    };
+    let result = py
+        .detach(|| {
+            let pixels = load_pixels_for_balancing(&file.reader, u64::MAX)?;
+            balance_pixels(&pixels, &params)
+        })
+        .map_err(py_err)?;
+    let summary = PyDict::new(py);
+    summary.set_item("method", method.name())?;
+    summary.set_item("converged", result.converged)?;
+    summary.set_item("scale", result.scale)?;
+    summary.set_item("var", result.var)?;
+    summary.set_item("n_iterations", result.n_iterations)?;
+    summary.set_item("n_masked", result.n_masked())?;
+    Ok((vec1(py, result.weights), summary))
+}
+
+/// The resolutions of a multi-resolution file (`.mcool`, `.hic`), ascending; empty for a
+/// single-resolution file.
+#[pyfunction]
+fn resolutions(py: Python<'_>, path: &str) -> PyResult<Vec<u64>> {
+    py.detach(|| match io::detect_kind(path)? {
+        io::FileKind::Hdf5 => match io::cool::inspect(path)? {
+            io::cool::HdfContent::Multires(resolutions) => Ok(resolutions),
+            io::cool::HdfContent::Cooler => Ok(Vec::new()),
+        },
+        io::FileKind::Hic => io::hic::HicReader::list_resolutions(std::path::Path::new(path)),
+        io::FileKind::Text => Ok(Vec::new()),
+    })
+    .map_err(py_err)
+}
+
+/// The native part of the `contactmap` package.
+#[pymodule]
+fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("ContactmapError", m.py().get_type::<ContactmapError>())?;
+    m.add_class::<NativeFile>()?;
+    m.add_function(wrap_pyfunction!(expected_cis, m)?)?;
+    m.add_function(wrap_pyfunction!(insulation, m)?)?;
+    m.add_function(wrap_pyfunction!(balance, m)?)?;
+    m.add_function(wrap_pyfunction!(resolutions, m)?)?;
+    Ok(())
+}

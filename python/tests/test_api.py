@@ -1,0 +1,244 @@
+"""The Python API against independent references: cooler / cooltools outputs in data/reference/
+(made by the peer tools, see data/README.md) and the contactmap command line on the same input.
+
+Tolerances: the references keep 10 significant digits (1e-8 relative), `cooler dump` 6 (1e-5);
+the command line writes floats in full (shortest round trip), so it is compared exactly.
+"""
+
+from __future__ import annotations
+
+import io
+import os
+import shutil
+import subprocess
+import threading
+import time
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import contactmap as cm
+
+ROOT = Path(__file__).resolve().parents[2]
+DATA = ROOT / "data"
+REF = DATA / "reference"
+DM6 = f"{DATA}/cooler_test_file.mcool::/resolutions/100000"
+MM9 = str(DATA / "CN.mm9.10000kb.cool")
+GM12878 = str(DATA / "hg19.GM12878-MboI.matrix.2000kb.cool")
+YEAST = str(DATA / "yeast.10kb.cool")
+
+
+def binary() -> str:
+    """The contactmap binary `make test` built (CONTACTMAP_BIN, else target/release or debug)."""
+    for candidate in (
+        os.environ.get("CONTACTMAP_BIN"),
+        ROOT / "target" / "release" / "contactmap",
+        ROOT / "target" / "debug" / "contactmap",
+    ):
+        if candidate and Path(candidate).is_file():
+            return str(candidate)
+    found = shutil.which("contactmap")
+    assert found, "no contactmap binary: run `cargo build` first or set CONTACTMAP_BIN"
+    return found
+
+
+def cli_table(*args: str) -> pd.DataFrame:
+    out = subprocess.run([binary(), *args], check=True, capture_output=True).stdout
+    return pd.read_csv(io.BytesIO(out), sep="\t")
+
+
+def assert_columns_close(ours: pd.DataFrame, ref: pd.DataFrame, rtol: float, what: str) -> None:
+    assert len(ours) == len(ref), what
+    for name in ref.columns:
+        assert name in ours.columns, f"{what}: no column {name}"
+        got, want = ours[name].to_numpy(), ref[name].to_numpy()
+        if want.dtype.kind in "fiu" and got.dtype.kind in "fiu":
+            got, want = got.astype(float), want.astype(float)
+            assert np.array_equal(np.isnan(got), np.isnan(want)), f"{what}: NaN mask of {name}"
+            ok = ~np.isnan(want)
+            np.testing.assert_allclose(got[ok], want[ok], rtol=rtol, atol=0, err_msg=f"{what}: {name}")
+        else:
+            assert [str(v) for v in got] == [str(v) for v in want], f"{what}: {name}"
+
+
+# ---------------------------------------------------------------------------------------------
+# File
+
+
+def test_file_metadata_equals_cooler():
+    f = cm.File(MM9)
+    bins_ref = pd.read_csv(REF / "CN.mm9.10000kb.bins.tsv", sep="\t")
+    bins = f.bins()
+    assert list(bins.columns[:3]) == ["chrom", "start", "end"]
+    assert_columns_close(bins, bins_ref, 1e-5, "mm9 bins")  # cooler dump: 6 digits
+    assert f.resolution() == 10_000_000
+    chroms = f.chromosomes()
+    assert list(chroms) == list(dict.fromkeys(bins_ref["chrom"]))
+    assert chroms["chr1"] == 197195432
+    assert "weight" in f.avail_normalizations()
+    assert f.attributes()["bin-size"] == 10_000_000
+    assert f.format().startswith("cool")
+
+
+def test_fetch_box_equals_cooler_dump():
+    # `cooler dump --join -b -r chr2L:1,000,000-3,000,000 -r2 chr2L:2,000,000-5,000,000`
+    ref = pd.read_csv(REF / "dm6_100kb.chr2L_box.balanced.join.tsv", sep="\t")
+    f = cm.File(DM6)
+    sel = f.fetch("chr2L:1,000,000-3,000,000", "chr2L:2,000,000-5,000,000", normalization="weight")
+    df = sel.to_df(join=True)
+    assert list(df.columns) == list(ref.columns)
+    assert_columns_close(df, ref, 1e-5, "dm6 box")
+    assert sel.nnz() == len(ref)
+    assert sel.sum() == pytest.approx(ref["balanced"].sum(), rel=1e-5)
+    # the same pixels by bin id, raw
+    raw = f.fetch("chr2L:1,000,000-3,000,000", "chr2L:2,000,000-5,000,000").to_df()
+    assert list(raw.columns) == ["bin1_id", "bin2_id", "count"]
+    np.testing.assert_array_equal(raw["count"].to_numpy(), ref["count"].to_numpy())
+
+
+def test_dense_matrix_is_the_symmetric_matrix_of_the_pixels():
+    f = cm.File(DM6)
+    chrom = "chr3R"
+    w = f.weights("weight")
+    first, end = f._native.region_bins(chrom)
+    pixels = f.fetch(chrom).to_df()
+    naive = np.zeros((end - first, end - first))
+    i = pixels["bin1_id"].to_numpy() - first
+    j = pixels["bin2_id"].to_numpy() - first
+    naive[i, j] = pixels["count"].to_numpy()
+    naive[j, i] = pixels["count"].to_numpy()
+    dense = f.fetch(chrom).to_numpy()
+    np.testing.assert_array_equal(dense, naive)
+    # balanced as cooler's matrix(balance=True): count * outer(w, w), NaN rows for masked bins
+    balanced = f.fetch(chrom, normalization="weight").to_numpy()
+    want = naive * np.outer(w[first:end], w[first:end])
+    assert np.array_equal(np.isnan(balanced), np.isnan(want))
+    np.testing.assert_array_equal(balanced[~np.isnan(want)], want[~np.isnan(want)])
+    # a rectangle across the diagonal: rows from both triangles
+    rect = f.fetch(f"{chrom}:0-3,000,000", f"{chrom}:1,000,000-6,000,000").to_numpy()
+    r0, r1 = f._native.region_bins(f"{chrom}:0-3,000,000")
+    c0, c1 = f._native.region_bins(f"{chrom}:1,000,000-6,000,000")
+    np.testing.assert_array_equal(rect, naive[r0 - first : r1 - first, c0 - first : c1 - first])
+
+
+def test_sparse_outputs_hold_the_pixels():
+    pytest.importorskip("scipy")
+    f = cm.File(YEAST)
+    sel = f.fetch("chrII", normalization="weight")
+    coo, csr = sel.to_coo(), sel.to_csr()
+    df = sel.to_df()
+    assert coo.nnz == len(df) == sel.nnz()
+    dense = sel.to_numpy()
+    upper = np.triu(np.nan_to_num(dense))
+    np.testing.assert_allclose(np.nan_to_num(csr.toarray()), upper, rtol=1e-15)
+
+
+def test_multires_file_lists_and_opens_resolutions():
+    m = cm.MultiResFile(DATA / "cooler_test_file.mcool")
+    assert m.resolutions() == [100000, 1000000]
+    assert m[1000000].resolution() == 1000000
+    h = cm.MultiResFile(DATA / "CN.mm9.multires.hic")
+    assert h.resolutions() == [10000000, 20000000, 50000000]
+    assert h[20000000].nbins() > 0
+    with pytest.raises(cm.ContactmapError, match="no resolution 5"):
+        m[5]
+    with pytest.raises(cm.ContactmapError, match="not a multi-resolution file"):
+        cm.MultiResFile(YEAST)
+
+
+# ---------------------------------------------------------------------------------------------
+# Analyses against cooltools
+
+
+def test_expected_cis_equals_cooltools():
+    for key, uri in [("dm6_100kb", DM6), ("mm9_CN_10Mb", MM9)]:
+        ref = pd.read_csv(REF / "numerics" / f"{key}.expected_cis.balanced_storedweight.tsv.gz", sep="\t")
+        ours = cm.expected_cis(uri, ignore_diags=2)
+        assert list(ours.columns) == list(ref.columns), key
+        assert_columns_close(ours, ref, 1e-8, f"{key} expected balanced")
+        raw_ref = pd.read_csv(REF / "numerics" / f"{key}.expected_cis.raw.tsv.gz", sep="\t")
+        raw = cm.expected_cis(cm.File(uri), clr_weight_name=None)
+        assert_columns_close(raw, raw_ref, 1e-8, f"{key} expected raw")
+
+
+def test_insulation_equals_cooltools():
+    ref = pd.read_csv(REF / "tads" / "yeast_10kb.insulation.Li.tsv.gz", sep="\t")
+    ours = cm.insulation(YEAST, [30000, 50000, 100000], threshold="Li", min_frac_valid_pixels=0.66)
+    assert list(ours.columns) == list(ref.columns)
+    assert_columns_close(ours, ref, 1e-8, "yeast insulation")
+
+
+def test_ice_equals_cooler_balance():
+    for key, uri in [("mm9_CN_10Mb", MM9), ("gm12878_2Mb", GM12878)]:
+        for mode, cis_only in [("gw", False), ("cis", True)]:
+            ref = pd.read_csv(REF / "numerics" / f"{key}.ice_{mode}.weights.tsv.gz", sep="\t")
+            weights, info = cm.balance(uri, cis_only=cis_only)
+            want = ref["weight"].to_numpy()
+            assert np.array_equal(np.isnan(weights), np.isnan(want)), key
+            ok = ~np.isnan(want)
+            # cooler's own tolerance leaves the last digits to the iteration order
+            np.testing.assert_allclose(weights[ok], want[ok], rtol=1e-6)
+            assert info["converged"] and info["n_masked"] == int((~ok).sum())
+
+
+# ---------------------------------------------------------------------------------------------
+# The same answers as the command line
+
+
+def test_expected_and_insulation_equal_the_command_line():
+    ours = cm.expected_cis(YEAST)
+    cli = cli_table("expected", YEAST)
+    assert_columns_close(ours, cli, 0, "expected vs CLI")
+    ours = cm.insulation(YEAST, 50000)
+    cli = cli_table("tads", YEAST, "--method", "insulation", "--window", "50000", "-o", "-")
+    assert_columns_close(ours, cli, 0, "insulation vs CLI")
+
+
+# ---------------------------------------------------------------------------------------------
+# Errors, threads
+
+
+def test_errors_are_python_exceptions_with_the_cli_message():
+    with pytest.raises(FileNotFoundError, match="no-such.cool"):
+        cm.File(DATA / "no-such.cool")
+    f = cm.File(YEAST)
+    with pytest.raises(cm.ContactmapError, match="no chromosome 'chrZZ'"):
+        f.fetch("chrZZ")
+    with pytest.raises(ValueError, match="no weight column 'KR'"):
+        f.fetch("chrI", normalization="KR").to_numpy()
+    with pytest.raises(cm.ContactmapError, match="method 'nope'"):
+        cm.balance(f, method="nope")
+    with pytest.raises(cm.ContactmapError):
+        cm.File(DATA / "README.md")
+    with pytest.raises(TypeError, match="expected a path"):
+        cm.File(42)
+
+
+def test_a_call_releases_the_gil():
+    # While one thread runs contactmap, another runs Python: its ticks land inside the call.
+    f = cm.File(GM12878)
+    calls: list[tuple[float, float]] = []
+    ticks: list[float] = []
+    done = threading.Event()
+
+    def work() -> None:
+        for _ in range(5):
+            t0 = time.perf_counter()
+            cm.balance(f)
+            calls.append((t0, time.perf_counter()))
+        done.set()
+
+    def tick() -> None:
+        while not done.is_set():
+            ticks.append(time.perf_counter())
+            time.sleep(0.0005)
+
+    threads = [threading.Thread(target=work), threading.Thread(target=tick)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    inside = sum(any(a < t < b for a, b in calls) for t in ticks)
+    assert inside > 0, f"no Python tick during {len(calls)} calls: the GIL was held"
