@@ -36,7 +36,9 @@ __all__ = [
     "MultiResFile",
     "PixelSelector",
     "balance",
+    "directionality",
     "expected_cis",
+    "expected_trans",
     "insulation",
 ]
 
@@ -328,7 +330,7 @@ def expected_cis(
         raise ContactmapError(
             "intra_only=False (between the regions of one chromosome) is not supported"
         )
-    pd = _pandas()
+    _pandas()  # the install hint before the work
     f = _file(clr)
     region1, region2, columns = _native.expected_cis(
         f._native,
@@ -339,10 +341,68 @@ def expected_cis(
         aggregate_smoothed,
         smooth_sigma,
     )
+    return _columns_frame(region1, region2, columns)
+
+
+def _columns_frame(region1: list[str], region2: list[str], columns: list[Any]) -> Any:
+    pd = _pandas()
     data: dict[str, Any] = {"region1": region1, "region2": region2}
     for name, values in columns:
         data[name] = values.astype(np.int64) if values.dtype == np.uint64 else values
     return pd.DataFrame(data)
+
+
+def expected_trans(
+    clr: Any,
+    view_df: Any = None,
+    clr_weight_name: str | None = "weight",
+    chunksize: int | None = None,
+    nproc: int | None = None,
+) -> pandas.DataFrame:
+    """cooltools' ``expected_trans``: per pair of view regions on different chromosomes,
+    ``region1 region2 n_valid count.sum balanced.sum count.avg balanced.avg`` (the balanced
+    columns with ``clr_weight_name``; None for raw counts)."""
+    f = _file(clr)
+    region1, region2, columns = _native.expected_trans(
+        f._native, _view_regions(view_df), clr_weight_name
+    )
+    return _columns_frame(region1, region2, columns)
+
+
+def directionality(
+    clr: Any,
+    window_bp: int = 100000,
+    balance: str | None = "weight",
+    min_dist_bad_bin: int = 2,
+    ignore_diags: int | None = None,
+    view_df: Any = None,
+) -> pandas.DataFrame:
+    """cooltools' ``directionality`` (Dixon et al.'s directionality index): ``chrom start end
+    bad_bin_masked directionality_ratio_W directionality_index_W`` for a window of
+    ``window_bp`` bp upstream and downstream; ``balance=None`` for raw counts."""
+    pd = _pandas()
+    f = _file(clr)
+    bins, masked, ratio, index = _native.directionality(
+        f._native,
+        int(window_bp),
+        _view_regions(view_df),
+        balance,
+        2 if ignore_diags is None else ignore_diags,
+        min_dist_bad_bin,
+    )
+    codes, start, end = f._native.bin_columns()
+    names = [name for name, _ in f._native.chromosomes()]
+    df = pd.DataFrame(
+        {
+            "chrom": np.asarray(names, dtype=object)[codes[bins]],
+            "start": start[bins].astype(np.int64),
+            "end": end[bins].astype(np.int64),
+            "bad_bin_masked": masked,
+            f"directionality_ratio_{int(window_bp)}": ratio,
+            f"directionality_index_{int(window_bp)}": index,
+        }
+    )
+    return df
 
 
 def insulation(

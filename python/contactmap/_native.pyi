@@ -5,7 +5,16 @@ from typing import Any, final
 import numpy as np
 import numpy.typing as npt
 
-__all__ = ["ContactmapError", "NativeFile", "balance", "expected_cis", "insulation", "resolutions"]
+__all__ = [
+    "ContactmapError",
+    "NativeFile",
+    "balance",
+    "directionality",
+    "expected_cis",
+    "expected_trans",
+    "insulation",
+    "resolutions",
+]
 
 class ContactmapError(ValueError):
     """An input contactmap cannot use: the command line's one-line message."""
@@ -49,6 +58,22 @@ def expected_cis(
     aggregate_smoothed: bool = True,
     smooth_sigma: float = 0.1,
 ) -> tuple[list[str], list[str], list[_Column]]: ...
+def expected_trans(
+    file: NativeFile, view: list[_Region] | None, weight_name: str | None
+) -> tuple[list[str], list[str], list[_Column]]: ...
+def directionality(
+    file: NativeFile,
+    window_bp: int,
+    view: list[_Region] | None,
+    weight_name: str | None,
+    ignore_diags: int = 2,
+    min_dist_bad_bin: int = 2,
+) -> tuple[
+    npt.NDArray[np.uint64],
+    npt.NDArray[np.bool_],
+    npt.NDArray[np.float64],
+    npt.NDArray[np.float64],
+]: ...
 def insulation(
     file: NativeFile,
     window_bp: list[int],

@@ -8,12 +8,15 @@ use std::ops::Range;
 
 use contactmap::balance::{balance as balance_pixels, BalanceParams, Method, Scope};
 use contactmap::error::Error;
-use contactmap::expected::{expected_cis as cis_expected, CisParams, RegionSpec, View};
+use contactmap::expected::{
+    expected_cis as cis_expected, expected_trans as trans_expected, CisParams, RegionSpec, View,
+};
 use contactmap::io::tables::Column;
 use contactmap::io::{
     self, load_pixels_for_balancing, query_dense_into, query_pixels, CheckedCounts, LoadedPixels,
     MatrixReader, OpenOptions, StreamedPixels,
 };
+use contactmap::tads::directionality::{directionality as di_table, DirectionalityParams};
 use contactmap::tads::insulation::{insulation as insulation_table, InsulationParams, TrackValues};
 use contactmap::tads::threshold::Threshold;
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
@@ -308,6 +311,72 @@ fn expected_cis<'py>(
     Ok((names.clone(), names, columns))
 }
 
+/// cooltools' `expected_trans`: (region1, region2, [(column, values)]).
+#[pyfunction]
+#[pyo3(signature = (file, view, weight_name))]
+fn expected_trans<'py>(
+    py: Python<'py>,
+    file: &NativeFile,
+    view: Option<Vec<RegionTuple>>,
+    weight_name: Option<String>,
+) -> PyResult<(Vec<String>, Vec<String>, Vec<NamedColumn<'py>>)> {
+    let table = py
+        .detach(|| {
+            let reader: &dyn MatrixReader = &file.reader;
+            let view = view_of(reader, view)?;
+            let weights = file.weights_of(weight_name.as_deref())?;
+            let pixels = LoadedPixels::Streamed(StreamedPixels::new(reader));
+            trans_expected(&pixels, weights.as_deref(), &view)
+        })
+        .map_err(py_err)?;
+    let columns = table
+        .columns()
+        .into_iter()
+        .map(|(name, values)| (name, column(py, values)))
+        .collect();
+    Ok((table.region1.clone(), table.region2.clone(), columns))
+}
+
+/// cooltools' `directionality`: per row the bin id, bad_bin_masked, the ratio and the index.
+#[allow(clippy::type_complexity)]
+#[pyfunction]
+#[pyo3(signature = (file, window_bp, view, weight_name, ignore_diags=2, min_dist_bad_bin=2))]
+fn directionality<'py>(
+    py: Python<'py>,
+    file: &NativeFile,
+    window_bp: u64,
+    view: Option<Vec<RegionTuple>>,
+    weight_name: Option<String>,
+    ignore_diags: usize,
+    min_dist_bad_bin: usize,
+) -> PyResult<(
+    Bound<'py, PyArray1<u64>>,
+    Bound<'py, PyArray1<bool>>,
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<f64>>,
+)> {
+    let table = py
+        .detach(|| {
+            let reader: &dyn MatrixReader = &file.reader;
+            let view = view_of(reader, view)?;
+            let weights = file.weights_of(weight_name.as_deref())?;
+            let params = DirectionalityParams {
+                ignore_diags,
+                min_dist_bad_bin,
+                ..DirectionalityParams::new(window_bp)
+            };
+            let pixels = LoadedPixels::Streamed(StreamedPixels::new(reader));
+            di_table(&pixels, weights.as_deref(), &view, &params)
+        })
+        .map_err(py_err)?;
+    Ok((
+        vec1(py, table.bins.iter().map(|&b| b as u64).collect()),
+        vec1(py, table.bad_bin_masked),
+        vec1(py, table.ratio),
+        vec1(py, table.index),
+    ))
+}
+
 /// cooltools' `insulation`: per row the bin id, the region's index, is_bad_bin, and the
 /// windows' columns; plus the view's region names.
 #[allow(clippy::too_many_arguments, clippy::type_complexity)]
@@ -451,6 +520,8 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<NativeFile>()?;
     m.add_function(wrap_pyfunction!(expected_cis, m)?)?;
     m.add_function(wrap_pyfunction!(insulation, m)?)?;
+    m.add_function(wrap_pyfunction!(expected_trans, m)?)?;
+    m.add_function(wrap_pyfunction!(directionality, m)?)?;
     m.add_function(wrap_pyfunction!(balance, m)?)?;
     m.add_function(wrap_pyfunction!(resolutions, m)?)?;
     Ok(())
