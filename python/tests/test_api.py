@@ -46,7 +46,9 @@ def binary() -> str:
 
 def cli_table(*args: str) -> pd.DataFrame:
     out = subprocess.run([binary(), *args], check=True, capture_output=True).stdout
-    return pd.read_csv(io.BytesIO(out), sep="\t")
+    # exact floats: pandas 3 parses them round-trip by default, pandas 2 when asked
+    exact = {} if int(pd.__version__.split(".")[0]) >= 3 else {"float_precision": "round_trip"}
+    return pd.read_csv(io.BytesIO(out), sep="\t", **exact)
 
 
 def assert_columns_close(ours: pd.DataFrame, ref: pd.DataFrame, rtol: float, what: str) -> None:
