@@ -226,6 +226,40 @@ def test_expected_and_insulation_equal_the_command_line():
 
 
 # ---------------------------------------------------------------------------------------------
+# Beside cooler and h5py in one process
+
+
+def test_equals_cooler_in_the_same_process_and_takes_its_cooler_objects(tmp_path):
+    cooler = pytest.importorskip("cooler")
+    h5py = pytest.importorskip("h5py")
+    clr = cooler.Cooler(DM6)
+    f = cm.File(clr)  # a cooler.Cooler: its uri
+    assert f.uri() == clr.uri
+    for r1, r2 in [
+        ("chr2L", None),
+        ("chr2L:1,000,000-3,000,000", "chr2L:2,000,000-5,000,000"),
+        ("chr3R:0-4,000,000", "chrX"),
+        ("chrX", "chr3R:0-4,000,000"),
+    ]:
+        for balance, norm in [(True, "weight"), (False, None)]:
+            theirs = clr.matrix(balance=balance).fetch(r1, r2)
+            ours = f.fetch(r1, r2, normalization=norm).to_numpy()
+            assert np.array_equal(ours, theirs, equal_nan=True), (r1, r2, balance)
+    # a file that h5py (cooler's library) holds open, for writing too: contactmap opens files
+    # without HDF5 file locking, so both work (the two libhdf5 copies live side by side)
+    path = tmp_path / "copy.cool"
+    shutil.copy(YEAST, path)
+    with h5py.File(path, "r+") as h:
+        assert "pixels" in h
+        g = cm.File(path)
+        assert g.fetch("chrI").nnz() == cm.File(YEAST).fetch("chrI").nnz()
+    g = cm.File(path)
+    with h5py.File(path, "r+") as h:
+        h.attrs["touched"] = 1
+    assert cooler.Cooler(str(path)).info["nnz"] == g.fetch().nnz()
+
+
+# ---------------------------------------------------------------------------------------------
 # Errors, threads
 
 
