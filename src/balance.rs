@@ -956,6 +956,7 @@ fn ice<S: PixelSource>(
         .collect();
     let mut active: Vec<bool> = vec![true; groups.len()];
     while active.iter().any(|&a| a) {
+        crate::interrupt::check()?;
         let mut vector: Vec<f64> = match &chrom_weights {
             Some(cw) => bias.iter().zip(cw).map(|(b, w)| b * w).collect(),
             None => bias.clone(),

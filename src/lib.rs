@@ -314,6 +314,7 @@ pub mod error;
 pub mod expected;
 pub mod export;
 pub mod genome;
+pub mod interrupt;
 pub mod io;
 pub mod loops;
 pub mod matrix;

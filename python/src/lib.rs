@@ -43,6 +43,49 @@ fn py_err(error: Error) -> PyErr {
     ContactmapError::new_err(error.to_string())
 }
 
+/// Run `work` with the GIL released, on a thread of its own, while this thread watches for
+/// Ctrl-C: on a signal whose handler raises (KeyboardInterrupt), the library is asked to stop
+/// (`contactmap::interrupt`), its streaming loops return at their next block, and the
+/// handler's exception is raised.
+fn run<T: Send>(py: Python<'_>, work: impl FnOnce() -> Result<T, Error> + Send) -> PyResult<T> {
+    let outcome = py.detach(|| {
+        std::thread::scope(|scope| {
+            let (done, result) = std::sync::mpsc::channel();
+            scope.spawn(move || {
+                let _ = done.send(std::panic::catch_unwind(std::panic::AssertUnwindSafe(work)));
+            });
+            loop {
+                match result.recv_timeout(std::time::Duration::from_millis(50)) {
+                    Ok(outcome) => return Ok(outcome),
+                    Err(std::sync::mpsc::RecvTimeoutError::Timeout) => {
+                        if let Err(signal) = Python::attach(|py| py.check_signals()) {
+                            contactmap::interrupt::request();
+                            let _ = result.recv();
+                            contactmap::interrupt::clear();
+                            return Err(signal);
+                        }
+                    }
+                    Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => {
+                        return Ok(Err(Box::new("the worker thread ended without a result")
+                            as Box<dyn std::any::Any + Send>));
+                    }
+                }
+            }
+        })
+    })?;
+    match outcome {
+        Ok(result) => result.map_err(py_err),
+        Err(panic) => {
+            let message = panic
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| panic.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "a panic".to_string());
+            Err(pyo3::panic::PanicException::new_err(message))
+        }
+    }
+}
+
 fn vec1<'py, T: numpy::Element>(py: Python<'py>, values: Vec<T>) -> Bound<'py, PyArray1<T>> {
     PyArray1::from_vec(py, values)
 }
@@ -102,9 +145,7 @@ fn range(pair: (usize, usize)) -> Range<usize> {
 impl NativeFile {
     #[new]
     fn new(py: Python<'_>, uri: &str) -> PyResult<Self> {
-        let reader = py
-            .detach(|| io::open_matrix(uri, &OpenOptions::default()))
-            .map_err(py_err)?;
+        let reader = run(py, || io::open_matrix(uri, &OpenOptions::default()))?;
         Ok(NativeFile {
             reader: CheckedCounts::new(reader),
         })
@@ -166,10 +207,7 @@ impl NativeFile {
 
     /// The weights `name` (multiplicative, cooler's convention; NaN for masked bins).
     fn weights<'py>(&self, py: Python<'py>, name: &str) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let values = py
-            .detach(|| self.weights_of(Some(name)))
-            .map_err(py_err)?
-            .unwrap_or_default();
+        let values = run(py, || self.weights_of(Some(name)))?.unwrap_or_default();
         Ok(vec1(py, values))
     }
 
@@ -185,7 +223,7 @@ impl NativeFile {
 
     /// Stored pixel count and sum of counts.
     fn totals(&self, py: Python<'_>) -> PyResult<(u64, f64)> {
-        py.detach(|| self.raw().totals()).map_err(py_err)
+        run(py, || self.raw().totals())
     }
 
     /// The dense rectangle `rows x cols` of the symmetric matrix (`io::query_dense_into`),
@@ -199,7 +237,7 @@ impl NativeFile {
         cols: (usize, usize),
         weight_name: Option<&str>,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let weights = py.detach(|| self.weights_of(weight_name)).map_err(py_err)?;
+        let weights = run(py, || self.weights_of(weight_name))?;
         let (rows, cols) = (range(rows), range(cols));
         let shape = [rows.len(), cols.len()];
         let array = PyArray2::<f64>::zeros(py, shape, false);
@@ -208,8 +246,9 @@ impl NativeFile {
             let out = values
                 .as_slice_mut()
                 .map_err(|e| PyValueError::new_err(e.to_string()))?;
-            py.detach(|| query_dense_into(self.raw(), rows, cols, weights.as_deref(), out))
-                .map_err(py_err)?;
+            run(py, || {
+                query_dense_into(self.raw(), rows, cols, weights.as_deref(), out)
+            })?;
         }
         Ok(array)
     }
@@ -229,12 +268,10 @@ impl NativeFile {
         Bound<'py, PyArray1<f64>>,
         Option<Bound<'py, PyArray1<f64>>>,
     )> {
-        let q = py
-            .detach(|| {
-                let weights = self.weights_of(weight_name)?;
-                query_pixels(self.raw(), range(rows), range(cols), weights.as_deref())
-            })
-            .map_err(py_err)?;
+        let q = run(py, || {
+            let weights = self.weights_of(weight_name)?;
+            query_pixels(self.raw(), range(rows), range(cols), weights.as_deref())
+        })?;
         let p = q.pixels;
         Ok((
             vec1(py, p.bin1),
@@ -285,21 +322,19 @@ fn expected_cis<'py>(
     aggregate_smoothed: bool,
     smooth_sigma: f64,
 ) -> PyResult<(Vec<String>, Vec<String>, Vec<NamedColumn<'py>>)> {
-    let table = py
-        .detach(|| {
-            let reader: &dyn MatrixReader = &file.reader;
-            let view = view_of(reader, view)?;
-            let weights = file.weights_of(weight_name.as_deref())?;
-            let params = CisParams {
-                ignore_diags,
-                smooth,
-                aggregate_smoothed: smooth && aggregate_smoothed,
-                smooth_sigma_log10: smooth_sigma,
-            };
-            let pixels = LoadedPixels::Streamed(StreamedPixels::new(reader));
-            cis_expected(&pixels, weights.as_deref(), &view, &params)
-        })
-        .map_err(py_err)?;
+    let table = run(py, || {
+        let reader: &dyn MatrixReader = &file.reader;
+        let view = view_of(reader, view)?;
+        let weights = file.weights_of(weight_name.as_deref())?;
+        let params = CisParams {
+            ignore_diags,
+            smooth,
+            aggregate_smoothed: smooth && aggregate_smoothed,
+            smooth_sigma_log10: smooth_sigma,
+        };
+        let pixels = LoadedPixels::Streamed(StreamedPixels::new(reader));
+        cis_expected(&pixels, weights.as_deref(), &view, &params)
+    })?;
     let names: Vec<String> = (0..table.n_rows())
         .map(|r| table.region_name(r).to_string())
         .collect();
@@ -320,15 +355,13 @@ fn expected_trans<'py>(
     view: Option<Vec<RegionTuple>>,
     weight_name: Option<String>,
 ) -> PyResult<(Vec<String>, Vec<String>, Vec<NamedColumn<'py>>)> {
-    let table = py
-        .detach(|| {
-            let reader: &dyn MatrixReader = &file.reader;
-            let view = view_of(reader, view)?;
-            let weights = file.weights_of(weight_name.as_deref())?;
-            let pixels = LoadedPixels::Streamed(StreamedPixels::new(reader));
-            trans_expected(&pixels, weights.as_deref(), &view)
-        })
-        .map_err(py_err)?;
+    let table = run(py, || {
+        let reader: &dyn MatrixReader = &file.reader;
+        let view = view_of(reader, view)?;
+        let weights = file.weights_of(weight_name.as_deref())?;
+        let pixels = LoadedPixels::Streamed(StreamedPixels::new(reader));
+        trans_expected(&pixels, weights.as_deref(), &view)
+    })?;
     let columns = table
         .columns()
         .into_iter()
@@ -355,20 +388,18 @@ fn directionality<'py>(
     Bound<'py, PyArray1<f64>>,
     Bound<'py, PyArray1<f64>>,
 )> {
-    let table = py
-        .detach(|| {
-            let reader: &dyn MatrixReader = &file.reader;
-            let view = view_of(reader, view)?;
-            let weights = file.weights_of(weight_name.as_deref())?;
-            let params = DirectionalityParams {
-                ignore_diags,
-                min_dist_bad_bin,
-                ..DirectionalityParams::new(window_bp)
-            };
-            let pixels = LoadedPixels::Streamed(StreamedPixels::new(reader));
-            di_table(&pixels, weights.as_deref(), &view, &params)
-        })
-        .map_err(py_err)?;
+    let table = run(py, || {
+        let reader: &dyn MatrixReader = &file.reader;
+        let view = view_of(reader, view)?;
+        let weights = file.weights_of(weight_name.as_deref())?;
+        let params = DirectionalityParams {
+            ignore_diags,
+            min_dist_bad_bin,
+            ..DirectionalityParams::new(window_bp)
+        };
+        let pixels = LoadedPixels::Streamed(StreamedPixels::new(reader));
+        di_table(&pixels, weights.as_deref(), &view, &params)
+    })?;
     Ok((
         vec1(py, table.bins.iter().map(|&b| b as u64).collect()),
         vec1(py, table.bad_bin_masked),
@@ -403,25 +434,23 @@ fn insulation<'py>(
     let threshold: Threshold = threshold
         .parse()
         .map_err(|e: Error| ContactmapError::new_err(e.to_string()))?;
-    let (table, regions) = py
-        .detach(|| {
-            let reader: &dyn MatrixReader = &file.reader;
-            let view = view_of(reader, view)?;
-            let weights = file.weights_of(weight_name.as_deref())?;
-            let params = InsulationParams {
-                ignore_diags,
-                min_frac_valid_pixels,
-                min_dist_bad_bin,
-                threshold,
-                append_raw_scores,
-                ..InsulationParams::new(window_bp)
-            };
-            let pixels = LoadedPixels::Streamed(StreamedPixels::new(reader));
-            let table = insulation_table(&pixels, weights.as_deref(), &view, &params)?;
-            let regions: Vec<String> = view.regions().iter().map(|r| r.name.clone()).collect();
-            Ok::<_, Error>((table, regions))
-        })
-        .map_err(py_err)?;
+    let (table, regions) = run(py, || {
+        let reader: &dyn MatrixReader = &file.reader;
+        let view = view_of(reader, view)?;
+        let weights = file.weights_of(weight_name.as_deref())?;
+        let params = InsulationParams {
+            ignore_diags,
+            min_frac_valid_pixels,
+            min_dist_bad_bin,
+            threshold,
+            append_raw_scores,
+            ..InsulationParams::new(window_bp)
+        };
+        let pixels = LoadedPixels::Streamed(StreamedPixels::new(reader));
+        let table = insulation_table(&pixels, weights.as_deref(), &view, &params)?;
+        let regions: Vec<String> = view.regions().iter().map(|r| r.name.clone()).collect();
+        Ok::<_, Error>((table, regions))
+    })?;
     let columns = table
         .track_columns()
         .into_iter()
@@ -482,12 +511,10 @@ fn balance<'py>(
         rescale_marginals: rescale_marginals.unwrap_or(defaults.rescale_marginals),
         ..defaults
     };
-    let result = py
-        .detach(|| {
-            let pixels = load_pixels_for_balancing(&file.reader, u64::MAX)?;
-            balance_pixels(&pixels, &params)
-        })
-        .map_err(py_err)?;
+    let result = run(py, || {
+        let pixels = load_pixels_for_balancing(&file.reader, u64::MAX)?;
+        balance_pixels(&pixels, &params)
+    })?;
     let summary = PyDict::new(py);
     summary.set_item("method", method.name())?;
     summary.set_item("converged", result.converged)?;
@@ -502,7 +529,7 @@ fn balance<'py>(
 /// single-resolution file.
 #[pyfunction]
 fn resolutions(py: Python<'_>, path: &str) -> PyResult<Vec<u64>> {
-    py.detach(|| match io::detect_kind(path)? {
+    run(py, || match io::detect_kind(path)? {
         io::FileKind::Hdf5 => match io::cool::inspect(path)? {
             io::cool::HdfContent::Multires(resolutions) => Ok(resolutions),
             io::cool::HdfContent::Cooler => Ok(Vec::new()),
@@ -510,7 +537,6 @@ fn resolutions(py: Python<'_>, path: &str) -> PyResult<Vec<u64>> {
         io::FileKind::Hic => io::hic::HicReader::list_resolutions(std::path::Path::new(path)),
         io::FileKind::Text => Ok(Vec::new()),
     })
-    .map_err(py_err)
 }
 
 /// The native part of the `contactmap` package.

@@ -10,6 +10,7 @@ from __future__ import annotations
 import io
 import os
 import shutil
+import signal
 import subprocess
 import threading
 import time
@@ -305,3 +306,17 @@ def test_a_call_releases_the_gil():
         t.join()
     inside = sum(any(a < t < b for a, b in calls) for t in ticks)
     assert inside > 0, f"no Python tick during {len(calls)} calls: the GIL was held"
+
+
+def test_ctrl_c_stops_a_long_call():
+    # ICE to a tolerance it never reaches (the variance stays near 1e-28): minutes of work,
+    # stopped by SIGINT as Ctrl-C sends it; the library runs normally afterwards
+    f = cm.File(GM12878)
+    timer = threading.Timer(0.3, lambda: os.kill(os.getpid(), signal.SIGINT))
+    t0 = time.perf_counter()
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        cm.balance(f, tol=1e-300, max_iters=10**9)
+    assert time.perf_counter() - t0 < 10
+    weights, info = cm.balance(f)
+    assert info["converged"] and np.isfinite(weights).sum() > 0

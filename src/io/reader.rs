@@ -333,6 +333,7 @@ pub fn read_ahead_by<I: Send, T: Send>(
             }
             let (item, data) = current;
             process(item, data)?;
+            crate::interrupt::check()?;
             let next = match pending.pop_front() {
                 Some(reading) => reading
                     .join()
