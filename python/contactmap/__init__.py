@@ -37,6 +37,7 @@ __all__ = [
     "PixelSelector",
     "balance",
     "directionality",
+    "eigs_cis",
     "expected_cis",
     "expected_trans",
     "insulation",
@@ -455,6 +456,66 @@ def insulation(
     df = pd.DataFrame(data)
     df["chrom"] = df["chrom"].astype(str)
     return df
+
+
+def eigs_cis(
+    clr: Any,
+    phasing_track: Any = None,
+    view_df: Any = None,
+    n_eigs: int = 3,
+    clr_weight_name: str = "weight",
+    ignore_diags: int | None = None,
+    clip_percentile: float = 99.9,
+    sort_metric: str | None = None,
+    map: Any = None,
+) -> tuple[pandas.DataFrame, pandas.DataFrame]:
+    """cooltools' ``eigs_cis``: the leading eigenvectors of each view region's observed /
+    expected matrix (compartments). Returns ``(eigvals, eigvecs)``: ``chrom start end name
+    eigval1..N`` per region, and the bin table (``chrom start end`` and its weight columns)
+    with ``E1..EN`` (NaN outside the view). ``phasing_track``: a DataFrame of the map's bins
+    whose fourth column is the track (GC content, gene density ...), or one value per bin: each
+    vector's sign is turned to correlate positively with it; ``sort_metric`` (``"spearmanr"``,
+    ``"pearsonr"``, ``"var_explained"``, ``"MAD_explained"``) reorders the vectors by it.
+    ``ignore_diags`` defaults to the weight column's attribute, else 2; ``map`` is accepted
+    for compatibility."""
+    pd = _pandas()
+    f = _file(clr)
+    track = None
+    if phasing_track is not None:
+        values = phasing_track.iloc[:, 3] if hasattr(phasing_track, "iloc") else phasing_track
+        track = [float(v) for v in np.asarray(values, dtype=float)]
+    regions, warnings = _native.eigs_cis(
+        f._native,
+        _view_regions(view_df),
+        clr_weight_name,
+        track,
+        n_eigs,
+        ignore_diags,
+        clip_percentile,
+        sort_metric,
+    )
+    for line in warnings:
+        import warnings as _warnings
+
+        _warnings.warn(f"contactmap eigs_cis: {line}", stacklevel=2)
+    eigvals = pd.DataFrame(
+        {
+            "chrom": [r[1] for r in regions],
+            "start": np.array([r[2] for r in regions], dtype=np.int64),
+            "end": np.array([r[3] for r in regions], dtype=np.int64),
+            "name": [r[0] for r in regions],
+        }
+    )
+    for k in range(n_eigs):
+        eigvals[f"eigval{k + 1}"] = np.array([r[6][k] for r in regions], dtype=float)
+    eigvecs = f.bins()
+    eigvecs["chrom"] = eigvecs["chrom"].astype(str)
+    for k in range(n_eigs):
+        column = np.full(len(eigvecs), np.nan)
+        for r in regions:
+            column[r[4] : r[5]] = r[7][k]
+        eigvecs[f"E{k + 1}"] = column
+    return eigvals, eigvecs
 
 
 def balance(

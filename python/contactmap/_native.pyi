@@ -10,6 +10,7 @@ __all__ = [
     "NativeFile",
     "balance",
     "directionality",
+    "eigs_cis",
     "expected_cis",
     "expected_trans",
     "insulation",
@@ -90,6 +91,18 @@ def insulation(
     npt.NDArray[np.bool_],
     list[str],
     list[_Column],
+]: ...
+def eigs_cis(
+    file: NativeFile,
+    view: list[_Region] | None,
+    weight_name: str,
+    phasing_track: list[float] | None = None,
+    n_eigs: int = 3,
+    ignore_diags: int | None = None,
+    clip_percentile: float = 99.9,
+    sort_metric: str | None = None,
+) -> tuple[
+    list[tuple[str, str, int, int, int, int, list[float], list[list[float]]]], list[str]
 ]: ...
 def balance(
     file: NativeFile,

@@ -7,6 +7,9 @@
 use std::ops::Range;
 
 use contactmap::balance::{balance as balance_pixels, BalanceParams, Method, Scope};
+use contactmap::compartments::cis::CisEigParams;
+use contactmap::compartments::eigs::{eigs_cis as cis_eigs, Phasing};
+use contactmap::compartments::phasing::SortMetric;
 use contactmap::error::Error;
 use contactmap::expected::{
     expected_cis as cis_expected, expected_trans as trans_expected, CisParams, RegionSpec, View,
@@ -98,6 +101,19 @@ type BinArrays<'py> = (
     Bound<'py, PyArray1<u32>>,
     Bound<'py, PyArray1<u64>>,
     Bound<'py, PyArray1<u64>>,
+);
+
+/// One region's eigenpairs: name, chrom, start, end (bp), first bin, end bin, eigenvalues,
+/// eigenvectors (each over the region's bins).
+type RegionEigsTuple = (
+    String,
+    String,
+    u64,
+    u64,
+    usize,
+    usize,
+    Vec<f64>,
+    Vec<Vec<f64>>,
 );
 
 /// A named column: (name, numpy array).
@@ -471,6 +487,86 @@ fn insulation<'py>(
     ))
 }
 
+/// cooltools' `eigs_cis`: per view region its eigenpairs (`RegionEigsTuple`), and
+/// the warnings (unconverged or unoriented vectors).
+#[allow(clippy::too_many_arguments, clippy::type_complexity)]
+#[pyfunction]
+#[pyo3(signature = (file, view, weight_name, phasing_track=None, n_eigs=3, ignore_diags=None, clip_percentile=99.9, sort_metric=None))]
+fn eigs_cis(
+    py: Python<'_>,
+    file: &NativeFile,
+    view: Option<Vec<RegionTuple>>,
+    weight_name: String,
+    phasing_track: Option<Vec<f64>>,
+    n_eigs: usize,
+    ignore_diags: Option<usize>,
+    clip_percentile: f64,
+    sort_metric: Option<String>,
+) -> PyResult<(Vec<RegionEigsTuple>, Vec<String>)> {
+    let sort = sort_metric
+        .map(|name| match name.as_str() {
+            "spearmanr" => Ok(SortMetric::Spearman),
+            "pearsonr" => Ok(SortMetric::Pearson),
+            "var_explained" => Ok(SortMetric::VarExplained),
+            "MAD_explained" => Ok(SortMetric::MadExplained),
+            other => Err(ContactmapError::new_err(format!(
+                "sort_metric '{other}': expected spearmanr, pearsonr, var_explained or MAD_explained"
+            ))),
+        })
+        .transpose()?;
+    let (eigs, regions) = run(py, || {
+        let reader: &dyn MatrixReader = &file.reader;
+        let view = view_of(reader, view)?;
+        let weights = file.weights_of(Some(&weight_name))?.unwrap_or_default();
+        if let Some(track) = &phasing_track {
+            if track.len() != reader.bins().n_bins() {
+                return Err(Error::Invalid(format!(
+                    "phasing_track: {} values for {} bins",
+                    track.len(),
+                    reader.bins().n_bins()
+                )));
+            }
+        }
+        // cooltools' default: the weight column's ignore_diags attribute, else 2
+        let ignore_diags = ignore_diags.unwrap_or_else(|| {
+            reader
+                .weight_attribute(&weight_name, "ignore_diags")
+                .and_then(|v| v.as_u64())
+                .map_or(2, |v| v as usize)
+        });
+        let params = CisEigParams {
+            n_eigs,
+            ignore_diags,
+            clip_percentile,
+        };
+        let phasing = Phasing {
+            track: phasing_track.as_deref(),
+            sort,
+        };
+        let eigs = cis_eigs(reader, &weights, &view, phasing, &params)?;
+        let chroms = reader.bins().chroms();
+        let regions: Vec<(String, String, u64, u64, Range<usize>)> = view
+            .regions()
+            .iter()
+            .map(|r| {
+                let chrom = chroms[r.chrom_id].name.clone();
+                (r.name.clone(), chrom, r.start_bp, r.end_bp, r.bins.clone())
+            })
+            .collect();
+        Ok((eigs, regions))
+    })?;
+    let per_region = regions
+        .into_iter()
+        .zip(eigs.eigs)
+        .map(|((name, chrom, start, end, bins), e)| {
+            (
+                name, chrom, start, end, bins.start, bins.end, e.values, e.vectors,
+            )
+        })
+        .collect();
+    Ok((per_region, eigs.warnings))
+}
+
 /// Balance a map: (weights, summary dict). Parameters left out take the method's reference
 /// defaults (`BalanceParams::for_method`: cooler's for ICE, Juicer's for the others).
 #[allow(clippy::too_many_arguments)]
@@ -548,6 +644,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(insulation, m)?)?;
     m.add_function(wrap_pyfunction!(expected_trans, m)?)?;
     m.add_function(wrap_pyfunction!(directionality, m)?)?;
+    m.add_function(wrap_pyfunction!(eigs_cis, m)?)?;
     m.add_function(wrap_pyfunction!(balance, m)?)?;
     m.add_function(wrap_pyfunction!(resolutions, m)?)?;
     Ok(())

@@ -200,6 +200,24 @@ def test_expected_trans_equals_the_command_line_and_naive_sums():
     assert row["balanced.sum"] == pytest.approx(balanced[ok].sum(), rel=1e-12)
 
 
+def test_eigs_cis_equals_cooltools():
+    # cooltools 0.7.1 eigs_cis on dm6, phased by the track it was given (masked where the
+    # weight is NaN, as the library test does)
+    comp = REF / "compartments"
+    f = cm.File(DM6)
+    w = f.weights("weight")
+    track = pd.read_csv(comp / "dm6_100kb.phasing.tsv.gz", sep="\t")
+    assert len(track) == len(w)
+    track.loc[np.isnan(w), "track"] = np.nan
+    eigvals, eigvecs = cm.eigs_cis(f, phasing_track=track, n_eigs=3)
+    vals = pd.read_csv(comp / "dm6_100kb.eigs_cis_phased.vals.tsv.gz", sep="\t")
+    vecs = pd.read_csv(comp / "dm6_100kb.eigs_cis_phased.vecs.tsv.gz", sep="\t")
+    assert list(eigvals.columns) == list(vals.columns)
+    assert_columns_close(eigvals, vals, 1e-8, "dm6 eigenvalues")
+    assert list(eigvecs.columns[:3]) == ["chrom", "start", "end"] and "weight" in eigvecs.columns
+    assert_columns_close(eigvecs[["E1", "E2", "E3"]], vecs, 1e-8, "dm6 eigenvectors")
+
+
 def test_ice_equals_cooler_balance():
     for key, uri in [("mm9_CN_10Mb", MM9), ("gm12878_2Mb", GM12878)]:
         for mode, cis_only in [("gw", False), ("cis", True)]:
