@@ -46,26 +46,25 @@ __all__ = [
 __version__ = "0.1.0"
 
 
-def _pandas() -> Any:
+def _optional(module: str, package: str, needed_by: str) -> Any:
+    """An optional dependency, or an ImportError that says what needs it and how to install it."""
+    import importlib
+
     try:
-        import pandas
+        return importlib.import_module(module)
     except ImportError as e:  # pragma: no cover - depends on the environment
         raise ImportError(
-            "this function returns a pandas DataFrame: install pandas "
-            "(pip install pandas, or pip install 'contactmap[pandas]')"
+            f"{needed_by}: install {package} (pip install {package}, "
+            f"or pip install 'contactmap[{package}]')"
         ) from e
-    return pandas
+
+
+def _pandas() -> Any:
+    return _optional("pandas", "pandas", "this function returns a pandas DataFrame")
 
 
 def _scipy_sparse() -> Any:
-    try:
-        import scipy.sparse
-    except ImportError as e:  # pragma: no cover - depends on the environment
-        raise ImportError(
-            "to_coo() / to_csr() return scipy sparse matrices: install scipy "
-            "(pip install scipy, or pip install 'contactmap[scipy]')"
-        ) from e
-    return scipy.sparse
+    return _optional("scipy.sparse", "scipy", "to_coo() / to_csr() return scipy sparse matrices")
 
 
 def _uri_of(obj: Any) -> str:
