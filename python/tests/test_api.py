@@ -338,3 +338,17 @@ def test_ctrl_c_stops_a_long_call():
     assert time.perf_counter() - t0 < 10
     weights, info = cm.balance(f)
     assert info["converged"] and np.isfinite(weights).sum() > 0
+
+
+def test_the_worked_examples_of_the_docs_run(monkeypatch):
+    # docs/python.md's worked example and the README's, as written (paths relative to the clone)
+    monkeypatch.chdir(ROOT)
+    for doc in (ROOT / "docs" / "python.md", ROOT / "README.md"):
+        text = doc.read_text()
+        blocks = text.split("```python\n")[1:]
+        assert blocks, f"{doc}: no python example"
+        for block in blocks:
+            code = block.split("```", 1)[0]
+            namespace: dict = {}
+            exec(compile(code, str(doc), "exec"), namespace)
+            assert "cm" in namespace
