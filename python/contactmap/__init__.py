@@ -36,11 +36,14 @@ __all__ = [
     "MultiResFile",
     "PixelSelector",
     "balance",
+    "digitize",
     "directionality",
     "eigs_cis",
     "expected_cis",
     "expected_trans",
     "insulation",
+    "saddle",
+    "saddle_strength",
 ]
 
 __version__ = "0.1.0"
@@ -515,6 +518,118 @@ def eigs_cis(
             column[r[4] : r[5]] = r[7][k]
         eigvecs[f"E{k + 1}"] = column
     return eigvals, eigvecs
+
+
+def _track_values(track: Any) -> list[float]:
+    """A per-bin track: a DataFrame of the bins whose fourth column is the value (cooltools'
+    tracks), a Series, or an array."""
+    values = track.iloc[:, 3] if hasattr(track, "iloc") and track.ndim == 2 else track
+    return [float(v) for v in np.asarray(values, dtype=float)]
+
+
+def digitize(
+    track: Any,
+    n_bins: int,
+    vrange: tuple[float, float] | None = None,
+    qrange: tuple[float, float] | None = None,
+    digitized_suffix: str = ".d",
+) -> tuple[Any, np.ndarray]:
+    """cooltools' ``digitize``: each bin's class of ``track`` (0 below the first edge,
+    ``n_bins + 1`` above the last, -1 for NaN) and the ``n_bins + 1`` edges, from quantiles
+    (``qrange``, default (0, 1)) or values (``vrange``). With a DataFrame track, returns it
+    with the column ``<value column><digitized_suffix>`` added."""
+    classes, edges = _native.digitize(_track_values(track), n_bins, qrange, vrange)
+    if hasattr(track, "iloc") and track.ndim == 2:
+        out = track.copy()
+        out[str(track.columns[3]) + digitized_suffix] = classes
+        return out, edges
+    return classes, edges
+
+
+def _expected_arrays(
+    f: File, expected: Any, view_df: Any, value_col: str, trans: bool
+) -> list[list[float]]:
+    """The expected DataFrame as the library takes it: per view region, its values by diagonal
+    (cis), or per two regions (trans, ``[earlier][later]``)."""
+    regions = _view_regions(view_df)
+    if regions is None:
+        names = [name for name, _ in f._native.chromosomes()]
+        sizes = dict(f._native.chromosomes())
+        regions = [(name, 0, sizes[name], name) for name in names]
+    names = [r[3] if r[3] is not None else f"{r[0]}:{r[1]}-{r[2]}" for r in regions]
+    if trans:
+        index = {name: k for k, name in enumerate(names)}
+        table = [[float("nan")] * len(names) for _ in names]
+        for a, b, v in zip(expected["region1"], expected["region2"], expected[value_col]):
+            if a in index and b in index:
+                i, j = sorted((index[a], index[b]))
+                table[i][j] = float(v)
+        return table
+    out = []
+    for name, (chrom, start, end, _) in zip(names, regions):
+        first, last = f._native.region_bins(f"{chrom}:{start}-{end}")
+        values = np.full(last - first, np.nan)
+        rows = expected[expected["region1"] == name]
+        dist = rows["dist"].to_numpy()
+        ok = dist < len(values)
+        values[dist[ok]] = rows[value_col].to_numpy()[ok]
+        out.append([float(v) for v in values])
+    return out
+
+
+def saddle(
+    clr: Any,
+    expected: Any,
+    track: Any,
+    contact_type: str = "cis",
+    n_bins: int = 50,
+    vrange: tuple[float, float] | None = None,
+    qrange: tuple[float, float] | None = None,
+    view_df: Any = None,
+    clr_weight_name: str = "weight",
+    expected_value_col: str = "balanced.avg",
+    view_name_col: str = "name",
+    min_diag: int = 3,
+    max_diag: int = -1,
+    trim_outliers: bool = False,
+    verbose: bool = False,
+    drop_track_na: bool = False,
+) -> tuple[np.ndarray, np.ndarray]:
+    """cooltools' ``saddle``: the sums and counts of observed / expected between the classes of
+    ``track`` (``n_bins`` classes plus the two outer ones: ``(n_bins + 2)^2`` arrays), cis
+    (``expected`` from ``expected_cis``, diagonals ``min_diag..max_diag``) or trans
+    (``expected`` from ``expected_trans``). ``trim_outliers`` and ``drop_track_na`` are not
+    supported (the outer classes are kept, NaN track values fall out)."""
+    if contact_type not in ("cis", "trans"):
+        raise ContactmapError(f"contact_type {contact_type!r}: expected 'cis' or 'trans'")
+    if trim_outliers:
+        raise ContactmapError("trim_outliers=True is not supported")
+    f = _file(clr)
+    trans = contact_type == "trans"
+    sums, counts, _edges, n = _native.saddle(
+        f._native,
+        _track_values(track),
+        _expected_arrays(f, expected, view_df, expected_value_col, trans),
+        clr_weight_name,
+        _view_regions(view_df),
+        trans,
+        n_bins,
+        None if vrange is not None else (qrange if qrange is not None else (0.0, 1.0)),
+        vrange,
+        min_diag,
+        None if max_diag is None or max_diag < 0 else max_diag,
+    )
+    return sums.reshape(n, n), counts.reshape(n, n)
+
+
+def saddle_strength(S: np.ndarray, C: np.ndarray) -> np.ndarray:
+    """cooltools' ``saddle_strength``: for k = 1..n, (AA + BB) / (AB + BA) of the k extreme
+    classes' corners of the saddle ``S / C`` (entry 0 is 0)."""
+    S, C = np.asarray(S, dtype=float), np.asarray(C, dtype=float)
+    n = S.shape[0]
+    return _native.saddle_strength(
+        [float(v) for v in S.ravel()], [float(v) for v in C.ravel()], n
+    )
 
 
 def balance(

@@ -9,12 +9,15 @@ __all__ = [
     "ContactmapError",
     "NativeFile",
     "balance",
+    "digitize",
     "directionality",
     "eigs_cis",
     "expected_cis",
     "expected_trans",
     "insulation",
     "resolutions",
+    "saddle",
+    "saddle_strength",
 ]
 
 class ContactmapError(ValueError):
@@ -104,6 +107,28 @@ def eigs_cis(
 ) -> tuple[
     list[tuple[str, str, int, int, int, int, list[float], list[list[float]]]], list[str]
 ]: ...
+def digitize(
+    track: list[float],
+    n_bins: int,
+    qrange: tuple[float, float] | None = None,
+    vrange: tuple[float, float] | None = None,
+) -> tuple[npt.NDArray[np.int32], npt.NDArray[np.float64]]: ...
+def saddle(
+    file: NativeFile,
+    track: list[float],
+    expected: list[list[float]],
+    weight_name: str,
+    view: list[_Region] | None,
+    trans: bool = False,
+    n_bins: int = 50,
+    qrange: tuple[float, float] | None = None,
+    vrange: tuple[float, float] | None = None,
+    min_diag: int = 3,
+    max_diag: int | None = None,
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.float64], int]: ...
+def saddle_strength(
+    sum: list[float], count: list[float], n: int
+) -> npt.NDArray[np.float64]: ...
 def balance(
     file: NativeFile,
     method: str = "ice",

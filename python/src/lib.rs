@@ -10,6 +10,10 @@ use contactmap::balance::{balance as balance_pixels, BalanceParams, Method, Scop
 use contactmap::compartments::cis::CisEigParams;
 use contactmap::compartments::eigs::{eigs_cis as cis_eigs, Phasing};
 use contactmap::compartments::phasing::SortMetric;
+use contactmap::compartments::saddle::{
+    digitize as digitize_track, saddle_cis, saddle_strength as saddle_strengths, saddle_trans,
+    Binning, Saddle, SaddleParams,
+};
 use contactmap::error::Error;
 use contactmap::expected::{
     expected_cis as cis_expected, expected_trans as trans_expected, CisParams, RegionSpec, View,
@@ -567,6 +571,115 @@ fn eigs_cis(
     Ok((per_region, eigs.warnings))
 }
 
+fn binning(qrange: Option<(f64, f64)>, vrange: Option<(f64, f64)>) -> PyResult<Binning> {
+    match (qrange, vrange) {
+        (Some((lo, hi)), None) => Ok(Binning::Quantiles(lo, hi)),
+        (None, Some((lo, hi))) => Ok(Binning::Values(lo, hi)),
+        (None, None) => Ok(Binning::Quantiles(0.0, 1.0)),
+        (Some(_), Some(_)) => Err(ContactmapError::new_err(
+            "qrange and vrange: give one of them, not both",
+        )),
+    }
+}
+
+/// cooltools' `digitize`: the track's class per bin (`-1` for NaN) and the bin edges.
+#[allow(clippy::type_complexity)]
+#[pyfunction]
+#[pyo3(signature = (track, n_bins, qrange=None, vrange=None))]
+fn digitize<'py>(
+    py: Python<'py>,
+    track: Vec<f64>,
+    n_bins: usize,
+    qrange: Option<(f64, f64)>,
+    vrange: Option<(f64, f64)>,
+) -> PyResult<(Bound<'py, PyArray1<i32>>, Bound<'py, PyArray1<f64>>)> {
+    let binning = binning(qrange, vrange)?;
+    let d = run(py, || digitize_track(&track, n_bins, binning))?;
+    Ok((vec1(py, d.classes), vec1(py, d.edges)))
+}
+
+/// cooltools' `saddle`: the (n_bins + 2)^2 sums and counts of observed / expected by the
+/// classes of `track` (cis: `expected[region][diagonal]`; trans: `expected[earlier][later]`).
+#[allow(clippy::too_many_arguments, clippy::type_complexity)]
+#[pyfunction]
+#[pyo3(signature = (file, track, expected, weight_name, view, trans=false, n_bins=50, qrange=None, vrange=None, min_diag=3, max_diag=None))]
+fn saddle<'py>(
+    py: Python<'py>,
+    file: &NativeFile,
+    track: Vec<f64>,
+    expected: Vec<Vec<f64>>,
+    weight_name: String,
+    view: Option<Vec<RegionTuple>>,
+    trans: bool,
+    n_bins: usize,
+    qrange: Option<(f64, f64)>,
+    vrange: Option<(f64, f64)>,
+    min_diag: usize,
+    max_diag: Option<usize>,
+) -> PyResult<(
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<f64>>,
+    usize,
+)> {
+    let binning = binning(qrange, vrange)?;
+    let (result, edges) = run(py, || {
+        let reader: &dyn MatrixReader = &file.reader;
+        let view = view_of(reader, view)?;
+        let weights = file.weights_of(Some(&weight_name))?.unwrap_or_default();
+        if track.len() != reader.bins().n_bins() {
+            return Err(Error::Invalid(format!(
+                "track: {} values for {} bins",
+                track.len(),
+                reader.bins().n_bins()
+            )));
+        }
+        let digitized = digitize_track(&track, n_bins, binning)?;
+        let pixels = LoadedPixels::Streamed(StreamedPixels::new(reader));
+        let result = if trans {
+            saddle_trans(&pixels, &weights, &digitized, &view, &expected)?
+        } else {
+            let params = SaddleParams {
+                n_bins,
+                binning,
+                min_diag,
+                max_diag,
+            };
+            saddle_cis(&pixels, &weights, &digitized, &view, &expected, &params)?
+        };
+        Ok((result, digitized.edges))
+    })?;
+    Ok((
+        vec1(py, result.sum),
+        vec1(py, result.count),
+        vec1(py, edges),
+        result.n_classes,
+    ))
+}
+
+/// cooltools' `saddle_strength` of row-major sums and counts (`n` classes on a side).
+#[pyfunction]
+fn saddle_strength<'py>(
+    py: Python<'py>,
+    sum: Vec<f64>,
+    count: Vec<f64>,
+    n: usize,
+) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    if sum.len() != n * n || count.len() != n * n {
+        return Err(ContactmapError::new_err(format!(
+            "saddle_strength: {} sums and {} counts for {n} x {n} classes",
+            sum.len(),
+            count.len()
+        )));
+    }
+    let saddle = Saddle {
+        n_classes: n,
+        sum,
+        count,
+    };
+    Ok(vec1(py, saddle_strengths(&saddle)))
+}
+
 /// Balance a map: (weights, summary dict). Parameters left out take the method's reference
 /// defaults (`BalanceParams::for_method`: cooler's for ICE, Juicer's for the others).
 #[allow(clippy::too_many_arguments)]
@@ -645,6 +758,9 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(expected_trans, m)?)?;
     m.add_function(wrap_pyfunction!(directionality, m)?)?;
     m.add_function(wrap_pyfunction!(eigs_cis, m)?)?;
+    m.add_function(wrap_pyfunction!(digitize, m)?)?;
+    m.add_function(wrap_pyfunction!(saddle, m)?)?;
+    m.add_function(wrap_pyfunction!(saddle_strength, m)?)?;
     m.add_function(wrap_pyfunction!(balance, m)?)?;
     m.add_function(wrap_pyfunction!(resolutions, m)?)?;
     Ok(())

@@ -218,6 +218,44 @@ def test_eigs_cis_equals_cooltools():
     assert_columns_close(eigvecs[["E1", "E2", "E3"]], vecs, 1e-8, "dm6 eigenvectors")
 
 
+def test_saddles_equal_cooltools():
+    comp = REF / "compartments"
+
+    def assert_saddle(S, C, name):
+        ref = pd.read_csv(comp / name, sep="\t")
+        n = S.shape[0]
+        assert len(ref) == n * n, name
+        i, j = ref["i"].to_numpy(), ref["j"].to_numpy()
+        np.testing.assert_array_equal(C[i, j], ref["count"].to_numpy(), err_msg=name)
+        want = ref["sum"].to_numpy()
+        ok = ~np.isnan(want)
+        np.testing.assert_allclose(S[i, j][ok], want[ok], rtol=1e-8, err_msg=name)
+
+    # cis: dm6 with cooltools' own phased E1 as the track (masked where the weight is NaN)
+    f = cm.File(DM6)
+    w = f.weights("weight")
+    e1 = pd.read_csv(comp / "dm6_100kb.eigs_cis_phased.vecs.tsv.gz", sep="\t")["E1"].to_numpy()
+    e1 = np.where(np.isnan(w), np.nan, e1)
+    bins = f.bins()[["chrom", "start", "end"]].assign(E1=e1)
+    digitized, edges = cm.digitize(bins, 10, qrange=(0.025, 0.975))
+    ref_edges = pd.read_csv(comp / "dm6_100kb.saddle_edges.tsv.gz", sep="\t")["edge"].to_numpy()
+    np.testing.assert_allclose(edges, ref_edges, rtol=0, atol=1e-9)
+    assert "E1.d" in digitized.columns and digitized["E1.d"].max() == 11
+    exp = cm.expected_cis(f)
+    S, C = cm.saddle(f, exp, bins, "cis", n_bins=10, qrange=(0.025, 0.975), min_diag=3)
+    assert_saddle(S, C, "dm6_100kb.saddle.tsv.gz")
+    strength = pd.read_csv(comp / "dm6_100kb.saddle_strength.tsv.gz", sep="\t")["strength"]
+    # cooltools' entry k = 0 is a placeholder 0
+    np.testing.assert_allclose(cm.saddle_strength(S, C)[1:], strength.to_numpy()[1:], rtol=1e-8)
+    # trans: mm9 with cooltools' trans E1
+    g = cm.File(MM9)
+    w = g.weights("weight")
+    e1 = pd.read_csv(comp / "mm9_10Mb.eigs_trans.vecs.tsv.gz", sep="\t")["E1"].to_numpy()
+    e1 = np.where(np.isnan(w), np.nan, e1)
+    S, C = cm.saddle(g, cm.expected_trans(g), e1, "trans", n_bins=10, qrange=(0.025, 0.975))
+    assert_saddle(S, C, "mm9_10Mb.saddle_trans.tsv.gz")
+
+
 def test_ice_equals_cooler_balance():
     for key, uri in [("mm9_CN_10Mb", MM9), ("gm12878_2Mb", GM12878)]:
         for mode, cis_only in [("gw", False), ("cis", True)]:
