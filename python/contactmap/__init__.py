@@ -39,6 +39,7 @@ __all__ = [
     "digitize",
     "directionality",
     "eigs_cis",
+    "eigs_trans",
     "expected_cis",
     "expected_trans",
     "insulation",
@@ -482,10 +483,7 @@ def eigs_cis(
     for compatibility."""
     pd = _pandas()
     f = _file(clr)
-    track = None
-    if phasing_track is not None:
-        values = phasing_track.iloc[:, 3] if hasattr(phasing_track, "iloc") else phasing_track
-        track = [float(v) for v in np.asarray(values, dtype=float)]
+    track = None if phasing_track is None else _track_values(phasing_track)
     regions, warnings = _native.eigs_cis(
         f._native,
         _view_regions(view_df),
@@ -517,6 +515,40 @@ def eigs_cis(
         for r in regions:
             column[r[4] : r[5]] = r[7][k]
         eigvecs[f"E{k + 1}"] = column
+    return eigvals, eigvecs
+
+
+def eigs_trans(
+    clr: Any,
+    phasing_track: Any = None,
+    n_eigs: int = 3,
+    partition: Any = None,
+    clr_weight_name: str = "weight",
+    sort_metric: str | None = None,
+    perc_top: float = 99.95,
+    perc_bottom: float = 1.0,
+) -> tuple[pandas.DataFrame, pandas.DataFrame]:
+    """cooltools' ``eigs_trans``: the leading eigenvectors of the genome-wide trans observed /
+    expected matrix. Returns ``(eigvals, eigvecs)``: one row ``eigval1..N``, and the bin table
+    with ``E1..EN``. ``phasing_track`` as in :func:`eigs_cis`; ``partition`` (other chromosome
+    groupings) is not supported."""
+    if partition is not None:
+        raise ContactmapError("partition is not supported: the chromosomes are the partition")
+    pd = _pandas()
+    f = _file(clr)
+    track = None if phasing_track is None else _track_values(phasing_track)
+    values, vectors, warnings = _native.eigs_trans(
+        f._native, clr_weight_name, track, n_eigs, perc_top, perc_bottom, sort_metric
+    )
+    for line in warnings:
+        import warnings as _warnings
+
+        _warnings.warn(f"contactmap eigs_trans: {line}", stacklevel=2)
+    eigvals = pd.DataFrame({f"eigval{k + 1}": [values[k]] for k in range(n_eigs)})
+    eigvecs = f.bins()
+    eigvecs["chrom"] = eigvecs["chrom"].astype(str)
+    for k in range(n_eigs):
+        eigvecs[f"E{k + 1}"] = np.asarray(vectors[k], dtype=float)
     return eigvals, eigvecs
 
 

@@ -12,6 +12,7 @@ __all__ = [
     "digitize",
     "directionality",
     "eigs_cis",
+    "eigs_trans",
     "expected_cis",
     "expected_trans",
     "insulation",
@@ -107,6 +108,15 @@ def eigs_cis(
 ) -> tuple[
     list[tuple[str, str, int, int, int, int, list[float], list[list[float]]]], list[str]
 ]: ...
+def eigs_trans(
+    file: NativeFile,
+    weight_name: str,
+    phasing_track: list[float] | None = None,
+    n_eigs: int = 3,
+    perc_top: float = 99.95,
+    perc_bottom: float = 1.0,
+    sort_metric: str | None = None,
+) -> tuple[list[float], list[list[float]], list[str]]: ...
 def digitize(
     track: list[float],
     n_bins: int,

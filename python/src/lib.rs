@@ -8,12 +8,13 @@ use std::ops::Range;
 
 use contactmap::balance::{balance as balance_pixels, BalanceParams, Method, Scope};
 use contactmap::compartments::cis::CisEigParams;
-use contactmap::compartments::eigs::{eigs_cis as cis_eigs, Phasing};
+use contactmap::compartments::eigs::{eigs_cis as cis_eigs, eigs_trans as trans_eigs, Phasing};
 use contactmap::compartments::phasing::SortMetric;
 use contactmap::compartments::saddle::{
     digitize as digitize_track, saddle_cis, saddle_strength as saddle_strengths, saddle_trans,
     Binning, Saddle, SaddleParams,
 };
+use contactmap::compartments::trans::TransEigParams;
 use contactmap::error::Error;
 use contactmap::expected::{
     expected_cis as cis_expected, expected_trans as trans_expected, CisParams, RegionSpec, View,
@@ -507,30 +508,12 @@ fn eigs_cis(
     clip_percentile: f64,
     sort_metric: Option<String>,
 ) -> PyResult<(Vec<RegionEigsTuple>, Vec<String>)> {
-    let sort = sort_metric
-        .map(|name| match name.as_str() {
-            "spearmanr" => Ok(SortMetric::Spearman),
-            "pearsonr" => Ok(SortMetric::Pearson),
-            "var_explained" => Ok(SortMetric::VarExplained),
-            "MAD_explained" => Ok(SortMetric::MadExplained),
-            other => Err(ContactmapError::new_err(format!(
-                "sort_metric '{other}': expected spearmanr, pearsonr, var_explained or MAD_explained"
-            ))),
-        })
-        .transpose()?;
+    let sort = sort_metric.map(|name| sort_metric_of(&name)).transpose()?;
     let (eigs, regions) = run(py, || {
         let reader: &dyn MatrixReader = &file.reader;
         let view = view_of(reader, view)?;
         let weights = file.weights_of(Some(&weight_name))?.unwrap_or_default();
-        if let Some(track) = &phasing_track {
-            if track.len() != reader.bins().n_bins() {
-                return Err(Error::Invalid(format!(
-                    "phasing_track: {} values for {} bins",
-                    track.len(),
-                    reader.bins().n_bins()
-                )));
-            }
-        }
+        check_track(reader, phasing_track.as_deref())?;
         // cooltools' default: the weight column's ignore_diags attribute, else 2
         let ignore_diags = ignore_diags.unwrap_or_else(|| {
             reader
@@ -569,6 +552,62 @@ fn eigs_cis(
         })
         .collect();
     Ok((per_region, eigs.warnings))
+}
+
+/// cooltools' `eigs_trans`: the eigenvalues, the eigenvectors over every bin, the warnings.
+#[allow(clippy::too_many_arguments, clippy::type_complexity)]
+#[pyfunction]
+#[pyo3(signature = (file, weight_name, phasing_track=None, n_eigs=3, perc_top=99.95, perc_bottom=1.0, sort_metric=None))]
+fn eigs_trans(
+    py: Python<'_>,
+    file: &NativeFile,
+    weight_name: String,
+    phasing_track: Option<Vec<f64>>,
+    n_eigs: usize,
+    perc_top: f64,
+    perc_bottom: f64,
+    sort_metric: Option<String>,
+) -> PyResult<(Vec<f64>, Vec<Vec<f64>>, Vec<String>)> {
+    let sort = sort_metric.map(|name| sort_metric_of(&name)).transpose()?;
+    let eigs = run(py, || {
+        let reader: &dyn MatrixReader = &file.reader;
+        let weights = file.weights_of(Some(&weight_name))?.unwrap_or_default();
+        check_track(reader, phasing_track.as_deref())?;
+        let params = TransEigParams {
+            n_eigs,
+            perc_top,
+            perc_bottom,
+        };
+        let phasing = Phasing {
+            track: phasing_track.as_deref(),
+            sort,
+        };
+        trans_eigs(reader, &weights, phasing, &params)
+    })?;
+    Ok((eigs.eigs.values, eigs.eigs.vectors, eigs.warnings))
+}
+
+fn sort_metric_of(name: &str) -> PyResult<SortMetric> {
+    match name {
+        "spearmanr" => Ok(SortMetric::Spearman),
+        "pearsonr" => Ok(SortMetric::Pearson),
+        "var_explained" => Ok(SortMetric::VarExplained),
+        "MAD_explained" => Ok(SortMetric::MadExplained),
+        other => Err(ContactmapError::new_err(format!(
+            "sort_metric '{other}': expected spearmanr, pearsonr, var_explained or MAD_explained"
+        ))),
+    }
+}
+
+fn check_track(reader: &dyn MatrixReader, track: Option<&[f64]>) -> Result<(), Error> {
+    match track {
+        Some(track) if track.len() != reader.bins().n_bins() => Err(Error::Invalid(format!(
+            "phasing_track: {} values for {} bins",
+            track.len(),
+            reader.bins().n_bins()
+        ))),
+        _ => Ok(()),
+    }
 }
 
 fn binning(qrange: Option<(f64, f64)>, vrange: Option<(f64, f64)>) -> PyResult<Binning> {
@@ -758,6 +797,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(expected_trans, m)?)?;
     m.add_function(wrap_pyfunction!(directionality, m)?)?;
     m.add_function(wrap_pyfunction!(eigs_cis, m)?)?;
+    m.add_function(wrap_pyfunction!(eigs_trans, m)?)?;
     m.add_function(wrap_pyfunction!(digitize, m)?)?;
     m.add_function(wrap_pyfunction!(saddle, m)?)?;
     m.add_function(wrap_pyfunction!(saddle_strength, m)?)?;

@@ -218,6 +218,21 @@ def test_eigs_cis_equals_cooltools():
     assert_columns_close(eigvecs[["E1", "E2", "E3"]], vecs, 1e-8, "dm6 eigenvectors")
 
 
+def test_eigs_trans_equals_cooltools():
+    comp = REF / "compartments"
+    vals = pd.read_csv(comp / "mm9_10Mb.eigs_trans.vals.tsv.gz", sep="\t")
+    vecs = pd.read_csv(comp / "mm9_10Mb.eigs_trans.vecs.tsv.gz", sep="\t")
+    eigvals, eigvecs = cm.eigs_trans(MM9)
+    assert_columns_close(eigvals, vals, 1e-8, "mm9 trans eigenvalues")
+    for column in ["E1", "E2", "E3"]:
+        # without a phasing track the signs are arbitrary, in cooltools too
+        ours, theirs = eigvecs[column].to_numpy(), vecs[column].to_numpy()
+        assert np.array_equal(np.isnan(ours), np.isnan(theirs)), column
+        ok = ~np.isnan(theirs)
+        sign = np.sign(np.dot(ours[ok], theirs[ok]))
+        np.testing.assert_allclose(sign * ours[ok], theirs[ok], rtol=1e-8, atol=1e-12)
+
+
 def test_saddles_equal_cooltools():
     comp = REF / "compartments"
 
