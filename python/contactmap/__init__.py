@@ -224,12 +224,13 @@ class PixelSelector:
                 columns["start" + k] = start[ids].astype(np.int64, copy=False)
                 columns["end" + k] = end[ids].astype(np.int64, copy=False)
         else:
-            columns["bin1_id"] = bin1.astype(np.int64, copy=False)
-            columns["bin2_id"] = bin2.astype(np.int64, copy=False)
+            columns["bin1_id"] = bin1
+            columns["bin2_id"] = bin2
         columns["count"] = count
         if balanced is not None:
             columns["balanced"] = balanced
-        return pd.DataFrame(columns)
+        # the columns are the library's arrays, not copies (one block per column)
+        return pd.DataFrame(columns, copy=False)
 
     def _sparse(self) -> scipy.sparse.coo_matrix:
         sparse = _scipy_sparse()

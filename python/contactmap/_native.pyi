@@ -48,8 +48,8 @@ class NativeFile:
     def fetch_pixels(
         self, rows: tuple[int, int], cols: tuple[int, int], weight_name: str | None = None
     ) -> tuple[
-        npt.NDArray[np.uint64],
-        npt.NDArray[np.uint64],
+        npt.NDArray[np.int64],
+        npt.NDArray[np.int64],
         npt.NDArray[np.float64],
         npt.NDArray[np.float64] | None,
     ]: ...

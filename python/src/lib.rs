@@ -284,21 +284,28 @@ impl NativeFile {
         cols: (usize, usize),
         weight_name: Option<&str>,
     ) -> PyResult<(
-        Bound<'py, PyArray1<u64>>,
-        Bound<'py, PyArray1<u64>>,
+        Bound<'py, PyArray1<i64>>,
+        Bound<'py, PyArray1<i64>>,
         Bound<'py, PyArray1<f64>>,
         Option<Bound<'py, PyArray1<f64>>>,
     )> {
-        let q = run(py, || {
+        let (bin1, bin2, count, balanced) = run(py, || {
             let weights = self.weights_of(weight_name)?;
-            query_pixels(self.raw(), range(rows), range(cols), weights.as_deref())
+            let q = query_pixels(self.raw(), range(rows), range(cols), weights.as_deref())?;
+            // int64 as pandas and cooler have bin ids (converted in place, no new allocation)
+            let ids = |v: Vec<u64>| -> Vec<i64> { v.into_iter().map(|b| b as i64).collect() };
+            Ok((
+                ids(q.pixels.bin1),
+                ids(q.pixels.bin2),
+                q.pixels.count,
+                q.balanced,
+            ))
         })?;
-        let p = q.pixels;
         Ok((
-            vec1(py, p.bin1),
-            vec1(py, p.bin2),
-            vec1(py, p.count),
-            q.balanced.map(|b| vec1(py, b)),
+            vec1(py, bin1),
+            vec1(py, bin2),
+            vec1(py, count),
+            balanced.map(|b| vec1(py, b)),
         ))
     }
 }
