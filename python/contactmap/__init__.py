@@ -354,7 +354,7 @@ def _columns_frame(region1: list[str], region2: list[str], columns: list[Any]) -
     data: dict[str, Any] = {"region1": region1, "region2": region2}
     for name, values in columns:
         data[name] = values.astype(np.int64) if values.dtype == np.uint64 else values
-    return pd.DataFrame(data)
+    return pd.DataFrame(data, copy=False)
 
 
 def expected_trans(
@@ -405,7 +405,8 @@ def directionality(
             "bad_bin_masked": masked,
             f"directionality_ratio_{int(window_bp)}": ratio,
             f"directionality_index_{int(window_bp)}": index,
-        }
+        },
+        copy=False,
     )
     return df
 
@@ -457,7 +458,7 @@ def insulation(
     }
     for name, values in columns:
         data[name] = values
-    df = pd.DataFrame(data)
+    df = pd.DataFrame(data, copy=False)
     df["chrom"] = df["chrom"].astype(str)
     return df
 
