@@ -463,6 +463,23 @@ def insulation(
     return df
 
 
+def _warn(function: str, lines: list[str]) -> None:
+    """The library's warnings (one line each) as Python warnings from the caller."""
+    import warnings
+
+    for line in lines:
+        warnings.warn(f"contactmap {function}: {line}", stacklevel=3)
+
+
+def _eigvecs(f: File, vectors: Sequence[Any]) -> Any:
+    """cooltools' eigvecs table: the bin table (chrom as text) with E1..EN over every bin."""
+    eigvecs = f.bins()
+    eigvecs["chrom"] = eigvecs["chrom"].astype(str)
+    for k, vector in enumerate(vectors):
+        eigvecs[f"E{k + 1}"] = np.asarray(vector, dtype=float)
+    return eigvecs
+
+
 def eigs_cis(
     clr: Any,
     phasing_track: Any = None,
@@ -496,10 +513,7 @@ def eigs_cis(
         clip_percentile,
         sort_metric,
     )
-    for line in warnings:
-        import warnings as _warnings
-
-        _warnings.warn(f"contactmap eigs_cis: {line}", stacklevel=2)
+    _warn("eigs_cis", warnings)
     eigvals = pd.DataFrame(
         {
             "chrom": [r[1] for r in regions],
@@ -510,14 +524,13 @@ def eigs_cis(
     )
     for k in range(n_eigs):
         eigvals[f"eigval{k + 1}"] = np.array([r[6][k] for r in regions], dtype=float)
-    eigvecs = f.bins()
-    eigvecs["chrom"] = eigvecs["chrom"].astype(str)
+    vectors = []
     for k in range(n_eigs):
-        column = np.full(len(eigvecs), np.nan)
+        column = np.full(f.nbins(), np.nan)
         for r in regions:
             column[r[4] : r[5]] = r[7][k]
-        eigvecs[f"E{k + 1}"] = column
-    return eigvals, eigvecs
+        vectors.append(column)
+    return eigvals, _eigvecs(f, vectors)
 
 
 def eigs_trans(
@@ -542,16 +555,9 @@ def eigs_trans(
     values, vectors, warnings = _native.eigs_trans(
         f._native, clr_weight_name, track, n_eigs, perc_top, perc_bottom, sort_metric
     )
-    for line in warnings:
-        import warnings as _warnings
-
-        _warnings.warn(f"contactmap eigs_trans: {line}", stacklevel=2)
+    _warn("eigs_trans", warnings)
     eigvals = pd.DataFrame({f"eigval{k + 1}": [values[k]] for k in range(n_eigs)})
-    eigvecs = f.bins()
-    eigvecs["chrom"] = eigvecs["chrom"].astype(str)
-    for k in range(n_eigs):
-        eigvecs[f"E{k + 1}"] = np.asarray(vectors[k], dtype=float)
-    return eigvals, eigvecs
+    return eigvals, _eigvecs(f, vectors)
 
 
 def _track_values(track: Any) -> list[float]:

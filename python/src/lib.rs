@@ -136,6 +136,16 @@ impl NativeFile {
         self.reader.inner()
     }
 
+    /// What every analysis starts from: the view (regions given, or the chromosomes) and the
+    /// weights `weight_name` (None: raw counts).
+    fn view_and_weights(
+        &self,
+        view: Option<Vec<RegionTuple>>,
+        weight_name: Option<&str>,
+    ) -> Result<(View, Option<Vec<f64>>), Error> {
+        Ok((view_of(&self.reader, view)?, self.weights_of(weight_name)?))
+    }
+
     fn weights_of(&self, name: Option<&str>) -> Result<Option<Vec<f64>>, Error> {
         match name {
             None => Ok(None),
@@ -352,8 +362,7 @@ fn expected_cis<'py>(
 ) -> PyResult<(Vec<String>, Vec<String>, Vec<NamedColumn<'py>>)> {
     let table = run(py, || {
         let reader: &dyn MatrixReader = &file.reader;
-        let view = view_of(reader, view)?;
-        let weights = file.weights_of(weight_name.as_deref())?;
+        let (view, weights) = file.view_and_weights(view, weight_name.as_deref())?;
         let params = CisParams {
             ignore_diags,
             smooth,
@@ -385,8 +394,7 @@ fn expected_trans<'py>(
 ) -> PyResult<(Vec<String>, Vec<String>, Vec<NamedColumn<'py>>)> {
     let table = run(py, || {
         let reader: &dyn MatrixReader = &file.reader;
-        let view = view_of(reader, view)?;
-        let weights = file.weights_of(weight_name.as_deref())?;
+        let (view, weights) = file.view_and_weights(view, weight_name.as_deref())?;
         let pixels = LoadedPixels::Streamed(StreamedPixels::new(reader));
         trans_expected(&pixels, weights.as_deref(), &view)
     })?;
@@ -418,8 +426,7 @@ fn directionality<'py>(
 )> {
     let table = run(py, || {
         let reader: &dyn MatrixReader = &file.reader;
-        let view = view_of(reader, view)?;
-        let weights = file.weights_of(weight_name.as_deref())?;
+        let (view, weights) = file.view_and_weights(view, weight_name.as_deref())?;
         let params = DirectionalityParams {
             ignore_diags,
             min_dist_bad_bin,
@@ -464,8 +471,7 @@ fn insulation<'py>(
         .map_err(|e: Error| ContactmapError::new_err(e.to_string()))?;
     let (table, regions) = run(py, || {
         let reader: &dyn MatrixReader = &file.reader;
-        let view = view_of(reader, view)?;
-        let weights = file.weights_of(weight_name.as_deref())?;
+        let (view, weights) = file.view_and_weights(view, weight_name.as_deref())?;
         let params = InsulationParams {
             ignore_diags,
             min_frac_valid_pixels,
@@ -518,9 +524,9 @@ fn eigs_cis(
     let sort = sort_metric.map(|name| sort_metric_of(&name)).transpose()?;
     let (eigs, regions) = run(py, || {
         let reader: &dyn MatrixReader = &file.reader;
-        let view = view_of(reader, view)?;
-        let weights = file.weights_of(Some(&weight_name))?.unwrap_or_default();
-        check_track(reader, phasing_track.as_deref())?;
+        let (view, weights) = file.view_and_weights(view, Some(&weight_name))?;
+        let weights = weights.unwrap_or_default();
+        check_track(reader, "phasing_track", phasing_track.as_deref())?;
         // cooltools' default: the weight column's ignore_diags attribute, else 2
         let ignore_diags = ignore_diags.unwrap_or_else(|| {
             reader
@@ -579,7 +585,7 @@ fn eigs_trans(
     let eigs = run(py, || {
         let reader: &dyn MatrixReader = &file.reader;
         let weights = file.weights_of(Some(&weight_name))?.unwrap_or_default();
-        check_track(reader, phasing_track.as_deref())?;
+        check_track(reader, "phasing_track", phasing_track.as_deref())?;
         let params = TransEigParams {
             n_eigs,
             perc_top,
@@ -606,10 +612,11 @@ fn sort_metric_of(name: &str) -> PyResult<SortMetric> {
     }
 }
 
-fn check_track(reader: &dyn MatrixReader, track: Option<&[f64]>) -> Result<(), Error> {
+/// A per-bin track (`name`, as the Python argument) must have one value per bin.
+fn check_track(reader: &dyn MatrixReader, name: &str, track: Option<&[f64]>) -> Result<(), Error> {
     match track {
         Some(track) if track.len() != reader.bins().n_bins() => Err(Error::Invalid(format!(
-            "phasing_track: {} values for {} bins",
+            "{name}: {} values for {} bins",
             track.len(),
             reader.bins().n_bins()
         ))),
@@ -671,15 +678,9 @@ fn saddle<'py>(
     let binning = binning(qrange, vrange)?;
     let (result, edges) = run(py, || {
         let reader: &dyn MatrixReader = &file.reader;
-        let view = view_of(reader, view)?;
-        let weights = file.weights_of(Some(&weight_name))?.unwrap_or_default();
-        if track.len() != reader.bins().n_bins() {
-            return Err(Error::Invalid(format!(
-                "track: {} values for {} bins",
-                track.len(),
-                reader.bins().n_bins()
-            )));
-        }
+        let (view, weights) = file.view_and_weights(view, Some(&weight_name))?;
+        let weights = weights.unwrap_or_default();
+        check_track(reader, "track", Some(&track))?;
         let digitized = digitize_track(&track, n_bins, binning)?;
         let pixels = LoadedPixels::Streamed(StreamedPixels::new(reader));
         let result = if trans {
