@@ -785,14 +785,7 @@ fn balance<'py>(
 /// single-resolution file.
 #[pyfunction]
 fn resolutions(py: Python<'_>, path: &str) -> PyResult<Vec<u64>> {
-    run(py, || match io::detect_kind(path)? {
-        io::FileKind::Hdf5 => match io::cool::inspect(path)? {
-            io::cool::HdfContent::Multires(resolutions) => Ok(resolutions),
-            io::cool::HdfContent::Cooler => Ok(Vec::new()),
-        },
-        io::FileKind::Hic => io::hic::HicReader::list_resolutions(std::path::Path::new(path)),
-        io::FileKind::Text => Ok(Vec::new()),
-    })
+    run(py, || io::list_resolutions(path))
 }
 
 /// The native part of the `contactmap` package.

@@ -195,3 +195,25 @@ pub fn open_text(path: &Path) -> Result<Box<dyn BufRead>> {
         Box::new(reader)
     })
 }
+
+/// The resolutions (bin sizes in bp, ascending) of a multi-resolution file: an `.mcool`'s
+/// levels, a `.hic`'s resolutions; empty for a single cooler, a HiCExplorer file or a text
+/// table.
+///
+/// ```
+/// use contactmap::io::list_resolutions;
+///
+/// assert_eq!(list_resolutions("data/cooler_test_file.mcool")?, [100000, 1000000]);
+/// assert!(list_resolutions("data/yeast.10kb.cool")?.is_empty());
+/// # Ok::<(), contactmap::Error>(())
+/// ```
+pub fn list_resolutions(path: &str) -> Result<Vec<u64>> {
+    match detect_kind(path)? {
+        FileKind::Hdf5 => match cool::inspect(path)? {
+            cool::HdfContent::Multires(resolutions) => Ok(resolutions),
+            cool::HdfContent::Cooler => Ok(Vec::new()),
+        },
+        FileKind::Hic => hic::HicReader::list_resolutions(Path::new(path)),
+        FileKind::Text => Ok(Vec::new()),
+    }
+}
