@@ -326,22 +326,83 @@ pub fn read_bedpe_table(path: &Path) -> Result<BedpeTable> {
             header = Some(fields.iter().map(|f| f.to_string()).collect());
             return Ok(()); // header line
         }
-        let anchor = |chrom: &str, start: &str, end: &str| {
-            let (start, end) = interval(start, end)?;
-            Ok(BedRecord::new(chrom, start, end))
-        };
-        let pair = anchor(fields[0], fields[1], fields[2]).and_then(|first| {
-            Ok(BedpeRecord {
-                first,
-                second: anchor(fields[3], fields[4], fields[5])?,
-                rest: fields[6..].iter().map(|f| f.to_string()).collect(),
-                line: line_no,
-            })
-        });
-        records.push(pair.map_err(|m: String| Error::parse(path, line_no, m))?);
+        records.push(bedpe_record(fields, line_no).map_err(|m| Error::parse(path, line_no, m))?);
         Ok(())
     })?;
     Ok(BedpeTable { header, records })
+}
+
+/// A BEDPE record from a line's fields (at least 6); `line` is kept for error messages.
+fn bedpe_record(fields: &[&str], line: u64) -> std::result::Result<BedpeRecord, String> {
+    let anchor = |chrom: &str, start: &str, end: &str| {
+        let (start, end) = interval(start, end)?;
+        Ok::<_, String>(BedRecord::new(chrom, start, end))
+    };
+    Ok(BedpeRecord {
+        first: anchor(fields[0], fields[1], fields[2])?,
+        second: anchor(fields[3], fields[4], fields[5])?,
+        rest: fields[6..].iter().map(|f| f.to_string()).collect(),
+        line,
+    })
+}
+
+impl BedTable {
+    /// A table from rows of fields as written (a DataFrame's rows as text: `chrom start end
+    /// ...`), with the column names `header`; errors name `source` and the 1-based row, as
+    /// [`read_bed_table`]'s name the file and line.
+    ///
+    /// ```
+    /// use contactmap::io::bed::BedTable;
+    /// let rows = vec![vec!["chr1".to_string(), "10".into(), "20".into(), "a".into()]];
+    /// let table = BedTable::from_rows("features", None, rows)?;
+    /// assert_eq!((table.records[0].start, table.records[0].name.as_deref()), (10, Some("a")));
+    /// let bad = vec![vec!["chr1".to_string(), "x".into(), "20".into()]];
+    /// assert!(BedTable::from_rows("features", None, bad).is_err());
+    /// # Ok::<(), contactmap::Error>(())
+    /// ```
+    pub fn from_rows(
+        source: &str,
+        header: Option<Vec<String>>,
+        rows: Vec<Vec<String>>,
+    ) -> Result<BedTable> {
+        let mut records = Vec::with_capacity(rows.len());
+        for (k, row) in rows.iter().enumerate() {
+            let fields: Vec<&str> = row.iter().map(|f| f.trim()).collect();
+            let record = parse_fields(&fields.join("\t"), &fields)
+                .map_err(|m| Error::parse(source, k as u64 + 1, m))?;
+            records.push(record);
+        }
+        Ok(BedTable {
+            header,
+            records,
+            fields: rows,
+        })
+    }
+}
+
+impl BedpeTable {
+    /// A table from rows of fields as written (`chrom1 start1 end1 chrom2 start2 end2 ...`),
+    /// with the column names `header`; errors name `source` and the 1-based row.
+    pub fn from_rows(
+        source: &str,
+        header: Option<Vec<String>>,
+        rows: Vec<Vec<String>>,
+    ) -> Result<BedpeTable> {
+        let mut records = Vec::with_capacity(rows.len());
+        for (k, row) in rows.iter().enumerate() {
+            let line = k as u64 + 1;
+            if row.len() < 6 {
+                return Err(Error::parse(
+                    source,
+                    line,
+                    format!("expected at least 6 columns (chrom1 start1 end1 chrom2 start2 end2), found {}", row.len()),
+                ));
+            }
+            let fields: Vec<&str> = row.iter().map(|f| f.trim()).collect();
+            records.push(bedpe_record(&fields, line).map_err(|m| Error::parse(source, line, m))?);
+        }
+        Ok(BedpeTable { header, records })
+    }
 }
 
 /// The two interval formats a feature file can be in.

@@ -1,0 +1,202 @@
+"""cooltools' tables (``expected_cis``, ``expected_trans``, ``directionality``,
+``insulation``) and balancing."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any, Sequence
+
+import numpy as np
+
+from . import _native
+from ._file import _file, _pandas, _view_regions
+from ._native import ContactmapError
+
+if TYPE_CHECKING:  # pragma: no cover
+    import pandas
+
+
+def expected_cis(
+    clr: Any,
+    view_df: Any = None,
+    intra_only: bool = True,
+    smooth: bool = True,
+    aggregate_smoothed: bool = True,
+    smooth_sigma: float = 0.1,
+    clr_weight_name: str | None = "weight",
+    ignore_diags: int = 2,
+    chunksize: int | None = None,
+    nproc: int | None = None,
+) -> pandas.DataFrame:
+    """cooltools' ``expected_cis``: the average contact per diagonal of each view region,
+    with its columns (``region1 region2 dist dist_bp contact_frequency n_total n_valid
+    count.sum balanced.sum count.avg balanced.avg balanced.avg.smoothed
+    balanced.avg.smoothed.agg``). ``clr_weight_name=None`` for raw counts. Distances
+    ``dist_bp`` in bp; ``chunksize`` and ``nproc`` are accepted for compatibility (contactmap
+    streams and uses every core)."""
+    if not intra_only:
+        raise ContactmapError(
+            "intra_only=False (between the regions of one chromosome) is not supported"
+        )
+    _pandas()  # the install hint before the work
+    f = _file(clr)
+    region1, region2, columns = _native.expected_cis(
+        f._native,
+        _view_regions(view_df),
+        clr_weight_name,
+        ignore_diags,
+        smooth,
+        aggregate_smoothed,
+        smooth_sigma,
+    )
+    return _columns_frame(region1, region2, columns)
+
+
+def _columns_frame(region1: list[str], region2: list[str], columns: list[Any]) -> Any:
+    pd = _pandas()
+    data: dict[str, Any] = {"region1": region1, "region2": region2}
+    for name, values in columns:
+        data[name] = values.astype(np.int64) if values.dtype == np.uint64 else values
+    return pd.DataFrame(data, copy=False)
+
+
+def expected_trans(
+    clr: Any,
+    view_df: Any = None,
+    clr_weight_name: str | None = "weight",
+    chunksize: int | None = None,
+    nproc: int | None = None,
+) -> pandas.DataFrame:
+    """cooltools' ``expected_trans``: per pair of view regions on different chromosomes,
+    ``region1 region2 n_valid count.sum balanced.sum count.avg balanced.avg`` (the balanced
+    columns with ``clr_weight_name``; None for raw counts)."""
+    f = _file(clr)
+    region1, region2, columns = _native.expected_trans(
+        f._native, _view_regions(view_df), clr_weight_name
+    )
+    return _columns_frame(region1, region2, columns)
+
+
+def directionality(
+    clr: Any,
+    window_bp: int = 100000,
+    balance: str | None = "weight",
+    min_dist_bad_bin: int = 2,
+    ignore_diags: int | None = None,
+    view_df: Any = None,
+) -> pandas.DataFrame:
+    """cooltools' ``directionality`` (Dixon et al.'s directionality index): ``chrom start end
+    bad_bin_masked directionality_ratio_W directionality_index_W`` for a window of
+    ``window_bp`` bp upstream and downstream; ``balance=None`` for raw counts."""
+    pd = _pandas()
+    f = _file(clr)
+    bins, masked, ratio, index = _native.directionality(
+        f._native,
+        int(window_bp),
+        _view_regions(view_df),
+        balance,
+        2 if ignore_diags is None else ignore_diags,
+        min_dist_bad_bin,
+    )
+    codes, start, end = f._native.bin_columns()
+    names = [name for name, _ in f._native.chromosomes()]
+    df = pd.DataFrame(
+        {
+            "chrom": np.asarray(names, dtype=object)[codes[bins]],
+            "start": start[bins].astype(np.int64),
+            "end": end[bins].astype(np.int64),
+            "bad_bin_masked": masked,
+            f"directionality_ratio_{int(window_bp)}": ratio,
+            f"directionality_index_{int(window_bp)}": index,
+        },
+        copy=False,
+    )
+    return df
+
+
+def insulation(
+    clr: Any,
+    window_bp: int | Sequence[int],
+    view_df: Any = None,
+    ignore_diags: int | None = None,
+    clr_weight_name: str | None = "weight",
+    min_frac_valid_pixels: float = 0.66,
+    min_dist_bad_bin: int = 0,
+    threshold: str | float = "Li",
+    append_raw_scores: bool = False,
+    chunksize: int | None = None,
+    nproc: int | None = None,
+    verbose: bool = False,
+) -> pandas.DataFrame:
+    """cooltools' ``insulation``: the diamond insulation score per bin for each window (bp),
+    with boundary strengths and calls (threshold ``"Li"``, ``"Otsu"`` or a number). Columns:
+    ``chrom start end region is_bad_bin log2_insulation_score_W n_valid_pixels_W ...
+    boundary_strength_W ... is_boundary_W``."""
+    pd = _pandas()
+    f = _file(clr)
+    windows = (
+        [int(window_bp)]
+        if isinstance(window_bp, (int, np.integer))
+        else [int(w) for w in window_bp]
+    )
+    bins, region, bad, region_names, columns = _native.insulation(
+        f._native,
+        windows,
+        _view_regions(view_df),
+        clr_weight_name,
+        2 if ignore_diags is None else ignore_diags,
+        min_frac_valid_pixels,
+        min_dist_bad_bin,
+        str(threshold),
+        append_raw_scores,
+    )
+    codes, start, end = f._native.bin_columns()
+    names = [name for name, _ in f._native.chromosomes()]
+    data: dict[str, Any] = {
+        "chrom": pd.Categorical.from_codes(codes[bins].astype(np.int32), categories=names),
+        "start": start[bins].astype(np.int64),
+        "end": end[bins].astype(np.int64),
+        "region": np.asarray(region_names, dtype=object)[region],
+        "is_bad_bin": bad,
+    }
+    for name, values in columns:
+        data[name] = values
+    df = pd.DataFrame(data, copy=False)
+    df["chrom"] = df["chrom"].astype(str)
+    return df
+
+
+def balance(
+    clr: Any,
+    method: str = "ice",
+    cis_only: bool = False,
+    ignore_diags: int | None = None,
+    mad_max: float | None = None,
+    min_nnz: int | None = None,
+    min_count: float | None = None,
+    tol: float | None = None,
+    max_iters: int | None = None,
+    rescale_marginals: bool | None = None,
+    store: bool = False,
+) -> tuple[np.ndarray, dict[str, Any]]:
+    """Balance a map: ``method`` ``"ice"`` (cooler's ``balance_cooler``, its defaults),
+    ``"kr"``, ``"vc"``, ``"vc_sqrt"`` or ``"scale"`` (Juicer's, their defaults). Returns the
+    multiplicative weights per bin (NaN masked) and a summary (``converged``, ``scale``,
+    ``var``, ``n_iterations``, ``n_masked``). ``store=True`` is not supported yet: use
+    ``contactmap balance FILE --store``."""
+    if store:
+        raise ContactmapError(
+            "store=True is not supported from Python yet: run `contactmap balance FILE --store`"
+        )
+    f = _file(clr)
+    return _native.balance(
+        f._native,
+        method,
+        cis_only,
+        ignore_diags,
+        mad_max,
+        min_nnz,
+        min_count,
+        tol,
+        max_iters,
+        rescale_marginals,
+    )
