@@ -23,6 +23,7 @@ from ._file import File, MultiResFile, PixelSelector
 from ._loops import dots, pileup
 from ._native import ContactmapError
 from ._tables import balance, directionality, expected_cis, expected_trans, insulation
+from ._writers import convert, create_cooler, merge, zoomify
 
 __all__ = [
     "ContactmapError",
@@ -30,6 +31,8 @@ __all__ = [
     "MultiResFile",
     "PixelSelector",
     "balance",
+    "convert",
+    "create_cooler",
     "digitize",
     "directionality",
     "dots",
@@ -38,9 +41,11 @@ __all__ = [
     "expected_cis",
     "expected_trans",
     "insulation",
+    "merge",
     "pileup",
     "saddle",
     "saddle_strength",
+    "zoomify",
 ]
 
 __version__ = "0.1.0"

@@ -9,6 +9,8 @@ __all__ = [
     "ContactmapError",
     "NativeFile",
     "balance",
+    "convert",
+    "create_cooler",
     "digitize",
     "directionality",
     "dots",
@@ -17,10 +19,12 @@ __all__ = [
     "expected_cis",
     "expected_trans",
     "insulation",
+    "merge",
     "pileup",
     "resolutions",
     "saddle",
     "saddle_strength",
+    "zoomify",
 ]
 
 class ContactmapError(ValueError):
@@ -202,3 +206,37 @@ def pileup(
     trans: bool = False,
     coverage_norm: str | None = None,
 ) -> tuple[list[_PileupGroup], dict[str, Any]]: ...
+def convert(
+    input: str,
+    output: str,
+    resolutions: list[str] | None = None,
+    assembly: str | None = None,
+    normalizations: list[str] | None = None,
+    compression_level: int = 6,
+) -> list[str]: ...
+def zoomify(
+    input: str,
+    output: str,
+    resolutions: list[str],
+    balance: bool = False,
+    assembly: str | None = None,
+) -> tuple[list[int], list[str]]: ...
+def merge(
+    inputs: list[str],
+    output: str,
+    resolutions: list[str] | None = None,
+    assembly: str | None = None,
+) -> list[str]: ...
+def create_cooler(
+    path: str,
+    chroms: list[tuple[str, int]],
+    bin_chrom: npt.NDArray[np.int64],
+    bin_start: npt.NDArray[np.int64],
+    bin_end: npt.NDArray[np.int64],
+    weights: list[tuple[str, list[float]]],
+    bin1: npt.NDArray[np.int64],
+    bin2: npt.NDArray[np.int64],
+    count: npt.NDArray[np.float64],
+    integer: bool,
+    assembly: str | None = None,
+) -> None: ...

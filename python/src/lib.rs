@@ -6,12 +6,13 @@
 //!
 //! One module per part of the API: `file` (opening and fetching), `tables` (expected,
 //! insulation, directionality, balance), `compartments` (eigenvectors and saddles), `loops`
-//! (dots and pileups).
+//! (dots and pileups), `writers` (convert, zoomify, merge, create_cooler).
 
 mod compartments;
 mod file;
 mod loops;
 mod tables;
+mod writers;
 
 use contactmap::error::Error;
 use contactmap::io::tables::Column;
@@ -140,5 +141,9 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(compartments::saddle_strength, m)?)?;
     m.add_function(wrap_pyfunction!(loops::dots, m)?)?;
     m.add_function(wrap_pyfunction!(loops::pileup, m)?)?;
+    m.add_function(wrap_pyfunction!(writers::convert, m)?)?;
+    m.add_function(wrap_pyfunction!(writers::zoomify, m)?)?;
+    m.add_function(wrap_pyfunction!(writers::merge, m)?)?;
+    m.add_function(wrap_pyfunction!(writers::create_cooler, m)?)?;
     Ok(())
 }

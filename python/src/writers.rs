@@ -1,0 +1,340 @@
+//! Writers: `convert`, `zoomify`, `merge` (the command line's library calls) and cooler's
+//! `create_cooler` (a map built from arrays).
+
+use std::path::Path;
+
+use contactmap::balance::store::balance_and_store;
+use contactmap::balance::Method;
+use contactmap::error::Error;
+use contactmap::export::{self, DEFAULT_HIC_NORMALIZATIONS};
+use contactmap::genome::{Bin, BinTable, Chrom};
+use contactmap::io::cool::resolutions::{fixed_bin_size, mcool_resolutions};
+use contactmap::io::cool::{write_cool, write_mcool, CoolWriteOptions};
+use contactmap::io::hic::HicWriteOptions;
+use contactmap::io::merged::MergedReader;
+use contactmap::io::{self, default_memory_budget, InMemory, MatrixReader, OpenOptions};
+use contactmap::matrix::{CountType, MatrixBuilder, Weights, ZeroCounts};
+use numpy::{PyReadonlyArray1, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+
+use crate::{run, ContactmapError};
+
+/// The three map formats a writer can produce, from the output's extension.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Kind {
+    Cool,
+    Mcool,
+    Hic,
+}
+
+fn kind_of(path: &Path) -> Result<Kind, Error> {
+    let name = path.to_string_lossy().to_ascii_lowercase();
+    if name.ends_with(".mcool") {
+        Ok(Kind::Mcool)
+    } else if name.ends_with(".cool") {
+        Ok(Kind::Cool)
+    } else if name.ends_with(".hic") {
+        Ok(Kind::Hic)
+    } else {
+        Err(Error::Invalid(format!(
+            "{}: the output is written as .cool, .mcool or .hic (give one of those extensions)",
+            path.display()
+        )))
+    }
+}
+
+/// Normalisation names (VC, VC_SQRT, KR, SCALE, ICE) as methods; None is Juicer's set.
+fn methods_of(names: Option<Vec<String>>) -> Result<Vec<Method>, Error> {
+    let Some(names) = names else {
+        return Ok(DEFAULT_HIC_NORMALIZATIONS.to_vec());
+    };
+    names
+        .iter()
+        .map(|name| {
+            Method::from_juicer_name(name).ok_or_else(|| {
+                Error::Invalid(format!(
+                    "normalizations: '{name}' is not one of VC, VC_SQRT, KR, SCALE, ICE"
+                ))
+            })
+        })
+        .collect()
+}
+
+/// Write `reader` to `out` as its extension says: the resolutions of an .mcool / .hic (None:
+/// the map's own), the normalisations of a .hic; returns the warnings (unconverged vectors).
+fn write_map(
+    reader: &dyn MatrixReader,
+    out: &Path,
+    resolutions: Option<Vec<String>>,
+    options: &CoolWriteOptions,
+    methods: &[Method],
+    compression_level: u32,
+) -> Result<Vec<String>, Error> {
+    let kind = kind_of(out)?;
+    let levels = || match &resolutions {
+        None => Ok(vec![fixed_bin_size(reader.bins(), reader.source())?]),
+        Some(items) => mcool_resolutions(reader.bins(), reader.source(), items),
+    };
+    match kind {
+        Kind::Cool => {
+            if resolutions.is_some() {
+                return Err(Error::Invalid(
+                    "resolutions: a .cool holds one resolution; write an .mcool or a .hic".into(),
+                ));
+            }
+            write_cool(reader, out, options)?;
+            Ok(Vec::new())
+        }
+        Kind::Mcool => {
+            write_mcool(reader, out, &levels()?, options)?;
+            Ok(Vec::new())
+        }
+        Kind::Hic => {
+            let hic_options = HicWriteOptions {
+                compression_level,
+                ..HicWriteOptions::for_genome(options.assembly.clone())
+            };
+            let unconverged = export::write_hic(reader, out, &levels()?, methods, &hic_options)?;
+            Ok(unconverged.iter().map(|u| u.to_string()).collect())
+        }
+    }
+}
+
+/// `contactmap convert`: the map at `input` written to `output` (.cool, .mcool, .hic).
+#[pyfunction]
+#[pyo3(signature = (input, output, resolutions=None, assembly=None, normalizations=None, compression_level=6))]
+pub(crate) fn convert(
+    py: Python<'_>,
+    input: &str,
+    output: &str,
+    resolutions: Option<Vec<String>>,
+    assembly: Option<String>,
+    normalizations: Option<Vec<String>>,
+    compression_level: u32,
+) -> PyResult<Vec<String>> {
+    if compression_level > 9 {
+        return Err(ContactmapError::new_err(format!(
+            "compression_level {compression_level}: 0 to 9"
+        )));
+    }
+    run(py, || {
+        let methods = methods_of(normalizations)?;
+        let reader = io::open_matrix(input, &OpenOptions::default())?;
+        let options = CoolWriteOptions {
+            assembly: assembly.or_else(|| reader.info().assembly()),
+            weight_columns: None,
+        };
+        let mut warnings = write_map(
+            reader.as_ref(),
+            Path::new(output),
+            resolutions,
+            &options,
+            &methods,
+            compression_level,
+        )?;
+        warnings.extend(reader.warnings());
+        Ok(warnings)
+    })
+}
+
+/// `contactmap zoomify`: the levels of `input` in an .mcool or .hic; with `balance`, every
+/// level of an .mcool balanced (ICE, cooler's defaults) and stored as `weight`, a .hic given
+/// an ICE vector. Returns the resolutions written and the warnings.
+#[pyfunction]
+#[pyo3(signature = (input, output, resolutions, balance=false, assembly=None))]
+pub(crate) fn zoomify(
+    py: Python<'_>,
+    input: &str,
+    output: &str,
+    resolutions: Vec<String>,
+    balance: bool,
+    assembly: Option<String>,
+) -> PyResult<(Vec<u64>, Vec<String>)> {
+    run(py, || {
+        let out = Path::new(output);
+        if kind_of(out)? == Kind::Cool {
+            return Err(Error::Invalid(format!(
+                "{output}: zoomify writes an .mcool or a .hic"
+            )));
+        }
+        let reader = io::open_matrix(input, &OpenOptions::default())?;
+        let levels = mcool_resolutions(reader.bins(), reader.source(), &resolutions)?;
+        let options = CoolWriteOptions {
+            assembly: assembly.or_else(|| reader.info().assembly()),
+            weight_columns: None,
+        };
+        let mut methods = DEFAULT_HIC_NORMALIZATIONS.to_vec();
+        if balance {
+            methods.push(Method::Ice);
+        }
+        let mut warnings = write_map(
+            reader.as_ref(),
+            out,
+            Some(levels.iter().map(|r| r.to_string()).collect()),
+            &options,
+            &methods,
+            6,
+        )?;
+        warnings.extend(reader.warnings());
+        drop(reader);
+        if balance && kind_of(out)? == Kind::Mcool {
+            for &resolution in &levels {
+                let uri = format!("{output}::/resolutions/{resolution}");
+                if let Some(result) = balance_and_store(&uri, default_memory_budget())? {
+                    if !result.converged {
+                        warnings.push(format!(
+                            "{uri}: ICE did not converge (var={:e}); stored with converged=false",
+                            result.var
+                        ));
+                    }
+                }
+            }
+        }
+        Ok((levels, warnings))
+    })
+}
+
+/// `contactmap merge`: the sum of the maps `inputs` (same bins) written to `output`.
+#[pyfunction]
+#[pyo3(signature = (inputs, output, resolutions=None, assembly=None))]
+pub(crate) fn merge(
+    py: Python<'_>,
+    inputs: Vec<String>,
+    output: &str,
+    resolutions: Option<Vec<String>>,
+    assembly: Option<String>,
+) -> PyResult<Vec<String>> {
+    run(py, || {
+        if inputs.is_empty() {
+            return Err(Error::Invalid("merge: no input map".into()));
+        }
+        let opened: Vec<Box<dyn MatrixReader>> = inputs
+            .iter()
+            .map(|uri| io::open_matrix(uri, &OpenOptions::default()))
+            .collect::<Result<_, Error>>()?;
+        let options = CoolWriteOptions {
+            assembly: assembly.or_else(|| opened[0].info().assembly()),
+            weight_columns: Some(Vec::new()),
+        };
+        let reader = MergedReader::new(opened.iter().map(|r| r.as_ref()).collect())?;
+        let mut warnings = write_map(
+            &reader,
+            Path::new(output),
+            resolutions,
+            &options,
+            &DEFAULT_HIC_NORMALIZATIONS,
+            6,
+        )?;
+        for reader in &opened {
+            warnings.extend(reader.warnings());
+        }
+        Ok(warnings)
+    })
+}
+
+/// One bin column of `n` values as u64 (`what` names it in errors).
+fn unsigned(what: &str, values: &PyReadonlyArray1<'_, i64>) -> PyResult<Vec<u64>> {
+    let slice = values
+        .as_slice()
+        .map_err(|e| ContactmapError::new_err(format!("{what}: {e}")))?;
+    slice
+        .iter()
+        .enumerate()
+        .map(|(k, &v)| {
+            u64::try_from(v).map_err(|_| {
+                ContactmapError::new_err(format!("{what}[{k}] = {v}: not a non-negative number"))
+            })
+        })
+        .collect()
+}
+
+/// cooler's `create_cooler`: a .cool at `path` from the bins (chromosome index into `chroms`,
+/// start, end; weight columns) and the pixels (bin ids, counts; summed where repeated, lower
+/// triangle pixels mirrored, zeros kept as cooler keeps them).
+#[allow(clippy::too_many_arguments)]
+#[pyfunction]
+#[pyo3(signature = (path, chroms, bin_chrom, bin_start, bin_end, weights, bin1, bin2, count, integer, assembly=None))]
+pub(crate) fn create_cooler(
+    py: Python<'_>,
+    path: &str,
+    chroms: Vec<(String, u64)>,
+    bin_chrom: PyReadonlyArray1<'_, i64>,
+    bin_start: PyReadonlyArray1<'_, i64>,
+    bin_end: PyReadonlyArray1<'_, i64>,
+    weights: Vec<(String, Vec<f64>)>,
+    bin1: PyReadonlyArray1<'_, i64>,
+    bin2: PyReadonlyArray1<'_, i64>,
+    count: PyReadonlyArray1<'_, f64>,
+    integer: bool,
+    assembly: Option<String>,
+) -> PyResult<()> {
+    let (chrom_ids, starts, ends) = (
+        unsigned("bins chrom", &bin_chrom)?,
+        unsigned("bins start", &bin_start)?,
+        unsigned("bins end", &bin_end)?,
+    );
+    let (ids1, ids2) = (unsigned("bin1_id", &bin1)?, unsigned("bin2_id", &bin2)?);
+    if ids1.len() != ids2.len() || ids1.len() != count.len() {
+        return Err(ContactmapError::new_err(format!(
+            "pixels: {} bin1_id, {} bin2_id and {} count values",
+            ids1.len(),
+            ids2.len(),
+            count.len()
+        )));
+    }
+    let counts = count
+        .as_slice()
+        .map_err(|e| ContactmapError::new_err(format!("count: {e}")))?;
+    run(py, || {
+        let chroms: Vec<Chrom> = chroms.into_iter().map(|(n, l)| Chrom::new(n, l)).collect();
+        let mut bins = Vec::with_capacity(starts.len());
+        for (k, ((&chrom, &start), &end)) in chrom_ids.iter().zip(&starts).zip(&ends).enumerate() {
+            if chrom as usize >= chroms.len() {
+                return Err(Error::Invalid(format!(
+                    "bins row {k}: chromosome index {chrom} of {} chromosomes",
+                    chroms.len()
+                )));
+            }
+            bins.push(Bin {
+                chrom_id: chrom as usize,
+                start,
+                end,
+            });
+        }
+        let table = BinTable::from_bins(chroms, &bins, None)?;
+        let n = table.n_bins() as u64;
+        let mut builder = MatrixBuilder::new(
+            table,
+            if integer {
+                CountType::Integer
+            } else {
+                CountType::Float
+            },
+        );
+        for (name, values) in weights {
+            builder.add_weights(Weights {
+                name,
+                values,
+                provenance: None,
+            })?;
+        }
+        for (k, ((&a, &b), &c)) in ids1.iter().zip(&ids2).zip(counts).enumerate() {
+            if a >= n || b >= n {
+                return Err(Error::Invalid(format!(
+                    "pixels row {k}: bin ids ({a}, {b}) for {n} bins"
+                )));
+            }
+            builder.push(a, b, c)?;
+        }
+        let matrix = builder.build_with(ZeroCounts::Keep);
+        let reader = InMemory::new(path.to_string(), matrix);
+        write_cool(
+            &reader,
+            Path::new(path),
+            &CoolWriteOptions {
+                assembly,
+                weight_columns: None,
+            },
+        )
+    })
+}
