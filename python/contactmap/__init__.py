@@ -22,6 +22,7 @@ from ._compartments import digitize, eigs_cis, eigs_trans, saddle, saddle_streng
 from ._file import File, MultiResFile, PixelSelector
 from ._loops import dots, pileup
 from ._native import ContactmapError
+from ._protein import Structure, read_structure, score_contacts
 from ._tables import balance, directionality, expected_cis, expected_trans, insulation
 from ._writers import convert, create_cooler, merge, zoomify
 
@@ -30,6 +31,7 @@ __all__ = [
     "File",
     "MultiResFile",
     "PixelSelector",
+    "Structure",
     "balance",
     "convert",
     "create_cooler",
@@ -43,8 +45,10 @@ __all__ = [
     "insulation",
     "merge",
     "pileup",
+    "read_structure",
     "saddle",
     "saddle_strength",
+    "score_contacts",
     "zoomify",
 ]
 

@@ -21,9 +21,11 @@ __all__ = [
     "insulation",
     "merge",
     "pileup",
+    "read_structure",
     "resolutions",
     "saddle",
     "saddle_strength",
+    "score_contacts",
     "zoomify",
 ]
 
@@ -240,3 +242,31 @@ def create_cooler(
     integer: bool,
     assembly: str | None = None,
 ) -> None: ...
+def read_structure(
+    structure: str,
+    chain: str | None = None,
+    atom: str = "cb",
+    cutoff: float = 8.0,
+    le: bool = False,
+    fasta: str | None = None,
+    register: str = "auto",
+) -> tuple[
+    str, npt.NDArray[np.int32], npt.NDArray[np.float64], npt.NDArray[np.bool_], str | None
+]: ...
+def score_contacts(
+    structure: str,
+    predictions: list[str],
+    chain: str | None = None,
+    fasta: str | None = None,
+    format: str | None = None,
+    atom: str = "cb",
+    cutoff: float = 8.0,
+    le: bool = False,
+    register: str = "auto",
+    ranges: list[str] | None = None,
+    top: list[str] | None = None,
+    min_sep: int | None = None,
+    length: str | None = None,
+    rounding: str = "floor",
+    keep_unobserved: bool = False,
+) -> tuple[list[_Column], list[str], list[tuple[str, str]]]: ...

@@ -6,11 +6,13 @@
 //!
 //! One module per part of the API: `file` (opening and fetching), `tables` (expected,
 //! insulation, directionality, balance), `compartments` (eigenvectors and saddles), `loops`
-//! (dots and pileups), `writers` (convert, zoomify, merge, create_cooler).
+//! (dots and pileups), `writers` (convert, zoomify, merge, create_cooler), `protein`
+//! (structures and contact scores).
 
 mod compartments;
 mod file;
 mod loops;
+mod protein;
 mod tables;
 mod writers;
 
@@ -145,5 +147,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(writers::zoomify, m)?)?;
     m.add_function(wrap_pyfunction!(writers::merge, m)?)?;
     m.add_function(wrap_pyfunction!(writers::create_cooler, m)?)?;
+    m.add_function(wrap_pyfunction!(protein::read_structure, m)?)?;
+    m.add_function(wrap_pyfunction!(protein::score_contacts, m)?)?;
     Ok(())
 }

@@ -307,6 +307,19 @@ impl TrueContacts {
         self.numbers.len()
     }
 
+    /// The distances (Angstrom) between the observed residues, `n x n` in the order of
+    /// [`TrueContacts::numbers`], 0 on the diagonal.
+    pub fn distance_matrix(&self) -> ndarray::Array2<f64> {
+        let n = self.numbers.len();
+        ndarray::Array2::from_shape_fn((n, n), |(a, b)| {
+            if a == b {
+                0.0
+            } else {
+                self.distances[self.condensed(a, b)]
+            }
+        })
+    }
+
     fn index(&self, number: i32) -> Option<usize> {
         let first = *self.numbers.first()?;
         let offset = usize::try_from(i64::from(number) - i64::from(first)).ok()?;

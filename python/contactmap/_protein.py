@@ -1,0 +1,115 @@
+"""Proteins: a structure's residue distances and contacts, and CASP-style scores of contact
+predictions against it (``contactmap contacts`` and ``contactmap score contacts``)."""
+
+from __future__ import annotations
+
+import os
+from typing import TYPE_CHECKING, NamedTuple, Sequence
+
+import numpy as np
+
+from . import _native
+from ._file import _pandas, _warn
+
+if TYPE_CHECKING:  # pragma: no cover
+    import pandas
+
+
+class Structure(NamedTuple):
+    """A chain's observed residues as ``read_structure`` measured them."""
+
+    chain: str
+    """The chain's id."""
+    numbers: np.ndarray
+    """Residue numbers (author numbering, or positions on the ``fasta`` sequence, 1-based)."""
+    distances: np.ndarray
+    """Distances between the residues in Angstrom, ``n x n`` in the order of ``numbers``."""
+    contacts: np.ndarray
+    """Whether two residues are in contact (boolean ``n x n``; none on the diagonal)."""
+    register: str | None
+    """How the chain was placed on the ``fasta`` sequence (None without one)."""
+
+
+def read_structure(
+    path: str | os.PathLike[str],
+    chain: str | None = None,
+    atom: str = "cb",
+    cutoff: float = 8.0,
+    le: bool = False,
+    fasta: str | os.PathLike[str] | None = None,
+    register: str = "auto",
+) -> Structure:
+    """A chain of a PDB or mmCIF file (the first one when ``chain`` is None): its observed
+    residues, their distances in Angstrom between the ``atom`` of each (``"cb"``: Cb, Ca for
+    glycine, CASP's; ``"ca"``; ``"heavy"``: the closest heavy atoms), and the contacts
+    ``d < cutoff`` (``d <= cutoff`` with ``le``). With ``fasta`` (a target sequence file) the
+    residues are numbered by their place on it (``register``: ``"auto"``, ``"align"`` or
+    ``"numbering"``)."""
+    chain_id, numbers, distances, contacts, described = _native.read_structure(
+        os.fspath(path),
+        chain,
+        atom,
+        cutoff,
+        le,
+        None if fasta is None else os.fspath(fasta),
+        register,
+    )
+    return Structure(chain_id, numbers, distances, contacts, described)
+
+
+def score_contacts(
+    structure: str | os.PathLike[str],
+    prediction: str | os.PathLike[str] | Sequence[str | os.PathLike[str]],
+    chain: str | None = None,
+    fasta: str | os.PathLike[str] | None = None,
+    format: str | None = None,
+    atom: str = "cb",
+    cutoff: float = 8.0,
+    le: bool = False,
+    register: str = "auto",
+    ranges: Sequence[str] = ("short", "medium", "long", "all"),
+    top: Sequence[str] = ("L/10", "L/5", "L/2", "L"),
+    min_sep: int | None = None,
+    length: str | int | None = None,
+    rounding: str = "floor",
+    keep_unobserved: bool = False,
+) -> pandas.DataFrame:
+    """``contactmap score contacts``: the precision of contact predictions (files: CASP RR,
+    CCMpred / PSICOV matrices, ``i j score`` tables, trRosetta ``.npz``, ``.npy``, EVfold,
+    GREMLIN; ``format`` or detected) against a chain of ``structure``, CASP's way: for each
+    separation range (``short`` 6-11, ``medium`` 12-23, ``long`` >= 24, ``all`` >= 6, ``A-B``,
+    ``A+``; or ``min_sep``) and list size (``L/10``, ``L/5``, ``L/2``, ``L``, ``0.3L``, a
+    count, ``NC``), the top pairs' ``tp precision recall f1 mcc xd``. One row per prediction x
+    range x list. ``length``: what L is (``"sequence"``, ``"observed"`` or a number; default
+    the sequence's length), ``rounding`` of L x fraction (``"floor"``, ``"half-up"``,
+    ``"banker"``); pairs with an unobserved residue are dropped unless ``keep_unobserved``.
+    Separations are in residues, ``max_sep`` is ``inf`` for an open range. With a sequence
+    (``fasta``, or the prediction's own), ``df.attrs["register"]`` says per prediction file how
+    the chain was placed on it."""
+    pd = _pandas()
+    files = (
+        [os.fspath(prediction)]
+        if isinstance(prediction, (str, os.PathLike))
+        else [os.fspath(p) for p in prediction]
+    )
+    columns, warnings, registers = _native.score_contacts(
+        os.fspath(structure),
+        files,
+        chain,
+        None if fasta is None else os.fspath(fasta),
+        format,
+        atom,
+        cutoff,
+        le,
+        register,
+        list(ranges),
+        list(top),
+        min_sep,
+        None if length is None else str(length),
+        rounding,
+        keep_unobserved,
+    )
+    _warn("score_contacts", warnings)
+    df = pd.DataFrame(dict(columns))
+    df.attrs["register"] = dict(registers)
+    return df
