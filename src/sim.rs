@@ -9,6 +9,7 @@
 //!   [`ensemble`] (replicas in parallel, sampled into a binned contact map), [`noise`] (counter-based
 //!   Gaussian noise, the same on any thread count and on the GPU) and [`analysis`]
 //!   (P(s), radii of gyration and the closed forms they are checked against);
+//! - [`spec`]: the simulator's parameters as a user gives them (the command line's options);
 //! - [`mod@reference`]: a Monte Carlo sampler of the same chain's equilibrium, against which the
 //!   dynamics are checked.
 //!
@@ -34,6 +35,7 @@ pub mod noise;
 pub mod polymer;
 pub mod reference;
 pub mod relaxation;
+pub mod spec;
 
 pub use blocks::{block_map, BlockMap, BlockMapParams};
 

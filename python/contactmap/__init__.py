@@ -23,6 +23,7 @@ from ._file import File, MultiResFile, PixelSelector
 from ._loops import dots, pileup
 from ._native import ContactmapError
 from ._protein import Structure, read_structure, score_contacts
+from ._simulate import Simulation, simulate_polymer
 from ._tables import balance, directionality, expected_cis, expected_trans, insulation
 from ._writers import convert, create_cooler, merge, zoomify
 
@@ -31,6 +32,7 @@ __all__ = [
     "File",
     "MultiResFile",
     "PixelSelector",
+    "Simulation",
     "Structure",
     "balance",
     "convert",
@@ -49,6 +51,7 @@ __all__ = [
     "saddle",
     "saddle_strength",
     "score_contacts",
+    "simulate_polymer",
     "zoomify",
 ]
 

@@ -26,6 +26,7 @@ __all__ = [
     "saddle",
     "saddle_strength",
     "score_contacts",
+    "simulate_polymer",
     "zoomify",
 ]
 
@@ -270,3 +271,17 @@ def score_contacts(
     rounding: str = "floor",
     keep_unobserved: bool = False,
 ) -> tuple[list[_Column], list[str], list[tuple[str, str]]]: ...
+def simulate_polymer(
+    options: dict[str, Any],
+    device: str = "auto",
+    threads: int | None = None,
+    output: str | None = None,
+) -> tuple[
+    list[tuple[str, int]],
+    tuple[npt.NDArray[np.uint32], npt.NDArray[np.uint64], npt.NDArray[np.uint64]],
+    tuple[npt.NDArray[np.int64], npt.NDArray[np.int64], npt.NDArray[np.int64]],
+    npt.NDArray[np.float64] | None,
+    npt.NDArray[np.float64],
+    tuple[str, str, str | None, str | None],
+    tuple[str, str | None, str],
+]: ...

@@ -4,6 +4,7 @@ use std::ops::Range;
 
 use contactmap::error::Error;
 use contactmap::expected::{RegionSpec, View};
+use contactmap::genome::BinTable;
 use contactmap::io::{
     self, query_dense_into, query_pixels, CheckedCounts, MatrixReader, OpenOptions,
 };
@@ -98,19 +99,7 @@ impl NativeFile {
 
     /// Per bin: chromosome index, start, end (bp).
     fn bin_columns<'py>(&self, py: Python<'py>) -> BinArrays<'py> {
-        let bins = self.raw().bins();
-        let n = bins.n_bins();
-        let (mut chrom, mut start, mut end) = (
-            Vec::with_capacity(n),
-            Vec::with_capacity(n),
-            Vec::with_capacity(n),
-        );
-        for bin in bins.iter() {
-            chrom.push(bin.chrom_id as u32);
-            start.push(bin.start);
-            end.push(bin.end);
-        }
-        (vec1(py, chrom), vec1(py, start), vec1(py, end))
+        bin_arrays(py, self.raw().bins())
     }
 
     /// The file's attributes as JSON text.
@@ -239,8 +228,24 @@ pub(crate) fn resolutions(py: Python<'_>, path: &str) -> PyResult<Vec<u64>> {
 }
 
 /// Per bin: chromosome index, start, end.
-type BinArrays<'py> = (
+pub(crate) type BinArrays<'py> = (
     Bound<'py, PyArray1<u32>>,
     Bound<'py, PyArray1<u64>>,
     Bound<'py, PyArray1<u64>>,
 );
+
+/// The columns of a bin table: chromosome index, start, end (bp).
+pub(crate) fn bin_arrays<'py>(py: Python<'py>, bins: &BinTable) -> BinArrays<'py> {
+    let n = bins.n_bins();
+    let (mut chrom, mut start, mut end) = (
+        Vec::with_capacity(n),
+        Vec::with_capacity(n),
+        Vec::with_capacity(n),
+    );
+    for bin in bins.iter() {
+        chrom.push(bin.chrom_id as u32);
+        start.push(bin.start);
+        end.push(bin.end);
+    }
+    (vec1(py, chrom), vec1(py, start), vec1(py, end))
+}

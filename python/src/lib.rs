@@ -7,12 +7,13 @@
 //! One module per part of the API: `file` (opening and fetching), `tables` (expected,
 //! insulation, directionality, balance), `compartments` (eigenvectors and saddles), `loops`
 //! (dots and pileups), `writers` (convert, zoomify, merge, create_cooler), `protein`
-//! (structures and contact scores).
+//! (structures and contact scores), `simulate` (the polymer simulator).
 
 mod compartments;
 mod file;
 mod loops;
 mod protein;
+mod simulate;
 mod tables;
 mod writers;
 
@@ -149,5 +150,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(writers::create_cooler, m)?)?;
     m.add_function(wrap_pyfunction!(protein::read_structure, m)?)?;
     m.add_function(wrap_pyfunction!(protein::score_contacts, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate::simulate_polymer, m)?)?;
     Ok(())
 }

@@ -11,17 +11,10 @@ use crate::cli::warnings::Warnings;
 use contactmap::error::{Error, Result};
 use contactmap::io::cool::{write_cool, CoolWriteOptions};
 use contactmap::io::InMemory;
-use contactmap::sim::ensemble::{EnsembleParams, ExtrusionCoupling};
-use contactmap::sim::extrusion::ExtrusionParams;
-use contactmap::sim::files::{
-    boundary_elements_from_bed, boundary_elements_from_list, parse_type_pattern,
-};
+use contactmap::sim::ensemble::EnsembleParams;
+use contactmap::sim::files::parse_type_pattern;
 use contactmap::sim::gpu::{Backend, Device};
-use contactmap::sim::polymer::{
-    box_side, chain_ranges, sphere_radius, Attraction, BondModel, Confinement, PolymerParams,
-    Repulsion,
-};
-use contactmap::sim::relaxation::{parse_steps, Relaxation};
+use contactmap::sim::spec::{BondKind, ConfinementKind, RepulsionKind, SimulationSpec};
 
 /// Bond models, for `--bonds`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -272,159 +265,58 @@ pub struct PolymerArgs {
 
 impl PolymerArgs {
     /// The library's parameters, checked before any work.
-    pub fn params(&self) -> Result<EnsembleParams> {
-        let n: usize = self.chains.iter().sum();
-        let repulsion_kind = if self.ideal {
-            RepulsionArg::None
-        } else {
-            self.repulsion
-        };
-        if repulsion_kind != RepulsionArg::Polynomial
-            && (self.repulsion_energy.is_some() || self.repulsion_radius.is_some())
-        {
-            return Err(Error::Invalid(
-                "--repulsion-energy and --repulsion-radius shape the polynomial repulsion: they \
-                 do not apply with --repulsion wca or none"
-                    .into(),
-            ));
-        }
-        let repulsion = match repulsion_kind {
-            RepulsionArg::Polynomial => if self.saw {
-                Repulsion::SAW
-            } else {
-                Repulsion::POLYCHROM
-            }
-            .with_polynomial(self.repulsion_energy, self.repulsion_radius),
-            RepulsionArg::Wca => Repulsion::Wca {
-                epsilon: 1.0,
-                sigma: 1.0,
-            },
-            RepulsionArg::None => Repulsion::None,
-        };
-        let bond = match self.bonds {
-            BondArg::Harmonic => BondModel::Harmonic {
-                length: 1.0,
-                wiggle: self.bond_wiggle,
-            },
-            BondArg::Fene => BondModel::Fene {
-                stiffness: 30.0,
-                max_length: 1.5,
-            },
-        };
-        let kind = match (self.confinement, self.density) {
-            (Some(kind), _) => kind,
-            (None, Some(_)) => ConfinementArg::Sphere,
-            (None, None) => ConfinementArg::None,
-        };
-        let density = || {
-            self.density
-                .ok_or_else(|| Error::Invalid("--confinement sphere or box needs --density".into()))
-        };
-        let confinement = match kind {
-            ConfinementArg::None => Confinement::None,
-            ConfinementArg::Sphere => {
-                let density = density()?;
-                check_density(density)?;
-                Confinement::Sphere {
-                    radius: sphere_radius(n, density),
-                    stiffness: 5.0,
-                }
-            }
-            ConfinementArg::Box => {
-                let density = density()?;
-                check_density(density)?;
-                Confinement::Periodic {
-                    side: box_side(n, density),
-                }
-            }
-        };
-        let attraction = match &self.types {
-            None => None,
-            Some(pattern) => {
-                let (period, _) = parse_type_pattern(pattern)?;
-                let types = self
-                    .chains
-                    .iter()
-                    .flat_map(|&length| (0..length).map(|k| period[k % period.len()]))
-                    .collect();
-                Some(Attraction {
-                    types,
-                    energy: self.attraction,
-                    radius: self.attraction_radius,
-                })
-            }
-        };
-        let hard = matches!(repulsion, Repulsion::Wca { .. }) || self.bonds == BondArg::Fene;
-        let polymer = PolymerParams {
+    /// The library's specification of the run (`contactmap::sim::spec`).
+    pub fn spec(&self) -> SimulationSpec {
+        SimulationSpec {
             chains: self.chains.clone(),
-            bond,
-            angle_stiffness: self.stiffness,
-            repulsion,
-            attraction,
-            confinement,
-            excluded_neighbours: self.exclude_neighbours,
-            dt: self.dt.unwrap_or(if hard { 0.0002 } else { 0.002 }),
-        };
-        let extrusion = if self.extrusion {
-            let chains = chain_ranges(&self.chains);
-            let elements = match &self.ctcf {
-                Some(text) if Path::new(text).exists() => boundary_elements_from_bed(
-                    Path::new(text),
-                    &self.chains,
-                    self.monomer_bp,
-                    self.capture,
-                    self.release,
-                )?,
-                Some(text) => boundary_elements_from_list(text, self.capture, self.release)?,
-                None => Vec::new(),
-            };
-            Some(ExtrusionCoupling {
-                params: ExtrusionParams {
-                    chains,
-                    processivity: self.processivity,
-                    separation: self.separation,
-                    elements,
-                },
-                steps_per_move: self.steps_per_move,
-                bond_length: 0.5,
-                bond_wiggle: 0.2,
-            })
-        } else {
-            None
-        };
-        let relaxation = Relaxation::new(&polymer);
-        let longest = self.chains.iter().copied().max().unwrap_or(0);
-        let rouse_steps = relaxation.rouse_time(longest) / polymer.dt;
-        let equilibration_steps =
-            parse_steps("equilibration", &self.equilibration, 3.0, rouse_steps)?;
-        let sample_every = parse_steps("sample_every", &self.sample_every, 0.5, rouse_steps)?;
-        let params = EnsembleParams {
-            polymer,
+            monomer_bp: self.monomer_bp,
+            monomers_per_bin: self.monomers_per_bin,
+            bonds: match self.bonds {
+                BondArg::Harmonic => BondKind::Harmonic,
+                BondArg::Fene => BondKind::Fene,
+            },
+            bond_wiggle: self.bond_wiggle,
+            stiffness: self.stiffness,
+            repulsion: match self.repulsion {
+                RepulsionArg::Polynomial => RepulsionKind::Polynomial,
+                RepulsionArg::Wca => RepulsionKind::Wca,
+                RepulsionArg::None => RepulsionKind::None,
+            },
+            repulsion_energy: self.repulsion_energy,
+            repulsion_radius: self.repulsion_radius,
+            exclude_neighbours: self.exclude_neighbours,
+            ideal: self.ideal,
+            saw: self.saw,
+            types: self.types.clone(),
+            attraction: self.attraction,
+            attraction_radius: self.attraction_radius,
+            density: self.density,
+            confinement: self.confinement.map(|kind| match kind {
+                ConfinementArg::Sphere => ConfinementKind::Sphere,
+                ConfinementArg::Box => ConfinementKind::Box,
+                ConfinementArg::None => ConfinementKind::None,
+            }),
+            dt: self.dt,
             replicas: self.replicas,
-            equilibration_steps,
-            sample_every,
+            equilibration: self.equilibration.clone(),
+            sample_every: self.sample_every.clone(),
             samples: self.samples,
             contact_radius: self.contact_radius,
-            monomers_per_bin: self.monomers_per_bin,
             seed: self.seed,
-            extrusion,
+            extrusion: self.extrusion,
+            ctcf: self.ctcf.clone(),
+            processivity: self.processivity,
+            separation: self.separation,
+            capture: self.capture,
+            release: self.release,
+            steps_per_move: self.steps_per_move,
             keep_conformations: self.conformations.is_some(),
-        };
-        if self.monomer_bp == 0 {
-            return Err(Error::Invalid("--monomer-bp must be at least 1".into()));
         }
-        params.check()?;
-        Ok(params)
     }
-}
 
-fn check_density(density: f64) -> Result<()> {
-    if density.is_finite() && density > 0.0 {
-        Ok(())
-    } else {
-        Err(Error::Invalid(format!(
-            "--density must be a positive number, got {density}"
-        )))
+    /// The simulator's parameters ([`SimulationSpec::params`]).
+    pub fn params(&self) -> Result<EnsembleParams> {
+        self.spec().params()
     }
 }
 
@@ -518,6 +410,7 @@ pub fn run(args: &PolymerArgs) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use contactmap::sim::polymer::Repulsion;
 
     #[derive(clap::Parser)]
     struct Command {

@@ -1,0 +1,166 @@
+"""The polymer simulator (``contactmap simulate polymer``) from Python: the map, the
+conformations and the truth of a run, as arrays and DataFrames."""
+
+from __future__ import annotations
+
+import io
+import os
+from typing import TYPE_CHECKING, Any, NamedTuple, Sequence
+
+import numpy as np
+
+from . import _native
+from ._file import _pandas, _warn
+
+if TYPE_CHECKING:  # pragma: no cover
+    import pandas
+
+
+class Simulation(NamedTuple):
+    """What ``simulate_polymer`` returns."""
+
+    bins: pandas.DataFrame
+    """The map's bins: ``chrom start end`` (bp; one chromosome ``chr1..chrK`` per chain)."""
+    pixels: pandas.DataFrame
+    """The map: ``bin1_id bin2_id count`` (contacts summed over every sample, upper triangle)."""
+    conformations: np.ndarray | None
+    """With ``keep_conformations``: the bead positions, ``(replicas x samples, beads, 3)``
+    (replica after replica; bond length 1)."""
+    radius_of_gyration: np.ndarray
+    """Per sample and chain, the radius of gyration (bond lengths)."""
+    truth_boundaries: pandas.DataFrame
+    """The bins holding a boundary element (``chrom start end``)."""
+    truth_domains: pandas.DataFrame
+    """The segments between consecutive boundary elements (``chrom start end``)."""
+    truth_loops: pandas.DataFrame | None
+    """With ``extrusion``: the bin pairs of boundary elements a LEF held bridged, and the
+    fraction and number of samples that held them."""
+    truth_compartments: pandas.DataFrame | None
+    """With ``types``: per bin its majority type and the fraction of type A."""
+    relaxation: str
+    """How far the chains had relaxed at the first and last samples."""
+
+
+def _bed(text: str, names: list[str]) -> Any:
+    pd = _pandas()
+    if not text.strip():
+        return pd.DataFrame({name: [] for name in names})
+    return pd.read_csv(io.StringIO(text), sep="\t", header=None, names=names)
+
+
+def simulate_polymer(
+    chains: int | Sequence[int] = 1000,
+    monomer_bp: int = 1000,
+    monomers_per_bin: int = 1,
+    bonds: str = "harmonic",
+    bond_wiggle: float = 0.1,
+    stiffness: float = 0.0,
+    repulsion: str = "polynomial",
+    repulsion_energy: float | None = None,
+    repulsion_radius: float | None = None,
+    exclude_neighbours: int = 1,
+    ideal: bool = False,
+    saw: bool = False,
+    types: str | None = None,
+    attraction: float = 0.3,
+    attraction_radius: float = 1.5,
+    density: float | None = None,
+    confinement: str | None = None,
+    dt: float | None = None,
+    replicas: int = 8,
+    equilibration: int | str = 20000,
+    sample_every: int | str = 2000,
+    samples: int = 50,
+    contact_radius: float = 1.5,
+    seed: int = 0,
+    extrusion: bool = False,
+    ctcf: str | None = None,
+    processivity: float = 100.0,
+    separation: float = 200.0,
+    capture: float = 0.9,
+    release: float = 0.005,
+    steps_per_move: int = 50,
+    keep_conformations: bool = False,
+    device: str = "auto",
+    threads: int | None = None,
+    output: str | os.PathLike[str] | None = None,
+) -> Simulation:
+    """``contactmap simulate polymer``: an ensemble of bead-spring chains under Brownian
+    dynamics (units: bond length 1, kT 1), sampled into a contact map with its truth. The
+    parameters are the command line's (``contactmap simulate polymer --help`` explains each):
+    ``chains`` (beads per chain), ``monomer_bp`` (bp per bead), ``monomers_per_bin``; physics
+    (``bonds`` harmonic / fene, ``repulsion`` polynomial / wca / none, ``ideal``, ``saw``,
+    ``types`` such as ``"A200B200"`` with ``attraction`` kT, ``density`` with ``confinement``
+    sphere / box, ``dt``); the ensemble (``replicas``, ``equilibration`` and ``sample_every``
+    in steps, ``"auto"`` or Rouse times ``"2R"``, ``samples``, ``contact_radius``, ``seed``);
+    loop extrusion (``extrusion``, ``ctcf`` positions ``"500+,1000-"`` or a BED path,
+    ``processivity`` and ``separation`` in beads, ``capture``, ``release``,
+    ``steps_per_move``). ``device``: ``"auto"``, ``"cpu"`` (every core, or ``threads``) or
+    ``"gpu"``; the same seed gives the same map on any number of threads. With ``output``
+    the map is also written there as a .cool (as the command line writes it)."""
+    pd = _pandas()
+    options: dict[str, Any] = dict(
+        chains=[int(chains)] if isinstance(chains, (int, np.integer)) else [int(c) for c in chains],
+        monomer_bp=monomer_bp,
+        monomers_per_bin=monomers_per_bin,
+        bonds=bonds,
+        bond_wiggle=bond_wiggle,
+        stiffness=stiffness,
+        repulsion=repulsion,
+        repulsion_energy=repulsion_energy,
+        repulsion_radius=repulsion_radius,
+        exclude_neighbours=exclude_neighbours,
+        ideal=ideal,
+        saw=saw,
+        types=types,
+        attraction=attraction,
+        attraction_radius=attraction_radius,
+        density=density,
+        confinement=confinement,
+        dt=dt,
+        replicas=replicas,
+        equilibration=str(equilibration),
+        sample_every=str(sample_every),
+        samples=samples,
+        contact_radius=contact_radius,
+        seed=seed,
+        extrusion=extrusion,
+        ctcf=ctcf,
+        processivity=processivity,
+        separation=separation,
+        capture=capture,
+        release=release,
+        steps_per_move=steps_per_move,
+        keep_conformations=keep_conformations,
+    )
+    chroms, (codes, start, end), (bin1, bin2, count), conformations, radii, truths, notes = (
+        _native.simulate_polymer(
+            options, device, threads, None if output is None else os.fspath(output)
+        )
+    )
+    names = [name for name, _ in chroms]
+    bins = pd.DataFrame(
+        {
+            "chrom": np.asarray(names, dtype=object)[codes],
+            "start": start.astype(np.int64),
+            "end": end.astype(np.int64),
+        }
+    )
+    pixels = pd.DataFrame({"bin1_id": bin1, "bin2_id": bin2, "count": count}, copy=False)
+    boundaries, domains, loops, compartments = truths
+    note, warning, _backend = notes
+    if warning is not None:
+        _warn("simulate_polymer", [warning])
+    return Simulation(
+        bins=bins,
+        pixels=pixels,
+        conformations=conformations,
+        radius_of_gyration=radii,
+        truth_boundaries=_bed(boundaries, ["chrom", "start", "end"]),
+        truth_domains=_bed(domains, ["chrom", "start", "end"]),
+        truth_loops=None if loops is None else pd.read_csv(io.StringIO(loops), sep="\t"),
+        truth_compartments=None
+        if compartments is None
+        else _bed(compartments, ["chrom", "start", "end", "type", "fraction_A"]),
+        relaxation=note,
+    )
