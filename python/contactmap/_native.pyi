@@ -9,6 +9,7 @@ __all__ = [
     "ContactmapError",
     "NativeFile",
     "balance",
+    "balance_store",
     "convert",
     "create_cooler",
     "digitize",
@@ -150,6 +151,21 @@ def saddle_strength(
 ) -> npt.NDArray[np.float64]: ...
 def balance(
     file: NativeFile,
+    method: str = "ice",
+    cis_only: bool = False,
+    ignore_diags: int | None = None,
+    mad_max: float | None = None,
+    min_nnz: int | None = None,
+    min_count: float | None = None,
+    tol: float | None = None,
+    max_iters: int | None = None,
+    rescale_marginals: bool | None = None,
+) -> tuple[npt.NDArray[np.float64], dict[str, Any]]: ...
+def balance_store(
+    uri: str,
+    name: str = "weight",
+    overwrite: bool = False,
+    store_unconverged: bool = False,
     method: str = "ice",
     cis_only: bool = False,
     ignore_diags: int | None = None,

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Any, Sequence
 import numpy as np
 
 from . import _native
-from ._file import _file, _pandas, _view_regions
+from ._file import File, _file, _pandas, _uri_of, _view_regions
 from ._native import ContactmapError
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -177,19 +177,23 @@ def balance(
     max_iters: int | None = None,
     rescale_marginals: bool | None = None,
     store: bool = False,
+    name: str = "weight",
+    overwrite: bool = False,
+    store_unconverged: bool = False,
 ) -> tuple[np.ndarray, dict[str, Any]]:
     """Balance a map: ``method`` ``"ice"`` (cooler's ``balance_cooler``, its defaults),
     ``"kr"``, ``"vc"``, ``"vc_sqrt"`` or ``"scale"`` (Juicer's, their defaults). Returns the
     multiplicative weights per bin (NaN masked) and a summary (``converged``, ``scale``,
-    ``var``, ``n_iterations``, ``n_masked``). ``store=True`` is not supported yet: use
-    ``contactmap balance FILE --store``."""
-    if store:
-        raise ContactmapError(
-            "store=True is not supported from Python yet: run `contactmap balance FILE --store`"
-        )
-    f = _file(clr)
-    return _native.balance(
-        f._native,
+    ``var``, ``n_iterations``, ``n_masked``).
+
+    ``store=True`` (``contactmap balance --store``, cooler's ``store=True``) writes the weights
+    into the cooler (a ``.cool`` or ``.mcool::/resolutions/R``) as the column ``name`` with
+    cooler's attributes: an existing column only with ``overwrite``, weights that did not
+    converge only with ``store_unconverged``. A ``File`` given is closed while the file is
+    written and reopened after (it then lists the new column); other ``File`` objects open on
+    the same file in this process must be closed first (``del f``), as libhdf5 cannot open a
+    file for writing that the process holds open for reading."""
+    options = (
         method,
         cis_only,
         ignore_diags,
@@ -200,3 +204,25 @@ def balance(
         max_iters,
         rescale_marginals,
     )
+    if not store:
+        return _native.balance(_file(clr)._native, *options)
+    uri = _uri_of(clr)
+    reopen = clr if isinstance(clr, File) else None
+    if reopen is not None:
+        reopen._native = None  # type: ignore[assignment]  # closes the file (its only reference)
+    try:
+        return _native.balance_store(uri, name, overwrite, store_unconverged, *options)
+    except ContactmapError as e:
+        if "use --force to replace it" in str(e):
+            raise ContactmapError(
+                str(e).replace("--force", "overwrite=True").replace("--name", "name=")
+            ) from None
+        if "already open" in str(e):
+            raise ContactmapError(
+                f"{e} (is the file open in another contactmap.File of this process? close it "
+                "first: del f)"
+            ) from e
+        raise
+    finally:
+        if reopen is not None:
+            reopen._native = _native.NativeFile(uri)

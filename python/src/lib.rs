@@ -137,6 +137,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(tables::insulation, m)?)?;
     m.add_function(wrap_pyfunction!(tables::directionality, m)?)?;
     m.add_function(wrap_pyfunction!(tables::balance, m)?)?;
+    m.add_function(wrap_pyfunction!(tables::balance_store, m)?)?;
     m.add_function(wrap_pyfunction!(compartments::eigs_cis, m)?)?;
     m.add_function(wrap_pyfunction!(compartments::eigs_trans, m)?)?;
     m.add_function(wrap_pyfunction!(compartments::digitize, m)?)?;

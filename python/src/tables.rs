@@ -1,11 +1,16 @@
 //! cooltools' tables (expected, insulation, directionality) and balancing.
 
-use contactmap::balance::{balance as balance_pixels, BalanceParams, Method, Scope};
+use contactmap::balance::store::{balance_reader, store_balanced};
+use contactmap::balance::{balance as balance_pixels, BalanceParams, BalanceResult, Method, Scope};
 use contactmap::error::Error;
 use contactmap::expected::{
     expected_cis as cis_expected, expected_trans as trans_expected, CisParams,
 };
-use contactmap::io::{load_pixels_for_balancing, LoadedPixels, MatrixReader, StreamedPixels};
+use contactmap::io::cool::store::check_target;
+use contactmap::io::{
+    self, default_memory_budget, load_pixels_for_balancing, LoadedPixels, MatrixReader,
+    OpenOptions, StreamedPixels,
+};
 use contactmap::tads::directionality::{directionality as di_table, DirectionalityParams};
 use contactmap::tads::insulation::{insulation as insulation_table, InsulationParams, TrackValues};
 use contactmap::tads::threshold::Threshold;
@@ -175,8 +180,61 @@ pub(crate) fn insulation<'py>(
     ))
 }
 
-/// Balance a map: (weights, summary dict). Parameters left out take the method's reference
-/// defaults (`BalanceParams::for_method`: cooler's for ICE, Juicer's for the others).
+/// The balancing parameters: the method's reference defaults (`BalanceParams::for_method`:
+/// cooler's for ICE, Juicer's for the others) where a value is left out.
+#[allow(clippy::too_many_arguments)]
+fn balance_params(
+    method: &str,
+    cis_only: bool,
+    ignore_diags: Option<u64>,
+    mad_max: Option<f64>,
+    min_nnz: Option<u64>,
+    min_count: Option<f64>,
+    tol: Option<f64>,
+    max_iters: Option<usize>,
+    rescale_marginals: Option<bool>,
+) -> PyResult<BalanceParams> {
+    let method = Method::from_juicer_name(method).ok_or_else(|| {
+        ContactmapError::new_err(format!(
+            "method '{method}': expected ice, kr, vc, vc_sqrt or scale"
+        ))
+    })?;
+    let defaults = BalanceParams::for_method(method);
+    Ok(BalanceParams {
+        method,
+        scope: if cis_only {
+            Scope::Cis
+        } else {
+            Scope::GenomeWide
+        },
+        ignore_diags: ignore_diags.unwrap_or(defaults.ignore_diags),
+        mad_max: mad_max.unwrap_or(defaults.mad_max),
+        min_nnz: min_nnz.unwrap_or(defaults.min_nnz),
+        min_count: min_count.unwrap_or(defaults.min_count),
+        tol: tol.unwrap_or(defaults.tol),
+        max_iters: max_iters.unwrap_or(defaults.max_iters),
+        rescale_marginals: rescale_marginals.unwrap_or(defaults.rescale_marginals),
+        ..defaults
+    })
+}
+
+/// The weights and the summary dict of a balancing.
+fn balanced<'py>(
+    py: Python<'py>,
+    params: &BalanceParams,
+    result: BalanceResult,
+) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyDict>)> {
+    let summary = PyDict::new(py);
+    summary.set_item("method", params.method.name())?;
+    summary.set_item("converged", result.converged)?;
+    summary.set_item("scale", result.scale)?;
+    summary.set_item("var", result.var)?;
+    summary.set_item("n_iterations", result.n_iterations)?;
+    summary.set_item("n_masked", result.n_masked())?;
+    Ok((vec1(py, result.weights), summary))
+}
+
+/// Balance a map: (weights, summary dict); parameters left out take the method's defaults.
 #[allow(clippy::too_many_arguments)]
 #[pyfunction]
 #[pyo3(signature = (file, method="ice", cis_only=false, ignore_diags=None, mad_max=None, min_nnz=None, min_count=None, tol=None, max_iters=None, rescale_marginals=None))]
@@ -193,38 +251,90 @@ pub(crate) fn balance<'py>(
     max_iters: Option<usize>,
     rescale_marginals: Option<bool>,
 ) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyDict>)> {
-    let method = Method::from_juicer_name(method).ok_or_else(|| {
-        ContactmapError::new_err(format!(
-            "method '{method}': expected ice, kr, vc, vc_sqrt or scale"
-        ))
-    })?;
-    let defaults = BalanceParams::for_method(method);
-    let params = BalanceParams {
+    let params = balance_params(
         method,
-        scope: if cis_only {
-            Scope::Cis
-        } else {
-            Scope::GenomeWide
-        },
-        ignore_diags: ignore_diags.unwrap_or(defaults.ignore_diags),
-        mad_max: mad_max.unwrap_or(defaults.mad_max),
-        min_nnz: min_nnz.unwrap_or(defaults.min_nnz),
-        min_count: min_count.unwrap_or(defaults.min_count),
-        tol: tol.unwrap_or(defaults.tol),
-        max_iters: max_iters.unwrap_or(defaults.max_iters),
-        rescale_marginals: rescale_marginals.unwrap_or(defaults.rescale_marginals),
-        ..defaults
-    };
+        cis_only,
+        ignore_diags,
+        mad_max,
+        min_nnz,
+        min_count,
+        tol,
+        max_iters,
+        rescale_marginals,
+    )?;
     let result = run(py, || {
         let pixels = load_pixels_for_balancing(&file.reader, u64::MAX)?;
         balance_pixels(&pixels, &params)
     })?;
-    let summary = PyDict::new(py);
-    summary.set_item("method", method.name())?;
-    summary.set_item("converged", result.converged)?;
-    summary.set_item("scale", result.scale)?;
-    summary.set_item("var", result.var)?;
-    summary.set_item("n_iterations", result.n_iterations)?;
-    summary.set_item("n_masked", result.n_masked())?;
-    Ok((vec1(py, result.weights), summary))
+    balanced(py, &params, result)
+}
+
+/// `contactmap balance URI --store`: balance the cooler at `uri` (a .cool or an .mcool
+/// resolution, not open elsewhere in this process) and store the weights as the column `name`
+/// with cooler's attributes; an existing column only with `overwrite`, unconverged weights only
+/// with `store_unconverged`. The file is locked while this runs.
+#[allow(clippy::too_many_arguments)]
+#[pyfunction]
+#[pyo3(signature = (uri, name="weight", overwrite=false, store_unconverged=false, method="ice", cis_only=false, ignore_diags=None, mad_max=None, min_nnz=None, min_count=None, tol=None, max_iters=None, rescale_marginals=None))]
+pub(crate) fn balance_store<'py>(
+    py: Python<'py>,
+    uri: &str,
+    name: &str,
+    overwrite: bool,
+    store_unconverged: bool,
+    method: &str,
+    cis_only: bool,
+    ignore_diags: Option<u64>,
+    mad_max: Option<f64>,
+    min_nnz: Option<u64>,
+    min_count: Option<f64>,
+    tol: Option<f64>,
+    max_iters: Option<usize>,
+    rescale_marginals: Option<bool>,
+) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyDict>)> {
+    let params = balance_params(
+        method,
+        cis_only,
+        ignore_diags,
+        mad_max,
+        min_nnz,
+        min_count,
+        tol,
+        max_iters,
+        rescale_marginals,
+    )?;
+    let result = run(py, || {
+        let (path, _) = io::split_uri(uri);
+        if io::detect_kind(path)? != io::FileKind::Hdf5 {
+            return Err(Error::Invalid(format!(
+                "{uri}: store=True writes into .cool / .mcool files only"
+            )));
+        }
+        let _lock = io::WriteLock::acquire(std::path::Path::new(path))?;
+        check_target(uri, name, overwrite)?;
+        // the reader is closed before the file is opened to write
+        let (balanced, bins) = {
+            let reader = io::open_matrix(uri, &OpenOptions::default())?;
+            let balanced = balance_reader(reader.as_ref(), &params, default_memory_budget())?;
+            (balanced, reader.bins().clone())
+        };
+        let result = balanced.result;
+        if !result.converged && !store_unconverged {
+            return Err(Error::Invalid(format!(
+                "{uri}: {} balancing did not converge within {} iterations ({}); nothing \
+                 stored: raise max_iters or tol{}, or pass store_unconverged=True",
+                params.method.name(),
+                params.max_iters,
+                result.unconverged_detail(&bins, params.tol),
+                if balanced.disconnected {
+                    " (the map has no trans contacts: balance with cis_only=True)"
+                } else {
+                    ""
+                }
+            )));
+        }
+        store_balanced(uri, name, &params, &result, overwrite)?;
+        Ok(result)
+    })?;
+    balanced(py, &params, result)
 }
