@@ -151,12 +151,11 @@ def saddle(
     """cooltools' ``saddle``: the sums and counts of observed / expected between the classes of
     ``track`` (``n_bins`` classes plus the two outer ones: ``(n_bins + 2)^2`` arrays), cis
     (``expected`` from ``expected_cis``, diagonals ``min_diag..max_diag``) or trans
-    (``expected`` from ``expected_trans``). ``trim_outliers`` and ``drop_track_na`` are not
-    supported (the outer classes are kept, NaN track values fall out)."""
+    (``expected`` from ``expected_trans``). ``trim_outliers`` leaves out the outer classes'
+    rows and columns (``n_bins^2`` arrays), as cooltools does; ``drop_track_na`` is accepted for
+    compatibility (NaN track values fall out either way, as in cooltools' results)."""
     if contact_type not in ("cis", "trans"):
         raise ContactmapError(f"contact_type {contact_type!r}: expected 'cis' or 'trans'")
-    if trim_outliers:
-        raise ContactmapError("trim_outliers=True is not supported")
     f = _file(clr)
     trans = contact_type == "trans"
     sums, counts, _edges, n = _native.saddle(
@@ -172,7 +171,10 @@ def saddle(
         min_diag,
         None if max_diag is None or max_diag < 0 else max_diag,
     )
-    return sums.reshape(n, n), counts.reshape(n, n)
+    sums, counts = sums.reshape(n, n), counts.reshape(n, n)
+    if trim_outliers:  # cooltools: the outer classes' rows and columns left out
+        return sums[1:-1, 1:-1], counts[1:-1, 1:-1]
+    return sums, counts
 
 
 def saddle_strength(S: np.ndarray, C: np.ndarray) -> np.ndarray:

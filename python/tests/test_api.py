@@ -220,6 +220,11 @@ def test_saddles_equal_cooltools():
     strength = pd.read_csv(comp / "dm6_100kb.saddle_strength.tsv.gz", sep="\t")["strength"]
     # cooltools' entry k = 0 is a placeholder 0
     np.testing.assert_allclose(cm.saddle_strength(S, C)[1:], strength.to_numpy()[1:], rtol=1e-8)
+    # trim_outliers: cooltools' arrays without the outer classes
+    St, Ct = cm.saddle(f, exp, bins, "cis", n_bins=10, qrange=(0.025, 0.975), trim_outliers=True)
+    assert St.shape == (10, 10)
+    np.testing.assert_array_equal(Ct, C[1:-1, 1:-1])
+    np.testing.assert_array_equal(St, S[1:-1, 1:-1])
     # trans: mm9 with cooltools' trans E1
     g = cm.File(MM9)
     w = g.weights("weight")
