@@ -84,6 +84,18 @@ impl<F: Fn(&PixelBlock) -> Result<()> + Send + Sync> MatrixReader for Inspect<'_
             sink(block)
         })
     }
+
+    fn read_pixels_owned(
+        &self,
+        rows: Range<usize>,
+        cols: Range<usize>,
+        sink: &mut dyn FnMut(PixelBlock) -> Result<()>,
+    ) -> Result<()> {
+        self.inner.read_pixels_owned(rows, cols, &mut |block| {
+            (self.on_block)(&block)?;
+            sink(block)
+        })
+    }
 }
 
 /// A reader whose counts are checked as they stream: the first pixel whose count is negative, NaN
@@ -188,5 +200,15 @@ impl MatrixReader for CheckedCounts {
         sink: &mut dyn FnMut(PixelBlock) -> Result<()>,
     ) -> Result<()> {
         Inspect::new(self.inner.as_ref(), |block| self.check(block)).read_rows_owned(rows, sink)
+    }
+
+    fn read_pixels_owned(
+        &self,
+        rows: Range<usize>,
+        cols: Range<usize>,
+        sink: &mut dyn FnMut(PixelBlock) -> Result<()>,
+    ) -> Result<()> {
+        Inspect::new(self.inner.as_ref(), |block| self.check(block))
+            .read_pixels_owned(rows, cols, sink)
     }
 }

@@ -117,44 +117,111 @@ pub fn query_dense_into(
         None => count,
     };
     let symmetric = rows == cols;
-    // the upper triangle's pixels with their row in `rows`, column in `cols`
-    reader.read_pixels(rows.clone(), cols.clone(), &mut |block| {
-        for k in 0..block.len() {
-            let (i, j) = (block.bin1[k] as usize, block.bin2[k] as usize);
-            let v = value(i, j, block.count[k]);
-            out[(i - r0) * width + (j - c0)] = v;
-            if symmetric && i != j {
-                out[(j - r0) * width + (i - c0)] = v;
-            }
-        }
+    // The pixels first (the upper triangle's with their row in `rows`, column in `cols`), then
+    // the rectangle filled in bands of rows, each band by one thread: the pages of the output
+    // are first touched (and zeroed by the kernel) on every core, and no two threads write one
+    // row.
+    let mut upper: Vec<PixelBlock> = Vec::new();
+    reader.read_pixels_owned(rows.clone(), cols.clone(), &mut |block| {
+        upper.push(block);
         Ok(())
     })?;
     // the lower triangle: stored (a, b), a < b, a in `cols` and b in `rows`, seen at (b, a)
+    let mut lower: Vec<PixelBlock> = Vec::new();
     if !symmetric && cols.start + 1 < rows.end {
-        reader.read_pixels(cols.clone(), rows.clone(), &mut |block| {
-            for k in 0..block.len() {
-                let (a, b) = (block.bin1[k] as usize, block.bin2[k] as usize);
-                if a < b {
-                    out[(b - r0) * width + (a - c0)] = value(b, a, block.count[k]);
-                }
-            }
+        reader.read_pixels_owned(cols.clone(), rows.clone(), &mut |block| {
+            lower.push(block);
             Ok(())
         })?;
     }
-    // a masked bin's row and column are NaN throughout (zeros included: 0 x NaN)
-    if let Some(w) = weights {
-        let masked_cols: Vec<usize> = cols.clone().filter(|&j| w[j].is_nan()).collect();
-        out.par_chunks_mut(width)
-            .zip(rows.clone().into_par_iter())
-            .for_each(|(row, i)| {
-                if w[i].is_nan() {
-                    row.fill(f64::NAN);
-                } else {
-                    for &j in &masked_cols {
-                        row[j - c0] = f64::NAN;
+    let masked_cols: Vec<usize> = match weights {
+        Some(w) => cols.clone().filter(|&j| w[j].is_nan()).collect(),
+        None => Vec::new(),
+    };
+    // where each block's rows start (pixels are sorted by bin1, then bin2 within a row)
+    let runs = |blocks: &[PixelBlock]| -> Vec<Vec<usize>> {
+        blocks
+            .par_iter()
+            .map(|block| {
+                let mut starts: Vec<usize> = (0..block.len())
+                    .filter(|&k| k == 0 || block.bin1[k] != block.bin1[k - 1])
+                    .collect();
+                starts.push(block.len());
+                starts
+            })
+            .collect()
+    };
+    let (upper_runs, lower_runs) = (runs(&upper), runs(&lower));
+    let band = rows.len().div_ceil(4 * rayon::current_num_threads()).max(1);
+    out.par_chunks_mut(band * width)
+        .enumerate()
+        .for_each(|(b, chunk)| {
+            let lo = r0 + b * band;
+            let hi = lo + chunk.len() / width;
+            let band_rows = lo as u64..hi as u64;
+            // the pixels (i, j) of a row whose column j lies in the band, for each row of each
+            // block whose row comes before the band's end
+            let in_band_columns =
+                |blocks: &[PixelBlock],
+                 runs: &[Vec<usize>],
+                 each: &mut dyn FnMut(&PixelBlock, usize)| {
+                    for (block, starts) in blocks.iter().zip(runs) {
+                        if block.bin1.first().is_none_or(|&i| i >= band_rows.end) {
+                            continue;
+                        }
+                        for run in starts.windows(2) {
+                            let (s, e) = (run[0], run[1]);
+                            if block.bin1[s] >= band_rows.end {
+                                break;
+                            }
+                            let cols = &block.bin2[s..e];
+                            let first = s + cols.partition_point(|&j| j < band_rows.start);
+                            let last = s + cols.partition_point(|&j| j < band_rows.end);
+                            for k in first..last {
+                                each(block, k);
+                            }
+                        }
                     }
+                };
+            for block in &upper {
+                // blocks are sorted by bin1: the band's rows are one slice of a block
+                let first = block.bin1.partition_point(|&i| i < band_rows.start);
+                let last = block.bin1.partition_point(|&i| i < band_rows.end);
+                for k in first..last {
+                    let (i, j) = (block.bin1[k] as usize, block.bin2[k] as usize);
+                    chunk[(i - lo) * width + (j - c0)] = value(i, j, block.count[k]);
+                }
+            }
+            if symmetric {
+                // mirrored: (i, j), i < j, j in the band, seen at (j, i)
+                in_band_columns(&upper, &upper_runs, &mut |block, k| {
+                    let (i, j) = (block.bin1[k] as usize, block.bin2[k] as usize);
+                    if i != j {
+                        chunk[(j - lo) * width + (i - c0)] = value(j, i, block.count[k]);
+                    }
+                });
+            }
+            in_band_columns(&lower, &lower_runs, &mut |block, k| {
+                let (a, b) = (block.bin1[k] as usize, block.bin2[k] as usize);
+                if a < b {
+                    chunk[(b - lo) * width + (a - c0)] = value(b, a, block.count[k]);
                 }
             });
+            // a masked bin's row and column are NaN throughout (zeros included: 0 x NaN)
+            if let Some(w) = weights {
+                for (row, i) in chunk.chunks_mut(width).zip(lo..hi) {
+                    if w[i].is_nan() {
+                        row.fill(f64::NAN);
+                    } else {
+                        for &j in &masked_cols {
+                            row[j - c0] = f64::NAN;
+                        }
+                    }
+                }
+            }
+        });
+    for block in upper.into_iter().chain(lower) {
+        reader.recycle(block);
     }
     Ok(())
 }
@@ -284,5 +351,48 @@ mod tests {
         }
         assert!(query_dense(&reader, 0..n + 1, 0..3, None).is_err());
         assert!(query_pixels(&reader, 0..3, 0..3, Some(&[1.0])).is_err());
+    }
+
+    /// A cooler's rectangles (rows from the index, filled in bands on every thread) equal the
+    /// matrix of its pixels streamed whole (rows from the bin1_id column, checked).
+    #[test]
+    fn a_coolers_rectangles_equal_its_streamed_pixels() {
+        let reader = crate::io::cool::CoolReader::open("data/yeast.10kb.cool").unwrap();
+        let n = reader.bins().n_bins();
+        let w = reader.weights("weight").unwrap().values;
+        let mut full = vec![0.0f64; n * n];
+        reader
+            .read_pixels(0..n, 0..n, &mut |block| {
+                for k in 0..block.len() {
+                    let (i, j) = (block.bin1[k] as usize, block.bin2[k] as usize);
+                    full[i * n + j] = block.count[k];
+                    full[j * n + i] = block.count[k];
+                }
+                Ok(())
+            })
+            .unwrap();
+        for (rows, cols) in [
+            (0..n, 0..n),
+            (100..700, 100..700),
+            (100..700, 400..1000),
+            (400..1000, 100..700),
+            (0..50, 900..1100),
+            (1000..1100, 0..30),
+        ] {
+            for weights in [None, Some(w.as_slice())] {
+                let m = query_dense(&reader, rows.clone(), cols.clone(), weights).unwrap();
+                for i in rows.clone() {
+                    for j in cols.clone() {
+                        let raw = full[i * n + j];
+                        let want = weights.map_or(raw, |w| (w[i] * w[j]) * raw);
+                        let got = m[[i - rows.start, j - cols.start]];
+                        assert!(
+                            got == want || (got.is_nan() && want.is_nan()),
+                            "{rows:?} x {cols:?} at ({i}, {j}): {got} vs {want}"
+                        );
+                    }
+                }
+            }
+        }
     }
 }

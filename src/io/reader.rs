@@ -169,6 +169,17 @@ pub trait MatrixReader: Send + Sync {
         self.read_pixels(rows, 0..n, &mut |block| sink(block.clone()))
     }
 
+    /// Stream the pixels of `rows x cols` as [`MatrixReader::read_pixels`] does, each block
+    /// handed over to keep (cooler's without a copy; by default each block is copied).
+    fn read_pixels_owned(
+        &self,
+        rows: Range<usize>,
+        cols: Range<usize>,
+        sink: &mut dyn FnMut(PixelBlock) -> Result<()>,
+    ) -> Result<()> {
+        self.read_pixels(rows, cols, &mut |block| sink(block.clone()))
+    }
+
     /// Hand back a block from [`MatrixReader::read_rows_owned`] that is no longer needed: a reader
     /// that decodes into fresh buffers (cooler) reads its next blocks into it instead of
     /// allocating and zeroing new ones. By default the block is dropped.

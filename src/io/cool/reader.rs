@@ -18,6 +18,15 @@ const SPARE_BLOCKS: usize = 3;
 /// Juicer's SCALE vector: divisive when hic2cool wrote it, although cooler reads it as multiplicative.
 const HIC2COOL_SCALE: &str = "SCALE";
 
+/// Where a block's rows come from: the `bin1_id` column (read and checked against the index:
+/// the streamed analyses), or `indexes/bin1_offset` alone (the rectangle queries, as cooler's
+/// range queries take them: one column less to inflate).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum RowSource {
+    Column,
+    Index,
+}
+
 /// An open cooler (one resolution).
 #[derive(Debug)]
 pub struct CoolReader {
@@ -378,12 +387,27 @@ impl CoolReader {
         }
     }
 
+    /// Each pixel's row of `lo..hi` from `indexes/bin1_offset`, into `out`.
+    fn rows_from_index(&self, lo: usize, hi: usize, out: &mut Vec<u64>) {
+        out.clear();
+        out.reserve(hi - lo);
+        let offsets = &self.bin1_offsets;
+        let mut row = offsets.partition_point(|&o| o as usize <= lo) - 1;
+        let mut at = lo;
+        while at < hi {
+            let end = (offsets[row + 1] as usize).min(hi);
+            out.resize(out.len() + (end - at), row as u64);
+            at = end;
+            row += 1;
+        }
+    }
+
     /// Read pixels `lo..hi` of the pixel table (`lo` and `hi` on row boundaries) and check them
     /// against the index: every pixel in its `bin1_offset` row, bin ids in range, no pixel below
     /// the diagonal (unless the file stores both triangles), no pixel stored twice. Rows whose
     /// `bin2_id` are not sorted (legacy cooler 0.6-0.7 multires levels, which cooler reads) are
     /// sorted here.
-    fn read_block(&self, lo: usize, hi: usize) -> Result<PixelBlock> {
+    fn read_block(&self, lo: usize, hi: usize, rows: RowSource) -> Result<PixelBlock> {
         // a block handed back (`recycle`) is read into, its columns not zeroed again
         let spare = self.spare.lock().ok().and_then(|mut spare| spare.pop());
         let PixelBlock {
@@ -394,7 +418,13 @@ impl CoolReader {
         let ((read1, read2), read_count) = rayon::join(
             || {
                 rayon::join(
-                    || self.bin1.read_into(&self.raw, lo, hi, &mut bin1),
+                    || match rows {
+                        RowSource::Column => self.bin1.read_into(&self.raw, lo, hi, &mut bin1),
+                        RowSource::Index => {
+                            self.rows_from_index(lo, hi, &mut bin1);
+                            Ok(())
+                        }
+                    },
                     || self.bin2.read_into(&self.raw, lo, hi, &mut bin2),
                 )
             },
@@ -495,6 +525,7 @@ impl CoolReader {
         rows: Range<usize>,
         cols: Range<usize>,
         upper_only: bool,
+        row_source: RowSource,
         sink: &mut dyn FnMut(PixelBlock) -> Result<()>,
     ) -> Result<()> {
         let n_bins = self.bins.n_bins();
@@ -513,7 +544,7 @@ impl CoolReader {
         );
         read_ahead(
             blocks,
-            |&(start, end)| self.read_block(start, end),
+            |&(start, end)| self.read_block(start, end, row_source),
             |_, mut block| {
                 if !whole_rows {
                     block.retain_cols(&cols64);
@@ -618,7 +649,7 @@ impl MatrixReader for CoolReader {
         cols: Range<usize>,
         sink: &mut dyn FnMut(&PixelBlock) -> Result<()>,
     ) -> Result<()> {
-        self.stream(rows, cols, true, &mut |block| {
+        self.stream(rows, cols, true, RowSource::Column, &mut |block| {
             sink(&block)?;
             self.recycle(block);
             Ok(())
@@ -638,7 +669,17 @@ impl MatrixReader for CoolReader {
         rows: Range<usize>,
         sink: &mut dyn FnMut(PixelBlock) -> Result<()>,
     ) -> Result<()> {
-        self.stream(rows, 0..self.bins.n_bins(), true, sink)
+        self.stream(rows, 0..self.bins.n_bins(), true, RowSource::Column, sink)
+    }
+
+    fn read_pixels_owned(
+        &self,
+        rows: Range<usize>,
+        cols: Range<usize>,
+        sink: &mut dyn FnMut(PixelBlock) -> Result<()>,
+    ) -> Result<()> {
+        // a query of a rectangle: rows from the index, as cooler's range queries take them
+        self.stream(rows, cols, true, RowSource::Index, sink)
     }
 
     fn stores_both_triangles(&self) -> bool {
@@ -651,7 +692,7 @@ impl MatrixReader for CoolReader {
         cols: Range<usize>,
         sink: &mut dyn FnMut(&PixelBlock) -> Result<()>,
     ) -> Result<()> {
-        self.stream(rows, cols, false, &mut |block| {
+        self.stream(rows, cols, false, RowSource::Column, &mut |block| {
             sink(&block)?;
             self.recycle(block);
             Ok(())
