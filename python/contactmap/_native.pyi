@@ -149,32 +149,23 @@ def saddle(
 def saddle_strength(
     sum: list[float], count: list[float], n: int
 ) -> npt.NDArray[np.float64]: ...
+_BalanceOptions = tuple[
+    str,
+    bool,
+    int | None,
+    float | None,
+    int | None,
+    float | None,
+    float | None,
+    int | None,
+    bool | None,
+]
+
 def balance(
-    file: NativeFile,
-    method: str = "ice",
-    cis_only: bool = False,
-    ignore_diags: int | None = None,
-    mad_max: float | None = None,
-    min_nnz: int | None = None,
-    min_count: float | None = None,
-    tol: float | None = None,
-    max_iters: int | None = None,
-    rescale_marginals: bool | None = None,
+    file: NativeFile, options: _BalanceOptions
 ) -> tuple[npt.NDArray[np.float64], dict[str, Any]]: ...
 def balance_store(
-    uri: str,
-    name: str = "weight",
-    overwrite: bool = False,
-    store_unconverged: bool = False,
-    method: str = "ice",
-    cis_only: bool = False,
-    ignore_diags: int | None = None,
-    mad_max: float | None = None,
-    min_nnz: int | None = None,
-    min_count: float | None = None,
-    tol: float | None = None,
-    max_iters: int | None = None,
-    rescale_marginals: bool | None = None,
+    uri: str, name: str, overwrite: bool, store_unconverged: bool, options: _BalanceOptions
 ) -> tuple[npt.NDArray[np.float64], dict[str, Any]]: ...
 def resolutions(path: str) -> list[int]: ...
 def dots(

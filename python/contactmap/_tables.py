@@ -205,13 +205,13 @@ def balance(
         rescale_marginals,
     )
     if not store:
-        return _native.balance(_file(clr)._native, *options)
+        return _native.balance(_file(clr)._native, options)
     uri = _uri_of(clr)
     reopen = clr if isinstance(clr, File) else None
     if reopen is not None:
         reopen._native = None  # type: ignore[assignment]  # closes the file (its only reference)
     try:
-        return _native.balance_store(uri, name, overwrite, store_unconverged, *options)
+        return _native.balance_store(uri, name, overwrite, store_unconverged, options)
     except ContactmapError as e:
         if "use --force to replace it" in str(e):
             raise ContactmapError(

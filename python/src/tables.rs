@@ -180,42 +180,58 @@ pub(crate) fn insulation<'py>(
     ))
 }
 
-/// The balancing parameters: the method's reference defaults (`BalanceParams::for_method`:
-/// cooler's for ICE, Juicer's for the others) where a value is left out.
-#[allow(clippy::too_many_arguments)]
-fn balance_params(
-    method: &str,
-    cis_only: bool,
-    ignore_diags: Option<u64>,
-    mad_max: Option<f64>,
-    min_nnz: Option<u64>,
-    min_count: Option<f64>,
-    tol: Option<f64>,
-    max_iters: Option<usize>,
-    rescale_marginals: Option<bool>,
-) -> PyResult<BalanceParams> {
-    let method = Method::from_juicer_name(method).ok_or_else(|| {
-        ContactmapError::new_err(format!(
-            "method '{method}': expected ice, kr, vc, vc_sqrt or scale"
-        ))
-    })?;
-    let defaults = BalanceParams::for_method(method);
-    Ok(BalanceParams {
-        method,
-        scope: if cis_only {
-            Scope::Cis
-        } else {
-            Scope::GenomeWide
-        },
-        ignore_diags: ignore_diags.unwrap_or(defaults.ignore_diags),
-        mad_max: mad_max.unwrap_or(defaults.mad_max),
-        min_nnz: min_nnz.unwrap_or(defaults.min_nnz),
-        min_count: min_count.unwrap_or(defaults.min_count),
-        tol: tol.unwrap_or(defaults.tol),
-        max_iters: max_iters.unwrap_or(defaults.max_iters),
-        rescale_marginals: rescale_marginals.unwrap_or(defaults.rescale_marginals),
-        ..defaults
-    })
+/// The balancing options as Python passes them (one tuple): method, cis_only, ignore_diags,
+/// mad_max, min_nnz, min_count, tol, max_iters, rescale_marginals; `None` takes the method's
+/// reference default (`BalanceParams::for_method`: cooler's for ICE, Juicer's for the others).
+#[derive(FromPyObject)]
+pub(crate) struct BalanceOptions(
+    String,
+    bool,
+    Option<u64>,
+    Option<f64>,
+    Option<u64>,
+    Option<f64>,
+    Option<f64>,
+    Option<usize>,
+    Option<bool>,
+);
+
+impl BalanceOptions {
+    fn params(&self) -> PyResult<BalanceParams> {
+        let BalanceOptions(
+            method,
+            cis_only,
+            ignore_diags,
+            mad_max,
+            min_nnz,
+            min_count,
+            tol,
+            max_iters,
+            rescale_marginals,
+        ) = self;
+        let method = Method::from_juicer_name(method).ok_or_else(|| {
+            ContactmapError::new_err(format!(
+                "method '{method}': expected ice, kr, vc, vc_sqrt or scale"
+            ))
+        })?;
+        let defaults = BalanceParams::for_method(method);
+        Ok(BalanceParams {
+            method,
+            scope: if *cis_only {
+                Scope::Cis
+            } else {
+                Scope::GenomeWide
+            },
+            ignore_diags: ignore_diags.unwrap_or(defaults.ignore_diags),
+            mad_max: mad_max.unwrap_or(defaults.mad_max),
+            min_nnz: min_nnz.unwrap_or(defaults.min_nnz),
+            min_count: min_count.unwrap_or(defaults.min_count),
+            tol: tol.unwrap_or(defaults.tol),
+            max_iters: max_iters.unwrap_or(defaults.max_iters),
+            rescale_marginals: rescale_marginals.unwrap_or(defaults.rescale_marginals),
+            ..defaults
+        })
+    }
 }
 
 /// The weights and the summary dict of a balancing.
@@ -234,34 +250,14 @@ fn balanced<'py>(
     Ok((vec1(py, result.weights), summary))
 }
 
-/// Balance a map: (weights, summary dict); parameters left out take the method's defaults.
-#[allow(clippy::too_many_arguments)]
+/// Balance a map: (weights, summary dict).
 #[pyfunction]
-#[pyo3(signature = (file, method="ice", cis_only=false, ignore_diags=None, mad_max=None, min_nnz=None, min_count=None, tol=None, max_iters=None, rescale_marginals=None))]
 pub(crate) fn balance<'py>(
     py: Python<'py>,
     file: &NativeFile,
-    method: &str,
-    cis_only: bool,
-    ignore_diags: Option<u64>,
-    mad_max: Option<f64>,
-    min_nnz: Option<u64>,
-    min_count: Option<f64>,
-    tol: Option<f64>,
-    max_iters: Option<usize>,
-    rescale_marginals: Option<bool>,
+    options: BalanceOptions,
 ) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyDict>)> {
-    let params = balance_params(
-        method,
-        cis_only,
-        ignore_diags,
-        mad_max,
-        min_nnz,
-        min_count,
-        tol,
-        max_iters,
-        rescale_marginals,
-    )?;
+    let params = options.params()?;
     let result = run(py, || {
         let pixels = load_pixels_for_balancing(&file.reader, u64::MAX)?;
         balance_pixels(&pixels, &params)
@@ -273,36 +269,16 @@ pub(crate) fn balance<'py>(
 /// resolution, not open elsewhere in this process) and store the weights as the column `name`
 /// with cooler's attributes; an existing column only with `overwrite`, unconverged weights only
 /// with `store_unconverged`. The file is locked while this runs.
-#[allow(clippy::too_many_arguments)]
 #[pyfunction]
-#[pyo3(signature = (uri, name="weight", overwrite=false, store_unconverged=false, method="ice", cis_only=false, ignore_diags=None, mad_max=None, min_nnz=None, min_count=None, tol=None, max_iters=None, rescale_marginals=None))]
 pub(crate) fn balance_store<'py>(
     py: Python<'py>,
     uri: &str,
     name: &str,
     overwrite: bool,
     store_unconverged: bool,
-    method: &str,
-    cis_only: bool,
-    ignore_diags: Option<u64>,
-    mad_max: Option<f64>,
-    min_nnz: Option<u64>,
-    min_count: Option<f64>,
-    tol: Option<f64>,
-    max_iters: Option<usize>,
-    rescale_marginals: Option<bool>,
+    options: BalanceOptions,
 ) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyDict>)> {
-    let params = balance_params(
-        method,
-        cis_only,
-        ignore_diags,
-        mad_max,
-        min_nnz,
-        min_count,
-        tol,
-        max_iters,
-        rescale_marginals,
-    )?;
+    let params = options.params()?;
     let result = run(py, || {
         let (path, _) = io::split_uri(uri);
         if io::detect_kind(path)? != io::FileKind::Hdf5 {
