@@ -19,6 +19,7 @@ pub mod normalize;
 pub mod output;
 pub mod pileup;
 pub mod plot;
+pub mod polymer_map;
 pub mod progress;
 pub mod protein;
 pub mod saddle;
@@ -105,6 +106,9 @@ pub enum Command {
     /// Simulated maps with a known truth: `simulate blocks` (block-structured map with TADs),
     /// `simulate polymer` (bead-spring polymer ensembles with loop extrusion, CPU or GPU).
     Simulate(simulate::SimulateArgs),
+    /// The contact map of 3D conformations (polychrom HDF5 trajectories, `simulate polymer
+    /// --conformations` tables, XYZ), as polychrom's binnedContactMap counts it.
+    PolymerMap(polymer_map::PolymerMapArgs),
     /// Score calls against a truth: `score boundaries` (TAD boundaries and domains), `score
     /// compartments` (eigenvectors against A/B truth), `score loops` (dot calls against true
     /// loops), `score contacts` (protein residue-contact predictions against a structure), `score
@@ -272,6 +276,7 @@ pub fn run(cli: Cli) -> Result<Status> {
         Command::Coverage(args) => coverage::run(&args),
         Command::Virtual4c(args) => virtual4c::run(&args),
         Command::Simulate(args) => simulate::run(&args),
+        Command::PolymerMap(args) => polymer_map::run(&args),
         Command::Score(args) => score::run(&args),
         Command::Contacts(args) => contacts::run(&args),
         Command::Validate(args) => return validate::run(&args),

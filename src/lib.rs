@@ -10,7 +10,8 @@
 //! - algorithms take core types and return core types or plain tables; they never open files:
 //!   [`balance`] (ICE, VC, KR), [`expected`] (P(s), power laws), [`normalize`] (observed /
 //!   expected), [`tads`] (insulation, directionality, TopDom, Armatus), [`score`] (calls against
-//!   a truth), [`compartments`] (eigenvectors as cooltools, saddles);
+//!   a truth), [`compartments`] (eigenvectors as cooltools, saddles), [`conformations`]
+//!   (contact maps of 3D trajectories, as polychrom counts them);
 //! - [`export`] writes files that carry computed results (a `.hic` with Juicer's normalisation
 //!   vectors and expected values): it stands above both the formats and the algorithms;
 //! - [`plot`] draws figures (heatmaps, P(s) curves, protein contact maps) as PNG or SVG;
@@ -310,6 +311,7 @@
 pub mod balance;
 pub mod compare;
 pub mod compartments;
+pub mod conformations;
 pub mod error;
 pub mod expected;
 pub mod export;

@@ -45,6 +45,8 @@ mod plot_compare;
 mod plot_contacts;
 #[path = "cli/plot_expected.rs"]
 mod plot_expected;
+#[path = "cli/polymer_map.rs"]
+mod polymer_map;
 #[path = "cli/roundtrip.rs"]
 mod roundtrip;
 #[path = "cli/saddle.rs"]

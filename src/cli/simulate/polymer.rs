@@ -49,6 +49,14 @@ pub enum ConfinementArg {
 
 /// Where to run, for `--device`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ConformationsFormatArg {
+    /// replica sample chain bead x y z (TSV)
+    Tsv,
+    /// polychrom's HDF5 trajectory folder (blocks_X-Y.h5)
+    Polychrom,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum DeviceArg {
     /// the GPU when a hardware one is usable, else the CPU
     Auto,
@@ -109,7 +117,8 @@ Outputs:
   --truth-compartments  BED: chrom start end TYPE FRACTION_A per bin (with --types): its beads'
                         majority type and the fraction of type A (a phasing track: FILE:5);
                         score eigenvectors with `contactmap score compartments`
-  --conformations       TSV(.gz): replica sample chain bead x y z of every sampled conformation
+  --conformations       TSV(.gz): replica sample chain bead x y z of every sampled conformation;
+                        with --conformations-format polychrom a polychrom trajectory folder
   --stats               TSV: replica sample chain radius_of_gyration time
                         relaxed_separation (s* at the sample's time)
 
@@ -246,9 +255,15 @@ pub struct PolymerArgs {
     /// beads and the fraction of them of type A), with --types.
     #[arg(long, value_name = "BED", requires = "types")]
     pub truth_compartments: Option<PathBuf>,
-    /// Write every sampled conformation (TSV, .gz compresses).
+    /// Write every sampled conformation (TSV, .gz compresses; a folder with
+    /// --conformations-format polychrom).
     #[arg(long, value_name = "FILE")]
     pub conformations: Option<PathBuf>,
+    /// The conformations' format: tsv (replica sample chain bead x y z, 4 decimals), or polychrom
+    /// (a trajectory folder of blocks_X-Y.h5 files, full precision, that polychrom's
+    /// hdf5_format.list_URIs / load_URI and `polymer-map` read).
+    #[arg(long, value_enum, default_value = "tsv", requires = "conformations")]
+    pub conformations_format: ConformationsFormatArg,
     /// Write the radius of gyration of every sample (TSV).
     #[arg(long, value_name = "FILE")]
     pub stats: Option<PathBuf>,
@@ -390,9 +405,16 @@ pub fn run(args: &PolymerArgs) -> Result<()> {
         write_text_file(path, ensemble.truth_loops_bedpe(&bins))?;
     }
     if let Some(path) = &args.conformations {
-        let mut out = Output::open(Some(path))?;
-        ensemble.write_conformations(&params, |bytes| out.write_all(bytes))?;
-        out.finish()?;
+        match args.conformations_format {
+            ConformationsFormatArg::Tsv => {
+                let mut out = Output::open(Some(path))?;
+                ensemble.write_conformations(&params, |bytes| out.write_all(bytes))?;
+                out.finish()?;
+            }
+            ConformationsFormatArg::Polychrom => {
+                contactmap::io::trajectory::polychrom::write_blocks(path, &ensemble.conformations)?;
+            }
+        }
     }
     if let Some(path) = &args.stats {
         write_text_file(path, ensemble.stats_tsv(&params))?;

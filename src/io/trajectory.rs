@@ -1,0 +1,175 @@
+//! Trajectories: sets of 3D conformations of a polymer (or of any chain of beads), read one
+//! conformation at a time so that a trajectory of any length streams in bounded memory.
+//!
+//! Formats:
+//!
+//! - **polychrom** ([`polychrom`]): the HDF5 trajectories of polychrom's `HDF5Reporter`
+//!   (`polychrom/hdf5_format.py`): files `blocks_X-Y.h5` holding blocks X to Y as groups `/X`
+//!   .. `/Y`, each with a dataset `pos` (`N x 3`). An input is a trajectory folder (every
+//!   `blocks_*-*.h5` in it, by block number), one blocks file, or one block as polychrom's URI
+//!   `blocks_1-50.h5::42`.
+//! - **conformations tables** ([`table`]): what `contactmap simulate polymer --conformations`
+//!   writes, `replica sample chain bead x y z` (TSV, `.gz` too): one conformation per
+//!   `(replica, sample)`, its chains one after the other.
+//! - **XYZ** ([`xyz`]): frames of `N`, a comment line and `N` lines `name x y z`.
+//!
+//! Every conformation is checked as it is read: a non-finite coordinate, a truncated frame or an
+//! empty block is an error naming the file and the conformation.
+
+pub mod polychrom;
+pub mod table;
+pub mod xyz;
+
+use std::path::Path;
+
+use crate::error::{Error, Result};
+
+/// One conformation: its beads' positions and where it was read (`file::block`,
+/// `file:replica/sample`, `file:frame`), for messages.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Conformation {
+    /// Where it was read.
+    pub label: String,
+    /// The beads' positions, in the file's units.
+    pub positions: Vec<[f64; 3]>,
+}
+
+/// The trajectory formats.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TrajectoryFormat {
+    /// polychrom's HDF5 blocks (a folder, a blocks file, or a `file::block` URI).
+    Polychrom,
+    /// contactmap's conformations table (`replica sample chain bead x y z`).
+    Table,
+    /// XYZ frames.
+    Xyz,
+}
+
+impl TrajectoryFormat {
+    /// The format of `input`: a folder or an HDF5 file (by its signature, `::` URIs too) is
+    /// polychrom's, `.xyz` is XYZ, anything else a conformations table.
+    pub fn detect(input: &str) -> Result<TrajectoryFormat> {
+        let path = Path::new(input.split("::").next().unwrap_or(input));
+        if path.is_dir() || input.contains("::") {
+            return Ok(TrajectoryFormat::Polychrom);
+        }
+        let mut head = [0u8; 8];
+        let n = {
+            use std::io::Read as _;
+            let mut file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+            file.read(&mut head).map_err(|e| Error::io(path, e))?
+        };
+        if head[..n].starts_with(b"\x89HDF\r\n\x1a\n") {
+            return Ok(TrajectoryFormat::Polychrom);
+        }
+        let name = path.to_string_lossy().to_ascii_lowercase();
+        if name.ends_with(".xyz") || name.ends_with(".xyz.gz") {
+            Ok(TrajectoryFormat::Xyz)
+        } else {
+            Ok(TrajectoryFormat::Table)
+        }
+    }
+}
+
+/// The conformations of `inputs`, one after the other, each read when asked for: an iterator of
+/// `Result<Conformation>` (the first error ends it).
+pub struct Trajectories {
+    inputs: std::collections::VecDeque<String>,
+    current: Option<Box<dyn Iterator<Item = Result<Conformation>>>>,
+    failed: bool,
+}
+
+/// Open the trajectories `inputs` (each a folder, a file or a polychrom URI; the format detected
+/// by [`TrajectoryFormat::detect`]). Nothing but the inputs' listing is read before the first
+/// conformation is asked for.
+///
+/// ```
+/// use contactmap::io::trajectory::open_trajectories;
+/// let dir = std::env::temp_dir().join(format!("traj-{}", std::process::id()));
+/// std::fs::create_dir_all(&dir)?;
+/// let path = dir.join("two.xyz");
+/// std::fs::write(&path, "2\nframe 1\nC 0 0 0\nC 1 0 0\n2\nframe 2\nC 0 0 0\nC 0 2 0\n")?;
+/// let frames: Vec<_> = open_trajectories(&[path.to_string_lossy().into_owned()])?
+///     .collect::<Result<_, _>>()?;
+/// assert_eq!(frames.len(), 2);
+/// assert_eq!(frames[1].positions[1], [0.0, 2.0, 0.0]);
+/// std::fs::remove_dir_all(&dir)?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn open_trajectories(inputs: &[String]) -> Result<Trajectories> {
+    if inputs.is_empty() {
+        return Err(Error::Invalid("no trajectory given".into()));
+    }
+    for input in inputs {
+        let path = Path::new(input.split("::").next().unwrap_or(input));
+        if !path.exists() {
+            return Err(Error::io(
+                path,
+                std::io::Error::from(std::io::ErrorKind::NotFound),
+            ));
+        }
+    }
+    Ok(Trajectories {
+        inputs: inputs.iter().cloned().collect(),
+        current: None,
+        failed: false,
+    })
+}
+
+fn open_one(input: &str) -> Result<Box<dyn Iterator<Item = Result<Conformation>>>> {
+    Ok(match TrajectoryFormat::detect(input)? {
+        TrajectoryFormat::Polychrom => Box::new(polychrom::PolychromBlocks::open(input)?),
+        TrajectoryFormat::Table => Box::new(table::TableConformations::open(Path::new(input))?),
+        TrajectoryFormat::Xyz => Box::new(xyz::XyzFrames::open(Path::new(input))?),
+    })
+}
+
+impl Iterator for Trajectories {
+    type Item = Result<Conformation>;
+
+    fn next(&mut self) -> Option<Result<Conformation>> {
+        if self.failed {
+            return None;
+        }
+        loop {
+            if let Some(current) = &mut self.current {
+                match current.next() {
+                    Some(Ok(conformation)) => return Some(Ok(conformation)),
+                    Some(Err(error)) => {
+                        self.failed = true;
+                        return Some(Err(error));
+                    }
+                    None => self.current = None,
+                }
+            }
+            let input = self.inputs.pop_front()?;
+            match open_one(&input) {
+                Ok(opened) => self.current = Some(opened),
+                Err(error) => {
+                    self.failed = true;
+                    return Some(Err(error));
+                }
+            }
+        }
+    }
+}
+
+/// A conformation's positions checked: at least one bead, every coordinate finite.
+pub(crate) fn checked(label: String, positions: Vec<[f64; 3]>) -> Result<Conformation> {
+    if positions.is_empty() {
+        return Err(Error::Invalid(format!(
+            "{label}: an empty conformation (no bead)"
+        )));
+    }
+    if let Some(bead) = positions
+        .iter()
+        .position(|p| !(p[0].is_finite() && p[1].is_finite() && p[2].is_finite()))
+    {
+        let p = positions[bead];
+        return Err(Error::Invalid(format!(
+            "{label}: bead {bead} has a non-finite coordinate ({}, {}, {})",
+            p[0], p[1], p[2]
+        )));
+    }
+    Ok(Conformation { label, positions })
+}

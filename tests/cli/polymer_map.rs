@@ -1,0 +1,262 @@
+//! `contactmap polymer-map` against polychrom's own contact maps (data/reference/polychrom,
+//! scripts/polychrom_reference.py), the simulator's map through polychrom's format, and bad
+//! trajectories.
+
+use super::*;
+use contactmap::io::trajectory::polychrom::write_blocks;
+use contactmap::io::{open_matrix, OpenOptions};
+
+/// The full symmetric matrix of a .cool's raw counts.
+fn dense(path: &str) -> Vec<Vec<u64>> {
+    let reader = open_matrix(path, &OpenOptions::default()).unwrap();
+    let n = reader.bins().n_bins();
+    let mut m = vec![vec![0u64; n]; n];
+    reader
+        .read_pixels(0..n, 0..n, &mut |block| {
+            for k in 0..block.len() {
+                let (i, j) = (block.bin1[k] as usize, block.bin2[k] as usize);
+                m[i][j] = block.count[k] as u64;
+                m[j][i] = block.count[k] as u64;
+            }
+            Ok(())
+        })
+        .unwrap();
+    m
+}
+
+/// A polychrom reference: the dense matrix polychrom returns, its diagonal halved (polychrom's
+/// `triangle + triangle.T` counts a within-bin contact twice there; a .cool once).
+fn reference(name: &str) -> Vec<Vec<u64>> {
+    let text = {
+        use std::io::Read as _;
+        let file = std::fs::File::open(data(&format!("reference/polychrom/{name}"))).unwrap();
+        let mut text = String::new();
+        flate2::read::GzDecoder::new(file)
+            .read_to_string(&mut text)
+            .unwrap();
+        text
+    };
+    let mut m: Vec<Vec<u64>> = text
+        .lines()
+        .map(|l| l.split('\t').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    for (k, row) in m.iter_mut().enumerate() {
+        assert_eq!(row[k] % 2, 0);
+        row[k] /= 2;
+    }
+    m
+}
+
+#[test]
+fn maps_equal_polychroms() {
+    let dir = tempfile::tempdir().unwrap();
+    let traj = data("polychrom/traj");
+    let mono = dir.path().join("mono.cool").to_string_lossy().into_owned();
+    let err = run(&["polymer-map", &traj, "--contact-radius", "1.6", "-o", &mono]);
+    assert!(err.status.success());
+    let note = String::from_utf8_lossy(&err.stderr);
+    assert!(note.contains("7 conformations of 150 beads"), "{note}");
+    assert_eq!(dense(&mono), reference("monomer_cutoff1.6.tsv.gz"));
+    // binned, two chains: the two files given one by one
+    let binned = dir
+        .path()
+        .join("binned.cool")
+        .to_string_lossy()
+        .into_owned();
+    run_ok(&[
+        "polymer-map",
+        &format!("{traj}/blocks_0-3.h5"),
+        &format!("{traj}/blocks_4-6.h5"),
+        "--contact-radius",
+        "1.6",
+        "--monomers-per-bin",
+        "4",
+        "--chains",
+        "90,60",
+        "-o",
+        &binned,
+    ]);
+    assert_eq!(
+        dense(&binned),
+        reference("binned_4_chains90-60_cutoff1.6.tsv.gz")
+    );
+    // one block by polychrom's URI: its contacts only
+    let one = dir.path().join("one.cool").to_string_lossy().into_owned();
+    let out = run(&[
+        "polymer-map",
+        &format!("{traj}/blocks_4-6.h5::5"),
+        "--contact-radius",
+        "1.6",
+        "-o",
+        &one,
+    ]);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("1 conformations of 150 beads"));
+}
+
+/// The simulator's conformations written in polychrom's format give the simulator's own map.
+#[test]
+fn the_simulators_map_comes_back_through_polychroms_format() {
+    let dir = tempfile::tempdir().unwrap();
+    let sim = dir.path().join("sim.cool").to_string_lossy().into_owned();
+    let traj = dir.path().join("traj").to_string_lossy().into_owned();
+    run_ok(&[
+        "simulate",
+        "polymer",
+        "-o",
+        &sim,
+        "--chains",
+        "60,40",
+        "--replicas",
+        "3",
+        "--samples",
+        "20",
+        "--equilibration",
+        "400",
+        "--sample-every",
+        "100",
+        "--seed",
+        "5",
+        "--density",
+        "0.3",
+        "--conformations",
+        &traj,
+        "--conformations-format",
+        "polychrom",
+    ]);
+    assert!(std::path::Path::new(&format!("{traj}/blocks_0-49.h5")).is_file());
+    assert!(std::path::Path::new(&format!("{traj}/blocks_50-59.h5")).is_file());
+    let back = dir.path().join("back.cool").to_string_lossy().into_owned();
+    run_ok(&[
+        "polymer-map",
+        &traj,
+        "--contact-radius",
+        "1.5",
+        "--chains",
+        "60,40",
+        "-o",
+        &back,
+    ]);
+    let (a, b) = (dense(&sim), dense(&back));
+    assert!(a.iter().flatten().sum::<u64>() > 1000);
+    assert_eq!(a, b);
+}
+
+#[test]
+fn bad_trajectories_are_one_line_errors_without_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("map.cool");
+    let out_s = out.to_string_lossy().into_owned();
+    let check = |args: &[&str], what: &str| {
+        let line = run_err(args);
+        assert!(line.contains(what), "{line}");
+        assert!(!out.exists());
+    };
+    // a NaN coordinate
+    let mut conformations = vec![vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0]]; 3];
+    conformations[2][1][2] = f64::NAN;
+    let nan = dir.path().join("nan");
+    write_blocks(&nan, &conformations).unwrap();
+    check(
+        &[
+            "polymer-map",
+            &nan.to_string_lossy(),
+            "--contact-radius",
+            "1.5",
+            "-o",
+            &out_s,
+        ],
+        "blocks_0-2.h5::2: bead 1 has a non-finite coordinate",
+    );
+    // another number of beads
+    let mut uneven = vec![vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]]; 2];
+    uneven[1].push([2.0, 0.0, 0.0]);
+    let uneven_dir = dir.path().join("uneven");
+    write_blocks(&uneven_dir, &uneven).unwrap();
+    check(
+        &[
+            "polymer-map",
+            &uneven_dir.to_string_lossy(),
+            "--contact-radius",
+            "1.5",
+            "-o",
+            &out_s,
+        ],
+        "::1: 3 beads, where the first conformation has 2",
+    );
+    // an empty block: pos of 0 x 3
+    let empty = dir.path().join("blocks_0-0.h5");
+    {
+        let file = hdf5::File::create(&empty).unwrap();
+        let group = file.create_group("0").unwrap();
+        group
+            .new_dataset::<f64>()
+            .shape((0, 3))
+            .create("pos")
+            .unwrap();
+    }
+    check(
+        &[
+            "polymer-map",
+            &empty.to_string_lossy(),
+            "--contact-radius",
+            "1.5",
+            "-o",
+            &out_s,
+        ],
+        "blocks_0-0.h5::0: an empty block",
+    );
+    // a block the file's name promises but lacks
+    let short = dir.path().join("blocks_0-3.h5");
+    {
+        let file = hdf5::File::create(&short).unwrap();
+        let group = file.create_group("0").unwrap();
+        let pos = group
+            .new_dataset::<f64>()
+            .shape((2, 3))
+            .create("pos")
+            .unwrap();
+        pos.write_raw(&[0.0, 0.0, 0.0, 1.0, 0.0, 0.0]).unwrap();
+    }
+    check(
+        &[
+            "polymer-map",
+            &short.to_string_lossy(),
+            "--contact-radius",
+            "1.5",
+            "-o",
+            &out_s,
+        ],
+        "blocks_0-3.h5::1: no dataset pos in block 1",
+    );
+    // a truncated XYZ frame
+    let xyz = write(
+        dir.path(),
+        "t.xyz",
+        "2\nf1\nC 0 0 0\nC 1 0 0\n2\nf2\nC 0 0 0\n",
+    );
+    check(
+        &["polymer-map", &xyz, "--contact-radius", "1.5", "-o", &out_s],
+        "frame 2 is truncated",
+    );
+    // a table row cut short
+    let table = write(
+        dir.path(),
+        "c.tsv",
+        "replica\tsample\tchain\tbead\tx\ty\tz\n0\t0\t1\t0\t0\t0\t0\n0\t0\t1\t1\t1\t0\n",
+    );
+    check(
+        &[
+            "polymer-map",
+            &table,
+            "--contact-radius",
+            "1.5",
+            "-o",
+            &out_s,
+        ],
+        "c.tsv:3: expected 7 columns, found 6",
+    );
+    check(
+        &["polymer-map", &xyz, "--contact-radius", "-1", "-o", &out_s],
+        "contact-radius",
+    );
+}
