@@ -10,7 +10,11 @@ References, made by polychrom's own functions on those files (import polychrom f
 given on PYTHONPATH): hdf5_format.list_URIs, then contactmaps.monomerResolutionContactMap
 (cutoff 1.6) and binnedContactMap (chains [[0, 90], [90, 150]], binSize 4, cutoff 1.6), both
 with n=1 (polychrom's one-core path, averageContactsSimple, which counts as its workers do);
-the dense matrices polychrom returns (triangle + triangle.T) as TSV.
+the dense matrices polychrom returns (triangle + triangle.T) as TSV. And polymer_analyses on
+each conformation (generate_bins(150); contact_scaling with cutoff 1.6, R2_scaling,
+Rg2_scaling, Rg2), the per-conformation values averaged with numpy's mean over conformations:
+stats.scaling.tsv (s_mid contact_probability), stats.r2.tsv (s r2 rg2), stats.rg2.tsv (rg2 per
+conformation), floats in full (repr).
 
 usage: PYTHONPATH=/path/to/polychrom python scripts/polychrom_reference.py
 """
@@ -23,7 +27,7 @@ import os
 import h5py
 import numpy as np
 
-from polychrom import contactmaps, hdf5_format, polymerutils
+from polychrom import contactmaps, hdf5_format, polymer_analyses, polymerutils
 
 TRAJ = "data/polychrom/traj"
 REF = "data/reference/polychrom"
@@ -67,6 +71,25 @@ def main() -> None:
         loadFunction=polymerutils.load,
     )
     write_matrix("binned_4_chains90-60_cutoff1.6.tsv.gz", binned)
+    confs = [polymerutils.load(u) for u in uris]
+    bins = polymer_analyses.generate_bins(150)
+    scalings = [polymer_analyses.contact_scaling(c, bins, cutoff=1.6) for c in confs]
+    mids = scalings[0][0]
+    probability = np.mean([p for _, p in scalings], axis=0)
+    r2 = np.mean([polymer_analyses.R2_scaling(c, bins)[1] for c in confs], axis=0)
+    rg2s = np.mean([polymer_analyses.Rg2_scaling(c, bins)[1] for c in confs], axis=0)
+    with open(os.path.join(REF, "stats.scaling.tsv"), "w") as f:
+        f.write("s_mid\tcontact_probability\n")
+        for m, p in zip(mids, probability):
+            f.write(f"{float(m)!r}\t{float(p)!r}\n")
+    with open(os.path.join(REF, "stats.r2.tsv"), "w") as f:
+        f.write("s\tr2\trg2\n")
+        for s, a, b in zip(bins, r2, rg2s):
+            f.write(f"{int(s)}\t{float(a)!r}\t{float(b)!r}\n")
+    with open(os.path.join(REF, "stats.rg2.tsv"), "w") as f:
+        f.write("rg2\n")
+        for c in confs:
+            f.write(f"{float(polymer_analyses.Rg2(c))!r}\n")
     print("monomer", mono.shape, int(mono.sum()), "binned", binned.shape, int(binned.sum()), starts)
 
 

@@ -20,6 +20,7 @@ pub mod output;
 pub mod pileup;
 pub mod plot;
 pub mod polymer_map;
+pub mod polymer_stats;
 pub mod progress;
 pub mod protein;
 pub mod saddle;
@@ -109,6 +110,9 @@ pub enum Command {
     /// The contact map of 3D conformations (polychrom HDF5 trajectories, `simulate polymer
     /// --conformations` tables, XYZ), as polychrom's binnedContactMap counts it.
     PolymerMap(polymer_map::PolymerMapArgs),
+    /// P(s), <R^2(s)>, <Rg^2(s)> and each conformation's Rg^2 of 3D conformations, as polychrom's
+    /// polymer_analyses computes them.
+    PolymerStats(polymer_stats::PolymerStatsArgs),
     /// Score calls against a truth: `score boundaries` (TAD boundaries and domains), `score
     /// compartments` (eigenvectors against A/B truth), `score loops` (dot calls against true
     /// loops), `score contacts` (protein residue-contact predictions against a structure), `score
@@ -277,6 +281,7 @@ pub fn run(cli: Cli) -> Result<Status> {
         Command::Virtual4c(args) => virtual4c::run(&args),
         Command::Simulate(args) => simulate::run(&args),
         Command::PolymerMap(args) => polymer_map::run(&args),
+        Command::PolymerStats(args) => polymer_stats::run(&args),
         Command::Score(args) => score::run(&args),
         Command::Contacts(args) => contacts::run(&args),
         Command::Validate(args) => return validate::run(&args),

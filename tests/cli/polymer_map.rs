@@ -260,3 +260,71 @@ fn bad_trajectories_are_one_line_errors_without_output() {
         "contact-radius",
     );
 }
+
+/// A TSV of numbers with a header: its columns by name.
+fn columns(text: &str) -> std::collections::HashMap<String, Vec<f64>> {
+    let mut lines = text.lines();
+    let header: Vec<String> = lines
+        .next()
+        .unwrap()
+        .split('\t')
+        .map(String::from)
+        .collect();
+    let mut out: std::collections::HashMap<String, Vec<f64>> =
+        header.iter().map(|h| (h.clone(), Vec::new())).collect();
+    for line in lines {
+        for (h, v) in header.iter().zip(line.split('\t')) {
+            if let Ok(x) = v.parse() {
+                out.get_mut(h).unwrap().push(x);
+            }
+        }
+    }
+    out
+}
+
+fn assert_close(ours: &[f64], theirs: &[f64], rtol: f64, what: &str) {
+    assert_eq!(ours.len(), theirs.len(), "{what}");
+    for (k, (a, b)) in ours.iter().zip(theirs).enumerate() {
+        assert!((a - b).abs() <= rtol * b.abs(), "{what}[{k}]: {a} vs {b}");
+    }
+}
+
+/// P(s), R^2(s), Rg^2(s) and Rg^2 per conformation against polychrom's polymer_analyses on the
+/// same trajectory (scripts/polychrom_reference.py).
+#[test]
+fn statistics_equal_polychroms() {
+    let dir = tempfile::tempdir().unwrap();
+    let prefix = dir.path().join("s").to_string_lossy().into_owned();
+    let out = run(&[
+        "polymer-stats",
+        &data("polychrom/traj"),
+        "--contact-radius",
+        "1.6",
+        "-o",
+        &prefix,
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let read = |name: &str| std::fs::read_to_string(name).unwrap();
+    let ours = columns(&read(&format!("{prefix}.scaling.tsv")));
+    let theirs = columns(&read(&data("reference/polychrom/stats.scaling.tsv")));
+    // contact counts are exact, so is P(s)
+    assert_eq!(ours["s_mid"], theirs["s_mid"]);
+    assert_eq!(ours["contact_probability"], theirs["contact_probability"]);
+    let ours = columns(&read(&format!("{prefix}.r2.tsv")));
+    let theirs = columns(&read(&data("reference/polychrom/stats.r2.tsv")));
+    assert_eq!(ours["s"], theirs["s"]);
+    assert_close(&ours["r2"], &theirs["r2"], 1e-12, "r2");
+    assert_close(&ours["rg2"], &theirs["rg2"], 1e-12, "rg2(s)");
+    // Rg^2: the first file's positions are float32, which polychrom's Rg2 sums in float32
+    // (1e-7); the second file's float64 conformations agree to 1e-12
+    let ours = columns(&read(&format!("{prefix}.rg2.tsv")));
+    let theirs = columns(&read(&data("reference/polychrom/stats.rg2.tsv")));
+    assert_close(&ours["rg2"][..4], &theirs["rg2"][..4], 1e-7, "rg2 float32");
+    assert_close(&ours["rg2"][4..], &theirs["rg2"][4..], 1e-12, "rg2 float64");
+    let text = read(&format!("{prefix}.rg2.tsv"));
+    assert!(text.contains("blocks_4-6.h5::6\t"), "{text}");
+}

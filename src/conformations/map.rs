@@ -1,0 +1,378 @@
+//! Ensemble contact maps of conformations (polychrom's `binnedContactMap` and
+//! `monomerResolutionContactMap`): the binning, the contact search, the streaming count.
+
+use rayon::prelude::*;
+
+use crate::error::{Error, Result};
+use crate::io::trajectory::Conformation;
+use crate::sim::cells::{CellList, Space};
+
+/// The bins of chains of beads, polychrom's way (see the module docs).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ChainBins {
+    /// The chains, `[start, end)` in beads.
+    pub chains: Vec<(usize, usize)>,
+    /// Beads per bin.
+    pub monomers_per_bin: usize,
+    /// The first bead of each bin, every chain's bins in order.
+    starts: Vec<usize>,
+    /// One past the last bead binned: the last chain's end plus one (polychrom's last edge).
+    end: usize,
+}
+
+impl ChainBins {
+    /// The bins of `chains` (`[start, end)` each, in order, not overlapping) of
+    /// `monomers_per_bin` beads.
+    ///
+    /// ```
+    /// use contactmap::conformations::ChainBins;
+    /// let bins = ChainBins::new(&[(0, 10), (10, 15)], 4)?;
+    /// assert_eq!(bins.n_bins(), 3 + 2);
+    /// assert_eq!((bins.bin_of(3), bins.bin_of(4), bins.bin_of(9), bins.bin_of(10)), (Some(0), Some(1), Some(2), Some(3)));
+    /// assert_eq!((bins.bin_of(15), bins.bin_of(16)), (Some(4), None)); // polychrom's last edge: end + 1
+    /// # Ok::<(), contactmap::Error>(())
+    /// ```
+    pub fn new(chains: &[(usize, usize)], monomers_per_bin: usize) -> Result<ChainBins> {
+        if monomers_per_bin == 0 {
+            return Err(Error::parameter("monomers-per-bin", 0, "1 or more"));
+        }
+        if chains.is_empty() {
+            return Err(Error::parameter("chains", "(none)", "at least one chain"));
+        }
+        let mut starts = Vec::new();
+        let mut previous_end = 0;
+        for (k, &(start, end)) in chains.iter().enumerate() {
+            if end <= start || (k > 0 && start < previous_end) {
+                return Err(Error::parameter(
+                    "chains",
+                    format!("{start}-{end}"),
+                    "chains [start, end) in order, each at least one bead, not overlapping",
+                ));
+            }
+            starts.extend((start..end).step_by(monomers_per_bin));
+            previous_end = end;
+        }
+        Ok(ChainBins {
+            chains: chains.to_vec(),
+            monomers_per_bin,
+            starts,
+            end: previous_end + 1,
+        })
+    }
+
+    /// The number of bins.
+    pub fn n_bins(&self) -> usize {
+        self.starts.len()
+    }
+
+    /// The bins of each chain.
+    pub fn bins_per_chain(&self) -> Vec<usize> {
+        self.chains
+            .iter()
+            .map(|&(start, end)| (end - start).div_ceil(self.monomers_per_bin))
+            .collect()
+    }
+
+    /// The bin of bead `bead`, or `None` before the first chain or past the last edge.
+    pub fn bin_of(&self, bead: usize) -> Option<usize> {
+        if bead >= self.end {
+            return None;
+        }
+        self.starts.partition_point(|&s| s <= bead).checked_sub(1)
+    }
+
+    /// Each bead's bin for conformations of `n_beads` beads (`u32::MAX` outside every bin).
+    fn lookup(&self, n_beads: usize) -> Vec<u32> {
+        (0..n_beads)
+            .map(|b| self.bin_of(b).map_or(u32::MAX, |b| b as u32))
+            .collect()
+    }
+}
+
+/// The contacts of one conformation: the pairs `(i, j)`, `i < j`, of beads at most `radius`
+/// apart, sorted. `cells` is a cell list to reuse.
+///
+/// ```
+/// use contactmap::conformations::contact_pairs;
+/// use contactmap::sim::cells::CellList;
+/// let points = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [3.0, 0.0, 0.0], [4.5, 0.0, 0.0]];
+/// let mut cells = CellList::new();
+/// // distance exactly 1.5 counts (at most the radius), as scipy's query_pairs
+/// assert_eq!(contact_pairs(&points, 1.5, &mut cells), vec![(0, 1), (2, 3)]);
+/// ```
+pub fn contact_pairs(positions: &[[f64; 3]], radius: f64, cells: &mut CellList) -> Vec<(u32, u32)> {
+    // the list finds pairs strictly closer than its cutoff: one ulp wider, then `<=` radius
+    let r2 = radius * radius;
+    cells.build(positions, radius.next_up(), Space::Open);
+    let order = cells.order();
+    let mut pairs = Vec::new();
+    cells.for_each_pair(|a, b, _, d2| {
+        if d2 <= r2 {
+            let (i, j) = (order[a], order[b]);
+            pairs.push((i.min(j), i.max(j)));
+        }
+    });
+    pairs.sort_unstable();
+    pairs
+}
+
+/// The parameters of an ensemble contact map.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MapParams {
+    /// Beads at most this far apart are in contact (the positions' units).
+    pub contact_radius: f64,
+    /// Beads per bin: 1 for a monomer-resolution map.
+    pub monomers_per_bin: usize,
+    /// The chains, `[start, end)` in beads; `None`: one chain of every bead.
+    pub chains: Option<Vec<(usize, usize)>>,
+}
+
+/// The contact map of a set of conformations.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EnsembleMap {
+    /// Beads per conformation.
+    pub n_beads: usize,
+    /// The bins.
+    pub bins: ChainBins,
+    /// `(bin1, bin2, contacts)`, `bin1 <= bin2`, sorted, non-zero.
+    pub pixels: Vec<(u32, u32, u64)>,
+    /// Conformations counted.
+    pub n_conformations: usize,
+}
+
+/// Conformations whose contacts are found at once (per thread).
+const CHUNK_PER_THREAD: usize = 4;
+
+/// Count the contacts of `conformations` (read one chunk at a time, each chunk's conformations
+/// in parallel) into the map of `params`; `progress` is told the number of conformations done.
+/// Every conformation must have the beads of the first; the first error of the stream ends the
+/// count.
+pub fn contact_map(
+    conformations: impl Iterator<Item = Result<Conformation>>,
+    params: &MapParams,
+    progress: &(dyn Fn(usize) + Sync),
+) -> Result<EnsembleMap> {
+    if !(params.contact_radius.is_finite() && params.contact_radius > 0.0) {
+        return Err(Error::parameter(
+            "contact-radius",
+            params.contact_radius,
+            "a positive distance",
+        ));
+    }
+    let chunk_size = CHUNK_PER_THREAD * rayon::current_num_threads();
+    let mut conformations = conformations.peekable();
+    let n_beads = match conformations.peek() {
+        Some(Ok(first)) => first.positions.len(),
+        Some(Err(_)) => {
+            return Err(conformations
+                .next()
+                .and_then(Result::err)
+                .expect("an error"))
+        }
+        None => return Err(Error::Invalid("no conformation in the trajectory".into())),
+    };
+    let chains = params.chains.clone().unwrap_or_else(|| vec![(0, n_beads)]);
+    if let Some(&(_, end)) = chains.last() {
+        if end > n_beads {
+            return Err(Error::parameter(
+                "chains",
+                format!("...-{end}"),
+                format!("chains within the conformations' {n_beads} beads"),
+            ));
+        }
+    }
+    let bins = ChainBins::new(&chains, params.monomers_per_bin)?;
+    let bead_bin = bins.lookup(n_beads);
+    let n_bins = bins.n_bins() as u64;
+    let mut counts: Vec<(u64, u64)> = Vec::new();
+    let mut done = 0;
+    loop {
+        let chunk: Vec<Conformation> = conformations
+            .by_ref()
+            .take(chunk_size)
+            .collect::<Result<_>>()?;
+        if chunk.is_empty() {
+            break;
+        }
+        for c in &chunk {
+            if c.positions.len() != n_beads {
+                return Err(Error::Invalid(format!(
+                    "{}: {} beads, where the first conformation has {n_beads}",
+                    c.label,
+                    c.positions.len()
+                )));
+            }
+        }
+        let mut keys: Vec<u64> = chunk
+            .par_iter()
+            .map_init(CellList::new, |cells, c| {
+                contact_pairs(&c.positions, params.contact_radius, cells)
+                    .into_iter()
+                    .filter_map(|(i, j)| {
+                        let (a, b) = (bead_bin[i as usize], bead_bin[j as usize]);
+                        (a != u32::MAX && b != u32::MAX)
+                            .then(|| u64::from(a.min(b)) * n_bins + u64::from(a.max(b)))
+                    })
+                    .collect::<Vec<u64>>()
+            })
+            .flatten_iter()
+            .collect();
+        keys.par_sort_unstable();
+        counts = merge_counts(&counts, &run_lengths(&keys));
+        done += chunk.len();
+        progress(done);
+    }
+    let pixels = counts
+        .into_iter()
+        .map(|(key, count)| ((key / n_bins) as u32, (key % n_bins) as u32, count))
+        .collect();
+    Ok(EnsembleMap {
+        n_beads,
+        bins,
+        pixels,
+        n_conformations: done,
+    })
+}
+
+/// `(key, occurrences)` of sorted keys.
+fn run_lengths(keys: &[u64]) -> Vec<(u64, u64)> {
+    let mut runs: Vec<(u64, u64)> = Vec::new();
+    for &key in keys {
+        match runs.last_mut() {
+            Some((last, count)) if *last == key => *count += 1,
+            _ => runs.push((key, 1)),
+        }
+    }
+    runs
+}
+
+/// The sum of two sorted `(key, count)` lists.
+fn merge_counts(a: &[(u64, u64)], b: &[(u64, u64)]) -> Vec<(u64, u64)> {
+    let mut out = Vec::with_capacity(a.len() + b.len());
+    let (mut i, mut j) = (0, 0);
+    while i < a.len() && j < b.len() {
+        match a[i].0.cmp(&b[j].0) {
+            std::cmp::Ordering::Less => {
+                out.push(a[i]);
+                i += 1;
+            }
+            std::cmp::Ordering::Greater => {
+                out.push(b[j]);
+                j += 1;
+            }
+            std::cmp::Ordering::Equal => {
+                out.push((a[i].0, a[i].1 + b[j].1));
+                i += 1;
+                j += 1;
+            }
+        }
+    }
+    out.extend_from_slice(&a[i..]);
+    out.extend_from_slice(&b[j..]);
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{Rng, SeedableRng};
+
+    /// All pairs by hand against the cell list, on random points (ties included: a lattice).
+    #[test]
+    fn contact_pairs_are_every_pair_within_the_radius() {
+        let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(3);
+        let mut points: Vec<[f64; 3]> = (0..400)
+            .map(|_| {
+                [
+                    rng.gen::<f64>() * 8.0,
+                    rng.gen::<f64>() * 8.0,
+                    rng.gen::<f64>() * 8.0,
+                ]
+            })
+            .collect();
+        // a lattice: distances exactly 1.0 and sqrt(2)
+        for x in 0..4 {
+            for y in 0..4 {
+                points.push([20.0 + x as f64, 20.0 + y as f64, 0.0]);
+            }
+        }
+        for radius in [0.5, 1.0, 1.7] {
+            let mut want = Vec::new();
+            for i in 0..points.len() {
+                for j in i + 1..points.len() {
+                    let d: f64 = (0..3).map(|k| (points[i][k] - points[j][k]).powi(2)).sum();
+                    if d <= radius * radius {
+                        want.push((i as u32, j as u32));
+                    }
+                }
+            }
+            let got = contact_pairs(&points, radius, &mut CellList::new());
+            assert_eq!(got, want, "radius {radius}");
+        }
+    }
+
+    /// The binned map of random conformations equals a naive count with polychrom's binning.
+    #[test]
+    fn the_map_is_the_naive_binned_count() {
+        let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(5);
+        let n = 57;
+        let conformations: Vec<Conformation> = (0..9)
+            .map(|k| Conformation {
+                label: format!("c{k}"),
+                positions: (0..n)
+                    .map(|_| {
+                        [
+                            rng.gen::<f64>() * 4.0,
+                            rng.gen::<f64>() * 4.0,
+                            rng.gen::<f64>() * 4.0,
+                        ]
+                    })
+                    .collect(),
+            })
+            .collect();
+        let chains = vec![(0, 20), (25, 56)];
+        let params = MapParams {
+            contact_radius: 1.2,
+            monomers_per_bin: 3,
+            chains: Some(chains.clone()),
+        };
+        let map = contact_map(conformations.clone().into_iter().map(Ok), &params, &|_| {}).unwrap();
+        // naive: polychrom's edges (chain starts every 3 beads, last edge 57), searchsorted
+        let mut edges: Vec<f64> = Vec::new();
+        for &(s, e) in &chains {
+            let mut b = s;
+            while b < e {
+                edges.push(b as f64 - 0.5);
+                b += 3;
+            }
+        }
+        edges.push(56.0 + 1.0 - 0.5);
+        let bin = |m: usize| edges.iter().filter(|&&e| e < m as f64).count() - 1;
+        let nb = edges.len() - 1;
+        let mut want = vec![0u64; nb * nb];
+        for c in &conformations {
+            for i in 0..n {
+                for j in i + 1..n {
+                    let d: f64 = (0..3)
+                        .map(|k| (c.positions[i][k] - c.positions[j][k]).powi(2))
+                        .sum();
+                    if d <= 1.2 * 1.2 && i < 57 && j < 57 {
+                        want[bin(i) * nb + bin(j)] += 1;
+                    }
+                }
+            }
+        }
+        let want: Vec<(u32, u32, u64)> = (0..nb)
+            .flat_map(|a| (a..nb).map(move |b| (a, b)))
+            .filter(|&(a, b)| want[a * nb + b] > 0)
+            .map(|(a, b)| (a as u32, b as u32, want[a * nb + b]))
+            .collect();
+        assert_eq!(map.pixels, want);
+        assert_eq!((map.n_conformations, map.bins.n_bins()), (9, nb));
+        // a conformation with another number of beads is an error naming it
+        let mut bad = conformations;
+        bad[4].positions.pop();
+        let err = contact_map(bad.into_iter().map(Ok), &params, &|_| {}).unwrap_err();
+        assert!(err.to_string().contains("c4: 56 beads"), "{err}");
+    }
+}
