@@ -101,19 +101,30 @@ impl ChainBins {
 /// assert_eq!(contact_pairs(&points, 1.5, &mut cells), vec![(0, 1), (2, 3)]);
 /// ```
 pub fn contact_pairs(positions: &[[f64; 3]], radius: f64, cells: &mut CellList) -> Vec<(u32, u32)> {
+    let mut pairs = Vec::new();
+    for_each_contact(positions, radius, cells, |i, j| pairs.push((i, j)));
+    pairs.sort_unstable();
+    pairs
+}
+
+/// [`contact_pairs`] without the sort: `visit(i, j)`, `i < j`, once per contact, in the cell
+/// list's order.
+pub fn for_each_contact(
+    positions: &[[f64; 3]],
+    radius: f64,
+    cells: &mut CellList,
+    mut visit: impl FnMut(u32, u32),
+) {
     // the list finds pairs strictly closer than its cutoff: one ulp wider, then `<=` radius
     let r2 = radius * radius;
     cells.build(positions, radius.next_up(), Space::Open);
     let order = cells.order();
-    let mut pairs = Vec::new();
     cells.for_each_pair(|a, b, _, d2| {
         if d2 <= r2 {
             let (i, j) = (order[a], order[b]);
-            pairs.push((i.min(j), i.max(j)));
+            visit(i.min(j), i.max(j));
         }
     });
-    pairs.sort_unstable();
-    pairs
 }
 
 /// The parameters of an ensemble contact map.
@@ -142,6 +153,20 @@ pub struct EnsembleMap {
 
 /// Conformations whose contacts are found at once (per thread).
 const CHUNK_PER_THREAD: usize = 4;
+
+/// Maps of at most this many bin pairs (a triangle of 2,048 bins) are counted in one dense
+/// triangle of atomic counters that every thread adds to; larger ones as sorted keys.
+const DENSE_MAX: usize = DENSE_MAX_SIDE * (DENSE_MAX_SIDE + 1) / 2;
+
+/// The bins of the largest dense triangle.
+const DENSE_MAX_SIDE: usize = 2048;
+
+/// The index of bin pair `(a, b)`, `a <= b`, in the row-major upper triangle of `n` bins
+/// (polychrom's `indexing`).
+fn triangle_index(a: u32, b: u32, n: usize) -> usize {
+    let (a, b) = (a as usize, b as usize);
+    a * n - a * (a.saturating_sub(1)) / 2 - a + b
+}
 
 /// Count the contacts of `conformations` (read one chunk at a time, each chunk's conformations
 /// in parallel) into the map of `params`; `progress` is told the number of conformations done.
@@ -185,47 +210,88 @@ pub fn contact_map(
     let bead_bin = bins.lookup(n_beads);
     let n_bins = bins.n_bins() as u64;
     let mut counts: Vec<(u64, u64)> = Vec::new();
+    let triangle = bins.n_bins() * (bins.n_bins() + 1) / 2;
+    let dense: Option<Vec<std::sync::atomic::AtomicU64>> = (triangle <= DENSE_MAX).then(|| {
+        (0..triangle)
+            .map(|_| std::sync::atomic::AtomicU64::new(0))
+            .collect()
+    });
     let mut done = 0;
-    loop {
-        let chunk: Vec<Conformation> = conformations
-            .by_ref()
-            .take(chunk_size)
-            .collect::<Result<_>>()?;
-        if chunk.is_empty() {
-            break;
-        }
-        for c in &chunk {
-            if c.positions.len() != n_beads {
-                return Err(Error::Invalid(format!(
-                    "{}: {} beads, where the first conformation has {n_beads}",
-                    c.label,
-                    c.positions.len()
-                )));
-            }
-        }
-        let mut keys: Vec<u64> = chunk
-            .par_iter()
-            .map_init(CellList::new, |cells, c| {
-                contact_pairs(&c.positions, params.contact_radius, cells)
-                    .into_iter()
-                    .filter_map(|(i, j)| {
+    // each chunk's contacts are counted on the pool while this thread reads the next chunk
+    let count_chunk = |chunk: &[Conformation], counts: &mut Vec<(u64, u64)>| {
+        if let Some(total) = &dense {
+            // few bins: every thread adds to one shared triangle of counts
+            let n = bins.n_bins();
+            chunk.par_iter().for_each_init(CellList::new, |cells, c| {
+                for_each_contact(&c.positions, params.contact_radius, cells, |i, j| {
+                    let (a, b) = (bead_bin[i as usize], bead_bin[j as usize]);
+                    if a != u32::MAX && b != u32::MAX {
+                        total[triangle_index(a.min(b), a.max(b), n)]
+                            .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                    }
+                });
+            });
+        } else {
+            let mut keys: Vec<u64> = chunk
+                .par_iter()
+                .map_init(CellList::new, |cells, c| {
+                    let mut keys = Vec::new();
+                    for_each_contact(&c.positions, params.contact_radius, cells, |i, j| {
                         let (a, b) = (bead_bin[i as usize], bead_bin[j as usize]);
-                        (a != u32::MAX && b != u32::MAX)
-                            .then(|| u64::from(a.min(b)) * n_bins + u64::from(a.max(b)))
-                    })
-                    .collect::<Vec<u64>>()
-            })
-            .flatten_iter()
-            .collect();
-        keys.par_sort_unstable();
-        counts = merge_counts(&counts, &run_lengths(&keys));
+                        if a != u32::MAX && b != u32::MAX {
+                            keys.push(u64::from(a.min(b)) * n_bins + u64::from(a.max(b)));
+                        }
+                    });
+                    keys
+                })
+                .flatten_iter()
+                .collect();
+            keys.par_sort_unstable();
+            *counts = merge_counts(counts, &run_lengths(&keys));
+        }
+    };
+    let read_chunk = |conformations: &mut dyn Iterator<Item = Result<Conformation>>| {
+        let chunk: Vec<Conformation> = conformations.take(chunk_size).collect::<Result<_>>()?;
+        if let Some(c) = chunk.iter().find(|c| c.positions.len() != n_beads) {
+            return Err(Error::Invalid(format!(
+                "{}: {} beads, where the first conformation has {n_beads}",
+                c.label,
+                c.positions.len()
+            )));
+        }
+        Ok(chunk)
+    };
+    let mut chunk = read_chunk(&mut conformations)?;
+    while !chunk.is_empty() {
+        let next = std::thread::scope(|scope| {
+            let counting = scope.spawn(|| count_chunk(&chunk, &mut counts));
+            let next = read_chunk(&mut conformations);
+            counting.join().expect("the counting thread does not panic");
+            next
+        })?;
         done += chunk.len();
         progress(done);
+        chunk = next;
     }
-    let pixels = counts
-        .into_iter()
-        .map(|(key, count)| ((key / n_bins) as u32, (key % n_bins) as u32, count))
-        .collect();
+    let pixels = match dense {
+        Some(total) => {
+            let n = bins.n_bins();
+            (0..n)
+                .flat_map(|a| (a..n).map(move |b| (a, b)))
+                .zip(
+                    total
+                        .into_iter()
+                        .map(std::sync::atomic::AtomicU64::into_inner),
+                )
+                .filter(|&(_, count)| count > 0)
+                .map(|((a, b), count)| (a as u32, b as u32, count))
+                .collect()
+        }
+        None => counts
+            .into_iter()
+            .map(|(key, count)| ((key / n_bins) as u32, (key % n_bins) as u32, count))
+            .collect(),
+    };
     Ok(EnsembleMap {
         n_beads,
         bins,
@@ -374,5 +440,45 @@ mod tests {
         bad[4].positions.pop();
         let err = contact_map(bad.into_iter().map(Ok), &params, &|_| {}).unwrap_err();
         assert!(err.to_string().contains("c4: 56 beads"), "{err}");
+    }
+
+    /// A map of more bins than the dense triangle takes (counted as sorted keys) equals the
+    /// naive count too.
+    #[test]
+    fn a_large_map_is_the_naive_count() {
+        let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(8);
+        let n = DENSE_MAX_SIDE + 300;
+        let walk = |rng: &mut rand_xoshiro::Xoshiro256PlusPlus| {
+            let mut p = [0.0f64; 3];
+            (0..n)
+                .map(|_| {
+                    for x in &mut p {
+                        *x += rng.gen::<f64>() - 0.5;
+                    }
+                    p
+                })
+                .collect::<Vec<_>>()
+        };
+        let conformations: Vec<Conformation> = (0..3)
+            .map(|k| Conformation {
+                label: format!("w{k}"),
+                positions: walk(&mut rng),
+            })
+            .collect();
+        let params = MapParams {
+            contact_radius: 0.9,
+            monomers_per_bin: 1,
+            chains: None,
+        };
+        let map = contact_map(conformations.clone().into_iter().map(Ok), &params, &|_| {}).unwrap();
+        let mut want = std::collections::BTreeMap::new();
+        for c in &conformations {
+            for (i, j) in contact_pairs(&c.positions, 0.9, &mut CellList::new()) {
+                *want.entry((i, j)).or_insert(0u64) += 1;
+            }
+        }
+        let want: Vec<(u32, u32, u64)> = want.into_iter().map(|((i, j), c)| (i, j, c)).collect();
+        assert_eq!(map.bins.n_bins(), n);
+        assert_eq!(map.pixels, want);
     }
 }
