@@ -25,3 +25,51 @@ mod map;
 pub mod stats;
 
 pub use map::*;
+
+use crate::error::{Error, Result};
+use crate::io::trajectory::Conformation;
+
+/// A contact radius: positive and finite (an error naming `--contact-radius` otherwise).
+fn check_radius(radius: f64) -> Result<()> {
+    if radius.is_finite() && radius > 0.0 {
+        Ok(())
+    } else {
+        Err(Error::parameter(
+            "contact-radius",
+            radius,
+            "a positive distance",
+        ))
+    }
+}
+
+/// The beads of the first conformation (looked at, not taken), or the stream's first error, or
+/// an error for an empty stream.
+fn first_beads<I: Iterator<Item = Result<Conformation>>>(
+    conformations: &mut std::iter::Peekable<I>,
+) -> Result<usize> {
+    match conformations.peek() {
+        Some(Ok(first)) => Ok(first.positions.len()),
+        Some(Err(_)) => Err(conformations
+            .next()
+            .and_then(Result::err)
+            .expect("an error")),
+        None => Err(Error::Invalid("no conformation in the trajectory".into())),
+    }
+}
+
+/// The next `size` conformations (fewer at the end), each with `n_beads` beads.
+fn read_chunk(
+    conformations: &mut dyn Iterator<Item = Result<Conformation>>,
+    size: usize,
+    n_beads: usize,
+) -> Result<Vec<Conformation>> {
+    let chunk: Vec<Conformation> = conformations.take(size).collect::<Result<_>>()?;
+    if let Some(c) = chunk.iter().find(|c| c.positions.len() != n_beads) {
+        return Err(Error::Invalid(format!(
+            "{}: {} beads, where the first conformation has {n_beads}",
+            c.label,
+            c.positions.len()
+        )));
+    }
+    Ok(chunk)
+}

@@ -177,25 +177,10 @@ pub fn contact_map(
     params: &MapParams,
     progress: &(dyn Fn(usize) + Sync),
 ) -> Result<EnsembleMap> {
-    if !(params.contact_radius.is_finite() && params.contact_radius > 0.0) {
-        return Err(Error::parameter(
-            "contact-radius",
-            params.contact_radius,
-            "a positive distance",
-        ));
-    }
+    super::check_radius(params.contact_radius)?;
     let chunk_size = CHUNK_PER_THREAD * rayon::current_num_threads();
     let mut conformations = conformations.peekable();
-    let n_beads = match conformations.peek() {
-        Some(Ok(first)) => first.positions.len(),
-        Some(Err(_)) => {
-            return Err(conformations
-                .next()
-                .and_then(Result::err)
-                .expect("an error"))
-        }
-        None => return Err(Error::Invalid("no conformation in the trajectory".into())),
-    };
+    let n_beads = super::first_beads(&mut conformations)?;
     let chains = params.chains.clone().unwrap_or_else(|| vec![(0, n_beads)]);
     if let Some(&(_, end)) = chains.last() {
         if end > n_beads {
@@ -251,15 +236,7 @@ pub fn contact_map(
         }
     };
     let read_chunk = |conformations: &mut dyn Iterator<Item = Result<Conformation>>| {
-        let chunk: Vec<Conformation> = conformations.take(chunk_size).collect::<Result<_>>()?;
-        if let Some(c) = chunk.iter().find(|c| c.positions.len() != n_beads) {
-            return Err(Error::Invalid(format!(
-                "{}: {} beads, where the first conformation has {n_beads}",
-                c.label,
-                c.positions.len()
-            )));
-        }
-        Ok(chunk)
+        super::read_chunk(conformations, chunk_size, n_beads)
     };
     let mut chunk = read_chunk(&mut conformations)?;
     while !chunk.is_empty() {

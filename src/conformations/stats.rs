@@ -180,25 +180,10 @@ pub fn ensemble_stats(
     conformations: impl Iterator<Item = Result<Conformation>>,
     cutoff: f64,
 ) -> Result<EnsembleStats> {
-    if !(cutoff.is_finite() && cutoff > 0.0) {
-        return Err(Error::parameter(
-            "contact-radius",
-            cutoff,
-            "a positive distance",
-        ));
-    }
+    super::check_radius(cutoff)?;
     let chunk_size = 4 * rayon::current_num_threads();
     let mut conformations = conformations.peekable();
-    let n_beads = match conformations.peek() {
-        Some(Ok(first)) => first.positions.len(),
-        Some(Err(_)) => {
-            return Err(conformations
-                .next()
-                .and_then(Result::err)
-                .expect("an error"))
-        }
-        None => return Err(Error::Invalid("no conformation in the trajectory".into())),
-    };
+    let n_beads = super::first_beads(&mut conformations)?;
     if n_beads < 6 {
         return Err(Error::Invalid(format!(
             "{n_beads} beads: polymer statistics need at least 6 (separations from 4 to N - 1)"
@@ -211,19 +196,9 @@ pub fn ensemble_stats(
     let mut mids = Vec::new();
     let mut rg2s = Vec::new();
     loop {
-        let chunk: Vec<Conformation> = conformations
-            .by_ref()
-            .take(chunk_size)
-            .collect::<Result<_>>()?;
+        let chunk = super::read_chunk(&mut conformations, chunk_size, n_beads)?;
         if chunk.is_empty() {
             break;
-        }
-        if let Some(c) = chunk.iter().find(|c| c.positions.len() != n_beads) {
-            return Err(Error::Invalid(format!(
-                "{}: {} beads, where the first conformation has {n_beads}",
-                c.label,
-                c.positions.len()
-            )));
         }
         let results: Vec<_> = chunk
             .par_iter()
