@@ -154,6 +154,11 @@ step "Its TADs by insulation, scored against the boundary elements" \
 step "Picture: the merged polymer ensembles' map with its boundary elements (truth) and insulation" \
   "$cm" plot map "$work/polymer.merged.cool" -r chr1 --raw --boundaries "$work/polymer.truth.bed" \
   --track "$work/polymer.ins.tsv:log2_insulation_score_100000" -o "$figs/polymer_truth.png"
+step "A polychrom trajectory (data/polychrom/traj: 7 conformations, 150 beads) as polychrom's binnedContactMap counts it" \
+  "$cm" polymer-map data/polychrom/traj --contact-radius 1.6 --monomers-per-bin 4 --chains 90,60 -o "$work/traj.cool"
+step "Its polymer statistics as polychrom's polymer_analyses: P(s), R^2(s), Rg^2(s)" \
+  "$cm" polymer-stats data/polychrom/traj --contact-radius 1.6 -o "$work/traj"
+head -4 "$work/traj.scaling.tsv" "$work/traj.r2.tsv"
 step "Picture: P(s) of the two simulated maps, each with its fitted power law" \
   "$cm" plot expected "$work/blocks.cool" "$work/polymer.merged.cool" --raw --fit --labels "blocks (simulate blocks)","polymer (simulate polymer)" \
   -o "$figs/simulated_ps.png"
