@@ -38,9 +38,11 @@ its contacts found on every core, and the next chunk read. The output has one ch
 (chr1..chrK, --monomer-bp bp per bead) and is written under a temporary name.
 
 Examples:
-  contactmap polymer-map traj/ --contact-radius 5 --monomers-per-bin 10 -o map.cool
-  contactmap polymer-map run1/ run2/ --contact-radius 2 --chains 4000,4000 -o pair.cool
-  contactmap polymer-map conformations.tsv.gz --contact-radius 1.5 -o sim.cool")]
+  contactmap polymer-map traj/ --contact-radius 5 --monomers-per-bin 10 \\
+      -o map.cool
+  contactmap polymer-map run1/ run2/ --contact-radius 2 --chains 4000,4000 \\
+      -o pair.cool
+  contactmap polymer-map sim.tsv.gz --contact-radius 1.5 -o sim.cool")]
 pub struct PolymerMapArgs {
     /// Trajectories: polychrom folders, blocks files or URIs; conformations tables; XYZ files.
     #[arg(value_name = "TRAJ", required = true)]
