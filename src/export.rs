@@ -25,6 +25,39 @@ use crate::matrix::{invert_weight, PixelBlock};
 pub const DEFAULT_HIC_NORMALIZATIONS: [Method; 4] =
     [Method::Vc, Method::VcSqrt, Method::Kr, Method::Scale];
 
+/// The normalisations to store in a `.hic`, from names (case-insensitive: VC, VC_SQRT, KR,
+/// SCALE, ICE) or `none`, repeats dropped; none given is Juicer's set
+/// ([`DEFAULT_HIC_NORMALIZATIONS`]).
+///
+/// ```
+/// use contactmap::balance::Method;
+/// use contactmap::export::parse_normalizations;
+/// assert_eq!(parse_normalizations(&["kr".into(), "KR".into()])?, vec![Method::Kr]);
+/// assert!(parse_normalizations(&["none".into()])?.is_empty());
+/// assert!(parse_normalizations(&["XX".into()]).is_err());
+/// # Ok::<(), contactmap::Error>(())
+/// ```
+pub fn parse_normalizations(items: &[String]) -> Result<Vec<Method>> {
+    if items.is_empty() {
+        return Ok(DEFAULT_HIC_NORMALIZATIONS.to_vec());
+    }
+    let mut methods = Vec::new();
+    for item in items {
+        if item.trim().eq_ignore_ascii_case("none") {
+            continue;
+        }
+        let method = Method::from_juicer_name(item).ok_or_else(|| {
+            Error::Invalid(format!(
+                "'{item}' is not one of VC, VC_SQRT, KR, SCALE, ICE, none"
+            ))
+        })?;
+        if !methods.contains(&method) {
+            methods.push(method);
+        }
+    }
+    Ok(methods)
+}
+
 /// A chromosome whose balancing did not converge: its vector is stored anyway, as the last
 /// iteration left it (as Juicer does).
 #[derive(Clone, Debug, PartialEq)]

@@ -43,21 +43,10 @@ fn kind_of(path: &Path) -> Result<Kind, Error> {
     }
 }
 
-/// Normalisation names (VC, VC_SQRT, KR, SCALE, ICE) as methods; None is Juicer's set.
+/// Normalisation names as methods (`export::parse_normalizations`); None is Juicer's set.
 fn methods_of(names: Option<Vec<String>>) -> Result<Vec<Method>, Error> {
-    let Some(names) = names else {
-        return Ok(DEFAULT_HIC_NORMALIZATIONS.to_vec());
-    };
-    names
-        .iter()
-        .map(|name| {
-            Method::from_juicer_name(name).ok_or_else(|| {
-                Error::Invalid(format!(
-                    "normalizations: '{name}' is not one of VC, VC_SQRT, KR, SCALE, ICE"
-                ))
-            })
-        })
-        .collect()
+    export::parse_normalizations(&names.unwrap_or_default())
+        .map_err(|e| Error::Invalid(format!("normalizations: {e}")))
 }
 
 /// Write `reader` to `out` as its extension says: the resolutions of an .mcool / .hic (None:

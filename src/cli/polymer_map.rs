@@ -10,11 +10,9 @@ use clap::Args;
 use crate::cli::output::refuse_overwrites;
 use contactmap::conformations::{contact_map, MapParams};
 use contactmap::error::{Error, Result};
-use contactmap::genome::{BinTable, Chrom};
 use contactmap::io::cool::{write_cool, CoolWriteOptions};
 use contactmap::io::trajectory::open_trajectories;
 use contactmap::io::InMemory;
-use contactmap::matrix::{CountType, MatrixBuilder};
 
 /// Arguments of `contactmap polymer-map`.
 #[derive(Debug, Args)]
@@ -103,24 +101,7 @@ pub fn run(args: &PolymerMapArgs) -> Result<()> {
         bar.set_position(done as u64)
     })?;
     bar.finish_and_clear();
-    let chroms: Vec<Chrom> = map
-        .bins
-        .chains
-        .iter()
-        .enumerate()
-        .map(|(k, &(start, end))| {
-            Chrom::new(
-                format!("chr{}", k + 1),
-                (end - start) as u64 * args.monomer_bp,
-            )
-        })
-        .collect();
-    let bins = BinTable::fixed(chroms, args.monomers_per_bin as u64 * args.monomer_bp)?;
-    let mut builder = MatrixBuilder::new(bins, CountType::Integer);
-    for &(a, b, count) in &map.pixels {
-        builder.push(u64::from(a), u64::from(b), count as f64)?;
-    }
-    let reader = InMemory::new("polymer-map".into(), builder.build());
+    let reader = InMemory::new("polymer-map".into(), map.matrix(args.monomer_bp)?);
     write_cool(&reader, &args.out, &CoolWriteOptions::default())?;
     eprintln!(
         "polymer-map: {} conformations of {} beads, {} bins, {} contacts counted",

@@ -4,7 +4,9 @@
 use rayon::prelude::*;
 
 use crate::error::{Error, Result};
+use crate::genome::{BinTable, Chrom};
 use crate::io::trajectory::Conformation;
+use crate::matrix::{ContactMatrix, CountType, MatrixBuilder};
 use crate::sim::cells::{CellList, Space};
 
 /// The bins of chains of beads, polychrom's way (see the module docs).
@@ -149,6 +151,28 @@ pub struct EnsembleMap {
     pub pixels: Vec<(u32, u32, u64)>,
     /// Conformations counted.
     pub n_conformations: usize,
+}
+
+impl EnsembleMap {
+    /// The map as a contact matrix of integer counts: one chromosome per chain (`chr1..chrK`,
+    /// its beads times `monomer_bp` long), bins of `monomers_per_bin` beads.
+    pub fn matrix(&self, monomer_bp: u64) -> Result<ContactMatrix> {
+        let chroms: Vec<Chrom> = self
+            .bins
+            .chains
+            .iter()
+            .enumerate()
+            .map(|(k, &(start, end))| {
+                Chrom::new(format!("chr{}", k + 1), (end - start) as u64 * monomer_bp)
+            })
+            .collect();
+        let bins = BinTable::fixed(chroms, self.bins.monomers_per_bin as u64 * monomer_bp)?;
+        let mut builder = MatrixBuilder::new(bins, CountType::Integer);
+        for &(a, b, count) in &self.pixels {
+            builder.push(u64::from(a), u64::from(b), count as f64)?;
+        }
+        Ok(builder.build())
+    }
 }
 
 /// Conformations whose contacts are found at once (per thread).

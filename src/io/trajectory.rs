@@ -173,3 +173,14 @@ pub(crate) fn checked(label: String, positions: Vec<[f64; 3]>) -> Result<Conform
     }
     Ok(Conformation { label, positions })
 }
+
+/// Three coordinates from their text (the message names the one that is not a number).
+pub(crate) fn coordinates(fields: &[&str]) -> std::result::Result<[f64; 3], String> {
+    let mut xyz = [0.0; 3];
+    for (x, text) in xyz.iter_mut().zip(fields) {
+        *x = text
+            .parse()
+            .map_err(|_| format!("coordinate '{text}' is not a number"))?;
+    }
+    Ok(xyz)
+}

@@ -5,7 +5,7 @@
 use std::io::BufRead;
 use std::path::{Path, PathBuf};
 
-use super::{checked, Conformation};
+use super::{checked, coordinates, Conformation};
 use crate::error::{Error, Result};
 
 /// The conformations of a table, read one at a time.
@@ -75,16 +75,8 @@ impl TableConformations {
                     ),
                 ));
             }
-            let mut xyz = [0.0; 3];
-            for (k, text) in fields[4..].iter().enumerate() {
-                xyz[k] = text.parse().map_err(|_| {
-                    Error::parse(
-                        &self.path,
-                        self.line_no,
-                        format!("coordinate '{text}' is not a number"),
-                    )
-                })?;
-            }
+            let xyz = coordinates(&fields[4..7])
+                .map_err(|m| Error::parse(&self.path, self.line_no, m))?;
             return Ok(Some(((fields[0].to_string(), fields[1].to_string()), xyz)));
         }
     }

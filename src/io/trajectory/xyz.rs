@@ -4,7 +4,7 @@
 use std::io::BufRead;
 use std::path::{Path, PathBuf};
 
-use super::{checked, Conformation};
+use super::{checked, coordinates, Conformation};
 use crate::error::{Error, Result};
 
 /// The frames of an XYZ file, read one at a time.
@@ -81,16 +81,9 @@ impl XyzFrames {
                     ),
                 ));
             }
-            let mut xyz = [0.0; 3];
-            for (k, text) in fields[1..4].iter().enumerate() {
-                xyz[k] = text.parse().map_err(|_| {
-                    Error::parse(
-                        &self.path,
-                        self.line_no,
-                        format!("frame {frame}: coordinate '{text}' is not a number"),
-                    )
-                })?;
-            }
+            let xyz = coordinates(&fields[1..4]).map_err(|m| {
+                Error::parse(&self.path, self.line_no, format!("frame {frame}: {m}"))
+            })?;
             positions.push(xyz);
         }
         let label = format!("{}:frame {frame}", self.path.display());
