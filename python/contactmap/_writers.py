@@ -15,17 +15,6 @@ from ._file import _uri_of, _warn
 from ._native import ContactmapError
 
 
-def _path_of(uri: str) -> str:
-    return os.path.realpath(uri.split("::", 1)[0])
-
-
-def _refuse_overwrite(output: str, inputs: Sequence[str]) -> None:
-    """An error when the output is one of the inputs (it would be replaced before it is read)."""
-    for uri in inputs:
-        if _path_of(uri) == _path_of(output):
-            raise ContactmapError(f"{output}: this is an input too; write the output elsewhere")
-
-
 def _resolution_items(resolutions: Any) -> list[str] | None:
     """Resolutions as the library parses them: a list of bin sizes, or a progression text
     (``"B"``, ``"N"``, ``"5000N"``, ``"4DN"``), or a comma-separated list."""
@@ -52,7 +41,6 @@ def convert(
     ``.hic`` (with ``normalizations``, default Juicer's VC, VC_SQRT, KR, SCALE, and zlib
     ``compression_level`` 0-9). Weight columns are copied to a .cool / .mcool."""
     uri, out = _uri_of(input), os.fspath(output)
-    _refuse_overwrite(out, [uri])
     warnings = _native.convert(
         uri,
         out,
@@ -82,7 +70,6 @@ def zoomify(
         base = os.path.splitext(uri.split("::", 1)[0])[0]
         out = base + ".mcool"
     path = os.fspath(out)
-    _refuse_overwrite(path, [uri])
     items = _resolution_items(resolutions)
     _levels, warnings = _native.zoomify(uri, path, items or ["B"], balance, assembly)
     _warn("zoomify", warnings)
@@ -100,7 +87,6 @@ def merge(
     the sum)."""
     uris = [_uri_of(i) for i in inputs]
     path = os.fspath(out)
-    _refuse_overwrite(path, uris)
     warnings = _native.merge(uris, path, _resolution_items(resolutions), assembly)
     _warn("merge", warnings)
 

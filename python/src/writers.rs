@@ -43,6 +43,20 @@ fn kind_of(path: &Path) -> Result<Kind, Error> {
     }
 }
 
+/// An error when the output `out` is one of the `inputs` (it would be replaced before it is
+/// read): the same file, whatever its spelling or links (`io::same_file`).
+fn refuse_input(out: &Path, inputs: &[&str]) -> Result<(), Error> {
+    for uri in inputs {
+        if io::same_file(Path::new(io::split_uri(uri).0), out) {
+            return Err(Error::Invalid(format!(
+                "{}: this is an input too; write the output elsewhere",
+                out.display()
+            )));
+        }
+    }
+    Ok(())
+}
+
 /// Normalisation names as methods (`export::parse_normalizations`); None is Juicer's set.
 fn methods_of(names: Option<Vec<String>>) -> Result<Vec<Method>, Error> {
     export::parse_normalizations(&names.unwrap_or_default())
@@ -107,6 +121,7 @@ pub(crate) fn convert(
         )));
     }
     run(py, || {
+        refuse_input(Path::new(output), &[input])?;
         let methods = methods_of(normalizations)?;
         let reader = io::open_matrix(input, &OpenOptions::default())?;
         let options = CoolWriteOptions {
@@ -140,6 +155,7 @@ pub(crate) fn zoomify(
     assembly: Option<String>,
 ) -> PyResult<(Vec<u64>, Vec<String>)> {
     run(py, || {
+        refuse_input(Path::new(output), &[input])?;
         let out = Path::new(output);
         if kind_of(out)? == Kind::Cool {
             return Err(Error::Invalid(format!(
@@ -194,6 +210,8 @@ pub(crate) fn merge(
     assembly: Option<String>,
 ) -> PyResult<Vec<String>> {
     run(py, || {
+        let uris: Vec<&str> = inputs.iter().map(String::as_str).collect();
+        refuse_input(Path::new(output), &uris)?;
         if inputs.is_empty() {
             return Err(Error::Invalid("merge: no input map".into()));
         }
