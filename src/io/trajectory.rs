@@ -53,13 +53,7 @@ impl TrajectoryFormat {
         if path.is_dir() || input.contains("::") {
             return Ok(TrajectoryFormat::Polychrom);
         }
-        let mut head = [0u8; 8];
-        let n = {
-            use std::io::Read as _;
-            let mut file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
-            file.read(&mut head).map_err(|e| Error::io(path, e))?
-        };
-        if head[..n].starts_with(b"\x89HDF\r\n\x1a\n") {
+        if crate::io::detect_kind(&path.to_string_lossy())? == crate::io::FileKind::Hdf5 {
             return Ok(TrajectoryFormat::Polychrom);
         }
         let name = path.to_string_lossy().to_ascii_lowercase();
