@@ -255,6 +255,17 @@ fn bad_trajectories_are_one_line_errors_without_output() {
         ],
         "c.tsv:3: expected 7 columns, found 6",
     );
+    // a file of another kind: the header expected, the line's start shown, not all of it
+    let line = run_err(&[
+        "polymer-map",
+        &data("protein/toxd/toxd.mat"),
+        "--contact-radius",
+        "1.5",
+        "-o",
+        &out_s,
+    ]);
+    assert!(line.contains("toxd.mat:1: expected the header 'replica sample chain bead x y z'"));
+    assert!(line.len() < 250, "{line}");
     check(
         &["polymer-map", &xyz, "--contact-radius", "-1", "-o", &out_s],
         "contact-radius",

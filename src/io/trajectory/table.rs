@@ -33,6 +33,11 @@ impl TableConformations {
         };
         let fields: Vec<&str> = header.split('\t').map(str::trim).collect();
         if fields != HEADER {
+            // the line's first columns: enough to see what the file is
+            let mut shown: String = header.trim().chars().take(60).collect();
+            if header.trim().chars().count() > 60 {
+                shown.push_str("...");
+            }
             return Err(Error::parse(
                 path,
                 1,
@@ -40,7 +45,7 @@ impl TableConformations {
                     "expected the header '{}' (a conformations table of `simulate polymer \
                      --conformations`), found '{}'",
                     HEADER.join(" "),
-                    header.trim()
+                    shown
                 ),
             ));
         }
