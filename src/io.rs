@@ -33,6 +33,7 @@ pub mod predictions;
 pub mod structure;
 pub mod tables;
 pub mod text;
+pub mod topology;
 pub mod trajectory;
 
 pub use atomic::{is_special_file, same_file, Temporary, WriteLock};

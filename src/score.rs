@@ -19,6 +19,7 @@
 pub mod boundaries;
 pub mod compartments;
 pub mod contacts;
+pub mod frequency;
 pub mod lists;
 pub mod loops;
 pub mod overlap;

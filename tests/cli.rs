@@ -29,6 +29,8 @@ mod hic_writer;
 mod hicexplorer;
 #[path = "cli/info.rs"]
 mod info;
+#[path = "cli/md_contacts.rs"]
+mod md_contacts;
 #[path = "cli/merge.rs"]
 mod merge;
 #[path = "cli/normalize.rs"]

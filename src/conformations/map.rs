@@ -386,6 +386,7 @@ mod tests {
         let conformations: Vec<Conformation> = (0..9)
             .map(|k| Conformation {
                 label: format!("c{k}"),
+                cell: None,
                 positions: (0..n)
                     .map(|_| {
                         [
@@ -463,6 +464,7 @@ mod tests {
         let conformations: Vec<Conformation> = (0..3)
             .map(|k| Conformation {
                 label: format!("w{k}"),
+                cell: None,
                 positions: walk(&mut rng),
             })
             .collect();

@@ -68,6 +68,14 @@ pub const MODIFIED_RESIDUES: &[(&str, &str)] = &[
     ("M3L", "LYS"), // N-trimethyl-lysine
     ("HYP", "PRO"), // 4-hydroxyproline
     ("KCX", "LYS"), // lysine NZ-carboxylic acid
+    // protonation states named by MD force fields (CHARMM, AMBER), as MDTraj reads them
+    ("HSD", "HIS"),
+    ("HSE", "HIS"),
+    ("HSP", "HIS"),
+    ("HID", "HIS"),
+    ("HIE", "HIS"),
+    ("HIP", "HIS"),
+    ("CYX", "CYS"),
 ];
 
 const STANDARD_RESIDUES: &[(&str, char)] = &[
@@ -353,13 +361,69 @@ fn parse_coordinate(
     }
 }
 
-/// Parse PDB `ATOM` / `HETATM` records (fixed columns) of the first model.
-pub fn parse_pdb(text: &str, path: &Path) -> Result<Structure> {
-    let mut builder = Builder::default();
+/// One atom record as read, of any model: a PDB `ATOM` / `HETATM` record or an mmCIF
+/// `_atom_site` row, with the residue name as written (`MSE`, `HSD`, `HOH` ...).
+#[derive(Clone, Debug, PartialEq)]
+pub struct AtomSite<'a> {
+    /// The model, counted from 0 (PDB: the `ENDMDL` records before it; mmCIF: the changes of
+    /// `pdbx_PDB_model_num` before it).
+    pub model: usize,
+    /// Author chain id.
+    pub chain: &'a str,
+    /// Author residue number.
+    pub number: i32,
+    /// Insertion code, if any.
+    pub insertion: Option<char>,
+    /// The residue name as written.
+    pub residue_name: &'a str,
+    /// The atom (its element from the file, else from its name).
+    pub atom: Atom,
+    /// The 1-based line of the record (of the row's first line in mmCIF).
+    pub line: u64,
+    /// PDB: a `TER` record since the previous atom of the model (a chain ends there).
+    pub after_ter: bool,
+}
+
+/// Call `site` with every atom record of a PDB or mmCIF text, in file order, whose residue name
+/// passes `keep` (records of other residues are skipped unparsed, so a malformed water does not
+/// stop a protein reader); `site` returns `false` to stop. Errors name `path` and the line.
+pub fn for_each_atom_site(
+    text: &str,
+    path: &Path,
+    keep: &dyn Fn(&str) -> bool,
+    site: &mut dyn FnMut(AtomSite<'_>) -> Result<bool>,
+) -> Result<()> {
+    let first = text.lines().find(|line| !line.trim().is_empty());
+    if first.is_some_and(|line| line.trim_start().starts_with("data_")) {
+        mmcif_sites(text, path, keep, site)
+    } else {
+        pdb_sites(text, path, keep, site)
+    }
+}
+
+/// The PDB records of [`for_each_atom_site`] (fixed columns).
+fn pdb_sites(
+    text: &str,
+    path: &Path,
+    keep: &dyn Fn(&str) -> bool,
+    site: &mut dyn FnMut(AtomSite<'_>) -> Result<bool>,
+) -> Result<()> {
+    let mut model = 0;
+    let mut atoms_in_model = false;
+    let mut after_ter = false;
     for (index, line) in text.lines().enumerate() {
         let line_number = index as u64 + 1;
         if line.starts_with("ENDMDL") {
-            break;
+            if atoms_in_model {
+                model += 1;
+            }
+            atoms_in_model = false;
+            after_ter = false;
+            continue;
+        }
+        if line.starts_with("TER") {
+            after_ter = true;
+            continue;
         }
         if !(line.starts_with("ATOM  ") || line.starts_with("HETATM")) {
             continue;
@@ -372,8 +436,9 @@ pub fn parse_pdb(text: &str, path: &Path) -> Result<Structure> {
                 "ATOM/HETATM record shorter than 54 columns (coordinates end at column 54)",
             ));
         }
+        atoms_in_model = true;
         let residue_name = field(17, 20).trim();
-        if amino_acid(residue_name).is_none() {
+        if !keep(residue_name) {
             continue;
         }
         let name = field(12, 16).trim().to_string();
@@ -402,15 +467,55 @@ pub fn parse_pdb(text: &str, path: &Path) -> Result<Structure> {
             "" => element_from_name(&name),
             symbol => symbol.to_ascii_uppercase(),
         };
-        builder.push(AtomRecord {
+        let go_on = site(AtomSite {
+            model,
             chain: field(21, 22).trim(),
             number,
             insertion,
             residue_name,
             atom: Atom { name, element, xyz },
-        });
+            line: line_number,
+            after_ter,
+        })?;
+        after_ter = false;
+        if !go_on {
+            break;
+        }
     }
+    Ok(())
+}
+
+/// A reader of atom sites: [`pdb_sites`] or [`mmcif_sites`].
+type SiteReader = fn(
+    &str,
+    &Path,
+    &dyn Fn(&str) -> bool,
+    &mut dyn FnMut(AtomSite<'_>) -> Result<bool>,
+) -> Result<()>;
+
+/// The amino-acid residues of the first model of `sites`' text (see the module docs).
+fn first_model(text: &str, path: &Path, sites: SiteReader) -> Result<Structure> {
+    let mut builder = Builder::default();
+    let keep = |name: &str| amino_acid(name).is_some();
+    sites(text, path, &keep, &mut |site| {
+        if site.model > 0 {
+            return Ok(false);
+        }
+        builder.push(AtomRecord {
+            chain: site.chain,
+            number: site.number,
+            insertion: site.insertion,
+            residue_name: site.residue_name,
+            atom: site.atom,
+        });
+        Ok(true)
+    })?;
     Ok(builder.finish())
+}
+
+/// Parse PDB `ATOM` / `HETATM` records (fixed columns) of the first model.
+pub fn parse_pdb(text: &str, path: &Path) -> Result<Structure> {
+    first_model(text, path, pdb_sites)
 }
 
 /// Split one line of a CIF loop into tokens (whitespace separated; `'...'` and `"..."` quoted
@@ -449,6 +554,16 @@ fn cif_tokens(line: &str) -> Vec<&str> {
 
 /// Parse the `_atom_site` loop of an mmCIF file (first model).
 pub fn parse_mmcif(text: &str, path: &Path) -> Result<Structure> {
+    first_model(text, path, mmcif_sites)
+}
+
+/// The `_atom_site` rows of [`for_each_atom_site`].
+fn mmcif_sites(
+    text: &str,
+    path: &Path,
+    keep: &dyn Fn(&str) -> bool,
+    site: &mut dyn FnMut(AtomSite<'_>) -> Result<bool>,
+) -> Result<()> {
     let lines: Vec<&str> = text.lines().collect();
     // Find the `_atom_site.` header of a loop, skipping semicolon text fields.
     let mut in_text_field = false;
@@ -506,8 +621,8 @@ pub fn parse_mmcif(text: &str, path: &Path) -> Result<Structure> {
     let element = column(&["type_symbol"]);
     let model = column(&["pdbx_PDB_model_num"]);
 
-    let mut builder = Builder::default();
-    let mut first_model: Option<String> = None;
+    let mut model_index = 0;
+    let mut current_model: Option<String> = None;
     let mut row: Vec<&str> = Vec::with_capacity(columns.len());
     let mut row_line = index as u64 + 1;
     while index < lines.len() {
@@ -545,16 +660,17 @@ pub fn parse_mmcif(text: &str, path: &Path) -> Result<Structure> {
             ));
         }
         if let Some(model) = model {
-            match &first_model {
-                None => first_model = Some(row[model].to_string()),
-                Some(first) if first != row[model] => break,
+            match &current_model {
+                None => current_model = Some(row[model].to_string()),
+                Some(current) if current != row[model] => {
+                    model_index += 1;
+                    current_model = Some(row[model].to_string());
+                }
                 Some(_) => {}
             }
         }
         let group_name = row[group];
-        if (group_name == "ATOM" || group_name == "HETATM")
-            && amino_acid(row[residue_name]).is_some()
-        {
+        if (group_name == "ATOM" || group_name == "HETATM") && keep(row[residue_name]) {
             let number_text = row[number];
             let residue_number = residue_number(number_text)
                 .ok_or_else(|| Error::parse(path, row_line, bad_number(number_text, "")))?;
@@ -580,7 +696,8 @@ pub fn parse_mmcif(text: &str, path: &Path) -> Result<Structure> {
                 parse_coordinate(row[y], path, row_line, "Cartn_y", atom)?,
                 parse_coordinate(row[z], path, row_line, "Cartn_z", atom)?,
             ];
-            builder.push(AtomRecord {
+            let go_on = site(AtomSite {
+                model: model_index,
                 chain: row[chain],
                 number: residue_number,
                 insertion: insertion_code,
@@ -590,7 +707,12 @@ pub fn parse_mmcif(text: &str, path: &Path) -> Result<Structure> {
                     element: element_symbol,
                     xyz,
                 },
-            });
+                line: row_line,
+                after_ter: false,
+            })?;
+            if !go_on {
+                return Ok(());
+            }
         }
         row.clear();
     }
@@ -605,7 +727,7 @@ pub fn parse_mmcif(text: &str, path: &Path) -> Result<Structure> {
             ),
         ));
     }
-    Ok(builder.finish())
+    Ok(())
 }
 
 #[cfg(test)]

@@ -12,12 +12,19 @@
 //!   writes, `replica sample chain bead x y z` (TSV, `.gz` too): one conformation per
 //!   `(replica, sample)`, its chains one after the other.
 //! - **XYZ** ([`xyz`]): frames of `N`, a comment line and `N` lines `name x y z`.
+//! - **DCD** ([`dcd`]): CHARMM / NAMD / OpenMM binary frames (Angstrom), with their unit cell.
+//! - **XTC** ([`xtc`]): GROMACS compressed frames (nanometres), with their box.
+//! - **multi-model PDB / mmCIF** ([`models`]): every `MODEL` (or `pdbx_PDB_model_num`) a
+//!   frame of all its atoms, in file order (Angstrom).
 //!
 //! Every conformation is checked as it is read: a non-finite coordinate, a truncated frame or an
 //! empty block is an error naming the file and the conformation.
 
+pub mod dcd;
+pub mod models;
 pub mod polychrom;
 pub mod table;
+pub mod xtc;
 pub mod xyz;
 
 use std::path::Path;
@@ -32,6 +39,9 @@ pub struct Conformation {
     pub label: String,
     /// The beads' positions, in the file's units.
     pub positions: Vec<[f64; 3]>,
+    /// The periodic cell's three box vectors (rows), in the same units, when the frame has one
+    /// (DCD unit cells, XTC boxes).
+    pub cell: Option<[[f64; 3]; 3]>,
 }
 
 /// The trajectory formats.
@@ -43,11 +53,29 @@ pub enum TrajectoryFormat {
     Table,
     /// XYZ frames.
     Xyz,
+    /// DCD frames.
+    Dcd,
+    /// XTC frames.
+    Xtc,
+    /// The models of a PDB or mmCIF file.
+    Models,
+}
+
+/// The length unit of a trajectory format's coordinates.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LengthUnit {
+    /// Angstrom (DCD, PDB / mmCIF, XYZ).
+    Angstrom,
+    /// Nanometres (XTC).
+    Nanometre,
+    /// Whatever the writer used (polychrom's and our own polymer conformations: bead units).
+    Model,
 }
 
 impl TrajectoryFormat {
     /// The format of `input`: a folder or an HDF5 file (by its signature, `::` URIs too) is
-    /// polychrom's, `.xyz` is XYZ, anything else a conformations table.
+    /// polychrom's; `.xyz` is XYZ, `.dcd` DCD, `.xtc` XTC, `.pdb` / `.ent` / `.cif` / `.mmcif`
+    /// (optionally `.gz`) models; anything else a conformations table.
     pub fn detect(input: &str) -> Result<TrajectoryFormat> {
         let path = Path::new(input.split("::").next().unwrap_or(input));
         if path.is_dir() || input.contains("::") {
@@ -57,10 +85,25 @@ impl TrajectoryFormat {
             return Ok(TrajectoryFormat::Polychrom);
         }
         let name = path.to_string_lossy().to_ascii_lowercase();
-        if name.ends_with(".xyz") || name.ends_with(".xyz.gz") {
-            Ok(TrajectoryFormat::Xyz)
-        } else {
-            Ok(TrajectoryFormat::Table)
+        let name = name.strip_suffix(".gz").unwrap_or(&name);
+        let extension = name.rsplit_once('.').map_or("", |(_, extension)| extension);
+        Ok(match extension {
+            "xyz" => TrajectoryFormat::Xyz,
+            "dcd" => TrajectoryFormat::Dcd,
+            "xtc" => TrajectoryFormat::Xtc,
+            "pdb" | "ent" | "cif" | "mmcif" => TrajectoryFormat::Models,
+            _ => TrajectoryFormat::Table,
+        })
+    }
+
+    /// The unit of the format's coordinates.
+    pub fn length_unit(self) -> LengthUnit {
+        match self {
+            TrajectoryFormat::Dcd | TrajectoryFormat::Models | TrajectoryFormat::Xyz => {
+                LengthUnit::Angstrom
+            }
+            TrajectoryFormat::Xtc => LengthUnit::Nanometre,
+            TrajectoryFormat::Polychrom | TrajectoryFormat::Table => LengthUnit::Model,
         }
     }
 }
@@ -115,6 +158,9 @@ fn open_one(input: &str) -> Result<Box<dyn Iterator<Item = Result<Conformation>>
         TrajectoryFormat::Polychrom => Box::new(polychrom::PolychromBlocks::open(input)?),
         TrajectoryFormat::Table => Box::new(table::TableConformations::open(Path::new(input))?),
         TrajectoryFormat::Xyz => Box::new(xyz::XyzFrames::open(Path::new(input))?),
+        TrajectoryFormat::Dcd => Box::new(dcd::DcdFrames::open(Path::new(input))?),
+        TrajectoryFormat::Xtc => Box::new(xtc::XtcFrames::open(Path::new(input))?),
+        TrajectoryFormat::Models => Box::new(models::ModelFrames::open(Path::new(input))?),
     })
 }
 
@@ -150,6 +196,15 @@ impl Iterator for Trajectories {
 
 /// A conformation's positions checked: at least one bead, every coordinate finite.
 pub(crate) fn checked(label: String, positions: Vec<[f64; 3]>) -> Result<Conformation> {
+    checked_with_cell(label, positions, None)
+}
+
+/// [`checked`], with the frame's periodic cell.
+pub(crate) fn checked_with_cell(
+    label: String,
+    positions: Vec<[f64; 3]>,
+    cell: Option<[[f64; 3]; 3]>,
+) -> Result<Conformation> {
     if positions.is_empty() {
         return Err(Error::Invalid(format!(
             "{label}: an empty conformation (no bead)"
@@ -165,7 +220,11 @@ pub(crate) fn checked(label: String, positions: Vec<[f64; 3]>) -> Result<Conform
             p[0], p[1], p[2]
         )));
     }
-    Ok(Conformation { label, positions })
+    Ok(Conformation {
+        label,
+        positions,
+        cell,
+    })
 }
 
 /// Three coordinates from their text (the message names the one that is not a number).

@@ -1,0 +1,282 @@
+//! DCD trajectories (CHARMM / NAMD / OpenMM / LAMMPS): Fortran unformatted records, either
+//! byte order, read one frame at a time.
+//!
+//! Written here rather than taken from a crate: no maintained Rust crate reads DCD alone (the
+//! ones that do are whole molecular-modelling toolkits, or chemfiles' C++ library, which would
+//! be built with cmake into every binary), and the format is three fixed header records and
+//! then fixed-size frames. The rules are those of VMD's dcdplugin, which MDTraj and MDAnalysis
+//! use: the header's frame count is not trusted (writers leave it stale), frames are read until
+//! the end of the file; a CHARMM file (version field non-zero) may carry a unit cell record
+//! (six doubles `A, gamma, B, beta, alpha, C`, angles in degrees or as cosines) and a fourth
+//! coordinate (skipped) per frame. Files with fixed atoms (`NAMNF > 0`) and 64-bit record
+//! markers are refused with a message. Coordinates are single precision, in Angstrom.
+
+use std::io::{BufReader, Read, Seek};
+use std::path::{Path, PathBuf};
+
+use super::{checked_with_cell, Conformation};
+use crate::error::{Error, Result};
+
+/// The frames of a DCD file.
+pub struct DcdFrames {
+    path: PathBuf,
+    file: BufReader<std::fs::File>,
+    big_endian: bool,
+    natoms: usize,
+    cell: bool,
+    fourth: bool,
+    frame: usize,
+    remaining: u64,
+    done: bool,
+    buffer: Vec<u8>,
+}
+
+impl DcdFrames {
+    /// Open the DCD file at `path` and read its header.
+    pub fn open(path: &Path) -> Result<DcdFrames> {
+        let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+        let length = file.metadata().map_err(|e| Error::io(path, e))?.len();
+        let mut file = BufReader::new(file);
+        let mut first = [0u8; 4];
+        file.read_exact(&mut first)
+            .map_err(|_| Error::format(path, "not a DCD file (shorter than its first record)"))?;
+        let big_endian = if i32::from_le_bytes(first) == 84 {
+            false
+        } else if i32::from_be_bytes(first) == 84 {
+            true
+        } else {
+            return Err(Error::format(
+                path,
+                "not a DCD file (its first record is not the 84-byte CORD header; 64-bit \
+                 record markers are not supported)",
+            ));
+        };
+        let mut frames = DcdFrames {
+            path: path.to_path_buf(),
+            file,
+            big_endian,
+            natoms: 0,
+            cell: false,
+            fourth: false,
+            frame: 0,
+            remaining: 0,
+            done: false,
+            buffer: Vec::new(),
+        };
+        let mut header = [0u8; 84];
+        frames.read_bytes(&mut header, "header")?;
+        frames.marker(84, "header")?;
+        if &header[..4] != b"CORD" {
+            return Err(Error::format(path, "not a DCD file (no CORD signature)"));
+        }
+        let control = |k: usize| frames.int(header[4 + 4 * k..8 + 4 * k].try_into().unwrap());
+        let charmm = control(19) != 0;
+        let fixed = control(8);
+        let (cell, fourth) = (charmm && control(10) != 0, charmm && control(11) != 0);
+        frames.cell = cell;
+        frames.fourth = fourth;
+        if fixed != 0 {
+            return Err(Error::format(
+                path,
+                format!("DCD with {fixed} fixed atoms (NAMNF) is not supported"),
+            ));
+        }
+        // the title record: its length, a count of 80-character lines, the lines
+        let length_title = frames.read_i32("title")?;
+        if length_title < 4 || (length_title - 4) % 80 != 0 {
+            return Err(Error::format(
+                path,
+                format!("DCD title record of {length_title} bytes (expected 4 + 80 x lines)"),
+            ));
+        }
+        let mut title = vec![0u8; length_title as usize];
+        frames.read_bytes(&mut title, "title")?;
+        frames.marker(length_title, "title")?;
+        frames.marker(4, "atom count")?;
+        let natoms = frames.read_i32("atom count")?;
+        frames.marker(4, "atom count")?;
+        if natoms <= 0 {
+            return Err(Error::format(path, format!("DCD atom count {natoms}")));
+        }
+        frames.natoms = natoms as usize;
+        let position = frames
+            .file
+            .stream_position()
+            .map_err(|e| Error::io(path, e))?;
+        frames.remaining = length.saturating_sub(position);
+        Ok(frames)
+    }
+
+    fn int(&self, bytes: [u8; 4]) -> i32 {
+        if self.big_endian {
+            i32::from_be_bytes(bytes)
+        } else {
+            i32::from_le_bytes(bytes)
+        }
+    }
+
+    fn read_bytes(&mut self, into: &mut [u8], what: &str) -> Result<()> {
+        self.file.read_exact(into).map_err(|e| {
+            if e.kind() == std::io::ErrorKind::UnexpectedEof {
+                Error::format(&self.path, format!("truncated DCD ({what} cut short)"))
+            } else {
+                Error::io(&self.path, e)
+            }
+        })
+    }
+
+    fn read_i32(&mut self, what: &str) -> Result<i32> {
+        let mut bytes = [0u8; 4];
+        self.read_bytes(&mut bytes, what)?;
+        Ok(self.int(bytes))
+    }
+
+    /// A record marker that must be `expected`.
+    fn marker(&mut self, expected: i32, what: &str) -> Result<()> {
+        let found = self.read_i32(what)?;
+        if found != expected {
+            return Err(Error::format(
+                &self.path,
+                format!("DCD {what} record marker {found}, expected {expected}"),
+            ));
+        }
+        Ok(())
+    }
+
+    fn frame_bytes(&self) -> u64 {
+        let coordinates = 8 + 4 * self.natoms as u64;
+        (if self.cell { 56 } else { 0 }) + coordinates * (3 + u64::from(self.fourth))
+    }
+
+    fn next_frame(&mut self) -> Result<Option<Conformation>> {
+        if self.remaining == 0 {
+            return Ok(None);
+        }
+        self.frame += 1;
+        let label = format!("{}:frame {}", self.path.display(), self.frame);
+        if self.remaining < self.frame_bytes() {
+            return Err(Error::Invalid(format!(
+                "{label}: truncated frame ({} of its {} bytes)",
+                self.remaining,
+                self.frame_bytes()
+            )));
+        }
+        self.remaining -= self.frame_bytes();
+        let what = format!("frame {}", self.frame);
+        let cell = if self.cell {
+            self.marker(48, &what)?;
+            let mut bytes = [0u8; 48];
+            self.read_bytes(&mut bytes, &what)?;
+            self.marker(48, &what)?;
+            let value = |k: usize| {
+                let b: [u8; 8] = bytes[8 * k..8 * k + 8].try_into().unwrap();
+                if self.big_endian {
+                    f64::from_be_bytes(b)
+                } else {
+                    f64::from_le_bytes(b)
+                }
+            };
+            cell_vectors(
+                [value(0), value(2), value(5)],
+                [value(4), value(3), value(1)],
+            )
+        } else {
+            None
+        };
+        let n = self.natoms;
+        let mut positions = vec![[0.0f64; 3]; n];
+        for axis in 0..3 + usize::from(self.fourth) {
+            self.marker(4 * n as i32, &what)?;
+            let mut buffer = std::mem::take(&mut self.buffer);
+            buffer.resize(4 * n, 0);
+            self.read_bytes(&mut buffer, &what)?;
+            if axis < 3 {
+                for (position, bytes) in positions.iter_mut().zip(buffer.chunks_exact(4)) {
+                    let b: [u8; 4] = bytes.try_into().unwrap();
+                    position[axis] = f64::from(if self.big_endian {
+                        f32::from_be_bytes(b)
+                    } else {
+                        f32::from_le_bytes(b)
+                    });
+                }
+            }
+            self.buffer = buffer;
+            self.marker(4 * n as i32, &what)?;
+        }
+        checked_with_cell(label, positions, cell).map(Some)
+    }
+}
+
+/// The box vectors (rows) of a cell given by its lengths `A, B, C` and angles `alpha, beta,
+/// gamma` (degrees, or cosines when all three are at most 1 in magnitude, as NAMD writes
+/// them); `None` for the all-zero cell of non-periodic runs.
+fn cell_vectors(lengths: [f64; 3], angles: [f64; 3]) -> Option<[[f64; 3]; 3]> {
+    if lengths.iter().all(|&l| l == 0.0) {
+        return None;
+    }
+    let degrees = if angles.iter().all(|a| a.abs() <= 1.0) {
+        angles.map(|cosine| 90.0 - cosine.asin().to_degrees())
+    } else {
+        angles
+    };
+    let [alpha, beta, gamma] = degrees.map(f64::to_radians);
+    let [a, b, c] = lengths;
+    let cos = |x: f64| {
+        let v = x.cos();
+        if v.abs() < 1e-12 {
+            0.0
+        } else {
+            v
+        }
+    };
+    let bx = b * cos(gamma);
+    let by = b * gamma.sin();
+    let cx = c * cos(beta);
+    let cy = c * (cos(alpha) - cos(beta) * cos(gamma)) / gamma.sin();
+    let cz = (c * c - cx * cx - cy * cy).max(0.0).sqrt();
+    Some([[a, 0.0, 0.0], [bx, by, 0.0], [cx, cy, cz]])
+}
+
+impl Iterator for DcdFrames {
+    type Item = Result<Conformation>;
+
+    fn next(&mut self) -> Option<Result<Conformation>> {
+        if self.done {
+            return None;
+        }
+        match self.next_frame() {
+            Ok(Some(frame)) => Some(Ok(frame)),
+            Ok(None) => {
+                self.done = true;
+                None
+            }
+            Err(error) => {
+                self.done = true;
+                Some(Err(error))
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cells_from_lengths_and_angles() {
+        assert_eq!(cell_vectors([0.0; 3], [90.0; 3]), None);
+        let cubic = cell_vectors([10.0, 20.0, 30.0], [90.0; 3]).unwrap();
+        assert_eq!(
+            cubic,
+            [[10.0, 0.0, 0.0], [0.0, 20.0, 0.0], [0.0, 0.0, 30.0]]
+        );
+        // cosines (NAMD) read as the same angles
+        assert_eq!(cell_vectors([10.0, 20.0, 30.0], [0.0; 3]).unwrap(), cubic);
+        // a rhombic dodecahedron (60, 60, 90): |c| stays its length
+        let v = cell_vectors([8.0, 8.0, 8.0], [60.0, 60.0, 90.0]).unwrap();
+        let norm = |x: [f64; 3]| (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt();
+        assert!((norm(v[2]) - 8.0).abs() < 1e-12);
+        let dot = v[1][0] * v[2][0] + v[1][1] * v[2][1] + v[1][2] * v[2][2];
+        assert!((dot / 64.0 - 0.5).abs() < 1e-12, "cos alpha = 1/2");
+    }
+}

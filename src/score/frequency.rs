@@ -1,0 +1,564 @@
+//! Residue contact frequencies over a trajectory, with MDTraj's contact schemes
+//! (`mdtraj.compute_contacts`), so that a predictor can be scored against an MD ensemble.
+//!
+//! The pairs are those of MDTraj's `contacts="all"`: residues with an atom named `CA`, in the
+//! same chain, at least three residues apart by index (`j >= i + 3`; [`FrequencySpec::
+//! min_separation`] changes the 3). A residue pair is in contact in a frame when its distance
+//! is below the cutoff, the distance being, by [`Scheme`]:
+//!
+//! - `ca`: between the residues' `CA` atoms; `cb`: between their `CB` atoms (`CA` for glycine,
+//!   CASP's definition; not an MDTraj scheme: MDTraj's `compute_distances` on those atoms);
+//! - `closest` / `closest-heavy`: the closest pair of atoms (non-hydrogen atoms);
+//! - `sidechain` / `sidechain-heavy`: the closest pair of side-chain atoms (MDTraj's
+//!   `is_sidechain`: a protein atom not named `C CA N O HA H`; heavy atoms only, except glycine,
+//!   whose side chain is its hydrogen).
+//!
+//! Atom and residue names are read as MDTraj standardises them for these tests (`HN`, `HT1`,
+//! `H1` ... are `H`; `OT1`, `OC1` ... are `O`; `HSD`, `HIE` ... are `HIS`), and a residue is
+//! protein when its name is an amino acid (or one of its MD force-field variants) or it has
+//! `N`, `CA` and `C` atoms.
+//!
+//! Distances are computed as MDTraj computes them, so that frequencies are equal, not close:
+//! coordinates in nanometres as single-precision floats (Angstrom files scaled by `0.1f32`),
+//! the displacement, its squared length summed `x, y, z` and its square root in single
+//! precision, compared with the cutoff (in nm, single precision). With a periodic cell and
+//! [`FrequencySpec::periodic`], the minimum image: a rectangular box by rounding each component
+//! (ties to even), a triclinic one by MDTraj's reduced box vectors and the 27 nearest images.
+//!
+//! Speed: a residue pair whose bounding spheres (centre and radius of its atoms, double
+//! precision, with a margin of 1e-3 nm) are farther apart than the cutoff cannot be in contact
+//! and its atom pairs are not measured; frames are measured in parallel, read in chunks
+//! (memory bounded by one chunk).
+
+use rayon::prelude::*;
+
+use crate::error::{Error, Result};
+use crate::io::topology::Topology;
+use crate::io::trajectory::{Conformation, LengthUnit};
+
+/// How the distance between two residues is measured (MDTraj's schemes, and CASP's Cb).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Scheme {
+    /// Ca - Ca.
+    Ca,
+    /// Cb - Cb, Ca for glycine (CASP).
+    Cb,
+    /// The closest pair of atoms.
+    Closest,
+    /// The closest pair of non-hydrogen atoms.
+    ClosestHeavy,
+    /// The closest pair of side-chain atoms.
+    Sidechain,
+    /// The closest pair of side-chain heavy atoms (glycine: its side-chain hydrogens).
+    SidechainHeavy,
+}
+
+impl Scheme {
+    /// The scheme's name (MDTraj's, and `cb`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Scheme::Ca => "ca",
+            Scheme::Cb => "cb",
+            Scheme::Closest => "closest",
+            Scheme::ClosestHeavy => "closest-heavy",
+            Scheme::Sidechain => "sidechain",
+            Scheme::SidechainHeavy => "sidechain-heavy",
+        }
+    }
+}
+
+/// What [`contact_frequencies`] computes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrequencySpec {
+    /// The distance measured.
+    pub scheme: Scheme,
+    /// A contact is a distance below this, in Angstrom.
+    pub cutoff_angstrom: f64,
+    /// The smallest index separation `j - i` of the pairs (MDTraj: 3).
+    pub min_separation: usize,
+    /// Minimum-image distances when a frame has a periodic cell (MDTraj's default).
+    pub periodic: bool,
+    /// Every `stride`-th frame is measured, from the first.
+    pub stride: usize,
+}
+
+impl Default for FrequencySpec {
+    fn default() -> Self {
+        FrequencySpec {
+            scheme: Scheme::Cb,
+            cutoff_angstrom: 8.0,
+            min_separation: 3,
+            periodic: true,
+            stride: 1,
+        }
+    }
+}
+
+/// The residue pairs of a topology and the atoms measured for each residue.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ContactPairs {
+    /// The pairs `(i, j)` of residue indices, `i < j`, in MDTraj's order.
+    pub pairs: Vec<(usize, usize)>,
+    /// For each residue, the atoms whose distances count (empty for residues in no pair).
+    pub atoms: Vec<Vec<u32>>,
+}
+
+/// Residue contact frequencies: for each pair, the number of frames in contact.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ContactFrequencies {
+    /// The pairs and their atoms.
+    pub pairs: ContactPairs,
+    /// Frames in contact, per pair.
+    pub counts: Vec<u32>,
+    /// Frames measured.
+    pub frames: usize,
+}
+
+impl ContactFrequencies {
+    /// The fraction of frames in contact of pair `k`.
+    pub fn frequency(&self, k: usize) -> f64 {
+        if self.frames == 0 {
+            0.0
+        } else {
+            f64::from(self.counts[k]) / self.frames as f64
+        }
+    }
+}
+
+/// The name MDTraj gives an atom of a protein residue (its PDB-name standardisation, for the
+/// names that decide backbone / side chain).
+fn standard_atom_name<'a>(residue: &str, name: &'a str) -> &'a str {
+    match name {
+        "HN" | "H1" | "1H" | "HN1" | "HT1" => "H",
+        "O1" | "OT1" | "OCT1" | "OC1" => "O",
+        "CA" if residue == "NME" || residue == "NMA" => "C",
+        _ => name,
+    }
+}
+
+/// The name MDTraj gives a residue (force-field variants of histidine and cysteine).
+fn standard_residue_name(name: &str) -> &str {
+    match name {
+        "HSP" | "HSH" | "HIP" | "HIH" | "HID" | "HIE" | "HSD" | "HSE" => "HIS",
+        "CYX" => "CYS",
+        "NMA" => "NME",
+        _ => name,
+    }
+}
+
+/// Amino acids and capping groups MDTraj counts as protein, beyond the standard and modified
+/// residues of [`crate::io::structure::amino_acid`].
+const PROTEIN_VARIANTS: &[&str] = &[
+    "ACE", "NME", "CYM", "ASH", "GLH", "LYN", "HYP", "ASX", "GLX", "SEC", "PYL",
+];
+
+/// The pairs and atoms of `topology` for `spec`.
+pub fn contact_pairs(topology: &Topology, spec: &FrequencySpec) -> Result<ContactPairs> {
+    let n = topology.residues.len();
+    let mut atoms = vec![Vec::new(); n];
+    let mut has_ca = vec![false; n];
+    for (r, residue) in topology.residues.iter().enumerate() {
+        let name = standard_residue_name(&residue.name);
+        let names: Vec<&str> = residue
+            .atoms
+            .clone()
+            .map(|a| standard_atom_name(name, &topology.atoms[a].name))
+            .collect();
+        has_ca[r] = names.iter().any(|n| n.eq_ignore_ascii_case("CA"));
+        let protein = crate::io::structure::amino_acid(name).is_some()
+            || PROTEIN_VARIANTS.contains(&name)
+            || ["N", "CA", "C"].iter().all(|n| names.contains(n));
+        let hydrogen = |a: usize| topology.atoms[a].element == "H";
+        let sidechain = |k: usize| protein && !["C", "CA", "N", "O", "HA", "H"].contains(&names[k]);
+        let select = |keep: &dyn Fn(usize, usize) -> bool| -> Vec<u32> {
+            residue
+                .atoms
+                .clone()
+                .enumerate()
+                .filter(|&(k, a)| keep(k, a))
+                .map(|(_, a)| a as u32)
+                .collect()
+        };
+        atoms[r] = match spec.scheme {
+            Scheme::Ca => select(&|k, _| names[k].eq_ignore_ascii_case("CA")),
+            Scheme::Cb => {
+                let wanted = if name == "GLY" { "CA" } else { "CB" };
+                select(&|k, _| names[k] == wanted)
+            }
+            Scheme::Closest => select(&|_, _| true),
+            Scheme::ClosestHeavy => select(&|_, a| !hydrogen(a)),
+            Scheme::Sidechain => select(&|k, _| sidechain(k)),
+            Scheme::SidechainHeavy if name == "GLY" => select(&|k, _| sidechain(k)),
+            Scheme::SidechainHeavy => select(&|k, a| sidechain(k) && !hydrogen(a)),
+        };
+    }
+    let describe = |r: usize| {
+        let residue = &topology.residues[r];
+        format!(
+            "residue {} {}{} (index {r}, chain '{}')",
+            residue.name,
+            residue.number,
+            residue.insertion.map(String::from).unwrap_or_default(),
+            topology.chains[residue.chain]
+        )
+    };
+    let separation = spec.min_separation.max(1);
+    let mut pairs = Vec::new();
+    for i in (0..n).filter(|&i| has_ca[i]) {
+        for j in (i + separation..n).filter(|&j| has_ca[j]) {
+            if topology.residues[i].chain != topology.residues[j].chain {
+                continue;
+            }
+            match spec.scheme {
+                // MDTraj skips residues without the one atom; CASP's Cb likewise (unobserved)
+                Scheme::Ca | Scheme::Cb if atoms[i].len() != 1 || atoms[j].len() != 1 => {
+                    for r in [i, j] {
+                        if atoms[r].len() > 1 {
+                            return Err(Error::Invalid(format!(
+                                "{} has {} atoms named {}",
+                                describe(r),
+                                atoms[r].len(),
+                                if spec.scheme == Scheme::Ca {
+                                    "CA"
+                                } else {
+                                    "CB"
+                                }
+                            )));
+                        }
+                    }
+                    continue;
+                }
+                _ => {}
+            }
+            for r in [i, j] {
+                if atoms[r].is_empty() {
+                    return Err(Error::Invalid(format!(
+                        "{} has no atom for the {} scheme",
+                        describe(r),
+                        spec.scheme.name()
+                    )));
+                }
+            }
+            pairs.push((i, j));
+        }
+    }
+    if pairs.is_empty() {
+        return Err(Error::Invalid(
+            "no residue pair to measure: the topology has no chain of residues with a CA atom \
+             three or more residues apart"
+                .into(),
+        ));
+    }
+    let mut used = vec![false; n];
+    for &(i, j) in &pairs {
+        used[i] = true;
+        used[j] = true;
+    }
+    for (r, atoms) in atoms.iter_mut().enumerate() {
+        if !used[r] {
+            atoms.clear();
+        }
+    }
+    Ok(ContactPairs { pairs, atoms })
+}
+
+/// A frame as MDTraj holds it: single-precision nanometres, and its periodic cell.
+struct Frame {
+    xyz: Vec<[f32; 3]>,
+    cell: Option<Cell>,
+}
+
+/// A periodic cell, in single-precision nanometres.
+enum Cell {
+    /// A rectangular box: its edges.
+    Box([f32; 3]),
+    /// A triclinic cell: MDTraj's reduced box vectors and the reciprocals of their diagonal.
+    Triclinic([[f32; 3]; 3], [f32; 3]),
+}
+
+fn to_nm(value: f64, unit: LengthUnit) -> f32 {
+    match unit {
+        LengthUnit::Nanometre => value as f32,
+        _ => value as f32 * 0.1f32,
+    }
+}
+
+impl Frame {
+    fn new(conformation: &Conformation, unit: LengthUnit, periodic: bool) -> Frame {
+        let xyz = conformation
+            .positions
+            .iter()
+            .map(|p| p.map(|x| to_nm(x, unit)))
+            .collect();
+        let cell = conformation.cell.filter(|_| periodic).map(|vectors| {
+            let v = vectors.map(|row| row.map(|x| to_nm(x, unit)));
+            let rectangular = v[0][1] == 0.0
+                && v[0][2] == 0.0
+                && v[1][0] == 0.0
+                && v[1][2] == 0.0
+                && v[2][0] == 0.0
+                && v[2][1] == 0.0;
+            if rectangular {
+                Cell::Box([v[0][0], v[1][1], v[2][2]])
+            } else {
+                let [a, mut b, mut c] = v;
+                let sub = |x: &mut [f32; 3], y: [f32; 3], k: f32| {
+                    for d in 0..3 {
+                        x[d] -= y[d] * k;
+                    }
+                };
+                let k = (c[1] / b[1]).round();
+                sub(&mut c, b, k);
+                let k = (c[0] / a[0]).round();
+                sub(&mut c, a, k);
+                let k = (b[0] / a[0]).round();
+                sub(&mut b, a, k);
+                Cell::Triclinic([a, b, c], [1.0 / a[0], 1.0 / b[1], 1.0 / c[2]])
+            }
+        });
+        Frame { xyz, cell }
+    }
+
+    /// The squared distance between atoms `i` and `j`, as MDTraj computes it.
+    #[inline]
+    fn distance2(&self, i: u32, j: u32) -> f32 {
+        let (p, q) = (self.xyz[i as usize], self.xyz[j as usize]);
+        let mut r = [q[0] - p[0], q[1] - p[1], q[2] - p[2]];
+        match &self.cell {
+            None => {}
+            Some(Cell::Box(edges)) => {
+                for d in 0..3 {
+                    r[d] -= (r[d] * (1.0 / edges[d])).round_ties_even() * edges[d];
+                }
+            }
+            Some(Cell::Triclinic(v, recip)) => {
+                for k in [2, 1, 0] {
+                    let n = (r[k] * recip[k]).round();
+                    for d in 0..3 {
+                        r[d] -= v[k][d] * n;
+                    }
+                }
+                let mut best = f32::MAX;
+                for x in [-1.0f32, 0.0, 1.0] {
+                    let ra = [r[0] + v[0][0] * x, r[1] + v[0][1] * x, r[2] + v[0][2] * x];
+                    for y in [-1.0f32, 0.0, 1.0] {
+                        let rb = [
+                            ra[0] + v[1][0] * y,
+                            ra[1] + v[1][1] * y,
+                            ra[2] + v[1][2] * y,
+                        ];
+                        for z in [-1.0f32, 0.0, 1.0] {
+                            let rc = [
+                                rb[0] + v[2][0] * z,
+                                rb[1] + v[2][1] * z,
+                                rb[2] + v[2][2] * z,
+                            ];
+                            best = best.min(rc[0] * rc[0] + rc[1] * rc[1] + rc[2] * rc[2]);
+                        }
+                    }
+                }
+                return best;
+            }
+        }
+        r[0] * r[0] + r[1] * r[1] + r[2] * r[2]
+    }
+
+    /// A lower bound of the (minimum-image) distance between two points, in double precision.
+    fn separation(&self, a: [f64; 3], b: [f64; 3]) -> f64 {
+        let mut r = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+        let norm = |r: [f64; 3]| (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]).sqrt();
+        let vectors: [[f64; 3]; 3] = match &self.cell {
+            None => return norm(r),
+            Some(Cell::Box(e)) => [
+                [f64::from(e[0]), 0.0, 0.0],
+                [0.0, f64::from(e[1]), 0.0],
+                [0.0, 0.0, f64::from(e[2])],
+            ],
+            Some(Cell::Triclinic(v, _)) => v.map(|row| row.map(f64::from)),
+        };
+        for k in [2, 1, 0] {
+            let n = (r[k] / vectors[k][k]).round();
+            for d in 0..3 {
+                r[d] -= vectors[k][d] * n;
+            }
+        }
+        let mut best = f64::MAX;
+        for x in -1..=1 {
+            for y in -1..=1 {
+                for z in -1..=1 {
+                    let (x, y, z) = (f64::from(x), f64::from(y), f64::from(z));
+                    let image = [0, 1, 2]
+                        .map(|d| r[d] + vectors[0][d] * x + vectors[1][d] * y + vectors[2][d] * z);
+                    best = best.min(norm(image));
+                }
+            }
+        }
+        best
+    }
+}
+
+/// The pairs of `pairs` in contact in `frame` (indices into `pairs.pairs`), added to `counts`.
+fn count_frame(frame: &Frame, pairs: &ContactPairs, cutoff: f32, counts: &mut [u32]) {
+    // bounding spheres of the residues measured
+    let spheres: Vec<([f64; 3], f64)> = pairs
+        .atoms
+        .iter()
+        .map(|atoms| {
+            if atoms.len() <= 1 {
+                let p = atoms.first().map_or([0.0; 3], |&a| frame.xyz[a as usize]);
+                return (p.map(f64::from), 0.0);
+            }
+            let mut centre = [0.0f64; 3];
+            for &a in atoms {
+                for (c, x) in centre.iter_mut().zip(frame.xyz[a as usize]) {
+                    *c += f64::from(x);
+                }
+            }
+            centre = centre.map(|x| x / atoms.len() as f64);
+            let radius = atoms
+                .iter()
+                .map(|&a| {
+                    let p = frame.xyz[a as usize].map(f64::from);
+                    ((p[0] - centre[0]).powi(2)
+                        + (p[1] - centre[1]).powi(2)
+                        + (p[2] - centre[2]).powi(2))
+                    .sqrt()
+                })
+                .fold(0.0, f64::max);
+            (centre, radius)
+        })
+        .collect();
+    let reach = f64::from(cutoff) + 1e-3;
+    for (k, &(i, j)) in pairs.pairs.iter().enumerate() {
+        let (a, b) = (&pairs.atoms[i], &pairs.atoms[j]);
+        if a.len() > 1 || b.len() > 1 {
+            let (si, sj) = (spheres[i], spheres[j]);
+            if frame.separation(si.0, sj.0) - si.1 - sj.1 > reach {
+                continue;
+            }
+        }
+        let contact = a
+            .iter()
+            .any(|&p| b.iter().any(|&q| frame.distance2(p, q).sqrt() < cutoff));
+        if contact {
+            counts[k] += 1;
+        }
+    }
+}
+
+/// Frames measured per parallel step (the memory bound: one chunk of frames).
+const CHUNK: usize = 256;
+
+/// The contact frequencies of the residue pairs of `topology` over `frames` (coordinates in
+/// `unit`), every `spec.stride`-th frame; each frame must have the topology's atoms.
+pub fn contact_frequencies(
+    topology: &Topology,
+    frames: impl Iterator<Item = Result<Conformation>>,
+    unit: LengthUnit,
+    spec: &FrequencySpec,
+    mut progress: impl FnMut(usize),
+) -> Result<ContactFrequencies> {
+    if !(spec.cutoff_angstrom.is_finite() && spec.cutoff_angstrom > 0.0) {
+        return Err(Error::Invalid(format!(
+            "the cutoff must be a positive distance, got {}",
+            spec.cutoff_angstrom
+        )));
+    }
+    if spec.stride == 0 {
+        return Err(Error::Invalid("the stride must be at least 1".into()));
+    }
+    let pairs = contact_pairs(topology, spec)?;
+    let cutoff = (spec.cutoff_angstrom / 10.0) as f32;
+    let mut counts = vec![0u32; pairs.pairs.len()];
+    let mut measured = 0;
+    let mut chunk: Vec<Frame> = Vec::with_capacity(CHUNK);
+    let flush = |chunk: &mut Vec<Frame>, counts: &mut Vec<u32>| {
+        let partial = chunk
+            .par_iter()
+            .fold(
+                || vec![0u32; pairs.pairs.len()],
+                |mut local, frame| {
+                    count_frame(frame, &pairs, cutoff, &mut local);
+                    local
+                },
+            )
+            .reduce(
+                || vec![0u32; pairs.pairs.len()],
+                |mut a, b| {
+                    a.iter_mut().zip(b).for_each(|(x, y)| *x += y);
+                    a
+                },
+            );
+        counts.iter_mut().zip(partial).for_each(|(x, y)| *x += y);
+        chunk.clear();
+    };
+    for (index, conformation) in frames.enumerate() {
+        let conformation = conformation?;
+        if conformation.positions.len() != topology.atoms.len() {
+            return Err(Error::Invalid(format!(
+                "{}: {} atoms, the topology has {}",
+                conformation.label,
+                conformation.positions.len(),
+                topology.atoms.len()
+            )));
+        }
+        if index % spec.stride != 0 {
+            continue;
+        }
+        chunk.push(Frame::new(&conformation, unit, spec.periodic));
+        measured += 1;
+        if chunk.len() == CHUNK {
+            flush(&mut chunk, &mut counts);
+            progress(measured);
+        }
+    }
+    flush(&mut chunk, &mut counts);
+    progress(measured);
+    if measured == 0 {
+        return Err(Error::Invalid("the trajectory has no frame".into()));
+    }
+    let mut pairs = pairs;
+    // the atoms are an implementation detail of the measure; keep them for callers anyway
+    pairs.atoms.shrink_to_fit();
+    Ok(ContactFrequencies {
+        pairs,
+        counts,
+        frames: measured,
+    })
+}
+
+/// The header of [`frequency_table`].
+pub const FREQUENCY_HEADER: &str =
+    "chain\tresidue1\tresidue2\tname1\tname2\tindex1\tindex2\tcontact_frames\tfrequency";
+
+/// The frequencies as a TSV table, one row per pair in MDTraj's order: the chain id, the
+/// residues' author numbers (with insertion codes) and names as written, their 0-based indices,
+/// the frames in contact and the fraction of frames.
+pub fn frequency_table(topology: &Topology, frequencies: &ContactFrequencies) -> String {
+    use std::fmt::Write;
+    let mut text = String::with_capacity(48 * frequencies.counts.len());
+    text.push_str(FREQUENCY_HEADER);
+    text.push('\n');
+    let number = |r: &crate::io::topology::TopologyResidue| {
+        format!(
+            "{}{}",
+            r.number,
+            r.insertion.map(String::from).unwrap_or_default()
+        )
+    };
+    for (k, &(i, j)) in frequencies.pairs.pairs.iter().enumerate() {
+        let (a, b) = (&topology.residues[i], &topology.residues[j]);
+        let _ = writeln!(
+            text,
+            "{}\t{}\t{}\t{}\t{}\t{i}\t{j}\t{}\t{}",
+            topology.chains[a.chain],
+            number(a),
+            number(b),
+            a.name,
+            b.name,
+            frequencies.counts[k],
+            frequencies.frequency(k)
+        );
+    }
+    text
+}
