@@ -319,50 +319,6 @@ impl Frame {
         Frame { xyz, cell }
     }
 
-    /// The squared distance between atoms `i` and `j`, as MDTraj computes it.
-    #[inline]
-    fn distance2(&self, i: u32, j: u32) -> f32 {
-        let (p, q) = (self.xyz[i as usize], self.xyz[j as usize]);
-        let mut r = [q[0] - p[0], q[1] - p[1], q[2] - p[2]];
-        match &self.cell {
-            None => {}
-            Some(Cell::Box(edges)) => {
-                for d in 0..3 {
-                    r[d] -= (r[d] * (1.0 / edges[d])).round_ties_even() * edges[d];
-                }
-            }
-            Some(Cell::Triclinic(v, recip)) => {
-                for k in [2, 1, 0] {
-                    let n = (r[k] * recip[k]).round();
-                    for d in 0..3 {
-                        r[d] -= v[k][d] * n;
-                    }
-                }
-                let mut best = f32::MAX;
-                for x in [-1.0f32, 0.0, 1.0] {
-                    let ra = [r[0] + v[0][0] * x, r[1] + v[0][1] * x, r[2] + v[0][2] * x];
-                    for y in [-1.0f32, 0.0, 1.0] {
-                        let rb = [
-                            ra[0] + v[1][0] * y,
-                            ra[1] + v[1][1] * y,
-                            ra[2] + v[1][2] * y,
-                        ];
-                        for z in [-1.0f32, 0.0, 1.0] {
-                            let rc = [
-                                rb[0] + v[2][0] * z,
-                                rb[1] + v[2][1] * z,
-                                rb[2] + v[2][2] * z,
-                            ];
-                            best = best.min(rc[0] * rc[0] + rc[1] * rc[1] + rc[2] * rc[2]);
-                        }
-                    }
-                }
-                return best;
-            }
-        }
-        r[0] * r[0] + r[1] * r[1] + r[2] * r[2]
-    }
-
     /// A lower bound of the (minimum-image) distance between two points, in double precision.
     fn separation(&self, a: [f64; 3], b: [f64; 3]) -> f64 {
         let mut r = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
@@ -397,8 +353,109 @@ impl Frame {
     }
 }
 
+/// The displacement from atom `i` to atom `j`.
+#[inline(always)]
+fn displacement(xyz: &[[f32; 3]], i: u32, j: u32) -> [f32; 3] {
+    let (p, q) = (xyz[i as usize], xyz[j as usize]);
+    [q[0] - p[0], q[1] - p[1], q[2] - p[2]]
+}
+
+/// The squared length of `r`, summed `x, y, z` as MDTraj's SSE dot product sums.
+#[inline(always)]
+fn norm2(r: [f32; 3]) -> f32 {
+    r[0] * r[0] + r[1] * r[1] + r[2] * r[2]
+}
+
+/// MDTraj's plain squared distance.
+#[inline(always)]
+fn plain(xyz: &[[f32; 3]], i: u32, j: u32) -> f32 {
+    norm2(displacement(xyz, i, j))
+}
+
+/// MDTraj's minimum image in a rectangular box (`_mm_round_ps`: ties to even).
+#[inline(always)]
+fn boxed(xyz: &[[f32; 3]], edges: &[f32; 3], i: u32, j: u32) -> f32 {
+    let mut r = displacement(xyz, i, j);
+    for d in 0..3 {
+        r[d] -= (r[d] * (1.0 / edges[d])).round_ties_even() * edges[d];
+    }
+    norm2(r)
+}
+
+/// MDTraj's minimum image in a triclinic cell: reduce by the box vectors, then the nearest of
+/// 27 images (`round`: ties away from zero, as C's).
+fn triclinic(xyz: &[[f32; 3]], v: &[[f32; 3]; 3], recip: &[f32; 3], i: u32, j: u32) -> f32 {
+    let mut r = displacement(xyz, i, j);
+    for k in [2, 1, 0] {
+        let n = (r[k] * recip[k]).round();
+        for d in 0..3 {
+            r[d] -= v[k][d] * n;
+        }
+    }
+    let mut best = f32::MAX;
+    for x in [-1.0f32, 0.0, 1.0] {
+        let ra = [r[0] + v[0][0] * x, r[1] + v[0][1] * x, r[2] + v[0][2] * x];
+        for y in [-1.0f32, 0.0, 1.0] {
+            let rb = [
+                ra[0] + v[1][0] * y,
+                ra[1] + v[1][1] * y,
+                ra[2] + v[1][2] * y,
+            ];
+            for z in [-1.0f32, 0.0, 1.0] {
+                let rc = [
+                    rb[0] + v[2][0] * z,
+                    rb[1] + v[2][1] * z,
+                    rb[2] + v[2][2] * z,
+                ];
+                best = best.min(norm2(rc));
+            }
+        }
+    }
+    best
+}
+
 /// The pairs of `pairs` in contact in `frame` (indices into `pairs.pairs`), added to `counts`.
-fn count_frame(frame: &Frame, pairs: &ContactPairs, cutoff: f32, counts: &mut [u32]) {
+///
+/// `single`: the pairs' atoms when every residue has one atom (ca, cb).
+fn count_frame(
+    frame: &Frame,
+    pairs: &ContactPairs,
+    single: Option<&[(u32, u32)]>,
+    cutoff: f32,
+    counts: &mut [u32],
+) {
+    let xyz = &frame.xyz;
+    match &frame.cell {
+        None => count_with(frame, pairs, single, cutoff, counts, |i, j| {
+            plain(xyz, i, j)
+        }),
+        Some(Cell::Box(e)) => count_with(frame, pairs, single, cutoff, counts, |i, j| {
+            boxed(xyz, e, i, j)
+        }),
+        Some(Cell::Triclinic(v, r)) => count_with(frame, pairs, single, cutoff, counts, |i, j| {
+            triclinic(xyz, v, r, i, j)
+        }),
+    }
+}
+
+/// [`count_frame`] with the frame's squared distance `distance2`.
+fn count_with(
+    frame: &Frame,
+    pairs: &ContactPairs,
+    single: Option<&[(u32, u32)]>,
+    cutoff: f32,
+    counts: &mut [u32],
+    distance2: impl Fn(u32, u32) -> f32,
+) {
+    // `sqrt(d2) < cutoff` exactly when `d2 < below` (the square root is correctly rounded and
+    // monotonic): no square root per atom pair
+    let below = sqrt_threshold(cutoff);
+    if let Some(single) = single {
+        for (count, &(p, q)) in counts.iter_mut().zip(single) {
+            *count += u32::from(distance2(p, q) < below);
+        }
+        return;
+    }
     // bounding spheres of the residues measured
     let spheres: Vec<([f64; 3], f64)> = pairs
         .atoms
@@ -439,11 +496,23 @@ fn count_frame(frame: &Frame, pairs: &ContactPairs, cutoff: f32, counts: &mut [u
         }
         let contact = a
             .iter()
-            .any(|&p| b.iter().any(|&q| frame.distance2(p, q).sqrt() < cutoff));
+            .any(|&p| b.iter().any(|&q| distance2(p, q) < below));
         if contact {
             counts[k] += 1;
         }
     }
+}
+
+/// The smallest single-precision `x` whose square root is at least `cutoff` (positive).
+fn sqrt_threshold(cutoff: f32) -> f32 {
+    let mut x = cutoff * cutoff;
+    while x > 0.0 && x.sqrt() >= cutoff {
+        x = f32::from_bits(x.to_bits() - 1);
+    }
+    while x.sqrt() < cutoff {
+        x = f32::from_bits(x.to_bits() + 1);
+    }
+    x
 }
 
 /// Frames measured per parallel step (the memory bound: one chunk of frames).
@@ -469,6 +538,14 @@ pub fn contact_frequencies(
     }
     let pairs = contact_pairs(topology, spec)?;
     let cutoff = (spec.cutoff_angstrom / 10.0) as f32;
+    let single: Option<Vec<(u32, u32)>> = pairs
+        .pairs
+        .iter()
+        .map(|&(i, j)| match (&pairs.atoms[i][..], &pairs.atoms[j][..]) {
+            ([p], [q]) => Some((*p, *q)),
+            _ => None,
+        })
+        .collect();
     let mut counts = vec![0u32; pairs.pairs.len()];
     let mut measured = 0;
     let mut chunk: Vec<Frame> = Vec::with_capacity(CHUNK);
@@ -478,7 +555,7 @@ pub fn contact_frequencies(
             .fold(
                 || vec![0u32; pairs.pairs.len()],
                 |mut local, frame| {
-                    count_frame(frame, &pairs, cutoff, &mut local);
+                    count_frame(frame, &pairs, single.as_deref(), cutoff, &mut local);
                     local
                 },
             )
@@ -561,4 +638,25 @@ pub fn frequency_table(topology: &Topology, frequencies: &ContactFrequencies) ->
         );
     }
     text
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_squared_threshold_is_the_square_roots_comparison() {
+        for cutoff in [0.45f32, 0.8, 0.1, 1.0, 0.333_333, 12.0] {
+            let below = sqrt_threshold(cutoff);
+            assert!(below.sqrt() >= cutoff);
+            let previous = f32::from_bits(below.to_bits() - 1);
+            assert!(previous.sqrt() < cutoff);
+            // every float near the square: both tests agree
+            let mut x = f32::from_bits((cutoff * cutoff).to_bits() - 50);
+            for _ in 0..100 {
+                assert_eq!(x < below, x.sqrt() < cutoff, "{x} {cutoff}");
+                x = f32::from_bits(x.to_bits() + 1);
+            }
+        }
+    }
 }

@@ -134,6 +134,16 @@ enum Plan {
         deflate_position: Option<u32>,
         chunks: Vec<RawChunk>,
     },
+    /// Our own parallel reader of a 2-D dataset chunked in tiles of `rows x columns` (h5py's
+    /// automatic chunks of polychrom's positions split the three coordinates).
+    Tiles {
+        decoder: ChunkDecoder,
+        rows: usize,
+        columns: usize,
+        width: usize,
+        /// Each stored tile with its first row and first column.
+        tiles: Vec<(usize, usize, RawChunk)>,
+    },
     /// libhdf5's reader.
     Library,
 }
@@ -155,14 +165,39 @@ impl Column {
         let dataset = group
             .dataset(name)
             .map_err(|e| Error::hdf5(path, format!("opening dataset {name}"), e))?;
+        Column::from_dataset(dataset, name, path, None)
+    }
+
+    /// The 2-D numeric dataset `dataset` (called `name` in messages) of `rows x width` values,
+    /// read as one column of its values in row order: parallel when its chunks span whole rows.
+    pub fn rows(dataset: hdf5::Dataset, name: &str, path: &str, width: usize) -> Result<Column> {
+        Column::from_dataset(dataset, name, path, Some(width))
+    }
+
+    fn from_dataset(
+        dataset: hdf5::Dataset,
+        name: &str,
+        path: &str,
+        width: Option<usize>,
+    ) -> Result<Column> {
         crate::io::hdf5_guard::checked_len(path, &dataset, name, super::file_len(path))?;
         let shape = dataset.shape();
-        if shape.len() != 1 {
-            return Err(Error::format(
-                path,
-                format!("dataset {name} has shape {shape:?}; expected one dimension"),
-            ));
-        }
+        let len = match (width, shape.as_slice()) {
+            (None, &[n]) => n,
+            (Some(width), &[n, w]) if w == width => n * width,
+            (None, _) => {
+                return Err(Error::format(
+                    path,
+                    format!("dataset {name} has shape {shape:?}; expected one dimension"),
+                ))
+            }
+            (Some(width), _) => {
+                return Err(Error::format(
+                    path,
+                    format!("dataset {name} has shape {shape:?}; expected N x {width}"),
+                ))
+            }
+        };
         let descriptor = dataset
             .dtype()
             .and_then(|t| t.to_descriptor())
@@ -181,11 +216,11 @@ impl Column {
                 format!("dataset {name} has type {descriptor:?}; expected numbers"),
             )
         })?;
-        let plan = direct_plan(&dataset, element).unwrap_or(Plan::Library);
+        let plan = direct_plan(&dataset, element, width).unwrap_or(Plan::Library);
         Ok(Column {
             name: name.to_string(),
             path: path.to_string(),
-            len: shape[0],
+            len,
             is_float: element.is_float(),
             plan,
             dataset,
@@ -238,6 +273,16 @@ impl Column {
             ));
         }
         match &self.plan {
+            Plan::Library if self.dataset.ndim() != 1 => {
+                // a 2-D dataset read whole (polychrom's positions: one conformation)
+                let values = self
+                    .dataset
+                    .read_raw::<T>()
+                    .map_err(|e| Error::hdf5(&self.path, format!("reading {}", self.name), e))?;
+                out.clear();
+                out.extend_from_slice(values.get(lo..hi).unwrap_or_default());
+                Ok(())
+            }
             Plan::Library => {
                 let values = self
                     .dataset
@@ -311,14 +356,75 @@ impl Column {
                     })
                     .collect::<Result<()>>()
             }
+            Plan::Tiles {
+                decoder,
+                rows,
+                columns,
+                width,
+                tiles,
+            } => {
+                let decoded: Vec<Vec<T>> = tiles
+                    .par_iter()
+                    .map_init(Scratch::new, |scratch, (row, column, raw)| {
+                        let mut tile = vec![T::default(); rows * columns];
+                        decoder
+                            .decode(file, raw, scratch, 0, &mut tile)
+                            .map_err(|message| {
+                                Error::format(
+                                    &self.path,
+                                    format!(
+                                        "dataset {}: chunk at row {row}, column {column} (file \
+                                         offset {}): {message}",
+                                        self.name, raw.address
+                                    ),
+                                )
+                            })?;
+                        Ok(tile)
+                    })
+                    .collect::<Result<_>>()?;
+                // tiles never written hold the fill value (0)
+                let mut all = vec![T::default(); self.len];
+                let n_rows = self.len / width;
+                for ((row, column, _), tile) in tiles.iter().zip(&decoded) {
+                    for r in 0..*rows {
+                        let target_row = row + r;
+                        if target_row >= n_rows {
+                            break;
+                        }
+                        let used = (*columns).min(width.saturating_sub(*column));
+                        let start = target_row * width + column;
+                        all[start..start + used]
+                            .copy_from_slice(&tile[r * columns..r * columns + used]);
+                    }
+                }
+                out.clear();
+                out.extend_from_slice(&all[lo..hi]);
+                Ok(())
+            }
         }
     }
 }
 
 /// Build the direct plan when the column is chunked, little-endian, and filtered by at most
 /// shuffle then deflate.
-fn direct_plan(dataset: &hdf5::Dataset, element: Element) -> Option<Plan> {
-    let chunk = dataset.chunk()?;
+fn direct_plan(dataset: &hdf5::Dataset, element: Element, width: Option<usize>) -> Option<Plan> {
+    let mut chunk = dataset.chunk()?;
+    // a 2-D dataset whose chunks span whole rows is a 1-D column of its values in row order;
+    // one chunked in narrower tiles is read tile by tile
+    let mut tiles = None;
+    let width = match width {
+        None => 1,
+        Some(width) if chunk.len() == 2 && chunk[1] == width => {
+            chunk = vec![chunk[0] * width];
+            width
+        }
+        Some(width) if chunk.len() == 2 && chunk[0] > 0 && chunk[1] > 0 => {
+            tiles = Some((chunk[0], chunk[1]));
+            chunk = vec![chunk[0] * chunk[1]];
+            width
+        }
+        Some(_) => return None,
+    };
     let chunk_len = *chunk.first()?;
     // Each task inflates one chunk into a buffer of its size: a chunk size from a corrupt
     // layout (cooler writes chunks of about 1 MB) goes through the library instead.
@@ -344,11 +450,41 @@ fn direct_plan(dataset: &hdf5::Dataset, element: Element) -> Option<Plan> {
             _ => return None,
         }
     }
+    if let Some((rows, columns)) = tiles {
+        let mut found = Vec::new();
+        dataset
+            .chunks_visit(|info| {
+                found.push((
+                    info.offset[0] as usize,
+                    info.offset[1] as usize,
+                    RawChunk {
+                        first: 0,
+                        address: info.addr,
+                        size: info.size,
+                        filter_mask: info.filter_mask,
+                    },
+                ));
+                0
+            })
+            .ok()?;
+        return Some(Plan::Tiles {
+            decoder: ChunkDecoder {
+                element,
+                chunk_len,
+                shuffle_position,
+                deflate_position,
+            },
+            rows,
+            columns,
+            width,
+            tiles: found,
+        });
+    }
     let mut chunks = Vec::new();
     dataset
         .chunks_visit(|info| {
             chunks.push(RawChunk {
-                first: info.offset[0],
+                first: info.offset[0] * width as u64,
                 address: info.addr,
                 size: info.size,
                 filter_mask: info.filter_mask,

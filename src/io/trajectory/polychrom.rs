@@ -13,8 +13,11 @@
 
 use std::path::{Path, PathBuf};
 
+use rayon::prelude::*;
+
 use super::{checked, Conformation};
 use crate::error::{Error, Result};
+use crate::io::cool::chunks::Column;
 use crate::io::hdf5_guard::guarded;
 
 /// Blocks per file of polychrom's `HDF5Reporter` (`max_data_length`).
@@ -64,10 +67,12 @@ fn folder_files(folder: &Path) -> Result<Vec<(PathBuf, (u64, u64))>> {
 /// groups).
 type Plan = Vec<(PathBuf, Option<Vec<u64>>)>;
 
-/// The conformations of a polychrom input, read block by block.
+/// The conformations of a polychrom input, read a file at a time: the blocks' `pos` chunks
+/// are inflated in parallel (libhdf5 would inflate them one at a time, behind its lock), so the
+/// memory held is one file's blocks (polychrom writes 50 per file).
 pub struct PolychromBlocks {
     plan: std::vec::IntoIter<(PathBuf, Option<Vec<u64>>)>,
-    file: Option<(PathBuf, hdf5::File, std::vec::IntoIter<u64>)>,
+    read: std::collections::VecDeque<Result<Conformation>>,
 }
 
 impl PolychromBlocks {
@@ -97,7 +102,7 @@ impl PolychromBlocks {
         };
         Ok(PolychromBlocks {
             plan: plan.into_iter(),
-            file: None,
+            read: std::collections::VecDeque::new(),
         })
     }
 
@@ -127,7 +132,8 @@ impl PolychromBlocks {
         Ok((file, blocks))
     }
 
-    fn read_block(path: &Path, file: &hdf5::File, block: u64) -> Result<Conformation> {
+    /// The `pos` column of `block`, its shape checked.
+    fn block_column(path: &Path, file: &hdf5::File, block: u64) -> Result<Column> {
         let label = format!("{}::{block}", path.display());
         let text = path.to_string_lossy().into_owned();
         let dataset =
@@ -148,18 +154,44 @@ impl PolychromBlocks {
                 "{label}: an empty block (pos has no position)"
             )));
         }
-        let values: Vec<f64> = dataset
-            .read_raw::<f64>()
-            .map_err(|e| Error::hdf5(path, format!("reading block {block}"), e))?;
-        if values.len() != shape[0] * 3 {
-            return Err(Error::Invalid(format!(
-                "{label}: pos holds {} values for {} x 3",
-                values.len(),
-                shape[0]
-            )));
+        Column::rows(dataset, &format!("{block}/pos"), &text, 3)
+    }
+
+    /// Read the blocks of one file, their chunks inflated in parallel.
+    fn read_file(path: &Path, blocks: Option<Vec<u64>>) -> Vec<Result<Conformation>> {
+        let (file, blocks) = match Self::open_file(path, blocks) {
+            Ok(opened) => opened,
+            Err(error) => return vec![Err(error)],
+        };
+        let raw = match crate::io::cool::chunks::open_raw(path) {
+            Ok(raw) => raw,
+            Err(error) => return vec![Err(error)],
+        };
+        // the columns opened in order (libhdf5 calls), stopping at the first bad block
+        let mut columns = Vec::with_capacity(blocks.len());
+        let mut failure = None;
+        for &block in &blocks {
+            match Self::block_column(path, &file, block) {
+                Ok(column) => columns.push((block, column)),
+                Err(error) => {
+                    failure = Some(error);
+                    break;
+                }
+            }
         }
-        let positions = values.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect();
-        checked(label, positions)
+        let mut read: Vec<Result<Conformation>> = columns
+            .par_iter()
+            .map(|(block, column)| {
+                let label = format!("{}::{block}", path.display());
+                let values: Vec<f64> = column.read(&raw, 0, column.len())?;
+                let positions = values.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect();
+                checked(label, positions)
+            })
+            .collect();
+        if let Some(error) = failure {
+            read.push(Err(error));
+        }
+        read
     }
 }
 
@@ -168,17 +200,11 @@ impl Iterator for PolychromBlocks {
 
     fn next(&mut self) -> Option<Result<Conformation>> {
         loop {
-            if let Some((path, file, blocks)) = &mut self.file {
-                if let Some(block) = blocks.next() {
-                    return Some(Self::read_block(path, file, block));
-                }
-                self.file = None;
+            if let Some(next) = self.read.pop_front() {
+                return Some(next);
             }
             let (path, blocks) = self.plan.next()?;
-            match Self::open_file(&path, blocks) {
-                Ok((file, blocks)) => self.file = Some((path, file, blocks.into_iter())),
-                Err(error) => return Some(Err(error)),
-            }
+            self.read = Self::read_file(&path, blocks).into();
         }
     }
 }
