@@ -66,6 +66,9 @@ def main():
     parser.add_argument("--frames", type=int, default=1000)
     parser.add_argument("--schemes", default="ca,closest-heavy")
     parser.add_argument("--skip-equality", action="store_true")
+    parser.add_argument("--topology", default="data/md/adk.pdb.gz",
+                        help="the speed run's topology: adk_open.pdb's atoms with element "
+                             "columns (MDTraj reads HG* / HE* of the original as Hg / He)")
     args = parser.parse_args()
     warnings.simplefilter("ignore")
     src = args.mdatests
@@ -79,7 +82,7 @@ def main():
         repeat = adk[[k % adk.n_frames for k in range(args.frames)]]
         big = os.path.join(tmp, "adk_1000.dcd")
         repeat.save_dcd(big)
-        topology = os.path.join(src, "adk_open.pdb")
+        topology = args.topology
         print(f"speed: {args.frames} frames of {adk.n_atoms} atoms ({adk.n_residues} residues), "
               f"{os.cpu_count()} CPUs", flush=True)
         for scheme in args.schemes.split(","):

@@ -177,5 +177,9 @@ step "Protein: a structure numbered 151-220 placed on its sequence (register), i
 "$cm" score contacts --structure data/protein/1a8o/1A8O.pdb "$work/1a8o.rr" --ranges long --top L/5,L 2>/dev/null
 step "Protein: two predictions compared without a structure (Jaccard of the top lists)" \
   "$cm" score overlap data/protein/1atzA/1atzA.apc.mat data/protein/1atzA/1atzA.noapc.mat --ranges long
+step "An MD trajectory (data/md: adenylate kinase, 3 XTC frames of its open -> closed transition): residue contact frequencies as MDTraj's compute_contacts, closest heavy atoms < 4.5 A" \
+  "$cm" contacts --trajectory data/md/adk.xtc --topology data/md/adk.pdb.gz --definition closest-heavy \
+  --cutoff 4.5 -o "$work/adk.freq.tsv"
+awk -F'\t' 'NR > 1 && $8 > 0 && $8 < 3' "$work/adk.freq.tsv" | wc -l | sed 's/^/   pairs in contact in some frames only (the transition): /'
 printf '\nDemo finished. Pictures: %s/\n' "$figs"
 ls "$figs"
