@@ -194,6 +194,25 @@ impl Iterator for Trajectories {
     }
 }
 
+/// The item of a frame reader's `next`: the frame, or `None` (and `done`) at the end or after an
+/// error, which is returned once.
+pub(crate) fn until_done(
+    done: &mut bool,
+    frame: Result<Option<Conformation>>,
+) -> Option<Result<Conformation>> {
+    match frame {
+        Ok(Some(frame)) => Some(Ok(frame)),
+        Ok(None) => {
+            *done = true;
+            None
+        }
+        Err(error) => {
+            *done = true;
+            Some(Err(error))
+        }
+    }
+}
+
 /// A conformation's positions checked: at least one bead, every coordinate finite.
 pub(crate) fn checked(label: String, positions: Vec<[f64; 3]>) -> Result<Conformation> {
     checked_with_cell(label, positions, None)

@@ -181,16 +181,7 @@ impl Iterator for XtcFrames {
         if self.done {
             return None;
         }
-        match self.next_frame() {
-            Ok(Some(frame)) => Some(Ok(frame)),
-            Ok(None) => {
-                self.done = true;
-                None
-            }
-            Err(error) => {
-                self.done = true;
-                Some(Err(error))
-            }
-        }
+        let frame = self.next_frame();
+        super::until_done(&mut self.done, frame)
     }
 }
