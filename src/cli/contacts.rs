@@ -9,13 +9,13 @@ use clap::Args;
 
 use crate::cli::output::refuse_overwrites;
 use crate::cli::output::Output;
+use crate::cli::progress::spinner;
 use crate::cli::protein::{DefinitionArgs, RegisterArg};
-use std::io::IsTerminal;
 
 use contactmap::error::Result;
 use contactmap::io::predictions::read_fasta;
 use contactmap::io::topology::read_topology;
-use contactmap::io::trajectory::{open_trajectories, LengthUnit, TrajectoryFormat};
+use contactmap::io::trajectory::open_trajectories;
 use contactmap::score::frequency::{contact_frequencies, frequency_table, FrequencySpec, Scheme};
 use contactmap::score::target::{
     distance_matrix_tsv, measure, place_chain, read_chain, true_contacts_rr,
@@ -208,23 +208,6 @@ fn run_trajectory(args: &ContactsArgs) -> Result<()> {
         .iter()
         .map(|p| p.to_string_lossy().into_owned())
         .collect();
-    let mut unit = None;
-    for name in &names {
-        let format = TrajectoryFormat::detect(name)?;
-        let this = format.length_unit();
-        if this == LengthUnit::Model {
-            return Err(contactmap::Error::Invalid(format!(
-                "{name}: not an MD trajectory (give DCD, XTC or multi-model PDB / mmCIF files; \
-                 polymer conformations go to `polymer-map`)"
-            )));
-        }
-        if unit.is_some_and(|u| u != this) {
-            return Err(contactmap::Error::Invalid(format!(
-                "{name}: the trajectory files mix units (XTC in nm with DCD / PDB in Angstrom)"
-            )));
-        }
-        unit = Some(this);
-    }
     let spec = FrequencySpec {
         scheme: args.definition.into(),
         cutoff_angstrom: args.definition_cutoff.cutoff,
@@ -232,20 +215,10 @@ fn run_trajectory(args: &ContactsArgs) -> Result<()> {
         periodic: !args.no_periodic,
         stride: args.stride as usize,
     };
-    let bar = if std::io::stderr().is_terminal() {
-        let bar = indicatif::ProgressBar::new_spinner();
-        bar.set_message("frames");
-        bar
-    } else {
-        indicatif::ProgressBar::hidden()
-    };
-    let frequencies = contact_frequencies(
-        &topology,
-        open_trajectories(&names)?,
-        unit.expect("at least one trajectory"),
-        &spec,
-        |done| bar.set_position(done as u64),
-    )?;
+    let bar = spinner("frames");
+    let frequencies = contact_frequencies(&topology, open_trajectories(&names)?, &spec, |done| {
+        bar.set_position(done as u64)
+    })?;
     bar.finish_and_clear();
     let text = frequency_table(&topology, &frequencies);
     let mut out = Output::open(args.out.as_deref())?;

@@ -2,12 +2,12 @@
 //! `simulate polymer --conformations` tables, XYZ), as polychrom's `binnedContactMap` counts it
 //! ([`contactmap::conformations`], [`contactmap::io::trajectory`]).
 
-use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 
 use clap::Args;
 
 use crate::cli::output::refuse_overwrites;
+use crate::cli::progress::spinner;
 use contactmap::conformations::{contact_map, MapParams};
 use contactmap::error::{Error, Result};
 use contactmap::io::cool::{write_cool, CoolWriteOptions};
@@ -90,13 +90,7 @@ pub fn run(args: &PolymerMapArgs) -> Result<()> {
         monomers_per_bin: args.monomers_per_bin,
         chains,
     };
-    let bar = if std::io::stderr().is_terminal() {
-        let bar = indicatif::ProgressBar::new_spinner();
-        bar.set_message("conformations");
-        bar
-    } else {
-        indicatif::ProgressBar::hidden()
-    };
+    let bar = spinner("conformations");
     let map = contact_map(open_trajectories(&args.inputs)?, &params, &|done| {
         bar.set_position(done as u64)
     })?;

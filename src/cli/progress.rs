@@ -52,3 +52,15 @@ impl Drop for Progress<'_> {
         self.bar.finish_and_clear();
     }
 }
+
+/// A counter on standard error while work of unknown length runs (`what`: the things counted,
+/// e.g. "frames"); hidden when standard error is not a terminal (logs, pipelines).
+pub fn spinner(what: &str) -> ProgressBar {
+    if std::io::stderr().is_terminal() {
+        let bar = ProgressBar::new_spinner();
+        bar.set_message(what.to_string());
+        bar
+    } else {
+        ProgressBar::hidden()
+    }
+}

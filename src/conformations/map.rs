@@ -387,6 +387,7 @@ mod tests {
             .map(|k| Conformation {
                 label: format!("c{k}"),
                 cell: None,
+                unit: crate::io::trajectory::LengthUnit::Model,
                 positions: (0..n)
                     .map(|_| {
                         [
@@ -465,6 +466,7 @@ mod tests {
             .map(|k| Conformation {
                 label: format!("w{k}"),
                 cell: None,
+                unit: crate::io::trajectory::LengthUnit::Model,
                 positions: walk(&mut rng),
             })
             .collect();

@@ -42,6 +42,8 @@ pub struct Conformation {
     /// The periodic cell's three box vectors (rows), in the same units, when the frame has one
     /// (DCD unit cells, XTC boxes).
     pub cell: Option<[[f64; 3]; 3]>,
+    /// The unit of the positions, by the file's format.
+    pub unit: LengthUnit,
 }
 
 /// The trajectory formats.
@@ -94,17 +96,6 @@ impl TrajectoryFormat {
             "pdb" | "ent" | "cif" | "mmcif" => TrajectoryFormat::Models,
             _ => TrajectoryFormat::Table,
         })
-    }
-
-    /// The unit of the format's coordinates.
-    pub fn length_unit(self) -> LengthUnit {
-        match self {
-            TrajectoryFormat::Dcd | TrajectoryFormat::Models | TrajectoryFormat::Xyz => {
-                LengthUnit::Angstrom
-            }
-            TrajectoryFormat::Xtc => LengthUnit::Nanometre,
-            TrajectoryFormat::Polychrom | TrajectoryFormat::Table => LengthUnit::Model,
-        }
     }
 }
 
@@ -200,29 +191,16 @@ pub(crate) fn until_done(
     done: &mut bool,
     frame: Result<Option<Conformation>>,
 ) -> Option<Result<Conformation>> {
-    match frame {
-        Ok(Some(frame)) => Some(Ok(frame)),
-        Ok(None) => {
-            *done = true;
-            None
-        }
-        Err(error) => {
-            *done = true;
-            Some(Err(error))
-        }
-    }
+    *done = !matches!(frame, Ok(Some(_)));
+    frame.transpose()
 }
 
 /// A conformation's positions checked: at least one bead, every coordinate finite.
-pub(crate) fn checked(label: String, positions: Vec<[f64; 3]>) -> Result<Conformation> {
-    checked_with_cell(label, positions, None)
-}
-
-/// [`checked`], with the frame's periodic cell.
-pub(crate) fn checked_with_cell(
+pub(crate) fn checked(
     label: String,
     positions: Vec<[f64; 3]>,
     cell: Option<[[f64; 3]; 3]>,
+    unit: LengthUnit,
 ) -> Result<Conformation> {
     if positions.is_empty() {
         return Err(Error::Invalid(format!(
@@ -243,6 +221,7 @@ pub(crate) fn checked_with_cell(
         label,
         positions,
         cell,
+        unit,
     })
 }
 

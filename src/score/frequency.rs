@@ -136,20 +136,21 @@ fn standard_atom_name<'a>(residue: &str, name: &'a str) -> &'a str {
     }
 }
 
-/// The name MDTraj gives a residue (force-field variants of histidine and cysteine).
+/// The name a residue is read by: the parent amino acid of the modified and force-field
+/// residues [`crate::io::structure::amino_acid`] knows (`HSD`, `HIE` ... are `HIS`, as MDTraj
+/// renames them), `NME` for its alias `NMA`.
 fn standard_residue_name(name: &str) -> &str {
-    match name {
-        "HSP" | "HSH" | "HIP" | "HIH" | "HID" | "HIE" | "HSD" | "HSE" => "HIS",
-        "CYX" => "CYS",
-        "NMA" => "NME",
-        _ => name,
+    match crate::io::structure::amino_acid(name) {
+        Some((parent, _)) => parent,
+        None if name == "NMA" => "NME",
+        None => name,
     }
 }
 
-/// Amino acids and capping groups MDTraj counts as protein, beyond the standard and modified
-/// residues of [`crate::io::structure::amino_acid`].
+/// Capping groups and amino acids MDTraj counts as protein that
+/// [`crate::io::structure::amino_acid`] does not keep.
 const PROTEIN_VARIANTS: &[&str] = &[
-    "ACE", "NME", "CYM", "ASH", "GLH", "LYN", "HYP", "ASX", "GLX", "SEC", "PYL",
+    "ACE", "NME", "CYM", "ASH", "GLH", "LYN", "HSH", "HIH", "ASX", "GLX", "SEC", "PYL",
 ];
 
 /// The pairs and atoms of `topology` for `spec`.
@@ -284,7 +285,9 @@ fn to_nm(value: f64, unit: LengthUnit) -> f32 {
 }
 
 impl Frame {
-    fn new(conformation: &Conformation, unit: LengthUnit, periodic: bool) -> Frame {
+    /// The frame of an MD conformation (Angstrom or nm).
+    fn new(conformation: &Conformation, periodic: bool) -> Frame {
+        let unit = conformation.unit;
         let xyz = conformation
             .positions
             .iter()
@@ -518,12 +521,12 @@ fn sqrt_threshold(cutoff: f32) -> f32 {
 /// Frames measured per parallel step (the memory bound: one chunk of frames).
 const CHUNK: usize = 256;
 
-/// The contact frequencies of the residue pairs of `topology` over `frames` (coordinates in
-/// `unit`), every `spec.stride`-th frame; each frame must have the topology's atoms.
+/// The contact frequencies of the residue pairs of `topology` over `frames` (MD frames, in
+/// Angstrom or nm by their format), every `spec.stride`-th frame; each frame must have the
+/// topology's atoms.
 pub fn contact_frequencies(
     topology: &Topology,
     frames: impl Iterator<Item = Result<Conformation>>,
-    unit: LengthUnit,
     spec: &FrequencySpec,
     mut progress: impl FnMut(usize),
 ) -> Result<ContactFrequencies> {
@@ -571,6 +574,13 @@ pub fn contact_frequencies(
     };
     for (index, conformation) in frames.enumerate() {
         let conformation = conformation?;
+        if conformation.unit == LengthUnit::Model {
+            return Err(Error::Invalid(format!(
+                "{}: not an MD trajectory (give DCD, XTC or multi-model PDB / mmCIF files; \
+                 polymer conformations go to `polymer-map`)",
+                conformation.label
+            )));
+        }
         if conformation.positions.len() != topology.atoms.len() {
             return Err(Error::Invalid(format!(
                 "{}: {} atoms, the topology has {}",
@@ -582,7 +592,7 @@ pub fn contact_frequencies(
         if index % spec.stride != 0 {
             continue;
         }
-        chunk.push(Frame::new(&conformation, unit, spec.periodic));
+        chunk.push(Frame::new(&conformation, spec.periodic));
         measured += 1;
         if chunk.len() == CHUNK {
             flush(&mut chunk, &mut counts);
@@ -594,9 +604,6 @@ pub fn contact_frequencies(
     if measured == 0 {
         return Err(Error::Invalid("the trajectory has no frame".into()));
     }
-    let mut pairs = pairs;
-    // the atoms are an implementation detail of the measure; keep them for callers anyway
-    pairs.atoms.shrink_to_fit();
     Ok(ContactFrequencies {
         pairs,
         counts,

@@ -14,7 +14,7 @@
 use std::io::{BufReader, Read, Seek};
 use std::path::{Path, PathBuf};
 
-use super::{checked_with_cell, Conformation};
+use super::{checked, Conformation, LengthUnit};
 use crate::error::{Error, Result};
 
 /// The frames of a DCD file.
@@ -203,7 +203,7 @@ impl DcdFrames {
             self.buffer = buffer;
             self.marker(4 * n as i32, &what)?;
         }
-        checked_with_cell(label, positions, cell).map(Some)
+        checked(label, positions, cell, LengthUnit::Angstrom).map(Some)
     }
 }
 

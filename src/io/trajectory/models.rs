@@ -7,7 +7,7 @@
 use std::collections::VecDeque;
 use std::path::Path;
 
-use super::{checked, Conformation};
+use super::{checked, Conformation, LengthUnit};
 use crate::error::{Error, Result};
 use crate::io::structure::for_each_atom_site;
 
@@ -59,7 +59,7 @@ impl ModelFrames {
                 ))));
                 break;
             }
-            frames.push_back(checked(label, positions));
+            frames.push_back(checked(label, positions, None, LengthUnit::Angstrom));
         }
         if let Some(error) = error {
             return Err(error);

@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 
 use rayon::prelude::*;
 
-use super::{checked, Conformation};
+use super::{checked, Conformation, LengthUnit};
 use crate::error::{Error, Result};
 use crate::io::cool::chunks::Column;
 use crate::io::hdf5_guard::guarded;
@@ -185,7 +185,7 @@ impl PolychromBlocks {
                 let label = format!("{}::{block}", path.display());
                 let values: Vec<f64> = column.read(&raw, 0, column.len())?;
                 let positions = values.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect();
-                checked(label, positions)
+                checked(label, positions, None, LengthUnit::Model)
             })
             .collect();
         if let Some(error) = failure {

@@ -5,7 +5,7 @@
 use std::io::BufRead;
 use std::path::{Path, PathBuf};
 
-use super::{checked, coordinates, Conformation};
+use super::{checked, coordinates, Conformation, LengthUnit};
 use crate::error::{Error, Result};
 
 /// The conformations of a table, read one at a time.
@@ -128,6 +128,6 @@ impl Iterator for TableConformations {
             }
         }
         let label = format!("{}:replica {} sample {}", self.path.display(), key.0, key.1);
-        Some(checked(label, positions))
+        Some(checked(label, positions, None, LengthUnit::Model))
     }
 }

@@ -10,7 +10,7 @@
 use std::io::{Read, Seek, SeekFrom};
 use std::path::{Path, PathBuf};
 
-use super::{checked_with_cell, Conformation};
+use super::{checked, Conformation, LengthUnit};
 use crate::error::{Error, Result};
 
 /// The frames of an XTC file.
@@ -144,7 +144,7 @@ impl XtcFrames {
             [b[6], b[7], b[8]].map(f64::from),
         ];
         let cell = cell.iter().flatten().any(|&x| x != 0.0).then_some(cell);
-        checked_with_cell(label, positions, cell).map(Some)
+        checked(label, positions, cell, LengthUnit::Nanometre).map(Some)
     }
 }
 

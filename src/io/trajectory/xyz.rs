@@ -4,7 +4,7 @@
 use std::io::BufRead;
 use std::path::{Path, PathBuf};
 
-use super::{checked, coordinates, Conformation};
+use super::{checked, coordinates, Conformation, LengthUnit};
 use crate::error::{Error, Result};
 
 /// The frames of an XYZ file, read one at a time.
@@ -87,7 +87,7 @@ impl XyzFrames {
             positions.push(xyz);
         }
         let label = format!("{}:frame {frame}", self.path.display());
-        checked(label, positions).map(Some)
+        checked(label, positions, None, LengthUnit::Angstrom).map(Some)
     }
 }
 
@@ -99,9 +99,6 @@ impl Iterator for XyzFrames {
             return None;
         }
         let frame = self.frame();
-        if !matches!(frame, Ok(Some(_))) {
-            self.done = true;
-        }
-        frame.transpose()
+        super::until_done(&mut self.done, frame)
     }
 }
