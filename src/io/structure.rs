@@ -217,26 +217,22 @@ impl Structure {
 /// ```
 pub fn read_structure(path: impl AsRef<Path>) -> Result<Structure> {
     let path = path.as_ref();
-    let file = std::fs::File::open(path).map_err(|err| Error::io(path, err))?;
+    parse_structure(&structure_text(path)?, path)
+}
+
+/// The text of a PDB or mmCIF file (gzip detected from its content; bytes that are not UTF-8
+/// replaced, as old PDB files hold a few).
+pub fn structure_text(path: &Path) -> Result<String> {
     let mut bytes = Vec::new();
-    if path.extension().is_some_and(|ext| ext == "gz") {
-        flate2::read::MultiGzDecoder::new(file).read_to_end(&mut bytes)
-    } else {
-        std::io::BufReader::new(file).read_to_end(&mut bytes)
-    }
-    .map_err(|err| Error::io(path, err))?;
-    let text = String::from_utf8_lossy(&bytes);
-    parse_structure(&text, path)
+    crate::io::open_text(path)?
+        .read_to_end(&mut bytes)
+        .map_err(|err| Error::io(path, err))?;
+    Ok(String::from_utf8_lossy(&bytes).into_owned())
 }
 
 /// Parse the text of a PDB or mmCIF file; `path` is used in messages only.
 pub fn parse_structure(text: &str, path: &Path) -> Result<Structure> {
-    let first = text.lines().find(|line| !line.trim().is_empty());
-    if first.is_some_and(|line| line.trim_start().starts_with("data_")) {
-        parse_mmcif(text, path)
-    } else {
-        parse_pdb(text, path)
-    }
+    first_model(text, path, for_each_atom_site)
 }
 
 /// Accumulates atoms into residues and chains.
@@ -245,7 +241,6 @@ struct Builder {
     chains: Vec<Chain>,
     /// (chain, number, insertion, file residue name) of the residue being filled.
     current: Option<(String, i32, Option<char>, String)>,
-    atom_names: HashSet<String>,
 }
 
 struct AtomRecord<'a> {
@@ -277,7 +272,6 @@ impl Builder {
                 record.insertion,
                 record.residue_name.to_string(),
             ));
-            self.atom_names.clear();
             if self
                 .chains
                 .last()
@@ -296,9 +290,6 @@ impl Builder {
                 one_letter,
                 atoms: Vec::new(),
             });
-        }
-        if !self.atom_names.insert(record.atom.name.clone()) {
-            return; // a later alternate location of an atom already read
         }
         let chain = self.chains.last_mut().expect("a residue was started");
         let residue = chain.residues.last_mut().expect("a residue was started");
@@ -386,7 +377,8 @@ pub struct AtomSite<'a> {
 
 /// Call `site` with every atom record of a PDB or mmCIF text, in file order, whose residue name
 /// passes `keep` (records of other residues are skipped unparsed, so a malformed water does not
-/// stop a protein reader); `site` returns `false` to stop. Errors name `path` and the line.
+/// stop a protein reader), first alternate location only; `site` returns `false` to stop.
+/// Errors name `path` and the line.
 pub fn for_each_atom_site(
     text: &str,
     path: &Path,
@@ -401,6 +393,43 @@ pub fn for_each_atom_site(
     }
 }
 
+/// The first alternate location rule of the module docs, applied to the sites as they are read:
+/// an atom whose name already occurs in its residue (same model, chain, number, insertion code
+/// and residue name, no `TER` between) is a later alternate location and is not passed on.
+#[derive(Default)]
+struct FirstLocation {
+    residue: Option<(usize, String, i32, Option<char>, String)>,
+    names: HashSet<String>,
+}
+
+impl FirstLocation {
+    /// True when `site` is the first location of its atom.
+    fn first(&mut self, site: &AtomSite<'_>) -> bool {
+        let same = !site.after_ter
+            && self
+                .residue
+                .as_ref()
+                .is_some_and(|(model, chain, number, insertion, name)| {
+                    *model == site.model
+                        && chain == site.chain
+                        && *number == site.number
+                        && *insertion == site.insertion
+                        && name == site.residue_name
+                });
+        if !same {
+            self.residue = Some((
+                site.model,
+                site.chain.to_string(),
+                site.number,
+                site.insertion,
+                site.residue_name.to_string(),
+            ));
+            self.names.clear();
+        }
+        self.names.insert(site.atom.name.clone())
+    }
+}
+
 /// The PDB records of [`for_each_atom_site`] (fixed columns).
 fn pdb_sites(
     text: &str,
@@ -411,6 +440,7 @@ fn pdb_sites(
     let mut model = 0;
     let mut atoms_in_model = false;
     let mut after_ter = false;
+    let mut locations = FirstLocation::default();
     for (index, line) in text.lines().enumerate() {
         let line_number = index as u64 + 1;
         if line.starts_with("ENDMDL") {
@@ -467,7 +497,7 @@ fn pdb_sites(
             "" => element_from_name(&name),
             symbol => symbol.to_ascii_uppercase(),
         };
-        let go_on = site(AtomSite {
+        let record = AtomSite {
             model,
             chain: field(21, 22).trim(),
             number,
@@ -476,16 +506,16 @@ fn pdb_sites(
             atom: Atom { name, element, xyz },
             line: line_number,
             after_ter,
-        })?;
+        };
         after_ter = false;
-        if !go_on {
+        if locations.first(&record) && !site(record)? {
             break;
         }
     }
     Ok(())
 }
 
-/// A reader of atom sites: [`pdb_sites`] or [`mmcif_sites`].
+/// A reader of atom sites: [`for_each_atom_site`], [`pdb_sites`] or [`mmcif_sites`].
 type SiteReader = fn(
     &str,
     &Path,
@@ -623,6 +653,7 @@ fn mmcif_sites(
 
     let mut model_index = 0;
     let mut current_model: Option<String> = None;
+    let mut locations = FirstLocation::default();
     let mut row: Vec<&str> = Vec::with_capacity(columns.len());
     let mut row_line = index as u64 + 1;
     while index < lines.len() {
@@ -696,7 +727,7 @@ fn mmcif_sites(
                 parse_coordinate(row[y], path, row_line, "Cartn_y", atom)?,
                 parse_coordinate(row[z], path, row_line, "Cartn_z", atom)?,
             ];
-            let go_on = site(AtomSite {
+            let record = AtomSite {
                 model: model_index,
                 chain: row[chain],
                 number: residue_number,
@@ -709,8 +740,8 @@ fn mmcif_sites(
                 },
                 line: row_line,
                 after_ter: false,
-            })?;
-            if !go_on {
+            };
+            if locations.first(&record) && !site(record)? {
                 return Ok(());
             }
         }

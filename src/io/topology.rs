@@ -5,9 +5,9 @@
 //! Unlike [`crate::io::structure`], nothing is dropped (waters, ions, ligands, hydrogens stay,
 //! so atom `k` here is atom `k` of each frame) and residue names are kept as written (`HSD`,
 //! `HIE` ...). Rules: a new residue starts when the chain id, residue number, insertion code or
-//! residue name changes; a new chain when the chain id changes or after a `TER` record; an
-//! atom whose name already occurs in its residue is a later alternate location and is
-//! skipped (so are its coordinates in the trajectory readers of PDB models). Elements come
+//! residue name changes; a new chain when the chain id changes or after a `TER` record; later
+//! alternate locations are skipped by the shared atom-record reader
+//! ([`crate::io::structure::for_each_atom_site`]), in the trajectory readers of PDB models too. Elements come
 //! from PDB columns 77-78 (mmCIF `type_symbol`), else from the atom name.
 
 use std::path::Path;
@@ -62,16 +62,12 @@ pub struct Topology {
 /// ```
 pub fn read_topology(path: impl AsRef<Path>) -> Result<Topology> {
     let path = path.as_ref();
-    let mut text = String::new();
-    std::io::Read::read_to_string(&mut crate::io::open_text(path)?, &mut text)
-        .map_err(|e| Error::io(path, e))?;
-    parse_topology(&text, path)
+    parse_topology(&crate::io::structure::structure_text(path)?, path)
 }
 
 /// Parse the topology in `text` (`path` names it in messages).
 pub fn parse_topology(text: &str, path: &Path) -> Result<Topology> {
     let mut topology = Topology::default();
-    let mut names = std::collections::HashSet::new();
     let mut current: Option<(String, i32, Option<char>, String)> = None;
     for_each_atom_site(text, path, &|_| true, &mut |site| {
         if site.model > 0 {
@@ -99,18 +95,15 @@ pub fn parse_topology(text: &str, path: &Path) -> Result<Topology> {
                 insertion: site.insertion,
                 atoms: start..start,
             });
-            names.clear();
             current = Some(key);
         }
-        if names.insert(site.atom.name.clone()) {
-            let residue = topology.residues.len() - 1;
-            topology.atoms.push(TopologyAtom {
-                name: site.atom.name,
-                element: site.atom.element,
-                residue,
-            });
-            topology.residues[residue].atoms.end = topology.atoms.len();
-        }
+        let residue = topology.residues.len() - 1;
+        topology.atoms.push(TopologyAtom {
+            name: site.atom.name,
+            element: site.atom.element,
+            residue,
+        });
+        topology.residues[residue].atoms.end = topology.atoms.len();
         Ok(true)
     })?;
     if topology.atoms.is_empty() {

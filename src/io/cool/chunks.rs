@@ -383,7 +383,8 @@ impl Column {
                     })
                     .collect::<Result<_>>()?;
                 // tiles never written hold the fill value (0)
-                let mut all = vec![T::default(); self.len];
+                out.clear();
+                out.resize(self.len, T::default());
                 let n_rows = self.len / width;
                 for ((row, column, _), tile) in tiles.iter().zip(&decoded) {
                     for r in 0..*rows {
@@ -393,12 +394,12 @@ impl Column {
                         }
                         let used = (*columns).min(width.saturating_sub(*column));
                         let start = target_row * width + column;
-                        all[start..start + used]
+                        out[start..start + used]
                             .copy_from_slice(&tile[r * columns..r * columns + used]);
                     }
                 }
-                out.clear();
-                out.extend_from_slice(&all[lo..hi]);
+                out.truncate(hi);
+                out.drain(..lo);
                 Ok(())
             }
         }

@@ -9,7 +9,7 @@ use std::path::Path;
 
 use super::{checked, Conformation, LengthUnit};
 use crate::error::{Error, Result};
-use crate::io::structure::for_each_atom_site;
+use crate::io::structure::{for_each_atom_site, structure_text};
 
 /// The models of a PDB or mmCIF file.
 pub struct ModelFrames {
@@ -19,37 +19,17 @@ pub struct ModelFrames {
 impl ModelFrames {
     /// Read the models of the file at `path`.
     pub fn open(path: &Path) -> Result<ModelFrames> {
-        let mut text = String::new();
-        std::io::Read::read_to_string(&mut crate::io::open_text(path)?, &mut text)
-            .map_err(|e| Error::io(path, e))?;
+        let text = structure_text(path)?;
         let mut models: Vec<Vec<[f64; 3]>> = Vec::new();
-        // the first model's atoms (residue, name) with their alternate locations dropped
-        let mut seen = std::collections::HashSet::new();
-        let mut frames = VecDeque::new();
-        let mut error = None;
-        let mut last_model = usize::MAX;
-        let result = for_each_atom_site(&text, path, &|_| true, &mut |site| {
-            if site.model != last_model {
-                last_model = site.model;
-                seen.clear();
+        for_each_atom_site(&text, path, &|_| true, &mut |site| {
+            if models.len() <= site.model {
                 models.push(Vec::new());
             }
-            let key = (
-                site.chain.to_string(),
-                site.number,
-                site.insertion,
-                site.residue_name.to_string(),
-                site.atom.name.clone(),
-            );
-            if seen.insert(key) {
-                models.last_mut().expect("pushed").push(site.atom.xyz);
-            }
+            models.last_mut().expect("pushed").push(site.atom.xyz);
             Ok(true)
-        });
-        if let Err(e) = result {
-            error = Some(e);
-        }
+        })?;
         let first = models.first().map_or(0, Vec::len);
+        let mut frames = VecDeque::new();
         for (k, positions) in models.into_iter().enumerate() {
             let label = format!("{}:model {}", path.display(), k + 1);
             if positions.len() != first {
@@ -60,9 +40,6 @@ impl ModelFrames {
                 break;
             }
             frames.push_back(checked(label, positions, None, LengthUnit::Angstrom));
-        }
-        if let Some(error) = error {
-            return Err(error);
         }
         if frames.is_empty() {
             return Err(Error::format(path, "no ATOM / HETATM record (no model)"));

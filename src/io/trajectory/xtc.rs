@@ -41,7 +41,8 @@ impl XtcFrames {
             done: false,
             decoded: molly::Frame::default(),
         };
-        if length < 4 || frames.peek(4)?.get(..4).map(be) != Some(1995) {
+        let magic = frames.peek(4)?.get(..4).map(be);
+        if !magic.is_some_and(|m| MAGIC.contains(&m)) {
             return Err(Error::format(
                 path,
                 "not an XTC file (no magic number 1995)",
