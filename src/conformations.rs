@@ -57,19 +57,15 @@ fn first_beads<I: Iterator<Item = Result<Conformation>>>(
     }
 }
 
-/// The next `size` conformations (fewer at the end), each with `n_beads` beads.
-fn read_chunk(
-    conformations: &mut dyn Iterator<Item = Result<Conformation>>,
-    size: usize,
-    n_beads: usize,
-) -> Result<Vec<Conformation>> {
-    let chunk: Vec<Conformation> = conformations.take(size).collect::<Result<_>>()?;
-    if let Some(c) = chunk.iter().find(|c| c.positions.len() != n_beads) {
+/// Every conformation has the first one's `n_beads` beads: `keep` of
+/// [`crate::io::trajectory::for_each_chunk`].
+fn same_beads(c: &Conformation, n_beads: usize) -> Result<bool> {
+    if c.positions.len() != n_beads {
         return Err(Error::Invalid(format!(
             "{}: {} beads, where the first conformation has {n_beads}",
             c.label,
             c.positions.len()
         )));
     }
-    Ok(chunk)
+    Ok(true)
 }

@@ -5,7 +5,7 @@ use rayon::prelude::*;
 
 use crate::error::{Error, Result};
 use crate::genome::{BinTable, Chrom};
-use crate::io::trajectory::Conformation;
+use crate::io::trajectory::{for_each_chunk, Conformation};
 use crate::matrix::{ContactMatrix, CountType, MatrixBuilder};
 use crate::sim::cells::{CellList, Space};
 
@@ -225,7 +225,6 @@ pub fn contact_map(
             .map(|_| std::sync::atomic::AtomicU64::new(0))
             .collect()
     });
-    let mut done = 0;
     // each chunk's contacts are counted on the pool while this thread reads the next chunk
     let count_chunk = |chunk: &[Conformation], counts: &mut Vec<(u64, u64)>| {
         if let Some(total) = &dense {
@@ -259,21 +258,17 @@ pub fn contact_map(
             *counts = merge_counts(counts, &run_lengths(&keys));
         }
     };
-    let read_chunk = |conformations: &mut dyn Iterator<Item = Result<Conformation>>| {
-        super::read_chunk(conformations, chunk_size, n_beads)
-    };
-    let mut chunk = read_chunk(&mut conformations)?;
-    while !chunk.is_empty() {
-        let next = std::thread::scope(|scope| {
-            let counting = scope.spawn(|| count_chunk(&chunk, &mut counts));
-            let next = read_chunk(&mut conformations);
-            counting.join().expect("the counting thread does not panic");
-            next
-        })?;
-        done += chunk.len();
-        progress(done);
-        chunk = next;
-    }
+    let mut done = 0;
+    for_each_chunk(
+        &mut conformations,
+        chunk_size,
+        |_, c| super::same_beads(c, n_beads),
+        |chunk| {
+            count_chunk(chunk, &mut counts);
+            done += chunk.len();
+            progress(done);
+        },
+    )?;
     let pixels = match dense {
         Some(total) => {
             let n = bins.n_bins();

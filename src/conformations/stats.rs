@@ -17,7 +17,7 @@ use rayon::prelude::*;
 
 use super::contact_pairs;
 use crate::error::{Error, Result};
-use crate::io::trajectory::Conformation;
+use crate::io::trajectory::{for_each_chunk, Conformation};
 use crate::sim::cells::CellList;
 
 /// polychrom's `generate_bins(N, start=4, bins_per_order_magn=10)`: log-spaced separations from
@@ -195,38 +195,39 @@ pub fn ensemble_stats(
     let mut sums_rg2 = vec![0.0; bins.len()];
     let mut mids = Vec::new();
     let mut rg2s = Vec::new();
-    loop {
-        let chunk = super::read_chunk(&mut conformations, chunk_size, n_beads)?;
-        if chunk.is_empty() {
-            break;
-        }
-        let results: Vec<_> = chunk
-            .par_iter()
-            .map_init(CellList::new, |cells, c| {
-                let (m, p) = contact_scaling(&c.positions, &bins, cutoff, cells);
-                (
-                    m,
-                    p,
-                    r2_scaling(&c.positions, &bins),
-                    rg2_scaling(&c.positions, &bins),
-                    rg2(&c.positions),
-                )
-            })
-            .collect();
-        for (c, (m, p, r2, rg2s_of_s, g)) in chunk.iter().zip(results) {
-            mids = m;
-            for (s, v) in sums_p.iter_mut().zip(p) {
-                *s += v;
+    for_each_chunk(
+        &mut conformations,
+        chunk_size,
+        |_, c| super::same_beads(c, n_beads),
+        |chunk| {
+            let results: Vec<_> = chunk
+                .par_iter()
+                .map_init(CellList::new, |cells, c| {
+                    let (m, p) = contact_scaling(&c.positions, &bins, cutoff, cells);
+                    (
+                        m,
+                        p,
+                        r2_scaling(&c.positions, &bins),
+                        rg2_scaling(&c.positions, &bins),
+                        rg2(&c.positions),
+                    )
+                })
+                .collect();
+            for (c, (m, p, r2, rg2s_of_s, g)) in chunk.iter().zip(results) {
+                mids = m;
+                for (s, v) in sums_p.iter_mut().zip(p) {
+                    *s += v;
+                }
+                for (s, v) in sums_r2.iter_mut().zip(r2) {
+                    *s += v;
+                }
+                for (s, v) in sums_rg2.iter_mut().zip(rg2s_of_s) {
+                    *s += v;
+                }
+                rg2s.push((c.label.clone(), g));
             }
-            for (s, v) in sums_r2.iter_mut().zip(r2) {
-                *s += v;
-            }
-            for (s, v) in sums_rg2.iter_mut().zip(rg2s_of_s) {
-                *s += v;
-            }
-            rg2s.push((c.label.clone(), g));
-        }
-    }
+        },
+    )?;
     let count = rg2s.len() as f64;
     Ok(EnsembleStats {
         n_beads,

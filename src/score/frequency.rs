@@ -34,7 +34,7 @@ use rayon::prelude::*;
 
 use crate::error::{Error, Result};
 use crate::io::topology::Topology;
-use crate::io::trajectory::{Conformation, LengthUnit};
+use crate::io::trajectory::{for_each_chunk, Conformation, LengthUnit};
 
 /// How the distance between two residues is measured (MDTraj's schemes, and CASP's Cb).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -528,7 +528,7 @@ pub fn contact_frequencies(
     topology: &Topology,
     frames: impl Iterator<Item = Result<Conformation>>,
     spec: &FrequencySpec,
-    mut progress: impl FnMut(usize),
+    mut progress: impl FnMut(usize) + Send,
 ) -> Result<ContactFrequencies> {
     if !(spec.cutoff_angstrom.is_finite() && spec.cutoff_angstrom > 0.0) {
         return Err(Error::Invalid(format!(
@@ -550,30 +550,7 @@ pub fn contact_frequencies(
         })
         .collect();
     let mut counts = vec![0u32; pairs.pairs.len()];
-    let mut measured = 0;
-    let mut chunk: Vec<Frame> = Vec::with_capacity(CHUNK);
-    let flush = |chunk: &mut Vec<Frame>, counts: &mut Vec<u32>| {
-        let partial = chunk
-            .par_iter()
-            .fold(
-                || vec![0u32; pairs.pairs.len()],
-                |mut local, frame| {
-                    count_frame(frame, &pairs, single.as_deref(), cutoff, &mut local);
-                    local
-                },
-            )
-            .reduce(
-                || vec![0u32; pairs.pairs.len()],
-                |mut a, b| {
-                    a.iter_mut().zip(b).for_each(|(x, y)| *x += y);
-                    a
-                },
-            );
-        counts.iter_mut().zip(partial).for_each(|(x, y)| *x += y);
-        chunk.clear();
-    };
-    for (index, conformation) in frames.enumerate() {
-        let conformation = conformation?;
+    let keep = |index: usize, conformation: &Conformation| {
         if conformation.unit == LengthUnit::Model {
             return Err(Error::Invalid(format!(
                 "{}: not an MD trajectory (give DCD, XTC or multi-model PDB / mmCIF files; \
@@ -589,18 +566,34 @@ pub fn contact_frequencies(
                 topology.atoms.len()
             )));
         }
-        if index % spec.stride != 0 {
-            continue;
-        }
-        chunk.push(Frame::new(&conformation, spec.periodic));
-        measured += 1;
-        if chunk.len() == CHUNK {
-            flush(&mut chunk, &mut counts);
-            progress(measured);
-        }
-    }
-    flush(&mut chunk, &mut counts);
-    progress(measured);
+        Ok(index.is_multiple_of(spec.stride))
+    };
+    let mut done = 0;
+    // each chunk's frames are measured on the pool while this thread reads the next chunk
+    let work = |chunk: &[Conformation]| {
+        let partial = chunk
+            .par_iter()
+            .fold(
+                || vec![0u32; pairs.pairs.len()],
+                |mut local, conformation| {
+                    let frame = Frame::new(conformation, spec.periodic);
+                    count_frame(&frame, &pairs, single.as_deref(), cutoff, &mut local);
+                    local
+                },
+            )
+            .reduce(
+                || vec![0u32; pairs.pairs.len()],
+                |mut a, b| {
+                    a.iter_mut().zip(b).for_each(|(x, y)| *x += y);
+                    a
+                },
+            );
+        counts.iter_mut().zip(partial).for_each(|(x, y)| *x += y);
+        done += chunk.len();
+        progress(done);
+    };
+    let mut frames = frames;
+    let measured = for_each_chunk(&mut frames, CHUNK, keep, work)?;
     if measured == 0 {
         return Err(Error::Invalid("the trajectory has no frame".into()));
     }
