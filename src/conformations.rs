@@ -14,8 +14,9 @@
 //! therefore twice the count of contacts within a bin; here the upper triangle is the map (a
 //! `.cool` stores each contact once: the diagonal pixel is the number of contacts within the bin).
 //!
-//! Conformations stream: a chunk of them is read, their contacts found in parallel and counted,
-//! and the next chunk read, so memory holds one chunk and the map's pixels.
+//! Conformations stream ([`crate::io::trajectory::for_each_chunk`]): a chunk's contacts are
+//! found in parallel and counted while the next chunk is read, so memory holds two chunks and
+//! the map's pixels.
 //!
 //! Polymer statistics of the same conformations ([`stats`]): P(s) as polychrom's
 //! `contact_scaling`, `<R^2(s)>` and `<Rg^2(s)>` of subchains as its `R2_scaling` and

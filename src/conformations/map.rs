@@ -192,7 +192,7 @@ fn triangle_index(a: u32, b: u32, n: usize) -> usize {
     a * n - a * (a.saturating_sub(1)) / 2 - a + b
 }
 
-/// Count the contacts of `conformations` (read one chunk at a time, each chunk's conformations
+/// Count the contacts of `conformations` (read a chunk at a time, each chunk's conformations
 /// in parallel) into the map of `params`; `progress` is told the number of conformations done.
 /// Every conformation must have the beads of the first; the first error of the stream ends the
 /// count.

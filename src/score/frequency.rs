@@ -27,8 +27,8 @@
 //!
 //! Speed: a residue pair whose bounding spheres (centre and radius of its atoms, double
 //! precision, with a margin of 1e-3 nm) are farther apart than the cutoff cannot be in contact
-//! and its atom pairs are not measured; frames are measured in parallel, read in chunks
-//! (memory bounded by one chunk).
+//! and its atom pairs are not measured; a chunk's frames are measured in parallel while the next
+//! chunk is read (memory bounded by two chunks).
 
 use rayon::prelude::*;
 
@@ -518,7 +518,7 @@ fn sqrt_threshold(cutoff: f32) -> f32 {
     x
 }
 
-/// Frames measured per parallel step (the memory bound: one chunk of frames).
+/// Frames measured per parallel step (the memory bound: two chunks of frames).
 const CHUNK: usize = 256;
 
 /// The contact frequencies of the residue pairs of `topology` over `frames` (MD frames, in
