@@ -148,9 +148,9 @@ fn open_one(input: &str) -> Result<Box<dyn Iterator<Item = Result<Conformation>>
     Ok(match TrajectoryFormat::detect(input)? {
         TrajectoryFormat::Polychrom => Box::new(polychrom::PolychromBlocks::open(input)?),
         TrajectoryFormat::Table => Box::new(table::TableConformations::open(Path::new(input))?),
-        TrajectoryFormat::Xyz => Box::new(xyz::XyzFrames::open(Path::new(input))?),
-        TrajectoryFormat::Dcd => Box::new(dcd::DcdFrames::open(Path::new(input))?),
-        TrajectoryFormat::Xtc => Box::new(xtc::XtcFrames::open(Path::new(input))?),
+        TrajectoryFormat::Xyz => Frames::boxed(xyz::XyzFrames::open(Path::new(input))?),
+        TrajectoryFormat::Dcd => Frames::boxed(dcd::DcdFrames::open(Path::new(input))?),
+        TrajectoryFormat::Xtc => Frames::boxed(xtc::XtcFrames::open(Path::new(input))?),
         TrajectoryFormat::Models => Box::new(models::ModelFrames::open(Path::new(input))?),
     })
 }
@@ -223,14 +223,42 @@ pub fn for_each_chunk(
     Ok(total)
 }
 
-/// The item of a frame reader's `next`: the frame, or `None` (and `done`) at the end or after an
-/// error, which is returned once.
-pub(crate) fn until_done(
-    done: &mut bool,
-    frame: Result<Option<Conformation>>,
-) -> Option<Result<Conformation>> {
-    *done = !matches!(frame, Ok(Some(_)));
-    frame.transpose()
+/// A reader of one frame at a time: `Ok(None)` at the end.
+pub trait ReadFrame {
+    /// The next frame.
+    fn read_frame(&mut self) -> Result<Option<Conformation>>;
+}
+
+/// The frames of a [`ReadFrame`] as an iterator, ended by the end of the file or by the first
+/// error (returned once).
+struct Frames<R> {
+    reader: R,
+    done: bool,
+}
+
+impl<R: ReadFrame> Frames<R> {
+    fn boxed(reader: R) -> Box<dyn Iterator<Item = Result<Conformation>>>
+    where
+        R: 'static,
+    {
+        Box::new(Frames {
+            reader,
+            done: false,
+        })
+    }
+}
+
+impl<R: ReadFrame> Iterator for Frames<R> {
+    type Item = Result<Conformation>;
+
+    fn next(&mut self) -> Option<Result<Conformation>> {
+        if self.done {
+            return None;
+        }
+        let frame = self.reader.read_frame();
+        self.done = !matches!(frame, Ok(Some(_)));
+        frame.transpose()
+    }
 }
 
 /// A conformation's positions checked: at least one bead, every coordinate finite.

@@ -27,7 +27,6 @@ pub struct DcdFrames {
     fourth: bool,
     frame: usize,
     remaining: u64,
-    done: bool,
     buffer: Vec<u8>,
 }
 
@@ -60,7 +59,6 @@ impl DcdFrames {
             fourth: false,
             frame: 0,
             remaining: 0,
-            done: false,
             buffer: Vec::new(),
         };
         let mut header = [0u8; 84];
@@ -237,15 +235,9 @@ fn cell_vectors(lengths: [f64; 3], angles: [f64; 3]) -> Option<[[f64; 3]; 3]> {
     Some([[a, 0.0, 0.0], [bx, by, 0.0], [cx, cy, cz]])
 }
 
-impl Iterator for DcdFrames {
-    type Item = Result<Conformation>;
-
-    fn next(&mut self) -> Option<Result<Conformation>> {
-        if self.done {
-            return None;
-        }
-        let frame = self.next_frame();
-        super::until_done(&mut self.done, frame)
+impl super::ReadFrame for DcdFrames {
+    fn read_frame(&mut self) -> Result<Option<Conformation>> {
+        self.next_frame()
     }
 }
 

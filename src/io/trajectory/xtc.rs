@@ -20,7 +20,6 @@ pub struct XtcFrames {
     length: u64,
     natoms: Option<usize>,
     frame: usize,
-    done: bool,
     decoded: molly::Frame,
 }
 
@@ -38,7 +37,6 @@ impl XtcFrames {
             length,
             natoms: None,
             frame: 0,
-            done: false,
             decoded: molly::Frame::default(),
         };
         let magic = frames.peek(4)?.get(..4).map(be);
@@ -175,14 +173,8 @@ fn quietly<T>(f: impl FnOnce() -> T) -> Option<T> {
     result.ok()
 }
 
-impl Iterator for XtcFrames {
-    type Item = Result<Conformation>;
-
-    fn next(&mut self) -> Option<Result<Conformation>> {
-        if self.done {
-            return None;
-        }
-        let frame = self.next_frame();
-        super::until_done(&mut self.done, frame)
+impl super::ReadFrame for XtcFrames {
+    fn read_frame(&mut self) -> Result<Option<Conformation>> {
+        self.next_frame()
     }
 }

@@ -13,7 +13,6 @@ pub struct XyzFrames {
     lines: std::io::Lines<Box<dyn BufRead>>,
     line_no: u64,
     frame: usize,
-    done: bool,
 }
 
 impl XyzFrames {
@@ -24,7 +23,6 @@ impl XyzFrames {
             lines: crate::io::open_text(path)?.lines(),
             line_no: 0,
             frame: 0,
-            done: false,
         })
     }
 
@@ -91,14 +89,8 @@ impl XyzFrames {
     }
 }
 
-impl Iterator for XyzFrames {
-    type Item = Result<Conformation>;
-
-    fn next(&mut self) -> Option<Result<Conformation>> {
-        if self.done {
-            return None;
-        }
-        let frame = self.frame();
-        super::until_done(&mut self.done, frame)
+impl super::ReadFrame for XyzFrames {
+    fn read_frame(&mut self) -> Result<Option<Conformation>> {
+        self.frame()
     }
 }
