@@ -22,6 +22,7 @@ pub mod atomic;
 pub mod bed;
 pub mod cool;
 pub mod fasta;
+pub mod frequencies;
 pub mod hdf5_guard;
 pub mod hic;
 pub mod hicexplorer;

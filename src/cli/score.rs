@@ -23,8 +23,8 @@ use contactmap::score::lists::{
     parse_length, parse_list_size, parse_range, LabelledSize, NamedRange,
 };
 use contactmap::score::target::{
-    curves_tsv, load_prediction, score_prediction, scores_json, scores_text, scores_tsv, Placed,
-    ScorePlan,
+    curves_tsv, load_prediction, score_prediction, scores_json, scores_text, scores_tsv,
+    EnsembleTruth, Placed, ScorePlan,
 };
 
 /// Arguments of `contactmap score`.
@@ -221,6 +221,10 @@ Examples (formats are detected from the content; --format overrides):
       --fasta 1guu.fasta
   contactmap score contacts --structure t.pdb --fasta t.fasta preds/*.rr \\
       --tsv -o scores.tsv
+  # against an MD ensemble: pairs in contact in at least 30% of the frames
+  contactmap contacts --trajectory run.xtc --topology t.pdb -o freq.tsv
+  contactmap score contacts --structure t.pdb --fasta t.fasta t.rr \\
+      --frequencies freq.tsv --truth-frequency 0.3
 
 Other tools' conventions:
   ConKit:    --le (d <= 8); its documented toxd example is
@@ -266,6 +270,21 @@ pub struct ContactsScoreArgs {
     /// The contact definition.
     #[command(flatten)]
     pub definition: DefinitionArgs,
+    /// Score against an MD ensemble: the contact frequency table `contactmap contacts
+    /// --trajectory` wrote (its topology is --structure, or a structure with the same residue
+    /// numbers); a true contact is a pair in contact in at least --truth-frequency of the
+    /// frames. The structure still places the residues on the sequence and gives Xd its
+    /// distances; pairs the table lacks are unobserved.
+    #[arg(long, value_name = "TSV", help_heading = "Truth from an MD ensemble")]
+    pub frequencies: Option<PathBuf>,
+    /// The smallest fraction of frames of a true contact (with --frequencies) [default: 0.5].
+    #[arg(
+        long,
+        value_name = "F",
+        requires = "frequencies",
+        help_heading = "Truth from an MD ensemble"
+    )]
+    pub truth_frequency: Option<f64>,
 }
 
 /// Separation ranges, list sizes and their rounding, shared by `score contacts` and
@@ -315,6 +334,7 @@ fn run_contacts(args: &ContactsScoreArgs) -> Result<()> {
         .target
         .files()
         .chain(args.predictions.iter().map(PathBuf::as_path))
+        .chain(args.frequencies.as_deref())
         .collect();
     refuse_overwrites(&inputs, &[args.out.as_deref(), args.curve.as_deref()])?;
     let (mut ranges, sizes) = args.lists.parse()?;
@@ -338,6 +358,15 @@ fn run_contacts(args: &ContactsScoreArgs) -> Result<()> {
         curve_size,
     };
     let (fasta, chain) = args.target.read()?;
+    let ensemble = args
+        .frequencies
+        .as_deref()
+        .map(|path| EnsembleTruth::read(path, args.truth_frequency.unwrap_or(0.5)))
+        .transpose()?;
+    let definition = match &ensemble {
+        Some(ensemble) => ensemble.describe(&args.definition.definition()),
+        None => args.definition.describe(),
+    };
     // One placement per distinct sequence (usually one for all predictions).
     let mut placements: Vec<(Option<String>, Placed)> = Vec::new();
     let mut reports = Vec::with_capacity(args.predictions.len());
@@ -356,6 +385,9 @@ fn run_contacts(args: &ContactsScoreArgs) -> Result<()> {
                 let mut placed = args
                     .target
                     .place(&chain, &prediction, path, &args.definition)?;
+                if let Some(ensemble) = &ensemble {
+                    ensemble.apply(&args.target.structure, &chain, &mut placed)?;
+                }
                 warnings.extend(placed.warning.take());
                 // The table shows the register; other outputs get it on standard error.
                 let table_on_stdout = !(args.tsv || args.json || args.out.is_some());
@@ -382,7 +414,7 @@ fn run_contacts(args: &ContactsScoreArgs) -> Result<()> {
     if args.json {
         let text = scores_json(
             &args.target.structure.display().to_string(),
-            &args.definition.describe(),
+            &definition,
             &reports,
         );
         out.write_all(text.as_bytes())?;
@@ -390,7 +422,7 @@ fn run_contacts(args: &ContactsScoreArgs) -> Result<()> {
         let text = scores_text(
             &args.target.structure.display().to_string(),
             &chain.id,
-            &args.definition.describe(),
+            &definition,
             &plan,
             &reports,
         );

@@ -209,6 +209,17 @@ pub struct TrueContacts {
     /// Condensed upper triangle of residue distances (index pairs `a < b`).
     distances: Vec<f64>,
     definition: ContactDefinition,
+    /// The contacts of an ensemble, when they replace the distances' ([`TrueContacts::
+    /// with_frequencies`]).
+    ensemble: Option<Ensemble>,
+}
+
+/// The contact frequencies of an ensemble, per condensed pair (NaN: not measured), and the
+/// smallest frequency of a contact.
+#[derive(Clone, Debug)]
+struct Ensemble {
+    frequencies: Vec<f64>,
+    threshold: f64,
 }
 
 fn distance(a: &[f64; 3], b: &[f64; 3]) -> f64 {
@@ -289,7 +300,70 @@ impl TrueContacts {
             slot,
             distances,
             definition,
+            ensemble: None,
         })
+    }
+
+    /// The contacts of an ensemble (an MD trajectory) instead of the structure's: a pair is a
+    /// contact when its `frequency` (the fraction of frames in contact) is at least
+    /// `threshold`. `frequencies` gives `(i, j, frequency)` by residue number; pairs it does
+    /// not give are unmeasured, scored as unobserved ([`TrueContacts::distance`] is `None`);
+    /// pairs with a residue not observed here are ignored. The structure's distances remain
+    /// for the distance-based measures (Xd).
+    ///
+    /// ```
+    /// use contactmap::io::structure::read_structure;
+    /// use contactmap::score::contacts::{ContactDefinition, TrueContacts};
+    /// let structure = read_structure("data/protein/toxd/toxd.pdb")?;
+    /// let truth = TrueContacts::from_chain(structure.chain(None)?, ContactDefinition::default())?;
+    /// let ensemble = truth.clone().with_frequencies([(1, 30, 0.75), (2, 40, 0.25)], 0.5)?;
+    /// assert_eq!((ensemble.is_contact(1, 30), ensemble.is_contact(40, 2)), (Some(true), Some(false)));
+    /// // not in the ensemble's table: unmeasured
+    /// assert_eq!((ensemble.is_contact(1, 31), ensemble.distance(1, 31)), (None, None));
+    /// assert_eq!(ensemble.distance(1, 30), truth.distance(1, 30));
+    /// # Ok::<(), contactmap::Error>(())
+    /// ```
+    pub fn with_frequencies(
+        mut self,
+        frequencies: impl IntoIterator<Item = (i32, i32, f64)>,
+        threshold: f64,
+    ) -> Result<Self> {
+        if !(threshold > 0.0 && threshold <= 1.0) {
+            return Err(Error::Invalid(format!(
+                "the contact frequency threshold must be a fraction of frames above 0 and at \
+                 most 1, got {threshold}"
+            )));
+        }
+        let mut measured = vec![f64::NAN; self.distances.len()];
+        for (i, j, frequency) in frequencies {
+            if let (Some(a), Some(b)) = (self.index(i), self.index(j)) {
+                if a != b {
+                    measured[self.condensed(a, b)] = frequency;
+                }
+            }
+        }
+        self.ensemble = Some(Ensemble {
+            frequencies: measured,
+            threshold,
+        });
+        Ok(self)
+    }
+
+    /// Whether the pair at condensed `index` is a contact; `None` when an ensemble did not
+    /// measure it.
+    fn contact_at(&self, index: usize) -> Option<bool> {
+        match &self.ensemble {
+            None => Some(self.definition.is_contact(self.distances[index])),
+            Some(ensemble) => {
+                let frequency = ensemble.frequencies[index];
+                (!frequency.is_nan()).then_some(frequency >= ensemble.threshold)
+            }
+        }
+    }
+
+    /// The ensemble's frequency threshold, when the contacts are an ensemble's.
+    pub fn frequency_threshold(&self) -> Option<f64> {
+        self.ensemble.as_ref().map(|ensemble| ensemble.threshold)
     }
 
     /// The contact definition used.
@@ -336,16 +410,23 @@ impl TrueContacts {
     }
 
     /// Distance in Angstrom between residues `i` and `j` (author numbers), or `None` when
-    /// either is not observed or `i == j`.
+    /// either is not observed (or an ensemble did not measure the pair) or `i == j`.
     pub fn distance(&self, i: i32, j: i32) -> Option<f64> {
-        let (a, b) = (self.index(i)?, self.index(j)?);
-        (a != b).then(|| self.distances[self.condensed(a, b)])
+        let index = self.pair_index(i, j)?;
+        self.contact_at(index)?;
+        Some(self.distances[index])
     }
 
-    /// Whether `i` and `j` are in contact, or `None` when either is not observed or `i == j`.
+    /// The condensed index of the pair of residues `i` and `j` when both are observed and differ.
+    fn pair_index(&self, i: i32, j: i32) -> Option<usize> {
+        let (a, b) = (self.index(i)?, self.index(j)?);
+        (a != b).then(|| self.condensed(a, b))
+    }
+
+    /// Whether `i` and `j` are in contact, or `None` when either is not observed (or the
+    /// ensemble did not measure them) or `i == j`.
     pub fn is_contact(&self, i: i32, j: i32) -> Option<bool> {
-        self.distance(i, j)
-            .map(|distance| self.definition.is_contact(distance))
+        self.contact_at(self.pair_index(i, j)?)
     }
 
     /// The true contacts `(i, j)`, `i < j`, whose separation is in `range`, sorted.
@@ -356,7 +437,7 @@ impl TrueContacts {
         for a in 0..n {
             for b in a + 1..n {
                 let (i, j) = (self.numbers[a], self.numbers[b]);
-                if range.contains(i, j) && self.definition.is_contact(self.distances[index]) {
+                if range.contains(i, j) && self.contact_at(index) == Some(true) {
                     contacts.push((i, j));
                 }
                 index += 1;
@@ -379,7 +460,9 @@ impl TrueContacts {
         let mut index = 0;
         for a in 0..n {
             for b in a + 1..n {
-                if range.contains(self.numbers[a], self.numbers[b]) {
+                if range.contains(self.numbers[a], self.numbers[b])
+                    && self.contact_at(index).is_some()
+                {
                     total += 1;
                     if let Some(bin) = xd_bin(self.distances[index]) {
                         counts[bin] += 1;
@@ -624,19 +707,15 @@ pub fn ranked_predictions(
     range: SeparationRange,
     drop_unobserved: bool,
 ) -> Vec<RankedPair> {
-    let definition = *truth.definition();
     // Dropping pairs after a stable sort leaves the same order as dropping them before.
     rank_pairs(prediction, range)
         .into_iter()
-        .map(|(i, j, score)| {
-            let distance_angstrom = truth.distance(i, j);
-            RankedPair {
-                i,
-                j,
-                score,
-                distance_angstrom,
-                is_contact: distance_angstrom.is_some_and(|d| definition.is_contact(d)),
-            }
+        .map(|(i, j, score)| RankedPair {
+            i,
+            j,
+            score,
+            distance_angstrom: truth.distance(i, j),
+            is_contact: truth.is_contact(i, j) == Some(true),
         })
         .filter(|pair| pair.distance_angstrom.is_some() || !drop_unobserved)
         .collect()
@@ -708,14 +787,12 @@ pub fn score_contacts(
 ) -> Result<ContactScore> {
     params.check()?;
     let length = target_length(truth, prediction, params.length)?;
-    // (score, distance: None when a residue is unobserved), still in rank order.
-    let ranked: Vec<(f64, Option<f64>)> =
+    // (contact, distance: None when a residue is unobserved), still in rank order.
+    let ranked: Vec<(bool, Option<f64>)> =
         ranked_predictions(truth, prediction, params.range, params.drop_unobserved)
             .into_iter()
-            .map(|pair| (pair.score, pair.distance_angstrom))
+            .map(|pair| (pair.is_contact, pair.distance_angstrom))
             .collect();
-    let definition = *truth.definition();
-    let is_true = |distance: &Option<f64>| distance.is_some_and(|d| definition.is_contact(d));
     let n_true = truth.n_contacts(params.range);
     let (all_bins, n_pairs) = truth.distance_histogram(params.range);
     let list_size = |size: ListSize| list_length(size, length, params.rounding, n_true);
@@ -726,7 +803,7 @@ pub fn score_contacts(
             let k = list_size(size);
             let n_scored = k.min(ranked.len());
             let top = &ranked[..n_scored];
-            let tp = top.iter().filter(|(_, distance)| is_true(distance)).count();
+            let tp = top.iter().filter(|(contact, _)| *contact).count();
             let observed = top
                 .iter()
                 .filter(|(_, distance)| distance.is_some())
@@ -775,8 +852,8 @@ pub fn score_contacts(
         None => Vec::new(),
         Some(size) => ranked[..list_size(size).min(ranked.len())]
             .iter()
-            .scan(0usize, |tp, (_, distance)| {
-                *tp += usize::from(is_true(distance));
+            .scan(0usize, |tp, (contact, _)| {
+                *tp += usize::from(*contact);
                 Some(*tp)
             })
             .collect(),

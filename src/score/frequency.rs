@@ -33,6 +33,7 @@
 use rayon::prelude::*;
 
 use crate::error::{Error, Result};
+use crate::io::frequencies::FREQUENCY_HEADER;
 use crate::io::topology::Topology;
 use crate::io::trajectory::{for_each_chunk, Conformation, LengthUnit};
 
@@ -603,10 +604,6 @@ pub fn contact_frequencies(
         frames: measured,
     })
 }
-
-/// The header of [`frequency_table`].
-pub const FREQUENCY_HEADER: &str =
-    "chain\tresidue1\tresidue2\tname1\tname2\tindex1\tindex2\tcontact_frames\tfrequency";
 
 /// The frequencies as a TSV table, one row per pair in MDTraj's order: the chain id, the
 /// residues' author numbers (with insertion codes) and names as written, their 0-based indices,

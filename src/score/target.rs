@@ -3,7 +3,8 @@
 //! prediction's sequence (the register), measure its true contacts, load predictions, score
 //! each one over ranges and list sizes, and write the scores as TSV.
 
-use std::path::Path;
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
 
 use super::contacts::{
     score_contacts, ContactDefinition, ContactScore, Prediction, ScoreParams, TrueContacts,
@@ -11,8 +12,9 @@ use super::contacts::{
 use super::lists::{LengthChoice, NamedRange};
 use super::register::{register, Register, RegisterMethod, RegisterMode};
 use crate::error::{Error, Result};
+use crate::io::frequencies::{read_frequency_table, FrequencyResidue, FrequencyRow};
 use crate::io::predictions::{read_prediction, PredictionFormat};
-use crate::io::structure::{read_structure, Chain};
+use crate::io::structure::{amino_acid, read_structure, Chain};
 use crate::io::tables::real_text;
 use crate::score::contacts::{ListSize, Rounding, SeparationRange};
 
@@ -161,6 +163,9 @@ pub struct Placed {
     pub register: Option<RegisterSummary>,
     /// A warning about the numbering ([`check_numbering`]), printed once the command succeeded.
     pub warning: Option<String>,
+    /// For each residue of the chain as read, its number in the truth's numbering (`None`: not
+    /// placed on the sequence).
+    pub numbers: Vec<Option<i32>>,
 }
 
 /// Place `chain` (read from `structure`) on `sequence` as `mode` says ([`place_chain`]) and
@@ -174,6 +179,16 @@ pub fn place(
     definition: &ContactDefinition,
 ) -> Result<Placed> {
     let (placed, register) = place_chain(structure, chain, sequence, mode)?;
+    let numbers = match &register {
+        Some(register) => {
+            let mut numbers = vec![None; chain.residues.len()];
+            for &(position, index) in &register.pairs {
+                numbers[index] = Some(position as i32);
+            }
+            numbers
+        }
+        None => chain.residues.iter().map(|r| Some(r.number)).collect(),
+    };
     let truth = measure(structure, &placed, definition).map_err(|err| match err {
         Error::Invalid(message) if sequence.is_none() => Error::Invalid(format!(
             "{message} (give the target sequence with --fasta to place the residues on it)"
@@ -197,7 +212,146 @@ pub fn place(
             text: register.describe(chain),
         }),
         warning: None,
+        numbers,
     })
+}
+
+/// The truth of an MD ensemble: a contact frequency table (`contactmap contacts --trajectory`)
+/// and the smallest fraction of frames of a true contact.
+#[derive(Clone, Debug)]
+pub struct EnsembleTruth {
+    /// The table's file, named in messages.
+    pub path: PathBuf,
+    /// Its rows.
+    pub rows: Vec<FrequencyRow>,
+    /// A pair is a true contact when in contact in at least this fraction of the frames.
+    pub threshold: f64,
+}
+
+impl EnsembleTruth {
+    /// Read the frequency table at `path`; `threshold` in `(0, 1]`.
+    pub fn read(path: &Path, threshold: f64) -> Result<Self> {
+        if !(threshold > 0.0 && threshold <= 1.0) {
+            return Err(Error::Invalid(format!(
+                "--truth-frequency must be a fraction of frames above 0 and at most 1, got \
+                 {threshold}"
+            )));
+        }
+        Ok(EnsembleTruth {
+            path: path.to_path_buf(),
+            rows: read_frequency_table(path)?,
+            threshold,
+        })
+    }
+
+    /// Replace the contacts of `placed` (the chain `chain` of `structure`, placed) by the
+    /// ensemble's: the table's rows of the chain, matched to its residues by author number
+    /// and insertion code, names checked. Pairs with a residue the structure lacks are
+    /// unmeasured (a warning when they are more than a tenth of the chain's rows).
+    pub fn apply(&self, structure: &Path, chain: &Chain, placed: &mut Placed) -> Result<()> {
+        let shown = |id: &str| {
+            if id.is_empty() {
+                "(blank)".to_string()
+            } else {
+                id.to_string()
+            }
+        };
+        let rows: Vec<&FrequencyRow> = self.rows.iter().filter(|r| r.chain == chain.id).collect();
+        if rows.is_empty() {
+            let mut chains: Vec<String> = self.rows.iter().map(|r| shown(&r.chain)).collect();
+            chains.dedup();
+            return Err(Error::format(
+                &self.path,
+                format!(
+                    "no residue pair of chain {} of {} (the table's chains: {}): choose the \
+                     chain with --chain",
+                    shown(&chain.id),
+                    structure.display(),
+                    chains.join(", ")
+                ),
+            ));
+        }
+        let index: HashMap<(i32, Option<char>), usize> = chain
+            .residues
+            .iter()
+            .enumerate()
+            .map(|(k, r)| ((r.number, r.insertion), k))
+            .collect();
+        let placed_number = |row: &FrequencyRow, residue: &FrequencyResidue| {
+            let Some(&k) = index.get(&(residue.number, residue.insertion)) else {
+                return Ok(None);
+            };
+            let name = amino_acid(&residue.name).map_or(residue.name.as_str(), |(n, _)| n);
+            let ours = &chain.residues[k];
+            if name != ours.name {
+                return Err(Error::parse(
+                    &self.path,
+                    row.line,
+                    format!(
+                        "residue {}{} is {} here but {} in chain {} of {}: the table was \
+                         computed on another topology",
+                        residue.number,
+                        residue.insertion.map(String::from).unwrap_or_default(),
+                        residue.name,
+                        ours.name,
+                        shown(&chain.id),
+                        structure.display()
+                    ),
+                ));
+            }
+            Ok(placed.numbers[k])
+        };
+        let mut missing = 0;
+        let mut pairs = Vec::with_capacity(rows.len());
+        for row in &rows {
+            let first = placed_number(row, &row.residue1)?;
+            let second = placed_number(row, &row.residue2)?;
+            match (first, second) {
+                (Some(i), Some(j)) => pairs.push((i, j, row.frequency)),
+                _ => missing += 1,
+            }
+        }
+        if pairs.is_empty() {
+            return Err(Error::format(
+                &self.path,
+                format!(
+                    "none of the table's pairs of chain {} has both residues in {}: the table \
+                     was computed on another topology",
+                    shown(&chain.id),
+                    structure.display()
+                ),
+            ));
+        }
+        if missing * 10 > rows.len() {
+            let warning = format!(
+                "{}: {missing} of the table's {} pairs of chain {} have a residue that {} lacks \
+                 (or that is not placed on the sequence); they are scored as unobserved",
+                self.path.display(),
+                rows.len(),
+                shown(&chain.id),
+                structure.display()
+            );
+            placed.warning = Some(match placed.warning.take() {
+                Some(before) => format!("{before}\n{warning}"),
+                None => warning,
+            });
+        }
+        placed.truth = placed
+            .truth
+            .clone()
+            .with_frequencies(pairs, self.threshold)?;
+        Ok(())
+    }
+
+    /// What the truth is, for the outputs.
+    pub fn describe(&self, definition: &ContactDefinition) -> String {
+        format!(
+            "in >= {} of the frames of {} (Xd distances: {})",
+            real_text(self.threshold),
+            self.path.display(),
+            definition.describe()
+        )
+    }
 }
 
 /// [`place`] the chain on the sequence of `prediction` (read from `path`, named in errors);

@@ -253,3 +253,258 @@ fn dcd_atoms(dcd: &[u8]) -> usize {
     let at = header_bytes(dcd) - 8;
     i32::from_le_bytes(dcd[at..at + 4].try_into().unwrap()) as usize
 }
+
+/// `score contacts --frequencies` with a one-frame ensemble (the structure itself) scores as the
+/// structure does.
+#[test]
+fn a_one_frame_ensemble_scores_as_its_structure() {
+    let dir = tempfile::tempdir().unwrap();
+    let (structure, rr) = (
+        data("protein/1aapA/1aapA.pdb"),
+        data("protein/1aapA/1aapA.rr"),
+    );
+    let table = dir.path().join("freq.tsv").to_string_lossy().into_owned();
+    run_ok(&[
+        "contacts",
+        "--trajectory",
+        &structure,
+        "--topology",
+        &structure,
+        "-o",
+        &table,
+    ]);
+    let score = |extra: &[&str]| {
+        let mut args = vec!["score", "contacts", "--structure", &structure, &rr, "--tsv"];
+        args.extend_from_slice(extra);
+        run_ok(&args)
+    };
+    let plain = score(&[]);
+    assert!(plain.lines().count() > 10);
+    for threshold in ["0.5", "1", "0.01"] {
+        let ensemble = score(&["--frequencies", &table, "--truth-frequency", threshold]);
+        assert_eq!(ensemble, plain, "threshold {threshold}");
+    }
+    // residues numbered from 101, placed on the sequence (positions 1-56): the table's
+    // residues follow the register
+    let shifted: String = std::fs::read_to_string(&structure)
+        .unwrap()
+        .lines()
+        .map(|line| match line.get(..6) {
+            Some("ATOM  " | "HETATM") => {
+                let number: i32 = line[22..26].trim().parse().unwrap();
+                format!("{}{:>4}{}\n", &line[..22], number + 100, &line[26..])
+            }
+            _ => format!("{line}\n"),
+        })
+        .collect();
+    let shifted = write(dir.path(), "shifted.pdb", &shifted);
+    let table = dir
+        .path()
+        .join("shifted.tsv")
+        .to_string_lossy()
+        .into_owned();
+    run_ok(&[
+        "contacts",
+        "--trajectory",
+        &shifted,
+        "--topology",
+        &shifted,
+        "-o",
+        &table,
+    ]);
+    assert!(std::fs::read_to_string(&table)
+        .unwrap()
+        .contains("\t101\t104\t"));
+    let fasta = data("protein/1aapA/1aapA.fasta");
+    for register in ["auto", "align"] {
+        let args = [
+            "score",
+            "contacts",
+            "--structure",
+            &shifted,
+            &rr,
+            "--tsv",
+            "--fasta",
+            &fasta,
+        ];
+        let plain = run_ok(&[&args[..], &["--register", register]].concat());
+        let with = ["--register", register, "--frequencies", &table];
+        assert_eq!(run_ok(&[&args[..], &with].concat()), plain, "{register}");
+    }
+}
+
+/// Predictions scored against cobrotoxin's three frames: true positives and true contacts as
+/// a naive count over MDTraj's frames in contact (data/reference/mdtraj) gives them.
+#[test]
+fn ensemble_truth_counts_mdtrajs_frames() {
+    let dir = tempfile::tempdir().unwrap();
+    let topology = data("md/cobrotoxin.pdb.gz");
+    let table = dir.path().join("freq.tsv").to_string_lossy().into_owned();
+    run_ok(&[
+        "contacts",
+        "--trajectory",
+        &data("md/cobrotoxin.dcd"),
+        "--topology",
+        &topology,
+        "--definition",
+        "cb",
+        "-o",
+        &table,
+    ]);
+    // residue numbers of the topology's residue indices (from our table: the names only)
+    let text = std::fs::read_to_string(&table).unwrap();
+    let (_, numbers) = ours(&text);
+    let mut number = HashMap::new();
+    for (line, (a, b)) in text.lines().skip(1).zip(&numbers) {
+        let f: Vec<&str> = line.split('\t').collect();
+        number.insert(f[5].parse::<usize>().unwrap(), a.parse::<i32>().unwrap());
+        number.insert(f[6].parse::<usize>().unwrap(), b.parse::<i32>().unwrap());
+    }
+    let (_, frames, contacts) = reference("cobrotoxin.cb");
+    let mdtraj: HashMap<(i32, i32), u32> = contacts
+        .iter()
+        .map(|(&(i, j), &n)| ((number[&i], number[&j]), n))
+        .collect();
+    // a prediction: every pair of the table, distinct pseudo-random scores
+    let mut pairs: Vec<(i32, i32, f64)> = text
+        .lines()
+        .skip(1)
+        .map(|line| {
+            let f: Vec<&str> = line.split('\t').collect();
+            let (i, j): (i32, i32) = (f[1].parse().unwrap(), f[2].parse().unwrap());
+            let score =
+                f64::from((i * 37 + j * 91) % 101) + f64::from(i) * 1e-3 + f64::from(j) * 1e-6;
+            (i, j, score)
+        })
+        .collect();
+    let rr: String = pairs
+        .iter()
+        .map(|(i, j, s)| format!("{i} {j} 0 8 {s}\n"))
+        .collect();
+    let rr = write(dir.path(), "pred.rr", &rr);
+    pairs.sort_by(|a, b| b.2.total_cmp(&a.2));
+    let length = number.len();
+    for (threshold, least) in [("0.3", 1), ("0.6", 2), ("1", 3)] {
+        let out = run_ok(&[
+            "score",
+            "contacts",
+            "--structure",
+            &topology,
+            &rr,
+            "--tsv",
+            "--frequencies",
+            &table,
+            "--truth-frequency",
+            threshold,
+            "--ranges",
+            "6+,24+",
+            "--top",
+            "L/5,L,NC",
+        ]);
+        let scored = parse_table(&out);
+        assert_eq!(scored.rows.len(), 6);
+        for row in &scored.rows {
+            let get = |name: &str| {
+                let column = scored.header.iter().position(|h| h == name).unwrap();
+                row[column].clone()
+            };
+            let min_sep: i32 = get("min_sep").parse().unwrap();
+            let is_true = |i: i32, j: i32| {
+                mdtraj
+                    .get(&(i, j))
+                    .is_some_and(|&n| n >= least && frames == 3)
+            };
+            let in_range: Vec<&(i32, i32, f64)> =
+                pairs.iter().filter(|(i, j, _)| j - i >= min_sep).collect();
+            let n_true = in_range.iter().filter(|(i, j, _)| is_true(*i, *j)).count();
+            let k = match get("list").as_str() {
+                "L/5" => length / 5,
+                "L" => length,
+                _ => n_true,
+            };
+            let tp = in_range[..k.min(in_range.len())]
+                .iter()
+                .filter(|(i, j, _)| is_true(*i, *j))
+                .count();
+            assert_eq!(get("length"), length.to_string());
+            assert_eq!(get("n_true"), n_true.to_string(), "{threshold} {row:?}");
+            assert_eq!(get("tp"), tp.to_string(), "{threshold} {row:?}");
+            assert!(n_true > 0);
+        }
+    }
+}
+
+#[test]
+fn bad_frequency_tables_are_one_line_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let (structure, rr) = (
+        data("protein/1aapA/1aapA.pdb"),
+        data("protein/1aapA/1aapA.rr"),
+    );
+    let header =
+        "chain\tresidue1\tresidue2\tname1\tname2\tindex1\tindex2\tcontact_frames\tfrequency";
+    let score = |table: &str, extra: &[&str]| {
+        let mut args = vec![
+            "score",
+            "contacts",
+            "--structure",
+            &structure,
+            &rr,
+            "--frequencies",
+            table,
+        ];
+        args.extend_from_slice(extra);
+        run_err(&args)
+    };
+    let chain_a = write(
+        dir.path(),
+        "a.tsv",
+        &format!("{header}\nA\t1\t5\tVAL\tLYS\t0\t4\t1\t1\n"),
+    );
+    let line = score(&chain_a, &[]);
+    assert!(
+        line.contains("a.tsv: no residue pair of chain (blank)") && line.contains("chains: A"),
+        "{line}"
+    );
+    let renamed = write(
+        dir.path(),
+        "n.tsv",
+        &format!("{header}\n\t1\t5\tGLY\tLYS\t0\t4\t1\t1\n"),
+    );
+    let line = score(&renamed, &[]);
+    assert!(
+        line.contains("n.tsv:2: residue 1 is GLY here but VAL"),
+        "{line}"
+    );
+    let bad = write(
+        dir.path(),
+        "f.tsv",
+        &format!("{header}\n\t1\t5\tVAL\tLYS\t0\t4\t1\t1.5\n"),
+    );
+    let line = score(&bad, &[]);
+    assert!(
+        line.contains("f.tsv:2: frequency 1.5 is not a fraction"),
+        "{line}"
+    );
+    let other = write(dir.path(), "o.tsv", "chain\tresidue1\tresidue2\n\t1\t5\n");
+    let line = score(&other, &[]);
+    assert!(
+        line.contains("o.tsv: not a contact frequency table"),
+        "{line}"
+    );
+    let line = score(&chain_a, &["--truth-frequency", "0"]);
+    assert!(
+        line.contains("--truth-frequency must be a fraction"),
+        "{line}"
+    );
+    let line = run_err(&[
+        "score",
+        "contacts",
+        "--structure",
+        &structure,
+        &rr,
+        "--truth-frequency",
+        "0.5",
+    ]);
+    assert!(line.contains("--frequencies"), "{line}");
+}
