@@ -63,7 +63,7 @@ fn residue_number(text: &str) -> Option<(i32, Option<char>)> {
 /// use contactmap::io::frequencies::{read_frequency_table, FREQUENCY_HEADER};
 /// let path = std::env::temp_dir().join("contactmap-doc-frequencies.tsv");
 /// let rows = "A\t1\t4\tMET\tILE\t0\t3\t9\t0.9\nA\t52A\t60\tHSD\tGLY\t51\t59\t0\t0\n";
-/// std::fs::write(&path, format!("{FREQUENCY_HEADER}\n{rows}"))?;
+/// std::fs::write(&path, format!("{FREQUENCY_HEADER}\n{rows}")).unwrap();
 /// let rows = read_frequency_table(&path)?;
 /// assert_eq!((rows[1].residue1.number, rows[1].residue1.insertion), (52, Some('A')));
 /// assert_eq!((rows[0].contact_frames, rows[0].frequency), (9, 0.9));

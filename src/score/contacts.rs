@@ -316,11 +316,12 @@ impl TrueContacts {
     /// use contactmap::score::contacts::{ContactDefinition, TrueContacts};
     /// let structure = read_structure("data/protein/toxd/toxd.pdb")?;
     /// let truth = TrueContacts::from_chain(structure.chain(None)?, ContactDefinition::default())?;
-    /// let ensemble = truth.clone().with_frequencies([(1, 30, 0.75), (2, 40, 0.25)], 0.5)?;
-    /// assert_eq!((ensemble.is_contact(1, 30), ensemble.is_contact(40, 2)), (Some(true), Some(false)));
+    /// let (a, b, c) = (truth.numbers()[0], truth.numbers()[1], truth.numbers()[30]);
+    /// let ensemble = truth.clone().with_frequencies([(a, c, 0.75), (b, c, 0.25)], 0.5)?;
+    /// assert_eq!((ensemble.is_contact(a, c), ensemble.is_contact(c, b)), (Some(true), Some(false)));
     /// // not in the ensemble's table: unmeasured
-    /// assert_eq!((ensemble.is_contact(1, 31), ensemble.distance(1, 31)), (None, None));
-    /// assert_eq!(ensemble.distance(1, 30), truth.distance(1, 30));
+    /// assert_eq!((ensemble.is_contact(a, b), ensemble.distance(a, b)), (None, None));
+    /// assert_eq!(ensemble.distance(a, c), truth.distance(a, c));
     /// # Ok::<(), contactmap::Error>(())
     /// ```
     pub fn with_frequencies(
