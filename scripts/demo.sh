@@ -159,6 +159,8 @@ step "A polychrom trajectory (data/polychrom/traj: 7 conformations, 150 beads) a
 step "Its polymer statistics as polychrom's polymer_analyses: P(s), R^2(s), Rg^2(s)" \
   "$cm" polymer-stats data/polychrom/traj --contact-radius 1.6 -o "$work/traj"
 head -4 "$work/traj.scaling.tsv" "$work/traj.r2.tsv"
+step "Picture: those statistics with their local slopes" \
+  "$cm" plot polymer-stats "$work/traj" --labels "polychrom traj" -o "$figs/traj_stats.png"
 step "Picture: P(s) of the two simulated maps, each with its fitted power law" \
   "$cm" plot expected "$work/blocks.cool" "$work/polymer.merged.cool" --raw --fit --labels "blocks (simulate blocks)","polymer (simulate polymer)" \
   -o "$figs/simulated_ps.png"

@@ -3,7 +3,8 @@
 //! laws; `plot contacts` a protein contact map with the predictions coloured true / false
 //! positive and the precision curve; `plot saddle` a compartment saddle; `plot pileup` the
 //! pileups of `contactmap pileup`, as plotpup draws them; `plot hicrep` the SCCs of
-//! `contactmap hicrep` as a clustered heatmap; the options every
+//! `contactmap hicrep` as a clustered heatmap; `plot polymer-stats` the tables of
+//! `contactmap polymer-stats`; the options every
 //! figure shares (output, format, size, dpi, title) live here.
 
 mod contacts;
@@ -11,6 +12,7 @@ mod expected;
 mod hicrep;
 mod map;
 mod pileup;
+mod polymer;
 mod saddle;
 
 use std::path::PathBuf;
@@ -52,6 +54,9 @@ pub enum PlotCommand {
     /// The SCC table of `contactmap hicrep` as a clustered heatmap (samples ordered by
     /// average-linkage clustering, the tree above, the SCCs in the cells).
     Hicrep(Box<hicrep::HicrepPlotArgs>),
+    /// The tables of `contactmap polymer-stats`: P(s), <R^2(s)> and <Rg^2(s)> on log-log axes
+    /// with their local slopes, several ensembles overlaid; or Rg^2 over the conformations.
+    PolymerStats(Box<polymer::PolymerStatsPlotArgs>),
 }
 
 /// Run `contactmap plot`.
@@ -63,6 +68,7 @@ pub fn run(args: &PlotArgs) -> Result<()> {
         PlotCommand::Saddle(args) => saddle::run(args),
         PlotCommand::Pileup(args) => pileup::run(args),
         PlotCommand::Hicrep(args) => hicrep::run(args),
+        PlotCommand::PolymerStats(args) => polymer::run(args),
     }
 }
 

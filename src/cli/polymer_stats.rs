@@ -26,6 +26,7 @@ Per conformation, as polychrom's polymer_analyses computes it, then the mean ove
                       the order read (over time, for a trajectory)
 Every conformation is one chain of N beads (polychrom's functions take one). Inputs as
 `polymer-map`'s: polychrom folders, blocks files or URIs, conformations tables, XYZ.
+`contactmap plot polymer-stats PREFIX -o stats.png` draws the tables.
 
 Examples:
   contactmap polymer-stats traj/ -o traj

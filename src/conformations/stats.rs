@@ -242,6 +242,29 @@ pub fn ensemble_stats(
     })
 }
 
+/// The local slopes `d ln y / d ln x` of a curve: between consecutive points with positive
+/// coordinates, `ln(y1 / y0) / ln(x1 / x0)` at the geometric mean `sqrt(x0 x1)` (the exponent of
+/// a power law `y = a x^k` is `k` everywhere). Pairs with a non-positive value are skipped.
+///
+/// ```
+/// use contactmap::conformations::stats::log_slopes;
+/// let curve: Vec<(f64, f64)> = [4.0, 8.0, 20.0].iter().map(|&s: &f64| (s, 3.0 * s.powf(-1.5))).collect();
+/// let slopes = log_slopes(&curve);
+/// assert_eq!(slopes.len(), 2);
+/// assert!((slopes[0].0 - 32f64.sqrt()).abs() < 1e-12);
+/// assert!(slopes.iter().all(|&(_, k)| (k + 1.5).abs() < 1e-12));
+/// ```
+pub fn log_slopes(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
+    points
+        .windows(2)
+        .filter(|w| w[0].0 > 0.0 && w[1].0 > w[0].0 && w[0].1 > 0.0 && w[1].1 > 0.0)
+        .map(|w| {
+            let ((x0, y0), (x1, y1)) = (w[0], w[1]);
+            ((x0 * x1).sqrt(), (y1 / y0).ln() / (x1 / x0).ln())
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -422,6 +422,20 @@ pub struct LegendEntry {
     pub label: String,
 }
 
+/// The width and height in pixels of the [`legend`] of `entries`.
+pub fn legend_size(theme: &Theme, entries: &[LegendEntry]) -> (f64, f64) {
+    let font = theme.font();
+    let (line, pad, row) = (theme.px(18.0), theme.px(4.0), font * 1.45);
+    let widest = entries
+        .iter()
+        .map(|e| text_width(&e.label, font))
+        .fold(0.0, f64::max);
+    (
+        pad * 3.0 + line + widest,
+        pad * 2.0 + row * entries.len() as f64,
+    )
+}
+
 /// A legend box with its top-right corner at `(right, top)`.
 pub fn legend(svg: &mut Svg, theme: &Theme, right: f64, top: f64, entries: &[LegendEntry]) {
     if entries.is_empty() {
@@ -430,12 +444,7 @@ pub fn legend(svg: &mut Svg, theme: &Theme, right: f64, top: f64, entries: &[Leg
     let font = theme.font();
     let line = theme.px(18.0);
     let (pad, row) = (theme.px(4.0), font * 1.45);
-    let widest = entries
-        .iter()
-        .map(|e| text_width(&e.label, font))
-        .fold(0.0, f64::max);
-    let width = pad * 3.0 + line + widest;
-    let height = pad * 2.0 + row * entries.len() as f64;
+    let (width, height) = legend_size(theme, entries);
     let left = right - width;
     svg.rect(
         left,

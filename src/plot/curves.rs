@@ -10,7 +10,7 @@ use crate::error::{Error, Result};
 use crate::expected::powerlaw::PowerLaw;
 use crate::genome::{format_bp, format_distance};
 use crate::plot::axes::{
-    legend, log_ticks, Axes, AxisScale, LegendEntry, Side, Theme, CURVE_COLOURS,
+    legend, legend_size, log_ticks, Axes, AxisScale, LegendEntry, Side, Theme, CURVE_COLOURS,
 };
 use crate::plot::svg::{text_width, Anchor, Baseline, Stroke, Svg, TextStyle};
 
@@ -146,6 +146,42 @@ fn segments(axes: &Axes, points: &[(f64, f64)]) -> Vec<Vec<(f64, f64)>> {
     out
 }
 
+/// Where the legend of `entries` goes in `axes` (its top right corner): the corner of the axes
+/// whose legend box covers the fewest points of the `drawn` lines (sampled along each
+/// segment), top right first on ties.
+fn legend_corner(
+    axes: &Axes,
+    theme: &Theme,
+    entries: &[LegendEntry],
+    drawn: &[Vec<(f64, f64)>],
+) -> (f64, f64) {
+    let (width, height) = legend_size(theme, entries);
+    let margin = theme.px(6.0);
+    let (left, right) = (axes.x + margin + width, axes.x + axes.width - margin);
+    let (top, bottom) = (axes.y + margin, axes.y + axes.height - margin - height);
+    let covered = |(r, t): (f64, f64)| {
+        let inside = |(x, y): (f64, f64)| x >= r - width && x <= r && y >= t && y <= t + height;
+        let mut count = 0;
+        for line in drawn {
+            count += usize::from(line.first().is_some_and(|&p| inside(p)));
+            for pair in line.windows(2) {
+                let ((x0, y0), (x1, y1)) = (pair[0], pair[1]);
+                count += (1..=8)
+                    .filter(|&k| {
+                        let f = f64::from(k) / 8.0;
+                        inside((x0 + (x1 - x0) * f, y0 + (y1 - y0) * f))
+                    })
+                    .count();
+            }
+        }
+        count
+    };
+    [(right, top), (left, top), (right, bottom), (left, bottom)]
+        .into_iter()
+        .min_by_key(|&corner| covered(corner))
+        .unwrap_or((right, top))
+}
+
 /// Draw the figure.
 ///
 /// # Examples
@@ -274,8 +310,10 @@ pub fn draw_curves(figure: &CurveFigure) -> Result<Svg> {
             y_down: false,
         };
         axes.clip(&mut svg);
+        let mut drawn = Vec::new();
         for series in &panel.series {
             for line in segments(&axes, &series.points) {
+                drawn.push(line.clone());
                 if line.len() == 1 {
                     svg.circle(
                         line[0].0,
@@ -321,13 +359,8 @@ pub fn draw_curves(figure: &CurveFigure) -> Result<Svg> {
                     })
                 })
                 .collect();
-            legend(
-                &mut svg,
-                &theme,
-                axes.x + axes.width - theme.px(6.0),
-                axes.y + theme.px(6.0),
-                &entries,
-            );
+            let (right, top) = legend_corner(&axes, &theme, &entries, &drawn);
+            legend(&mut svg, &theme, right, top, &entries);
         }
         y += height + gap;
     }
@@ -492,6 +525,124 @@ pub fn ps_figure(samples: &[PsSample], options: &PsFigure) -> CurveFigure {
     }
 }
 
+/// The polymer statistics of one ensemble (`contactmap polymer-stats`'s tables).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PolymerSample {
+    /// Its name in the legend.
+    pub label: String,
+    /// P(s): `(s_mid, contact probability)`.
+    pub scaling: Vec<(f64, f64)>,
+    /// `(s, <R^2(s)>, <Rg^2(s)>)`.
+    pub r2: Vec<(f64, f64, f64)>,
+    /// Each conformation's `Rg^2`, in the order read.
+    pub rg2: Vec<f64>,
+}
+
+/// What a polymer-statistics figure shows.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PolymerFigure {
+    /// `Rg^2` of each conformation against its number (time, for a trajectory) instead of the
+    /// curves against the separation.
+    pub over_time: bool,
+    /// The panel of local slopes (P(s) solid, `<R^2(s)>` dashed).
+    pub slope_panel: bool,
+    /// The title (empty: none).
+    pub title: String,
+    /// Width in pixels.
+    pub width_px: usize,
+    /// Height in pixels (`None`: what the panels need).
+    pub height_px: Option<usize>,
+    /// Dots per inch.
+    pub dpi: f64,
+}
+
+/// The figure of `samples`' polymer statistics, one colour per sample. Against the separation
+/// `s` (beads, log axes): P(s) above, `<R^2(s)>` (solid) and `<Rg^2(s)>` (dashed) below it, and
+/// the local slopes ([`crate::conformations::stats::log_slopes`]) of P(s) (solid) and
+/// `<R^2(s)>` (dashed) at the bottom; or, `over_time`, each conformation's `Rg^2` against its
+/// number (linear axes).
+pub fn polymer_figure(samples: &[PolymerSample], options: &PolymerFigure) -> CurveFigure {
+    use crate::conformations::stats::log_slopes;
+    let theme = Theme::new(options.dpi);
+    let line =
+        |index: usize| Stroke::solid(CURVE_COLOURS[index % CURVE_COLOURS.len()], theme.px(1.5));
+    let dashed = |index: usize| line(index).dashed(theme.px(4.0));
+    let base = |x_label: &str, x_scale, panels| CurveFigure {
+        title: options.title.clone(),
+        x_label: x_label.to_string(),
+        x_scale,
+        x_in_bp: false,
+        panels,
+        width_px: options.width_px,
+        height_px: options.height_px,
+        dpi: options.dpi,
+    };
+    let panel = |y_label: &str, y_scale, series, weight, legend| Panel {
+        y_label: y_label.to_string(),
+        y_scale,
+        series,
+        weight,
+        legend,
+        min_span: if y_scale == Scale::Linear { 0.5 } else { 0.0 },
+    };
+    if options.over_time {
+        let series = samples
+            .iter()
+            .enumerate()
+            .map(|(k, sample)| Series {
+                label: Some(sample.label.clone()),
+                points: (1..)
+                    .zip(&sample.rg2)
+                    .map(|(n, &g)| (f64::from(n), g))
+                    .collect(),
+                stroke: line(k),
+            })
+            .collect();
+        return base(
+            "conformation (in the order read)",
+            Scale::Linear,
+            vec![panel("Rg\u{b2}", Scale::Linear, series, 2.0, true)],
+        );
+    }
+    let (mut ps, mut sizes, mut slopes) = (Vec::new(), Vec::new(), Vec::new());
+    for (k, sample) in samples.iter().enumerate() {
+        let r2: Vec<(f64, f64)> = sample.r2.iter().map(|&(s, r2, _)| (s, r2)).collect();
+        ps.push(Series {
+            label: Some(sample.label.clone()),
+            points: sample.scaling.clone(),
+            stroke: line(k),
+        });
+        sizes.push(Series {
+            label: Some(format!("{} R\u{b2}(s)", sample.label)),
+            points: r2.clone(),
+            stroke: line(k),
+        });
+        sizes.push(Series {
+            label: Some(format!("{} Rg\u{b2}(s)", sample.label)),
+            points: sample.r2.iter().map(|&(s, _, g)| (s, g)).collect(),
+            stroke: dashed(k),
+        });
+        slopes.push(Series {
+            label: None,
+            points: log_slopes(&sample.scaling),
+            stroke: line(k),
+        });
+        slopes.push(Series {
+            label: None,
+            points: log_slopes(&r2),
+            stroke: dashed(k),
+        });
+    }
+    let mut panels = vec![
+        panel("contact probability P(s)", Scale::Log, ps, 2.0, true),
+        panel("<R\u{b2}(s)>, <Rg\u{b2}(s)>", Scale::Log, sizes, 1.6, true),
+    ];
+    if options.slope_panel {
+        panels.push(panel("slope", Scale::Linear, slopes, 1.0, false));
+    }
+    base("separation s (beads)", Scale::Log, panels)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -541,6 +692,88 @@ mod tests {
         assert_eq!(lines.len(), 2);
         assert_eq!(lines[0], vec![(0.0, 100.0), (50.0, 50.0)]);
         assert_eq!(lines[1], vec![(100.0, 0.0)]);
+    }
+
+    #[test]
+    fn polymer_statistics_are_drawn_with_their_power_laws_slopes() {
+        let s: Vec<f64> = (0..20).map(|k| 4.0 * 1.3f64.powi(k)).collect();
+        let sample = PolymerSample {
+            label: "ideal".into(),
+            scaling: s.iter().map(|&s| (s, 0.5 * s.powf(-1.5))).collect(),
+            r2: s.iter().map(|&s| (s, 2.0 * s, s / 3.0)).collect(),
+            rg2: vec![3.0, 2.0, 4.0],
+        };
+        let mut options = PolymerFigure {
+            over_time: false,
+            slope_panel: true,
+            title: String::new(),
+            width_px: 600,
+            height_px: None,
+            dpi: 100.0,
+        };
+        let figure = polymer_figure(std::slice::from_ref(&sample), &options);
+        assert_eq!(figure.panels.len(), 3);
+        assert_eq!(figure.panels[0].series[0].points, sample.scaling);
+        assert_eq!(figure.panels[1].series.len(), 2, "R^2 and Rg^2");
+        assert_eq!(figure.panels[1].series[1].points[3], (s[3], s[3] / 3.0));
+        let slopes = &figure.panels[2].series;
+        for (series, exponent) in slopes.iter().zip([-1.5, 1.0]) {
+            assert_eq!(series.points.len(), 19);
+            for &(x, k) in &series.points {
+                assert!((k - exponent).abs() < 1e-12 && x > 4.0);
+            }
+        }
+        assert!(draw_curves(&figure).is_ok());
+        options.slope_panel = false;
+        assert_eq!(
+            polymer_figure(std::slice::from_ref(&sample), &options)
+                .panels
+                .len(),
+            2
+        );
+        options.over_time = true;
+        let figure = polymer_figure(&[sample], &options);
+        assert_eq!(figure.panels.len(), 1);
+        assert_eq!(
+            figure.panels[0].series[0].points,
+            [(1.0, 3.0), (2.0, 2.0), (3.0, 4.0)]
+        );
+    }
+
+    #[test]
+    fn the_legend_takes_the_emptiest_corner() {
+        let figure = |points: Vec<(f64, f64)>| CurveFigure {
+            title: String::new(),
+            x_label: "x".into(),
+            x_scale: Scale::Linear,
+            x_in_bp: false,
+            panels: vec![Panel {
+                y_label: "y".into(),
+                y_scale: Scale::Linear,
+                series: vec![Series {
+                    label: Some("a line".into()),
+                    points,
+                    stroke: Stroke::solid(Rgb::BLACK, 1.0),
+                }],
+                weight: 1.0,
+                legend: true,
+                min_span: 0.0,
+            }],
+            width_px: 600,
+            height_px: Some(400),
+            dpi: 100.0,
+        };
+        let legend_x = |points: Vec<(f64, f64)>| {
+            let text = draw_curves(&figure(points)).unwrap().finish();
+            let at = text.find(">a line</text>").unwrap();
+            let start = text[..at].rfind("<text x=\"").unwrap() + 9;
+            let end = start + text[start..].find('"').unwrap();
+            text[start..end].parse::<f64>().unwrap()
+        };
+        // falling: the top right is free; rising: the top left
+        let falling = legend_x((0..50).map(|k| (f64::from(k), -f64::from(k))).collect());
+        let rising = legend_x((0..50).map(|k| (f64::from(k), f64::from(k))).collect());
+        assert!(falling > 300.0 && rising < 300.0, "{falling} {rising}");
     }
 
     #[test]

@@ -342,3 +342,103 @@ fn statistics_equal_polychroms() {
     let text = read(&format!("{prefix}.rg2.tsv"));
     assert!(text.contains("blocks_4-6.h5::6\t"), "{text}");
 }
+
+/// `plot polymer-stats` draws the tables of `polymer-stats`: each curve's points are the
+/// table's (read back from the SVG's pixels through the decade ticks of its axes).
+#[test]
+fn statistics_are_drawn_from_their_tables() {
+    use super::plot::{plot_fails, plot_svg};
+    let dir = tempfile::tempdir().unwrap();
+    let prefix = dir.path().join("traj").to_string_lossy().into_owned();
+    run_ok(&[
+        "polymer-stats",
+        &data("polychrom/traj"),
+        "--contact-radius",
+        "1.6",
+        "-o",
+        &prefix,
+    ]);
+    let svg = plot_svg(&["plot", "polymer-stats", &prefix, &prefix, "--labels", "a,b"]);
+    let doc = roxmltree::Document::parse(&svg).unwrap();
+    let lines: Vec<Vec<(f64, f64)>> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("polyline"))
+        .map(|n| {
+            n.attribute("points")
+                .unwrap()
+                .split_whitespace()
+                .map(|p| {
+                    let (x, y) = p.split_once(',').unwrap();
+                    (x.parse().unwrap(), y.parse().unwrap())
+                })
+                .collect()
+        })
+        .collect();
+    // per sample: P(s), R^2(s), Rg^2(s) and two slopes (lines broken at P(s) = 0 aside)
+    assert!(lines.len() >= 10, "{}", lines.len());
+    let scaling = std::fs::read_to_string(format!("{prefix}.scaling.tsv")).unwrap();
+    let positive = scaling
+        .lines()
+        .skip(1)
+        .filter(|l| l.split('\t').nth(1).unwrap().parse::<f64>().unwrap() > 0.0)
+        .count();
+    assert_eq!(
+        lines[0].len(),
+        positive,
+        "a P(s) point per positive table row"
+    );
+    let r2 = std::fs::read_to_string(format!("{prefix}.r2.tsv")).unwrap();
+    let r2_rows: Vec<Vec<f64>> = r2
+        .lines()
+        .skip(1)
+        .map(|l| l.split('\t').map(|x| x.parse().unwrap()).collect())
+        .collect();
+    // the R^2 line (solid) and the Rg^2 line: the same s pixels, R^2 above Rg^2
+    // (the P(s) panel holds the two samples' lines first)
+    assert_eq!(lines[1], lines[0], "the same tables twice");
+    let (r2_line, rg2_line) = (&lines[2], &lines[3]);
+    assert_eq!(r2_line.len(), r2_rows.len());
+    for ((a, b), row) in r2_line.iter().zip(rg2_line).zip(&r2_rows) {
+        assert_eq!(a.0, b.0);
+        assert!(a.1 < b.1, "R^2 > Rg^2 at s = {}", row[0]);
+    }
+    // pixel distances on log axes: ratios of the table's values
+    let (first, last) = (r2_line[0], r2_line[r2_line.len() - 1]);
+    let x_decades = (r2_rows[r2_rows.len() - 1][0] / r2_rows[0][0]).log10();
+    let y_decades = (r2_rows[r2_rows.len() - 1][1] / r2_rows[0][1]).log10();
+    let (a, b) = (&r2_rows[3], &r2_rows[9]);
+    let predicted_dx = (b[0] / a[0]).log10() / x_decades * (last.0 - first.0);
+    assert!((r2_line[9].0 - r2_line[3].0 - predicted_dx).abs() < 0.05);
+    let predicted_dy = (b[1] / a[1]).log10() / y_decades * (last.1 - first.1);
+    assert!((r2_line[9].1 - r2_line[3].1 - predicted_dy).abs() < 0.05);
+    for label in ["a R²(s)", "b Rg²(s)", "separation s (beads)"] {
+        assert!(svg.contains(&format!(">{label}</text>")), "{label}");
+    }
+    // Rg^2 over the conformations: one line per sample, a point per conformation
+    let over = plot_svg(&["plot", "polymer-stats", &prefix, "--over-time"]);
+    assert_eq!(over.matches("<polyline").count(), 1);
+    let rg2 = std::fs::read_to_string(format!("{prefix}.rg2.tsv")).unwrap();
+    let points = over
+        .split("points=\"")
+        .nth(1)
+        .unwrap()
+        .split('"')
+        .next()
+        .unwrap();
+    assert_eq!(points.split_whitespace().count(), rg2.lines().count() - 1);
+    // bad inputs: one line, no figure
+    let missing = dir.path().join("none").to_string_lossy().into_owned();
+    let line = plot_fails(&["plot", "polymer-stats", &missing], dir.path());
+    assert!(line.contains("none.scaling.tsv"), "{line}");
+    let line = plot_fails(
+        &["plot", "polymer-stats", &prefix, "--labels", "a,b"],
+        dir.path(),
+    );
+    assert!(
+        line.contains("--labels gives 2 name(s) for 1 input(s)"),
+        "{line}"
+    );
+    std::fs::write(format!("{prefix}.r2.tsv"), "s\tr2\n4\t1\n").unwrap();
+    let line = plot_fails(&["plot", "polymer-stats", &prefix], dir.path());
+    assert!(line.contains("traj.r2.tsv: no column 'rg2'"), "{line}");
+}
