@@ -15,8 +15,9 @@ use crate::cli::protein::{DefinitionArgs, RegisterArg};
 use contactmap::error::Result;
 use contactmap::io::predictions::read_fasta;
 use contactmap::io::topology::read_topology;
-use contactmap::io::trajectory::open_trajectories;
-use contactmap::score::frequency::{contact_frequencies, frequency_table, FrequencySpec, Scheme};
+use contactmap::score::frequency::{
+    contact_frequencies_of, frequency_table, FrequencySpec, Scheme,
+};
 use contactmap::score::target::{
     distance_matrix_tsv, measure, place_chain, read_chain, true_contacts_rr,
 };
@@ -216,7 +217,7 @@ fn run_trajectory(args: &ContactsArgs) -> Result<()> {
         stride: args.stride as usize,
     };
     let bar = spinner("frames");
-    let frequencies = contact_frequencies(&topology, open_trajectories(&names)?, &spec, |done| {
+    let frequencies = contact_frequencies_of(&topology, &names, &spec, |done| {
         bar.set_position(done as u64)
     })?;
     bar.finish_and_clear();

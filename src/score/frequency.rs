@@ -35,7 +35,9 @@ use rayon::prelude::*;
 use crate::error::{Error, Result};
 use crate::io::frequencies::FREQUENCY_HEADER;
 use crate::io::topology::Topology;
-use crate::io::trajectory::{for_each_chunk, Conformation, LengthUnit};
+use crate::io::trajectory::{
+    for_each_chunk, open_trajectories, AtomSelection, Conformation, LengthUnit,
+};
 
 /// How the distance between two residues is measured (MDTraj's schemes, and CASP's Cb).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -286,13 +288,12 @@ fn to_nm(value: f64, unit: LengthUnit) -> f32 {
 }
 
 impl Frame {
-    /// The frame of an MD conformation (Angstrom or nm).
-    fn new(conformation: &Conformation, periodic: bool) -> Frame {
+    /// The frame of the atoms `used` of an MD conformation (Angstrom or nm), in that order.
+    fn new(conformation: &Conformation, used: &[u32], periodic: bool) -> Frame {
         let unit = conformation.unit;
-        let xyz = conformation
-            .positions
+        let xyz = used
             .iter()
-            .map(|p| p.map(|x| to_nm(x, unit)))
+            .map(|&a| conformation.positions[a as usize].map(|x| to_nm(x, unit)))
             .collect();
         let cell = conformation.cell.filter(|_| periodic).map(|vectors| {
             let v = vectors.map(|row| row.map(|x| to_nm(x, unit)));
@@ -418,25 +419,88 @@ fn triclinic(xyz: &[[f32; 3]], v: &[[f32; 3]; 3], recip: &[f32; 3], i: u32, j: u
     best
 }
 
+/// Pairs `first .. first + len` of a one-atom-per-residue scheme (ca, cb): atom `p` with atoms
+/// `q .. q + len` (MDTraj's order makes each residue's pairs one run).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Run {
+    first: usize,
+    p: u32,
+    q: u32,
+    len: usize,
+}
+
+/// `single` (the atoms of each pair) as runs.
+fn runs(single: &[(u32, u32)]) -> Vec<Run> {
+    let mut runs: Vec<Run> = Vec::new();
+    for (k, &(p, q)) in single.iter().enumerate() {
+        match runs.last_mut() {
+            Some(run) if run.p == p && run.q + run.len as u32 == q => run.len += 1,
+            _ => runs.push(Run {
+                first: k,
+                p,
+                q,
+                len: 1,
+            }),
+        }
+    }
+    runs
+}
+
+/// The runs' pairs in contact in `frame`, added to `counts`: each run's distances over
+/// contiguous coordinates, which the compiler turns into vector instructions (the same
+/// single-precision operations per pair as [`plain`] and [`boxed`]).
+fn count_runs(frame: &Frame, runs: &[Run], cutoff: f32, counts: &mut [u32]) {
+    let below = sqrt_threshold(cutoff);
+    let axis = |d: usize| -> Vec<f32> { frame.xyz.iter().map(|p| p[d]).collect() };
+    let (x, y, z) = (axis(0), axis(1), axis(2));
+    for run in runs {
+        let (p, q) = (run.p as usize, run.q as usize);
+        let (px, py, pz) = (x[p], y[p], z[p]);
+        let range = q..q + run.len;
+        let (xs, ys, zs) = (&x[range.clone()], &y[range.clone()], &z[range]);
+        let out = &mut counts[run.first..run.first + run.len];
+        match &frame.cell {
+            None => {
+                for (((count, &qx), &qy), &qz) in out.iter_mut().zip(xs).zip(ys).zip(zs) {
+                    let r = [qx - px, qy - py, qz - pz];
+                    *count += u32::from(norm2(r) < below);
+                }
+            }
+            Some(Cell::Box(e)) => {
+                let image = |r: f32, d: usize| r - (r * (1.0 / e[d])).round_ties_even() * e[d];
+                for (((count, &qx), &qy), &qz) in out.iter_mut().zip(xs).zip(ys).zip(zs) {
+                    let r = [image(qx - px, 0), image(qy - py, 1), image(qz - pz, 2)];
+                    *count += u32::from(norm2(r) < below);
+                }
+            }
+            Some(Cell::Triclinic(v, recip)) => {
+                for (t, count) in out.iter_mut().enumerate() {
+                    let d2 = triclinic(&frame.xyz, v, recip, run.p, run.q + t as u32);
+                    *count += u32::from(d2 < below);
+                }
+            }
+        }
+    }
+}
+
 /// The pairs of `pairs` in contact in `frame` (indices into `pairs.pairs`), added to `counts`.
 ///
-/// `single`: the pairs' atoms when every residue has one atom (ca, cb).
+/// `single`: the pairs' atoms as runs when every residue has one atom (ca, cb).
 fn count_frame(
     frame: &Frame,
     pairs: &ContactPairs,
-    single: Option<&[(u32, u32)]>,
+    single: Option<&[Run]>,
     cutoff: f32,
     counts: &mut [u32],
 ) {
+    if let Some(runs) = single {
+        return count_runs(frame, runs, cutoff, counts);
+    }
     let xyz = &frame.xyz;
     match &frame.cell {
-        None => count_with(frame, pairs, single, cutoff, counts, |i, j| {
-            plain(xyz, i, j)
-        }),
-        Some(Cell::Box(e)) => count_with(frame, pairs, single, cutoff, counts, |i, j| {
-            boxed(xyz, e, i, j)
-        }),
-        Some(Cell::Triclinic(v, r)) => count_with(frame, pairs, single, cutoff, counts, |i, j| {
+        None => count_with(frame, pairs, cutoff, counts, |i, j| plain(xyz, i, j)),
+        Some(Cell::Box(e)) => count_with(frame, pairs, cutoff, counts, |i, j| boxed(xyz, e, i, j)),
+        Some(Cell::Triclinic(v, r)) => count_with(frame, pairs, cutoff, counts, |i, j| {
             triclinic(xyz, v, r, i, j)
         }),
     }
@@ -446,7 +510,6 @@ fn count_frame(
 fn count_with(
     frame: &Frame,
     pairs: &ContactPairs,
-    single: Option<&[(u32, u32)]>,
     cutoff: f32,
     counts: &mut [u32],
     distance2: impl Fn(u32, u32) -> f32,
@@ -454,12 +517,6 @@ fn count_with(
     // `sqrt(d2) < cutoff` exactly when `d2 < below` (the square root is correctly rounded and
     // monotonic): no square root per atom pair
     let below = sqrt_threshold(cutoff);
-    if let Some(single) = single {
-        for (count, &(p, q)) in counts.iter_mut().zip(single) {
-            *count += u32::from(distance2(p, q) < below);
-        }
-        return;
-    }
     // bounding spheres of the residues measured
     let spheres: Vec<([f64; 3], f64)> = pairs
         .atoms
@@ -520,7 +577,7 @@ fn sqrt_threshold(cutoff: f32) -> f32 {
 }
 
 /// Frames measured per parallel step (the memory bound: two chunks of frames).
-const CHUNK: usize = 256;
+const CHUNK: usize = 32;
 
 /// The contact frequencies of the residue pairs of `topology` over `frames` (MD frames, in
 /// Angstrom or nm by their format), every `spec.stride`-th frame; each frame must have the
@@ -528,6 +585,40 @@ const CHUNK: usize = 256;
 pub fn contact_frequencies(
     topology: &Topology,
     frames: impl Iterator<Item = Result<Conformation>>,
+    spec: &FrequencySpec,
+    progress: impl FnMut(usize) + Send,
+) -> Result<ContactFrequencies> {
+    frequencies(topology, frames, false, spec, progress)
+}
+
+/// [`contact_frequencies`] over the frames of the trajectory files `inputs` (DCD, XTC,
+/// multi-model PDB / mmCIF), reading only the atoms the scheme measures: the DCD reader
+/// converts only theirs (for `ca`, one atom in fifteen of a solvated protein's).
+pub fn contact_frequencies_of(
+    topology: &Topology,
+    inputs: &[String],
+    spec: &FrequencySpec,
+    progress: impl FnMut(usize) + Send,
+) -> Result<ContactFrequencies> {
+    let selection = AtomSelection::new(topology.atoms.len(), measured_atoms(topology, spec)?)?;
+    let frames = open_trajectories(inputs)?.select(selection);
+    frequencies(topology, frames, true, spec, progress)
+}
+
+/// The atoms the pairs of `topology` measure under `spec`, ascending.
+fn measured_atoms(topology: &Topology, spec: &FrequencySpec) -> Result<Vec<u32>> {
+    let pairs = contact_pairs(topology, spec)?;
+    let mut used: Vec<u32> = pairs.atoms.iter().flatten().copied().collect();
+    used.sort_unstable();
+    used.dedup();
+    Ok(used)
+}
+
+/// [`contact_frequencies`]; `selected`: each frame holds only the atoms of [`measured_atoms`].
+fn frequencies(
+    topology: &Topology,
+    frames: impl Iterator<Item = Result<Conformation>>,
+    selected: bool,
     spec: &FrequencySpec,
     mut progress: impl FnMut(usize) + Send,
 ) -> Result<ContactFrequencies> {
@@ -542,14 +633,39 @@ pub fn contact_frequencies(
     }
     let pairs = contact_pairs(topology, spec)?;
     let cutoff = (spec.cutoff_angstrom / 10.0) as f32;
-    let single: Option<Vec<(u32, u32)>> = pairs
+    // the atoms measured, and the pairs' atoms as indices into them (a frame converts only
+    // those: for `ca`, one atom in fifteen)
+    let used = measured_atoms(topology, spec)?;
+    let measured = ContactPairs {
+        pairs: pairs.pairs.clone(),
+        atoms: pairs
+            .atoms
+            .iter()
+            .map(|atoms| {
+                atoms
+                    .iter()
+                    .map(|a| used.binary_search(a).unwrap_or_default() as u32)
+                    .collect()
+            })
+            .collect(),
+    };
+    let single: Option<Vec<Run>> = measured
         .pairs
         .iter()
-        .map(|&(i, j)| match (&pairs.atoms[i][..], &pairs.atoms[j][..]) {
-            ([p], [q]) => Some((*p, *q)),
-            _ => None,
-        })
-        .collect();
+        .map(
+            |&(i, j)| match (&measured.atoms[i][..], &measured.atoms[j][..]) {
+                ([p], [q]) => Some((*p, *q)),
+                _ => None,
+            },
+        )
+        .collect::<Option<Vec<(u32, u32)>>>()
+        .map(|single| runs(&single));
+    // the atoms of a frame a measure takes: all of the selected ones, or the used ones
+    let gather: Vec<u32> = if selected {
+        (0..used.len() as u32).collect()
+    } else {
+        used.clone()
+    };
     let mut counts = vec![0u32; pairs.pairs.len()];
     let keep = |index: usize, conformation: &Conformation| {
         if conformation.unit == LengthUnit::Model {
@@ -559,7 +675,12 @@ pub fn contact_frequencies(
                 conformation.label
             )));
         }
-        if conformation.positions.len() != topology.atoms.len() {
+        let expected = if selected {
+            used.len()
+        } else {
+            topology.atoms.len()
+        };
+        if conformation.positions.len() != expected {
             return Err(Error::Invalid(format!(
                 "{}: {} atoms, the topology has {}",
                 conformation.label,
@@ -572,16 +693,18 @@ pub fn contact_frequencies(
     let mut done = 0;
     // each chunk's frames are measured on the pool while this thread reads the next chunk
     let work = |chunk: &[Conformation]| {
+        // one piece of frames per thread, each counted into its own table
+        let piece = chunk.len().div_ceil(rayon::current_num_threads()).max(1);
         let partial = chunk
-            .par_iter()
-            .fold(
-                || vec![0u32; pairs.pairs.len()],
-                |mut local, conformation| {
-                    let frame = Frame::new(conformation, spec.periodic);
-                    count_frame(&frame, &pairs, single.as_deref(), cutoff, &mut local);
-                    local
-                },
-            )
+            .par_chunks(piece)
+            .map(|frames| {
+                let mut local = vec![0u32; pairs.pairs.len()];
+                for conformation in frames {
+                    let frame = Frame::new(conformation, &gather, spec.periodic);
+                    count_frame(&frame, &measured, single.as_deref(), cutoff, &mut local);
+                }
+                local
+            })
             .reduce(
                 || vec![0u32; pairs.pairs.len()],
                 |mut a, b| {
@@ -594,14 +717,14 @@ pub fn contact_frequencies(
         progress(done);
     };
     let mut frames = frames;
-    let measured = for_each_chunk(&mut frames, CHUNK, keep, work)?;
-    if measured == 0 {
+    let n_frames = for_each_chunk(&mut frames, CHUNK, keep, work)?;
+    if n_frames == 0 {
         return Err(Error::Invalid("the trajectory has no frame".into()));
     }
     Ok(ContactFrequencies {
         pairs,
         counts,
-        frames: measured,
+        frames: n_frames,
     })
 }
 
@@ -609,32 +732,49 @@ pub fn contact_frequencies(
 /// residues' author numbers (with insertion codes) and names as written, their 0-based indices,
 /// the frames in contact and the fraction of frames.
 pub fn frequency_table(topology: &Topology, frequencies: &ContactFrequencies) -> String {
-    use std::fmt::Write;
-    let mut text = String::with_capacity(48 * frequencies.counts.len());
-    text.push_str(FREQUENCY_HEADER);
-    text.push('\n');
-    let number = |r: &crate::io::topology::TopologyResidue| {
-        format!(
-            "{}{}",
-            r.number,
-            r.insertion.map(String::from).unwrap_or_default()
-        )
-    };
+    use crate::io::tables::write_u64;
+    let mut text = Vec::with_capacity(48 * frequencies.counts.len());
+    text.extend_from_slice(FREQUENCY_HEADER.as_bytes());
+    text.push(b'\n');
+    // each residue's `number[insertion]`, and each count's frequency, written once
+    let numbers: Vec<String> = topology
+        .residues
+        .iter()
+        .map(|r| {
+            format!(
+                "{}{}",
+                r.number,
+                r.insertion.map(String::from).unwrap_or_default()
+            )
+        })
+        .collect();
+    let mut fractions: std::collections::HashMap<u32, String> = std::collections::HashMap::new();
     for (k, &(i, j)) in frequencies.pairs.pairs.iter().enumerate() {
         let (a, b) = (&topology.residues[i], &topology.residues[j]);
-        let _ = writeln!(
-            text,
-            "{}\t{}\t{}\t{}\t{}\t{i}\t{j}\t{}\t{}",
-            topology.chains[a.chain],
-            number(a),
-            number(b),
-            a.name,
-            b.name,
-            frequencies.counts[k],
-            frequencies.frequency(k)
-        );
+        for field in [
+            topology.chains[a.chain].as_str(),
+            &numbers[i],
+            &numbers[j],
+            &a.name,
+            &b.name,
+        ] {
+            text.extend_from_slice(field.as_bytes());
+            text.push(b'\t');
+        }
+        for index in [i, j] {
+            write_u64(&mut text, index as u64);
+            text.push(b'\t');
+        }
+        let count = frequencies.counts[k];
+        write_u64(&mut text, u64::from(count));
+        text.push(b'\t');
+        let fraction = fractions
+            .entry(count)
+            .or_insert_with(|| frequencies.frequency(k).to_string());
+        text.extend_from_slice(fraction.as_bytes());
+        text.push(b'\n');
     }
-    text
+    String::from_utf8(text).expect("the table is made of UTF-8 strings")
 }
 
 #[cfg(test)]

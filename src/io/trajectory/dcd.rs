@@ -14,7 +14,9 @@
 use std::io::{BufReader, Read, Seek};
 use std::path::{Path, PathBuf};
 
-use super::{checked, Conformation, LengthUnit};
+use std::sync::Arc;
+
+use super::{checked, non_finite, positions_buffer, AtomSelection, Conformation, LengthUnit};
 use crate::error::{Error, Result};
 
 /// The frames of a DCD file.
@@ -28,6 +30,8 @@ pub struct DcdFrames {
     frame: usize,
     remaining: u64,
     buffer: Vec<u8>,
+    decoded: Vec<f32>,
+    selection: Option<Arc<AtomSelection>>,
 }
 
 impl DcdFrames {
@@ -60,6 +64,8 @@ impl DcdFrames {
             frame: 0,
             remaining: 0,
             buffer: Vec::new(),
+            decoded: Vec::new(),
+            selection: None,
         };
         let mut header = [0u8; 84];
         frames.read_bytes(&mut header, "header")?;
@@ -105,6 +111,12 @@ impl DcdFrames {
         Ok(frames)
     }
 
+    /// Keep only `selection`'s atoms of each frame (every atom still checked).
+    pub fn selecting(mut self, selection: Option<Arc<AtomSelection>>) -> DcdFrames {
+        self.selection = selection;
+        self
+    }
+
     fn int(&self, bytes: [u8; 4]) -> i32 {
         if self.big_endian {
             i32::from_be_bytes(bytes)
@@ -141,6 +153,29 @@ impl DcdFrames {
         Ok(())
     }
 
+    /// The record of `length` bytes at `*at` in a frame's `bytes` (between its two markers),
+    /// `*at` moved past it.
+    fn record<'a>(
+        &self,
+        bytes: &'a [u8],
+        at: &mut usize,
+        length: usize,
+        what: &str,
+    ) -> Result<&'a [u8]> {
+        let marker = |k: usize| self.int(bytes[k..k + 4].try_into().unwrap());
+        for found in [marker(*at), marker(*at + 4 + length)] {
+            if found != length as i32 {
+                return Err(Error::format(
+                    &self.path,
+                    format!("DCD {what} record marker {found}, expected {length}"),
+                ));
+            }
+        }
+        let record = &bytes[*at + 4..*at + 4 + length];
+        *at += 8 + length;
+        Ok(record)
+    }
+
     fn frame_bytes(&self) -> u64 {
         let coordinates = 8 + 4 * self.natoms as u64;
         (if self.cell { 56 } else { 0 }) + coordinates * (3 + u64::from(self.fourth))
@@ -160,14 +195,16 @@ impl DcdFrames {
             )));
         }
         self.remaining -= self.frame_bytes();
+        // the whole frame in one read, then its records taken apart
+        let mut bytes = std::mem::take(&mut self.buffer);
+        bytes.resize(self.frame_bytes() as usize, 0);
         let what = format!("frame {}", self.frame);
+        self.read_bytes(&mut bytes, &what)?;
+        let mut at = 0;
         let cell = if self.cell {
-            self.marker(48, &what)?;
-            let mut bytes = [0u8; 48];
-            self.read_bytes(&mut bytes, &what)?;
-            self.marker(48, &what)?;
+            let record = self.record(&bytes, &mut at, 48, &what)?;
             let value = |k: usize| {
-                let b: [u8; 8] = bytes[8 * k..8 * k + 8].try_into().unwrap();
+                let b: [u8; 8] = record[8 * k..8 * k + 8].try_into().unwrap();
                 if self.big_endian {
                     f64::from_be_bytes(b)
                 } else {
@@ -182,25 +219,50 @@ impl DcdFrames {
             None
         };
         let n = self.natoms;
-        let mut positions = vec![[0.0f64; 3]; n];
-        for axis in 0..3 + usize::from(self.fourth) {
-            self.marker(4 * n as i32, &what)?;
-            let mut buffer = std::mem::take(&mut self.buffer);
-            buffer.resize(4 * n, 0);
-            self.read_bytes(&mut buffer, &what)?;
-            if axis < 3 {
-                for (position, bytes) in positions.iter_mut().zip(buffer.chunks_exact(4)) {
-                    let b: [u8; 4] = bytes.try_into().unwrap();
-                    position[axis] = f64::from(if self.big_endian {
-                        f32::from_be_bytes(b)
-                    } else {
-                        f32::from_le_bytes(b)
-                    });
-                }
-            }
-            self.buffer = buffer;
-            self.marker(4 * n as i32, &what)?;
+        let mut axes = [&[][..]; 3];
+        for axis in &mut axes {
+            *axis = self.record(&bytes, &mut at, 4 * n, &what)?;
         }
+        // each axis decoded on its own (a loop the compiler vectorises), then interleaved
+        let mut decoded = std::mem::take(&mut self.decoded);
+        decoded.clear();
+        for axis in axes {
+            let bytes = axis
+                .chunks_exact(4)
+                .map(|b| -> [u8; 4] { b.try_into().unwrap() });
+            if self.big_endian {
+                decoded.extend(bytes.map(f32::from_be_bytes));
+            } else {
+                decoded.extend(bytes.map(f32::from_le_bytes));
+            }
+        }
+        let (x, rest) = decoded.split_at(n);
+        let (y, z) = rest.split_at(n);
+        let point = |a: usize| [f64::from(x[a]), f64::from(y[a]), f64::from(z[a])];
+        let positions = match &self.selection {
+            None => {
+                let mut positions = positions_buffer(n);
+                positions.extend((0..n).map(point));
+                positions
+            }
+            Some(selection) => {
+                selection.check_count(&label, n)?;
+                // every atom checked, as without a selection
+                if !decoded.iter().all(|v| v.is_finite()) {
+                    let finite = |a: usize| point(a).iter().all(|v| v.is_finite());
+                    let bead = (0..n).find(|&a| !finite(a)).unwrap_or_default();
+                    return Err(non_finite(&label, bead, point(bead)));
+                }
+                let mut positions = positions_buffer(selection.keep.len());
+                positions.extend(selection.keep.iter().map(|&a| point(a as usize)));
+                positions
+            }
+        };
+        self.decoded = decoded;
+        if self.fourth {
+            self.record(&bytes, &mut at, 4 * n, &what)?;
+        }
+        self.buffer = bytes;
         checked(label, positions, cell, LengthUnit::Angstrom).map(Some)
     }
 }
@@ -244,6 +306,68 @@ impl super::ReadFrame for DcdFrames {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::io::trajectory::open_trajectories;
+
+    fn frames(path: &str, selection: Option<AtomSelection>) -> Result<Vec<Conformation>> {
+        let opened = open_trajectories(&[path.to_string()])?;
+        match selection {
+            Some(selection) => opened.select(selection).collect(),
+            None => opened.collect(),
+        }
+    }
+
+    /// Selected atoms are the whole frames' atoms, picked; the count and every coordinate are
+    /// still checked; other formats are selected after reading.
+    #[test]
+    fn a_selection_keeps_the_whole_frames_atoms() {
+        let whole = frames("data/md/cobrotoxin.dcd", None).unwrap();
+        let n = whole[0].positions.len();
+        let keep = vec![(n - 1) as u32, 0, 17, 17, 400];
+        let selection = AtomSelection::new(n, keep).unwrap();
+        assert_eq!(selection.keep, [0, 17, 400, n as u32 - 1]);
+        let picked = frames("data/md/cobrotoxin.dcd", Some(selection.clone())).unwrap();
+        assert_eq!(picked.len(), whole.len());
+        for (a, b) in whole.iter().zip(&picked) {
+            let expected: Vec<[f64; 3]> = selection
+                .keep
+                .iter()
+                .map(|&k| a.positions[k as usize])
+                .collect();
+            assert_eq!(b.positions, expected);
+            assert_eq!((&a.label, a.cell, a.unit), (&b.label, b.cell, b.unit));
+        }
+        // another topology's count
+        let other = AtomSelection::new(n + 1, vec![0]).unwrap();
+        let error = frames("data/md/cobrotoxin.dcd", Some(other))
+            .unwrap_err()
+            .to_string();
+        assert!(error.ends_with(&format!("frame 1: {n} atoms, the topology has {}", n + 1)));
+        assert!(AtomSelection::new(3, vec![3]).is_err());
+        // a NaN in an atom not kept is still found
+        let mut bytes = std::fs::read("data/md/cobrotoxin.dcd").unwrap();
+        let header = bytes.len() - whole.len() * (56 + 3 * (8 + 4 * n));
+        let at = header + 56 + 4 + 4 * 5;
+        bytes[at..at + 4].copy_from_slice(&f32::NAN.to_le_bytes());
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("nan.dcd");
+        std::fs::write(&path, bytes).unwrap();
+        let error = frames(&path.to_string_lossy(), Some(selection.clone()))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            error.contains("frame 1: bead 5 has a non-finite coordinate (NaN"),
+            "{error}"
+        );
+        // XTC frames: selected after reading
+        let whole = frames("data/md/adk.xtc", None).unwrap();
+        let n = whole[0].positions.len();
+        let selection = AtomSelection::new(n, vec![2, 9]).unwrap();
+        let picked = frames("data/md/adk.xtc", Some(selection)).unwrap();
+        assert_eq!(
+            picked[2].positions,
+            [whole[2].positions[2], whole[2].positions[9]]
+        );
+    }
 
     #[test]
     fn cells_from_lengths_and_angles() {
