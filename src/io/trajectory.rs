@@ -308,11 +308,19 @@ pub fn for_each_chunk(
 /// all-atom protein; fresh memory made page faults half the time of a `ca` measure).
 static SPARE_POSITIONS: std::sync::Mutex<Vec<Vec<[f64; 3]>>> = std::sync::Mutex::new(Vec::new());
 
-/// At most this many coordinates are kept in [`SPARE_POSITIONS`] (96 MB).
-const SPARE_COORDINATES: usize = 4 << 20;
+/// At most this many positions are kept in [`SPARE_POSITIONS`] (32 MB).
+const SPARE_COORDINATES: usize = (32 << 20) / std::mem::size_of::<[f64; 3]>();
 
-/// Keep the position buffers of `chunk` for [`positions_buffer`], up to [`SPARE_COORDINATES`].
+/// Whether a reader took a buffer from [`SPARE_POSITIONS`] (the text readers do not: nothing
+/// is kept for them).
+static SPARE_DRAWN: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Keep the position buffers of `chunk` for [`positions_buffer`], up to [`SPARE_COORDINATES`],
+/// once a reader draws from them.
 fn recycle(chunk: Vec<Conformation>) {
+    if !SPARE_DRAWN.load(std::sync::atomic::Ordering::Relaxed) {
+        return;
+    }
     let Ok(mut spare) = SPARE_POSITIONS.lock() else {
         return;
     };
@@ -330,6 +338,7 @@ fn recycle(chunk: Vec<Conformation>) {
 
 /// An empty position buffer with room for `n` beads: a recycled one when there is one.
 pub(crate) fn positions_buffer(n: usize) -> Vec<[f64; 3]> {
+    SPARE_DRAWN.store(true, std::sync::atomic::Ordering::Relaxed);
     let recycled = SPARE_POSITIONS
         .lock()
         .ok()

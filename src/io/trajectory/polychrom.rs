@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 
 use rayon::prelude::*;
 
-use super::{checked, Conformation, LengthUnit};
+use super::{checked, positions_buffer, Conformation, LengthUnit};
 use crate::error::{Error, Result};
 use crate::io::cool::chunks::Column;
 use crate::io::hdf5_guard::guarded;
@@ -184,7 +184,8 @@ impl PolychromBlocks {
             .map(|(block, column)| {
                 let label = format!("{}::{block}", path.display());
                 let values: Vec<f64> = column.read(&raw, 0, column.len())?;
-                let positions = values.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect();
+                let mut positions = positions_buffer(values.len() / 3);
+                positions.extend(values.chunks_exact(3).map(|p| [p[0], p[1], p[2]]));
                 checked(label, positions, None, LengthUnit::Model)
             })
             .collect();

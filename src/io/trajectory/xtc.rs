@@ -10,7 +10,7 @@
 use std::io::{Read, Seek, SeekFrom};
 use std::path::{Path, PathBuf};
 
-use super::{checked, Conformation, LengthUnit};
+use super::{checked, positions_buffer, Conformation, LengthUnit};
 use crate::error::{Error, Result};
 
 /// The frames of an XTC file.
@@ -123,12 +123,13 @@ impl XtcFrames {
             Some(Err(e)) => return Err(corrupt(format!("unreadable frame ({e})"))),
             None => return Err(corrupt("corrupt compressed coordinates".into())),
         }
-        let positions: Vec<[f64; 3]> = self
-            .decoded
-            .positions
-            .chunks_exact(3)
-            .map(|p| [f64::from(p[0]), f64::from(p[1]), f64::from(p[2])])
-            .collect();
+        let mut positions = positions_buffer(expected);
+        positions.extend(
+            self.decoded
+                .positions
+                .chunks_exact(3)
+                .map(|p| [f64::from(p[0]), f64::from(p[1]), f64::from(p[2])]),
+        );
         if positions.len() != expected {
             return Err(corrupt(format!(
                 "{} positions decoded, expected {expected}",
