@@ -72,6 +72,23 @@ pub fn run(args: &PlotArgs) -> Result<()> {
     }
 }
 
+/// The legend names of `inputs`: `labels` (`--labels`, one per input) or `default` of each.
+fn legend_labels(
+    labels: Option<&Vec<String>>,
+    inputs: &[String],
+    default: impl Fn(&str) -> String,
+) -> Result<Vec<String>> {
+    match labels {
+        Some(labels) if labels.len() != inputs.len() => Err(Error::Invalid(format!(
+            "--labels gives {} name(s) for {} input(s)",
+            labels.len(),
+            inputs.len()
+        ))),
+        Some(labels) => Ok(labels.clone()),
+        None => Ok(inputs.iter().map(|input| default(input)).collect()),
+    }
+}
+
 /// Image formats, for `--format`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum FormatArg {

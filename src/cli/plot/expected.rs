@@ -147,17 +147,7 @@ pub fn run(args: &ExpectedPlotArgs) -> Result<()> {
         .collect();
     refuse_overwrites(&inputs, &[Some(&args.figure.out)])?;
     let figure = args.figure.check(DEFAULT_WIDTH_IN)?;
-    let labels = match &args.labels {
-        Some(labels) if labels.len() != args.inputs.len() => {
-            return Err(Error::Invalid(format!(
-                "--labels gives {} name(s) for {} input(s)",
-                labels.len(),
-                args.inputs.len()
-            )))
-        }
-        Some(labels) => labels.clone(),
-        None => args.inputs.iter().map(|uri| default_label(uri)).collect(),
-    };
+    let labels = super::legend_labels(args.labels.as_ref(), &args.inputs, default_label)?;
     let fit_range = args
         .fit_range
         .as_deref()

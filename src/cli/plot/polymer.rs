@@ -112,25 +112,11 @@ pub fn run(args: &PolymerStatsPlotArgs) -> Result<()> {
     let inputs: Vec<&Path> = files.iter().map(PathBuf::as_path).collect();
     refuse_overwrites(&inputs, &[Some(&args.figure.out)])?;
     let figure = args.figure.check(DEFAULT_WIDTH_IN)?;
-    let labels = match &args.labels {
-        Some(labels) if labels.len() != args.inputs.len() => {
-            return Err(Error::Invalid(format!(
-                "--labels gives {} name(s) for {} input(s)",
-                labels.len(),
-                args.inputs.len()
-            )))
-        }
-        Some(labels) => labels.clone(),
-        None => args
-            .inputs
-            .iter()
-            .map(|prefix| {
-                Path::new(prefix)
-                    .file_name()
-                    .map_or_else(|| prefix.clone(), |n| n.to_string_lossy().into_owned())
-            })
-            .collect(),
-    };
+    let labels = super::legend_labels(args.labels.as_ref(), &args.inputs, |prefix| {
+        Path::new(prefix)
+            .file_name()
+            .map_or_else(|| prefix.to_string(), |n| n.to_string_lossy().into_owned())
+    })?;
     let samples = args
         .inputs
         .iter()
