@@ -127,7 +127,8 @@ pub enum Command {
     /// Figures as PNG or SVG: `plot map` (contact-map heatmaps, square or 45-degree, with
     /// domains, loops and tracks), `plot expected` (P(s) and power laws), `plot saddle` (saddle
     /// plots), `plot contacts` (protein contact maps), `plot pileup` (pileups, as plotpup),
-    /// `plot hicrep` (SCCs as a clustered heatmap); `plot map --compare` draws two samples.
+    /// `plot hicrep` (SCCs as a clustered heatmap), `plot polymer-stats` (P(s), R^2(s) of 3D
+    /// conformations); `plot map --compare` draws two samples.
     Plot(plot::PlotArgs),
     /// Shell completion script (bash, zsh, fish) on standard output.
     Completions(shell::CompletionsArgs),

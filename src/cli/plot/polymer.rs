@@ -25,7 +25,8 @@ fractal globule about -1 and 2/3. --over-time: each conformation's Rg^2 against 
 the order read (a trajectory's relaxation).
 
 Examples:
-  contactmap polymer-stats traj/ -o traj && contactmap plot polymer-stats traj -o traj.png
+  contactmap polymer-stats traj/ -o traj
+  contactmap plot polymer-stats traj -o traj.png
   contactmap plot polymer-stats wt ko --labels WT,KO --no-slope -o stats.svg
   contactmap plot polymer-stats traj --over-time -o rg2.png")]
 pub struct PolymerStatsPlotArgs {
