@@ -22,7 +22,7 @@ from ._compartments import digitize, eigs_cis, eigs_trans, saddle, saddle_streng
 from ._file import File, MultiResFile, PixelSelector
 from ._loops import dots, pileup
 from ._native import ContactmapError
-from ._protein import Structure, read_structure, score_contacts
+from ._protein import Structure, contact_frequencies, read_structure, score_contacts
 from ._simulate import Simulation, simulate_polymer
 from ._tables import balance, directionality, expected_cis, expected_trans, insulation
 from ._writers import convert, create_cooler, merge, zoomify
@@ -35,6 +35,7 @@ __all__ = [
     "Simulation",
     "Structure",
     "balance",
+    "contact_frequencies",
     "convert",
     "create_cooler",
     "digitize",

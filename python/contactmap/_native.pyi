@@ -10,6 +10,7 @@ __all__ = [
     "NativeFile",
     "balance",
     "balance_store",
+    "contact_frequencies",
     "convert",
     "create_cooler",
     "digitize",
@@ -278,6 +279,25 @@ def score_contacts(
     rounding: str = "floor",
     keep_unobserved: bool = False,
 ) -> tuple[list[_Column], list[str], list[tuple[str, str]]]: ...
+def contact_frequencies(
+    trajectories: list[str],
+    topology: str,
+    definition: str = "cb",
+    cutoff: float = 8.0,
+    stride: int = 1,
+    periodic: bool = True,
+    min_sep: int = 3,
+) -> tuple[
+    list[str],
+    list[str],
+    list[str],
+    list[str],
+    list[str],
+    npt.NDArray[np.uint64],
+    npt.NDArray[np.uint64],
+    npt.NDArray[np.uint32],
+    int,
+]: ...
 def simulate_polymer(
     options: dict[str, Any],
     device: str = "auto",

@@ -113,3 +113,53 @@ def score_contacts(
     df = pd.DataFrame(dict(columns))
     df.attrs["register"] = dict(registers)
     return df
+
+
+def contact_frequencies(
+    trajectory: str | os.PathLike[str] | Sequence[str | os.PathLike[str]],
+    topology: str | os.PathLike[str],
+    definition: str = "cb",
+    cutoff: float = 8.0,
+    stride: int = 1,
+    periodic: bool = True,
+    min_sep: int = 3,
+) -> pandas.DataFrame:
+    """``contactmap contacts --trajectory``: the residue contact frequencies of MD trajectories
+    (DCD, XTC, multi-model PDB / mmCIF files, read one after the other) whose frames have the
+    atoms of ``topology`` (a PDB or mmCIF file), as MDTraj's ``compute_contacts(traj, "all",
+    scheme)`` measures them: ``definition`` ``"cb"`` (Cb, Ca for glycine: CASP's), ``"ca"``,
+    ``"closest"``, ``"closest-heavy"``, ``"sidechain"``, ``"sidechain-heavy"``; a contact is a
+    distance below ``cutoff`` Angstrom; pairs of residues with a CA atom, in the same chain, at
+    least ``min_sep`` apart by index; every ``stride``-th frame; minimum-image distances in a
+    periodic cell unless ``periodic`` is False.
+
+    One row per pair, the columns of the command's table: ``chain residue1 residue2 name1
+    name2 index1 index2 contact_frames frequency``; ``df.attrs["frames"]`` is the number of
+    frames measured. ``score_contacts`` takes the table (written as TSV) as its truth through
+    the command line's ``--frequencies``."""
+    pd = _pandas()
+    files = (
+        [os.fspath(trajectory)]
+        if isinstance(trajectory, (str, os.PathLike))
+        else [os.fspath(t) for t in trajectory]
+    )
+    chain, residue1, residue2, name1, name2, index1, index2, counts, frames = (
+        _native.contact_frequencies(
+            files, os.fspath(topology), definition, cutoff, stride, periodic, min_sep
+        )
+    )
+    df = pd.DataFrame(
+        {
+            "chain": chain,
+            "residue1": residue1,
+            "residue2": residue2,
+            "name1": name1,
+            "name2": name2,
+            "index1": index1.astype(np.int64),
+            "index2": index2.astype(np.int64),
+            "contact_frames": counts.astype(np.int64),
+            "frequency": counts / frames,
+        }
+    )
+    df.attrs["frames"] = frames
+    return df

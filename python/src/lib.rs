@@ -151,6 +151,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(writers::create_cooler, m)?)?;
     m.add_function(wrap_pyfunction!(protein::read_structure, m)?)?;
     m.add_function(wrap_pyfunction!(protein::score_contacts, m)?)?;
+    m.add_function(wrap_pyfunction!(protein::contact_frequencies, m)?)?;
     m.add_function(wrap_pyfunction!(simulate::simulate_polymer, m)?)?;
     Ok(())
 }

@@ -299,3 +299,90 @@ pub(crate) fn score_contacts<'py>(
     ];
     Ok((columns, warnings, registers))
 }
+
+/// The residue pairs of `contactmap contacts --trajectory` and their frames in contact: the
+/// chain id, the residues' author numbers (with insertion codes) and names, their indices in
+/// the topology, the frames in contact, and the frames measured.
+type FrequencyColumns<'py> = (
+    Vec<String>,
+    Vec<String>,
+    Vec<String>,
+    Vec<String>,
+    Vec<String>,
+    Bound<'py, PyArray1<u64>>,
+    Bound<'py, PyArray1<u64>>,
+    Bound<'py, PyArray1<u32>>,
+    usize,
+);
+
+/// `contactmap contacts --trajectory`: the residue contact frequencies of MD trajectories
+/// (DCD, XTC, multi-model PDB / mmCIF) with the atoms of `topology`, as MDTraj's
+/// `compute_contacts` measures the `definition` (cb, ca, closest, closest-heavy, sidechain,
+/// sidechain-heavy), contacts `d < cutoff` Angstrom.
+#[allow(clippy::too_many_arguments)]
+#[pyfunction]
+#[pyo3(signature = (trajectories, topology, definition="cb", cutoff=8.0, stride=1, periodic=true, min_sep=3))]
+pub(crate) fn contact_frequencies<'py>(
+    py: Python<'py>,
+    trajectories: Vec<String>,
+    topology: &str,
+    definition: &str,
+    cutoff: f64,
+    stride: usize,
+    periodic: bool,
+    min_sep: usize,
+) -> PyResult<FrequencyColumns<'py>> {
+    use contactmap::io::topology::read_topology;
+    use contactmap::score::frequency::{contact_frequencies_of, FrequencySpec, Scheme};
+    let schemes = [
+        Scheme::Cb,
+        Scheme::Ca,
+        Scheme::Closest,
+        Scheme::ClosestHeavy,
+        Scheme::Sidechain,
+        Scheme::SidechainHeavy,
+    ];
+    let Some(scheme) = schemes
+        .into_iter()
+        .find(|s| s.name() == definition.to_ascii_lowercase())
+    else {
+        let names: Vec<&str> = schemes.iter().map(|s| s.name()).collect();
+        return Err(ContactmapError::new_err(format!(
+            "definition '{definition}': expected one of {}",
+            names.join(", ")
+        )));
+    };
+    let spec = FrequencySpec {
+        scheme,
+        cutoff_angstrom: cutoff,
+        min_separation: min_sep,
+        periodic,
+        stride,
+    };
+    let (topology, frequencies) = run(py, || {
+        let topology = read_topology(topology)?;
+        let frequencies = contact_frequencies_of(&topology, &trajectories, &spec, |_| {})?;
+        Ok((topology, frequencies))
+    })?;
+    let number = |r: usize| {
+        let residue = &topology.residues[r];
+        format!(
+            "{}{}",
+            residue.number,
+            residue.insertion.map(String::from).unwrap_or_default()
+        )
+    };
+    let pairs = &frequencies.pairs.pairs;
+    let text = |f: &dyn Fn(usize, usize) -> String| pairs.iter().map(|&(i, j)| f(i, j)).collect();
+    Ok((
+        text(&|i, _| topology.chains[topology.residues[i].chain].clone()),
+        text(&|i, _| number(i)),
+        text(&|_, j| number(j)),
+        text(&|i, _| topology.residues[i].name.clone()),
+        text(&|_, j| topology.residues[j].name.clone()),
+        vec1(py, pairs.iter().map(|&(i, _)| i as u64).collect()),
+        vec1(py, pairs.iter().map(|&(_, j)| j as u64).collect()),
+        vec1(py, frequencies.counts.clone()),
+        frequencies.frames,
+    ))
+}

@@ -122,3 +122,59 @@ def test_protein_errors_name_the_file() -> None:
         cm.read_structure(p("toxd/toxd.pdb"), chain="Q")
     with pytest.raises(cm.ContactmapError, match="toxd.fasta"):
         cm.score_contacts(p("toxd/toxd.pdb"), p("toxd/toxd.fasta"), format="rr")
+
+
+def _mdtraj_reference(name: str) -> tuple[int, int, dict]:
+    """MDTraj's pairs, frames and frames in contact (data/reference/mdtraj, made by
+    scripts/md_contacts_reference.py)."""
+    import gzip
+
+    with gzip.open(DATA / "reference" / "mdtraj" / f"{name}.tsv.gz", "rt") as handle:
+        head = handle.readline().split("\t")
+        handle.readline()
+        contacts = {}
+        for line in handle:
+            i, j, n = (int(x) for x in line.split("\t"))
+            contacts[(i, j)] = n
+    return int(head[1]), int(head[3]), contacts
+
+
+@pytest.mark.parametrize(
+    "name, trajectory, scheme, cutoff",
+    [
+        ("cobrotoxin", "md/cobrotoxin.dcd", "cb", 8.0),
+        ("cobrotoxin", "md/cobrotoxin.dcd", "closest-heavy", 4.5),
+        ("adk", "md/adk.xtc", "ca", 8.0),
+        ("adk", "md/adk.xtc", "sidechain", 4.5),
+    ],
+)
+def test_contact_frequencies_are_mdtrajs(name: str, trajectory: str, scheme: str, cutoff: float) -> None:
+    df = cm.contact_frequencies(
+        str(DATA / trajectory), str(DATA / "md" / f"{name}.pdb.gz"), scheme, cutoff
+    )
+    pairs, frames, contacts = _mdtraj_reference(f"{name}.{scheme}")
+    assert len(df) == pairs and df.attrs["frames"] == frames
+    expected = [contacts.get((i, j), 0) for i, j in zip(df.index1, df.index2)]
+    assert df.contact_frames.tolist() == expected
+    assert np.array_equal(df.frequency, df.contact_frames / frames)
+    assert (df.contact_frames > 0).sum() > 50
+
+
+def test_contact_frequencies_are_the_command_lines_table(tmp_path) -> None:
+    topology = str(DATA / "md" / "cobrotoxin.pdb.gz")
+    trajectory = str(DATA / "md" / "cobrotoxin.dcd")
+    out = tmp_path / "freq.tsv"
+    subprocess.run(
+        [binary(), "contacts", "--trajectory", trajectory, "--topology", topology,
+         "--stride", "2", "-o", str(out)],
+        check=True, capture_output=True,
+    )
+    table = pd.read_csv(out, sep="\t", dtype={"chain": str, "residue1": str, "residue2": str},
+                        keep_default_na=False)
+    df = cm.contact_frequencies([trajectory], topology, stride=2)
+    assert df.attrs["frames"] == 2
+    pd.testing.assert_frame_equal(df, table, check_dtype=False, check_exact=True)
+    with pytest.raises(cm.ContactmapError, match="definition 'cx'"):
+        cm.contact_frequencies(trajectory, topology, definition="cx")
+    with pytest.raises(cm.ContactmapError, match="atoms, the topology has"):
+        cm.contact_frequencies(trajectory, str(DATA / "md" / "adk.pdb.gz"))
