@@ -23,6 +23,7 @@ __all__ = [
     "insulation",
     "merge",
     "pileup",
+    "polymer_stats",
     "read_structure",
     "resolutions",
     "saddle",
@@ -297,6 +298,14 @@ def contact_frequencies(
     npt.NDArray[np.uint64],
     npt.NDArray[np.uint32],
     int,
+]: ...
+def polymer_stats(
+    trajectories: list[str],
+    contact_radius: float = 1.1,
+) -> tuple[
+    tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]],
+    tuple[npt.NDArray[np.uint64], npt.NDArray[np.float64], npt.NDArray[np.float64]],
+    tuple[list[str], npt.NDArray[np.float64]],
 ]: ...
 def simulate_polymer(
     options: dict[str, Any],

@@ -164,3 +164,40 @@ def simulate_polymer(
         else _bed(compartments, ["chrom", "start", "end", "type", "fraction_A"]),
         relaxation=note,
     )
+
+
+class PolymerStats(NamedTuple):
+    """What ``polymer_stats`` returns (the tables of ``contactmap polymer-stats``)."""
+
+    scaling: pandas.DataFrame
+    """P(s): ``s_mid contact_probability`` (polychrom's ``contact_scaling``)."""
+    r2: pandas.DataFrame
+    """``s r2 rg2``: ``R2_scaling`` and ``Rg2_scaling`` at the separations."""
+    rg2: pandas.DataFrame
+    """``conformation rg2``: each conformation's ``Rg2``, in the order read."""
+
+
+def polymer_stats(
+    trajectory: str | os.PathLike[str] | Sequence[str | os.PathLike[str]],
+    contact_radius: float = 1.1,
+) -> PolymerStats:
+    """``contactmap polymer-stats``: the polymer statistics of the conformations of
+    ``trajectory`` (polychrom folders, blocks files or ``file::block`` URIs, conformations
+    tables, XYZ, DCD / XTC / multi-model PDB), each one chain, as polychrom's
+    ``polymer_analyses`` computes them and averaged over the conformations: P(s) (contacts at
+    most ``contact_radius`` apart, over separations ``generate_bins(N)``), ``<R^2(s)>``,
+    ``<Rg^2(s)>``, and each conformation's ``Rg^2``."""
+    pd = _pandas()
+    files = (
+        [os.fspath(trajectory)]
+        if isinstance(trajectory, (str, os.PathLike))
+        else [os.fspath(t) for t in trajectory]
+    )
+    (mids, probability), (s, r2, rg2_of_s), (labels, rg2) = _native.polymer_stats(
+        files, contact_radius
+    )
+    return PolymerStats(
+        pd.DataFrame({"s_mid": mids, "contact_probability": probability}),
+        pd.DataFrame({"s": s.astype(np.int64), "r2": r2, "rg2": rg2_of_s}),
+        pd.DataFrame({"conformation": labels, "rg2": rg2}),
+    )

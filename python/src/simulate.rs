@@ -241,3 +241,40 @@ pub(crate) fn simulate_polymer<'py>(
         notes,
     ))
 }
+
+/// `contactmap polymer-stats`: P(s) `(s_mid, contact probability)`, the separations with
+/// `<R^2(s)>` and `<Rg^2(s)>`, and each conformation's label and `Rg^2`, as polychrom's
+/// `polymer_analyses` computes them, over the conformations of `trajectories`.
+#[allow(clippy::type_complexity)]
+#[pyfunction]
+#[pyo3(signature = (trajectories, contact_radius=1.1))]
+pub(crate) fn polymer_stats<'py>(
+    py: Python<'py>,
+    trajectories: Vec<String>,
+    contact_radius: f64,
+) -> PyResult<(
+    (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>),
+    (
+        Bound<'py, PyArray1<u64>>,
+        Bound<'py, PyArray1<f64>>,
+        Bound<'py, PyArray1<f64>>,
+    ),
+    (Vec<String>, Bound<'py, PyArray1<f64>>),
+)> {
+    use contactmap::conformations::stats::ensemble_stats;
+    use contactmap::io::trajectory::open_trajectories;
+    let stats = run(py, || {
+        ensemble_stats(open_trajectories(&trajectories)?, contact_radius)
+    })?;
+    let (mids, probabilities): (Vec<f64>, Vec<f64>) = stats.contact_scaling.into_iter().unzip();
+    let (labels, rg2): (Vec<String>, Vec<f64>) = stats.rg2.into_iter().unzip();
+    Ok((
+        (vec1(py, mids), vec1(py, probabilities)),
+        (
+            vec1(py, stats.bins.iter().map(|&s| s as u64).collect()),
+            vec1(py, stats.r2),
+            vec1(py, stats.rg2_of_s),
+        ),
+        (labels, vec1(py, rg2)),
+    ))
+}

@@ -103,3 +103,33 @@ def test_bad_parameters_are_errors() -> None:
         cm.simulate_polymer(chains=10, bonds="spring")
     with pytest.raises(cm.ContactmapError, match="threads"):
         cm.simulate_polymer(chains=10, threads=0)
+
+
+def test_polymer_stats_are_polychroms(tmp_path: Path) -> None:
+    """P(s) exactly, R^2(s), Rg^2(s) and Rg^2 to polychrom's float error against the tables of
+    polychrom's own functions (data/reference/polychrom), and the command line's tables."""
+    from helpers import DATA
+
+    stats = cm.polymer_stats(str(DATA / "polychrom" / "traj"), contact_radius=1.6)
+    reference = DATA / "reference" / "polychrom"
+    scaling = pd.read_csv(reference / "stats.scaling.tsv", sep="\t")
+    assert np.array_equal(stats.scaling.s_mid, scaling.s_mid)
+    assert np.array_equal(stats.scaling.contact_probability, scaling.contact_probability)
+    r2 = pd.read_csv(reference / "stats.r2.tsv", sep="\t")
+    assert np.array_equal(stats.r2.s, r2.s)
+    assert np.allclose(stats.r2.r2, r2.r2, rtol=1e-12, atol=0)
+    assert np.allclose(stats.r2.rg2, r2.rg2, rtol=1e-12, atol=0)
+    rg2 = pd.read_csv(reference / "stats.rg2.tsv", sep="\t")
+    # the first file's float32 positions: polychrom sums them in float32
+    assert np.allclose(stats.rg2.rg2, rg2.rg2, rtol=1e-7, atol=0)
+    prefix = tmp_path / "s"
+    subprocess.run(
+        [binary(), "polymer-stats", str(DATA / "polychrom" / "traj"), "--contact-radius",
+         "1.6", "-o", str(prefix)],
+        check=True, capture_output=True,
+    )
+    for name, table in [("scaling", stats.scaling), ("r2", stats.r2), ("rg2", stats.rg2)]:
+        ours = pd.read_csv(f"{prefix}.{name}.tsv", sep="\t")
+        pd.testing.assert_frame_equal(table, ours, check_dtype=False, check_exact=True)
+    with pytest.raises(cm.ContactmapError, match="radius"):
+        cm.polymer_stats(str(DATA / "polychrom" / "traj"), contact_radius=-1)
