@@ -362,11 +362,6 @@ impl TrueContacts {
         }
     }
 
-    /// The ensemble's frequency threshold, when the contacts are an ensemble's.
-    pub fn frequency_threshold(&self) -> Option<f64> {
-        self.ensemble.as_ref().map(|ensemble| ensemble.threshold)
-    }
-
     /// The contact definition used.
     pub fn definition(&self) -> &ContactDefinition {
         &self.definition

@@ -288,13 +288,16 @@ fn to_nm(value: f64, unit: LengthUnit) -> f32 {
 }
 
 impl Frame {
-    /// The frame of the atoms `used` of an MD conformation (Angstrom or nm), in that order.
-    fn new(conformation: &Conformation, used: &[u32], periodic: bool) -> Frame {
+    /// The frame of the atoms `used` of an MD conformation (Angstrom or nm), in that order
+    /// (`None`: every atom, the conformation holding only those measured).
+    fn new(conformation: &Conformation, used: Option<&[u32]>, periodic: bool) -> Frame {
         let unit = conformation.unit;
-        let xyz = used
-            .iter()
-            .map(|&a| conformation.positions[a as usize].map(|x| to_nm(x, unit)))
-            .collect();
+        let nm = |p: &[f64; 3]| p.map(|x| to_nm(x, unit));
+        let positions = &conformation.positions;
+        let xyz = match used {
+            Some(used) => used.iter().map(|&a| nm(&positions[a as usize])).collect(),
+            None => positions.iter().map(nm).collect(),
+        };
         let cell = conformation.cell.filter(|_| periodic).map(|vectors| {
             let v = vectors.map(|row| row.map(|x| to_nm(x, unit)));
             let rectangular = v[0][1] == 0.0
@@ -377,14 +380,20 @@ fn plain(xyz: &[[f32; 3]], i: u32, j: u32) -> f32 {
     norm2(displacement(xyz, i, j))
 }
 
-/// MDTraj's minimum image in a rectangular box (`_mm_round_ps`: ties to even).
+/// MDTraj's minimum image of the displacement `r` in a rectangular box (`_mm_round_ps`: ties
+/// to even).
 #[inline(always)]
-fn boxed(xyz: &[[f32; 3]], edges: &[f32; 3], i: u32, j: u32) -> f32 {
-    let mut r = displacement(xyz, i, j);
+fn minimum_image(mut r: [f32; 3], edges: &[f32; 3]) -> [f32; 3] {
     for d in 0..3 {
         r[d] -= (r[d] * (1.0 / edges[d])).round_ties_even() * edges[d];
     }
-    norm2(r)
+    r
+}
+
+/// MDTraj's squared minimum-image distance in a rectangular box.
+#[inline(always)]
+fn boxed(xyz: &[[f32; 3]], edges: &[f32; 3], i: u32, j: u32) -> f32 {
+    norm2(minimum_image(displacement(xyz, i, j), edges))
 }
 
 /// MDTraj's minimum image in a triclinic cell: reduce by the box vectors, then the nearest of
@@ -467,9 +476,8 @@ fn count_runs(frame: &Frame, runs: &[Run], cutoff: f32, counts: &mut [u32]) {
                 }
             }
             Some(Cell::Box(e)) => {
-                let image = |r: f32, d: usize| r - (r * (1.0 / e[d])).round_ties_even() * e[d];
                 for (((count, &qx), &qy), &qz) in out.iter_mut().zip(xs).zip(ys).zip(zs) {
-                    let r = [image(qx - px, 0), image(qy - py, 1), image(qz - pz, 2)];
+                    let r = minimum_image([qx - px, qy - py, qz - pz], e);
                     *count += u32::from(norm2(r) < below);
                 }
             }
@@ -588,7 +596,9 @@ pub fn contact_frequencies(
     spec: &FrequencySpec,
     progress: impl FnMut(usize) + Send,
 ) -> Result<ContactFrequencies> {
-    frequencies(topology, frames, false, spec, progress)
+    check(spec)?;
+    let pairs = contact_pairs(topology, spec)?;
+    frequencies(topology.atoms.len(), pairs, frames, false, spec, progress)
 }
 
 /// [`contact_frequencies`] over the frames of the trajectory files `inputs` (DCD, XTC,
@@ -600,28 +610,23 @@ pub fn contact_frequencies_of(
     spec: &FrequencySpec,
     progress: impl FnMut(usize) + Send,
 ) -> Result<ContactFrequencies> {
-    let selection = AtomSelection::new(topology.atoms.len(), measured_atoms(topology, spec)?)?;
+    check(spec)?;
+    let pairs = contact_pairs(topology, spec)?;
+    let selection = AtomSelection::new(topology.atoms.len(), measured_atoms(&pairs))?;
     let frames = open_trajectories(inputs)?.select(selection);
-    frequencies(topology, frames, true, spec, progress)
+    frequencies(topology.atoms.len(), pairs, frames, true, spec, progress)
 }
 
-/// The atoms the pairs of `topology` measure under `spec`, ascending.
-fn measured_atoms(topology: &Topology, spec: &FrequencySpec) -> Result<Vec<u32>> {
-    let pairs = contact_pairs(topology, spec)?;
+/// The atoms `pairs` measure, ascending.
+fn measured_atoms(pairs: &ContactPairs) -> Vec<u32> {
     let mut used: Vec<u32> = pairs.atoms.iter().flatten().copied().collect();
     used.sort_unstable();
     used.dedup();
-    Ok(used)
+    used
 }
 
-/// [`contact_frequencies`]; `selected`: each frame holds only the atoms of [`measured_atoms`].
-fn frequencies(
-    topology: &Topology,
-    frames: impl Iterator<Item = Result<Conformation>>,
-    selected: bool,
-    spec: &FrequencySpec,
-    mut progress: impl FnMut(usize) + Send,
-) -> Result<ContactFrequencies> {
+/// The cutoff and the stride of `spec` checked.
+fn check(spec: &FrequencySpec) -> Result<()> {
     if !(spec.cutoff_angstrom.is_finite() && spec.cutoff_angstrom > 0.0) {
         return Err(Error::Invalid(format!(
             "the cutoff must be a positive distance, got {}",
@@ -631,11 +636,23 @@ fn frequencies(
     if spec.stride == 0 {
         return Err(Error::Invalid("the stride must be at least 1".into()));
     }
-    let pairs = contact_pairs(topology, spec)?;
+    Ok(())
+}
+
+/// [`contact_frequencies`] of the `pairs` of a topology of `atoms` atoms; `selected`: each frame
+/// holds only the atoms `pairs` measure ([`measured_atoms`]).
+fn frequencies(
+    atoms: usize,
+    pairs: ContactPairs,
+    frames: impl Iterator<Item = Result<Conformation>>,
+    selected: bool,
+    spec: &FrequencySpec,
+    mut progress: impl FnMut(usize) + Send,
+) -> Result<ContactFrequencies> {
     let cutoff = (spec.cutoff_angstrom / 10.0) as f32;
     // the atoms measured, and the pairs' atoms as indices into them (a frame converts only
     // those: for `ca`, one atom in fifteen)
-    let used = measured_atoms(topology, spec)?;
+    let used = measured_atoms(&pairs);
     let measured = ContactPairs {
         pairs: pairs.pairs.clone(),
         atoms: pairs
@@ -661,11 +678,7 @@ fn frequencies(
         .collect::<Option<Vec<(u32, u32)>>>()
         .map(|single| runs(&single));
     // the atoms of a frame a measure takes: all of the selected ones, or the used ones
-    let gather: Vec<u32> = if selected {
-        (0..used.len() as u32).collect()
-    } else {
-        used.clone()
-    };
+    let gather = (!selected).then_some(&used[..]);
     let mut counts = vec![0u32; pairs.pairs.len()];
     let keep = |index: usize, conformation: &Conformation| {
         if conformation.unit == LengthUnit::Model {
@@ -675,17 +688,12 @@ fn frequencies(
                 conformation.label
             )));
         }
-        let expected = if selected {
-            used.len()
-        } else {
-            topology.atoms.len()
-        };
-        if conformation.positions.len() != expected {
+        // (selected frames were checked against the topology by their reader)
+        if !selected && conformation.positions.len() != atoms {
             return Err(Error::Invalid(format!(
-                "{}: {} atoms, the topology has {}",
+                "{}: {} atoms, the topology has {atoms}",
                 conformation.label,
                 conformation.positions.len(),
-                topology.atoms.len()
             )));
         }
         Ok(index.is_multiple_of(spec.stride))
@@ -700,7 +708,7 @@ fn frequencies(
             .map(|frames| {
                 let mut local = vec![0u32; pairs.pairs.len()];
                 for conformation in frames {
-                    let frame = Frame::new(conformation, &gather, spec.periodic);
+                    let frame = Frame::new(conformation, gather, spec.periodic);
                     count_frame(&frame, &measured, single.as_deref(), cutoff, &mut local);
                 }
                 local

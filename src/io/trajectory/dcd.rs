@@ -239,6 +239,15 @@ impl DcdFrames {
         let (x, rest) = decoded.split_at(n);
         let (y, z) = rest.split_at(n);
         let point = |a: usize| [f64::from(x[a]), f64::from(y[a]), f64::from(z[a])];
+        if let Some(selection) = &self.selection {
+            selection.check_count(&label, n)?;
+        }
+        // every atom checked, selected or not
+        if !decoded.iter().all(|v| v.is_finite()) {
+            let finite = |a: usize| point(a).iter().all(|v| v.is_finite());
+            let bead = (0..n).find(|&a| !finite(a)).unwrap_or_default();
+            return Err(non_finite(&label, bead, point(bead)));
+        }
         let positions = match &self.selection {
             None => {
                 let mut positions = positions_buffer(n);
@@ -246,13 +255,6 @@ impl DcdFrames {
                 positions
             }
             Some(selection) => {
-                selection.check_count(&label, n)?;
-                // every atom checked, as without a selection
-                if !decoded.iter().all(|v| v.is_finite()) {
-                    let finite = |a: usize| point(a).iter().all(|v| v.is_finite());
-                    let bead = (0..n).find(|&a| !finite(a)).unwrap_or_default();
-                    return Err(non_finite(&label, bead, point(bead)));
-                }
                 let mut positions = positions_buffer(selection.keep.len());
                 positions.extend(selection.keep.iter().map(|&a| point(a as usize)));
                 positions
