@@ -364,14 +364,7 @@ pub(crate) fn contact_frequencies<'py>(
         let frequencies = contact_frequencies_of(&topology, &trajectories, &spec, |_| {})?;
         Ok((topology, frequencies))
     })?;
-    let number = |r: usize| {
-        let residue = &topology.residues[r];
-        format!(
-            "{}{}",
-            residue.number,
-            residue.insertion.map(String::from).unwrap_or_default()
-        )
-    };
+    let number = |r: usize| topology.residues[r].label();
     let pairs = &frequencies.pairs.pairs;
     let text = |f: &dyn Fn(usize, usize) -> String| pairs.iter().map(|&(i, j)| f(i, j)).collect();
     Ok((

@@ -102,6 +102,15 @@ const STANDARD_RESIDUES: &[(&str, char)] = &[
     ("UNK", 'X'),
 ];
 
+/// A chain id as messages and reports show it: `(blank)` for the blank id.
+pub fn chain_label(id: &str) -> &str {
+    if id.is_empty() {
+        "(blank)"
+    } else {
+        id
+    }
+}
+
 /// The parent residue name and its one-letter code for a residue name found in a file, or
 /// `None` when the residue is not an amino acid this reader keeps.
 pub fn amino_acid(name: &str) -> Option<(&'static str, char)> {

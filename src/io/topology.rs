@@ -41,6 +41,16 @@ pub struct TopologyResidue {
     pub atoms: std::ops::Range<usize>,
 }
 
+impl TopologyResidue {
+    /// Its author number with its insertion code, as PDB files write them (`52`, `52A`).
+    pub fn label(&self) -> String {
+        match self.insertion {
+            Some(code) => format!("{}{code}", self.number),
+            None => self.number.to_string(),
+        }
+    }
+}
+
 /// The atoms, residues and chains of a trajectory's topology file.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Topology {

@@ -199,10 +199,9 @@ pub fn contact_pairs(topology: &Topology, spec: &FrequencySpec) -> Result<Contac
     let describe = |r: usize| {
         let residue = &topology.residues[r];
         format!(
-            "residue {} {}{} (index {r}, chain '{}')",
+            "residue {} {} (index {r}, chain '{}')",
             residue.name,
-            residue.number,
-            residue.insertion.map(String::from).unwrap_or_default(),
+            residue.label(),
             topology.chains[residue.chain]
         )
     };
@@ -745,17 +744,7 @@ pub fn frequency_table(topology: &Topology, frequencies: &ContactFrequencies) ->
     text.extend_from_slice(FREQUENCY_HEADER.as_bytes());
     text.push(b'\n');
     // each residue's `number[insertion]`, and each count's frequency, written once
-    let numbers: Vec<String> = topology
-        .residues
-        .iter()
-        .map(|r| {
-            format!(
-                "{}{}",
-                r.number,
-                r.insertion.map(String::from).unwrap_or_default()
-            )
-        })
-        .collect();
+    let numbers: Vec<String> = topology.residues.iter().map(|r| r.label()).collect();
     let mut fractions: std::collections::HashMap<u32, String> = std::collections::HashMap::new();
     for (k, &(i, j)) in frequencies.pairs.pairs.iter().enumerate() {
         let (a, b) = (&topology.residues[i], &topology.residues[j]);

@@ -341,12 +341,11 @@ impl Register {
             ),
             RegisterMethod::Alignment => "aligned the structure's chain to the sequence".into(),
         };
-        let mut text =
-            format!(
+        let mut text = format!(
             "register: {head}: {placed} of {} residues of chain {} on {} sequence positions, {} \
              identical ({identity:.1}%)",
             self.n_residues,
-            if chain.id.is_empty() { "(blank)" } else { &chain.id },
+            crate::io::structure::chain_label(&chain.id),
             self.sequence_length,
             self.identical
         );

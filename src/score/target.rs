@@ -14,7 +14,7 @@ use super::register::{register, Register, RegisterMethod, RegisterMode};
 use crate::error::{Error, Result};
 use crate::io::frequencies::{read_frequency_table, FrequencyResidue, FrequencyRow};
 use crate::io::predictions::{read_prediction, PredictionFormat};
-use crate::io::structure::{amino_acid, read_structure, Chain};
+use crate::io::structure::{amino_acid, chain_label, read_structure, Chain};
 use crate::io::tables::real_text;
 use crate::score::contacts::{ListSize, Rounding, SeparationRange};
 
@@ -249,23 +249,16 @@ impl EnsembleTruth {
     /// and insertion code, names checked. Pairs with a residue the structure lacks are
     /// unmeasured (a warning when they are more than a tenth of the chain's rows).
     pub fn apply(&self, structure: &Path, chain: &Chain, placed: &mut Placed) -> Result<()> {
-        let shown = |id: &str| {
-            if id.is_empty() {
-                "(blank)".to_string()
-            } else {
-                id.to_string()
-            }
-        };
         let rows: Vec<&FrequencyRow> = self.rows.iter().filter(|r| r.chain == chain.id).collect();
         if rows.is_empty() {
-            let mut chains: Vec<String> = self.rows.iter().map(|r| shown(&r.chain)).collect();
+            let mut chains: Vec<&str> = self.rows.iter().map(|r| chain_label(&r.chain)).collect();
             chains.dedup();
             return Err(Error::format(
                 &self.path,
                 format!(
                     "no residue pair of chain {} of {} (the table's chains: {}): choose the \
                      chain with --chain",
-                    shown(&chain.id),
+                    chain_label(&chain.id),
                     structure.display(),
                     chains.join(", ")
                 ),
@@ -294,7 +287,7 @@ impl EnsembleTruth {
                         residue.insertion.map(String::from).unwrap_or_default(),
                         residue.name,
                         ours.name,
-                        shown(&chain.id),
+                        chain_label(&chain.id),
                         structure.display()
                     ),
                 ));
@@ -317,7 +310,7 @@ impl EnsembleTruth {
                 format!(
                     "none of the table's pairs of chain {} has both residues in {}: the table \
                      was computed on another topology",
-                    shown(&chain.id),
+                    chain_label(&chain.id),
                     structure.display()
                 ),
             ));
@@ -328,7 +321,7 @@ impl EnsembleTruth {
                  (or that is not placed on the sequence); they are scored as unobserved",
                 self.path.display(),
                 rows.len(),
-                shown(&chain.id),
+                chain_label(&chain.id),
                 structure.display()
             );
             placed.warning = Some(match placed.warning.take() {
@@ -594,7 +587,7 @@ pub fn scores_text(
              rounding {}, unobserved pairs {}\n",
             report.path,
             structure,
-            if chain.is_empty() { "(blank)" } else { chain },
+            chain_label(chain),
             report.n_observed,
             definition,
             report.length_source,
