@@ -135,6 +135,18 @@ impl Table {
         })
     }
 
+    /// The numbers of the columns `names`, row by row (an error names a missing column or the
+    /// line of a field that is not a number).
+    pub fn numbers(&self, names: &[&str]) -> Result<Vec<Vec<f64>>> {
+        let columns: Vec<usize> = names
+            .iter()
+            .map(|name| self.column(name))
+            .collect::<Result<_>>()?;
+        (0..self.n_rows)
+            .map(|row| columns.iter().map(|&c| self.number(row, c)).collect())
+            .collect()
+    }
+
     /// The path the table was read from.
     pub fn path(&self) -> &str {
         &self.path

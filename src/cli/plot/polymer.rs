@@ -50,20 +50,9 @@ pub struct PolymerStatsPlotArgs {
 /// Default figure width in inches.
 const DEFAULT_WIDTH_IN: f64 = 6.0;
 
-/// The columns `names` of `table`, as numbers, row by row.
+/// The columns `names` of `table`, as numbers, row by row; a table without rows is an error.
 fn columns(table: &Table, names: &[&str]) -> Result<Vec<Vec<f64>>> {
-    let indices: Vec<usize> = names
-        .iter()
-        .map(|name| table.column(name))
-        .collect::<Result<_>>()?;
-    let rows = (0..table.len())
-        .map(|row| {
-            indices
-                .iter()
-                .map(|&column| table.number(row, column))
-                .collect()
-        })
-        .collect::<Result<Vec<Vec<f64>>>>()?;
+    let rows = table.numbers(names)?;
     if rows.is_empty() {
         return Err(Error::format(table.path(), "the table has no row"));
     }
