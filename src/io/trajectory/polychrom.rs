@@ -69,10 +69,13 @@ type Plan = Vec<(PathBuf, Option<Vec<u64>>)>;
 
 /// The conformations of a polychrom input, read a file at a time: the blocks' `pos` chunks
 /// are inflated in parallel (libhdf5 would inflate them one at a time, behind its lock), so the
-/// memory held is one file's blocks (polychrom writes 50 per file).
+/// memory held is one file's blocks (polychrom writes 50 per file), and the next file is opened
+/// (its chunk indexes read) meanwhile.
 pub struct PolychromBlocks {
     plan: std::vec::IntoIter<(PathBuf, Option<Vec<u64>>)>,
     read: std::collections::VecDeque<Result<Conformation>>,
+    /// The next file, opened while the last one was inflated.
+    ahead: Option<Result<OpenedFile>>,
 }
 
 impl PolychromBlocks {
@@ -103,6 +106,7 @@ impl PolychromBlocks {
         Ok(PolychromBlocks {
             plan: plan.into_iter(),
             read: std::collections::VecDeque::new(),
+            ahead: None,
         })
     }
 
@@ -157,21 +161,15 @@ impl PolychromBlocks {
         Column::rows(dataset, &format!("{block}/pos"), &text, 3)
     }
 
-    /// Read the blocks of one file, their chunks inflated in parallel.
-    fn read_file(path: &Path, blocks: Option<Vec<u64>>) -> Vec<Result<Conformation>> {
-        let (file, blocks) = match Self::open_file(path, blocks) {
-            Ok(opened) => opened,
-            Err(error) => return vec![Err(error)],
-        };
-        let raw = match crate::io::cool::chunks::open_raw(path) {
-            Ok(raw) => raw,
-            Err(error) => return vec![Err(error)],
-        };
-        // the columns opened in order (libhdf5 calls), stopping at the first bad block
+    /// Open the blocks of one file (libhdf5's part: the file, each block's `pos`, its chunk
+    /// index), stopping at the first bad block.
+    fn open_blocks(path: PathBuf, blocks: Option<Vec<u64>>) -> Result<OpenedFile> {
+        let (file, blocks) = Self::open_file(&path, blocks)?;
+        let raw = crate::io::cool::chunks::open_raw(&path)?;
         let mut columns = Vec::with_capacity(blocks.len());
         let mut failure = None;
         for &block in &blocks {
-            match Self::block_column(path, &file, block) {
+            match Self::block_column(&path, &file, block) {
                 Ok(column) => columns.push((block, column)),
                 Err(error) => {
                     failure = Some(error);
@@ -179,21 +177,49 @@ impl PolychromBlocks {
                 }
             }
         }
-        let mut read: Vec<Result<Conformation>> = columns
+        Ok(OpenedFile {
+            path,
+            _file: file,
+            raw,
+            columns,
+            failure,
+        })
+    }
+
+    /// The conformations of an opened file, their chunks inflated in parallel.
+    fn inflate(opened: Result<OpenedFile>) -> Vec<Result<Conformation>> {
+        let opened = match opened {
+            Ok(opened) => opened,
+            Err(error) => return vec![Err(error)],
+        };
+        let mut read: Vec<Result<Conformation>> = opened
+            .columns
             .par_iter()
             .map(|(block, column)| {
-                let label = format!("{}::{block}", path.display());
-                let values: Vec<f64> = column.read(&raw, 0, column.len())?;
+                let label = format!("{}::{block}", opened.path.display());
+                let values: Vec<f64> = column.read(&opened.raw, 0, column.len())?;
                 let mut positions = positions_buffer(values.len() / 3);
                 positions.extend(values.chunks_exact(3).map(|p| [p[0], p[1], p[2]]));
                 checked(label, positions, None, LengthUnit::Model)
             })
             .collect();
-        if let Some(error) = failure {
+        if let Some(error) = opened.failure {
             read.push(Err(error));
         }
         read
     }
+}
+
+/// One blocks file opened: its blocks' `pos` columns ready to inflate.
+struct OpenedFile {
+    path: PathBuf,
+    /// The libhdf5 file, open while its columns are.
+    _file: hdf5::File,
+    /// The file for the raw chunk reads.
+    raw: std::fs::File,
+    columns: Vec<(u64, Column)>,
+    /// The bad block that ended the opening, after the good ones.
+    failure: Option<Error>,
 }
 
 impl Iterator for PolychromBlocks {
@@ -204,8 +230,24 @@ impl Iterator for PolychromBlocks {
             if let Some(next) = self.read.pop_front() {
                 return Some(next);
             }
-            let (path, blocks) = self.plan.next()?;
-            self.read = Self::read_file(&path, blocks).into();
+            let current = match self.ahead.take() {
+                Some(opened) => opened,
+                None => {
+                    let (path, blocks) = self.plan.next()?;
+                    Self::open_blocks(path, blocks)
+                }
+            };
+            // the next file is opened (libhdf5, one thread) while this one is inflated (the
+            // pool): the opening is off the critical path on many cores
+            let following = self.plan.next();
+            let (read, ahead) = std::thread::scope(|scope| {
+                let inflating = scope.spawn(|| Self::inflate(current));
+                let ahead = following.map(|(path, blocks)| Self::open_blocks(path, blocks));
+                let read = inflating.join().expect("inflating a file does not panic");
+                (read, ahead)
+            });
+            self.read = read.into();
+            self.ahead = ahead;
         }
     }
 }
@@ -247,4 +289,49 @@ pub fn write_blocks(folder: &Path, conformations: &[Vec<[f64; 3]>]) -> Result<Ve
         written.push(path);
     }
     Ok(written)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// 120 conformations in three files (50, 50, 20): read in order, each file opened while
+    /// the last is inflated; a bad block or an unreadable file in the middle ends the stream
+    /// after every conformation before it, in order.
+    #[test]
+    fn files_are_read_in_order_and_errors_come_in_place() {
+        let dir = tempfile::tempdir().unwrap();
+        let conformations: Vec<Vec<[f64; 3]>> = (0..120)
+            .map(|k| (0..4).map(|b| [k as f64, b as f64, 0.5]).collect())
+            .collect();
+        let folder = dir.path().join("run");
+        assert_eq!(write_blocks(&folder, &conformations).unwrap().len(), 3);
+        let labels = |input: &Path| -> Vec<std::result::Result<f64, String>> {
+            PolychromBlocks::open(&input.to_string_lossy())
+                .unwrap()
+                .map(|c| c.map(|c| c.positions[0][0]).map_err(|e| e.to_string()))
+                .collect()
+        };
+        let all = labels(&folder);
+        let want: Vec<std::result::Result<f64, String>> = (0..120).map(|k| Ok(k as f64)).collect();
+        assert_eq!(all, want);
+        // block 60 loses its positions: 0..=59, then the error naming it
+        {
+            let file = hdf5::File::open_rw(folder.join("blocks_50-99.h5")).unwrap();
+            file.unlink("60/pos").unwrap();
+        }
+        let read = labels(&folder);
+        assert_eq!(&read[..60], &want[..60]);
+        let error = read[60].as_ref().unwrap_err();
+        assert!(
+            error.contains("blocks_50-99.h5::60: no dataset pos"),
+            "{error}"
+        );
+        // the second file is not HDF5: the first file's 50, then the error naming the file
+        std::fs::write(folder.join("blocks_50-99.h5"), b"not hdf5").unwrap();
+        let read = labels(&folder);
+        assert_eq!(&read[..50], &want[..50]);
+        let error = read[50].as_ref().unwrap_err();
+        assert!(error.contains("blocks_50-99.h5"), "{error}");
+    }
 }
