@@ -23,7 +23,14 @@ from ._file import File, MultiResFile, PixelSelector
 from ._loops import dots, pileup
 from ._native import ContactmapError
 from ._protein import Structure, contact_frequencies, read_structure, score_contacts
-from ._simulate import PolymerStats, Simulation, polymer_stats, simulate_polymer
+from ._simulate import (
+    PolymerMap,
+    PolymerStats,
+    Simulation,
+    polymer_map,
+    polymer_stats,
+    simulate_polymer,
+)
 from ._tables import balance, directionality, expected_cis, expected_trans, insulation
 from ._writers import convert, create_cooler, merge, zoomify
 
@@ -32,6 +39,7 @@ __all__ = [
     "File",
     "MultiResFile",
     "PixelSelector",
+    "PolymerMap",
     "PolymerStats",
     "Simulation",
     "Structure",
@@ -49,6 +57,7 @@ __all__ = [
     "insulation",
     "merge",
     "pileup",
+    "polymer_map",
     "polymer_stats",
     "read_structure",
     "saddle",

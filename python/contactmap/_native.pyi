@@ -23,6 +23,7 @@ __all__ = [
     "insulation",
     "merge",
     "pileup",
+    "polymer_map",
     "polymer_stats",
     "read_structure",
     "resolutions",
@@ -297,6 +298,17 @@ def contact_frequencies(
     npt.NDArray[np.uint64],
     npt.NDArray[np.uint64],
     npt.NDArray[np.uint32],
+    int,
+]: ...
+def polymer_map(
+    trajectories: list[str],
+    contact_radius: float,
+    monomers_per_bin: int = 1,
+    chains: list[int] | None = None,
+) -> tuple[
+    tuple[npt.NDArray[np.int64], npt.NDArray[np.int64], npt.NDArray[np.int64]],
+    list[int],
+    int,
     int,
 ]: ...
 def polymer_stats(

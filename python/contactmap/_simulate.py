@@ -13,6 +13,7 @@ from . import _native
 from ._file import _pandas, _warn
 
 if TYPE_CHECKING:  # pragma: no cover
+    import numpy.typing as npt
     import pandas
 
 
@@ -163,6 +164,66 @@ def simulate_polymer(
         if compartments is None
         else _bed(compartments, ["chrom", "start", "end", "type", "fraction_A"]),
         relaxation=note,
+    )
+
+
+class PolymerMap(NamedTuple):
+    """What ``polymer_map`` returns (the map ``contactmap polymer-map`` writes)."""
+
+    pixels: pandas.DataFrame
+    """``bin1_id bin2_id count``: the upper triangle (``bin1_id <= bin2_id``), non-zero, sorted;
+    a contact within a bin counted once."""
+    chain_bins: list[int]
+    """The bins of each chain, in order."""
+    n_conformations: int
+    """Conformations counted."""
+    n_beads: int
+    """Beads per conformation."""
+
+    def dense(self, polychrom: bool = False) -> npt.NDArray[np.int64]:
+        """The symmetric ``n_bins x n_bins`` matrix of counts. ``polychrom=True``: as polychrom's
+        ``binnedContactMap`` / ``monomerResolutionContactMap`` return it, ``triangle +
+        triangle.T``, whose diagonal is twice the contacts within a bin."""
+        n_bins = sum(self.chain_bins)
+        bin1 = self.pixels.bin1_id.to_numpy()
+        bin2 = self.pixels.bin2_id.to_numpy()
+        count = self.pixels["count"].to_numpy()
+        matrix = np.zeros((n_bins, n_bins), dtype=np.int64)
+        matrix[bin1, bin2] = count
+        matrix[bin2, bin1] = count
+        if polychrom:
+            matrix[np.diag_indices(n_bins)] *= 2
+        return matrix
+
+
+def polymer_map(
+    trajectory: str | os.PathLike[str] | Sequence[str | os.PathLike[str]],
+    contact_radius: float,
+    monomers_per_bin: int = 1,
+    chains: Sequence[int] | None = None,
+) -> PolymerMap:
+    """``contactmap polymer-map``: the contact map of the conformations of ``trajectory``
+    (polychrom folders, blocks files or ``file::block`` URIs, conformations tables, XYZ, DCD /
+    XTC / multi-model PDB), counted on every core as polychrom's ``binnedContactMap`` counts it:
+    beads at most ``contact_radius`` apart are in contact; each chain (``chains``: their bead
+    counts, default one chain of every bead) is cut into bins of ``monomers_per_bin`` beads from
+    its start; each contact adds one to its pair of bins, summed over the conformations.
+    ``monomers_per_bin=1`` is ``monomerResolutionContactMap``. ``.dense(polychrom=True)`` is the
+    matrix polychrom returns."""
+    pd = _pandas()
+    files = (
+        [os.fspath(trajectory)]
+        if isinstance(trajectory, (str, os.PathLike))
+        else [os.fspath(t) for t in trajectory]
+    )
+    (bin1, bin2, count), chain_bins, n_conformations, n_beads = _native.polymer_map(
+        files, contact_radius, monomers_per_bin, None if chains is None else list(chains)
+    )
+    return PolymerMap(
+        pd.DataFrame({"bin1_id": bin1, "bin2_id": bin2, "count": count}),
+        list(chain_bins),
+        n_conformations,
+        n_beads,
     )
 
 

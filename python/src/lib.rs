@@ -153,6 +153,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(protein::score_contacts, m)?)?;
     m.add_function(wrap_pyfunction!(protein::contact_frequencies, m)?)?;
     m.add_function(wrap_pyfunction!(simulate::simulate_polymer, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate::polymer_map, m)?)?;
     m.add_function(wrap_pyfunction!(simulate::polymer_stats, m)?)?;
     Ok(())
 }

@@ -278,3 +278,48 @@ pub(crate) fn polymer_stats<'py>(
         (labels, vec1(py, rg2)),
     ))
 }
+
+/// `contactmap polymer-map`: the ensemble contact map of the conformations of `trajectories`,
+/// as polychrom's `binnedContactMap` counts it: the upper-triangle pixels `(bin1, bin2, count)`,
+/// the bins of each chain, the conformations counted and their beads.
+#[allow(clippy::type_complexity)]
+#[pyfunction]
+#[pyo3(signature = (trajectories, contact_radius, monomers_per_bin=1, chains=None))]
+pub(crate) fn polymer_map<'py>(
+    py: Python<'py>,
+    trajectories: Vec<String>,
+    contact_radius: f64,
+    monomers_per_bin: usize,
+    chains: Option<Vec<usize>>,
+) -> PyResult<(
+    (
+        Bound<'py, PyArray1<i64>>,
+        Bound<'py, PyArray1<i64>>,
+        Bound<'py, PyArray1<i64>>,
+    ),
+    Vec<usize>,
+    usize,
+    usize,
+)> {
+    use contactmap::conformations::{chains_of_lengths, contact_map, MapParams};
+    use contactmap::io::trajectory::open_trajectories;
+    let params = MapParams {
+        contact_radius,
+        monomers_per_bin,
+        chains: chains.as_deref().map(chains_of_lengths),
+    };
+    let map = run(py, || {
+        contact_map(open_trajectories(&trajectories)?, &params, &|_| {})
+    })?;
+    let column = |f: fn(&(u32, u32, u64)) -> i64| vec1(py, map.pixels.iter().map(f).collect());
+    Ok((
+        (
+            column(|p| i64::from(p.0)),
+            column(|p| i64::from(p.1)),
+            column(|p| p.2 as i64),
+        ),
+        map.bins.bins_per_chain(),
+        map.n_conformations,
+        map.n_beads,
+    ))
+}

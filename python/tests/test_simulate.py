@@ -105,6 +105,40 @@ def test_bad_parameters_are_errors() -> None:
         cm.simulate_polymer(chains=10, threads=0)
 
 
+def test_polymer_map_is_polychroms(tmp_path: Path) -> None:
+    """Count for count the maps of polychrom's own binnedContactMap (two chains, 4 beads a bin)
+    and monomerResolutionContactMap (data/reference/polychrom), and the command line's .cool."""
+    import gzip
+
+    from helpers import DATA
+
+    traj = str(DATA / "polychrom" / "traj")
+    reference = DATA / "reference" / "polychrom"
+    binned = cm.polymer_map(traj, contact_radius=1.6, monomers_per_bin=4, chains=[90, 60])
+    with gzip.open(reference / "binned_4_chains90-60_cutoff1.6.tsv.gz") as f:
+        want = np.loadtxt(f)
+    assert binned.chain_bins == [23, 15]
+    assert (binned.n_conformations, binned.n_beads) == (7, 150)
+    assert np.array_equal(binned.dense(polychrom=True), want)
+    assert np.array_equal(np.diag(binned.dense()) * 2, np.diag(want))
+    monomer = cm.polymer_map([traj], contact_radius=1.6)
+    with gzip.open(reference / "monomer_cutoff1.6.tsv.gz") as f:
+        want = np.loadtxt(f)
+    assert np.array_equal(monomer.dense(polychrom=True), want)
+    out = tmp_path / "map.cool"
+    subprocess.run(
+        [binary(), "polymer-map", traj, "--contact-radius", "1.6", "--monomers-per-bin", "4",
+         "--chains", "90,60", "-o", str(out)],
+        check=True, capture_output=True,
+    )
+    pixels = cooler.Cooler(str(out)).pixels()[:]
+    pd.testing.assert_frame_equal(binned.pixels, pixels, check_dtype=False, check_exact=True)
+    with pytest.raises(cm.ContactmapError, match="monomers-per-bin"):
+        cm.polymer_map(traj, contact_radius=1.6, monomers_per_bin=0)
+    with pytest.raises(cm.ContactmapError, match="chains"):
+        cm.polymer_map(traj, contact_radius=1.6, chains=[100, 100])
+
+
 def test_polymer_stats_are_polychroms(tmp_path: Path) -> None:
     """P(s) exactly, R^2(s), Rg^2(s) and Rg^2 to polychrom's float error against the tables of
     polychrom's own functions (data/reference/polychrom), and the command line's tables."""

@@ -8,7 +8,7 @@ use clap::Args;
 
 use crate::cli::output::refuse_overwrites;
 use crate::cli::progress::spinner;
-use contactmap::conformations::{contact_map, MapParams};
+use contactmap::conformations::{chains_of_lengths, contact_map, MapParams};
 use contactmap::error::{Error, Result};
 use contactmap::io::cool::{write_cool, CoolWriteOptions};
 use contactmap::io::trajectory::open_trajectories;
@@ -30,6 +30,9 @@ Inputs (one or more, read in order; the format is detected):
                          block as polychrom's URI blocks_1-50.h5::42 (the dataset pos, N x 3)
   conformations table    `simulate polymer --conformations` TSV: replica sample chain bead x y z
   XYZ                    frames of N, a comment, N lines 'name x y z' (.xyz, .xyz.gz)
+  DCD, XTC               CHARMM / NAMD / OpenMM and GROMACS frames (.dcd, .xtc): every atom a
+                         bead (Angstrom for DCD, nm for XTC: --contact-radius in those units)
+  multi-model PDB/mmCIF  every MODEL, all its atoms in file order (Angstrom)
 
 Every conformation must have as many beads as the first. Conformations stream: a chunk is read,
 its contacts found on every core, and the next chunk read. The output has one chromosome per chain
@@ -42,7 +45,8 @@ Examples:
       -o pair.cool
   contactmap polymer-map sim.tsv.gz --contact-radius 1.5 -o sim.cool")]
 pub struct PolymerMapArgs {
-    /// Trajectories: polychrom folders, blocks files or URIs; conformations tables; XYZ files.
+    /// Trajectories: polychrom folders, blocks files or URIs; conformations tables; XYZ, DCD,
+    /// XTC, multi-model PDB / mmCIF files.
     #[arg(value_name = "TRAJ", required = true)]
     pub inputs: Vec<String>,
     /// Beads at most this far apart are in contact (the positions' units; polychrom's cutoff).
@@ -74,17 +78,7 @@ pub fn run(args: &PolymerMapArgs) -> Result<()> {
     if args.monomer_bp == 0 {
         return Err(Error::Invalid("--monomer-bp must be at least 1".into()));
     }
-    let chains = args.chains.as_ref().map(|lengths| {
-        let mut start = 0;
-        lengths
-            .iter()
-            .map(|&n| {
-                let chain = (start, start + n);
-                start += n;
-                chain
-            })
-            .collect::<Vec<_>>()
-    });
+    let chains = args.chains.as_deref().map(chains_of_lengths);
     let params = MapParams {
         contact_radius: args.contact_radius,
         monomers_per_bin: args.monomers_per_bin,

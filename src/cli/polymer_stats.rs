@@ -25,14 +25,16 @@ Per conformation, as polychrom's polymer_analyses computes it, then the mean ove
   PREFIX.rg2.tsv      conformation rg2: each conformation's squared radius of gyration (Rg2), in
                       the order read (over time, for a trajectory)
 Every conformation is one chain of N beads (polychrom's functions take one). Inputs as
-`polymer-map`'s: polychrom folders, blocks files or URIs, conformations tables, XYZ.
+`polymer-map`'s: polychrom folders, blocks files or URIs, conformations tables, XYZ, DCD, XTC,
+multi-model PDB / mmCIF (every atom a bead).
 `contactmap plot polymer-stats PREFIX -o stats.png` draws the tables.
 
 Examples:
   contactmap polymer-stats traj/ -o traj
   contactmap polymer-stats conformations.tsv.gz --contact-radius 1.5 -o sim")]
 pub struct PolymerStatsArgs {
-    /// Trajectories: polychrom folders, blocks files or URIs; conformations tables; XYZ files.
+    /// Trajectories: polychrom folders, blocks files or URIs; conformations tables; XYZ, DCD,
+    /// XTC, multi-model PDB / mmCIF files.
     #[arg(value_name = "TRAJ", required = true)]
     pub inputs: Vec<String>,
     /// Beads at most this far apart are in contact (polychrom's contact_scaling cutoff).

@@ -134,6 +134,25 @@ pub fn for_each_contact(
 /// at 6 cells per point, the simulator's density; 2.08 s at 16; no faster beyond).
 const CELLS_PER_POINT: f64 = 16.0;
 
+/// Chains `[start, end)` of consecutive lengths, from bead 0 (`--chains 90,60`: `(0, 90)`,
+/// `(90, 150)`).
+///
+/// ```
+/// use contactmap::conformations::chains_of_lengths;
+/// assert_eq!(chains_of_lengths(&[90, 60]), vec![(0, 90), (90, 150)]);
+/// ```
+pub fn chains_of_lengths(lengths: &[usize]) -> Vec<(usize, usize)> {
+    let mut start = 0;
+    lengths
+        .iter()
+        .map(|&n| {
+            let chain = (start, start + n);
+            start += n;
+            chain
+        })
+        .collect()
+}
+
 /// The parameters of an ensemble contact map.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MapParams {
