@@ -117,11 +117,21 @@ pub fn for_each_contact(
     positions: &[[f64; 3]],
     radius: f64,
     cells: &mut CellList,
-    mut visit: impl FnMut(u32, u32),
+    visit: impl FnMut(u32, u32),
 ) {
+    sort_into_cells(positions, radius, cells);
+    visit_contacts(radius, cells, visit);
+}
+
+/// The cell list of [`for_each_contact`] (built in parallel for many beads).
+fn sort_into_cells(positions: &[[f64; 3]], radius: f64, cells: &mut CellList) {
     // the list finds pairs strictly closer than its cutoff: one ulp wider, then `<=` radius
-    let r2 = radius * radius;
     cells.build_with_density(positions, radius.next_up(), Space::Open, CELLS_PER_POINT);
+}
+
+/// The contacts of a list built by [`sort_into_cells`] (on this thread alone).
+fn visit_contacts(radius: f64, cells: &mut CellList, mut visit: impl FnMut(u32, u32)) {
+    let r2 = radius * radius;
     cells.for_each_point_pair(|i, j, d2| {
         if d2 <= r2 {
             visit(i.min(j), i.max(j));
@@ -249,15 +259,15 @@ impl Tally {
     /// Add the contacts of `chunk` (at most `radius` apart; `bead_bin`: each bead's bin, or
     /// `u32::MAX`), in parallel.
     fn add_chunk(&mut self, chunk: &[Conformation], radius: f64, bead_bin: &[u32], n_bins: usize) {
-        // `add(bin1, bin2)`, `bin1 <= bin2`, once per contact of a binned bead pair
+        // `add(bin1, bin2)`, `bin1 <= bin2`, once per contact of a binned bead pair, in a list
+        // built by `sort_into_cells`
         fn contacts(
-            c: &Conformation,
             cells: &mut CellList,
             radius: f64,
             bead_bin: &[u32],
             mut add: impl FnMut(u32, u32),
         ) {
-            for_each_contact(&c.positions, radius, cells, |i, j| {
+            visit_contacts(radius, cells, |i, j| {
                 let (a, b) = (bead_bin[i as usize], bead_bin[j as usize]);
                 if a != u32::MAX && b != u32::MAX {
                     add(a.min(b), a.max(b));
@@ -272,8 +282,12 @@ impl Tally {
                         .unwrap_or_else(std::sync::PoisonError::into_inner)
                 };
                 chunk.par_iter().for_each_init(CellList::new, |cells, c| {
+                    // the build may run in parallel, and this thread take up another
+                    // conformation meanwhile: a triangle is taken once the list is built, so a
+                    // thread holds one at a time
+                    sort_into_cells(&c.positions, radius, cells);
                     let mut counts = lock().pop().unwrap_or_else(|| vec![0; triangle]);
-                    contacts(c, cells, radius, bead_bin, |a, b| {
+                    contacts(cells, radius, bead_bin, |a, b| {
                         counts[triangle_index(a, b, n_bins)] += 1
                     });
                     lock().push(counts);
@@ -281,7 +295,8 @@ impl Tally {
             }
             Tally::Shared(total) => {
                 chunk.par_iter().for_each_init(CellList::new, |cells, c| {
-                    contacts(c, cells, radius, bead_bin, |a, b| {
+                    sort_into_cells(&c.positions, radius, cells);
+                    contacts(cells, radius, bead_bin, |a, b| {
                         total[triangle_index(a, b, n_bins)].fetch_add(1, Ordering::Relaxed);
                     });
                 });
@@ -292,7 +307,8 @@ impl Tally {
                     .par_iter()
                     .map_init(CellList::new, |cells, c| {
                         let mut keys = Vec::new();
-                        contacts(c, cells, radius, bead_bin, |a, b| {
+                        sort_into_cells(&c.positions, radius, cells);
+                        contacts(cells, radius, bead_bin, |a, b| {
                             keys.push(u64::from(a) * n + u64::from(b))
                         });
                         keys
@@ -528,22 +544,25 @@ mod tests {
     }
 
     /// The three tallies (per-thread triangles, one shared atomic triangle, sorted keys) add
-    /// up the same pixels, on 1 and 3 threads.
+    /// up the same pixels, on 1 and 3 threads; conformations of 4,200 beads (cell lists built
+    /// in parallel: a thread may take up another conformation meanwhile) leave at most one
+    /// per-thread triangle per thread.
     #[test]
     fn every_tally_counts_the_same() {
         let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(11);
+        let n = 4200;
         let conformations: Vec<Conformation> = (0..20)
             .map(|k| Conformation {
                 label: format!("c{k}"),
                 cell: None,
                 unit: crate::io::trajectory::LengthUnit::Model,
-                positions: (0..300)
-                    .map(|_| [0; 3].map(|_| rng.gen::<f64>() * 6.0))
+                positions: (0..n)
+                    .map(|_| [0; 3].map(|_| rng.gen::<f64>() * 20.0))
                     .collect(),
             })
             .collect();
-        let bins = ChainBins::new(&[(0, 300)], 7).unwrap();
-        let (n_bins, bead_bin) = (bins.n_bins(), bins.lookup(300));
+        let bins = ChainBins::new(&[(0, n)], 70).unwrap();
+        let (n_bins, bead_bin) = (bins.n_bins(), bins.lookup(n));
         let triangle = n_bins * (n_bins + 1) / 2;
         let tally = |tally: Tally, threads: usize| {
             let pool = rayon::ThreadPoolBuilder::new()
@@ -554,6 +573,9 @@ mod tests {
                 let mut tally = tally;
                 for chunk in conformations.chunks(6) {
                     tally.add_chunk(chunk, 1.1, &bead_bin, n_bins);
+                }
+                if let Tally::PerThread(pool) = &tally {
+                    assert!(pool.lock().unwrap().len() <= threads);
                 }
                 tally.pixels(n_bins)
             })
