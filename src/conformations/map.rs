@@ -476,27 +476,31 @@ mod tests {
         }
     }
 
-    /// The binned map of random conformations equals a naive count with polychrom's binning.
-    #[test]
-    fn the_map_is_the_naive_binned_count() {
-        let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(5);
-        let n = 57;
-        let conformations: Vec<Conformation> = (0..9)
+    /// `count` conformations `c0, c1 ...` of `n` beads uniform in a cube of side `side`.
+    fn cloud(
+        rng: &mut rand_xoshiro::Xoshiro256PlusPlus,
+        count: usize,
+        n: usize,
+        side: f64,
+    ) -> Vec<Conformation> {
+        (0..count)
             .map(|k| Conformation {
                 label: format!("c{k}"),
                 cell: None,
                 unit: crate::io::trajectory::LengthUnit::Model,
                 positions: (0..n)
-                    .map(|_| {
-                        [
-                            rng.gen::<f64>() * 4.0,
-                            rng.gen::<f64>() * 4.0,
-                            rng.gen::<f64>() * 4.0,
-                        ]
-                    })
+                    .map(|_| [0; 3].map(|_| rng.gen::<f64>() * side))
                     .collect(),
             })
-            .collect();
+            .collect()
+    }
+
+    /// The binned map of random conformations equals a naive count with polychrom's binning.
+    #[test]
+    fn the_map_is_the_naive_binned_count() {
+        let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(5);
+        let n = 57;
+        let conformations = cloud(&mut rng, 9, n, 4.0);
         let chains = vec![(0, 20), (25, 56)];
         let params = MapParams {
             contact_radius: 1.2,
@@ -551,16 +555,7 @@ mod tests {
     fn every_tally_counts_the_same() {
         let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(11);
         let n = 4200;
-        let conformations: Vec<Conformation> = (0..20)
-            .map(|k| Conformation {
-                label: format!("c{k}"),
-                cell: None,
-                unit: crate::io::trajectory::LengthUnit::Model,
-                positions: (0..n)
-                    .map(|_| [0; 3].map(|_| rng.gen::<f64>() * 20.0))
-                    .collect(),
-            })
-            .collect();
+        let conformations = cloud(&mut rng, 20, n, 20.0);
         let bins = ChainBins::new(&[(0, n)], 70).unwrap();
         let (n_bins, bead_bin) = (bins.n_bins(), bins.lookup(n));
         let triangle = n_bins * (n_bins + 1) / 2;
