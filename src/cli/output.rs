@@ -3,10 +3,31 @@
 
 use std::path::Path;
 
-use contactmap::error::Result;
+use crate::cli::matrix_output::{format_from_extension, OutputFormat};
+use contactmap::error::{Error, Result};
 pub use contactmap::io::output::{
     is_stdout, refuse_overwrites, write_text_file, write_whole, FloatFormat, Output,
 };
+
+/// Refuse an output that `command` (a simulator, `polymer-map`: they write .cool files only)
+/// cannot write: standard output, or a name whose extension promises another format (`sim.hic`
+/// would be a cooler named .hic, which Juicebox cannot open).
+pub fn check_cool_output(command: &str, output: &Path) -> Result<()> {
+    if output.as_os_str() == "-" {
+        return Err(Error::Invalid(format!(
+            "{command} writes a .cool file: give a file name to -o, not '-'"
+        )));
+    }
+    match format_from_extension(output) {
+        Ok(OutputFormat::Cool) | Err(_) => Ok(()),
+        Ok(_) => Err(Error::Invalid(format!(
+            "{command} writes a .cool file, and '{}' names another format: write OUT.cool, then \
+             `contactmap convert OUT.cool {}`",
+            output.display(),
+            output.display()
+        ))),
+    }
+}
 
 /// The file of a matrix URI (`file.mcool::/resolutions/N` -> `file.mcool`), for
 /// [`refuse_overwrites`].

@@ -74,7 +74,7 @@ pub fn run(args: &PolymerMapArgs) -> Result<()> {
         .map(|i| Path::new(i.split("::").next().unwrap_or(i)))
         .collect();
     refuse_overwrites(&inputs, &[Some(&args.out)])?;
-    super::simulate::check_cool_output(&args.out)?;
+    crate::cli::output::check_cool_output("polymer-map", &args.out)?;
     if args.monomer_bp == 0 {
         return Err(Error::Invalid("--monomer-bp must be at least 1".into()));
     }

@@ -5,13 +5,12 @@
 
 mod polymer;
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use clap::{Args, Subcommand};
 
-use crate::cli::matrix_output::{format_from_extension, OutputFormat};
-use crate::cli::output::{refuse_overwrites, write_text_file};
-use contactmap::error::{Error, Result};
+use crate::cli::output::{check_cool_output, refuse_overwrites, write_text_file};
+use contactmap::error::Result;
 use contactmap::io::cool::{write_cool, CoolWriteOptions};
 use contactmap::io::InMemory;
 use contactmap::sim::blocks::{block_map, BlockMapParams};
@@ -152,27 +151,8 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
     }
 }
 
-/// Refuse an output the simulators cannot write: standard output, or a name whose extension
-/// promises another format (`sim.hic` would be a cooler named .hic, which Juicebox cannot open).
-pub fn check_cool_output(output: &Path) -> Result<()> {
-    if output.as_os_str() == "-" {
-        return Err(Error::Invalid(
-            "simulate writes a .cool file: give a file name to -o, not '-'".into(),
-        ));
-    }
-    match format_from_extension(output) {
-        Ok(OutputFormat::Cool) | Err(_) => Ok(()),
-        Ok(_) => Err(Error::Invalid(format!(
-            "simulate writes a .cool file, and '{}' names another format: write OUT.cool, then \
-             `contactmap convert OUT.cool {}`",
-            output.display(),
-            output.display()
-        ))),
-    }
-}
-
 fn run_blocks(args: &BlocksArgs) -> Result<()> {
-    check_cool_output(&args.output)?;
+    check_cool_output("simulate", &args.output)?;
     refuse_overwrites(
         &[],
         &[

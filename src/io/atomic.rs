@@ -113,6 +113,7 @@ impl Temporary {
             .ok_or_else(|| Error::Invalid(format!("'{}' is not a file name", target.display())))?
             .to_string_lossy()
             .into_owned();
+        check_output_folder(target)?;
         remove_stale_temporaries(target, &name);
         for _ in 0..MAX_ATTEMPTS {
             let candidate = target.with_file_name(next_name(&name));
@@ -173,6 +174,35 @@ impl Drop for Temporary {
             let _ = std::fs::remove_file(&self.path);
         }
     }
+}
+
+/// The folder `target` is to be written in must exist: said in one line naming it, rather than
+/// through libhdf5's error stack about a temporary's name.
+///
+/// ```
+/// use contactmap::io::atomic::check_output_folder;
+/// assert!(check_output_folder(std::path::Path::new("out.cool")).is_ok()); // the working folder
+/// let error = check_output_folder(std::path::Path::new("no/such/folder/out.cool")).unwrap_err();
+/// assert!(error.to_string().contains("the folder 'no/such/folder' does not exist"));
+/// ```
+pub fn check_output_folder(target: &Path) -> Result<()> {
+    let folder = match target.parent() {
+        Some(folder) if !folder.as_os_str().is_empty() => folder,
+        _ => Path::new("."),
+    };
+    let problem = match std::fs::metadata(folder) {
+        Ok(found) if found.is_dir() => return Ok(()),
+        Ok(_) => "is not a folder".to_string(),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            "does not exist (create it first)".to_string()
+        }
+        Err(e) => format!("cannot be read ({e})"),
+    };
+    Err(Error::Invalid(format!(
+        "{}: cannot be written: the folder '{}' {problem}",
+        target.display(),
+        folder.display()
+    )))
 }
 
 /// The next temporary name of the output file `name`: `.NAME.PID-SEQ.tmp`.
@@ -420,6 +450,30 @@ mod tests {
             .and_then(|text| text.trim().parse::<u32>().ok())
             .unwrap_or(1 << 22)
             + 1
+    }
+
+    /// An output in a missing folder, or under a file, is refused before anything is created,
+    /// naming the output and the folder; `create` is never called.
+    #[test]
+    fn outputs_need_an_existing_folder() {
+        let dir = tempfile::tempdir().unwrap();
+        let file = dir.path().join("plain");
+        std::fs::write(&file, b"x").unwrap();
+        for (target, problem) in [
+            (dir.path().join("nodir/out.cool"), "does not exist"),
+            (file.join("out.cool"), "is not a folder"),
+        ] {
+            let error = Temporary::create_with(&target, |_| -> Result<()> {
+                panic!("nothing is created for {}", target.display())
+            })
+            .unwrap_err()
+            .to_string();
+            let folder = target.parent().unwrap().display().to_string();
+            assert!(error.contains(&target.display().to_string()), "{error}");
+            assert!(error.contains(&format!("'{folder}' {problem}")), "{error}");
+        }
+        // a bare name is written in the working folder, which exists
+        assert!(check_output_folder(Path::new("out.cool")).is_ok());
     }
 
     #[test]

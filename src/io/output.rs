@@ -313,7 +313,9 @@ pub fn is_stdout(path: Option<&Path>) -> bool {
 /// `inputs` are the files read (a matrix URI's file, `io::split_uri(uri).0`; `-` and files that do not exist
 /// are skipped); `outputs` are the files the command will write (`None` and `-`, standard output,
 /// skipped). An output is an input when both name the same
-/// file: the same path, a symbolic or hard link to it, or another spelling of its path.
+/// file: the same path, a symbolic or hard link to it, or another spelling of its path. Each
+/// output's folder must exist ([`crate::io::atomic::check_output_folder`]), so that a long run
+/// does not end on an output it cannot write.
 pub fn refuse_overwrites(inputs: &[&Path], outputs: &[Option<&Path>]) -> Result<()> {
     let outputs: Vec<&Path> = outputs
         .iter()
@@ -351,6 +353,9 @@ pub fn refuse_overwrites(inputs: &[&Path], outputs: &[Option<&Path>]) -> Result<
                 first.display()
             )));
         }
+    }
+    for output in &outputs {
+        crate::io::atomic::check_output_folder(output)?;
     }
     Ok(())
 }

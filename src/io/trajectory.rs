@@ -194,12 +194,8 @@ pub fn open_trajectories(inputs: &[String]) -> Result<Trajectories> {
     }
     for input in inputs {
         let path = Path::new(input.split("::").next().unwrap_or(input));
-        if !path.exists() {
-            return Err(Error::io(
-                path,
-                std::io::Error::from(std::io::ErrorKind::NotFound),
-            ));
-        }
+        // the system's own words, as the other readers give them ("No such file or directory")
+        std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
     }
     Ok(Trajectories {
         inputs: inputs.iter().cloned().collect(),

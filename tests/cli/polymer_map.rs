@@ -226,8 +226,48 @@ fn bad_trajectories_are_one_line_errors_without_output() {
             "-o",
             &out_s,
         ],
-        "blocks_0-3.h5::1: no dataset pos in block 1",
+        "blocks_0-3.h5::1: no block 1 in this file",
     );
+    // a block URI on a folder, a missing trajectory, an output in a missing folder
+    let folder_uri = format!("{}::0", nan.display());
+    check(
+        &[
+            "polymer-map",
+            &folder_uri,
+            "--contact-radius",
+            "1.5",
+            "-o",
+            &out_s,
+        ],
+        "is a folder; a polychrom URI names a blocks file and a block",
+    );
+    let missing = dir.path().join("missing");
+    check(
+        &[
+            "polymer-map",
+            &missing.to_string_lossy(),
+            "--contact-radius",
+            "1.5",
+            "-o",
+            &out_s,
+        ],
+        "missing: No such file or directory",
+    );
+    let nowhere = dir.path().join("nowhere/map.cool");
+    let line = run_err(&[
+        "polymer-map",
+        &data("polychrom/traj"),
+        "--contact-radius",
+        "1.5",
+        "-o",
+        &nowhere.to_string_lossy(),
+    ]);
+    assert!(
+        line.contains("map.cool: cannot be written: the folder")
+            && line.contains("nowhere' does not exist"),
+        "{line}"
+    );
+    assert!(!dir.path().join("nowhere").exists());
     // a truncated XYZ frame
     let xyz = write(
         dir.path(),

@@ -337,7 +337,7 @@ impl PolymerArgs {
 
 /// Run `contactmap simulate polymer`.
 pub fn run(args: &PolymerArgs) -> Result<()> {
-    super::check_cool_output(&args.output)?;
+    crate::cli::output::check_cool_output("simulate", &args.output)?;
     if args.threads == Some(0) {
         return Err(Error::Invalid("--threads must be at least 1".into()));
     }

@@ -88,6 +88,12 @@ impl PolychromBlocks {
                         "{input}: a polychrom URI ends with a block number (blocks_1-50.h5::42)"
                     ))
                 })?;
+                if Path::new(file).is_dir() {
+                    return Err(Error::Invalid(format!(
+                        "{input}: {file} is a folder; a polychrom URI names a blocks file and \
+                         a block (blocks_1-50.h5::42)"
+                    )));
+                }
                 vec![(PathBuf::from(file), Some(vec![block]))]
             }
             None => {
@@ -140,6 +146,12 @@ impl PolychromBlocks {
     fn block_column(path: &Path, file: &hdf5::File, block: u64) -> Result<Column> {
         let label = format!("{}::{block}", path.display());
         let text = path.to_string_lossy().into_owned();
+        if !guarded(&text, "a block", || file.link_exists(&block.to_string())) {
+            return Err(Error::Invalid(format!(
+                "{label}: no block {block} in this file (polychrom's blocks are groups /0, /1 \
+                 ... each with a dataset pos)"
+            )));
+        }
         let dataset =
             guarded(&text, "a block", || file.dataset(&format!("{block}/pos"))).map_err(|_| {
                 Error::Invalid(format!(
