@@ -627,13 +627,14 @@ fn measured_atoms(pairs: &ContactPairs) -> Vec<u32> {
 /// The cutoff and the stride of `spec` checked.
 fn check(spec: &FrequencySpec) -> Result<()> {
     if !(spec.cutoff_angstrom.is_finite() && spec.cutoff_angstrom > 0.0) {
-        return Err(Error::Invalid(format!(
-            "the cutoff must be a positive distance, got {}",
-            spec.cutoff_angstrom
-        )));
+        return Err(Error::parameter(
+            "cutoff",
+            spec.cutoff_angstrom,
+            "a positive distance (angstroms)",
+        ));
     }
     if spec.stride == 0 {
-        return Err(Error::Invalid("the stride must be at least 1".into()));
+        return Err(Error::parameter("stride", 0, "1 or more"));
     }
     Ok(())
 }
