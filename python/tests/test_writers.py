@@ -116,3 +116,10 @@ def test_writers_refuse_to_overwrite_an_input(tmp_path: Path) -> None:
     with pytest.raises(cm.ContactmapError, match=".cool, .mcool or .hic"):
         cm.convert(YEAST, tmp_path / "out.txt")
     assert copy.read_bytes() == before
+
+
+def test_an_output_in_a_missing_folder_is_file_not_found(tmp_path: Path) -> None:
+    out = tmp_path / "nowhere" / "out.cool"
+    with pytest.raises(FileNotFoundError, match="the folder '.*nowhere' does not exist"):
+        cm.convert(YEAST, out)
+    assert not (tmp_path / "nowhere").exists()

@@ -190,19 +190,28 @@ pub fn check_output_folder(target: &Path) -> Result<()> {
         Some(folder) if !folder.as_os_str().is_empty() => folder,
         _ => Path::new("."),
     };
-    let problem = match std::fs::metadata(folder) {
+    let (kind, problem) = match std::fs::metadata(folder) {
         Ok(found) if found.is_dir() => return Ok(()),
-        Ok(_) => "is not a folder".to_string(),
+        Ok(_) => (
+            std::io::ErrorKind::NotADirectory,
+            "is not a folder".to_string(),
+        ),
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-            "does not exist (create it first)".to_string()
+            (e.kind(), "does not exist (create it first)".to_string())
         }
-        Err(e) => format!("cannot be read ({e})"),
+        Err(e) => (e.kind(), format!("cannot be read ({e})")),
     };
-    Err(Error::Invalid(format!(
-        "{}: cannot be written: the folder '{}' {problem}",
-        target.display(),
-        folder.display()
-    )))
+    // an I/O error of the system's kind (Python: FileNotFoundError for a missing folder)
+    Err(Error::io(
+        target,
+        std::io::Error::new(
+            kind,
+            format!(
+                "cannot be written: the folder '{}' {problem}",
+                folder.display()
+            ),
+        ),
+    ))
 }
 
 /// The next temporary name of the output file `name`: `.NAME.PID-SEQ.tmp`.
