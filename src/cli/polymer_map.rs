@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
-use crate::cli::output::refuse_overwrites;
+use crate::cli::output::{check_cool_output, refuse_overwrites};
 use crate::cli::progress::spinner;
 use contactmap::conformations::{chains_of_lengths, contact_map, MapParams};
 use contactmap::error::{Error, Result};
@@ -74,7 +74,7 @@ pub fn run(args: &PolymerMapArgs) -> Result<()> {
         .map(|i| Path::new(i.split("::").next().unwrap_or(i)))
         .collect();
     refuse_overwrites(&inputs, &[Some(&args.out)])?;
-    crate::cli::output::check_cool_output("polymer-map", &args.out)?;
+    check_cool_output("polymer-map", &args.out)?;
     if args.monomer_bp == 0 {
         return Err(Error::Invalid("--monomer-bp must be at least 1".into()));
     }

@@ -214,7 +214,7 @@ const CHUNK_PER_THREAD: usize = 4;
 
 /// Maps of at most this many bin pairs (a triangle of 2,048 bins) are counted in dense
 /// triangles; larger ones as sorted keys.
-const DENSE_MAX: usize = DENSE_MAX_SIDE * (DENSE_MAX_SIDE + 1) / 2;
+const DENSE_MAX: usize = triangle_len(DENSE_MAX_SIDE);
 
 /// The bins of the largest dense triangle.
 const DENSE_MAX_SIDE: usize = 2048;
@@ -223,6 +223,11 @@ const DENSE_MAX_SIDE: usize = 2048;
 /// (one shared triangle of atomic counters beyond).
 const PER_THREAD_BYTES: usize = 256 << 20;
 
+/// The bin pairs `(a, b)`, `a <= b`, of `n` bins.
+const fn triangle_len(n: usize) -> usize {
+    n * (n + 1) / 2
+}
+
 /// The index of bin pair `(a, b)`, `a <= b`, in the row-major upper triangle of `n` bins
 /// (polychrom's `indexing`).
 fn triangle_index(a: u32, b: u32, n: usize) -> usize {
@@ -230,8 +235,14 @@ fn triangle_index(a: u32, b: u32, n: usize) -> usize {
     a * n - a * (a.saturating_sub(1)) / 2 - a + b
 }
 
-/// How the contacts are added up.
-enum Tally {
+/// The contacts of a map of `n_bins` bins, added up.
+struct Tally {
+    n_bins: usize,
+    counts: Counts,
+}
+
+/// How [`Tally`] adds the contacts up.
+enum Counts {
     /// Triangles of counts, one per thread at work (a pool: a conformation takes one and gives
     /// it back), summed at the end: no atomic operation per contact (they cost a sixth of the
     /// time of a map of 10,000 beads, and more across cores contending for the same bins).
@@ -243,22 +254,24 @@ enum Tally {
 }
 
 impl Tally {
-    /// The tally of a triangle of `triangle` bin pairs: per thread while the triangles take
-    /// at most `per_thread_bytes`.
-    fn new(triangle: usize, per_thread_bytes: usize) -> Tally {
+    /// The tally of a map of `n_bins` bins: per thread while the triangles take at most
+    /// `per_thread_bytes`.
+    fn new(n_bins: usize, per_thread_bytes: usize) -> Tally {
+        let triangle = triangle_len(n_bins);
         let per_thread = triangle * std::mem::size_of::<u64>() * rayon::current_num_threads();
-        if triangle > DENSE_MAX {
-            Tally::Keys(Vec::new())
+        let counts = if triangle > DENSE_MAX {
+            Counts::Keys(Vec::new())
         } else if per_thread <= per_thread_bytes {
-            Tally::PerThread(std::sync::Mutex::new(Vec::new()))
+            Counts::PerThread(std::sync::Mutex::new(Vec::new()))
         } else {
-            Tally::Shared((0..triangle).map(|_| AtomicU64::new(0)).collect())
-        }
+            Counts::Shared((0..triangle).map(|_| AtomicU64::new(0)).collect())
+        };
+        Tally { n_bins, counts }
     }
 
     /// Add the contacts of `chunk` (at most `radius` apart; `bead_bin`: each bead's bin, or
     /// `u32::MAX`), in parallel.
-    fn add_chunk(&mut self, chunk: &[Conformation], radius: f64, bead_bin: &[u32], n_bins: usize) {
+    fn add_chunk(&mut self, chunk: &[Conformation], radius: f64, bead_bin: &[u32]) {
         // `add(bin1, bin2)`, `bin1 <= bin2`, once per contact of a binned bead pair, in a list
         // built by `sort_into_cells`
         fn contacts(
@@ -274,9 +287,10 @@ impl Tally {
                 }
             });
         }
-        match self {
-            Tally::PerThread(pool) => {
-                let (pool, triangle) = (&*pool, n_bins * (n_bins + 1) / 2);
+        let (n_bins, triangle) = (self.n_bins, triangle_len(self.n_bins));
+        match &mut self.counts {
+            Counts::PerThread(pool) => {
+                let pool = &*pool;
                 let lock = || {
                     pool.lock()
                         .unwrap_or_else(std::sync::PoisonError::into_inner)
@@ -293,7 +307,7 @@ impl Tally {
                     lock().push(counts);
                 });
             }
-            Tally::Shared(total) => {
+            Counts::Shared(total) => {
                 chunk.par_iter().for_each_init(CellList::new, |cells, c| {
                     sort_into_cells(&c.positions, radius, cells);
                     contacts(cells, radius, bead_bin, |a, b| {
@@ -301,7 +315,7 @@ impl Tally {
                     });
                 });
             }
-            Tally::Keys(counts) => {
+            Counts::Keys(counts) => {
                 let n = n_bins as u64;
                 let mut keys: Vec<u64> = chunk
                     .par_iter()
@@ -322,7 +336,8 @@ impl Tally {
     }
 
     /// The non-zero pixels `(bin1, bin2, count)`, sorted.
-    fn pixels(self, n_bins: usize) -> Vec<(u32, u32, u64)> {
+    fn pixels(self) -> Vec<(u32, u32, u64)> {
+        let (n_bins, triangle) = (self.n_bins, triangle_len(self.n_bins));
         let dense = |counts: Vec<u64>| -> Vec<(u32, u32, u64)> {
             (0..n_bins)
                 .flat_map(|a| (a..n_bins).map(move |b| (a as u32, b as u32)))
@@ -331,17 +346,17 @@ impl Tally {
                 .map(|((a, b), count)| (a, b, count))
                 .collect()
         };
-        match self {
-            Tally::PerThread(pool) => {
+        match self.counts {
+            Counts::PerThread(pool) => {
                 let triangles = pool.into_inner().unwrap_or_else(|e| e.into_inner());
-                let mut total = vec![0u64; n_bins * (n_bins + 1) / 2];
+                let mut total = vec![0u64; triangle];
                 for counts in triangles {
                     total.par_iter_mut().zip(counts).for_each(|(t, c)| *t += c);
                 }
                 dense(total)
             }
-            Tally::Shared(total) => dense(total.into_iter().map(AtomicU64::into_inner).collect()),
-            Tally::Keys(counts) => {
+            Counts::Shared(total) => dense(total.into_iter().map(AtomicU64::into_inner).collect()),
+            Counts::Keys(counts) => {
                 let n = n_bins as u64;
                 counts
                     .into_iter()
@@ -378,7 +393,7 @@ pub fn contact_map(
     let bins = ChainBins::new(&chains, params.monomers_per_bin)?;
     let bead_bin = bins.lookup(n_beads);
     let n_bins = bins.n_bins();
-    let mut tally = Tally::new(n_bins * (n_bins + 1) / 2, PER_THREAD_BYTES);
+    let mut tally = Tally::new(n_bins, PER_THREAD_BYTES);
     // each chunk's contacts are counted on the pool while this thread reads the next chunk
     let mut done = 0;
     for_each_chunk(
@@ -386,14 +401,14 @@ pub fn contact_map(
         chunk_size,
         |_, c| super::same_beads(c, n_beads),
         |chunk| {
-            tally.add_chunk(chunk, params.contact_radius, &bead_bin, n_bins);
+            tally.add_chunk(chunk, params.contact_radius, &bead_bin);
             done += chunk.len();
             progress(done);
         },
     )?;
     Ok(EnsembleMap {
         n_beads,
-        pixels: tally.pixels(n_bins),
+        pixels: tally.pixels(),
         bins,
         n_conformations: done,
     })
@@ -558,7 +573,6 @@ mod tests {
         let conformations = cloud(&mut rng, 20, n, 20.0);
         let bins = ChainBins::new(&[(0, n)], 70).unwrap();
         let (n_bins, bead_bin) = (bins.n_bins(), bins.lookup(n));
-        let triangle = n_bins * (n_bins + 1) / 2;
         let tally = |tally: Tally, threads: usize| {
             let pool = rayon::ThreadPoolBuilder::new()
                 .num_threads(threads)
@@ -567,24 +581,28 @@ mod tests {
             pool.install(|| {
                 let mut tally = tally;
                 for chunk in conformations.chunks(6) {
-                    tally.add_chunk(chunk, 1.1, &bead_bin, n_bins);
+                    tally.add_chunk(chunk, 1.1, &bead_bin);
                 }
-                if let Tally::PerThread(pool) = &tally {
+                if let Counts::PerThread(pool) = &tally.counts {
                     assert!(pool.lock().unwrap().len() <= threads);
                 }
-                tally.pixels(n_bins)
+                tally.pixels()
             })
         };
-        let per_thread = Tally::new(triangle, usize::MAX);
-        assert!(matches!(per_thread, Tally::PerThread(_)));
+        let per_thread = Tally::new(n_bins, usize::MAX);
+        assert!(matches!(per_thread.counts, Counts::PerThread(_)));
         let want = tally(per_thread, 1);
         assert!(want.iter().map(|p| p.2).sum::<u64>() > 1000);
         for threads in [1, 3] {
-            let shared = Tally::new(triangle, 0);
-            assert!(matches!(shared, Tally::Shared(_)));
+            let shared = Tally::new(n_bins, 0);
+            assert!(matches!(shared.counts, Counts::Shared(_)));
             assert_eq!(tally(shared, threads), want);
-            assert_eq!(tally(Tally::Keys(Vec::new()), threads), want);
-            assert_eq!(tally(Tally::new(triangle, usize::MAX), threads), want);
+            let keys = Tally {
+                n_bins,
+                counts: Counts::Keys(Vec::new()),
+            };
+            assert_eq!(tally(keys, threads), want);
+            assert_eq!(tally(Tally::new(n_bins, usize::MAX), threads), want);
         }
     }
 

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
 
-use crate::cli::output::{refuse_overwrites, write_text_file, Output};
+use crate::cli::output::{check_cool_output, refuse_overwrites, write_text_file, Output};
 use crate::cli::warnings::Warnings;
 use contactmap::error::{Error, Result};
 use contactmap::io::cool::{write_cool, CoolWriteOptions};
@@ -337,7 +337,7 @@ impl PolymerArgs {
 
 /// Run `contactmap simulate polymer`.
 pub fn run(args: &PolymerArgs) -> Result<()> {
-    crate::cli::output::check_cool_output("simulate", &args.output)?;
+    check_cool_output("simulate", &args.output)?;
     if args.threads == Some(0) {
         return Err(Error::Invalid("--threads must be at least 1".into()));
     }
