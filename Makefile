@@ -10,7 +10,7 @@ endif
 
 BIN := target/release/contactmap
 
-.PHONY: all build demo test lint man check-peers bench clean python
+.PHONY: all build demo test lint man check-peers bench clean python wheel
 
 all: build
 
@@ -33,6 +33,11 @@ test: lint
 ## make python: the Python package (python/) built with optimisations into .venv-python, tested
 python: build
 	scripts/test_python.sh $(BIN) --release
+
+## make wheel: the Python package as one abi3 wheel in target/wheels, reusing `make build`'s
+## compiled crates; `pip install target/wheels/contactmap-*.whl` anywhere (no compiler needed)
+wheel: build
+	scripts/build_wheel.sh
 
 ## make man: one man page per command into target/man (man -l target/man/contactmap-balance.1)
 man: build

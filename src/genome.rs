@@ -283,6 +283,51 @@ impl BinTable {
         self.chroms.iter().position(|c| c.name == name)
     }
 
+    /// Why chromosome `name` is not found, for messages: `no chromosome 'chr21' in this matrix
+    /// (it has 1, 2, ...)`, and when the matrix has it under the other naming (with or without
+    /// UCSC's `chr` prefix, as Ensembl and NCBI name them), that and how to match the names.
+    ///
+    /// ```
+    /// use contactmap::genome::{BinTable, Chrom};
+    /// let bins = BinTable::fixed(vec![Chrom::new("21", 100), Chrom::new("22", 100)], 10)?;
+    /// let message = bins.missing_chrom("chr21");
+    /// assert!(message.contains("no chromosome 'chr21'"), "{message}");
+    /// assert!(message.contains("'21'"), "{message}");
+    /// # Ok::<(), contactmap::Error>(())
+    /// ```
+    pub fn missing_chrom(&self, name: &str) -> String {
+        let names: Vec<&str> = self
+            .chroms
+            .iter()
+            .take(8)
+            .map(|c| c.name.as_str())
+            .collect();
+        let more = if self.chroms.len() > 8 { ", ..." } else { "" };
+        let mut message = format!(
+            "no chromosome '{name}' in this matrix (it has {}{more})",
+            names.join(", ")
+        );
+        if let Some(hint) = self.naming_hint(name) {
+            message.push_str(": ");
+            message.push_str(&hint);
+        }
+        message
+    }
+
+    /// When chromosome `name` is missing but the matrix has it with or without the `chr`
+    /// prefix: what differs and how to match the names. `None` otherwise.
+    pub fn naming_hint(&self, name: &str) -> Option<String> {
+        let (other, fix) = match name.strip_prefix("chr") {
+            Some(bare) => (bare.to_string(), "sed 's/^chr//'"),
+            None => (format!("chr{name}"), "sed 's/^/chr/'"),
+        };
+        self.chrom_id(&other)?;
+        Some(format!(
+            "the matrix names it '{other}': the names differ by the 'chr' prefix (rename them \
+             in the other file, e.g. with {fix})"
+        ))
+    }
+
     /// First bin of each chromosome, plus the total number of bins at the end (cooler's
     /// `indexes/chrom_offset`).
     pub fn chrom_offsets(&self) -> &[usize] {
@@ -373,23 +418,9 @@ impl BinTable {
                 }
             }
         }
-        let chrom_id = self.chrom_id(&region.chrom).ok_or_else(|| {
-            let names: Vec<&str> = self
-                .chroms
-                .iter()
-                .take(8)
-                .map(|c| c.name.as_str())
-                .collect();
-            let more = if self.chroms.len() > 8 { ", ..." } else { "" };
-            Error::region(
-                region.to_string(),
-                format!(
-                    "no chromosome '{}' in this matrix (it has {}{more})",
-                    region.chrom,
-                    names.join(", ")
-                ),
-            )
-        })?;
+        let chrom_id = self
+            .chrom_id(&region.chrom)
+            .ok_or_else(|| Error::region(region.to_string(), self.missing_chrom(&region.chrom)))?;
         let length = self.chroms[chrom_id].length_bp;
         let start = region.start.unwrap_or(0);
         let end = region.end.unwrap_or(length);

@@ -137,6 +137,16 @@ fn fuzz_npy() {
     fuzz("npy");
 }
 
+#[test]
+fn fuzz_xtc() {
+    fuzz("xtc");
+}
+
+#[test]
+fn fuzz_dcd() {
+    fuzz("dcd");
+}
+
 // Replays of the failing mutants found by the campaigns (docs/reliability.md, findings).
 
 #[test]

@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from . import _checks as check
 from . import _native
 from ._native import ContactmapError
 
@@ -38,22 +39,43 @@ def _scipy_sparse() -> Any:
     return _optional("scipy.sparse", "scipy", "to_coo() / to_csr() return scipy sparse matrices")
 
 
-def _uri_of(obj: Any) -> str:
-    """The URI of a path, a File, or a cooler.Cooler (its ``uri``: ``path::group``)."""
+def _uri_of(obj: Any, name: str = "clr") -> str:
+    """The URI of a path, a File, or a cooler.Cooler (its ``uri``: ``path::group``); ``name``
+    is the argument's, for the error."""
     if isinstance(obj, File):
         return obj.uri()
     if isinstance(obj, (str, os.PathLike)):
-        return os.fspath(obj)
+        return check.path(name, obj)
     uri = getattr(obj, "uri", None)
     if isinstance(uri, str):
         return uri
     raise TypeError(
-        f"expected a path, a contactmap.File or a cooler.Cooler, got {type(obj).__name__}"
+        f"{name}: expected a path, a contactmap.File or a cooler.Cooler, got {type(obj).__name__}"
     )
 
 
-def _file(obj: Any) -> File:
-    return obj if isinstance(obj, File) else File(obj)
+def _file(obj: Any, name: str = "clr") -> File:
+    return obj if isinstance(obj, File) else File(_uri_of(obj, name))
+
+
+def _weight_name(f: File, name: str, value: Any, none: bool = True) -> str | None:
+    """A weight column of ``f`` (argument ``name``), or None (raw counts) when ``none``."""
+    value = check.text(name, value, none=none)
+    if value is None:
+        return None
+    available = f.avail_normalizations()
+    if value not in available:
+        has = ", ".join(repr(n) for n in available) if available else "none: balance it first"
+        raise ValueError(
+            f"{name}: no weight column {value!r} in {f.uri()}: expected one of "
+            f"avail_normalizations() ({has}){' or None for raw counts' if none else ''}"
+        )
+    return str(value)
+
+
+def _weight_column(f: File, name: str, value: Any) -> str:
+    """A weight column of ``f`` (argument ``name``), required."""
+    return str(_weight_name(f, name, value, none=False))
 
 
 class File:
@@ -68,7 +90,7 @@ class File:
     """
 
     def __init__(self, uri: Any) -> None:
-        self._native = _native.NativeFile(_uri_of(uri))
+        self._native = _native.NativeFile(_uri_of(uri, "uri"))
 
     def __repr__(self) -> str:
         return f"contactmap.File({self.uri()!r})"
@@ -107,7 +129,7 @@ class File:
 
     def weights(self, name: str = "weight") -> np.ndarray:
         """Weights ``name`` per bin, multiplicative (divisive files inverted); NaN masked."""
-        return self._native.weights(name)
+        return self._native.weights(_weight_column(self, "name", name))
 
     def bins(self) -> pandas.DataFrame:
         """The bin table: ``chrom`` (categorical), ``start``, ``end`` (bp) and every weight
@@ -126,10 +148,14 @@ class File:
             df[name] = self._native.weights(name)
         return df
 
-    def _bins_of(self, region: str | None) -> tuple[int, int]:
+    def _bins_of(self, name: str, region: Any) -> tuple[int, int]:
+        region = check.text(name, region, none=True)
         if region is None:
             return (0, self.nbins())
-        return self._native.region_bins(region)
+        try:
+            return self._native.region_bins(region)
+        except ContactmapError as e:
+            raise ContactmapError(f"{name}: {e}") from None
 
     def fetch(
         self,
@@ -142,13 +168,14 @@ class File:
         the whole genome). Regions are UCSC strings (``chr2L:1,000,000-2,000,000``, or a
         chromosome name). ``normalization``: None / ``"NONE"`` for raw counts, or a weight
         column (``"weight"``, ``"KR"``, ``"VC"``, ``"SCALE"`` ...)."""
-        if query_type != "UCSC":
-            raise ContactmapError(f"query_type {query_type!r}: only 'UCSC' is supported")
+        check.text("query_type", query_type, choices=["UCSC"])
+        normalization = check.text("normalization", normalization, none=True)
         if normalization is not None and normalization.upper() == "NONE":
             normalization = None
-        rows = self._bins_of(range1)
-        cols = rows if range2 is None else self._bins_of(range2)
-        return PixelSelector(self, rows, cols, normalization)
+        normalization = _weight_name(self, "normalization", normalization)
+        rows = self._bins_of("range1", range1)
+        cols = rows if range2 is None else self._bins_of("range2", range2)
+        return PixelSelector._checked(self, rows, cols, normalization)
 
 
 class PixelSelector:
@@ -157,7 +184,27 @@ class PixelSelector:
     def __init__(
         self, file: File, rows: tuple[int, int], cols: tuple[int, int], normalization: str | None
     ) -> None:
-        self._file, self._rows, self._cols, self._norm = file, rows, cols, normalization
+        if not isinstance(file, File):
+            raise TypeError(f"file: expected a contactmap.File, got {type(file).__name__}")
+        n = file.nbins()
+        bounds = []
+        for name, value in (("rows", rows), ("cols", cols)):
+            first, end = check.pair(name, value, 0, n) or (0, n)
+            if not (float(first).is_integer() and float(end).is_integer()):
+                raise ValueError(f"{name}: expected a pair of bin ids (first, end), got {value!r}")
+            bounds.append((int(first), int(end)))
+        normalization = _weight_name(file, "normalization", normalization)
+        self._file, self._rows, self._cols, self._norm = file, bounds[0], bounds[1], normalization
+
+    @classmethod
+    def _checked(
+        cls, file: File, rows: tuple[int, int], cols: tuple[int, int], normalization: str | None
+    ) -> PixelSelector:
+        """A query whose arguments ``File.fetch`` checked already."""
+        selector = cls.__new__(cls)
+        selector._file, selector._rows, selector._cols = file, rows, cols
+        selector._norm = normalization
+        return selector
 
     def __repr__(self) -> str:
         return (
@@ -178,6 +225,7 @@ class PixelSelector:
         """The stored (upper-triangle) pixels of the query: ``bin1_id bin2_id count`` (and
         ``balanced`` with a normalisation); with ``join``, ``chrom1 start1 end1 chrom2 start2
         end2`` instead of the bin ids."""
+        join = check.flag("join", join)
         pd = _pandas()
         bin1, bin2, count, balanced = self._pixels()
         columns: dict[str, Any] = {}
@@ -232,7 +280,7 @@ class MultiResFile:
     """A multi-resolution file (``.mcool``, ``.hic``): ``resolutions()`` and ``f[res]``."""
 
     def __init__(self, path: str | os.PathLike[str]) -> None:
-        self._path = os.fspath(path)
+        self._path = check.path("path", path)
         self._resolutions = list(_native.resolutions(self._path))
         if not self._resolutions:
             raise ContactmapError(f"{self._path}: not a multi-resolution file (open it with File)")
@@ -249,11 +297,19 @@ class MultiResFile:
         return list(self._resolutions)
 
     def __getitem__(self, resolution: int) -> File:
+        resolution = check.integer("resolution", resolution, minimum=1)
         if resolution not in self._resolutions:
-            raise ContactmapError(
-                f"{self._path}: no resolution {resolution} (it has {self._resolutions})"
+            raise ValueError(
+                f"resolution: {self._path} has no resolution {resolution}: expected one of "
+                f"{self._resolutions}"
             )
         return File(f"{self._path}::/resolutions/{resolution}")
+
+
+_VIEW = (
+    "None, a DataFrame with columns chrom start end [name] or a list of (chrom, start, end"
+    "[, name])"
+)
 
 
 def _view_regions(view_df: Any) -> list[tuple[str, int, int, str | None]] | None:
@@ -262,29 +318,54 @@ def _view_regions(view_df: Any) -> list[tuple[str, int, int, str | None]] | None
     if view_df is None:
         return None
     if hasattr(view_df, "itertuples"):
+        check.frame("view_df", view_df, ["chrom", "start", "end"], " [name]")
         has_name = "name" in view_df.columns
+        starts = check.column_values("view_df column start", view_df["start"], "int")
+        ends = check.column_values("view_df column end", view_df["end"], "int")
+        names = view_df["name"] if has_name else [None] * len(view_df)
         return [
-            (
-                str(row.chrom),
-                int(row.start),
-                int(row.end),
-                str(row.name) if has_name else None,
-            )
-            for row in view_df.itertuples(index=False)
+            (str(chrom), int(start), int(end), None if name is None else str(name))
+            for chrom, start, end, name in zip(view_df["chrom"], starts, ends, names)
         ]
+    if isinstance(view_df, (str, bytes)) or not hasattr(view_df, "__iter__"):
+        raise TypeError(f"view_df: expected {_VIEW}, got {type(view_df).__name__}")
     regions = []
-    for region in view_df:
-        chrom, start, end = region[0], int(region[1]), int(region[2])
+    for k, region in enumerate(view_df):
+        if isinstance(region, (str, bytes)) or not hasattr(region, "__len__"):
+            raise TypeError(
+                f"view_df[{k}]: expected a tuple (chrom, start, end[, name]), got "
+                f"{type(region).__name__}"
+            )
+        if len(region) not in (3, 4):
+            raise ValueError(
+                f"view_df[{k}]: expected a tuple (chrom, start, end[, name]), got {len(region)} "
+                "values"
+            )
+        chrom = check.text(f"view_df[{k}] chrom", region[0])
+        start = check.integer(f"view_df[{k}] start", region[1], minimum=0)
+        end = check.integer(f"view_df[{k}] end", region[2], minimum=0)
         name = str(region[3]) if len(region) > 3 and region[3] is not None else None
-        regions.append((str(chrom), start, end, name))
+        regions.append((chrom, start, end, name))
     return regions
 
 
+def _expected_frame(name: str, expected: Any, value_col: Any, trans: bool) -> Any:
+    """Check an expected table (argument ``name``; ``expected_cis``'s or, with ``trans``,
+    ``expected_trans``'s) and its value column (argument ``expected_value_col``)."""
+    value_col = check.text("expected_value_col", value_col)
+    columns = ["region1", "region2" if trans else "dist", value_col]
+    source = "expected_trans" if trans else "expected_cis"
+    note = f" (a table of {source}; expected_value_col={value_col!r})"
+    return check.frame(name, expected, columns, note)
+
+
 def _expected_arrays(
-    f: File, expected: Any, view_df: Any, value_col: str, trans: bool
+    f: File, expected: Any, view_df: Any, value_col: str, trans: bool, arg: str = "expected"
 ) -> list[list[float]]:
-    """The expected DataFrame as the library takes it: per view region, its values by diagonal
-    (cis), or per two regions (trans, ``[earlier][later]``)."""
+    """The expected DataFrame (argument ``arg``) as the library takes it: per view region,
+    its values by diagonal (cis), or per two regions (trans, ``[earlier][later]``)."""
+    _expected_frame(arg, expected, value_col, trans)
+    given = check.column_values(f"{arg} column {value_col!r}", expected[value_col], "float")
     regions = _view_regions(view_df)
     if regions is None:
         names = [name for name, _ in f._native.chromosomes()]
@@ -294,19 +375,22 @@ def _expected_arrays(
     if trans:
         index = {name: k for k, name in enumerate(names)}
         table = [[float("nan")] * len(names) for _ in names]
-        for a, b, v in zip(expected["region1"], expected["region2"], expected[value_col]):
+        for a, b, v in zip(expected["region1"], expected["region2"], given):
             if a in index and b in index:
                 i, j = sorted((index[a], index[b]))
                 table[i][j] = float(v)
         return table
+    diagonals = check.column_values(f"{arg} column 'dist'", expected["dist"], "int")
+    if (diagonals < 0).any():
+        raise ValueError(f"{arg} column 'dist': expected non-negative ints (diagonals)")
     out = []
     for name, (chrom, start, end, _) in zip(names, regions):
         first, last = f._native.region_bins(f"{chrom}:{start}-{end}")
         values = np.full(last - first, np.nan)
-        rows = expected[expected["region1"] == name]
-        dist = rows["dist"].to_numpy()
+        rows = (expected["region1"] == name).to_numpy()
+        dist = diagonals[rows]
         ok = dist < len(values)
-        values[dist[ok]] = rows[value_col].to_numpy()[ok]
+        values[dist[ok]] = given[rows][ok]
         out.append([float(v) for v in values])
     return out
 

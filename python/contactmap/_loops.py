@@ -6,13 +6,21 @@ from typing import TYPE_CHECKING, Any, Sequence
 
 import numpy as np
 
+from . import _checks as check
 from . import _native
-from ._file import File, _expected_arrays, _file, _pandas, _view_regions
+from ._file import (
+    File,
+    _expected_arrays,
+    _file,
+    _pandas,
+    _view_regions,
+    _weight_column,
+    _weight_name,
+)
 
 if TYPE_CHECKING:  # pragma: no cover
     import pandas
 
-from ._native import ContactmapError
 
 
 def _bin_coordinates(f: File, prefix: str, ids: np.ndarray) -> dict[str, Any]:
@@ -54,27 +62,38 @@ def dots(
     lowleft of half-widths ``w`` and ``p`` (bins) when given; custom ``kernels`` arrays are not
     supported. ``tile_size`` and ``nproc`` are accepted for compatibility."""
     if kernels is not None:
-        raise ContactmapError(
-            "kernels: custom kernel arrays are not supported; give w and p (half-widths in "
-            "bins) for HiCCUPS' kernels"
+        raise check.unsupported(
+            "kernels",
+            "custom kernel arrays are not supported; give w and p (half-widths in bins) for "
+            "HiCCUPS' kernels",
         )
+    w = check.integer("w", w, minimum=1, none=True)
+    p = check.integer("p", p, minimum=0, none=True)
     if (w is None) != (p is None):
-        raise ContactmapError("w and p: give both kernel half-widths, or neither")
+        raise ValueError("w and p: give both kernel half-widths, or neither")
+    max_loci_separation = check.integer("max_loci_separation", max_loci_separation, minimum=1)
+    max_nans_tolerated = check.integer("max_nans_tolerated", max_nans_tolerated, minimum=0)
+    n_lambda_bins = check.integer("n_lambda_bins", n_lambda_bins, minimum=1)
+    lambda_bin_fdr = check.number("lambda_bin_fdr", lambda_bin_fdr, above=0, below=1)
+    clustering_radius = check.number("clustering_radius", clustering_radius, above=0, none=True)
+    cluster_filtering = check.flag("cluster_filtering", cluster_filtering, none=True)
+    check.integer("tile_size", tile_size, minimum=1)
+    check.integer("nproc", nproc, minimum=1, none=True)
     pd = _pandas()
     f = _file(clr)
     kernel_names, regions, columns = _native.dots(
         f._native,
         _view_regions(view_df),
-        clr_weight_name,
+        _weight_column(f, "clr_weight_name", clr_weight_name),
         _expected_arrays(f, expected, view_df, expected_value_col, False),
         w,
         p,
-        int(max_loci_separation),
+        max_loci_separation,
         max_nans_tolerated,
         n_lambda_bins,
         lambda_bin_fdr,
-        None if clustering_radius is None else float(clustering_radius),
-        True if cluster_filtering is None else bool(cluster_filtering),
+        clustering_radius,
+        True if cluster_filtering is None else cluster_filtering,
     )
     values = dict(columns)
     data: dict[str, Any] = {}
@@ -119,10 +138,11 @@ def _feature_rows(features: Any, features_format: str) -> tuple[bool, list[str],
     """Features (a DataFrame with coolpuppy's column names) as the library reads a BED or
     BEDPE file: the fields in BED's order (``chrom start end name score strand`` or
     ``chrom1 ... end2``, then the other columns), with the column names."""
-    if not hasattr(features, "columns"):
-        raise ContactmapError(
-            "features: a pandas DataFrame with columns chrom start end [...] (BED) or chrom1 "
-            "start1 end1 chrom2 start2 end2 [...] (BEDPE)"
+    features_format = check.text("features_format", features_format, ["auto", "bed", "bedpe"])
+    if not hasattr(features, "columns") or not hasattr(features, "itertuples"):
+        raise TypeError(
+            "features: expected a pandas DataFrame with columns chrom start end [...] (BED) or "
+            f"chrom1 start1 end1 chrom2 start2 end2 [...] (BEDPE), got {type(features).__name__}"
         )
     columns = [str(c) for c in features.columns]
     if features_format == "auto":
@@ -131,17 +151,13 @@ def _feature_rows(features: Any, features_format: str) -> tuple[bool, list[str],
         elif all(c in columns for c in _BED_FIELDS[:3]):
             features_format = "bed"
         else:
-            raise ContactmapError(
+            raise ValueError(
                 f"features: columns {columns} are neither BED (chrom start end) nor BEDPE "
                 "(chrom1 start1 end1 chrom2 start2 end2)"
             )
-    if features_format not in ("bed", "bedpe"):
-        raise ContactmapError(f"features_format {features_format!r}: expected bed, bedpe or auto")
     bedpe = features_format == "bedpe"
     leading = list(_BEDPE_FIELDS if bedpe else _BED_FIELDS)
-    missing = [c for c in leading[: 6 if bedpe else 3] if c not in columns]
-    if missing:
-        raise ContactmapError(f"features ({features_format}): no column {missing[0]!r}")
+    check.frame(f"features ({features_format})", features, leading[: 6 if bedpe else 3])
     if not bedpe:
         # the optional BED columns up to the last one present (placeholders before it)
         while leading[-1] not in columns:
@@ -200,50 +216,80 @@ def pileup(
     is coolpuppy's (2 flank + 2 bins). What was left out is in ``df.attrs["skipped"]``.
     ``ooe=False``, ``subset``, ``by_window``, ``ignore_group_order`` and ``store_stripes`` are
     not supported; ``nproc`` is accepted for compatibility."""
-    unsupported = {
-        "ooe=False": not ooe,
-        "subset": bool(subset),
-        "by_window": by_window,
-        "ignore_group_order": ignore_group_order,
-        "store_stripes": store_stripes,
-    }
-    for name, given in unsupported.items():
-        if given:
-            raise ContactmapError(f"{name} is not supported")
+    if not check.flag("ooe", ooe):
+        raise check.unsupported("ooe", "False is not supported")
+    if check.integer("subset", subset, minimum=0):
+        raise check.unsupported("subset", "only 0 (every feature) is supported")
+    for name, value in (
+        ("by_window", by_window),
+        ("ignore_group_order", ignore_group_order),
+        ("store_stripes", store_stripes),
+    ):
+        if check.flag(name, value):
+            raise check.unsupported(name, "True is not supported")
+    flank = check.integer("flank", flank, minimum=0)
+    minshift = check.integer("minshift", minshift, minimum=0)
+    maxshift = check.integer("maxshift", maxshift, minimum=0)
+    nshifts = check.integer("nshifts", nshifts, minimum=0)
+    if isinstance(mindist, str):
+        check.text("mindist", mindist, ["auto"])
+    min_dist = None if mindist == "auto" else check.number("mindist", mindist, minimum=0, none=True)
+    max_dist = check.number("maxdist", maxdist, minimum=0, none=True)
+    min_diag = check.integer("min_diag", min_diag, minimum=0)
+    by_strand = check.flag("by_strand", by_strand)
+    groupby_columns: list[str] = check.texts("groupby", groupby)
+    flip_negative_strand = check.flag("flip_negative_strand", flip_negative_strand)
+    local = check.flag("local", local)
+    trans = check.flag("trans", trans)
+    rescale = check.flag("rescale", rescale)
+    rescale_flank = check.number("rescale_flank", rescale_flank, above=0)
+    rescale_size = check.integer("rescale_size", rescale_size, minimum=1)
+    check.integer("nproc", nproc, minimum=1, none=True)
+    seed = check.integer("seed", seed, minimum=0, maximum=2**32 - 1, none=True)
+    edges: list[int] | None
+    if by_distance is None or isinstance(by_distance, (bool, np.bool_)):
+        edges = [] if by_distance else None
+    elif isinstance(by_distance, str):
+        check.text("by_distance", by_distance, ["default"])
+        edges = []
+    else:
+        edges = check.integers("by_distance", by_distance, minimum=0, empty=True)
+    if coverage_norm is None or isinstance(coverage_norm, (bool, np.bool_)):
+        norm = "total" if coverage_norm else None
+    elif isinstance(coverage_norm, str):
+        norm = coverage_norm  # its value: the library's check
+    else:
+        raise TypeError(
+            "coverage_norm: expected True, False, None, 'total' or 'cis', got "
+            f"{type(coverage_norm).__name__}"
+        )
     pd = _pandas()
     f = _file(clr)
     bedpe, header, rows = _feature_rows(features, features_format)
     expected = None
     if expected_df is not None and nshifts == 0:
-        expected = _expected_arrays(f, expected_df, view_df, expected_value_col, trans)
-    if by_distance is False or by_distance is None:
-        edges = None
-    elif by_distance is True or by_distance == "default":
-        edges = []
-    else:
-        edges = [int(e) for e in by_distance]  # type: ignore[union-attr]
-    norm = None if coverage_norm is False else ("total" if coverage_norm is True else coverage_norm)
+        expected = _expected_arrays(
+            f, expected_df, view_df, expected_value_col, trans, "expected_df"
+        )
     groups, skipped = _native.pileup(
         f._native,
         bedpe,
         header,
         rows,
         _view_regions(view_df),
-        clr_weight_name,
+        _weight_name(f, "clr_weight_name", clr_weight_name),
         expected,
         local,
-        int(flank),
-        None if mindist in (None, "auto") else float(mindist),  # type: ignore[arg-type]
-        None if maxdist is None else float(maxdist),
+        flank,
+        min_dist,
+        max_dist,
         min_diag,
-        (float(rescale_flank), int(rescale_size)) if rescale else None,
-        (nshifts, int(minshift), int(maxshift), 0 if seed is None else int(seed))
-        if nshifts > 0
-        else None,
+        (rescale_flank, rescale_size) if rescale else None,
+        (nshifts, minshift, maxshift, 0 if seed is None else seed) if nshifts > 0 else None,
         edges,
         by_strand,
         flip_negative_strand,
-        list(groupby),
+        groupby_columns,
         trans,
         norm,
     )
@@ -255,7 +301,7 @@ def pileup(
         table["distance_band"] = [
             None if g[2] is None else ((g[2][0],) if g[2][1] is None else g[2]) for g in groups
         ]
-    for k, name in enumerate(groupby):
+    for k, name in enumerate(groupby_columns):
         table[name] = [g[3][k] if g[3] else "all" for g in groups]
     table["data"] = [g[4] for g in groups]
     table["num"] = [g[5] for g in groups]

@@ -84,7 +84,7 @@ def directionality(
     window_bp: int,
     view: list[_Region] | None,
     weight_name: str | None,
-    ignore_diags: int = 2,
+    ignore_diags: int | None = None,
     min_dist_bad_bin: int = 2,
 ) -> tuple[
     npt.NDArray[np.uint64],
@@ -97,7 +97,7 @@ def insulation(
     window_bp: list[int],
     view: list[_Region] | None,
     weight_name: str | None,
-    ignore_diags: int = 2,
+    ignore_diags: int | None = None,
     min_frac_valid_pixels: float = 0.66,
     min_dist_bad_bin: int = 0,
     threshold: str = "Li",

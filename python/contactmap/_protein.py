@@ -4,10 +4,11 @@ predictions against it (``contactmap contacts`` and ``contactmap score contacts`
 from __future__ import annotations
 
 import os
-from typing import TYPE_CHECKING, NamedTuple, Sequence
+from typing import TYPE_CHECKING, Any, NamedTuple, Sequence
 
 import numpy as np
 
+from . import _checks as check
 from . import _native
 from ._file import _pandas, _warn
 
@@ -46,13 +47,13 @@ def read_structure(
     residues are numbered by their place on it (``register``: ``"auto"``, ``"align"`` or
     ``"numbering"``)."""
     chain_id, numbers, distances, contacts, described = _native.read_structure(
-        os.fspath(path),
-        chain,
-        atom,
-        cutoff,
-        le,
-        None if fasta is None else os.fspath(fasta),
-        register,
+        check.path("path", path),
+        check.text("chain", chain, none=True),
+        check.text("atom", atom),
+        check.number("cutoff", cutoff, above=0),
+        check.flag("le", le),
+        check.path("fasta", fasta, none=True),
+        check.text("register", register),
     )
     return Structure(chain_id, numbers, distances, contacts, described)
 
@@ -86,33 +87,44 @@ def score_contacts(
     Separations are in residues, ``max_sep`` is ``inf`` for an open range. With a sequence
     (``fasta``, or the prediction's own), ``df.attrs["register"]`` says per prediction file how
     the chain was placed on it."""
+    args = (
+        check.path("structure", structure),
+        check.paths("prediction", prediction),
+        check.text("chain", chain, none=True),
+        check.path("fasta", fasta, none=True),
+        check.text("format", format, none=True),
+        check.text("atom", atom),
+        check.number("cutoff", cutoff, above=0),
+        check.flag("le", le),
+        check.text("register", register),
+        check.texts("ranges", ranges),
+        check.texts("top", top),
+        check.integer("min_sep", min_sep, minimum=0, none=True),
+        _length(length),
+        check.text("rounding", rounding),
+        check.flag("keep_unobserved", keep_unobserved),
+    )
     pd = _pandas()
-    files = (
-        [os.fspath(prediction)]
-        if isinstance(prediction, (str, os.PathLike))
-        else [os.fspath(p) for p in prediction]
-    )
-    columns, warnings, registers = _native.score_contacts(
-        os.fspath(structure),
-        files,
-        chain,
-        None if fasta is None else os.fspath(fasta),
-        format,
-        atom,
-        cutoff,
-        le,
-        register,
-        list(ranges),
-        list(top),
-        min_sep,
-        None if length is None else str(length),
-        rounding,
-        keep_unobserved,
-    )
+    columns, warnings, registers = _native.score_contacts(*args)
     _warn("score_contacts", warnings)
     df = pd.DataFrame(dict(columns))
     df.attrs["register"] = dict(registers)
     return df
+
+
+def _length(length: Any) -> str | None:
+    """score_contacts' ``length``: ``"sequence"``, ``"observed"``, a positive int or None."""
+    kind = "'sequence', 'observed', a positive int or None"
+    if length is None:
+        return None
+    if isinstance(length, str):
+        word = length.strip().lower()
+        if word in ("sequence", "seq", "observed") or (word.isdigit() and int(word) > 0):
+            return length
+        raise ValueError(f"length: expected {kind}, got {length!r}")
+    if not check.is_number(length):
+        raise TypeError(f"length: expected {kind}, got {type(length).__name__}")
+    return str(check.integer("length", length, minimum=1))
 
 
 def contact_frequencies(
@@ -137,16 +149,18 @@ def contact_frequencies(
     name2 index1 index2 contact_frames frequency``; ``df.attrs["frames"]`` is the number of
     frames measured. ``score_contacts`` takes the table (written as TSV) as its truth through
     the command line's ``--frequencies``."""
-    pd = _pandas()
-    files = (
-        [os.fspath(trajectory)]
-        if isinstance(trajectory, (str, os.PathLike))
-        else [os.fspath(t) for t in trajectory]
+    args = (
+        check.paths("trajectory", trajectory),
+        check.path("topology", topology),
+        check.text("definition", definition),
+        check.number("cutoff", cutoff, above=0),
+        check.integer("stride", stride, minimum=1),
+        check.flag("periodic", periodic),
+        check.integer("min_sep", min_sep, minimum=0),
     )
+    pd = _pandas()
     chain, residue1, residue2, name1, name2, index1, index2, counts, frames = (
-        _native.contact_frequencies(
-            files, os.fspath(topology), definition, cutoff, stride, periodic, min_sep
-        )
+        _native.contact_frequencies(*args)
     )
     df = pd.DataFrame(
         {

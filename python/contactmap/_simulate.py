@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple, Sequence
 
 import numpy as np
 
+from . import _checks as check
 from . import _native
 from ._file import _pandas, _warn
 
@@ -98,46 +99,49 @@ def simulate_polymer(
     ``processivity`` and ``separation`` in beads, ``capture``, ``release``,
     ``steps_per_move``). ``device``: ``"auto"``, ``"cpu"`` (every core, or ``threads``) or
     ``"gpu"``; the same seed gives the same map on any number of threads. With ``output``
-    the map is also written there as a .cool (as the command line writes it)."""
-    pd = _pandas()
+    the map is also written there as a .cool (as the command line writes it). The arguments'
+    types and signs are checked here; their physics (a density above close packing ...) by the
+    library, whose errors (``ContactmapError``) name the command line's options."""
     options: dict[str, Any] = dict(
-        chains=[int(chains)] if isinstance(chains, (int, np.integer)) else [int(c) for c in chains],
-        monomer_bp=monomer_bp,
-        monomers_per_bin=monomers_per_bin,
-        bonds=bonds,
-        bond_wiggle=bond_wiggle,
-        stiffness=stiffness,
-        repulsion=repulsion,
-        repulsion_energy=repulsion_energy,
-        repulsion_radius=repulsion_radius,
-        exclude_neighbours=exclude_neighbours,
-        ideal=ideal,
-        saw=saw,
-        types=types,
-        attraction=attraction,
-        attraction_radius=attraction_radius,
-        density=density,
-        confinement=confinement,
-        dt=dt,
-        replicas=replicas,
-        equilibration=str(equilibration),
-        sample_every=str(sample_every),
-        samples=samples,
-        contact_radius=contact_radius,
-        seed=seed,
-        extrusion=extrusion,
-        ctcf=ctcf,
-        processivity=processivity,
-        separation=separation,
-        capture=capture,
-        release=release,
-        steps_per_move=steps_per_move,
-        keep_conformations=keep_conformations,
+        chains=check.integers("chains", chains, minimum=1),
+        monomer_bp=check.integer("monomer_bp", monomer_bp, minimum=1),
+        monomers_per_bin=check.integer("monomers_per_bin", monomers_per_bin, minimum=1),
+        bonds=check.text("bonds", bonds),
+        bond_wiggle=check.number("bond_wiggle", bond_wiggle),
+        stiffness=check.number("stiffness", stiffness, minimum=0),
+        repulsion=check.text("repulsion", repulsion),
+        repulsion_energy=check.number("repulsion_energy", repulsion_energy, above=0, none=True),
+        repulsion_radius=check.number("repulsion_radius", repulsion_radius, above=0, none=True),
+        exclude_neighbours=check.integer("exclude_neighbours", exclude_neighbours, minimum=0),
+        ideal=check.flag("ideal", ideal),
+        saw=check.flag("saw", saw),
+        types=check.text("types", types, none=True),
+        attraction=check.number("attraction", attraction),
+        attraction_radius=check.number("attraction_radius", attraction_radius),
+        density=check.number("density", density, none=True),
+        confinement=check.text("confinement", confinement, none=True),
+        dt=check.number("dt", dt, above=0, none=True),
+        replicas=check.integer("replicas", replicas, minimum=1),
+        equilibration=_steps("equilibration", equilibration, 0),
+        sample_every=_steps("sample_every", sample_every, 1),
+        samples=check.integer("samples", samples, minimum=1),
+        contact_radius=check.number("contact_radius", contact_radius, above=0),
+        seed=check.integer("seed", seed, minimum=0, maximum=2**64 - 1),
+        extrusion=check.flag("extrusion", extrusion),
+        ctcf=None if ctcf is None else _ctcf(ctcf),
+        processivity=check.number("processivity", processivity),
+        separation=check.number("separation", separation),
+        capture=check.number("capture", capture),
+        release=check.number("release", release),
+        steps_per_move=check.integer("steps_per_move", steps_per_move, minimum=1),
+        keep_conformations=check.flag("keep_conformations", keep_conformations),
     )
+    device = check.text("device", device)
+    threads = check.integer("threads", threads, minimum=1, none=True)
+    out = check.path("output", output, none=True)
+    pd = _pandas()
     chroms, (codes, start, end), (bin1, bin2, count), conformations, radii, truths, notes = (
-        _native.simulate_polymer(
-            options, device, threads, None if output is None else os.fspath(output)
-        )
+        _native.simulate_polymer(options, device, threads, out)
     )
     names = [name for name, _ in chroms]
     bins = pd.DataFrame(
@@ -167,6 +171,26 @@ def simulate_polymer(
     )
 
 
+def _steps(name: str, value: Any, minimum: int) -> str:
+    """simulate_polymer's ``equilibration`` / ``sample_every``: steps (an int), ``"auto"``,
+    or Rouse times (``"2R"``); the text's value is the library's check."""
+    if isinstance(value, str):
+        return value
+    if not check.is_number(value):
+        raise TypeError(
+            f"{name}: expected an int, 'auto' or Rouse times ('2R'), got "
+            f"{type(value).__name__}"
+        )
+    return str(check.integer(name, value, minimum=minimum))
+
+
+def _ctcf(value: Any) -> str:
+    """simulate_polymer's ``ctcf``: positions (``"500+,1000-"``) or a BED file's path."""
+    if isinstance(value, os.PathLike):
+        return check.path("ctcf", value)
+    return check.text("ctcf", value)
+
+
 class PolymerMap(NamedTuple):
     """What ``polymer_map`` returns (the map ``contactmap polymer-map`` writes)."""
 
@@ -184,6 +208,7 @@ class PolymerMap(NamedTuple):
         """The symmetric ``n_bins x n_bins`` matrix of counts. ``polychrom=True``: as polychrom's
         ``binnedContactMap`` / ``monomerResolutionContactMap`` return it, ``triangle +
         triangle.T``, whose diagonal is twice the contacts within a bin."""
+        polychrom = check.flag("polychrom", polychrom)
         n_bins = sum(self.chain_bins)
         bin1 = self.pixels.bin1_id.to_numpy()
         bin2 = self.pixels.bin2_id.to_numpy()
@@ -210,15 +235,14 @@ def polymer_map(
     its start; each contact adds one to its pair of bins, summed over the conformations.
     ``monomers_per_bin=1`` is ``monomerResolutionContactMap``. ``.dense(polychrom=True)`` is the
     matrix polychrom returns."""
+    args = (
+        check.paths("trajectory", trajectory),
+        check.number("contact_radius", contact_radius, above=0),
+        check.integer("monomers_per_bin", monomers_per_bin, minimum=1),
+        None if chains is None else check.integers("chains", chains, minimum=1),
+    )
     pd = _pandas()
-    files = (
-        [os.fspath(trajectory)]
-        if isinstance(trajectory, (str, os.PathLike))
-        else [os.fspath(t) for t in trajectory]
-    )
-    (bin1, bin2, count), chain_bins, n_conformations, n_beads = _native.polymer_map(
-        files, contact_radius, monomers_per_bin, None if chains is None else list(chains)
-    )
+    (bin1, bin2, count), chain_bins, n_conformations, n_beads = _native.polymer_map(*args)
     return PolymerMap(
         pd.DataFrame({"bin1_id": bin1, "bin2_id": bin2, "count": count}),
         list(chain_bins),
@@ -248,12 +272,9 @@ def polymer_stats(
     ``polymer_analyses`` computes them and averaged over the conformations: P(s) (contacts at
     most ``contact_radius`` apart, over separations ``generate_bins(N)``), ``<R^2(s)>``,
     ``<Rg^2(s)>``, and each conformation's ``Rg^2``."""
+    files = check.paths("trajectory", trajectory)
+    contact_radius = check.number("contact_radius", contact_radius, above=0)
     pd = _pandas()
-    files = (
-        [os.fspath(trajectory)]
-        if isinstance(trajectory, (str, os.PathLike))
-        else [os.fspath(t) for t in trajectory]
-    )
     (mids, probability), (s, r2, rg2_of_s), (labels, rg2) = _native.polymer_stats(
         files, contact_radius
     )

@@ -7,8 +7,9 @@ from typing import TYPE_CHECKING, Any, Sequence
 
 import numpy as np
 
+from . import _checks as check
 from . import _native
-from ._file import File, _file, _pandas, _uri_of, _view_regions
+from ._file import File, _file, _pandas, _uri_of, _view_regions, _weight_name
 from ._native import ContactmapError
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -33,16 +34,22 @@ def expected_cis(
     balanced.avg.smoothed.agg``). ``clr_weight_name=None`` for raw counts. Distances
     ``dist_bp`` in bp; ``chunksize`` and ``nproc`` are accepted for compatibility (contactmap
     streams and uses every core)."""
-    if not intra_only:
-        raise ContactmapError(
-            "intra_only=False (between the regions of one chromosome) is not supported"
+    if not check.flag("intra_only", intra_only):
+        raise check.unsupported(
+            "intra_only", "False (between the regions of one chromosome) is not supported"
         )
+    smooth = check.flag("smooth", smooth)
+    aggregate_smoothed = check.flag("aggregate_smoothed", aggregate_smoothed)
+    smooth_sigma = check.number("smooth_sigma", smooth_sigma, above=0)
+    ignore_diags = check.integer("ignore_diags", ignore_diags, minimum=0)
+    check.integer("chunksize", chunksize, minimum=1, none=True)
+    check.integer("nproc", nproc, minimum=1, none=True)
     _pandas()  # the install hint before the work
     f = _file(clr)
     region1, region2, columns = _native.expected_cis(
         f._native,
         _view_regions(view_df),
-        clr_weight_name,
+        _weight_name(f, "clr_weight_name", clr_weight_name),
         ignore_diags,
         smooth,
         aggregate_smoothed,
@@ -69,9 +76,11 @@ def expected_trans(
     """cooltools' ``expected_trans``: per pair of view regions on different chromosomes,
     ``region1 region2 n_valid count.sum balanced.sum count.avg balanced.avg`` (the balanced
     columns with ``clr_weight_name``; None for raw counts)."""
+    check.integer("chunksize", chunksize, minimum=1, none=True)
+    check.integer("nproc", nproc, minimum=1, none=True)
     f = _file(clr)
     region1, region2, columns = _native.expected_trans(
-        f._native, _view_regions(view_df), clr_weight_name
+        f._native, _view_regions(view_df), _weight_name(f, "clr_weight_name", clr_weight_name)
     )
     return _columns_frame(region1, region2, columns)
 
@@ -87,14 +96,17 @@ def directionality(
     """cooltools' ``directionality`` (Dixon et al.'s directionality index): ``chrom start end
     bad_bin_masked directionality_ratio_W directionality_index_W`` for a window of
     ``window_bp`` bp upstream and downstream; ``balance=None`` for raw counts."""
+    window_bp = check.integer("window_bp", window_bp, minimum=1)
+    min_dist_bad_bin = check.integer("min_dist_bad_bin", min_dist_bad_bin, minimum=0)
+    ignore_diags = check.integer("ignore_diags", ignore_diags, minimum=0, none=True)
     pd = _pandas()
     f = _file(clr)
     bins, masked, ratio, index = _native.directionality(
         f._native,
-        int(window_bp),
+        window_bp,
         _view_regions(view_df),
-        balance,
-        2 if ignore_diags is None else ignore_diags,
+        _weight_name(f, "balance", balance),
+        ignore_diags,
         min_dist_bad_bin,
     )
     codes, start, end = f._native.bin_columns()
@@ -105,8 +117,8 @@ def directionality(
             "start": start[bins].astype(np.int64),
             "end": end[bins].astype(np.int64),
             "bad_bin_masked": masked,
-            f"directionality_ratio_{int(window_bp)}": ratio,
-            f"directionality_index_{int(window_bp)}": index,
+            f"directionality_ratio_{window_bp}": ratio,
+            f"directionality_index_{window_bp}": index,
         },
         copy=False,
     )
@@ -130,23 +142,30 @@ def insulation(
     """cooltools' ``insulation``: the diamond insulation score per bin for each window (bp),
     with boundary strengths and calls (threshold ``"Li"``, ``"Otsu"`` or a number). Columns:
     ``chrom start end region is_bad_bin log2_insulation_score_W n_valid_pixels_W ...
-    boundary_strength_W ... is_boundary_W``."""
+    boundary_strength_W ... is_boundary_W``. ``window_bp`` is an int or a list of ints
+    (cooltools'): a str is refused (TypeError)."""
+    windows = check.integers("window_bp", window_bp, minimum=1)
+    ignore_diags = check.integer("ignore_diags", ignore_diags, minimum=0, none=True)
+    min_frac_valid_pixels = check.number(
+        "min_frac_valid_pixels", min_frac_valid_pixels, minimum=0, maximum=1
+    )
+    min_dist_bad_bin = check.integer("min_dist_bad_bin", min_dist_bad_bin, minimum=0)
+    threshold = _threshold(threshold)
+    append_raw_scores = check.flag("append_raw_scores", append_raw_scores)
+    check.integer("chunksize", chunksize, minimum=1, none=True)
+    check.integer("nproc", nproc, minimum=1, none=True)
+    check.flag("verbose", verbose)
     pd = _pandas()
     f = _file(clr)
-    windows = (
-        [int(window_bp)]
-        if isinstance(window_bp, (int, np.integer))
-        else [int(w) for w in window_bp]
-    )
     bins, region, bad, region_names, columns = _native.insulation(
         f._native,
         windows,
         _view_regions(view_df),
-        clr_weight_name,
-        2 if ignore_diags is None else ignore_diags,
+        _weight_name(f, "clr_weight_name", clr_weight_name),
+        ignore_diags,
         min_frac_valid_pixels,
         min_dist_bad_bin,
-        str(threshold),
+        threshold,
         append_raw_scores,
     )
     codes, start, end = f._native.bin_columns()
@@ -163,6 +182,27 @@ def insulation(
     df = pd.DataFrame(data, copy=False)
     df["chrom"] = df["chrom"].astype(str)
     return df
+
+
+def _threshold(threshold: Any) -> str:
+    """insulation's ``threshold`` as the library parses it: ``"Li"``, ``"Otsu"`` (any case) or
+    a number."""
+    kind = "'Li', 'Otsu' or a number"
+    if isinstance(threshold, str):
+        if threshold.strip().lower() in ("li", "otsu"):
+            return threshold
+        try:
+            value = float(threshold)
+        except ValueError:
+            value = float("nan")
+        if value != value:
+            raise ValueError(f"threshold: expected {kind}, got {threshold!r}")
+        return threshold
+    if not check.is_number(threshold):
+        raise TypeError(f"threshold: expected {kind}, got {type(threshold).__name__}")
+    if threshold != threshold:
+        raise ValueError(f"threshold: expected {kind}, got {threshold!r}")
+    return str(threshold)
 
 
 def balance(
@@ -194,16 +234,20 @@ def balance(
     the same file in this process must be closed first (``del f``), as libhdf5 cannot open a
     file for writing that the process holds open for reading."""
     options = (
-        method,
-        cis_only,
-        ignore_diags,
-        mad_max,
-        min_nnz,
-        min_count,
-        tol,
-        max_iters,
-        rescale_marginals,
+        check.text("method", method),  # its value: the library's check (ContactmapError)
+        check.flag("cis_only", cis_only),
+        check.integer("ignore_diags", ignore_diags, minimum=0, none=True),
+        check.number("mad_max", mad_max, minimum=0, none=True),
+        check.integer("min_nnz", min_nnz, minimum=0, none=True),
+        check.number("min_count", min_count, minimum=0, none=True),
+        check.number("tol", tol, above=0, none=True),
+        check.integer("max_iters", max_iters, minimum=1, none=True),
+        check.flag("rescale_marginals", rescale_marginals, none=True),
     )
+    store = check.flag("store", store)
+    name = check.text("name", name)
+    overwrite = check.flag("overwrite", overwrite)
+    store_unconverged = check.flag("store_unconverged", store_unconverged)
     if not store:
         return _native.balance(_file(clr)._native, options)
     uri = _uri_of(clr)

@@ -10,9 +10,11 @@ from typing import Any, Sequence
 
 import numpy as np
 
+from . import _checks as check
 from . import _native
 from ._file import _uri_of, _warn
-from ._native import ContactmapError
+
+_RESOLUTIONS = "None, a bin size (int), a list of bin sizes or a progression ('B', 'N', '4DN' ...)"
 
 
 def _resolution_items(resolutions: Any) -> list[str] | None:
@@ -22,9 +24,21 @@ def _resolution_items(resolutions: Any) -> list[str] | None:
         return None
     if isinstance(resolutions, str):
         return [item.strip() for item in resolutions.split(",")]
-    if isinstance(resolutions, (int, np.integer)):
-        return [str(int(resolutions))]
-    return [str(int(r)) if isinstance(r, (int, np.integer)) else str(r) for r in resolutions]
+    if check.is_number(resolutions):
+        return [str(check.integer("resolutions", resolutions, minimum=1))]
+    if isinstance(resolutions, (bytes, dict)) or not hasattr(resolutions, "__iter__"):
+        raise TypeError(f"resolutions: expected {_RESOLUTIONS}, got {type(resolutions).__name__}")
+    items = []
+    for k, r in enumerate(resolutions):
+        if isinstance(r, str):
+            items.append(r)
+        elif check.is_number(r):
+            items.append(str(check.integer(f"resolutions[{k}]", r, minimum=1)))
+        else:
+            raise TypeError(f"resolutions[{k}]: expected a bin size (int), got {type(r).__name__}")
+    if not items:
+        raise ValueError(f"resolutions: expected {_RESOLUTIONS}, got an empty list")
+    return items
 
 
 def convert(
@@ -40,14 +54,14 @@ def convert(
     ``.mcool`` (``resolutions``: bin sizes in bp or a progression, default the map's own) or
     ``.hic`` (with ``normalizations``, default Juicer's VC, VC_SQRT, KR, SCALE, and zlib
     ``compression_level`` 0-9). Weight columns are copied to a .cool / .mcool."""
-    uri, out = _uri_of(input), os.fspath(output)
+    uri, out = _uri_of(input, "input"), check.path("output", output)
     warnings = _native.convert(
         uri,
         out,
         _resolution_items(resolutions),
-        assembly,
-        None if normalizations is None else [str(n) for n in normalizations],
-        compression_level,
+        check.text("assembly", assembly, none=True),
+        check.texts("normalizations", normalizations, none=True),
+        check.integer("compression_level", compression_level, minimum=0, maximum=9),
     )
     _warn("convert", warnings)
 
@@ -69,8 +83,10 @@ def zoomify(
     if out is None:
         base = os.path.splitext(uri.split("::", 1)[0])[0]
         out = base + ".mcool"
-    path = os.fspath(out)
+    path = check.path("out", out)
     items = _resolution_items(resolutions)
+    balance = check.flag("balance", balance)
+    assembly = check.text("assembly", assembly, none=True)
     _levels, warnings = _native.zoomify(uri, path, items or ["B"], balance, assembly)
     _warn("zoomify", warnings)
     return path
@@ -85,8 +101,14 @@ def merge(
     """``cooler merge``: the pixel-wise sum of maps with the same bins, written to ``out``
     (``.cool``, or ``.mcool`` / ``.hic`` at ``resolutions``). Weights are not carried (balance
     the sum)."""
-    uris = [_uri_of(i) for i in inputs]
-    path = os.fspath(out)
+    kind = "a list of maps (paths, contactmap.File or cooler.Cooler)"
+    if isinstance(inputs, (str, bytes, os.PathLike)) or not hasattr(inputs, "__iter__"):
+        raise TypeError(f"inputs: expected {kind}, got {type(inputs).__name__}")
+    uris = [_uri_of(i, f"inputs[{k}]") for k, i in enumerate(inputs)]
+    if not uris:
+        raise ValueError(f"inputs: expected {kind}, got an empty list")
+    path = check.path("out", out)
+    assembly = check.text("assembly", assembly, none=True)
     warnings = _native.merge(uris, path, _resolution_items(resolutions), assembly)
     _warn("merge", warnings)
 
@@ -94,15 +116,25 @@ def merge(
 def _pixel_columns(pixels: Any) -> dict[str, np.ndarray]:
     """``bin1_id bin2_id count`` of a DataFrame, a dict of arrays, or an iterable of those
     (chunks, as cooler takes them)."""
+    kind = "a DataFrame or a dict with columns bin1_id bin2_id count, or an iterable of them"
     if hasattr(pixels, "keys"):
         chunks = [pixels]
+    elif isinstance(pixels, (str, bytes)) or not hasattr(pixels, "__iter__"):
+        raise TypeError(f"pixels: expected {kind}, got {type(pixels).__name__}")
     else:
         chunks = list(pixels)
     columns: dict[str, list[np.ndarray]] = {"bin1_id": [], "bin2_id": [], "count": []}
-    for chunk in chunks:
+    for k, chunk in enumerate(chunks):
+        where = "pixels" if chunk is pixels else f"pixels[{k}]"
+        if not hasattr(chunk, "keys"):
+            raise TypeError(f"{where}: expected {kind}, got {type(chunk).__name__}")
+        missing = [name for name in columns if name not in chunk]
+        if missing:
+            raise ValueError(
+                f"{where}: missing columns {missing}: expected the columns bin1_id bin2_id "
+                f"count; it has {[str(c) for c in chunk.keys()]}"
+            )
         for name in columns:
-            if name not in chunk:
-                raise ContactmapError(f"pixels: no column {name!r} (bin1_id bin2_id count)")
             columns[name].append(np.asarray(chunk[name]))
     return {
         name: np.concatenate(parts) if parts else np.zeros(0)
@@ -131,20 +163,33 @@ def create_cooler(
     lower-triangle pixels mirrored, explicit zeros kept. Other ``columns``, ``metadata``,
     ``symmetric_upper=False`` and ``mode="a"`` are not supported; ``ordered`` is accepted for
     compatibility."""
-    if columns is not None and list(columns) != ["count"]:
-        raise ContactmapError("columns: only 'count' is supported")
+    if columns is not None and check.texts("columns", columns) != ["count"]:
+        raise check.unsupported("columns", f"only ['count'] is supported, got {columns!r}")
     if metadata is not None:
-        raise ContactmapError("metadata is not supported")
-    if not symmetric_upper:
-        raise ContactmapError("symmetric_upper=False (square storage) is not supported")
-    if mode != "w":
-        raise ContactmapError(f"mode {mode!r}: only 'w' (a new file) is supported")
-    path = os.fspath(cool_uri)
+        raise check.unsupported("metadata", "not supported (expected None)")
+    if dtypes is not None and not hasattr(dtypes, "get"):
+        raise TypeError(f"dtypes: expected a dict or None, got {type(dtypes).__name__}")
+    assembly = check.text("assembly", assembly, none=True)
+    check.flag("ordered", ordered)
+    if not check.flag("symmetric_upper", symmetric_upper):
+        raise check.unsupported("symmetric_upper", "False (square storage) is not supported")
+    check.text("mode", mode, ["w"])
+    path = check.path("cool_uri", cool_uri)
     if "::" in path:
-        raise ContactmapError(f"{path}: a group inside a file is not supported; give a path")
-    for name in ("chrom", "start", "end"):
-        if name not in bins:
-            raise ContactmapError(f"bins: no column {name!r} (chrom start end)")
+        raise ValueError(
+            f"cool_uri: {path}: a group inside a file is not supported; expected a path"
+        )
+    if not hasattr(bins, "keys"):
+        raise TypeError(
+            "bins: expected a DataFrame (or a dict) with columns chrom start end, got "
+            f"{type(bins).__name__}"
+        )
+    missing = [name for name in ("chrom", "start", "end") if name not in bins]
+    if missing:
+        raise ValueError(
+            f"bins: missing columns {missing}: expected the columns chrom start end "
+            f"[weight ...]; it has {[str(c) for c in bins.keys()]}"
+        )
     chrom = bins["chrom"]
     if hasattr(chrom, "cat"):  # a categorical Series: its categories' order
         names = [str(c) for c in chrom.cat.categories]
@@ -157,8 +202,8 @@ def create_cooler(
         rank[order] = np.arange(len(order))
         names = [str(n) for n in names_array[order]]
         codes = rank[codes].astype(np.int64)
-    start = np.asarray(bins["start"], dtype=np.int64)
-    end = np.asarray(bins["end"], dtype=np.int64)
+    start = check.column_values("bins column 'start'", bins["start"], "int")
+    end = check.column_values("bins column 'end'", bins["end"], "int")
     lengths = np.zeros(len(names), dtype=np.int64)
     np.maximum.at(lengths, codes, end)
     weights = [

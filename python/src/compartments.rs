@@ -54,12 +54,8 @@ pub(crate) fn eigs_cis(
         let weights = weights.unwrap_or_default();
         check_track(reader, "phasing_track", phasing_track.as_deref())?;
         // cooltools' default: the weight column's ignore_diags attribute, else 2
-        let ignore_diags = ignore_diags.unwrap_or_else(|| {
-            reader
-                .weight_attribute(&weight_name, "ignore_diags")
-                .and_then(|v| v.as_u64())
-                .map_or(2, |v| v as usize)
-        });
+        let ignore_diags =
+            ignore_diags.unwrap_or_else(|| reader.stored_ignore_diags(&weight_name).unwrap_or(2));
         let params = CisEigParams {
             n_eigs,
             ignore_diags,

@@ -333,7 +333,9 @@ pub(crate) fn contact_frequencies<'py>(
     min_sep: usize,
 ) -> PyResult<FrequencyColumns<'py>> {
     use contactmap::io::topology::read_topology;
-    use contactmap::score::frequency::{contact_frequencies_of, FrequencySpec, Scheme};
+    use contactmap::score::frequency::{
+        chain_column, contact_frequencies_of, FrequencySpec, Scheme,
+    };
     let schemes = [
         Scheme::Cb,
         Scheme::Ca,
@@ -368,7 +370,7 @@ pub(crate) fn contact_frequencies<'py>(
     let pairs = &frequencies.pairs.pairs;
     let text = |f: &dyn Fn(usize, usize) -> String| pairs.iter().map(|&(i, j)| f(i, j)).collect();
     Ok((
-        text(&|i, _| topology.chains[topology.residues[i].chain].clone()),
+        text(&|i, _| chain_column(&topology, topology.residues[i].chain).to_string()),
         text(&|i, _| number(i)),
         text(&|_, j| number(j)),
         text(&|i, _| topology.residues[i].name.clone()),

@@ -84,14 +84,14 @@ pub(crate) fn expected_trans<'py>(
 /// cooltools' `directionality`: per row the bin id, bad_bin_masked, the ratio and the index.
 #[allow(clippy::type_complexity)]
 #[pyfunction]
-#[pyo3(signature = (file, window_bp, view, weight_name, ignore_diags=2, min_dist_bad_bin=2))]
+#[pyo3(signature = (file, window_bp, view, weight_name, ignore_diags=None, min_dist_bad_bin=2))]
 pub(crate) fn directionality<'py>(
     py: Python<'py>,
     file: &NativeFile,
     window_bp: u64,
     view: Option<Vec<RegionTuple>>,
     weight_name: Option<String>,
-    ignore_diags: usize,
+    ignore_diags: Option<usize>,
     min_dist_bad_bin: usize,
 ) -> PyResult<(
     Bound<'py, PyArray1<u64>>,
@@ -102,6 +102,9 @@ pub(crate) fn directionality<'py>(
     let table = run(py, || {
         let reader: &dyn MatrixReader = &file.reader;
         let (view, weights) = file.view_and_weights(view, weight_name.as_deref())?;
+        // cooltools: the `weight` column's stored ignore_diags (we: else 2)
+        let ignore_diags =
+            ignore_diags.unwrap_or_else(|| reader.stored_ignore_diags("weight").unwrap_or(2));
         let params = DirectionalityParams {
             ignore_diags,
             min_dist_bad_bin,
@@ -122,14 +125,14 @@ pub(crate) fn directionality<'py>(
 /// windows' columns; plus the view's region names.
 #[allow(clippy::too_many_arguments, clippy::type_complexity)]
 #[pyfunction]
-#[pyo3(signature = (file, window_bp, view, weight_name, ignore_diags=2, min_frac_valid_pixels=0.66, min_dist_bad_bin=0, threshold="Li", append_raw_scores=false))]
+#[pyo3(signature = (file, window_bp, view, weight_name, ignore_diags=None, min_frac_valid_pixels=0.66, min_dist_bad_bin=0, threshold="Li", append_raw_scores=false))]
 pub(crate) fn insulation<'py>(
     py: Python<'py>,
     file: &NativeFile,
     window_bp: Vec<u64>,
     view: Option<Vec<RegionTuple>>,
     weight_name: Option<String>,
-    ignore_diags: usize,
+    ignore_diags: Option<usize>,
     min_frac_valid_pixels: f64,
     min_dist_bad_bin: usize,
     threshold: &str,
@@ -147,6 +150,13 @@ pub(crate) fn insulation<'py>(
     let (table, regions) = run(py, || {
         let reader: &dyn MatrixReader = &file.reader;
         let (view, weights) = file.view_and_weights(view, weight_name.as_deref())?;
+        // cooltools: the weight column's stored ignore_diags (we: else 2, and 2 on raw counts)
+        let ignore_diags = ignore_diags.unwrap_or_else(|| {
+            weight_name
+                .as_deref()
+                .and_then(|name| reader.stored_ignore_diags(name))
+                .unwrap_or(2)
+        });
         let params = InsulationParams {
             ignore_diags,
             min_frac_valid_pixels,

@@ -103,7 +103,7 @@ def test_multires_file_lists_and_opens_resolutions():
     h = cm.MultiResFile(DATA / "CN.mm9.multires.hic")
     assert h.resolutions() == [10000000, 20000000, 50000000]
     assert h[20000000].nbins() > 0
-    with pytest.raises(cm.ContactmapError, match="no resolution 5"):
+    with pytest.raises(ValueError, match="resolution: .* no resolution 5"):
         m[5]
     with pytest.raises(cm.ContactmapError, match="not a multi-resolution file"):
         cm.MultiResFile(YEAST)

@@ -39,9 +39,9 @@ def test_dots_equal_cooltools(cool: str, prefix: str) -> None:
 
 def test_dots_refuse_what_they_cannot_do() -> None:
     expected = cm.expected_cis(YEAST)
-    with pytest.raises(cm.ContactmapError, match="custom kernel"):
+    with pytest.raises(ValueError, match="kernels: custom kernel"):
         cm.dots(YEAST, expected, kernels={"donut": np.ones((3, 3))})
-    with pytest.raises(cm.ContactmapError, match="give both"):
+    with pytest.raises(ValueError, match="give both"):
         cm.dots(YEAST, expected, w=5)
     with pytest.raises(cm.ContactmapError, match="n_lambda_bins"):
         cm.dots(YEAST, expected, n_lambda_bins=10)
@@ -185,10 +185,10 @@ def test_pileup_equals_the_command_line_and_says_what_it_left_out(tmp_path: Any)
 
 
 def test_pileup_refuses_bad_features() -> None:
-    with pytest.raises(cm.ContactmapError, match="neither BED"):
+    with pytest.raises(ValueError, match="features: .* neither BED"):
         cm.pileup(SIM, pd.DataFrame({"a": [1]}))
     bad = pd.DataFrame({"chrom": ["chr1"], "start": ["x"], "end": [10]})
     with pytest.raises(cm.ContactmapError, match="features \\(BED\\).*start 'x'"):
         cm.pileup(SIM, bad)
-    with pytest.raises(cm.ContactmapError, match="not supported"):
+    with pytest.raises(ValueError, match="by_window: True is not supported"):
         cm.pileup(SIM, bed("anchors.bed"), by_window=True)

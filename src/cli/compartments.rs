@@ -165,10 +165,7 @@ pub fn run(args: &CompartmentsArgs) -> Result<()> {
     let sort = args.sort_metric.map(SortMetric::from);
     let ignore_diags = match args.ignore_diags {
         Some(n) => n,
-        None => reader
-            .weight_attribute(&args.weight_name, "ignore_diags")
-            .and_then(|v| v.as_u64())
-            .map_or(2, |v| v as usize),
+        None => reader.stored_ignore_diags(&args.weight_name).unwrap_or(2),
     };
     let bar = Progress::new(reader.as_ref(), "eigenvectors")?;
     let progress = bar.reader();

@@ -60,7 +60,8 @@ Examples:
   contactmap contacts 1abc.pdb --matrix -o distances.tsv
   # sequence numbering
   contactmap contacts 1a8o.cif --fasta 1a8o.fasta -o true.rr
-  # contact frequencies of an MD run (Cb < 8 A; MDTraj's default scheme)
+  # MD contact frequencies (Cb < 8 A, CASP's definition: the default here;
+  # MDTraj's default scheme is closest-heavy, as in the second example)
   contactmap contacts --trajectory run.xtc --topology conf.pdb -o freq.tsv
   contactmap contacts --trajectory run.dcd --topology top.pdb \\
       --definition closest-heavy --cutoff 4.5 --stride 10 -o freq.tsv")]
@@ -77,7 +78,8 @@ pub struct ContactsArgs {
     #[arg(long, value_name = "TOP", requires = "trajectory")]
     pub topology: Option<PathBuf>,
     /// How the distance of two residues is measured over a trajectory (MDTraj's schemes, and
-    /// CASP's cb).
+    /// CASP's cb, the default here, as `score contacts` scores; MDTraj's default is
+    /// closest-heavy).
     #[arg(
         long,
         value_enum,
@@ -233,5 +235,13 @@ fn run_trajectory(args: &ContactsArgs) -> Result<()> {
         spec.cutoff_angstrom,
         frequencies.counts.iter().filter(|&&n| n > 0).count()
     );
+    if topology.chains.iter().any(String::is_empty) {
+        eprintln!(
+            "contacts: {} has no chain ids: its chain is written {} (the PDB's convention for a \
+             file's one chain)",
+            topology_path.display(),
+            contactmap::score::frequency::BLANK_CHAIN
+        );
+    }
     Ok(())
 }

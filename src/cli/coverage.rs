@@ -63,18 +63,14 @@ pub fn run(args: &CoverageArgs) -> Result<()> {
     let reader = open_for_analysis(&args.uri, &args.input)?;
     let ignore_diags = match args.ignore_diags {
         Some(n) => n,
-        None => reader
-            .weight_attribute("weight", "ignore_diags")
-            .and_then(|v| v.as_u64())
-            .map(|n| n as usize)
-            .ok_or_else(|| {
-                Error::Invalid(format!(
-                    "--ignore-diags: give it: {} has no `weight` column with an ignore_diags \
+        None => reader.stored_ignore_diags("weight").ok_or_else(|| {
+            Error::Invalid(format!(
+                "--ignore-diags: give it: {} has no `weight` column with an ignore_diags \
                      attribute saying how many diagonals its balancing left out (cooltools \
                      stops here too)",
-                    reader.source()
-                ))
-            })?,
+                reader.source()
+            ))
+        })?,
     };
     let (cov, suffix) = match &args.weight_name {
         None => (coverage(reader.as_ref(), ignore_diags)?, "raw".to_string()),

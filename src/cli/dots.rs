@@ -16,6 +16,7 @@ use contactmap::io::MatrixReader;
 use contactmap::loops::kernels::recommended_w_p;
 use contactmap::loops::merge::{
     check_resolutions, merge_resolutions, sort_merged, MergeParams, ResolutionCall,
+    MERGE_RESOLUTIONS,
 };
 use contactmap::loops::tables::{dots_tsv, enriched_tsv};
 use contactmap::loops::{call_dots, DotCalls, DotsParams};
@@ -526,6 +527,24 @@ pub fn run_merge(args: &DotsMergeArgs) -> Result<()> {
         .iter()
         .map(|text| read_list(text))
         .collect::<Result<Vec<_>>>()?;
+    // the merge's own checks, with the files named
+    for (k, table) in tables.iter().enumerate() {
+        if !MERGE_RESOLUTIONS.contains(&table.resolution) {
+            return Err(Error::Invalid(format!(
+                "{}: calls at {} bp: the HiCCUPS merge is defined for 5, 10 and 25 kb calls",
+                table.source, table.resolution
+            )));
+        }
+        if let Some(first) = tables[..k]
+            .iter()
+            .find(|t| t.resolution == table.resolution)
+        {
+            return Err(Error::Invalid(format!(
+                "{} and {} are both at {} bp: give one list per resolution",
+                first.source, table.source, table.resolution
+            )));
+        }
+    }
     let params = MergeParams {
         near_diagonal_bp: bp_option("--near-diagonal", &args.near_diagonal)?,
         strong_count: args.strong,

@@ -66,7 +66,8 @@ pub struct ExpectedArgs {
     /// BED file of regions (`chrom start end [name]`), sorted and non-overlapping.
     #[arg(long, value_name = "BED")]
     pub view: Option<PathBuf>,
-    /// Diagonals 0..N get NaN sums.
+    /// Diagonals 0..N get NaN sums (2, as cooltools expected-cis: the number stored with the
+    /// weights is not read).
     #[arg(long, default_value_t = 2, value_name = "N")]
     pub ignore_diags: usize,
     /// Standard deviation of the smoothing kernel, in log10(distance).

@@ -26,6 +26,10 @@ averaged with the weights N (1 + 1/N) / 12 (N pixels). Genome-wide: the chromoso
 averaged weighted by length (hicreppy's genome_scc), NaN ones left out. A chromosome without
 contacts in one map (where hicrep stops on an assertion) gets nan and a note.
 
+hicrep 0.2.6 has no default h (its --h is required; its help suggests 20 at 10 kb, 10 at 25 kb
+and 5 at 40 kb). Ours is --h auto, the training of the HiCRep paper, since no fixed h suits
+every map; it costs about 100 one-h comparisons (seconds against a tenth of a second at 10 kb
+on two cores): give --h to skip it, as in pipelines that compare many samples at one h.
 --h auto chooses h as HiCRep's training (hicreppy h_train): h = 0, 1, ... below --h-max,
 each chromosome of both maps subsampled 10 times to 10% of its contacts; the first h whose
 genome-wide SCC gains less than 0.01 stops the search and the h before it is used. With more
@@ -155,6 +159,20 @@ pub fn run(args: &HicrepArgs) -> Result<()> {
             names[1],
             tried.join(", ")
         ));
+        if !trained.levelled_off {
+            let gain = match trained.tried.as_slice() {
+                [.., (_, before), (_, last)] => last - before,
+                _ => f64::NAN,
+            };
+            warnings.push(format!(
+                "the training's SCC never levelled off: it still gained {gain:.4} at h = {} \
+                 (the search stops at a gain under 0.01), so h = {} is the end of the range \
+                 tried, not its plateau; raise --h-max or give --h (hicrep 0.2.6 suggests 20 at \
+                 10 kb, 10 at 25 kb, 5 at 40 kb)",
+                args.h_max - 1,
+                trained.h
+            ));
+        }
     }
     for pair in &comparison.pairs {
         for c in &pair.scc.chroms {
@@ -194,6 +212,7 @@ pub fn run(args: &HicrepArgs) -> Result<()> {
                 "chroms": t.chroms,
                 "tried": t.tried.iter().map(|(h, s)| serde_json::json!({"h": h, "scc": finite(*s)})).collect::<Vec<_>>(),
                 "h": t.h,
+                "levelled_off": t.levelled_off,
             })),
             "pairs": pairs,
         });

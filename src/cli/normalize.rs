@@ -63,7 +63,8 @@ pub struct NormalizeArgs {
     /// Column of --expected to use (default: balanced.avg, or count.avg with --raw).
     #[arg(long, value_name = "NAME")]
     pub expected_column: Option<String>,
-    /// Diagonals ignored when computing the expected (as cooltools).
+    /// Diagonals ignored when computing the expected (2, as cooltools expected-cis, which does
+    /// not read the number stored with the weights).
     #[arg(long, default_value_t = 2)]
     pub ignore_diags: usize,
     /// Output format (default: from the extension of OUTPUT).

@@ -12,18 +12,20 @@ use crate::cli::output::{refuse_overwrites, uri_file, write_text_file};
 use crate::cli::warnings::Warnings;
 use crate::cli::InputArgs;
 use contactmap::error::{Error, Result};
-use contactmap::io::bed::{feature_kind, read_bed_table, read_bedpe_table, FeatureKind};
+use contactmap::genome::BinTable;
+use contactmap::io::bed::{read_features, FeatureFormat, FeatureTable};
 use contactmap::io::npz::npz_bytes;
 use contactmap::pileup::groups::GroupBy;
 use contactmap::pileup::scores::group_scores;
 use contactmap::pileup::shifts::ShiftParams;
 use contactmap::pileup::tables::{grid_tsv, groups_tsv, pileup_arrays, scores_tsv};
+use contactmap::pileup::windows::Skipped;
 use contactmap::pileup::{pileup, CoverageNorm, Features, PileupParams, RescaleParams};
 
 /// `--features-format`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum FeaturesFormat {
-    /// from the file's first data line
+    /// from the file name's extension (.bed, .bedpe), else from the first data line
     Auto,
     /// one interval per line
     Bed,
@@ -46,18 +48,20 @@ Normalisation: by default each snippet is divided pixel by pixel by the expected
 the mean of these observed/expected snippets (coolpuppy's default with --expected). --no-expected
 gives the mean of the balanced (or --raw) snippets, as Juicer APA aggregates.
 
-The format of FEATURES is read from its first data line (BEDPE: columns 2, 3, 5, 6 whole
-numbers, column 4 not a number), not from its extension (coolpuppy's guess from the extension
-reads a .bed.gz as BEDPE); --features-format forces it. The run says what it read.
+The format of FEATURES is taken from its extension as coolpuppy does (.bedpe, .bed, also with
+.gz), else from its first data line (BEDPE when columns 5 and 6 are coordinates: a BED line's
+6th column is its strand; chromosome names may be numbers); --features-format forces it. The
+run says what it read and why, and so does an error met while reading it.
 
 Outputs (PREFIX as given by -o):
   PREFIX.pileup.tsv   the pileup, one line per row of the grid (nan where no snippet has a value)
   PREFIX.groups.tsv   with --by-distance / --by-strand / --groupby: every group's grid, rows
                       led by the group's label and the row's index (the group of all last)
   PREFIX.npz          with --npz: the grids, per-pixel counts, n and labels for numpy
-  PREFIX.scores.tsv   one line per group: n, then coolpuppy's scores (enrichment of the central --center pixels,
-                      corner CV; insulation strength for --local) and Juicer APA's (P2M, P2UL,
-                      P2UR, P2LL, P2LR, ZscoreLL; corners 3 wide at 5 kb, 6 otherwise)
+  PREFIX.scores.tsv   one line per group: n, then coolpuppy's scores (enrichment of the
+                      central --center pixels, corner CV; insulation strength for --local) and
+                      Juicer APA's (P2M, P2UL, P2UR, P2LL, P2LR, ZscoreLL; corners 3 wide at
+                      5 kb, 6 otherwise)
 
 Examples:
   contactmap pileup s.mcool::/resolutions/10000 loops.bedpe -o loops
@@ -89,7 +93,8 @@ pub struct PileupArgs {
     /// BED features on the diagonal, each with itself (TADs, boundaries).
     #[arg(long)]
     pub local: bool,
-    /// Pixels with j - i below this are left out.
+    /// Pixels with j - i below this are left out (2, as coolpuppy: the number stored with the
+    /// weights is not read).
     #[arg(long, alias = "min-diag", default_value_t = 2)]
     pub ignore_diags: usize,
     /// A cooltools cis expected table (trans with --trans) on the same bins and view, instead
@@ -222,30 +227,29 @@ pub fn run(args: &PileupArgs) -> Result<()> {
         true => None,
         false => args.expected.as_deref(),
     });
-    let kind = match args.features_format {
-        FeaturesFormat::Bed => FeatureKind::Bed,
-        FeaturesFormat::Bedpe => FeatureKind::Bedpe,
-        FeaturesFormat::Auto => feature_kind(&args.features)?.ok_or_else(|| {
-            Error::format(&args.features, "no feature in this file (no data line)")
-        })?,
+    let format = match args.features_format {
+        FeaturesFormat::Auto => FeatureFormat::Auto,
+        FeaturesFormat::Bed => FeatureFormat::Bed,
+        FeaturesFormat::Bedpe => FeatureFormat::Bedpe,
     };
+    let (table, detection) = read_features(&args.features, format)?;
     let mut notes = Warnings::new();
-    let (features, groupby) = match kind {
-        FeatureKind::Bed => {
-            let table = read_bed_table(&args.features)?;
+    let (features, groupby) = match table {
+        FeatureTable::Bed(table) => {
             let groupby = (!args.groupby.is_empty())
                 .then(|| GroupBy::bed(&table, &args.groupby, args.local))
                 .transpose()?;
             let features = table.records;
             notes.note(format!(
-                "read {} BED features from {}{}",
+                "read {} BED features from {}{} (BED: {})",
                 features.len(),
                 args.features.display(),
                 if args.local {
                     " (on the diagonal)"
                 } else {
                     " (paired)"
-                }
+                },
+                detection.reason
             ));
             (
                 Features::Bed {
@@ -255,22 +259,24 @@ pub fn run(args: &PileupArgs) -> Result<()> {
                 groupby,
             )
         }
-        FeatureKind::Bedpe => {
+        FeatureTable::Bedpe(table) => {
             if args.local {
                 return Err(Error::Invalid(format!(
-                    "--local piles up BED features on the diagonal; {} is BEDPE (pairs)",
-                    args.features.display()
+                    "--local piles up BED features on the diagonal; {} is read as BEDPE (pairs), \
+                     since {} (--features-format bed reads it as BED)",
+                    args.features.display(),
+                    detection.reason
                 )));
             }
-            let table = read_bedpe_table(&args.features)?;
             let groupby = (!args.groupby.is_empty())
                 .then(|| GroupBy::bedpe(&table, &args.groupby))
                 .transpose()?;
             let pairs = table.records;
             notes.note(format!(
-                "read {} BEDPE pairs from {}",
+                "read {} BEDPE pairs from {} (BEDPE: {})",
                 pairs.len(),
-                args.features.display()
+                args.features.display(),
+                detection.reason
             ));
             (Features::Bedpe(pairs), groupby)
         }
@@ -346,6 +352,35 @@ pub fn run(args: &PileupArgs) -> Result<()> {
         expected.as_deref(),
         &params,
     )?;
+    let s = &pups.skipped;
+    let limits = if args.local {
+        String::from("on the diagonal")
+    } else if args.trans {
+        String::from("between chromosomes")
+    } else {
+        format!("pairs {} bp apart or more", pups.min_dist_bp)
+    };
+    let left_out = format!(
+        "left out: {} on chromosomes the map lacks{}, {} outside the view, {} {}, {} outside \
+         the distance limits, {} too close to an edge",
+        s.unknown_chromosome,
+        unknown_names(s, reader.bins()),
+        s.outside_view,
+        s.other_kind,
+        if args.trans {
+            "within one chromosome"
+        } else {
+            "between chromosomes (see --trans)"
+        },
+        s.distance,
+        s.at_edge
+    );
+    if pups.all().n == 0 {
+        return Err(Error::Invalid(format!(
+            "no snippet to pile up from {} ({limits}; {left_out}): nothing was written",
+            args.features.display()
+        )));
+    }
     let rescale_flank = args.rescale.then_some(args.rescale_flank);
     let scores = group_scores(&pups, args.local, rescale_flank, args.center, bin_size)?;
     let pup = pups.all();
@@ -357,35 +392,12 @@ pub fn run(args: &PileupArgs) -> Result<()> {
     if args.npz {
         write_text_file(format!("{prefix}.npz"), npz_bytes(&pileup_arrays(&pups))?)?;
     }
-    let s = &pups.skipped;
-    let limits = if args.local {
-        String::from("on the diagonal")
-    } else if args.trans {
-        String::from("between chromosomes")
-    } else {
-        format!("pairs {} bp apart or more", pups.min_dist_bp)
-    };
     notes.note(format!(
-        "pileup of {} snippets ({} x {} bins, {limits}); left out: {} on chromosomes the map \
-         lacks, {} outside the view, {} {}, {} outside the distance limits, {} too close to an \
-         edge",
+        "pileup of {} snippets ({} x {} bins, {limits}); {left_out}",
         pup.n,
         pup.data.nrows(),
         pup.data.ncols(),
-        s.unknown_chromosome,
-        s.outside_view,
-        s.other_kind,
-        if args.trans {
-            "within one chromosome"
-        } else {
-            "between chromosomes (see --trans)"
-        },
-        s.distance,
-        s.at_edge
     ));
-    if pup.n == 0 {
-        notes.push("no snippet was piled up: the pileup is NaN everywhere (see what was left out)");
-    }
     if let Some(control_n) = pup.control_n {
         notes.note(format!(
             "{control_n} shifted controls (seed {}), {} more left their region",
@@ -414,4 +426,22 @@ pub fn run(args: &PileupArgs) -> Result<()> {
     notes.extend(reader.warnings());
     notes.print();
     Ok(())
+}
+
+/// The names of the first chromosomes the map lacks, with how to match them when they differ
+/// from the map's by the `chr` prefix: ` (chr21, chr22: the matrix names it '21': ...)`.
+fn unknown_names(skipped: &Skipped, bins: &BinTable) -> String {
+    let Some(first) = skipped.unknown_names.first() else {
+        return String::new();
+    };
+    let more = if skipped.unknown_names.len() >= 5 {
+        ", ..."
+    } else {
+        ""
+    };
+    let hint = bins
+        .naming_hint(first)
+        .map(|h| format!(": {h}"))
+        .unwrap_or_default();
+    format!(" ({}{more}{hint})", skipped.unknown_names.join(", "))
 }

@@ -8,6 +8,7 @@ use clap::Args;
 
 use crate::cli::output::{check_cool_output, refuse_overwrites};
 use crate::cli::progress::spinner;
+use crate::cli::warnings::Warnings;
 use contactmap::conformations::{chains_of_lengths, contact_map, MapParams};
 use contactmap::error::{Error, Result};
 use contactmap::io::cool::{write_cool, CoolWriteOptions};
@@ -98,5 +99,16 @@ pub fn run(args: &PolymerMapArgs) -> Result<()> {
         map.bins.n_bins(),
         map.pixels.iter().map(|p| p.2).sum::<u64>()
     );
+    let chained: usize = args.chains.iter().flatten().sum();
+    if args.chains.is_some() && chained < map.n_beads {
+        let mut notes = Warnings::new();
+        notes.push(format!(
+            "--chains covers beads 1-{chained} of {}: the last {} belong to no chain and are \
+             left out of the map",
+            map.n_beads,
+            map.n_beads - chained
+        ));
+        notes.print();
+    }
     Ok(())
 }

@@ -2,7 +2,7 @@
 
 use std::path::{Path, PathBuf};
 
-use clap::Args;
+use clap::{ArgGroup, Args};
 
 use crate::cli::input::open_for_analysis;
 use crate::cli::matrix_output::{format_from_extension, OutputFormat};
@@ -34,16 +34,12 @@ Examples:
   # two replicates at the same depth before comparing them
   depth=$(contactmap info rep1.cool --json | jq .sum)
   contactmap sample rep2.cool --count \"$depth\" -o rep2.eq.cool")]
+#[command(group(ArgGroup::new("amount").required(true).args(["count", "fraction"])))]
 pub struct SampleArgs {
     /// Matrix URI: file.cool, file.mcool::/resolutions/N, file.hic[::/resolutions/N], text table.
     pub uri: String,
     /// Keep exactly this many contacts.
-    #[arg(
-        long,
-        value_name = "N",
-        required_unless_present = "fraction",
-        conflicts_with = "fraction"
-    )]
+    #[arg(long, value_name = "N")]
     pub count: Option<u64>,
     /// Keep each contact with this probability, in (0, 1].
     #[arg(long, value_name = "F")]

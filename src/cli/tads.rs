@@ -11,7 +11,7 @@ use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::warnings::Warnings;
 use crate::cli::InputArgs;
 use contactmap::error::{Error, Result};
-use contactmap::io::{LoadedPixels, StreamedPixels};
+use contactmap::io::{LoadedPixels, MatrixReader, StreamedPixels};
 use contactmap::tads::armatus::ArmatusParams;
 use contactmap::tads::call::{call, Caller};
 use contactmap::tads::directionality::DirectionalityParams;
@@ -42,7 +42,8 @@ Methods and their outputs (-o: per-bin track, tab-separated with a header, `nan`
                   chrom start end region is_bad_bin [dist_bad_bin]
                   log2_insulation_score_W n_valid_pixels_W [sum_counts_W sum_balanced_W] ...
                   boundary_strength_W ... is_boundary_W ...
-                  Diamond of W/binsize bins, --ignore-diags 2, score over its median, log2;
+                  Diamond of W/binsize bins without the --ignore-diags diagonals (default: the
+                  number the weights were balanced with), score over its median, log2;
                   boundary strength = prominence of the minima over bins with at least
                   --min-frac-valid-pixels of the fullest diamond; boundaries are strengths >= the
                   --threshold cutoff (li, otsu or a number; cooltools' default is li). Unlike
@@ -86,9 +87,11 @@ pub struct TadsArgs {
     /// Default: 10 bins (insulation, directionality), 5 bins (topdom).
     #[arg(long, value_delimiter = ',', value_name = "BP[,BP...]")]
     pub window: Vec<String>,
-    /// Pixels closer than this to the diagonal (j - i < N) are left out, as cooltools.
-    #[arg(long, default_value_t = 2)]
-    pub ignore_diags: usize,
+    /// Pixels closer than this to the diagonal (j - i < N) are left out. Default, as cooltools:
+    /// the ignore_diags stored with the weights (--weight-name for insulation, `weight` for
+    /// directionality), else 2; 2 with --raw and for armatus.
+    #[arg(long, value_name = "N")]
+    pub ignore_diags: Option<usize>,
     /// Insulation: boundaries need at least this fraction of the fullest diamond's valid pixels.
     #[arg(long, default_value_t = 0.66, value_name = "FRACTION")]
     pub min_frac_valid_pixels: f64,
@@ -204,7 +207,7 @@ pub fn run(args: &TadsArgs) -> Result<()> {
     }
     let pixels = LoadedPixels::Streamed(StreamedPixels::new(reader.as_ref()));
     let weights = weights.as_deref();
-    let caller = caller(args, &windows, bin_size)?;
+    let caller = caller(args, reader.as_ref(), &windows, bin_size)?;
     let calls = call(&pixels, weights, &view, &caller)?;
     warnings.extend(calls.warnings.iter().cloned());
     for note in &calls.notes {
@@ -272,7 +275,18 @@ fn windows_bp(args: &TadsArgs, bin_size: u64) -> Result<Vec<u64>> {
 }
 
 /// The library's caller for the options: the method, its window and parameters.
-fn caller(args: &TadsArgs, windows: &[u64], bin_size: u64) -> Result<Caller> {
+fn caller(
+    args: &TadsArgs,
+    reader: &dyn MatrixReader,
+    windows: &[u64],
+    bin_size: u64,
+) -> Result<Caller> {
+    // cooltools' default: the diagonals the balancing left out, stored with the weights
+    let stored = |column: &str| match args.ignore_diags {
+        Some(n) => n,
+        None if args.raw => 2,
+        None => reader.stored_ignore_diags(column).unwrap_or(2),
+    };
     Ok(match args.method {
         MethodArg::Insulation => {
             let calls_window = match &args.bed_window {
@@ -289,7 +303,7 @@ fn caller(args: &TadsArgs, windows: &[u64], bin_size: u64) -> Result<Caller> {
             Caller::Insulation {
                 params: InsulationParams {
                     windows_bp: windows.to_vec(),
-                    ignore_diags: args.ignore_diags,
+                    ignore_diags: stored(&args.weight_name),
                     min_frac_valid_pixels: args.min_frac_valid_pixels,
                     min_dist_bad_bin: args.min_dist_bad_bin.unwrap_or(0),
                     threshold: parse_threshold(args)?,
@@ -301,7 +315,7 @@ fn caller(args: &TadsArgs, windows: &[u64], bin_size: u64) -> Result<Caller> {
         MethodArg::Directionality => Caller::Directionality {
             params: DirectionalityParams {
                 window_bp: windows[0],
-                ignore_diags: args.ignore_diags,
+                ignore_diags: stored("weight"),
                 min_dist_bad_bin: args.min_dist_bad_bin.unwrap_or(2),
             },
             hmm: HmmParams {
@@ -327,7 +341,7 @@ fn caller(args: &TadsArgs, windows: &[u64], bin_size: u64) -> Result<Caller> {
                     gammas,
                     max_domain_bins: (max_domain_bp / bin_size).max(2) as usize,
                 },
-                ignore_diags: args.ignore_diags,
+                ignore_diags: args.ignore_diags.unwrap_or(2),
                 boundary_level: args.bed_level,
             }
         }

@@ -1040,10 +1040,14 @@ pub fn chrom_ids(bins: &BinTable, names: &[String], source: &str) -> Result<Vec<
         .map(|name| {
             bins.chrom_id(name).ok_or_else(|| {
                 let known: Vec<&str> = bins.chroms().iter().map(|c| c.name.as_str()).collect();
+                let hint = bins
+                    .naming_hint(name)
+                    .map(|h| format!(": {h}"))
+                    .unwrap_or_default();
                 Error::parameter(
                     "chroms",
                     name,
-                    format!("chromosomes of {source} ({})", known.join(", ")),
+                    format!("chromosomes of {source} ({}){hint}", known.join(", ")),
                 )
             })
         })
@@ -1120,6 +1124,11 @@ pub fn compare_samples(
 
 /// The mean of the chromosomes' SCCs weighted by their lengths, NaN ones left out.
 fn length_weighted(chroms: &[ChromScc]) -> f64 {
+    let mut scored = chroms.iter().filter(|c| !c.scc.is_nan());
+    // one chromosome: its SCC exactly (x * w / w may differ from x in the last digit)
+    if let (Some(only), None) = (scored.next(), scored.next()) {
+        return only.scc;
+    }
     let (mut num, mut den) = (0.0, 0.0);
     for c in chroms.iter().filter(|c| !c.scc.is_nan()) {
         num += c.scc * c.length_bp as f64;
@@ -1142,6 +1151,9 @@ pub struct Training {
     pub h: usize,
     /// The chromosomes used.
     pub chroms: Vec<String>,
+    /// Whether the SCC levelled off (gained less than 0.01) within the range tried; `false`:
+    /// the range ended first, and the chosen `h` is its end, not a plateau.
+    pub levelled_off: bool,
 }
 
 /// Choose `h` as HiCRep's training does (hicreppy 0.1.0 `h_train`): for `h = 0, 1, ...` below
@@ -1239,6 +1251,7 @@ pub fn train_h(
     let last = stop.unwrap_or(h_max - 1);
     Ok(Training {
         tried,
+        levelled_off: stop.is_some(),
         h: last.saturating_sub(1),
         chroms: used
             .iter()

@@ -383,10 +383,14 @@ pub fn contact_map(
     let chains = params.chains.clone().unwrap_or_else(|| vec![(0, n_beads)]);
     if let Some(&(_, end)) = chains.last() {
         if end > n_beads {
+            let lengths: Vec<String> = chains.iter().map(|(a, b)| (b - a).to_string()).collect();
             return Err(Error::parameter(
                 "chains",
-                format!("...-{end}"),
-                format!("chains within the conformations' {n_beads} beads"),
+                lengths.join(","),
+                format!(
+                    "chain lengths adding up to at most the conformations' {n_beads} beads \
+                     (these add up to {end})"
+                ),
             ));
         }
     }

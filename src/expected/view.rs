@@ -168,18 +168,7 @@ impl View {
                 spec.end_bp
             );
             let chrom_id = bins.chrom_id(&spec.chrom).ok_or_else(|| {
-                let known: Vec<&str> = bins
-                    .chroms()
-                    .iter()
-                    .take(8)
-                    .map(|c| c.name.as_str())
-                    .collect();
-                let more = if bins.n_chroms() > 8 { ", ..." } else { "" };
-                Error::Invalid(format!(
-                    "{label}: no chromosome '{}' in the matrix (it has {}{more})",
-                    spec.chrom,
-                    known.join(", ")
-                ))
+                Error::Invalid(format!("{label}: {}", bins.missing_chrom(&spec.chrom)))
             })?;
             let length = bins.chroms()[chrom_id].length_bp;
             if spec.start_bp >= spec.end_bp {

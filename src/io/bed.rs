@@ -204,11 +204,7 @@ pub fn read_bin_mask(path: &Path, bins: &BinTable) -> Result<Vec<usize>> {
         };
         let chrom = fields[0];
         let Some(chrom_id) = bins.chrom_id(chrom) else {
-            return Err(Error::parse(
-                path,
-                line_no,
-                format!("no chromosome '{chrom}' in this matrix"),
-            ));
+            return Err(Error::parse(path, line_no, bins.missing_chrom(chrom)));
         };
         // Bins cover the chromosome's span only (all of it unless the matrix is a cut).
         let span = bins.span(chrom_id);
@@ -414,10 +410,122 @@ pub enum FeatureKind {
     Bedpe,
 }
 
-/// Whether the file at `path` holds BED or BEDPE records, from its first data line (headers,
-/// `track` / `browser` lines and `#` comments skipped): BEDPE when columns 2, 3, 5 and 6 are
-/// whole numbers and column 4 is not a number (BED's 5th column, the score, is a number and its
-/// 6th, the strand, is not). `None` for a file without a data line.
+/// How a feature file's format is chosen: given (`--features-format bed|bedpe`), or found by
+/// [`detect_feature_kind`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum FeatureFormat {
+    /// From the file name's extension, else from the first data line.
+    #[default]
+    Auto,
+    /// One interval per line.
+    Bed,
+    /// A pair of intervals per line.
+    Bedpe,
+}
+
+/// The format a feature file is read in, and why: the reason goes into the messages of errors
+/// met while reading it, so that a wrong guess is seen as one.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct FeatureDetection {
+    /// The format the file is read in.
+    pub kind: FeatureKind,
+    /// Why, in words (`its extension is .bedpe`, ...).
+    pub reason: String,
+}
+
+impl FeatureKind {
+    /// `BED` or `BEDPE`.
+    pub fn name(self) -> &'static str {
+        match self {
+            FeatureKind::Bed => "BED",
+            FeatureKind::Bedpe => "BEDPE",
+        }
+    }
+}
+
+/// The format of the feature file at `path` under `format`: as given, else from the file name's
+/// extension (`.bedpe`, `.bed`, `.narrowPeak`, `.broadPeak`, each also with `.gz`: coolpuppy
+/// decides from the extension), else from its first data line (headers, `track` / `browser`
+/// lines and `#` comments skipped): BEDPE when it has at least 6 columns and columns 5 and 6
+/// are whole numbers with start <= end (a BED line's 6th column is the strand, never a number),
+/// whatever column 4 holds (chromosome names such as Ensembl's `21` are numbers too). `None`
+/// when the format is to be found and the file has no data line.
+///
+/// # Examples
+///
+/// ```
+/// use contactmap::io::bed::{detect_feature_kind, FeatureFormat, FeatureKind};
+///
+/// let path = std::env::temp_dir().join(format!("kind-{}.txt", std::process::id()));
+/// let kind = |p: &std::path::Path| detect_feature_kind(p, FeatureFormat::Auto).map(|d| d.unwrap().kind);
+/// std::fs::write(&path, "chr1\t0\t10\tchr1\t90\t100\n")?;
+/// assert_eq!(kind(&path)?, FeatureKind::Bedpe);
+/// std::fs::write(&path, "21\t0\t10\t21\t90\t100\n")?; // Ensembl names
+/// assert_eq!(kind(&path)?, FeatureKind::Bedpe);
+/// std::fs::write(&path, "chr1\t0\t10\tpeak\t5\t+\n")?;
+/// assert_eq!(kind(&path)?, FeatureKind::Bed);
+/// # std::fs::remove_file(&path)?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn detect_feature_kind(path: &Path, format: FeatureFormat) -> Result<Option<FeatureDetection>> {
+    let given = |kind: FeatureKind| FeatureDetection {
+        kind,
+        reason: format!("the format was given as {}", kind.name()),
+    };
+    match format {
+        FeatureFormat::Bed => return Ok(Some(given(FeatureKind::Bed))),
+        FeatureFormat::Bedpe => return Ok(Some(given(FeatureKind::Bedpe))),
+        FeatureFormat::Auto => {}
+    }
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().to_ascii_lowercase())
+        .unwrap_or_default();
+    let stem = name
+        .strip_suffix(".gz")
+        .or_else(|| name.strip_suffix(".bgz"))
+        .unwrap_or(&name);
+    let extension = stem.rsplit_once('.').map(|(_, e)| e).unwrap_or("");
+    let by_extension = match extension {
+        "bedpe" => Some(FeatureKind::Bedpe),
+        "bed" | "narrowpeak" | "broadpeak" => Some(FeatureKind::Bed),
+        _ => None,
+    };
+    if let Some(kind) = by_extension {
+        return Ok(Some(FeatureDetection {
+            kind,
+            reason: format!("its extension is .{extension}"),
+        }));
+    }
+    let mut found = None;
+    for_each_line(path, |line_no, _, fields| {
+        let whole = |k: usize| fields.get(k).and_then(|f| f.parse::<u64>().ok());
+        if found.is_some() || whole(1).is_none() || whole(2).is_none() {
+            return Ok(()); // decided, or a header line
+        }
+        let pair = matches!((whole(4), whole(5)), (Some(start), Some(end)) if start <= end);
+        found = Some(if pair {
+            FeatureDetection {
+                kind: FeatureKind::Bedpe,
+                reason: format!(
+                    "columns 5 and 6 of its first record (line {line_no}) are coordinates"
+                ),
+            }
+        } else {
+            FeatureDetection {
+                kind: FeatureKind::Bed,
+                reason: format!(
+                    "its first record (line {line_no}) has no coordinates in columns 5 and 6"
+                ),
+            }
+        });
+        Ok(())
+    })?;
+    Ok(found)
+}
+
+/// Whether the file at `path` holds BED or BEDPE records: [`detect_feature_kind`] with the
+/// format to be found. `None` for a file without a data line.
 ///
 /// # Examples
 ///
@@ -427,27 +535,81 @@ pub enum FeatureKind {
 /// let path = std::env::temp_dir().join(format!("kind-{}.txt", std::process::id()));
 /// std::fs::write(&path, "chr1\t0\t10\tchr1\t90\t100\n")?;
 /// assert_eq!(feature_kind(&path)?, Some(FeatureKind::Bedpe));
-/// std::fs::write(&path, "chr1\t0\t10\tpeak\t5\t+\n")?;
-/// assert_eq!(feature_kind(&path)?, Some(FeatureKind::Bed));
 /// # std::fs::remove_file(&path)?;
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn feature_kind(path: &Path) -> Result<Option<FeatureKind>> {
-    let mut kind = None;
-    for_each_line(path, |_, _, fields| {
-        let whole = |k: usize| fields.get(k).is_some_and(|f| f.parse::<u64>().is_ok());
-        if kind.is_some() || !whole(1) || !whole(2) {
-            return Ok(()); // decided, or a header line
+    Ok(detect_feature_kind(path, FeatureFormat::Auto)?.map(|d| d.kind))
+}
+
+/// A feature file's records: intervals (BED) or pairs of intervals (BEDPE).
+#[derive(Clone, Debug, PartialEq)]
+pub enum FeatureTable {
+    /// One interval per line.
+    Bed(BedTable),
+    /// A pair of intervals per line.
+    Bedpe(BedpeTable),
+}
+
+/// Read the feature file at `path` in the format [`detect_feature_kind`] finds under `format`;
+/// an error met while reading a line says in which format the file was read and why, and how
+/// to read it in the other (`--features-format`). The detection is returned with the table.
+///
+/// # Examples
+///
+/// ```
+/// use contactmap::io::bed::{read_features, FeatureFormat, FeatureTable};
+///
+/// let path = std::env::temp_dir().join(format!("features-{}.tsv", std::process::id()));
+/// std::fs::write(&path, "chrom1\tstart1\tend1\tchrom2\tstart2\tend2\n21\t0\t10\t21\t90\t100\n")?;
+/// let (table, _) = read_features(&path, FeatureFormat::Auto)?;
+/// assert!(matches!(table, FeatureTable::Bedpe(t) if t.records.len() == 1));
+/// let error = read_features(&path, FeatureFormat::Bed).unwrap_err().to_string();
+/// assert!(error.contains("read as BED"), "{error}");
+/// # std::fs::remove_file(&path)?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn read_features(
+    path: &Path,
+    format: FeatureFormat,
+) -> Result<(FeatureTable, FeatureDetection)> {
+    let detection = detect_feature_kind(path, format)?
+        .ok_or_else(|| Error::format(path, "no feature in this file (no data line)"))?;
+    let read = match detection.kind {
+        FeatureKind::Bed => read_bed_table(path).map(FeatureTable::Bed),
+        FeatureKind::Bedpe => read_bedpe_table(path).map(FeatureTable::Bedpe),
+    };
+    let table = read.map_err(|error| match error {
+        Error::Parse {
+            path,
+            line,
+            message,
+        } => {
+            let other = match detection.kind {
+                FeatureKind::Bed => FeatureKind::Bedpe,
+                FeatureKind::Bedpe => FeatureKind::Bed,
+            };
+            let hint = match format {
+                FeatureFormat::Auto => format!(
+                    "; --features-format {} reads it as {}",
+                    other.name().to_ascii_lowercase(),
+                    other.name()
+                ),
+                _ => String::new(),
+            };
+            Error::Parse {
+                path,
+                line,
+                message: format!(
+                    "{message} (read as {}: {}{hint})",
+                    detection.kind.name(),
+                    detection.reason
+                ),
+            }
         }
-        let pair = fields.len() >= 6 && whole(4) && whole(5) && fields[3].parse::<f64>().is_err();
-        kind = Some(if pair {
-            FeatureKind::Bedpe
-        } else {
-            FeatureKind::Bed
-        });
-        Ok(())
+        other => other,
     })?;
-    Ok(kind)
+    Ok((table, detection))
 }
 
 /// `start` and `end` as numbers, `start <= end`.

@@ -100,6 +100,18 @@ pub trait MatrixReader: Send + Sync {
         None
     }
 
+    /// The number of diagonals the balancing that made weight column `name` left out, as
+    /// cooler stores it (the column's `ignore_diags` attribute; `false`, which cooler's API
+    /// may store, is 0): the default of cooltools' insulation, directionality, eigs_cis and
+    /// coverage. `None` where the column has no such attribute (another format, another
+    /// balancer).
+    fn stored_ignore_diags(&self, name: &str) -> Option<usize> {
+        match self.weight_attribute(name, "ignore_diags")? {
+            serde_json::Value::Bool(false) => Some(0),
+            value => value.as_u64().map(|n| n as usize),
+        }
+    }
+
     /// Stream the stored pixels in the rectangle `rows x cols` to `sink`, sorted by
     /// `(bin1, bin2)`. The sink may stop the stream early by returning an error.
     ///

@@ -382,11 +382,20 @@ impl<R: ReadFrame> Iterator for Frames<R> {
     }
 }
 
-/// The error of bead `bead` of conformation `label` at the non-finite position `p`.
-pub(crate) fn non_finite(label: &str, bead: usize, p: [f64; 3]) -> Error {
+/// The error of point `index` (0-based) of conformation `label` at the non-finite position
+/// `p`: named an atom in molecular formats, a bead in polymer ones (by `unit`), counted from 1
+/// as frames are.
+pub(crate) fn non_finite(label: &str, index: usize, p: [f64; 3], unit: LengthUnit) -> Error {
+    let noun = match unit {
+        LengthUnit::Model => "bead",
+        LengthUnit::Angstrom | LengthUnit::Nanometre => "atom",
+    };
     Error::Invalid(format!(
-        "{label}: bead {bead} has a non-finite coordinate ({}, {}, {})",
-        p[0], p[1], p[2]
+        "{label}: {noun} {} has a non-finite coordinate ({}, {}, {})",
+        index + 1,
+        p[0],
+        p[1],
+        p[2]
     ))
 }
 
@@ -406,7 +415,17 @@ pub(crate) fn checked(
         .iter()
         .position(|p| !(p[0].is_finite() && p[1].is_finite() && p[2].is_finite()))
     {
-        return Err(non_finite(&label, bead, positions[bead]));
+        return Err(non_finite(&label, bead, positions[bead], unit));
+    }
+    if let Some(cell) = cell {
+        let [a, b, c] = cell;
+        let volume = a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+            + a[2] * (b[0] * c[1] - b[1] * c[0]);
+        if !(volume.is_finite() && volume.abs() > 0.0) {
+            return Err(Error::Invalid(format!(
+                "{label}: corrupt unit cell (box vectors {a:?}, {b:?}, {c:?}: volume {volume})"
+            )));
+        }
     }
     Ok(Conformation {
         label,
@@ -426,3 +445,6 @@ pub(crate) fn coordinates(fields: &[&str]) -> std::result::Result<[f64; 3], Stri
     }
     Ok(xyz)
 }
+
+#[cfg(test)]
+mod mutant_tests;

@@ -71,6 +71,8 @@ pub struct Batch {
 pub struct Skipped {
     /// Features (BED) or pairs (BEDPE) on a chromosome the map does not have.
     pub unknown_chromosome: usize,
+    /// The first few (up to 5) of those chromosomes' names, in the order met.
+    pub unknown_names: Vec<String>,
     /// Features or pairs outside every view region (coolpuppy's rule: `start >= region start`
     /// and `end < region end`), or BEDPE pairs with anchors in two regions of one chromosome.
     pub outside_view: usize,
@@ -81,6 +83,16 @@ pub struct Skipped {
     pub distance: usize,
     /// Snippets whose window leaves their region (too close to its edge).
     pub at_edge: usize,
+}
+
+impl Skipped {
+    /// Count a feature on chromosome `name`, which the map lacks.
+    fn unknown(&mut self, name: &str) {
+        self.unknown_chromosome += 1;
+        if self.unknown_names.len() < 5 && !self.unknown_names.iter().any(|n| n == name) {
+            self.unknown_names.push(name.to_string());
+        }
+    }
 }
 
 /// Where and how far snippets reach.
@@ -167,7 +179,12 @@ fn pair_regions(
 ) -> Result<Option<(usize, usize)>> {
     let (a, b) = (&pair.first, &pair.second);
     let (Some(chrom1), Some(chrom2)) = (bins.chrom_id(&a.chrom), bins.chrom_id(&b.chrom)) else {
-        skipped.unknown_chromosome += 1;
+        let missing = if bins.chrom_id(&a.chrom).is_none() {
+            &a.chrom
+        } else {
+            &b.chrom
+        };
+        skipped.unknown(missing);
         return Ok(None);
     };
     let (Some(r1), Some(r2)) = (
@@ -250,7 +267,7 @@ fn bed_by_region<'a>(
     let mut by_region: Vec<Vec<(usize, &BedRecord)>> = vec![Vec::new(); view.len()];
     for (k, feature) in features.iter().enumerate() {
         let Some(chrom_id) = bins.chrom_id(&feature.chrom) else {
-            skipped.unknown_chromosome += 1;
+            skipped.unknown(&feature.chrom);
             continue;
         };
         match region_of(view, chrom_id, feature.start, feature.end) {

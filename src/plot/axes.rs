@@ -197,6 +197,20 @@ pub fn log_ticks(min: f64, max: f64) -> (Vec<(f64, String)>, Vec<f64>) {
             }
         }
     }
+    if major.len() < 2 {
+        // A narrower range still (0.7 to 1.8 holds only 1): round linear values, at least two.
+        let values = linear_ticks(low, high, 5);
+        let step = match values.as_slice() {
+            [a, b, ..] => b - a,
+            _ => high - low,
+        };
+        major = values
+            .into_iter()
+            .filter(|&v| v > 0.0)
+            .map(|v| (v, format_tick(v, step)))
+            .collect();
+        minor.clear();
+    }
     (major, minor)
 }
 
@@ -576,6 +590,11 @@ mod tests {
         let (narrow, _) = log_ticks(1.5, 9.0);
         let values: Vec<f64> = narrow.iter().map(|m| m.0).collect();
         assert_eq!(values, vec![2.0, 5.0]);
+        // issue 51: a pileup's colour bar from 0.7 to 1.8 had one tick, "1"
+        let (narrow, _) = log_ticks(0.7, 1.8);
+        let labels: Vec<&str> = narrow.iter().map(|m| m.1.as_str()).collect();
+        assert!(labels.len() >= 3, "{labels:?}");
+        assert!(narrow.iter().any(|m| m.0 == 1.0), "{labels:?}");
     }
 
     #[test]

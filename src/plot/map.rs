@@ -590,6 +590,10 @@ fn draw_overlays(svg: &mut Svg, theme: &Theme, map: &Axes, figure: &MapFigure<'_
     let sizes = MarkSizes::new(theme, bin_px, boundary_spacing(map, &overlays.boundaries));
     let domain = Stroke::solid(DOMAIN_COLOUR, sizes.outline);
     let boundary = Stroke::solid(BOUNDARY_COLOUR, sizes.mark);
+    // Loops are points on the map, a few bins wide: however small their bins on screen, each is
+    // marked by an outline of full width and a visible size (issue 51: 10 kb loops in a 7 Mb
+    // view were hairlines).
+    let looped = Stroke::solid(DOMAIN_COLOUR, sizes.outline.max(theme.px(1.5)));
     let same_chrom = figure.rows == figure.cols
         || (figure.rows.chrom == figure.cols.chrom && figure.view == MapView::Square);
     let px = |bp: u64| map.px(bp as f64);
@@ -620,14 +624,14 @@ fn draw_overlays(svg: &mut Svg, theme: &Theme, map: &Axes, figure: &MapFigure<'_
                     }
                 }
             }
-            let least = theme.px(6.0);
+            let least = theme.px(if bin_px >= theme.px(4.0) { 6.0 } else { 9.0 });
             for &[s1, e1, s2, e2] in &overlays.loops {
                 let mut square = |rows: (u64, u64), cols: (u64, u64)| {
                     let (x0, x1) = (px(cols.0), px(cols.1));
                     let (y0, y1) = (map.py(rows.0 as f64), map.py(rows.1 as f64));
                     let (w, h) = ((x1 - x0).max(least), (y1 - y0).max(least));
                     let (cx, cy) = ((x0 + x1) / 2.0, (y0 + y1) / 2.0);
-                    svg.rect(cx - w / 2.0, cy - h / 2.0, w, h, None, Some(domain));
+                    svg.rect(cx - w / 2.0, cy - h / 2.0, w, h, None, Some(looped));
                 };
                 square((s1, e1), (s2, e2));
                 if same_chrom {
@@ -659,11 +663,11 @@ fn draw_overlays(svg: &mut Svg, theme: &Theme, map: &Axes, figure: &MapFigure<'_
             for &[s1, e1, s2, e2] in &overlays.loops {
                 let (m1, m2) = ((s1 + e1) as f64 / 2.0, (s2 + e2) as f64 / 2.0);
                 let (x, y) = (map.px((m1 + m2) / 2.0), up((m2 - m1).abs()));
-                let r = theme.px(4.0);
+                let r = theme.px(if bin_px >= theme.px(4.0) { 4.0 } else { 5.0 });
                 svg.polygon(
                     &[(x, y - r), (x + r, y), (x, y + r), (x - r, y)],
                     None,
-                    Some(domain),
+                    Some(looped),
                 );
             }
         }

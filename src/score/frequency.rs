@@ -736,9 +736,24 @@ fn frequencies(
     })
 }
 
-/// The frequencies as a TSV table, one row per pair in MDTraj's order: the chain id, the
-/// residues' author numbers (with insertion codes) and names as written, their 0-based indices,
-/// the frames in contact and the fraction of frames.
+/// How a blank chain id (a PDB file without chain ids: its one chain, by the PDB's convention) is
+/// written in tables: `A`, as the wwPDB's remediation names such chains, so that no column is
+/// empty. [`EnsembleTruth::apply`](crate::score::target::EnsembleTruth::apply) reads it back
+/// as the blank chain of a structure without a chain `A`.
+pub const BLANK_CHAIN: &str = "A";
+
+/// The chain id of chain `chain` of `topology` as tables write it ([`BLANK_CHAIN`] for a blank
+/// one).
+pub fn chain_column(topology: &Topology, chain: usize) -> &str {
+    match topology.chains[chain].as_str() {
+        "" => BLANK_CHAIN,
+        id => id,
+    }
+}
+
+/// The frequencies as a TSV table, one row per pair in MDTraj's order: the chain id (a blank
+/// one written [`BLANK_CHAIN`]), the residues' author numbers (with insertion codes) and names
+/// as written, their 0-based indices, the frames in contact and the fraction of frames.
 pub fn frequency_table(topology: &Topology, frequencies: &ContactFrequencies) -> String {
     use crate::io::tables::write_u64;
     let mut text = Vec::with_capacity(48 * frequencies.counts.len());
@@ -750,7 +765,7 @@ pub fn frequency_table(topology: &Topology, frequencies: &ContactFrequencies) ->
     for (k, &(i, j)) in frequencies.pairs.pairs.iter().enumerate() {
         let (a, b) = (&topology.residues[i], &topology.residues[j]);
         for field in [
-            topology.chains[a.chain].as_str(),
+            chain_column(topology, a.chain),
             &numbers[i],
             &numbers[j],
             &a.name,

@@ -17,6 +17,7 @@ use crate::io::predictions::{read_prediction, PredictionFormat};
 use crate::io::structure::{amino_acid, chain_label, read_structure, Chain};
 use crate::io::tables::real_text;
 use crate::score::contacts::{ListSize, Rounding, SeparationRange};
+use crate::score::frequency::BLANK_CHAIN;
 
 /// How the structure's residues are placed on a prediction's sequence.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -249,7 +250,14 @@ impl EnsembleTruth {
     /// and insertion code, names checked. Pairs with a residue the structure lacks are
     /// unmeasured (a warning when they are more than a tenth of the chain's rows).
     pub fn apply(&self, structure: &Path, chain: &Chain, placed: &mut Placed) -> Result<()> {
-        let rows: Vec<&FrequencyRow> = self.rows.iter().filter(|r| r.chain == chain.id).collect();
+        // a blank chain is written `A` (frequency::BLANK_CHAIN); tables of earlier versions
+        // left it empty
+        let blank = chain.id.is_empty();
+        let rows: Vec<&FrequencyRow> = self
+            .rows
+            .iter()
+            .filter(|r| r.chain == chain.id || (blank && r.chain == BLANK_CHAIN))
+            .collect();
         if rows.is_empty() {
             let mut chains: Vec<&str> = self.rows.iter().map(|r| chain_label(&r.chain)).collect();
             chains.dedup();

@@ -287,6 +287,57 @@ fn trained_h_is_chosen_once_for_every_pair() {
     assert_eq!(training["h"].as_u64().unwrap() as usize, want, "{tried:?}");
     assert_eq!(json["h"], training["h"]);
     assert_eq!(json["pairs"].as_array().unwrap().len(), 3);
+    // issue 51: a search that ends on the range's last h without levelling off says so
+    assert_eq!(training["levelled_off"], serde_json::json!(stop.is_some()));
+    assert_eq!(
+        stderr.contains("never levelled off"),
+        stop.is_none(),
+        "{tried:?}: {stderr}"
+    );
+    // --h-max 2 on maps 2% deep: h = 1 still gains (the SCC of such thin maps rises with h)
+    let out = run(&[
+        "hicrep",
+        &mm9,
+        &a,
+        "--max-distance",
+        "100M",
+        "--h-max",
+        "2",
+        "--json",
+    ]);
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let tried = &json["training"]["tried"];
+    let gain = tried[1]["scc"].as_f64().unwrap() - tried[0]["scc"].as_f64().unwrap();
+    assert!(gain >= 0.01, "{tried}");
+    assert_eq!(json["training"]["levelled_off"], false);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("warning: the training's SCC never levelled off")
+            && stderr.contains("--h-max"),
+        "{stderr}"
+    );
+}
+
+/// Issue 51: the genome-wide SCC of a one-chromosome comparison is that chromosome's SCC, to
+/// the last digit.
+#[test]
+fn genome_wide_scc_of_one_chromosome_is_its_scc() {
+    let yeast = data("yeast.10kb.cool");
+    let dir = tempfile::tempdir().unwrap();
+    let thin = sampled(
+        dir.path(),
+        &yeast,
+        &["--fraction", "0.5", "--seed", "3"],
+        "thin",
+    );
+    for chrom in ["chrIV", "chrXII", "chrI"] {
+        let table = parse_table(&run_ok(&[
+            "hicrep", &yeast, &thin, "--h", "1", "--chroms", chrom,
+        ]));
+        assert_eq!(table.rows.len(), 2, "{chrom}");
+        assert_eq!(table.rows[1][2], "genome");
+        assert_eq!(table.rows[0][4], table.rows[1][4], "{chrom}");
+    }
 }
 
 #[test]

@@ -261,7 +261,10 @@ fn dots_merge_by_hand() {
     let line = run_err(&["dots-merge", &format!("{five}@20k"), &ten, "-o", &out_s]);
     assert!(line.contains("20000 bp"), "{line}");
     let line = run_err(&["dots-merge", &five, &format!("{five}@5000"), "-o", &out_s]);
-    assert!(line.contains("two lists"), "{line}");
+    assert!(
+        line.contains("are both at 5000 bp: give one list per resolution"),
+        "{line}"
+    );
     let bare = write(
         dir.path(),
         "bare.bedpe",

@@ -207,7 +207,7 @@ fn bad_trajectories_are_one_line_errors_without_output() {
     check(
         &nan,
         &topology,
-        "nan.dcd:frame 2: bead 0 has a non-finite coordinate",
+        "nan.dcd:frame 2: atom 1 has a non-finite coordinate",
     );
     // a topology of another protein
     check(
@@ -461,9 +461,11 @@ fn bad_frequency_tables_are_one_line_errors() {
         "a.tsv",
         &format!("{header}\nA\t1\t5\tVAL\tLYS\t0\t4\t1\t1\n"),
     );
+    // a blank chain is written A (the PDB's convention for a file's one chain), so chain A of
+    // a table is the blank chain of a structure without chain ids: its residues are checked
     let line = score(&chain_a, &[]);
     assert!(
-        line.contains("a.tsv: no residue pair of chain (blank)") && line.contains("chains: A"),
+        line.contains("a.tsv:2: residue 5 is LYS here but CYS in chain (blank)"),
         "{line}"
     );
     let renamed = write(
@@ -507,4 +509,26 @@ fn bad_frequency_tables_are_one_line_errors() {
         "0.5",
     ]);
     assert!(line.contains("--frequencies"), "{line}");
+}
+
+/// Issue 51: a topology without chain ids (a PDB's one chain) gets chain `A` in the table, as
+/// the PDB's convention names it, never an empty column; said on standard error.
+#[test]
+fn a_blank_chain_is_written_a() {
+    let pdb = data("protein/1aapA/1aapA.pdb");
+    let out = run(&["contacts", "--trajectory", &pdb, "--topology", &pdb]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let table = String::from_utf8(out.stdout).unwrap();
+    let rows: Vec<&str> = table.lines().skip(1).collect();
+    assert!(!rows.is_empty());
+    assert!(rows.iter().all(|r| r.starts_with("A\t")), "{}", rows[0]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("has no chain ids: its chain is written A"),
+        "{stderr}"
+    );
 }

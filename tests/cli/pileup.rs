@@ -14,12 +14,20 @@ use pileup_reference::reference_case;
 fn pileup_of_loops_is_coolpuppy() {
     let dir = tempfile::tempdir().unwrap();
     let prefix = dir.path().join("loops").to_string_lossy().into_owned();
-    // a BEDPE named .bed: read as BEDPE from its content
-    let features = write(
-        dir.path(),
-        "loops.bed",
-        &std::fs::read_to_string(data("sim_extrusion.truth_loops.bedpe")).unwrap(),
+    let text = std::fs::read_to_string(data("sim_extrusion.truth_loops.bedpe")).unwrap();
+    // a BEDPE named .bed is read as BED, as coolpuppy reads it: the error says so and how to
+    // force the other format
+    let named_bed = write(dir.path(), "loops.bed", &text);
+    let map = data("sim_extrusion.5kb.cool");
+    let line = run_err(&["pileup", &map, &named_bed, "--flank", "20k", "-o", &prefix]);
+    assert!(
+        line.contains(
+            "read as BED: its extension is .bed; --features-format bedpe reads it as BEDPE"
+        ),
+        "{line}"
     );
+    // without an extension that decides, a BEDPE read from its content
+    let features = write(dir.path(), "loops.txt", &text);
     let out = run(&[
         "pileup",
         &data("sim_extrusion.5kb.cool"),
@@ -373,14 +381,17 @@ fn pileup_refuses_bad_inputs_without_writing() {
         stderr.contains("warning: 1 pairs have anchor 2 upstream"),
         "{stderr}"
     );
+    // nothing piled up: refused (exit 2), nothing written
     let far = write(dir.path(), "far.bed", "chr1\t0\t5000\n");
-    let out = run(&["pileup", &sim, &far, "--local", "-o", &prefix]);
-    assert!(out.status.success());
+    let empty = dir.path().join("empty").to_string_lossy().into_owned();
+    let out = run(&["pileup", &sim, &far, "--local", "-o", &empty]);
+    assert_eq!(out.status.code(), Some(2));
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(
-        stderr.contains("warning: no snippet was piled up"),
+        stderr.contains("no snippet to pile up") && stderr.contains("1 too close to an edge"),
         "{stderr}"
     );
+    assert!(!std::path::Path::new(&format!("{empty}.pileup.tsv")).exists());
 }
 
 /// --groupby and --trans: coolpuppy's grids, the groups in PREFIX.groups.tsv; an unknown
@@ -458,5 +469,91 @@ fn pileup_groupby_and_trans_are_coolpuppy() {
     assert!(
         line.contains("--groupby class1") && line.contains("chrom, start, end, name"),
         "{line}"
+    );
+}
+
+/// Issue 51: a BEDPE whose chromosomes are named by numbers (Ensembl, NCBI), as `contactmap dots`
+/// writes it, is read as BEDPE from its content, whatever its extension says it is not; features
+/// on `chr21` against a map of `21` are refused, the prefix named.
+#[test]
+fn pileup_reads_bedpe_of_numbered_chromosomes() {
+    let dir = tempfile::tempdir().unwrap();
+    // a 2 Mb map of chromosome 21 at 10 kb: counts decaying with distance, a dot at 500-800 kb
+    let sizes = write(dir.path(), "ensembl.sizes", "21\t2000000\n");
+    let mut bg2 = String::new();
+    for i in 0..200u64 {
+        for d in 0..40u64.min(200 - i) {
+            let j = i + d;
+            let dot = if (i, j) == (50, 80) { 50 } else { 0 };
+            let count = 200 / (d + 1) + dot;
+            let (a, b) = (i * 10_000, j * 10_000);
+            bg2.push_str(&format!(
+                "21\t{a}\t{}\t21\t{b}\t{}\t{count}\n",
+                a + 10_000,
+                b + 10_000
+            ));
+        }
+    }
+    let bg2 = write(dir.path(), "ensembl.bg2", &bg2);
+    let map = dir
+        .path()
+        .join("ensembl.cool")
+        .to_string_lossy()
+        .into_owned();
+    run_ok(&[
+        "convert",
+        &bg2,
+        &map,
+        "--chrom-sizes",
+        &sizes,
+        "--bin-size",
+        "10000",
+    ]);
+    let header = "chrom1\tstart1\tend1\tchrom2\tstart2\tend2\tcount\n";
+    let dots = format!("{header}21\t500000\t510000\t21\t800000\t810000\t50\n");
+    let prefix = dir.path().join("p").to_string_lossy().into_owned();
+    for name in ["dots.tsv", "dots.bedpe"] {
+        let features = write(dir.path(), name, &dots);
+        let args = [
+            "pileup",
+            &map,
+            &features,
+            "--raw",
+            "--no-expected",
+            "--flank",
+            "50k",
+        ];
+        let out = run(&[&args[..], &["-o", &prefix]].concat());
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{name}: {stderr}");
+        assert!(stderr.contains("read 1 BEDPE pairs"), "{name}: {stderr}");
+        // the dot at the centre of the 11 x 11 grid: 200 / 31 + 50 (integer division)
+        let grid = read_grid(&format!("{prefix}.pileup.tsv"));
+        assert_eq!(grid[5][5], (200 / 31 + 50) as f64, "{name}");
+    }
+    // chr21 against 21: refused, the names' difference said
+    let prefixed = write(
+        dir.path(),
+        "ucsc.bedpe",
+        &dots
+            .replace("\n21\t", "\nchr21\t")
+            .replace("\t21\t", "\tchr21\t"),
+    );
+    let out = run(&[
+        "pileup",
+        &map,
+        &prefixed,
+        "--raw",
+        "--no-expected",
+        "--flank",
+        "50k",
+        "-o",
+        &prefix,
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("1 on chromosomes the map lacks (chr21: the matrix names it '21'"),
+        "{stderr}"
     );
 }

@@ -495,3 +495,72 @@ fn boundary_marks_scale_with_the_bins_on_screen() {
         assert!(off(frame, *x1, *y1) * off(frame, *x2, *y2) < 0.0);
     }
 }
+
+/// Issue 51: 10 kb loops in a 7 Mb view were hairlines (outlines thinned as the bins shrank on
+/// screen, as domain outlines are): loops keep a full-width outline and a visible size.
+#[test]
+fn loops_stay_visible_when_their_bins_are_small() {
+    let dir = tempfile::tempdir().unwrap();
+    let map = dir.path().join("big.cool");
+    let map = map.to_str().unwrap();
+    run_ok(&[
+        "simulate", "blocks", "-o", map, "--bins", "1000", "--seed", "3",
+    ]);
+    let loops = dir.path().join("loops.bedpe");
+    std::fs::write(
+        &loops,
+        "chr1\t2000000\t2010000\tchr1\t2300000\t2310000\nchr1\t5000000\t5010000\tchr1\t5500000\t5510000\n",
+    )
+    .unwrap();
+    let domains = dir.path().join("domains.bed");
+    std::fs::write(&domains, "chr1\t1000000\t3000000\n").unwrap();
+    let svg = run_ok(&[
+        "plot",
+        "map",
+        map,
+        "--raw",
+        "-r",
+        "chr1:0-7,000,000",
+        "--loops",
+        loops.to_str().unwrap(),
+        "--domains",
+        domains.to_str().unwrap(),
+        "-o",
+        "-",
+        "--to",
+        "svg",
+    ]);
+    let doc = roxmltree::Document::parse(&svg).unwrap();
+    let outlines: Vec<(f64, f64)> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("rect") && n.attribute("stroke") == Some("#0072b2"))
+        .map(|n| {
+            let number = |a: &str| n.attribute(a).unwrap().parse::<f64>().unwrap();
+            (number("width"), number("stroke-width"))
+        })
+        .collect();
+    let (image_width, bins) = (svg_rects(&svg, "image", "", "")[0].2, 700.0);
+    assert!(
+        image_width / bins < 2.0,
+        "bins of {} px",
+        image_width / bins
+    );
+    // the domain (2 Mb wide), then each loop drawn on both sides of the diagonal
+    let domain = outlines
+        .iter()
+        .find(|(w, _)| *w > image_width / 5.0)
+        .expect("the domain's outline");
+    let marks: Vec<&(f64, f64)> = outlines
+        .iter()
+        .filter(|(w, _)| *w < image_width / 5.0)
+        .collect();
+    assert_eq!(marks.len(), 4, "{outlines:?}");
+    for (width, stroke) in marks {
+        assert!(
+            *stroke >= 3.0 * domain.1,
+            "loop outline {stroke} against the domain's {}",
+            domain.1
+        );
+        assert!(*width >= 5.0 * stroke, "a loop mark {width} px wide");
+    }
+}

@@ -165,7 +165,7 @@ fn bad_trajectories_are_one_line_errors_without_output() {
             "-o",
             &out_s,
         ],
-        "blocks_0-2.h5::2: bead 1 has a non-finite coordinate",
+        "blocks_0-2.h5::2: bead 2 has a non-finite coordinate",
     );
     // another number of beads
     let mut uneven = vec![vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]]; 2];

@@ -180,7 +180,7 @@ fn examples(help: &str) -> Vec<String> {
 
 /// Issue 26: every command's examples read the same in a 40-column terminal as in a 300-column
 /// one: never wrapped inside a command, so they can be pasted (help is written at 80 columns at
-/// least, and every example line fits in 78).
+/// least, and every example line fits in 78). Issue 51: every other line of text fits in 100.
 #[test]
 fn help_examples_are_never_wrapped() {
     let top = crate::run_ok(&["--help"]);
@@ -215,6 +215,21 @@ fn help_examples_are_never_wrapped() {
             assert_eq!(narrow, wide, "{path:?}: examples wrapped");
             for line in &wide {
                 assert!(line.len() <= 78, "{path:?}: {line}");
+            }
+            // issue 51: every paragraph of the help is written to fit 100 columns (so none is
+            // wrapped mid-sentence by clap in a terminal that wide); clap wraps the option
+            // descriptions (10 spaces in) and option names itself
+            for line in help_at(&path, "300").lines() {
+                let indent = line.len() - line.trim_start().len();
+                let option = line.trim_start().starts_with('-') && indent <= 6;
+                if line.starts_with("Usage:") || option || indent == 10 {
+                    continue;
+                }
+                assert!(
+                    line.chars().count() <= 100,
+                    "{path:?}: a help line of {} characters: {line}",
+                    line.chars().count()
+                );
             }
             checked += usize::from(!wide.is_empty());
         }

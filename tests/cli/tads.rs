@@ -381,3 +381,48 @@ fn masked_bins_get_no_hmm_state() {
     }
     assert!(masked > 50, "{masked} masked bins");
 }
+
+/// Issue 51: as cooltools 0.7.1, insulation and directionality leave out by default the
+/// diagonals that the weights were balanced without (the weight column's `ignore_diags`):
+/// insulation that of --weight-name, directionality that of `weight`.
+#[test]
+fn the_default_ignore_diags_is_the_one_stored_with_the_weights() {
+    let dir = tempfile::tempdir().unwrap();
+    let copy = dir.path().join("yeast.cool").to_string_lossy().into_owned();
+    std::fs::copy(data(YEAST), &copy).unwrap();
+    let balance = |name: &str| {
+        run_ok(&[
+            "balance",
+            &copy,
+            "--store",
+            "--name",
+            name,
+            "--ignore-diags",
+            "1",
+            "--force",
+        ])
+    };
+    balance("w1");
+    let insulation = |extra: &[&str]| {
+        let args = ["tads", &copy, "--window", "50000", "--weight-name", "w1"];
+        run_ok(&[&args[..], extra].concat())
+    };
+    let default = insulation(&[]);
+    assert_eq!(default, insulation(&["--ignore-diags", "1"]));
+    assert_ne!(default, insulation(&["--ignore-diags", "2"]));
+    balance("weight");
+    let directionality = |extra: &[&str]| {
+        let args = [
+            "tads",
+            &copy,
+            "--method",
+            "directionality",
+            "--window",
+            "50000",
+        ];
+        run_ok(&[&args[..], extra].concat())
+    };
+    let default = directionality(&[]);
+    assert_eq!(default, directionality(&["--ignore-diags", "1"]));
+    assert_ne!(default, directionality(&["--ignore-diags", "2"]));
+}

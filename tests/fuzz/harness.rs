@@ -29,7 +29,7 @@ fn hdf5_timeout() -> String {
 }
 
 /// The formats, in the order of the summary table.
-pub const FORMATS: [&str; 15] = [
+pub const FORMATS: [&str; 17] = [
     "cool",
     "mcool",
     "hic",
@@ -45,6 +45,8 @@ pub const FORMATS: [&str; 15] = [
     "npz",
     "npy",
     "h5",
+    "xtc",
+    "dcd",
 ];
 
 /// A fixture to mutate and the commands that read a mutant of it.
@@ -590,6 +592,31 @@ pub fn format(name: &str, aux: &Path) -> Format {
             ],
             vec![],
         ),
+        // MD trajectories (issue 51: a corrupt frame must be refused, never read): their
+        // contact frequencies on their topology, and as conformations of a polymer
+        "xtc" | "dcd" => {
+            let (file, topology) = match name {
+                "xtc" => ("md/adk.xtc", data("md/adk.pdb.gz")),
+                _ => ("md/cobrotoxin.dcd", data("md/cobrotoxin.pdb.gz")),
+            };
+            let trajectory = |extra: &[&str]| {
+                let head = ["contacts", "--trajectory", "{P}", "--topology", &topology];
+                strings(&[&head[..], extra, &["-o", "{O}.tsv"]].concat())
+            };
+            (
+                Kind::Binary,
+                vec![raw_seed(
+                    file,
+                    &format!("m.{name}"),
+                    vec![
+                        trajectory(&[]),
+                        trajectory(&["--definition", "closest-heavy", "--cutoff", "4.5"]),
+                        strings(&["polymer-stats", "{P}", "-o", "{O}"]),
+                    ],
+                )],
+                vec![],
+            )
+        }
         other => panic!("unknown format {other}; formats: {}", FORMATS.join(", ")),
     };
     let name = FORMATS

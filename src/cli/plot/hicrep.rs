@@ -87,6 +87,33 @@ pub fn run(args: &HicrepPlotArgs) -> Result<()> {
             table.number(row, columns[3])?,
         ));
     }
+    if rows.is_empty() {
+        // the chromosomes of the table, in order, to name them (and a `chr` prefix that differs)
+        let mut chroms: Vec<&str> = Vec::new();
+        for row in 0..table.len() {
+            let chrom = table.text(row, columns[2]);
+            if !chroms.contains(&chrom) {
+                chroms.push(chrom);
+            }
+        }
+        let other = match args.chrom.strip_prefix("chr") {
+            Some(bare) => bare.to_string(),
+            None => format!("chr{}", args.chrom),
+        };
+        let hint = if chroms.contains(&other.as_str()) {
+            format!(": the table names it '{other}' (the names differ by the 'chr' prefix)")
+        } else {
+            String::new()
+        };
+        return Err(Error::format(
+            table.path(),
+            format!(
+                "no row of chromosome '{}' (the table has {}){hint}",
+                args.chrom,
+                chroms.join(", ")
+            ),
+        ));
+    }
     let scc = SccTable::from_pairs(&rows)
         .map_err(|why| Error::format(table.path(), format!("chrom {}: {why}", args.chrom)))?;
     let n = scc.names.len();

@@ -92,7 +92,8 @@ pub struct MapArgs {
     /// Column of --expected (default balanced.avg, or count.avg with --raw).
     #[arg(long, value_name = "NAME", requires = "expected")]
     pub expected_column: Option<String>,
-    /// Diagonals left out of o/e (as cooltools).
+    /// Diagonals left out of the expected of o/e (2, as cooltools expected-cis, which does not
+    /// read the number stored with the weights).
     #[arg(long, default_value_t = 2, value_name = "N")]
     pub ignore_diags: usize,
     /// Linear colour scale (default: log).

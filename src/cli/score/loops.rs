@@ -1,12 +1,12 @@
 //! `contactmap score loops`: dot calls against true loops ([`contactmap::score::loops`]).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::Args;
 
 use crate::cli::input::bp_option;
 use crate::cli::output::{refuse_overwrites, Output};
-use contactmap::error::Result;
+use contactmap::error::{Error, Result};
 use contactmap::io::bed::read_bedpe;
 use contactmap::score::loops::{loop_score_table, score_loops, Loop, LoopScoreParams};
 
@@ -87,8 +87,52 @@ pub fn run(args: &LoopsScoreArgs) -> Result<()> {
     };
     let truth = read(&args.truth, args.min_fraction.is_some())?;
     let calls = read(&args.calls, false)?;
+    check_shared_chroms(&truth, &calls, &args.truth, &args.calls)?;
     let rows = score_loops(&truth, &calls, &params)?;
     let mut out = Output::open(args.out.as_deref())?;
     out.write_all(loop_score_table(&rows, params.tolerance_bp, params.min_fraction).as_bytes())?;
     out.finish()
+}
+
+/// An error when the calls and the truth share no chromosome name (nothing could match: a
+/// `chr` prefix on one side only, say), naming both files' chromosomes and the prefix.
+fn check_shared_chroms(
+    truth: &[Loop],
+    calls: &[Loop],
+    truth_path: &Path,
+    calls_path: &Path,
+) -> Result<()> {
+    let names = |loops: &[Loop]| -> Vec<String> {
+        let mut names: Vec<String> = Vec::new();
+        for l in loops {
+            for chrom in [&l.chrom1, &l.chrom2] {
+                if !names.contains(chrom) {
+                    names.push(chrom.clone());
+                }
+            }
+        }
+        names
+    };
+    let (in_truth, in_calls) = (names(truth), names(calls));
+    if in_truth.is_empty() || in_calls.is_empty() || in_calls.iter().any(|c| in_truth.contains(c)) {
+        return Ok(());
+    }
+    let bare = |name: &str| name.strip_prefix("chr").unwrap_or(name).to_string();
+    let prefix = in_calls
+        .iter()
+        .any(|c| in_truth.iter().any(|t| bare(t) == bare(c)));
+    let hint = if prefix {
+        ": the names differ by the 'chr' prefix (rename them in one file, e.g. with sed \
+         's/^chr//')"
+    } else {
+        ""
+    };
+    let show = |names: &[String]| names.iter().take(5).cloned().collect::<Vec<_>>().join(", ");
+    Err(Error::Invalid(format!(
+        "{} and {} share no chromosome ({} against {}), so no call can match{hint}",
+        calls_path.display(),
+        truth_path.display(),
+        show(&in_calls),
+        show(&in_truth)
+    )))
 }

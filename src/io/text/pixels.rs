@@ -73,8 +73,13 @@ impl<'a> BinLocator<'a> {
             } else {
                 ""
             };
+            let hint = self
+                .bins
+                .naming_hint(&show(chrom))
+                .map(|h| format!(": {h}"))
+                .unwrap_or_default();
             return Err(format!(
-                "unknown chromosome '{}' in chrom{side} (the bin table has {}{more})",
+                "unknown chromosome '{}' in chrom{side} (the bin table has {}{more}){hint}",
                 show(chrom),
                 names.join(", ")
             ));

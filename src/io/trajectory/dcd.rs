@@ -71,7 +71,12 @@ impl DcdFrames {
         frames.read_bytes(&mut header, "header")?;
         frames.marker(84, "header")?;
         if &header[..4] != b"CORD" {
-            return Err(Error::format(path, "not a DCD file (no CORD signature)"));
+            let message = if header[..4] == [0; 4] && &header[4..8] == b"CORD" {
+                "64-bit record markers are not supported (write the DCD with 32-bit markers)"
+            } else {
+                "not a DCD file (no CORD signature)"
+            };
+            return Err(Error::format(path, message));
         }
         let control = |k: usize| frames.int(header[4 + 4 * k..8 + 4 * k].try_into().unwrap());
         let charmm = control(19) != 0;
@@ -93,9 +98,30 @@ impl DcdFrames {
                 format!("DCD title record of {length_title} bytes (expected 4 + 80 x lines)"),
             ));
         }
+        // 96 bytes read so far; the title, its end marker and the atom count's record follow
+        if length_title as u64 + 4 + 12 > length.saturating_sub(96) {
+            return Err(Error::format(
+                path,
+                format!(
+                    "DCD title record of {length_title} bytes in a file of {length} bytes \
+                     (truncated or corrupt)"
+                ),
+            ));
+        }
         let mut title = vec![0u8; length_title as usize];
         frames.read_bytes(&mut title, "title")?;
         frames.marker(length_title, "title")?;
+        let lines = frames.int(title[..4].try_into().expect("four bytes"));
+        if lines as i64 != (length_title as i64 - 4) / 80 {
+            return Err(Error::format(
+                path,
+                format!(
+                    "DCD title record of {length_title} bytes says it holds {lines} lines \
+                     (expected {})",
+                    (length_title - 4) / 80
+                ),
+            ));
+        }
         frames.marker(4, "atom count")?;
         let natoms = frames.read_i32("atom count")?;
         frames.marker(4, "atom count")?;
@@ -246,7 +272,7 @@ impl DcdFrames {
         if !decoded.iter().all(|v| v.is_finite()) {
             let finite = |a: usize| point(a).iter().all(|v| v.is_finite());
             let bead = (0..n).find(|&a| !finite(a)).unwrap_or_default();
-            return Err(non_finite(&label, bead, point(bead)));
+            return Err(non_finite(&label, bead, point(bead), LengthUnit::Angstrom));
         }
         let positions = match &self.selection {
             None => {
@@ -357,7 +383,7 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(
-            error.contains("frame 1: bead 5 has a non-finite coordinate (NaN"),
+            error.contains("frame 1: atom 6 has a non-finite coordinate (NaN"),
             "{error}"
         );
         // XTC frames: selected after reading

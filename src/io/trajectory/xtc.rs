@@ -2,13 +2,19 @@
 //! GROMACS users benchmark against xdrfile; see DESIGN notes). Positions are in nanometres,
 //! as written; each frame's box vectors become the conformation's cell.
 //!
-//! molly trusts its input (it asserts on impossible values), so each frame's header and the
-//! start of its compressed block are checked here first (magic number, the atom count against
-//! the first frame's and the bytes left, the size index), and a decoding that still fails is
-//! reported as a corrupt frame, naming it, instead of stopping the program.
+//! molly trusts its input (it asserts on impossible values and stops quietly at a run of atoms
+//! past the frame's end), so each frame's header and the start of its compressed block are
+//! checked here first (magic number, the atom count against the first frame's and the bytes
+//! left, the precision, the integer ranges, the size index, the block's byte count against the
+//! bytes left), a decoding that fails is reported as a corrupt frame, naming it, instead of
+//! stopping the program, and a decoding must use exactly the block's bytes: the check that
+//! catches a corrupt block which MDTraj's "Buffer overrun during decompression" catches, and
+//! more (a run cut short leaves bytes unread; a corrupt byte count leaves too few or too many).
 
 use std::io::{Read, Seek, SeekFrom};
 use std::path::{Path, PathBuf};
+
+use molly::selection::AtomSelection;
 
 use super::{checked, positions_buffer, Conformation, LengthUnit};
 use crate::error::{Error, Result};
@@ -21,6 +27,7 @@ pub struct XtcFrames {
     natoms: Option<usize>,
     frame: usize,
     decoded: molly::Frame,
+    scratch: Vec<u8>,
 }
 
 /// The magic number of XTC frames (the 2023 variant, for more than 298 million atoms, too).
@@ -38,6 +45,7 @@ impl XtcFrames {
             natoms: None,
             frame: 0,
             decoded: molly::Frame::default(),
+            scratch: Vec::new(),
         };
         let magic = frames.peek(4)?.get(..4).map(be);
         if !magic.is_some_and(|m| MAGIC.contains(&m)) {
@@ -103,25 +111,92 @@ impl XtcFrames {
                 self.length - start
             )));
         }
+        let left = self.length - start;
+        // the compressed block's byte count: after precision, minint, maxint and smallidx
+        // (word 22); a u64 in the 2023 variant
+        let count_bytes = if magic == MAGIC[1] { 8 } else { 4 };
+        let block_start = 92 + count_bytes - 4;
+        let mut count = None;
         if natoms > 9 {
-            match word(21) {
-                None => return Err(corrupt("truncated frame".into())),
-                Some(small) if !(0..73).contains(&small) => {
-                    return Err(corrupt(format!(
-                        "corrupt compressed coordinates (size index {small})"
-                    )))
-                }
-                Some(_) => {}
+            let head = self.peek(block_start as usize)?;
+            if head.len() < block_start as usize {
+                return Err(corrupt(format!(
+                    "truncated frame (its header cut short at {left} bytes)"
+                )));
             }
+            let word = |k: usize| be(&head[4 * k..4 * k + 4]);
+            let small = word(21);
+            let precision = f32::from_bits(word(14) as u32);
+            if !(precision.is_finite() && precision > 0.0) {
+                return Err(corrupt(format!(
+                    "corrupt compressed coordinates (precision {precision})"
+                )));
+            }
+            for axis in 0..3 {
+                let (low, high) = (word(15 + axis), word(18 + axis));
+                // GROMACS' encoder keeps each range within 31 bits
+                if low > high || i64::from(high) - i64::from(low) >= i64::from(i32::MAX) {
+                    return Err(corrupt(format!(
+                        "corrupt compressed coordinates (integer range {low}..{high} on axis {})",
+                        axis + 1
+                    )));
+                }
+            }
+            // the size indexes an encoder writes: FIRSTIDX (9) to the last magic integer (72)
+            if !(9..73).contains(&small) {
+                return Err(corrupt(format!(
+                    "corrupt compressed coordinates (size index {small}, expected 9 to 72)"
+                )));
+            }
+            let stated = match count_bytes {
+                8 => u64::from_be_bytes(head[88..96].try_into().expect("eight bytes")),
+                _ => u64::from(word(22) as u32),
+            };
+            let padded = stated + (4 - stated % 4) % 4;
+            if padded > left - block_start {
+                return Err(corrupt(format!(
+                    "truncated frame (a compressed block of {stated} bytes, {} left in the file)",
+                    left - block_start
+                )));
+            }
+            count = Some(stated as usize);
         }
-        let result = quietly(|| self.reader.read_frame(&mut self.decoded));
-        match result {
-            Some(Ok(())) => {}
+        let (reader, decoded, scratch) = (&mut self.reader, &mut self.decoded, &mut self.scratch);
+        let result = quietly(|| -> std::io::Result<usize> {
+            let header = reader.read_header()?;
+            decoded.step = header.step;
+            decoded.time = header.time;
+            decoded.boxvec = header.boxvec;
+            if header.natoms <= 9 {
+                reader.read_smol_positions(header.natoms, decoded, &AtomSelection::All)
+            } else {
+                molly::read_positions::<molly::buffer::UnBuffered, _>(
+                    &mut reader.file,
+                    header.natoms,
+                    scratch,
+                    decoded,
+                    &AtomSelection::All,
+                    header.magic,
+                )
+            }
+        });
+        let used = match result {
+            Some(Ok(used)) => used,
             Some(Err(e)) if e.kind() == std::io::ErrorKind::UnexpectedEof => {
                 return Err(corrupt("truncated frame (the file ends inside it)".into()))
             }
             Some(Err(e)) => return Err(corrupt(format!("unreadable frame ({e})"))),
             None => return Err(corrupt("corrupt compressed coordinates".into())),
+        };
+        // as the reference decoder reads them: the block is consumed exactly, and no run of
+        // atoms goes past the frame's atom count (MDTraj: "Buffer overrun during decompression")
+        if let Some(count) = count {
+            if used != count {
+                return Err(corrupt(format!(
+                    "corrupt compressed coordinates (decoding used {used} of the block's {count} \
+                     bytes)"
+                )));
+            }
         }
         let mut positions = positions_buffer(expected);
         positions.extend(
