@@ -14,8 +14,11 @@ BIN := target/release/contactmap
 
 all: build
 
+# --workspace: the crates compiled with the features the Python package needs too (numpy's
+# num-complex, pyo3's syn), so that `make wheel` and `pip install ./python` reuse this build
+# instead of compiling everything again
 build:
-	$(CARGO) build --release
+	$(CARGO) build --release --workspace
 
 ## make demo: build, then run the pipeline on the real example data shipped in data/
 demo: build
