@@ -25,12 +25,23 @@
 //! [`FrequencySpec::periodic`], the minimum image: a rectangular box by rounding each component
 //! (ties to even), a triclinic one by MDTraj's reduced box vectors and the 27 nearest images.
 //!
-//! Speed: a residue pair whose bounding spheres (centre and radius of its atoms, double
-//! precision, with a margin of 1e-3 nm) are farther apart than the cutoff cannot be in contact
-//! and its atom pairs are not measured; a chunk's frames are measured in parallel while the next
-//! chunk is read (memory bounded by two chunks).
+//! Speed: without a cell, a residue pair whose bounding spheres (centre and radius of its
+//! atoms, double precision, with a margin of 1e-3 nm) are farther apart than the cutoff cannot
+//! be in contact and its atom pairs are not measured; with one, a cell list under the minimum
+//! image (module `cells`) finds the atom pairs that can be in contact, which alone are measured
+//! (MDTraj's formula, over batches of pairs in vector instructions: module `distance`), except for
+//! `ca` / `cb` in a rectangular box, whose pairs of up to some hundreds of residues are cheaper
+//! all measured in vector instructions. A chunk's frames are measured in parallel while the
+//! next chunk is read (memory bounded by two chunks).
+
+mod cells;
+mod distance;
+mod frame;
 
 use rayon::prelude::*;
+
+use distance::{boxed, norm2, plain, sqrt_threshold, triclinic};
+use frame::{Cell, Frame};
 
 use crate::error::{Error, Result};
 use crate::io::frequencies::FREQUENCY_HEADER;
@@ -265,168 +276,6 @@ pub fn contact_pairs(topology: &Topology, spec: &FrequencySpec) -> Result<Contac
     Ok(ContactPairs { pairs, atoms })
 }
 
-/// A frame as MDTraj holds it: single-precision nanometres, and its periodic cell.
-struct Frame {
-    xyz: Vec<[f32; 3]>,
-    cell: Option<Cell>,
-}
-
-/// A periodic cell, in single-precision nanometres.
-enum Cell {
-    /// A rectangular box: its edges.
-    Box([f32; 3]),
-    /// A triclinic cell: MDTraj's reduced box vectors and the reciprocals of their diagonal.
-    Triclinic([[f32; 3]; 3], [f32; 3]),
-}
-
-fn to_nm(value: f64, unit: LengthUnit) -> f32 {
-    match unit {
-        LengthUnit::Nanometre => value as f32,
-        _ => value as f32 * 0.1f32,
-    }
-}
-
-impl Frame {
-    /// The frame of the atoms `used` of an MD conformation (Angstrom or nm), in that order
-    /// (`None`: every atom, the conformation holding only those measured).
-    fn new(conformation: &Conformation, used: Option<&[u32]>, periodic: bool) -> Frame {
-        let unit = conformation.unit;
-        let nm = |p: &[f64; 3]| p.map(|x| to_nm(x, unit));
-        let positions = &conformation.positions;
-        let xyz = match used {
-            Some(used) => used.iter().map(|&a| nm(&positions[a as usize])).collect(),
-            None => positions.iter().map(nm).collect(),
-        };
-        let cell = conformation.cell.filter(|_| periodic).map(|vectors| {
-            let v = vectors.map(|row| row.map(|x| to_nm(x, unit)));
-            let rectangular = v[0][1] == 0.0
-                && v[0][2] == 0.0
-                && v[1][0] == 0.0
-                && v[1][2] == 0.0
-                && v[2][0] == 0.0
-                && v[2][1] == 0.0;
-            if rectangular {
-                Cell::Box([v[0][0], v[1][1], v[2][2]])
-            } else {
-                let [a, mut b, mut c] = v;
-                let sub = |x: &mut [f32; 3], y: [f32; 3], k: f32| {
-                    for d in 0..3 {
-                        x[d] -= y[d] * k;
-                    }
-                };
-                let k = (c[1] / b[1]).round();
-                sub(&mut c, b, k);
-                let k = (c[0] / a[0]).round();
-                sub(&mut c, a, k);
-                let k = (b[0] / a[0]).round();
-                sub(&mut b, a, k);
-                Cell::Triclinic([a, b, c], [1.0 / a[0], 1.0 / b[1], 1.0 / c[2]])
-            }
-        });
-        Frame { xyz, cell }
-    }
-
-    /// A lower bound of the (minimum-image) distance between two points, in double precision.
-    fn separation(&self, a: [f64; 3], b: [f64; 3]) -> f64 {
-        let mut r = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-        let norm = |r: [f64; 3]| (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]).sqrt();
-        let vectors: [[f64; 3]; 3] = match &self.cell {
-            None => return norm(r),
-            Some(Cell::Box(e)) => [
-                [f64::from(e[0]), 0.0, 0.0],
-                [0.0, f64::from(e[1]), 0.0],
-                [0.0, 0.0, f64::from(e[2])],
-            ],
-            Some(Cell::Triclinic(v, _)) => v.map(|row| row.map(f64::from)),
-        };
-        for k in [2, 1, 0] {
-            let n = (r[k] / vectors[k][k]).round();
-            for d in 0..3 {
-                r[d] -= vectors[k][d] * n;
-            }
-        }
-        let mut best = f64::MAX;
-        for x in -1..=1 {
-            for y in -1..=1 {
-                for z in -1..=1 {
-                    let (x, y, z) = (f64::from(x), f64::from(y), f64::from(z));
-                    let image = [0, 1, 2]
-                        .map(|d| r[d] + vectors[0][d] * x + vectors[1][d] * y + vectors[2][d] * z);
-                    best = best.min(norm(image));
-                }
-            }
-        }
-        best
-    }
-}
-
-/// The displacement from atom `i` to atom `j`.
-#[inline(always)]
-fn displacement(xyz: &[[f32; 3]], i: u32, j: u32) -> [f32; 3] {
-    let (p, q) = (xyz[i as usize], xyz[j as usize]);
-    [q[0] - p[0], q[1] - p[1], q[2] - p[2]]
-}
-
-/// The squared length of `r`, summed `x, y, z` as MDTraj's SSE dot product sums.
-#[inline(always)]
-fn norm2(r: [f32; 3]) -> f32 {
-    r[0] * r[0] + r[1] * r[1] + r[2] * r[2]
-}
-
-/// MDTraj's plain squared distance.
-#[inline(always)]
-fn plain(xyz: &[[f32; 3]], i: u32, j: u32) -> f32 {
-    norm2(displacement(xyz, i, j))
-}
-
-/// MDTraj's minimum image of the displacement `r` in a rectangular box (`_mm_round_ps`: ties
-/// to even).
-#[inline(always)]
-fn minimum_image(mut r: [f32; 3], edges: &[f32; 3]) -> [f32; 3] {
-    for d in 0..3 {
-        r[d] -= (r[d] * (1.0 / edges[d])).round_ties_even() * edges[d];
-    }
-    r
-}
-
-/// MDTraj's squared minimum-image distance in a rectangular box.
-#[inline(always)]
-fn boxed(xyz: &[[f32; 3]], edges: &[f32; 3], i: u32, j: u32) -> f32 {
-    norm2(minimum_image(displacement(xyz, i, j), edges))
-}
-
-/// MDTraj's minimum image in a triclinic cell: reduce by the box vectors, then the nearest of
-/// 27 images (`round`: ties away from zero, as C's).
-fn triclinic(xyz: &[[f32; 3]], v: &[[f32; 3]; 3], recip: &[f32; 3], i: u32, j: u32) -> f32 {
-    let mut r = displacement(xyz, i, j);
-    for k in [2, 1, 0] {
-        let n = (r[k] * recip[k]).round();
-        for d in 0..3 {
-            r[d] -= v[k][d] * n;
-        }
-    }
-    let mut best = f32::MAX;
-    for x in [-1.0f32, 0.0, 1.0] {
-        let ra = [r[0] + v[0][0] * x, r[1] + v[0][1] * x, r[2] + v[0][2] * x];
-        for y in [-1.0f32, 0.0, 1.0] {
-            let rb = [
-                ra[0] + v[1][0] * y,
-                ra[1] + v[1][1] * y,
-                ra[2] + v[1][2] * y,
-            ];
-            for z in [-1.0f32, 0.0, 1.0] {
-                let rc = [
-                    rb[0] + v[2][0] * z,
-                    rb[1] + v[2][1] * z,
-                    rb[2] + v[2][2] * z,
-                ];
-                best = best.min(norm2(rc));
-            }
-        }
-    }
-    best
-}
-
 /// Pairs `first .. first + len` of a one-atom-per-residue scheme (ca, cb): atom `p` with atoms
 /// `q .. q + len` (MDTraj's order makes each residue's pairs one run).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -454,9 +303,23 @@ fn runs(single: &[(u32, u32)]) -> Vec<Run> {
     runs
 }
 
+/// The pairs' atoms as runs when every residue of a pair has one atom (ca, cb).
+fn single_runs(pairs: &ContactPairs) -> Option<Vec<Run>> {
+    pairs
+        .pairs
+        .iter()
+        .map(|&(i, j)| match (&pairs.atoms[i][..], &pairs.atoms[j][..]) {
+            ([p], [q]) => Some((*p, *q)),
+            _ => None,
+        })
+        .collect::<Option<Vec<(u32, u32)>>>()
+        .map(|single| runs(&single))
+}
+
 /// The runs' pairs in contact in `frame`, added to `counts`: each run's distances over
 /// contiguous coordinates, which the compiler turns into vector instructions (the same
-/// single-precision operations per pair as [`plain`] and [`boxed`]).
+/// single-precision values per pair as [`plain`] and [`boxed`], the box's rounding by
+/// [`distance::round_even`]).
 fn count_runs(frame: &Frame, runs: &[Run], cutoff: f32, counts: &mut [u32]) {
     let below = sqrt_threshold(cutoff);
     let axis = |d: usize| -> Vec<f32> { frame.xyz.iter().map(|p| p[d]).collect() };
@@ -476,7 +339,7 @@ fn count_runs(frame: &Frame, runs: &[Run], cutoff: f32, counts: &mut [u32]) {
             }
             Some(Cell::Box(e)) => {
                 for (((count, &qx), &qy), &qz) in out.iter_mut().zip(xs).zip(ys).zip(zs) {
-                    let r = minimum_image([qx - px, qy - py, qz - pz], e);
+                    let r = distance::minimum_image_even([qx - px, qy - py, qz - pz], e);
                     *count += u32::from(norm2(r) < below);
                 }
             }
@@ -490,16 +353,30 @@ fn count_runs(frame: &Frame, runs: &[Run], cutoff: f32, counts: &mut [u32]) {
     }
 }
 
+/// Pairs per measured atom up to which the runs of a one-atom scheme are measured all in a
+/// rectangular box rather than through the cell list: a pair costs about 1 ns in vector
+/// instructions, the cell list about 0.4 us per atom.
+const RUNS_PER_ATOM: usize = 256;
+
 /// The pairs of `pairs` in contact in `frame` (indices into `pairs.pairs`), added to `counts`.
 ///
-/// `single`: the pairs' atoms as runs when every residue has one atom (ca, cb).
+/// `single`: the pairs' atoms as runs when every residue has one atom (ca, cb); `periodic`
+/// and `workspace`: the cell list of frames with a periodic cell (all of them but the runs of
+/// a protein of up to some hundreds of residues in a rectangular box, cheaper measured all).
 fn count_frame(
     frame: &Frame,
     pairs: &ContactPairs,
     single: Option<&[Run]>,
     cutoff: f32,
     counts: &mut [u32],
+    periodic: &cells::Periodic,
+    workspace: &mut cells::Workspace,
 ) {
+    let all_runs = matches!(frame.cell, Some(Cell::Box(_)))
+        && single.is_some_and(|_| pairs.pairs.len() <= RUNS_PER_ATOM * frame.xyz.len());
+    if frame.cell.is_some() && !all_runs && periodic.count(frame, workspace, counts) {
+        return;
+    }
     if let Some(runs) = single {
         return count_runs(frame, runs, cutoff, counts);
     }
@@ -569,18 +446,6 @@ fn count_with(
             counts[k] += 1;
         }
     }
-}
-
-/// The smallest single-precision `x` whose square root is at least `cutoff` (positive).
-fn sqrt_threshold(cutoff: f32) -> f32 {
-    let mut x = cutoff * cutoff;
-    while x > 0.0 && x.sqrt() >= cutoff {
-        x = f32::from_bits(x.to_bits() - 1);
-    }
-    while x.sqrt() < cutoff {
-        x = f32::from_bits(x.to_bits() + 1);
-    }
-    x
 }
 
 /// Frames measured per parallel step (the memory bound: two chunks of frames).
@@ -666,17 +531,8 @@ fn frequencies(
             })
             .collect(),
     };
-    let single: Option<Vec<Run>> = measured
-        .pairs
-        .iter()
-        .map(
-            |&(i, j)| match (&measured.atoms[i][..], &measured.atoms[j][..]) {
-                ([p], [q]) => Some((*p, *q)),
-                _ => None,
-            },
-        )
-        .collect::<Option<Vec<(u32, u32)>>>()
-        .map(|single| runs(&single));
+    let single = single_runs(&measured);
+    let periodic = cells::Periodic::new(&measured.pairs, &measured.atoms, used.len(), cutoff);
     // the atoms of a frame a measure takes: all of the selected ones, or the used ones
     let gather = (!selected).then_some(&used[..]);
     let mut counts = vec![0u32; pairs.pairs.len()];
@@ -707,9 +563,18 @@ fn frequencies(
             .par_chunks(piece)
             .map(|frames| {
                 let mut local = vec![0u32; pairs.pairs.len()];
+                let mut workspace = periodic.workspace(pairs.pairs.len());
                 for conformation in frames {
                     let frame = Frame::new(conformation, gather, spec.periodic);
-                    count_frame(&frame, &measured, single.as_deref(), cutoff, &mut local);
+                    count_frame(
+                        &frame,
+                        &measured,
+                        single.as_deref(),
+                        cutoff,
+                        &mut local,
+                        &periodic,
+                        &mut workspace,
+                    );
                 }
                 local
             })
@@ -788,25 +653,4 @@ pub fn frequency_table(topology: &Topology, frequencies: &ContactFrequencies) ->
         text.push(b'\n');
     }
     String::from_utf8(text).expect("the table is made of UTF-8 strings")
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn the_squared_threshold_is_the_square_roots_comparison() {
-        for cutoff in [0.45f32, 0.8, 0.1, 1.0, 0.333_333, 12.0] {
-            let below = sqrt_threshold(cutoff);
-            assert!(below.sqrt() >= cutoff);
-            let previous = f32::from_bits(below.to_bits() - 1);
-            assert!(previous.sqrt() < cutoff);
-            // every float near the square: both tests agree
-            let mut x = f32::from_bits((cutoff * cutoff).to_bits() - 50);
-            for _ in 0..100 {
-                assert_eq!(x < below, x.sqrt() < cutoff, "{x} {cutoff}");
-                x = f32::from_bits(x.to_bits() + 1);
-            }
-        }
-    }
 }
