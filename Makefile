@@ -37,8 +37,8 @@ test: lint
 python: build
 	scripts/test_python.sh $(BIN) --release
 
-## make wheel: the Python package as one abi3 wheel in target/wheels, reusing `make build`'s
-## compiled crates; `pip install target/wheels/contactmap-*.whl` anywhere (no compiler needed)
+## make wheel: the Python package as one abi3 wheel in target/wheel, reusing `make build`'s
+## compiled crates; `pip install target/wheel/contactmap-*.whl` anywhere (no compiler needed)
 wheel: build
 	scripts/build_wheel.sh
 
