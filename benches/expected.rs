@@ -10,7 +10,9 @@
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 
-use contactmap::expected::{expected_cis, expected_trans, CisParams, View};
+use contactmap::expected::{expected_cis, expected_trans, CisParams};
+
+use contactmap::genome::View;
 use contactmap::matrix::PixelSource;
 
 mod common;

@@ -11,9 +11,9 @@
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 
-use contactmap::sim::cells::CellList;
+use contactmap::geometry::cells::CellList;
+use contactmap::random::stream_rng;
 use contactmap::sim::polymer::{box_side, sphere_radius, Confinement, Polymer, PolymerParams};
-use contactmap::sim::stream_rng;
 
 const N: usize = 10_000;
 const STEPS: usize = 100;

@@ -11,7 +11,7 @@
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 
-use contactmap::expected::View;
+use contactmap::genome::View;
 use contactmap::matrix::PixelSource;
 use contactmap::tads::armatus::{armatus, ArmatusParams};
 use contactmap::tads::band::cis_bands;

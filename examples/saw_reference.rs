@@ -13,10 +13,10 @@
 //! at least N/4 beads from the chain ends in contact below a distance of 1.5 (as
 //! scripts/sim_physics.py measures it on the dynamics).
 
+use contactmap::random::SeededRng;
 use contactmap::sim::analysis::{contact_probability, loglog_slope};
 use contactmap::sim::polymer::{radius_of_gyration, BondModel, Repulsion};
 use contactmap::sim::reference::ChainSampler;
-use contactmap::sim::SimRng;
 use rand::SeedableRng;
 use rayon::prelude::*;
 
@@ -38,7 +38,7 @@ fn sample(
         length: 1.0,
         wiggle,
     };
-    let rng = SimRng::seed_from_u64(seed);
+    let rng = SeededRng::seed_from_u64(seed);
     let mut sampler = ChainSampler::new(n, bond, repulsion, 1, rng).expect("at least 3 beads");
     for _ in 0..sweeps / 5 {
         sampler.sweep();

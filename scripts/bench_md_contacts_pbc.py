@@ -27,7 +27,6 @@ triclinic runs). Equality: MDTraj's frames in contact per pair against ours, eve
 """
 import argparse
 import os
-import subprocess
 import sys
 import tempfile
 import time
@@ -36,8 +35,9 @@ import warnings
 import mdtraj as md
 import numpy as np
 
-CUTOFF_NM = {"ca": 0.8, "cb": 0.8, "closest": 0.45, "closest-heavy": 0.45,
-             "sidechain": 0.45, "sidechain-heavy": 0.45}
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from bench_md_contacts import CUTOFF_NM, ours  # noqa: E402  (the same cutoffs and run)
+
 CHUNK = 100
 
 
@@ -70,22 +70,6 @@ def mdtraj_counts(path, topology, scheme):
         found = (distances < np.float32(CUTOFF_NM[scheme])).sum(axis=0)
         counts = found if counts is None else counts + found
     return pairs, counts
-
-
-def ours(binary, trajectory, topology, scheme, out):
-    cutoff = CUTOFF_NM[scheme] * 10
-    start = time.perf_counter()
-    subprocess.run([binary, "contacts", "--trajectory", trajectory, "--topology", topology,
-                    "--definition", scheme, "--cutoff", f"{cutoff:g}", "-o", out],
-                   check=True, stderr=subprocess.DEVNULL)
-    seconds = time.perf_counter() - start
-    counts = {}
-    with open(out) as handle:
-        next(handle)
-        for line in handle:
-            f = line.split("\t")
-            counts[(int(f[5]), int(f[6]))] = int(f[7])
-    return counts, seconds
 
 
 def fixture(topology, frames, box, edge, path):

@@ -1,6 +1,7 @@
 //! Command-line interface: argument structs (clap derive) and one module per subcommand, each with
 //! one `run` function that parses, checks, calls the library and writes the result.
 
+pub mod args;
 pub mod balance;
 pub mod compartments;
 pub mod contacts;
@@ -28,18 +29,17 @@ pub mod sample;
 pub mod score;
 pub mod shell;
 pub mod simulate;
+pub mod status;
 pub mod tads;
 pub mod validate;
 pub mod virtual4c;
 pub mod warnings;
 pub mod zoomify;
 
-use std::path::PathBuf;
-
-use clap::{Args, Parser, Subcommand, ValueEnum};
+use clap::{Parser, Subcommand};
 
 use contactmap::error::Result;
-use contactmap::io::{text::TextFormat, OpenOptions};
+use status::Status;
 
 /// Contact maps: inspect, dump, convert, zoomify and merge Hi-C maps (.cool, .mcool, .hic, text,
 /// pairs), balance them (ICE, VC, KR, SCALE), distance-decay expected and its power law, observed /
@@ -238,27 +238,6 @@ pub fn argument_error_line(error: &clap::Error) -> String {
     }
 }
 
-/// How a command that succeeded ended: `validate` ends with [`Status::Invalid`] (exit code 1)
-/// when it checked the file and found it invalid; every other command with
-/// [`Status::Success`] (exit code 0). Errors are exit code 2 (`main`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Status {
-    /// Exit code 0.
-    Success,
-    /// Exit code 1: the file checked is invalid.
-    Invalid,
-}
-
-impl Status {
-    /// The process exit code.
-    pub fn code(self) -> u8 {
-        match self {
-            Status::Success => 0,
-            Status::Invalid => 1,
-        }
-    }
-}
-
 /// Run a parsed command line.
 pub fn run(cli: Cli) -> Result<Status> {
     match cli.command {
@@ -287,95 +266,8 @@ pub fn run(cli: Cli) -> Result<Status> {
         Command::Contacts(args) => contacts::run(&args),
         Command::Validate(args) => return validate::run(&args),
         Command::Plot(args) => plot::run(&args),
-        Command::Completions(args) => shell::run_completions(&args),
-        Command::Man(args) => shell::run_man(&args),
+        Command::Completions(args) => shell::run_completions(&args, command()),
+        Command::Man(args) => shell::run_man(&args, command()),
     }
     .map(|()| Status::Success)
-}
-
-/// Text input layouts, for `--format`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum TextFormatArg {
-    /// chrom1 start1 end1 chrom2 start2 end2 count (cooler dump --join)
-    Bg2,
-    /// bin1_id bin2_id count (cooler dump), with --bins
-    Coo,
-    /// pairs (4DN .pairs or chrom1 pos1 .. chrom2 pos2 ..), binned with --bin-size
-    Pairs,
-    /// square dense matrix, with --bins
-    Dense,
-}
-
-impl From<TextFormatArg> for TextFormat {
-    fn from(arg: TextFormatArg) -> Self {
-        match arg {
-            TextFormatArg::Bg2 => TextFormat::Bg2,
-            TextFormatArg::Coo => TextFormat::Coo,
-            TextFormatArg::Pairs => TextFormat::Pairs,
-            TextFormatArg::Dense => TextFormat::Dense,
-        }
-    }
-}
-
-/// Options for inputs that are text tables or pairs (ignored for .cool / .mcool / .hic).
-#[derive(Debug, Args, Clone, Default)]
-#[command(next_help_heading = "Text and pairs input")]
-pub struct InputArgs {
-    /// Layout of a text input (default: from the extension, then from the first line).
-    #[arg(long = "format", value_enum)]
-    pub format: Option<TextFormatArg>,
-    /// Bin size in bp, to bin pairs (or a BG2 table read with --chrom-sizes).
-    #[arg(long)]
-    pub bin_size: Option<u64>,
-    /// Chromosome sizes file: `name<TAB>length` per line (UCSC .chrom.sizes).
-    #[arg(long, value_name = "FILE")]
-    pub chrom_sizes: Option<PathBuf>,
-    /// Bin table as BED (`chrom start end`), for COO and dense inputs (or BG2 / pairs).
-    #[arg(long = "bins", value_name = "BED")]
-    pub bins_bed: Option<PathBuf>,
-    /// 1-based columns of chrom1,pos1,chrom2,pos2 in a pairs file (e.g. 1,2,4,5); default from
-    /// the `#columns:` header, else the 4DN layout 2,3,4,5.
-    #[arg(long, value_name = "C1,P1,C2,P2", value_delimiter = ',')]
-    pub pairs_columns: Option<Vec<usize>>,
-    /// Pairs positions are 0-based (default: 1-based, as the 4DN spec and `cooler cload pairs`).
-    #[arg(long)]
-    pub zero_based: bool,
-}
-
-impl InputArgs {
-    /// The files these options name (chromosome sizes, bin table), inputs of the command.
-    pub fn files(&self) -> impl Iterator<Item = &std::path::Path> {
-        self.chrom_sizes
-            .iter()
-            .chain(&self.bins_bed)
-            .map(|p| p.as_path())
-    }
-
-    /// Check the values and build the library's options.
-    pub fn to_options(&self) -> Result<OpenOptions> {
-        let pairs_columns = match &self.pairs_columns {
-            None => None,
-            Some(cols) => {
-                if cols.len() != 4 || cols.contains(&0) {
-                    return Err(contactmap::Error::Invalid(
-                        "--pairs-columns takes four 1-based column numbers: chrom1,pos1,chrom2,pos2".into(),
-                    ));
-                }
-                Some([cols[0], cols[1], cols[2], cols[3]])
-            }
-        };
-        if self.bin_size == Some(0) {
-            return Err(contactmap::Error::Invalid(
-                "--bin-size must be positive".into(),
-            ));
-        }
-        Ok(OpenOptions {
-            text_format: self.format.map(Into::into),
-            bin_size_bp: self.bin_size,
-            chrom_sizes: self.chrom_sizes.clone(),
-            bins_bed: self.bins_bed.clone(),
-            pairs_columns,
-            pairs_zero_based: self.zero_based,
-        })
-    }
 }

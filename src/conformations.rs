@@ -3,7 +3,7 @@
 //!
 //! - two beads `i < j` of a conformation are in contact when their distance is at most the
 //!   contact radius (`scipy.spatial.KDTree.query_pairs(r)`, which polychrom's
-//!   `calculate_contacts` calls; here through cell lists, [`crate::sim::cells`]);
+//!   `calculate_contacts` calls; here through cell lists, [`crate::geometry::cells`]);
 //! - beads are binned per chain: chain `[start, end)` is cut into `ceil((end - start) / m)`
 //!   bins of `m` beads from its start, and a bead belongs to the last bin that starts at or
 //!   before it (beads between two chains fall into the earlier chain's last bin, as in

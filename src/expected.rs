@@ -57,16 +57,15 @@ pub mod logbin;
 pub mod powerlaw;
 pub mod smooth;
 pub mod table;
-pub mod view;
 
 use std::sync::Mutex;
 
 use rayon::prelude::*;
 
 use crate::error::{Error, Result};
+use crate::genome::View;
 use crate::matrix::{PixelSlice, PixelSource};
 use crate::normalize::DiagonalCurve;
-pub use view::{RegionSpec, View, ViewRegion};
 
 /// Parameters of [`expected_cis`], with the defaults of `cooltools.expected_cis`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -350,7 +349,8 @@ fn check_inputs<S: PixelSource>(pixels: &S, weights: Option<&[f64]>, view: &View
 /// `9 - d` valid pixels. The first two diagonals are ignored (NaN), as cooltools does.
 ///
 /// ```
-/// use contactmap::expected::{expected_cis, CisParams, View};
+/// use contactmap::expected::{expected_cis, CisParams};
+/// use contactmap::genome::View;
 /// use contactmap::genome::{BinTable, Chrom};
 /// use contactmap::io::{load_pixels, InMemory};
 /// use contactmap::matrix::{CountType, MatrixBuilder};
@@ -558,7 +558,8 @@ fn smooth_table(
 /// block has `3 x 3` valid pixels, summing to 18.
 ///
 /// ```
-/// use contactmap::expected::{expected_trans, View};
+/// use contactmap::expected::expected_trans;
+/// use contactmap::genome::View;
 /// use contactmap::genome::{BinTable, Chrom};
 /// use contactmap::io::{load_pixels, InMemory};
 /// use contactmap::matrix::{CountType, MatrixBuilder};

@@ -41,7 +41,7 @@ mod tests;
 use std::collections::BTreeMap;
 
 use crate::error::{Error, Result};
-use crate::expected::View;
+use crate::genome::View;
 use crate::io::MatrixReader;
 use fdr::{Histogram, KernelStats, LambdaBins};
 use kernels::{Kernel, KernelType};

@@ -35,7 +35,7 @@ use std::collections::BTreeMap;
 use ndarray::Array2;
 
 use crate::error::{Error, Result};
-use crate::expected::View;
+use crate::genome::View;
 use crate::io::bed::{BedRecord, BedpeRecord};
 use crate::io::MatrixReader;
 use cut::{Cutter, Make, Snip, Sums};
@@ -252,7 +252,8 @@ impl Pileups {
 /// loops' own pixel) stands out.
 ///
 /// ```
-/// use contactmap::expected::{expected_cis, CisParams, View};
+/// use contactmap::expected::{expected_cis, CisParams};
+/// use contactmap::genome::View;
 /// use contactmap::io::{open_matrix, LoadedPixels, OpenOptions, StreamedPixels};
 /// use contactmap::pileup::{pileup, Features, PileupParams};
 ///

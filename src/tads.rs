@@ -12,7 +12,7 @@
 //!   across its resolution parameter.
 //!
 //! All callers take pixels through [`crate::matrix::PixelSource`] (or a [`band::CisBand`] built
-//! from one) and a [`crate::expected::View`] of regions (whole chromosomes by default), and return
+//! from one) and a [`crate::genome::View`] of regions (whole chromosomes by default), and return
 //! plain tables: per-bin tracks, [`Boundary`] and [`Domain`] lists. Bins are genome-wide indices
 //! into the bin table; coordinates are 0-based half-open as BED.
 
@@ -29,7 +29,7 @@ pub mod topdom;
 
 use std::ops::Range;
 
-use crate::expected::View;
+use crate::genome::View;
 
 /// A boundary call: one bin, with the caller's strength (NaN when the method has none).
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -18,7 +18,8 @@ use contactmap::compartments::saddle::{
 };
 use contactmap::compartments::trans::TransEigParams;
 use contactmap::expected::logbin::{logbin_expected, LogBinParams};
-use contactmap::expected::{cis_curves, expected_cis, expected_trans, CisParams, Column, View};
+use contactmap::expected::{cis_curves, expected_cis, expected_trans, CisParams, Column};
+use contactmap::genome::View;
 use contactmap::io::cool::{write_cool, write_mcool, CoolWriteOptions};
 use contactmap::io::hic::{HicReader, HicWriteOptions};
 use contactmap::io::predictions::{read_fasta, read_prediction};

@@ -15,8 +15,8 @@ use contactmap::io::{LoadedPixels, MatrixReader, StreamedPixels};
 use numpy::PyArray1;
 use pyo3::prelude::*;
 
+use crate::convert::{run, vec1, ContactmapError, RegionTuple};
 use crate::file::NativeFile;
-use crate::{run, vec1, ContactmapError, RegionTuple};
 
 /// One region's eigenpairs: name, chrom, start, end (bp), first bin, end bin, eigenvalues,
 /// eigenvectors (each over the region's bins).

@@ -3,8 +3,8 @@
 use std::ops::Range;
 
 use contactmap::error::Error;
-use contactmap::expected::{RegionSpec, View};
 use contactmap::genome::BinTable;
+use contactmap::genome::{RegionSpec, View};
 use contactmap::io::{
     self, query_dense_into, query_pixels, CheckedCounts, MatrixReader, OpenOptions,
 };
@@ -12,7 +12,7 @@ use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
-use crate::{py_err, run, vec1, RegionTuple};
+use crate::convert::{py_err, run, vec1, RegionTuple};
 
 /// A contact map opened by contactmap (`.cool`, `.mcool::/resolutions/R`, `.hic` with `@R`,
 /// HiCExplorer `.h5`, text tables).

@@ -11,8 +11,8 @@ use numpy::PyArray2;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
+use crate::convert::{array2, run, vec1, ContactmapError, NamedColumn, RegionTuple};
 use crate::file::NativeFile;
-use crate::{array2, run, vec1, ContactmapError, NamedColumn, RegionTuple};
 
 /// The columns of enriched pixels: `bin1_id bin2_id count`, then per kernel
 /// `la_exp.{kernel}.value`, then per kernel `la_exp.{kernel}.qval`, and `region` (the view

@@ -17,7 +17,7 @@ use contactmap::score::target::{
 use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 
-use crate::{array2, run, vec1, ContactmapError, NamedColumn};
+use crate::convert::{array2, run, vec1, ContactmapError, NamedColumn};
 
 fn definition(atom: &str, cutoff: f64, le: bool) -> PyResult<ContactDefinition> {
     let atom = match atom.to_ascii_lowercase().as_str() {

@@ -14,7 +14,7 @@ use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::{run, vec1, ContactmapError};
+use crate::convert::{run, vec1, ContactmapError};
 
 fn kind<T>(key: &str, value: &str, choices: &[(&str, T)]) -> PyResult<T>
 where

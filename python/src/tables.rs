@@ -18,8 +18,8 @@ use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
+use crate::convert::{column, run, vec1, ContactmapError, NamedColumn, RegionTuple};
 use crate::file::NativeFile;
-use crate::{column, run, vec1, ContactmapError, NamedColumn, RegionTuple};
 
 /// cooltools' `expected_cis`: (region1, region2, [(column, values)]).
 #[allow(clippy::too_many_arguments, clippy::type_complexity)]

@@ -17,7 +17,7 @@ use contactmap::matrix::{CountType, MatrixBuilder, Weights, ZeroCounts};
 use numpy::{PyReadonlyArray1, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 
-use crate::{run, ContactmapError};
+use crate::convert::{run, ContactmapError};
 
 /// The three map formats a writer can produce, from the output's extension.
 #[derive(Clone, Copy, PartialEq, Eq)]

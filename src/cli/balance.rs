@@ -5,9 +5,9 @@ use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
 
+use crate::cli::args::InputArgs;
 use crate::cli::input::open_for_analysis;
 use crate::cli::output::{is_stdout, print_json, refuse_overwrites, store_lock, uri_file, Output};
-use crate::cli::InputArgs;
 use contactmap::balance::store::{balance_reader, store_balanced, weights_table, Balanced};
 use contactmap::balance::{BalanceParams, Method, Scope};
 use contactmap::error::{Error, Result};

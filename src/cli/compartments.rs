@@ -5,10 +5,10 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
+use crate::cli::args::InputArgs;
 use crate::cli::input::{mask_unweighted, open_balanced, track_argument};
 use crate::cli::output::{column_file, refuse_overwrites, uri_file, write_text_file, Output};
 use crate::cli::progress::Progress;
-use crate::cli::InputArgs;
 use contactmap::compartments::cis::{CisEigParams, RegionEigs};
 use contactmap::compartments::eigs::{eigs_cis, eigs_trans, Eigs, Phasing};
 use contactmap::compartments::phasing::SortMetric;

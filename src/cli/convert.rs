@@ -4,11 +4,11 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
+use crate::cli::args::InputArgs;
 use crate::cli::hic_output::{parse_normalizations, write_hic};
 use crate::cli::matrix_output::{format_from_extension, OutputFormat};
 use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::progress::Progress;
-use crate::cli::InputArgs;
 use contactmap::error::{Error, Result};
 use contactmap::io::cool::resolutions::mcool_resolutions;
 use contactmap::io::cool::{write_cool, write_mcool, CoolWriteOptions};

@@ -4,10 +4,10 @@ use std::path::PathBuf;
 
 use clap::Args;
 
+use crate::cli::args::InputArgs;
 use crate::cli::input::{bp_option, expected_to_divide, open_balanced};
 use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::warnings::Warnings;
-use crate::cli::InputArgs;
 use contactmap::error::{Error, Result};
 use contactmap::io::bed::read_bedpe_table;
 use contactmap::io::output::write_whole;
@@ -184,7 +184,7 @@ impl DotsArgs {
 /// A map's dots, with what is needed to write and report them.
 struct Called {
     reader: Box<dyn MatrixReader>,
-    view: contactmap::expected::View,
+    view: contactmap::genome::View,
     params: DotsParams,
     calls: DotCalls,
 }

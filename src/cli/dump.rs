@@ -4,9 +4,9 @@ use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
 
+use crate::cli::args::InputArgs;
 use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::output::{FloatFormat, Output};
-use crate::cli::InputArgs;
 use contactmap::error::Result;
 use contactmap::io;
 use contactmap::io::text::dump::{dump_bins, dump_chroms, dump_pixels, DumpOptions};

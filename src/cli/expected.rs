@@ -5,10 +5,10 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
+use crate::cli::args::InputArgs;
 use crate::cli::input::weights_and_view;
 use crate::cli::output::write_whole;
 use crate::cli::output::{refuse_overwrites, uri_file};
-use crate::cli::InputArgs;
 use contactmap::error::{Error, Result};
 use contactmap::expected::powerlaw::{power_law, FitRange, PowerLaw};
 use contactmap::expected::{expected_cis, expected_trans, CisParams};

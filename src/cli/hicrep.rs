@@ -5,10 +5,10 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
+use crate::cli::args::InputArgs;
 use crate::cli::input::{bp_option, open_for_analysis};
 use crate::cli::output::{refuse_overwrites, uri_file, Output};
 use crate::cli::warnings::Warnings;
-use crate::cli::InputArgs;
 use contactmap::compare::hicrep::{
     chrom_ids, compare_samples, SccParams, Smoothing, DEFAULT_H_MAX,
 };

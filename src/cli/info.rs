@@ -4,9 +4,9 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
+use crate::cli::args::InputArgs;
 use crate::cli::output::Output;
 use crate::cli::output::{refuse_overwrites, uri_file};
-use crate::cli::InputArgs;
 use contactmap::error::Result;
 use contactmap::io::info::{describe, describe_text};
 

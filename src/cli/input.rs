@@ -7,11 +7,11 @@
 
 use std::path::Path;
 
-use crate::cli::InputArgs;
+use crate::cli::args::InputArgs;
 use contactmap::error::{Error, Result};
 use contactmap::expected::expected_to_divide_by;
-use contactmap::expected::view::View;
 use contactmap::genome::BinTable;
+use contactmap::genome::View;
 use contactmap::io::tables::Table;
 use contactmap::io::{self, CheckedCounts, MatrixReader};
 
@@ -91,7 +91,7 @@ pub fn open_balanced(
     let reader = open_for_analysis(uri, input)?;
     let weights = read_weights(reader.as_ref(), weight_name, "--weight-name", false)?;
     let view = match view {
-        Some(path) => View::read_bed(path, reader.bins())?,
+        Some(path) => contactmap::io::bed::read_view(path, reader.bins())?,
         None => View::chromosomes(reader.bins()),
     };
     Ok((reader, weights, view))
@@ -154,7 +154,7 @@ pub fn weights_and_view(
         Some(read_weights(reader, weight_name, "--weight-name", true)?)
     };
     let view = match view {
-        Some(path) => View::read_bed(path, reader.bins())?,
+        Some(path) => contactmap::io::bed::read_view(path, reader.bins())?,
         None => View::chromosomes(reader.bins()),
     };
     Ok((weights, view))

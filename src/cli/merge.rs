@@ -5,10 +5,10 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
+use crate::cli::args::InputArgs;
 use crate::cli::hic_output::write_hic;
 use crate::cli::matrix_output::{format_from_extension, OutputFormat};
 use crate::cli::output::{refuse_overwrites, uri_file};
-use crate::cli::InputArgs;
 use contactmap::error::{Error, Result};
 use contactmap::export::DEFAULT_HIC_NORMALIZATIONS;
 use contactmap::io::cool::resolutions::{fixed_bin_size, mcool_resolutions};

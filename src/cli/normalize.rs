@@ -5,11 +5,11 @@ use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
 
+use crate::cli::args::InputArgs;
 use crate::cli::input::expected_column;
 use crate::cli::matrix_output::OutputFormat;
 use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::progress::Progress;
-use crate::cli::InputArgs;
 use contactmap::error::{Error, Result};
 use contactmap::io;
 use contactmap::io::cool::{write_cool, CoolWriteOptions};

@@ -4,13 +4,13 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
+use crate::cli::args::InputArgs;
 use crate::cli::input::{
     bp_option, expected_column, expected_to_divide, open_for_analysis, weights_and_view,
     TableReading,
 };
 use crate::cli::output::{refuse_overwrites, uri_file, write_text_file};
 use crate::cli::warnings::Warnings;
-use crate::cli::InputArgs;
 use contactmap::error::{Error, Result};
 use contactmap::genome::BinTable;
 use contactmap::io::bed::{read_features, FeatureFormat, FeatureTable};

@@ -4,9 +4,9 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
+use crate::cli::args::InputArgs;
 use crate::cli::input::{open_balanced, track_argument};
 use crate::cli::output::{column_file, refuse_overwrites, uri_file, write_text_file};
-use crate::cli::InputArgs;
 use contactmap::compartments::saddle::{
     digitize, saddle_cis, saddle_strength, saddle_trans, Binning, SaddleParams,
 };

@@ -4,10 +4,10 @@ use std::path::{Path, PathBuf};
 
 use clap::{ArgGroup, Args};
 
+use crate::cli::args::InputArgs;
 use crate::cli::input::open_for_analysis;
 use crate::cli::matrix_output::{format_from_extension, OutputFormat};
 use crate::cli::output::{refuse_overwrites, uri_file};
-use crate::cli::InputArgs;
 use contactmap::compare::sample::{SampleParams, Sampled, Target};
 use contactmap::error::{Error, Result};
 use contactmap::io::cool::{write_cool, CoolWriteOptions};

@@ -4,6 +4,7 @@
 //! ([`contactmap::score::contacts`]).
 
 mod compartments;
+mod lists;
 mod loops;
 mod overlap;
 
@@ -12,20 +13,19 @@ use std::path::{Path, PathBuf};
 use clap::{Args, Subcommand};
 
 use crate::cli::output::{refuse_overwrites, write_text_file, Output};
-use crate::cli::protein::{DefinitionArgs, RoundingArg, TargetArgs};
+use crate::cli::protein::{DefinitionArgs, TargetArgs};
 use contactmap::error::{Error, Result};
 use contactmap::io::bed::read_bed;
 use contactmap::score::boundaries::{
     boundary_table, domain_overlap_records, median_width, score_boundary_records,
 };
 use contactmap::score::contacts::SeparationRange;
-use contactmap::score::lists::{
-    parse_length, parse_list_size, parse_range, LabelledSize, NamedRange,
-};
+use contactmap::score::lists::{parse_length, parse_list_size, NamedRange};
 use contactmap::score::target::{
     curves_tsv, load_prediction, score_prediction, scores_json, scores_text, scores_tsv,
     EnsembleTruth, Placed, ScorePlan,
 };
+use lists::ListArgs;
 
 /// Arguments of `contactmap score`.
 #[derive(Debug, Args)]
@@ -285,48 +285,6 @@ pub struct ContactsScoreArgs {
         help_heading = "Truth from an MD ensemble"
     )]
     pub truth_frequency: Option<f64>,
-}
-
-/// Separation ranges, list sizes and their rounding, shared by `score contacts` and
-/// `score overlap`.
-#[derive(Debug, Args)]
-pub struct ListArgs {
-    /// Separation ranges: short, medium, long, all, MIN-MAX or MIN+ (comma separated).
-    #[arg(
-        long,
-        value_delimiter = ',',
-        default_value = "short,medium,long,all",
-        value_name = "RANGES"
-    )]
-    pub ranges: Vec<String>,
-    /// List sizes: L/10, L/5, L/2, L, 0.3L, a count N, or NC (comma separated).
-    #[arg(
-        long,
-        value_delimiter = ',',
-        default_value = "L/10,L/5,L/2,L",
-        value_name = "SIZES"
-    )]
-    pub top: Vec<String>,
-    /// Rounding of L * fraction.
-    #[arg(long, value_enum, default_value = "floor")]
-    pub rounding: RoundingArg,
-}
-
-impl ListArgs {
-    /// The parsed ranges and list sizes.
-    fn parse(&self) -> Result<(Vec<NamedRange>, Vec<LabelledSize>)> {
-        let ranges = self
-            .ranges
-            .iter()
-            .map(|token| parse_range(token))
-            .collect::<Result<_>>()?;
-        let sizes = self
-            .top
-            .iter()
-            .map(|token| parse_list_size(token))
-            .collect::<Result<_>>()?;
-        Ok((ranges, sizes))
-    }
 }
 
 fn run_contacts(args: &ContactsScoreArgs) -> Result<()> {

@@ -50,9 +50,8 @@ pub struct ManArgs {
     pub dir: PathBuf,
 }
 
-/// Run `contactmap completions`.
-pub fn run_completions(args: &CompletionsArgs) -> Result<()> {
-    let mut command = crate::cli::command();
+/// Run `contactmap completions` for the command line `command` (the whole of it, from the top).
+pub fn run_completions(args: &CompletionsArgs, mut command: clap::Command) -> Result<()> {
     let mut bytes = Vec::new();
     let shell = match args.shell {
         ShellArg::Bash => clap_complete::Shell::Bash,
@@ -65,10 +64,9 @@ pub fn run_completions(args: &CompletionsArgs) -> Result<()> {
     out.finish()
 }
 
-/// Run `contactmap man`.
-pub fn run_man(args: &ManArgs) -> Result<()> {
+/// Run `contactmap man` for the command line `command` (the whole of it, from the top).
+pub fn run_man(args: &ManArgs, mut command: clap::Command) -> Result<()> {
     std::fs::create_dir_all(&args.dir).map_err(|e| Error::io(&args.dir, e))?;
-    let mut command = crate::cli::command();
     command.build();
     let mut written = 0;
     write_pages(&command, "contactmap", args, &mut written)?;

@@ -5,11 +5,11 @@ use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
 
+use crate::cli::args::InputArgs;
 use crate::cli::input::{bp_option, weights_and_view};
 use crate::cli::output::{is_stdout, print_json, write_whole};
 use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::warnings::Warnings;
-use crate::cli::InputArgs;
 use contactmap::error::{Error, Result};
 use contactmap::io::{LoadedPixels, MatrixReader, StreamedPixels};
 use contactmap::tads::armatus::ArmatusParams;

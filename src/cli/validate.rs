@@ -13,7 +13,7 @@ use serde_json::json;
 
 use crate::cli::output::Output;
 use crate::cli::output::{refuse_overwrites, uri_file};
-use crate::cli::Status;
+use crate::cli::status::Status;
 use contactmap::error::{Error, Result};
 use contactmap::validate::{self, RepairOutcome};
 

@@ -5,9 +5,9 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
+use crate::cli::args::InputArgs;
 use crate::cli::input::{open_for_analysis, read_weights};
 use crate::cli::output::{refuse_overwrites, uri_file, Output};
-use crate::cli::InputArgs;
 use contactmap::compare::virtual4c::{viewpoint_bins, virtual4c};
 use contactmap::error::{Error, Result};
 use contactmap::genome::Region;

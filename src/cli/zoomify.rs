@@ -5,9 +5,9 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
+use crate::cli::args::InputArgs;
 use crate::cli::hic_output::write_hic;
 use crate::cli::output::{refuse_overwrites, uri_file};
-use crate::cli::InputArgs;
 use contactmap::balance::store::balance_and_store;
 use contactmap::balance::{BalanceParams, Method};
 use contactmap::error::{Error, Result};

@@ -45,7 +45,7 @@ use crate::error::{Error, Result};
 use crate::genome::BinTable;
 use crate::io::{read_ahead, MatrixReader};
 use crate::numeric::reduceat_sum;
-use crate::sim::stream_rng;
+use crate::random::stream_rng;
 
 /// Rows computed by one task.
 pub const PIECE_ROWS: usize = 256;

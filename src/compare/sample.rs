@@ -27,7 +27,7 @@ use crate::error::{Error, Result};
 use crate::genome::BinTable;
 use crate::io::{read_ahead, MatrixInfo, MatrixReader};
 use crate::matrix::{CountType, PixelBlock, Weights};
-use crate::sim::stream_rng;
+use crate::random::stream_rng;
 
 /// Rows per block of draws: each block has its own random stream.
 pub const CHUNK_ROWS: usize = 256;
@@ -37,7 +37,7 @@ pub const CHUNK_ROWS: usize = 256;
 /// rows took a sixth more time and four times the memory on big.cool).
 const BATCH_ROWS: usize = 2 * CHUNK_ROWS;
 
-/// Stream tags of the seed (see [`crate::sim::stream_seed`]).
+/// Stream tags of the seed (see [`crate::random::stream_seed`]).
 const TAG_BLOCK: u64 = 0x5a3_b10c;
 const TAG_SHARES: u64 = 0x5a3_54a2;
 

@@ -4,7 +4,7 @@
 //! computes; problems that do not stop the work come back as warnings.
 
 use crate::error::Result;
-use crate::expected::View;
+use crate::genome::View;
 use crate::io::{default_memory_budget, MatrixReader};
 use crate::matrix::PixelBlock;
 
@@ -46,7 +46,7 @@ pub struct Eigs<T> {
 /// use std::path::Path;
 /// use contactmap::compartments::cis::CisEigParams;
 /// use contactmap::compartments::eigs::{eigs_cis, Phasing};
-/// use contactmap::expected::{RegionSpec, View};
+/// use contactmap::genome::{RegionSpec, View};
 /// use contactmap::io::tables::track_on_bins;
 /// use contactmap::io::{open_matrix, open_text, MatrixReader, OpenOptions};
 ///

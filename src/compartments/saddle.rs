@@ -2,7 +2,7 @@
 //! the saddle strength (see the [module documentation](super)).
 
 use crate::error::{Error, Result};
-use crate::expected::View;
+use crate::genome::View;
 use crate::matrix::{PixelSlice, PixelSource};
 use crate::numeric::{linspace, quantile_of_sorted};
 
@@ -177,7 +177,8 @@ pub struct Saddle {
 ///
 /// ```
 /// use contactmap::compartments::saddle::{digitize, saddle_cis, saddle_strength, Binning, SaddleParams};
-/// use contactmap::expected::{expected_cis, CisParams, View};
+/// use contactmap::expected::{expected_cis, CisParams};
+/// use contactmap::genome::View;
 /// use contactmap::genome::{BinTable, Chrom};
 /// use contactmap::io::{load_pixels, InMemory};
 /// use contactmap::matrix::{CountType, MatrixBuilder};
@@ -388,7 +389,8 @@ impl Saddle {
 ///
 /// ```
 /// use contactmap::compartments::saddle::{digitize, saddle_trans, Binning};
-/// use contactmap::expected::{expected_trans, View};
+/// use contactmap::expected::expected_trans;
+/// use contactmap::genome::View;
 /// use contactmap::genome::{BinTable, Chrom};
 /// use contactmap::io::{load_pixels, InMemory};
 /// use contactmap::matrix::{CountType, MatrixBuilder};

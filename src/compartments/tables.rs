@@ -6,8 +6,8 @@ use std::ops::Range;
 use super::cis::RegionEigs;
 use super::saddle::{Digitized, Saddle};
 use crate::error::Result;
-use crate::expected::View;
 use crate::genome::BinTable;
+use crate::genome::View;
 use crate::io::tables::{write_real, write_u64};
 
 /// The `.vecs.tsv` table of `regions` (bin range, its eigenvectors): `chrom start end`, the

@@ -7,9 +7,9 @@ use rayon::prelude::*;
 
 use crate::error::{Error, Result};
 use crate::genome::{BinTable, Chrom};
+use crate::geometry::cells::{CellList, Space};
 use crate::io::trajectory::{for_each_chunk, Conformation};
 use crate::matrix::{ContactMatrix, CountType, MatrixBuilder};
-use crate::sim::cells::{CellList, Space};
 
 /// The bins of chains of beads, polychrom's way (see the module docs).
 #[derive(Clone, Debug, PartialEq)]
@@ -98,7 +98,7 @@ impl ChainBins {
 ///
 /// ```
 /// use contactmap::conformations::contact_pairs;
-/// use contactmap::sim::cells::CellList;
+/// use contactmap::geometry::cells::CellList;
 /// let points = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [3.0, 0.0, 0.0], [4.5, 0.0, 0.0]];
 /// let mut cells = CellList::new();
 /// // distance exactly 1.5 counts (at most the radius), as scipy's query_pairs

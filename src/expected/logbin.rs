@@ -282,7 +282,8 @@ fn slopes(points: &[(usize, f64, f64, u64)], sigma: f64, region: Option<u32>) ->
 ///
 /// ```
 /// use contactmap::expected::logbin::{logbin_expected, LogBinParams};
-/// use contactmap::expected::{expected_cis, CisParams, View};
+/// use contactmap::expected::{expected_cis, CisParams};
+/// use contactmap::genome::View;
 /// use contactmap::genome::{BinTable, Chrom};
 /// use contactmap::io::{load_pixels, InMemory};
 /// use contactmap::matrix::{CountType, MatrixBuilder};

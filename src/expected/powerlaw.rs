@@ -54,9 +54,9 @@
 use statrs::distribution::{ContinuousCDF, StudentsT};
 
 use super::logbin::{logbin_expected, CombinedBin, LogBinParams, LogBinned};
-use super::view::View;
 use super::{expected_cis, CisExpected, CisParams};
 use crate::error::{Error, Result};
+use crate::genome::View;
 use crate::genome::{format_bp, format_distance};
 use crate::io::LoadedPixels;
 
@@ -626,7 +626,8 @@ pub struct PowerLaw {
 ///
 /// ```
 /// use contactmap::expected::powerlaw::power_law;
-/// use contactmap::expected::{CisParams, View};
+/// use contactmap::expected::CisParams;
+/// use contactmap::genome::View;
 /// use contactmap::genome::{BinTable, Chrom};
 /// use contactmap::io::{load_pixels, InMemory, MatrixReader};
 /// use contactmap::matrix::{CountType, MatrixBuilder};
@@ -690,7 +691,8 @@ impl PowerLawReport {
     ///
     /// ```
     /// use contactmap::expected::powerlaw::power_law;
-    /// use contactmap::expected::{CisParams, View};
+    /// use contactmap::expected::CisParams;
+    /// use contactmap::genome::View;
     /// use contactmap::io::{load_pixels, open_matrix, OpenOptions};
     /// let reader = open_matrix("data/yeast.10kb.cool", &OpenOptions::default())?;
     /// let weights = reader.weights("weight")?.values;

@@ -361,7 +361,8 @@ pub fn read_curves(path: &str, bins: &BinTable, column: &str) -> Result<Vec<Diag
 /// `dist` times the bin size of `bins` (another resolution).
 ///
 /// ```
-/// use contactmap::expected::{table::read_region_column, View};
+/// use contactmap::expected::table::read_region_column;
+/// use contactmap::genome::View;
 /// use contactmap::io::{open_matrix, OpenOptions};
 /// let reader = open_matrix("data/cooler_test_file.mcool::/resolutions/100000", &OpenOptions::default())?;
 /// let view = View::chromosomes(reader.bins());
@@ -456,7 +457,8 @@ pub fn region_column(
 /// [`TransExpected::average_by_pair`]: super::TransExpected::average_by_pair
 ///
 /// ```
-/// use contactmap::expected::{expected_trans, table::read_pair_column, View};
+/// use contactmap::expected::{expected_trans, table::read_pair_column};
+/// use contactmap::genome::View;
 /// use contactmap::io::{open_matrix, LoadedPixels, OpenOptions, StreamedPixels};
 /// let reader = open_matrix("data/yeast.10kb.cool", &OpenOptions::default())?;
 /// let view = View::chromosomes(reader.bins());

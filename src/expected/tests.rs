@@ -1,7 +1,7 @@
 use proptest::prelude::*;
 
 use super::*;
-use crate::genome::{BinTable, Chrom};
+use crate::genome::{BinTable, Chrom, RegionSpec};
 use crate::matrix::{ContactMatrix, CountType, MatrixBuilder, Pixels};
 
 /// A random matrix, weights with masked bins, and a random view (possibly with regions

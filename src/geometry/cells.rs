@@ -131,10 +131,7 @@ type PlaneSort<'a> = (
 );
 
 /// `data` cut into consecutive mutable slices of the given lengths.
-pub(super) fn split_lengths<T>(
-    mut data: &mut [T],
-    lengths: impl Iterator<Item = usize>,
-) -> Vec<&mut [T]> {
+pub fn split_lengths<T>(mut data: &mut [T], lengths: impl Iterator<Item = usize>) -> Vec<&mut [T]> {
     let mut parts = Vec::new();
     for length in lengths {
         let (head, tail) = data.split_at_mut(length);
@@ -765,7 +762,7 @@ mod tests {
     #[test]
     fn parallel_build_equals_the_serial_build() {
         use rand::Rng;
-        let mut rng = crate::sim::stream_rng(8, 0, 0);
+        let mut rng = crate::random::stream_rng(8, 0, 0);
         let points: Vec<[f64; 3]> = (0..30_000)
             .map(|_| [0; 3].map(|_| rng.gen::<f64>() * 60.0 - 10.0))
             .collect();
@@ -839,7 +836,7 @@ mod tests {
     #[test]
     fn alternating_cutoffs_equal_fresh_lists() {
         use rand::Rng;
-        let mut rng = crate::sim::stream_rng(12, 0, 0);
+        let mut rng = crate::random::stream_rng(12, 0, 0);
         let side = (800.0f64 / 0.4).cbrt();
         let points: Vec<[f64; 3]> = (0..800)
             .map(|_| [0; 3].map(|_| rng.gen::<f64>() * side * 1.5 - side / 4.0))

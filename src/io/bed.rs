@@ -10,7 +10,7 @@ use std::io::{BufRead, Write};
 use std::path::Path;
 
 use crate::error::{Error, Result};
-use crate::genome::BinTable;
+use crate::genome::{BinTable, RegionSpec, View};
 
 /// One BED record (the first six columns).
 #[derive(Clone, Debug, PartialEq)]
@@ -699,6 +699,57 @@ pub fn bins_bed(
         write_bed_line(&mut text, chrom, a.start, b.end, &extra).expect("writing to memory");
     }
     text
+}
+
+/// The view ([`View`], cooltools' view frame) of the BED file at `path` (`chrom start end
+/// [name]`, plain or gzip; `#`, `track` and `browser` lines skipped), checked against `bins` as
+/// [`View::new`] does; errors name the file (and the line for a malformed one).
+///
+/// # Examples
+///
+/// ```
+/// use contactmap::io::bed::read_view;
+/// use contactmap::genome::{BinTable, Chrom};
+///
+/// let bins = BinTable::fixed(vec![Chrom::new("chr1", 1_000)], 100)?;
+/// let path = std::env::temp_dir().join(format!("view-{}.bed", std::process::id()));
+/// std::fs::write(&path, "chr1\t0\t500\tarm_p\nchr1\t500\t1000\n")?;
+/// let view = read_view(&path, &bins)?;
+/// assert_eq!(view.regions()[1].name, "chr1:500-1000");
+/// # std::fs::remove_file(&path)?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn read_view(path: &Path, bins: &BinTable) -> Result<View> {
+    let mut specs = Vec::new();
+    for_each_line(path, |line_no, _, fields| {
+        if !(3..=4).contains(&fields.len()) {
+            return Err(Error::parse(
+                path,
+                line_no,
+                format!(
+                    "expected 3 or 4 columns (chrom start end [name]), found {}",
+                    fields.len()
+                ),
+            ));
+        }
+        let number = |text: &str, what: &str| {
+            text.parse::<u64>().map_err(|_| {
+                Error::parse(
+                    path,
+                    line_no,
+                    format!("{what} '{text}' is not a non-negative integer"),
+                )
+            })
+        };
+        specs.push(RegionSpec {
+            chrom: fields[0].to_string(),
+            start_bp: number(fields[1], "start")?,
+            end_bp: number(fields[2], "end")?,
+            name: fields.get(3).map(|n| n.to_string()),
+        });
+        Ok(())
+    })?;
+    View::new(bins, &specs).map_err(|e| Error::format(path, e.to_string()))
 }
 
 #[cfg(test)]

@@ -2,8 +2,8 @@
 //! na_rep="nan")`): BEDPE columns first, floats in Python's shortest round-trip form.
 
 use super::{DotCalls, EnrichedPixel};
-use crate::expected::View;
 use crate::genome::BinTable;
+use crate::genome::View;
 use crate::io::output::python_float;
 
 fn pixel_columns(text: &mut String, bins: &BinTable, pixel: &EnrichedPixel) {

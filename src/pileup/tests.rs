@@ -531,7 +531,7 @@ fn trans_pileups_are_coolpuppy() {
     .unwrap();
     assert_eq!((pups.all().n, pups.skipped.other_kind), (12, 2));
     // a view of one chromosome, local and by-distance pileups are refused in trans
-    let spec = |chrom: &str, end_bp| crate::expected::view::RegionSpec {
+    let spec = |chrom: &str, end_bp| crate::genome::RegionSpec {
         chrom: chrom.into(),
         start_bp: 0,
         end_bp,

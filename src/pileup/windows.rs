@@ -15,8 +15,8 @@
 //! are kept when `min_dist <= |c2 - c1| <= max_dist`, both ends included.
 
 use crate::error::{Error, Result};
-use crate::expected::View;
 use crate::genome::BinTable;
+use crate::genome::View;
 use crate::io::bed::{BedRecord, BedpeRecord};
 
 /// One pair of windows, in bins from the start of their view regions (`[start, end)`, possibly

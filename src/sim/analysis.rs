@@ -93,9 +93,9 @@ pub fn mean_square_bond_length(conformations: &[Vec<[f64; 3]>], chains: &[usize]
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::random::stream_rng;
     use crate::sim::ensemble::{run_ensemble, EnsembleParams};
     use crate::sim::polymer::{radius_of_gyration, BondModel, Polymer, PolymerParams, Repulsion};
-    use crate::sim::stream_rng;
 
     #[test]
     fn closed_forms() {

@@ -15,10 +15,10 @@
 //!   sub-domain, and 1 otherwise; `b` are per-bin biases `exp(bias_sd * Z)` (Z standard normal),
 //!   0 for dead bins (`round(dead_bin_fraction * n_bins_total)` bins picked uniformly); the
 //!   constant `c` makes the expected total over all generated pixels equal `depth`;
-//! - observed counts are Poisson draws of the expected ones ([`crate::sim::poisson`]).
+//! - observed counts are Poisson draws of the expected ones ([`crate::random::poisson`]).
 //!
 //! Reproducibility: domains, biases and dead bins come from one sequential stream of `seed`; each
-//! row's counts from its own stream ([`crate::sim::stream_seed`] with the genome-wide row index),
+//! row's counts from its own stream ([`crate::random::stream_seed`] with the genome-wide row index),
 //! so rows are generated in parallel and the result does not depend on the thread count.
 
 use rand::Rng;
@@ -27,10 +27,10 @@ use rayon::prelude::*;
 use crate::error::{Error, Result};
 use crate::genome::{BinTable, Chrom};
 use crate::matrix::{ContactMatrix, CountType, MatrixBuilder};
-use crate::sim::{poisson, standard_normal, stream_rng};
+use crate::random::{poisson, standard_normal, stream_rng};
 use crate::tads::Domain;
 
-/// Stream tags (see [`crate::sim::stream_seed`]).
+/// Stream tags (see [`crate::random::stream_seed`]).
 const TAG_STRUCTURE: u64 = 1;
 const TAG_ROW: u64 = 2;
 

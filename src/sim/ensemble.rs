@@ -18,11 +18,11 @@
 
 use rayon::prelude::*;
 
-use super::cells::{CellList, Space};
 use super::extrusion::{Extruder, ExtrusionParams};
 use super::polymer::{radius_of_gyration, Polymer, PolymerParams};
-use super::{stream_rng, SimRng};
 use crate::error::{Error, Result};
+use crate::geometry::cells::{CellList, Space};
+use crate::random::{stream_rng, SeededRng};
 
 /// Stream tag of the 3D dynamics.
 pub const POLYMER_STREAM: u64 = 0x5045_4c59; // "PELY"
@@ -353,7 +353,7 @@ fn sum_by_key(mut all: Vec<(u64, u64)>, n_bins: u64) -> Vec<(u32, u32, u64)> {
 }
 
 /// The loop extrusion of one replica: its coupling, 1D model and generator.
-pub(crate) type ReplicaExtrusion<'a> = (&'a ExtrusionCoupling, Extruder, SimRng);
+pub(crate) type ReplicaExtrusion<'a> = (&'a ExtrusionCoupling, Extruder, SeededRng);
 
 /// The loop extrusion of `replica` (none without extrusion), seeded from its own stream.
 pub(crate) fn replica_extrusion(

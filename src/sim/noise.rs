@@ -23,7 +23,7 @@
 
 use rand::Rng;
 
-use super::SimRng;
+use crate::random::SeededRng;
 
 /// Threefry-2x32 rotation constants (Random123).
 const ROTATIONS: [u32; 8] = [13, 15, 26, 6, 17, 29, 16, 24];
@@ -52,7 +52,7 @@ pub fn threefry2x32(key: [u32; 2], counter: [u32; 2]) -> [u32; 2] {
 }
 
 /// The noise key of a polymer, drawn from its generator.
-pub fn noise_key(rng: &mut SimRng) -> [u32; 2] {
+pub fn noise_key(rng: &mut SeededRng) -> [u32; 2] {
     let word: u64 = rng.gen();
     [word as u32, (word >> 32) as u32]
 }

@@ -55,10 +55,10 @@
 //! at large separations); with a repulsion and no attraction it is a self-avoiding walk in good
 //! solvent.
 
-use super::cells::{split_lengths, CellList, Space};
 use super::noise;
-use super::SimRng;
 use crate::error::{Error, Result};
+use crate::geometry::cells::{split_lengths, CellList, Space};
+use crate::random::SeededRng;
 
 mod forces;
 mod integrator;

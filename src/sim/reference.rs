@@ -15,8 +15,8 @@
 use rand::Rng;
 
 use super::polymer::{bond_terms, pair_terms, BondModel, Repulsion};
-use super::SimRng;
 use crate::error::{Error, Result};
+use crate::random::SeededRng;
 
 /// One free chain: harmonic or FENE bonds and a pair repulsion between beads more than
 /// `excluded_neighbours` apart (no angles, attraction or confinement).
@@ -27,7 +27,7 @@ pub struct ChainSampler {
     excluded_neighbours: usize,
     positions: Vec<[f64; 3]>,
     trial: Vec<[f64; 3]>,
-    rng: SimRng,
+    rng: SeededRng,
 }
 
 fn distance2(a: [f64; 3], b: [f64; 3]) -> f64 {
@@ -35,7 +35,7 @@ fn distance2(a: [f64; 3], b: [f64; 3]) -> f64 {
 }
 
 /// A uniformly random rotation matrix (from a uniformly random unit quaternion).
-fn random_rotation(rng: &mut SimRng) -> [[f64; 3]; 3] {
+fn random_rotation(rng: &mut SeededRng) -> [[f64; 3]; 3] {
     let q = loop {
         let q: [f64; 4] = std::array::from_fn(|_| 2.0 * rng.gen::<f64>() - 1.0);
         let norm2: f64 = q.iter().map(|v| v * v).sum();
@@ -70,7 +70,7 @@ impl ChainSampler {
         bond: BondModel,
         repulsion: Repulsion,
         excluded_neighbours: usize,
-        rng: SimRng,
+        rng: SeededRng,
     ) -> Result<Self> {
         if n < 3 {
             return Err(Error::Invalid(format!(
@@ -180,7 +180,7 @@ mod tests {
     fn sampled_rg2(n: usize, repulsion: Repulsion, chains: u64, sweeps: usize) -> f64 {
         let mut total = 0.0;
         for seed in 0..chains {
-            let rng = SimRng::seed_from_u64(seed);
+            let rng = SeededRng::seed_from_u64(seed);
             let mut sampler = ChainSampler::new(n, BOND, repulsion, 1, rng).unwrap();
             for _ in 0..sweeps / 5 {
                 sampler.sweep();

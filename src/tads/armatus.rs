@@ -32,7 +32,7 @@
 use super::band::CisBand;
 use super::{Boundary, Domain};
 use crate::error::{Error, Result};
-use crate::expected::View;
+use crate::genome::View;
 
 /// Armatus parameters.
 #[derive(Clone, Debug, PartialEq)]
@@ -95,7 +95,7 @@ impl Default for ArmatusParams {
 /// # Examples
 ///
 /// ```
-/// use contactmap::expected::View;
+/// use contactmap::genome::View;
 /// use contactmap::genome::{BinTable, Chrom};
 /// use contactmap::io::{load_pixels, InMemory};
 /// use contactmap::matrix::{CountType, MatrixBuilder};

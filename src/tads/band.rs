@@ -7,7 +7,7 @@
 //! [`CisBand::bad`]. Missing pixels are 0. Memory: 8 bytes times bins times width.
 
 use crate::error::Result;
-use crate::expected::{View, ViewRegion};
+use crate::genome::{View, ViewRegion};
 use crate::matrix::PixelSource;
 
 /// The dense band `0 <= j - i < width` of one region's symmetric matrix.
@@ -78,7 +78,7 @@ impl CisBand {
 /// # Examples
 ///
 /// ```
-/// use contactmap::expected::View;
+/// use contactmap::genome::View;
 /// use contactmap::genome::{BinTable, Chrom};
 /// use contactmap::io::{load_pixels, InMemory};
 /// use contactmap::matrix::{CountType, MatrixBuilder};

@@ -4,7 +4,7 @@
 //! noticed on the way. What `contactmap tads` computes.
 
 use crate::error::{Error, Result};
-use crate::expected::View;
+use crate::genome::View;
 use crate::io::LoadedPixels;
 use crate::matrix::pixels::PixelSource;
 
@@ -87,7 +87,7 @@ pub struct TadCalls {
 /// 3-bin window finds the two boundaries between them (every peak kept: a strength cutoff of 0).
 ///
 /// ```
-/// use contactmap::expected::View;
+/// use contactmap::genome::View;
 /// use contactmap::genome::{BinTable, Chrom};
 /// use contactmap::io::{load_pixels, InMemory};
 /// use contactmap::matrix::{CountType, MatrixBuilder};

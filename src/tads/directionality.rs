@@ -17,7 +17,7 @@
 //! touches.
 
 use crate::error::{Error, Result};
-use crate::expected::View;
+use crate::genome::View;
 use crate::matrix::{PixelSlice, PixelSource};
 
 use super::insulation::{check_weights, window_bins, Layout, Partial};
@@ -112,7 +112,7 @@ fn bad_bin_neighbors(bad: &[bool], min_dist: usize) -> Vec<bool> {
 /// it see theirs upstream (negative).
 ///
 /// ```
-/// use contactmap::expected::View;
+/// use contactmap::genome::View;
 /// use contactmap::genome::{BinTable, Chrom};
 /// use contactmap::io::{load_pixels, InMemory};
 /// use contactmap::matrix::{CountType, MatrixBuilder};

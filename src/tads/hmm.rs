@@ -453,7 +453,7 @@ pub struct DixonCalls {
 /// # Examples
 ///
 /// ```
-/// use contactmap::expected::View;
+/// use contactmap::genome::View;
 /// use contactmap::genome::{BinTable, Chrom};
 /// use contactmap::io::{load_pixels, InMemory};
 /// use contactmap::matrix::{CountType, MatrixBuilder};

@@ -28,8 +28,8 @@
 //! side minus the excluded near-diagonal pairs, O(bins * ignore_diags^2).
 
 use crate::error::{Error, Result};
-use crate::expected::View;
 use crate::genome::BinTable;
+use crate::genome::View;
 use crate::matrix::{PixelSlice, PixelSource};
 
 use super::peaks::find_peak_prominence;
@@ -246,7 +246,7 @@ pub fn regions_shorter_than(view: &View, window_bins: usize) -> Vec<&str> {
 /// # Examples
 ///
 /// ```
-/// use contactmap::expected::View;
+/// use contactmap::genome::View;
 /// use contactmap::genome::{BinTable, Chrom};
 /// use contactmap::tads::insulation::check_window_fits;
 ///
@@ -560,7 +560,7 @@ fn nanmedian(values: &[f64]) -> f64 {
 /// # Examples
 ///
 /// ```
-/// use contactmap::expected::View;
+/// use contactmap::genome::View;
 /// use contactmap::genome::{BinTable, Chrom};
 /// use contactmap::io::{load_pixels, InMemory};
 /// use contactmap::matrix::{CountType, MatrixBuilder};
@@ -971,7 +971,7 @@ pub(super) mod tests {
         assert_eq!(regions_shorter_than(&view, 11), vec!["a"]);
         assert!(regions_shorter_than(&view, 10).is_empty());
         // Two regions sharing bin 4: each gets its own rows, as cooltools' concatenated tables.
-        use crate::expected::RegionSpec;
+        use crate::genome::RegionSpec;
         let spec = |s, e| RegionSpec {
             chrom: "a".into(),
             start_bp: s,

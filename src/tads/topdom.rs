@@ -147,7 +147,7 @@ pub struct TopDomRegion {
 /// # Examples
 ///
 /// ```
-/// use contactmap::expected::View;
+/// use contactmap::genome::View;
 /// use contactmap::genome::{BinTable, Chrom};
 /// use contactmap::io::{load_pixels, InMemory};
 /// use contactmap::matrix::{CountType, MatrixBuilder};

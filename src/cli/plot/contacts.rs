@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
-use super::{write_figure, FigureArgs};
+use super::figure::{write_figure, FigureArgs};
 use crate::cli::output::refuse_overwrites;
 use crate::cli::protein::{DefinitionArgs, RoundingArg, TargetArgs};
 use contactmap::error::{Error, Result};

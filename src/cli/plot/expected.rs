@@ -5,10 +5,10 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
-use super::{write_figure, FigureArgs};
+use super::figure::{write_figure, FigureArgs};
+use crate::cli::args::InputArgs;
 use crate::cli::input::{open_for_analysis, weights_and_view};
 use crate::cli::output::{refuse_overwrites, uri_file};
-use crate::cli::InputArgs;
 use contactmap::error::{Error, Result};
 use contactmap::expected::powerlaw::{power_law, power_law_of_table, FitRange, PowerLaw};
 use contactmap::expected::{CisExpected, CisParams};
@@ -147,7 +147,7 @@ pub fn run(args: &ExpectedPlotArgs) -> Result<()> {
         .collect();
     refuse_overwrites(&inputs, &[Some(&args.figure.out)])?;
     let figure = args.figure.check(DEFAULT_WIDTH_IN)?;
-    let labels = super::legend_labels(args.labels.as_ref(), &args.inputs, default_label)?;
+    let labels = super::figure::legend_labels(args.labels.as_ref(), &args.inputs, default_label)?;
     let fit_range = args
         .fit_range
         .as_deref()

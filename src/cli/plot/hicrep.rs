@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use super::{write_figure, FigureArgs};
+use super::figure::{write_figure, FigureArgs};
 use crate::cli::output::refuse_overwrites;
 use contactmap::compare::cluster::Dendrogram;
 use contactmap::compare::hicrep::SccTable;

@@ -5,11 +5,11 @@ use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
 
-use super::{write_figure, FigureArgs};
+use super::figure::{write_figure, FigureArgs};
+use crate::cli::args::InputArgs;
 use crate::cli::input::expected_column;
 use crate::cli::input::{open_for_analysis, read_weights};
 use crate::cli::output::{column_file, refuse_overwrites, uri_file};
-use crate::cli::InputArgs;
 use contactmap::compare::check_comparable;
 use contactmap::compare::coverage::total;
 use contactmap::error::{Error, Result};

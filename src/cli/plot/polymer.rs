@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
-use super::{write_figure, FigureArgs};
+use super::figure::{write_figure, FigureArgs};
 use crate::cli::output::refuse_overwrites;
 use contactmap::error::{Error, Result};
 use contactmap::io::tables::Table;
@@ -102,7 +102,7 @@ pub fn run(args: &PolymerStatsPlotArgs) -> Result<()> {
     let inputs: Vec<&Path> = files.iter().map(PathBuf::as_path).collect();
     refuse_overwrites(&inputs, &[Some(&args.figure.out)])?;
     let figure = args.figure.check(DEFAULT_WIDTH_IN)?;
-    let labels = super::legend_labels(args.labels.as_ref(), &args.inputs, |prefix| {
+    let labels = super::figure::legend_labels(args.labels.as_ref(), &args.inputs, |prefix| {
         Path::new(prefix)
             .file_name()
             .map_or_else(|| prefix.to_string(), |n| n.to_string_lossy().into_owned())

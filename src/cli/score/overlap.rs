@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
-use super::ListArgs;
+use super::lists::ListArgs;
 use crate::cli::output::{refuse_overwrites, Output};
 use crate::cli::protein::PredictionFormatArg;
 use contactmap::error::{Error, Result};

@@ -35,8 +35,8 @@ use super::ensemble::{
 };
 use super::noise::noise_key;
 use super::polymer::Polymer;
-use super::stream_rng;
 use crate::error::Result;
+use crate::random::stream_rng;
 use system::GpuSystem;
 
 /// Stream tag of the GPU's noise keys.

@@ -6,7 +6,7 @@ use rand::Rng;
 use rayon::prelude::*;
 
 use super::{
-    noise, CellList, Confinement, Polymer, PolymerParams, Repulsion, Scratch, SimRng, Space,
+    noise, CellList, Confinement, Polymer, PolymerParams, Repulsion, Scratch, SeededRng, Space,
 };
 
 /// Below this many beads a polymer is stepped on the calling thread alone (the result is the
@@ -35,7 +35,7 @@ where
 /// A pair of independent standard normals by Marsaglia's polar method (no trigonometry; 27 %
 /// of the uniform pairs are rejected).
 #[inline]
-pub(super) fn normal_pair(rng: &mut SimRng) -> (f64, f64) {
+pub(super) fn normal_pair(rng: &mut SeededRng) -> (f64, f64) {
     loop {
         let u = 2.0 * rng.gen::<f64>() - 1.0;
         let v = 2.0 * rng.gen::<f64>() - 1.0;
@@ -47,7 +47,7 @@ pub(super) fn normal_pair(rng: &mut SimRng) -> (f64, f64) {
     }
 }
 
-pub(super) fn random_unit(rng: &mut SimRng) -> [f64; 3] {
+pub(super) fn random_unit(rng: &mut SeededRng) -> [f64; 3] {
     loop {
         let (a, b) = normal_pair(rng);
         let (c, _) = normal_pair(rng);
@@ -78,14 +78,14 @@ impl Polymer {
     ///
     /// ```
     /// use contactmap::sim::polymer::{Polymer, PolymerParams};
-    /// use contactmap::sim::stream_rng;
+    /// use contactmap::random::stream_rng;
     /// let params = PolymerParams { chains: vec![50], ..PolymerParams::default() };
     /// let mut polymer = Polymer::new(params, stream_rng(1, 0, 0))?;
     /// polymer.run(100);
     /// assert_eq!((polymer.positions().len(), polymer.steps_taken()), (50, 100));
     /// # Ok::<(), contactmap::Error>(())
     /// ```
-    pub fn new(params: PolymerParams, mut rng: SimRng) -> Result<Self> {
+    pub fn new(params: PolymerParams, mut rng: SeededRng) -> Result<Self> {
         params.check()?;
         let n = params.n_beads();
         let mut positions = Vec::with_capacity(n);
@@ -167,7 +167,7 @@ impl Polymer {
     pub fn from_positions(
         params: PolymerParams,
         positions: Vec<[f64; 3]>,
-        rng: SimRng,
+        rng: SeededRng,
     ) -> Result<Self> {
         params.check()?;
         if positions.len() != params.n_beads() {
@@ -190,7 +190,7 @@ impl Polymer {
         params: PolymerParams,
         positions: Vec<[f64; 3]>,
         chain_of: Vec<u32>,
-        mut rng: SimRng,
+        mut rng: SeededRng,
     ) -> Result<Self> {
         let n = positions.len();
         let mut polymer = Self {

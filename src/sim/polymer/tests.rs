@@ -1,6 +1,6 @@
 use super::forces::{angle_terms, same_type_well};
 use super::*;
-use crate::sim::stream_rng;
+use crate::random::stream_rng;
 
 fn params_with(repulsion: Repulsion, confinement: Confinement) -> PolymerParams {
     PolymerParams {
