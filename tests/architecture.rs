@@ -134,7 +134,20 @@ fn code_of(text: &str) -> String {
     while let Some(at) = rest.find("#[cfg(test)]") {
         out.push_str(&rest[..at]);
         let after = &rest[at + "#[cfg(test)]".len()..];
-        if !after.trim_start().starts_with("mod ") {
+        // attributes between `#[cfg(test)]` and the `mod` (`#[allow(...)]`) are skipped
+        let mut declared = after.trim_start();
+        while declared.starts_with("#[") {
+            match declared.find(']') {
+                Some(end) => declared = declared[end + 1..].trim_start(),
+                None => break,
+            }
+        }
+        let declared = declared
+            .strip_prefix("pub(crate) ")
+            .or_else(|| declared.strip_prefix("pub(super) "))
+            .or_else(|| declared.strip_prefix("pub "))
+            .unwrap_or(declared);
+        if !declared.starts_with("mod ") {
             out.push_str("#[cfg(test)]");
             rest = after;
             continue;

@@ -30,7 +30,7 @@
 //! genome-wide (`band.first_bin + local`).
 
 use super::band::CisBand;
-use super::{Boundary, Domain};
+use super::domains::{Boundary, Domain};
 use crate::error::{Error, Result};
 use crate::genome::View;
 

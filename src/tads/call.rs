@@ -11,10 +11,10 @@ use crate::matrix::pixels::PixelSource;
 use super::armatus::{armatus, level_boundaries, ArmatusParams};
 use super::band::cis_bands;
 use super::directionality::{directionality, DirectionalityParams, DirectionalityTable};
+use super::domains::{domains_between, Boundary, Domain};
 use super::hmm::{dixon_domains, DiState, HmmParams};
 use super::insulation::{insulation, InsulationParams, InsulationTable};
 use super::topdom::{topdom, TopDomParams, TopDomRegion, TopDomTag};
-use super::{domains_between, Boundary, Domain};
 
 /// A TAD caller and its parameters.
 #[derive(Clone, Debug)]

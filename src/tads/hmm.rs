@@ -40,7 +40,7 @@
 //!   the domain starts. Bins are genome-wide (`first_bin + local index`).
 
 use super::directionality::DirectionalityTable;
-use super::{region_rows, Boundary, Domain};
+use super::domains::{region_rows, Boundary, Domain};
 use crate::error::{Error, Result};
 
 /// Parameters of the fit and of the domain calls.

@@ -32,9 +32,9 @@ use crate::genome::BinTable;
 use crate::genome::View;
 use crate::matrix::{PixelSlice, PixelSource};
 
+use super::domains::Boundary;
 use super::peaks::find_peak_prominence;
 use super::threshold::Threshold;
-use super::Boundary;
 
 /// Parameters of [`insulation`], defaults as `cooltools insulation`.
 #[derive(Clone, Debug, PartialEq)]

@@ -4,10 +4,10 @@
 
 use super::call::{TadCalls, TadTrack};
 use super::directionality::DirectionalityTable;
+use super::domains::Domain;
 use super::hmm::DiState;
 use super::insulation::{InsulationTable, TrackValues};
 use super::topdom::{TopDomRegion, TopDomTag};
-use super::Domain;
 use crate::genome::BinTable;
 use crate::io::tables::{write_real, write_u64};
 
