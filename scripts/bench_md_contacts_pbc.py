@@ -37,17 +37,9 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from bench_md_contacts import CUTOFF_NM, ours  # noqa: E402  (the same cutoffs and run)
+from md_contacts_reference import cb_atoms  # noqa: E402  (the references' Cb choice)
 
 CHUNK = 100
-
-
-def cb_atoms(top):
-    atoms = []
-    for residue in top.residues:
-        name = "CA" if residue.name == "GLY" else "CB"
-        found = [a.index for a in residue.atoms if a.name == name]
-        atoms.append(found[0] if found else -1)
-    return atoms
 
 
 def mdtraj_counts(path, topology, scheme):
