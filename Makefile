@@ -10,6 +10,11 @@ endif
 
 BIN := target/release/contactmap
 
+# The workspace but the criterion benches (benches/, a crate of its own): built together, the
+# library, its tests, the binary and the Python module share one set of features, so contactmap
+# is compiled once for all of them (and `maturin develop` / `make wheel` reuse it).
+TESTED := --workspace --exclude contactmap-benches
+
 .PHONY: all build demo test lint man check-peers bench clean python wheel
 
 all: build
@@ -18,7 +23,7 @@ all: build
 # num-complex, pyo3's syn), so that `make wheel` and `pip install ./python` reuse this build
 # instead of compiling everything again
 build:
-	$(CARGO) build --release --workspace
+	$(CARGO) build --release $(TESTED)
 
 ## make demo: build, then run the pipeline on the real example data shipped in data/
 demo: build
@@ -27,9 +32,9 @@ demo: build
 ## make test: formatting, lints, docs and the whole test suite (what CI runs), then the Snakemake
 ## workflows on data/ (scripts/test_workflows.sh: installs the pinned snakemake in .venv-workflows)
 test: lint
-	$(CARGO) test --all-targets
-	$(CARGO) test --doc
-	RUSTDOCFLAGS="-D warnings" $(CARGO) doc --no-deps --quiet
+	$(CARGO) test $(TESTED) --all-targets
+	$(CARGO) test $(TESTED) --doc
+	RUSTDOCFLAGS="-D warnings" $(CARGO) doc --workspace --no-deps --quiet
 	scripts/test_workflows.sh target/debug/contactmap
 	scripts/test_python.sh target/debug/contactmap
 
@@ -48,14 +53,14 @@ man: build
 
 lint:
 	$(CARGO) fmt --all -- --check
-	$(CARGO) clippy --all-targets -- -D warnings
-	$(CARGO) clippy -p contactmap-python --all-targets -- -D warnings
+	$(CARGO) clippy --workspace --all-targets -- -D warnings
 
 ## make check-peers: open every file we write with cooler 0.11 (needs a venv: see docs/peers.md)
 check-peers: build
 	scripts/check_peers.sh
 
-## make bench: side-by-side timings against the peer tools (see docs/performance.md)
+## make bench: side-by-side timings against the peer tools (see docs/performance.md); the
+## criterion benches of our own functions are `cargo bench -p contactmap-benches`
 bench: build
 	scripts/bench_peers.sh
 

@@ -2,18 +2,18 @@
 //! power-law decay with a fixed linear congruential noise and sparse trans contacts, 4 chromosomes
 //! x 2,500 bins, ~1.6 M pixels).
 //!
-//! Run: `cargo bench --bench balance`. End to end against `cooler balance -p 2`, time
+//! Run: `cargo bench -p contactmap-benches --bench balance`. End to end against `cooler balance -p 2`, time
 //! `contactmap balance FILE -o weights.tsv` on a large cooler.
 
 // criterion_group! generates an undocumented public function.
 #![allow(missing_docs)]
 
-use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 
-use contactmap::balance::{balance, BalanceParams, Method, Scope};
+use contactmap::balance::{BalanceParams, Method, Scope, balance};
 use contactmap::matrix::{CountType, Pixels};
 
-mod common;
+use contactmap_benches as common;
 
 /// 4 chromosomes x 2,500 bins, diagonals up to 150, every 97th bin dead, 3 trans pixels a row.
 fn synthetic() -> Pixels {

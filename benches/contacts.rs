@@ -4,20 +4,20 @@
 //! with a Cb beside each), CASP defaults (Cb < 8 A, long range, L/10 to L) and all four ranges;
 //! and finding the true contacts of the chain.
 //!
-//! Run: `cargo bench --bench contacts` (goal: under one second per scoring).
+//! Run: `cargo bench -p contactmap-benches --bench contacts` (goal: under one second per scoring).
 
 // criterion_group! generates an undocumented public function.
 #![allow(missing_docs)]
 
-use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 
 use contactmap::io::predictions::Prediction;
 use contactmap::io::structure::{Atom, Chain, Residue};
 use contactmap::score::contacts::{
-    score_contacts, ContactDefinition, ScoreParams, SeparationRange, TrueContacts,
+    ContactDefinition, ScoreParams, SeparationRange, TrueContacts, score_contacts,
 };
 
-mod common;
+use contactmap_benches as common;
 
 const N_RESIDUES: i32 = 1_000;
 const N_PAIRS: usize = 1_000_000;

@@ -2,20 +2,20 @@
 //! power-law decay with a fixed linear congruential noise, a few masked bins, 4 chromosomes x
 //! 5,000 bins, diagonals up to 300, sparse trans; about 6 M pixels).
 //!
-//! Run: `cargo bench --bench expected`. The end-to-end timing on the 25 M pixel file against
+//! Run: `cargo bench -p contactmap-benches --bench expected`. The end-to-end timing on the 25 M pixel file against
 //! cooltools is in docs/performance.md.
 
 // criterion_group! generates an undocumented public function.
 #![allow(missing_docs)]
 
-use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 
-use contactmap::expected::{expected_cis, expected_trans, CisParams};
+use contactmap::expected::{CisParams, expected_cis, expected_trans};
 
 use contactmap::genome::View;
 use contactmap::matrix::PixelSource;
 
-mod common;
+use contactmap_benches as common;
 
 fn bench_expected(c: &mut Criterion) {
     let (pixels, weights) = common::six_million_pixels();

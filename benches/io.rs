@@ -1,19 +1,19 @@
 //! Criterion benches of the cooler reader and writer on a synthetic matrix (deterministic: a
 //! power-law decay with a fixed linear congruential noise, 2 chromosomes x 5,000 bins, ~1.5 M pixels).
 //!
-//! Run: `cargo bench --bench io`. Side-by-side timings against the peer tools on a 25 M pixel file
+//! Run: `cargo bench -p contactmap-benches --bench io`. Side-by-side timings against the peer tools on a 25 M pixel file
 //! are in docs/performance.md (scripts/bench_peers.sh).
 
 // criterion_group! generates an undocumented public function.
 #![allow(missing_docs)]
 
-use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 
-use contactmap::io::cool::{write_cool, CoolReader, CoolWriteOptions};
+use contactmap::io::cool::{CoolReader, CoolWriteOptions, write_cool};
 use contactmap::io::{InMemory, MatrixReader};
 use contactmap::matrix::{CountType, MatrixBuilder};
 
-mod common;
+use contactmap_benches as common;
 
 /// 2 chromosomes x 5,000 bins, diagonals up to 150, cis only.
 fn synthetic() -> InMemory {

@@ -4,16 +4,16 @@
 //! 100 Brownian steps per iteration, in a rayon pool of one thread (one chain would otherwise use
 //! every core; `examples/polymer_scaling.rs` measures that). Throughput is in monomer-steps.
 //!
-//! Run: `cargo bench --bench polymer` (goal: 5 million monomer-steps per second per core).
+//! Run: `cargo bench -p contactmap-benches --bench polymer` (goal: 5 million monomer-steps per second per core).
 
 // criterion_group! generates an undocumented public function.
 #![allow(missing_docs)]
 
-use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 
 use contactmap::geometry::cells::CellList;
 use contactmap::random::stream_rng;
-use contactmap::sim::polymer::{box_side, sphere_radius, Confinement, Polymer, PolymerParams};
+use contactmap::sim::polymer::{Confinement, Polymer, PolymerParams, box_side, sphere_radius};
 
 const N: usize = 10_000;
 const STEPS: usize = 100;

@@ -3,23 +3,23 @@
 //! masked): insulation with three windows and directionality over all of it, TopDom and Armatus
 //! on one chromosome's band.
 //!
-//! Run: `cargo bench --bench tads`. The end-to-end timing on the 25 M pixel file against cooltools
+//! Run: `cargo bench -p contactmap-benches --bench tads`. The end-to-end timing on the 25 M pixel file against cooltools
 //! is in docs/performance.md.
 
 // criterion_group! generates an undocumented public function.
 #![allow(missing_docs)]
 
-use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 
 use contactmap::genome::View;
 use contactmap::matrix::PixelSource;
-use contactmap::tads::armatus::{armatus, ArmatusParams};
+use contactmap::tads::armatus::{ArmatusParams, armatus};
 use contactmap::tads::band::cis_bands;
-use contactmap::tads::directionality::{directionality, DirectionalityParams};
-use contactmap::tads::insulation::{insulation, InsulationParams};
-use contactmap::tads::topdom::{topdom, TopDomParams};
+use contactmap::tads::directionality::{DirectionalityParams, directionality};
+use contactmap::tads::insulation::{InsulationParams, insulation};
+use contactmap::tads::topdom::{TopDomParams, topdom};
 
-mod common;
+use contactmap_benches as common;
 
 fn bench_tads(c: &mut Criterion) {
     let (pixels, weights) = common::six_million_pixels();

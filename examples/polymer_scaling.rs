@@ -8,7 +8,7 @@
 use std::time::Instant;
 
 use contactmap::random::stream_rng;
-use contactmap::sim::polymer::{box_side, sphere_radius, Confinement, Polymer, PolymerParams};
+use contactmap::sim::polymer::{Confinement, Polymer, PolymerParams, box_side, sphere_radius};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();

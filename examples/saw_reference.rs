@@ -15,7 +15,7 @@
 
 use contactmap::random::SeededRng;
 use contactmap::sim::analysis::{contact_probability, loglog_slope};
-use contactmap::sim::polymer::{radius_of_gyration, BondModel, Repulsion};
+use contactmap::sim::polymer::{BondModel, Repulsion, radius_of_gyration};
 use contactmap::sim::reference::ChainSampler;
 use rand::SeedableRng;
 use rayon::prelude::*;

@@ -962,7 +962,7 @@ fn ice<S: PixelSource>(
             None => bias.clone(),
         };
         // Groups that are done (cis: their chromosome's pixels only) need no more sums.
-        for (range, _) in groups.iter().zip(&active).filter(|(_, &a)| !a) {
+        for (range, _) in groups.iter().zip(&active).filter(|&(_, &a)| !a) {
             vector[range.clone()].iter_mut().for_each(|v| *v = 0.0);
         }
         let marg = marginals(source, n, filter, &vector, false)?;

@@ -929,7 +929,7 @@ fn bitset_autocorrelation(bits: &[bool]) -> Vec<u64> {
     let n = bits.len();
     let n_words = n.div_ceil(64);
     let mut words = vec![0u64; n_words + 1];
-    for (i, _) in bits.iter().enumerate().filter(|(_, &b)| b) {
+    for (i, _) in bits.iter().enumerate().filter(|&(_, &b)| b) {
         words[i / 64] |= 1 << (i % 64);
     }
     (0..n)

@@ -10,7 +10,7 @@
 use std::path::Path;
 use std::sync::Mutex;
 
-use crate::balance::{balance, BalanceParams, Method, Scope};
+use crate::balance::{BalanceParams, Method, Scope, balance};
 use crate::error::{Error, Result};
 use crate::genome::BinTable;
 use crate::io::hic::{
@@ -19,7 +19,7 @@ use crate::io::hic::{
 };
 use crate::io::{self, Inspect, MatrixReader};
 use crate::matrix::pixels::Pixels;
-use crate::matrix::{invert_weight, PixelBlock};
+use crate::matrix::{PixelBlock, invert_weight};
 
 /// The normalisations a `.hic` gets by default (Juicer's set).
 pub const DEFAULT_HIC_NORMALIZATIONS: [Method; 4] =

@@ -37,7 +37,7 @@ pub mod text;
 pub mod topology;
 pub mod trajectory;
 
-pub use atomic::{is_special_file, same_file, Temporary, WriteLock};
+pub use atomic::{Temporary, WriteLock, is_special_file, same_file};
 
 /// Inside `impl MatrixReader for W`, where `self.FIELD` is the wrapped reader: every method but
 /// the pixel reads forwarded to it (totals, the stored pixels' sums, included). An adapter that

@@ -45,7 +45,7 @@ use crate::genome::View;
 use crate::io::MatrixReader;
 use fdr::{Histogram, KernelStats, LambdaBins};
 use kernels::{Kernel, KernelType};
-use scan::{scan_region, RegionScan, ScanSettings};
+use scan::{RegionScan, ScanSettings, scan_region};
 
 /// The dot caller's parameters; the defaults are the cooltools API's (`cooltools.dots`), which
 /// differ from its command line's ([`DotsParams::cooltools_cli`]).

@@ -337,11 +337,7 @@ impl MatrixReader for NormalizedReader<'_> {
     ) -> Result<()> {
         self.inner.read_pixels(rows, cols, &mut |block| {
             let out = self.normalizer.apply(block)?;
-            if out.is_empty() {
-                Ok(())
-            } else {
-                sink(&out)
-            }
+            if out.is_empty() { Ok(()) } else { sink(&out) }
         })
     }
 }

@@ -36,14 +36,14 @@ use ndarray::Array2;
 
 use crate::error::{Error, Result};
 use crate::genome::View;
-use crate::io::bed::{BedRecord, BedpeRecord};
 use crate::io::MatrixReader;
+use crate::io::bed::{BedRecord, BedpeRecord};
 use cut::{Cutter, Make, Snip, Sums};
-use groups::{band_of, distance_edges, GroupBy, GroupKey};
-use shifts::{batch_shifts, Mt19937, ShiftParams};
+use groups::{GroupBy, GroupKey, band_of, distance_edges};
+use shifts::{Mt19937, ShiftParams, batch_shifts};
 use windows::{
-    bed_batches, bed_trans_batches, bedpe_batches, bedpe_trans_batches, Batch, Pair, Skipped,
-    WindowParams,
+    Batch, Pair, Skipped, WindowParams, bed_batches, bed_trans_batches, bedpe_batches,
+    bedpe_trans_batches,
 };
 
 /// The features to pile up.

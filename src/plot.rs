@@ -23,5 +23,5 @@ pub mod similarity;
 pub mod svg;
 
 pub use colormap::{ColorMap, ColorScale, ScaleKind};
-pub use render::{figure_bytes, ImageFormat};
+pub use render::{ImageFormat, figure_bytes};
 pub use svg::{Rgb, RgbImage, Svg};

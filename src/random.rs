@@ -14,8 +14,8 @@
 //! `ln_gamma`, so no distribution crate is needed.
 
 use rand::Rng;
-use rand_xoshiro::rand_core::SeedableRng;
 use rand_xoshiro::Xoshiro256PlusPlus;
+use rand_xoshiro::rand_core::SeedableRng;
 
 /// The random generator of every seeded stream (the simulators, downsampling, HiCRep's training).
 pub type SeededRng = Xoshiro256PlusPlus;
@@ -60,11 +60,11 @@ pub fn poisson<R: Rng + ?Sized>(rng: &mut R, mean: f64) -> u64 {
 /// Knuth: count uniforms multiplied until the product drops to `exp(-mean)`.
 fn poisson_knuth<R: Rng + ?Sized>(rng: &mut R, mean: f64) -> u64 {
     let limit = (-mean).exp();
-    let mut product: f64 = rng.gen();
+    let mut product: f64 = rng.r#gen();
     let mut k = 0;
     while product > limit {
         k += 1;
-        product *= rng.gen::<f64>();
+        product *= rng.r#gen::<f64>();
     }
     k
 }
@@ -78,8 +78,8 @@ fn poisson_ptrs<R: Rng + ?Sized>(rng: &mut R, mean: f64) -> u64 {
     let inv_alpha = 1.1239 + 1.1328 / (b - 3.4);
     let v_r = 0.9277 - 3.6224 / (b - 2.0);
     loop {
-        let u = rng.gen::<f64>() - 0.5;
-        let v: f64 = rng.gen();
+        let u = rng.r#gen::<f64>() - 0.5;
+        let v: f64 = rng.r#gen();
         let us = 0.5 - u.abs();
         let k = ((2.0 * a / us + b) * u + mean + 0.43).floor();
         if us >= 0.07 && v <= v_r {
@@ -98,8 +98,8 @@ fn poisson_ptrs<R: Rng + ?Sized>(rng: &mut R, mean: f64) -> u64 {
 /// One standard normal draw (Box-Muller, one of the pair).
 pub fn standard_normal<R: Rng + ?Sized>(rng: &mut R) -> f64 {
     // 1 - U is in (0, 1], so the logarithm is finite.
-    let radius = (-2.0 * (1.0 - rng.gen::<f64>()).ln()).sqrt();
-    radius * (std::f64::consts::TAU * rng.gen::<f64>()).cos()
+    let radius = (-2.0 * (1.0 - rng.r#gen::<f64>()).ln()).sqrt();
+    radius * (std::f64::consts::TAU * rng.r#gen::<f64>()).cos()
 }
 
 #[cfg(test)]
@@ -162,7 +162,7 @@ mod tests {
 
     #[test]
     fn streams_are_reproducible_and_distinct() {
-        let draw = |tag, index| stream_rng(3, tag, index).gen::<u64>();
+        let draw = |tag, index| stream_rng(3, tag, index).r#gen::<u64>();
         assert_eq!(draw(1, 2), draw(1, 2));
         assert_ne!(draw(1, 2), draw(1, 3));
         assert_ne!(draw(1, 2), draw(2, 2));

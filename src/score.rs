@@ -26,7 +26,7 @@ pub mod overlap;
 pub mod register;
 pub mod target;
 
-pub use boundaries::{domain_overlap, score_boundaries, BoundaryMatch, DomainOverlap};
+pub use boundaries::{BoundaryMatch, DomainOverlap, domain_overlap, score_boundaries};
 
 /// `numerator / denominator`, or 0 when the denominator is 0 (a precision without calls, a recall
 /// without truth).

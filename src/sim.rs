@@ -29,4 +29,4 @@ pub mod reference;
 pub mod relaxation;
 pub mod spec;
 
-pub use blocks::{block_map, BlockMap, BlockMapParams};
+pub use blocks::{BlockMap, BlockMapParams, block_map};

@@ -28,7 +28,7 @@ pub mod tables;
 pub mod threshold;
 pub mod topdom;
 
-pub use domains::{domains_between, region_rows, Boundary, Domain};
+pub use domains::{Boundary, Domain, domains_between, region_rows};
 
 #[cfg(test)]
 mod tests {

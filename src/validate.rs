@@ -48,7 +48,7 @@ use hdf5::types::{TypeDescriptor, VarLenAscii, VarLenUnicode};
 use crate::error::{Error, Result};
 use crate::genome::{Bin, BinTable, Chrom};
 use crate::io::cool::chunks::{self, Column};
-use crate::io::cool::{self, CoolWriteOptions, BLOCK_PIXELS, DIVISIVE_BY_NAME};
+use crate::io::cool::{self, BLOCK_PIXELS, CoolWriteOptions, DIVISIVE_BY_NAME};
 use crate::io::hdf5_guard::{guarded, read_strings};
 use crate::io::hic::HicReader;
 use crate::io::{self, FileKind, InMemory, MatrixReader};
@@ -60,7 +60,7 @@ mod repair;
 
 use cooler::*;
 use hic::*;
-pub use repair::{repair, RepairOutcome};
+pub use repair::{RepairOutcome, repair};
 
 /// Findings listed per class and group; further occurrences are only counted.
 pub const MAX_LISTED: u64 = 20;
@@ -414,10 +414,12 @@ mod tests {
         assert_eq!(report.n_errors(), 25);
         assert_eq!(report.n_warnings(), 1);
         assert!(!report.is_valid());
-        assert!(report
-            .findings
-            .iter()
-            .any(|f| f.message.starts_with("5 more unsorted findings")));
+        assert!(
+            report
+                .findings
+                .iter()
+                .any(|f| f.message.starts_with("5 more unsorted findings"))
+        );
     }
 
     #[test]

@@ -10,47 +10,47 @@ use std::collections::{BTreeMap, HashMap, HashSet};
 use std::io::BufRead;
 use std::path::{Path, PathBuf};
 
-use contactmap::balance::{balance, BalanceParams, Method, Scope};
+use contactmap::balance::{BalanceParams, Method, Scope, balance};
 use contactmap::compartments::cis::CisEigParams;
-use contactmap::compartments::eigs::{eigs_cis, eigs_trans, Phasing};
+use contactmap::compartments::eigs::{Phasing, eigs_cis, eigs_trans};
 use contactmap::compartments::saddle::{
-    digitize, saddle_cis, saddle_strength, saddle_trans, Binning, SaddleParams,
+    Binning, SaddleParams, digitize, saddle_cis, saddle_strength, saddle_trans,
 };
 use contactmap::compartments::trans::TransEigParams;
-use contactmap::expected::logbin::{logbin_expected, LogBinParams};
-use contactmap::expected::{cis_curves, expected_cis, expected_trans, CisParams, Column};
+use contactmap::expected::logbin::{LogBinParams, logbin_expected};
+use contactmap::expected::{CisParams, Column, cis_curves, expected_cis, expected_trans};
 use contactmap::genome::View;
-use contactmap::io::cool::{write_cool, write_mcool, CoolWriteOptions};
+use contactmap::io::cool::{CoolWriteOptions, write_cool, write_mcool};
 use contactmap::io::hic::{HicReader, HicWriteOptions};
 use contactmap::io::predictions::{read_fasta, read_prediction};
 use contactmap::io::structure::read_structure;
-use contactmap::io::text::{write_text, TextFormat};
+use contactmap::io::text::{TextFormat, write_text};
 use contactmap::io::{
-    load_matrix, load_pixels, load_pixels_for_balancing, open_matrix, open_text, MatrixReader,
-    OpenOptions,
+    MatrixReader, OpenOptions, load_matrix, load_pixels, load_pixels_for_balancing, open_matrix,
+    open_text,
 };
 use contactmap::matrix::ContactMatrix;
 use contactmap::normalize::{Method as NormMethod, NormalizedReader, Normalizer};
 use contactmap::plot::heatmap::{AxisCells, CellGrid};
 use contactmap::plot::map::{
-    draw_map, GenomicSpan, MapFigure, MapLayout, MapStyle, MapView, Overlays,
+    GenomicSpan, MapFigure, MapLayout, MapStyle, MapView, Overlays, draw_map,
 };
-use contactmap::plot::{figure_bytes, ColorMap, ColorScale, ImageFormat, Rgb, ScaleKind};
+use contactmap::plot::{ColorMap, ColorScale, ImageFormat, Rgb, ScaleKind, figure_bytes};
 use contactmap::score::boundaries::score_boundaries;
 use contactmap::score::compartments::score_compartments;
 use contactmap::score::contacts::{
-    score_contacts, ContactDefinition, ListSize, Prediction, ScoreParams, SeparationRange,
-    TrueContacts,
+    ContactDefinition, ListSize, Prediction, ScoreParams, SeparationRange, TrueContacts,
+    score_contacts,
 };
 use contactmap::score::overlap::{overlap, ranked_pairs};
-use contactmap::sim::ensemble::{run_ensemble, EnsembleParams};
+use contactmap::sim::ensemble::{EnsembleParams, run_ensemble};
 use contactmap::sim::polymer::{Confinement, PolymerParams};
-use contactmap::sim::{block_map, BlockMapParams};
+use contactmap::sim::{BlockMapParams, block_map};
 use contactmap::tads::armatus::ArmatusParams;
-use contactmap::tads::call::{call, Caller};
-use contactmap::tads::directionality::{directionality, DirectionalityParams};
+use contactmap::tads::call::{Caller, call};
+use contactmap::tads::directionality::{DirectionalityParams, directionality};
 use contactmap::tads::hmm::HmmParams;
-use contactmap::tads::insulation::{insulation, InsulationParams};
+use contactmap::tads::insulation::{InsulationParams, insulation};
 use contactmap::tads::threshold::Threshold;
 use contactmap::tads::topdom::TopDomParams;
 
@@ -943,11 +943,13 @@ fn ensemble_contacts_are_the_naive_count_of_close_pairs() {
     let naive: Vec<(u32, u32, u64)> = naive.into_iter().map(|((a, b), c)| (a, b, c)).collect();
     assert_eq!(ensemble.pixels, naive);
     // the sphere holds the chains
-    assert!(ensemble.conformations.iter().flatten().all(|p| (p[0] * p[0]
-        + p[1] * p[1]
-        + p[2] * p[2])
-        .sqrt()
-        < 6.0));
+    assert!(
+        ensemble
+            .conformations
+            .iter()
+            .flatten()
+            .all(|p| (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt() < 6.0)
+    );
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -1256,7 +1258,9 @@ fn heatmap_pixels_have_the_colour_of_their_balanced_value() {
     // the SVG is well-formed XML with the raster embedded
     let text = String::from_utf8(figure_bytes(&svg, ImageFormat::Svg, 100.0).unwrap()).unwrap();
     let document = roxmltree::Document::parse(&text).unwrap();
-    assert!(document
-        .descendants()
-        .any(|node| node.has_tag_name("image")));
+    assert!(
+        document
+            .descendants()
+            .any(|node| node.has_tag_name("image"))
+    );
 }

@@ -5,8 +5,8 @@
 use std::cmp::Ordering;
 
 use super::{
-    juicer_filter, row_sums, solve_groups, sum_factor, BalanceParams, BalanceResult, GroupStats,
-    Layout, Product, ProductGroup,
+    BalanceParams, BalanceResult, GroupStats, Layout, Product, ProductGroup, juicer_filter,
+    row_sums, solve_groups, sum_factor,
 };
 use crate::error::Result;
 use crate::matrix::PixelSource;
@@ -419,7 +419,7 @@ impl KrGroup {
                         .rows
                         .iter()
                         .zip(&keep)
-                        .filter(|(_, &k)| k)
+                        .filter(|&(_, &k)| k)
                         .map(|(&b, _)| b)
                         .collect();
                     self.retry(rows, params);

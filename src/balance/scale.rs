@@ -28,7 +28,7 @@
 //! (the fraction `p` in `f32`, as Juicer's).
 
 use super::{
-    solve_groups, sum_factor, BalanceParams, GroupStats, Layout, PixelFilter, Product, ProductGroup,
+    BalanceParams, GroupStats, Layout, PixelFilter, Product, ProductGroup, solve_groups, sum_factor,
 };
 use crate::error::Result;
 use crate::matrix::PixelSource;
@@ -369,7 +369,7 @@ impl ProductGroup for ScaleGroup {
 fn max_over_rows<T>(bad: &[bool], items: impl Iterator<Item = T>, f: impl Fn(T) -> f64) -> f64 {
     items
         .zip(bad)
-        .filter(|(_, &bad)| !bad)
+        .filter(|&(_, &bad)| !bad)
         .map(|(item, _)| f(item))
         .fold(0.0, f64::max)
 }

@@ -1,10 +1,10 @@
 //! Balancing a map read from a file and storing the weights into a cooler, as `cooler balance`
 //! does: the steps `balance` and `zoomify --balance` share.
 
-use super::{balance, BalanceParams, BalanceResult, Scope};
+use super::{BalanceParams, BalanceResult, Scope, balance};
 use crate::error::{Error, Result};
 use crate::genome::BinTable;
-use crate::io::cool::store::{store_weights, AttrValue};
+use crate::io::cool::store::{AttrValue, store_weights};
 use crate::io::{self, MatrixReader};
 use crate::matrix::Weights;
 

@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
 use contactmap::error::Result;
-use contactmap::io::{text::TextFormat, OpenOptions};
+use contactmap::io::{OpenOptions, text::TextFormat};
 
 /// Text input layouts, for `--format`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]

@@ -7,8 +7,8 @@ use clap::{Args, ValueEnum};
 
 use crate::cli::args::InputArgs;
 use crate::cli::input::open_for_analysis;
-use crate::cli::output::{is_stdout, print_json, refuse_overwrites, store_lock, uri_file, Output};
-use contactmap::balance::store::{balance_reader, store_balanced, weights_table, Balanced};
+use crate::cli::output::{Output, is_stdout, print_json, refuse_overwrites, store_lock, uri_file};
+use contactmap::balance::store::{Balanced, balance_reader, store_balanced, weights_table};
 use contactmap::balance::{BalanceParams, Method, Scope};
 use contactmap::error::{Error, Result};
 use contactmap::genome::BinTable;

@@ -7,10 +7,10 @@ use clap::Args;
 
 use crate::cli::args::InputArgs;
 use crate::cli::input::{mask_unweighted, open_balanced, track_argument};
-use crate::cli::output::{column_file, refuse_overwrites, uri_file, write_text_file, Output};
+use crate::cli::output::{Output, column_file, refuse_overwrites, uri_file, write_text_file};
 use crate::cli::progress::Progress;
 use contactmap::compartments::cis::{CisEigParams, RegionEigs};
-use contactmap::compartments::eigs::{eigs_cis, eigs_trans, Eigs, Phasing};
+use contactmap::compartments::eigs::{Eigs, Phasing, eigs_cis, eigs_trans};
 use contactmap::compartments::phasing::SortMetric;
 use contactmap::compartments::tables::{
     cis_eigenvalue_table, eigenvector_table, trans_eigenvalue_table,

@@ -7,8 +7,8 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
-use crate::cli::output::refuse_overwrites;
 use crate::cli::output::Output;
+use crate::cli::output::refuse_overwrites;
 use crate::cli::progress::spinner;
 use crate::cli::protein::{DefinitionArgs, RegisterArg};
 
@@ -16,7 +16,7 @@ use contactmap::error::Result;
 use contactmap::io::predictions::read_fasta;
 use contactmap::io::topology::read_topology;
 use contactmap::score::frequency::{
-    contact_frequencies_of, frequency_table, FrequencySpec, Scheme,
+    FrequencySpec, Scheme, contact_frequencies_of, frequency_table,
 };
 use contactmap::score::target::{
     distance_matrix_tsv, measure, place_chain, read_chain, true_contacts_rr,

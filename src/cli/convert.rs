@@ -6,12 +6,12 @@ use clap::Args;
 
 use crate::cli::args::InputArgs;
 use crate::cli::hic_output::{parse_normalizations, write_hic};
-use crate::cli::matrix_output::{format_from_extension, OutputFormat};
+use crate::cli::matrix_output::{OutputFormat, format_from_extension};
 use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::progress::Progress;
 use contactmap::error::{Error, Result};
 use contactmap::io::cool::resolutions::mcool_resolutions;
-use contactmap::io::cool::{write_cool, write_mcool, CoolWriteOptions};
+use contactmap::io::cool::{CoolWriteOptions, write_cool, write_mcool};
 use contactmap::io::hic::HicWriteOptions;
 use contactmap::io::text::{self, TextFormat};
 use contactmap::io::{self, FileKind, MatrixReader};

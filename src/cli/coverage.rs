@@ -6,7 +6,7 @@ use clap::Args;
 
 use crate::cli::args::InputArgs;
 use crate::cli::input::{open_for_analysis, read_weights};
-use crate::cli::output::{refuse_overwrites, store_lock, uri_file, Output};
+use crate::cli::output::{Output, refuse_overwrites, store_lock, uri_file};
 use contactmap::compare::coverage::{balanced_coverage, coverage, store};
 use contactmap::error::{Error, Result};
 use contactmap::io::output::python_float;

@@ -9,17 +9,17 @@ use crate::cli::input::{bp_option, expected_to_divide, open_balanced};
 use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::warnings::Warnings;
 use contactmap::error::{Error, Result};
+use contactmap::io::MatrixReader;
 use contactmap::io::bed::read_bedpe_table;
 use contactmap::io::output::write_whole;
 use contactmap::io::tables::Table;
-use contactmap::io::MatrixReader;
 use contactmap::loops::kernels::recommended_w_p;
 use contactmap::loops::merge::{
-    check_resolutions, merge_resolutions, sort_merged, MergeParams, ResolutionCall,
-    MERGE_RESOLUTIONS,
+    MERGE_RESOLUTIONS, MergeParams, ResolutionCall, check_resolutions, merge_resolutions,
+    sort_merged,
 };
 use contactmap::loops::tables::{dots_tsv, enriched_tsv};
-use contactmap::loops::{call_dots, DotCalls, DotsParams};
+use contactmap::loops::{DotCalls, DotsParams, call_dots};
 
 /// Arguments of `contactmap dots`.
 #[derive(Debug, Args)]
@@ -490,8 +490,8 @@ fn read_list(text: &str) -> Result<ResolutionTable> {
         (None, 1) => *widths.first().expect("one width"),
         (None, 0) => {
             return Err(Error::Invalid(format!(
-            "{path_text}: no calls to take the resolution from: give it as {path_text}@RESOLUTION"
-        )))
+                "{path_text}: no calls to take the resolution from: give it as {path_text}@RESOLUTION"
+            )));
         }
         (None, _) => {
             return Err(Error::Invalid(format!(
@@ -502,7 +502,7 @@ fn read_list(text: &str) -> Result<ResolutionTable> {
                     .map(u64::to_string)
                     .collect::<Vec<_>>()
                     .join(", ")
-            )))
+            )));
         }
     };
     Ok(ResolutionTable {

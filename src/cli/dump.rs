@@ -5,11 +5,11 @@ use std::path::{Path, PathBuf};
 use clap::{Args, ValueEnum};
 
 use crate::cli::args::InputArgs;
-use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::output::{FloatFormat, Output};
+use crate::cli::output::{refuse_overwrites, uri_file};
 use contactmap::error::Result;
 use contactmap::io;
-use contactmap::io::text::dump::{dump_bins, dump_chroms, dump_pixels, DumpOptions};
+use contactmap::io::text::dump::{DumpOptions, dump_bins, dump_chroms, dump_pixels};
 
 /// Which table to print.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]

@@ -10,8 +10,8 @@ use crate::cli::input::weights_and_view;
 use crate::cli::output::write_whole;
 use crate::cli::output::{refuse_overwrites, uri_file};
 use contactmap::error::{Error, Result};
-use contactmap::expected::powerlaw::{power_law, FitRange, PowerLaw};
-use contactmap::expected::{expected_cis, expected_trans, CisParams};
+use contactmap::expected::powerlaw::{FitRange, PowerLaw, power_law};
+use contactmap::expected::{CisParams, expected_cis, expected_trans};
 use contactmap::io::{self, LoadedPixels, StreamedPixels};
 
 /// Arguments of `contactmap expected`.

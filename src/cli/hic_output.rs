@@ -6,8 +6,8 @@ use std::path::Path;
 use contactmap::balance::Method;
 use contactmap::error::{Error, Result};
 use contactmap::export;
-use contactmap::io::hic::HicWriteOptions;
 use contactmap::io::MatrixReader;
+use contactmap::io::hic::HicWriteOptions;
 
 /// Parse `--normalizations` ([`export::parse_normalizations`]).
 pub fn parse_normalizations(items: &[String]) -> Result<Vec<Method>> {

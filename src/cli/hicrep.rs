@@ -7,14 +7,14 @@ use clap::Args;
 
 use crate::cli::args::InputArgs;
 use crate::cli::input::{bp_option, open_for_analysis};
-use crate::cli::output::{refuse_overwrites, uri_file, Output};
+use crate::cli::output::{Output, refuse_overwrites, uri_file};
 use crate::cli::warnings::Warnings;
 use contactmap::compare::hicrep::{
-    chrom_ids, compare_samples, SccParams, Smoothing, DEFAULT_H_MAX,
+    DEFAULT_H_MAX, SccParams, Smoothing, chrom_ids, compare_samples,
 };
 use contactmap::error::{Error, Result};
-use contactmap::io::output::python_float;
 use contactmap::io::MatrixReader;
+use contactmap::io::output::python_float;
 
 /// Arguments of `contactmap hicrep`.
 #[derive(Debug, Args)]

@@ -59,11 +59,7 @@ pub fn run(args: &InfoArgs) -> Result<()> {
             (true, true) => serde_json::to_string(&report).unwrap_or_default() + "\n",
             (false, _) => {
                 let text = describe_text(&report);
-                if k > 0 {
-                    format!("\n{text}")
-                } else {
-                    text
-                }
+                if k > 0 { format!("\n{text}") } else { text }
             }
         };
         out.write_all(text.as_bytes())?;

@@ -7,12 +7,12 @@ use clap::Args;
 
 use crate::cli::args::InputArgs;
 use crate::cli::hic_output::write_hic;
-use crate::cli::matrix_output::{format_from_extension, OutputFormat};
+use crate::cli::matrix_output::{OutputFormat, format_from_extension};
 use crate::cli::output::{refuse_overwrites, uri_file};
 use contactmap::error::{Error, Result};
 use contactmap::export::DEFAULT_HIC_NORMALIZATIONS;
 use contactmap::io::cool::resolutions::{fixed_bin_size, mcool_resolutions};
-use contactmap::io::cool::{write_cool, write_mcool, CoolWriteOptions};
+use contactmap::io::cool::{CoolWriteOptions, write_cool, write_mcool};
 use contactmap::io::hic::HicWriteOptions;
 use contactmap::io::merged::MergedReader;
 use contactmap::io::{self, MatrixReader};
@@ -77,7 +77,7 @@ pub fn run(args: &MergeArgs) -> Result<()> {
             return Err(Error::Invalid(format!(
                 "--out {}: merge writes .cool, .mcool or .hic (give one of those extensions)",
                 args.out.display()
-            )))
+            )));
         }
     };
     if format == OutputFormat::Cool && !args.resolutions.is_empty() {

@@ -12,8 +12,8 @@ use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::progress::Progress;
 use contactmap::error::{Error, Result};
 use contactmap::io;
-use contactmap::io::cool::{write_cool, CoolWriteOptions};
-use contactmap::io::text::{write_text, TextFormat};
+use contactmap::io::cool::{CoolWriteOptions, write_cool};
+use contactmap::io::text::{TextFormat, write_text};
 use contactmap::normalize::{Method, NormalizedReader, Normalizer};
 
 /// Normalisation methods.

@@ -3,10 +3,10 @@
 
 use std::path::Path;
 
-use crate::cli::matrix_output::{format_from_extension, OutputFormat};
+use crate::cli::matrix_output::{OutputFormat, format_from_extension};
 use contactmap::error::{Error, Result};
 pub use contactmap::io::output::{
-    is_stdout, refuse_overwrites, write_text_file, write_whole, FloatFormat, Output,
+    FloatFormat, Output, is_stdout, refuse_overwrites, write_text_file, write_whole,
 };
 
 /// Refuse an output that `command` (a simulator, `polymer-map`: they write .cool files only)

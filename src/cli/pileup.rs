@@ -6,21 +6,21 @@ use clap::Args;
 
 use crate::cli::args::InputArgs;
 use crate::cli::input::{
-    bp_option, expected_column, expected_to_divide, open_for_analysis, weights_and_view,
-    TableReading,
+    TableReading, bp_option, expected_column, expected_to_divide, open_for_analysis,
+    weights_and_view,
 };
 use crate::cli::output::{refuse_overwrites, uri_file, write_text_file};
 use crate::cli::warnings::Warnings;
 use contactmap::error::{Error, Result};
 use contactmap::genome::BinTable;
-use contactmap::io::bed::{read_features, FeatureFormat, FeatureTable};
+use contactmap::io::bed::{FeatureFormat, FeatureTable, read_features};
 use contactmap::io::npz::npz_bytes;
 use contactmap::pileup::groups::GroupBy;
 use contactmap::pileup::scores::group_scores;
 use contactmap::pileup::shifts::ShiftParams;
 use contactmap::pileup::tables::{grid_tsv, groups_tsv, pileup_arrays, scores_tsv};
 use contactmap::pileup::windows::Skipped;
-use contactmap::pileup::{pileup, CoverageNorm, Features, PileupParams, RescaleParams};
+use contactmap::pileup::{CoverageNorm, Features, PileupParams, RescaleParams, pileup};
 
 /// `--features-format`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]

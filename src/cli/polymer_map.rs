@@ -9,11 +9,11 @@ use clap::Args;
 use crate::cli::output::{check_cool_output, refuse_overwrites};
 use crate::cli::progress::spinner;
 use crate::cli::warnings::Warnings;
-use contactmap::conformations::{chains_of_lengths, contact_map, MapParams};
+use contactmap::conformations::{MapParams, chains_of_lengths, contact_map};
 use contactmap::error::{Error, Result};
-use contactmap::io::cool::{write_cool, CoolWriteOptions};
-use contactmap::io::trajectory::open_trajectories;
 use contactmap::io::InMemory;
+use contactmap::io::cool::{CoolWriteOptions, write_cool};
+use contactmap::io::trajectory::open_trajectories;
 
 /// Arguments of `contactmap polymer-map`.
 #[derive(Debug, Args)]

@@ -38,7 +38,7 @@ impl<'a> Progress<'a> {
     }
 
     /// The reader whose pixels advance the bar.
-    pub fn reader(&self) -> Inspect<'a, impl Fn(&PixelBlock) -> Result<()>> {
+    pub fn reader(&self) -> Inspect<'a, impl Fn(&PixelBlock) -> Result<()> + use<>> {
         let bar = self.bar.clone();
         Inspect::new(self.inner, move |block: &PixelBlock| {
             bar.inc(block.len() as u64);

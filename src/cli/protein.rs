@@ -14,7 +14,7 @@ use contactmap::io::structure::Chain;
 use contactmap::score::contacts::{
     ContactAtom, ContactDefinition, DistanceTest, Prediction, Rounding,
 };
-use contactmap::score::target::{place_prediction, read_chain, Placed, RegisterChoice};
+use contactmap::score::target::{Placed, RegisterChoice, place_prediction, read_chain};
 
 /// The atoms measured, for `--atom`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]

@@ -8,13 +8,13 @@ use crate::cli::args::InputArgs;
 use crate::cli::input::{open_balanced, track_argument};
 use crate::cli::output::{column_file, refuse_overwrites, uri_file, write_text_file};
 use contactmap::compartments::saddle::{
-    digitize, saddle_cis, saddle_strength, saddle_trans, Binning, SaddleParams,
+    Binning, SaddleParams, digitize, saddle_cis, saddle_strength, saddle_trans,
 };
 use contactmap::compartments::tables::{
     digitized_table, edges_table, saddle_table, strength_table,
 };
 use contactmap::error::{Error, Result};
-use contactmap::expected::{expected_cis, expected_trans, CisParams};
+use contactmap::expected::{CisParams, expected_cis, expected_trans};
 use contactmap::io::{self, default_memory_budget};
 
 /// Which contacts a saddle sums, for `--contact-type`.

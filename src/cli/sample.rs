@@ -6,11 +6,11 @@ use clap::{ArgGroup, Args};
 
 use crate::cli::args::InputArgs;
 use crate::cli::input::open_for_analysis;
-use crate::cli::matrix_output::{format_from_extension, OutputFormat};
+use crate::cli::matrix_output::{OutputFormat, format_from_extension};
 use crate::cli::output::{refuse_overwrites, uri_file};
 use contactmap::compare::sample::{SampleParams, Sampled, Target};
 use contactmap::error::{Error, Result};
-use contactmap::io::cool::{write_cool, CoolWriteOptions};
+use contactmap::io::cool::{CoolWriteOptions, write_cool};
 
 /// Arguments of `contactmap sample`.
 #[derive(Debug, Args)]

@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 
 use clap::{Args, Subcommand};
 
-use crate::cli::output::{refuse_overwrites, write_text_file, Output};
+use crate::cli::output::{Output, refuse_overwrites, write_text_file};
 use crate::cli::protein::{DefinitionArgs, TargetArgs};
 use contactmap::error::{Error, Result};
 use contactmap::io::bed::read_bed;
@@ -20,10 +20,10 @@ use contactmap::score::boundaries::{
     boundary_table, domain_overlap_records, median_width, score_boundary_records,
 };
 use contactmap::score::contacts::SeparationRange;
-use contactmap::score::lists::{parse_length, parse_list_size, NamedRange};
+use contactmap::score::lists::{NamedRange, parse_length, parse_list_size};
 use contactmap::score::target::{
-    curves_tsv, load_prediction, score_prediction, scores_json, scores_text, scores_tsv,
-    EnsembleTruth, Placed, ScorePlan,
+    EnsembleTruth, Placed, ScorePlan, curves_tsv, load_prediction, score_prediction, scores_json,
+    scores_text, scores_tsv,
 };
 use lists::ListArgs;
 

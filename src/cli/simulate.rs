@@ -11,9 +11,9 @@ use clap::{Args, Subcommand};
 
 use crate::cli::output::{check_cool_output, refuse_overwrites, write_text_file};
 use contactmap::error::Result;
-use contactmap::io::cool::{write_cool, CoolWriteOptions};
 use contactmap::io::InMemory;
-use contactmap::sim::blocks::{block_map, BlockMapParams};
+use contactmap::io::cool::{CoolWriteOptions, write_cool};
+use contactmap::sim::blocks::{BlockMapParams, block_map};
 
 /// Arguments of `contactmap simulate`.
 #[derive(Debug, Args)]

@@ -13,10 +13,10 @@ use crate::cli::warnings::Warnings;
 use contactmap::error::{Error, Result};
 use contactmap::io::{LoadedPixels, MatrixReader, StreamedPixels};
 use contactmap::tads::armatus::ArmatusParams;
-use contactmap::tads::call::{call, Caller};
+use contactmap::tads::call::{Caller, call};
 use contactmap::tads::directionality::DirectionalityParams;
 use contactmap::tads::hmm::HmmParams;
-use contactmap::tads::insulation::{check_window_fits, InsulationParams};
+use contactmap::tads::insulation::{InsulationParams, check_window_fits};
 use contactmap::tads::threshold::Threshold;
 use contactmap::tads::topdom::TopDomParams;
 

@@ -7,7 +7,7 @@ use clap::Args;
 
 use crate::cli::args::InputArgs;
 use crate::cli::input::{open_for_analysis, read_weights};
-use crate::cli::output::{refuse_overwrites, uri_file, Output};
+use crate::cli::output::{Output, refuse_overwrites, uri_file};
 use contactmap::compare::virtual4c::{viewpoint_bins, virtual4c};
 use contactmap::error::{Error, Result};
 use contactmap::genome::Region;

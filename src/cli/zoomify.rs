@@ -13,7 +13,7 @@ use contactmap::balance::{BalanceParams, Method};
 use contactmap::error::{Error, Result};
 use contactmap::export::DEFAULT_HIC_NORMALIZATIONS;
 use contactmap::io::cool::resolutions::mcool_resolutions;
-use contactmap::io::cool::{write_mcool, CoolWriteOptions};
+use contactmap::io::cool::{CoolWriteOptions, write_mcool};
 use contactmap::io::hic::HicWriteOptions;
 use contactmap::io::{self, default_memory_budget};
 

@@ -164,7 +164,7 @@ pub fn total(reader: &dyn MatrixReader, weights: Option<&[f64]>) -> Result<f64> 
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn store(uri: &str, cov: &Coverage, weight_name: Option<&str>) -> Result<()> {
-    use crate::io::cool::store::{store_bin_columns, AttrValue, BinColumn};
+    use crate::io::cool::store::{AttrValue, BinColumn, store_bin_columns};
     match weight_name {
         None => {
             let int = |v: &[f64]| -> Vec<i64> { v.iter().map(|&x| x as i64).collect() };

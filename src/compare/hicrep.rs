@@ -43,7 +43,7 @@ use crate::compare::check_comparable;
 use crate::compare::sample::{draw_with_replacement, draw_without_replacement};
 use crate::error::{Error, Result};
 use crate::genome::BinTable;
-use crate::io::{read_ahead, MatrixReader};
+use crate::io::{MatrixReader, read_ahead};
 use crate::numeric::reduceat_sum;
 use crate::random::stream_rng;
 
@@ -1134,11 +1134,7 @@ fn length_weighted(chroms: &[ChromScc]) -> f64 {
         num += c.scc * c.length_bp as f64;
         den += c.length_bp as f64;
     }
-    if den == 0.0 {
-        f64::NAN
-    } else {
-        num / den
-    }
+    if den == 0.0 { f64::NAN } else { num / den }
 }
 
 /// What the training of `h` saw: the genome-wide SCC of the subsamples at each `h` tried, and

@@ -25,7 +25,7 @@ use rayon::prelude::*;
 
 use crate::error::{Error, Result};
 use crate::genome::BinTable;
-use crate::io::{read_ahead, MatrixInfo, MatrixReader};
+use crate::io::{MatrixInfo, MatrixReader, read_ahead};
 use crate::matrix::{CountType, PixelBlock, Weights};
 use crate::random::stream_rng;
 
@@ -136,7 +136,7 @@ impl ThinningTables {
             0 => 0,
             c if c as usize <= TABLE_MAX => {
                 let table = &self.cdf[c as usize - 1];
-                let u: f64 = rng.gen();
+                let u: f64 = rng.r#gen();
                 (table.partition_point(|&x| x <= u) as u64).min(c)
             }
             c => Binomial::new(c, self.fraction).map_or(0, |b| b.sample(rng)),
@@ -208,7 +208,7 @@ fn special_among(population: u64, special: u64, picks: u64, rng: &mut impl Rng) 
         if special_left == left {
             return found + (picks - taken);
         }
-        if rng.gen::<f64>() * (left as f64) < special_left as f64 {
+        if rng.r#gen::<f64>() * (left as f64) < special_left as f64 {
             found += 1;
             special_left -= 1;
         }
@@ -335,10 +335,10 @@ impl<'a> Sampled<'a> {
                     "count",
                     count,
                     format!(
-                    "at most the {total} contacts of {}: a sample cannot hold more than the map",
-                    inner.source()
-                ),
-                ))
+                        "at most the {total} contacts of {}: a sample cannot hold more than the map",
+                        inner.source()
+                    ),
+                ));
             }
             Target::Count(count) => count,
             Target::Fraction(f) => (f * total as f64).round_ties_even() as u64,

@@ -664,15 +664,15 @@ mod tests {
         let kind: Vec<f64> = (0..n)
             .map(|i| if (i / 17) % 2 == 0 { 1.0 } else { -1.0 })
             .collect();
-        let empty: Vec<bool> = (0..n).map(|_| rng.gen::<f64>() < 0.05).collect();
+        let empty: Vec<bool> = (0..n).map(|_| rng.r#gen::<f64>() < 0.05).collect();
         let mut a = vec![vec![0.0; n]; n];
         for i in 0..n {
             for j in i..n.min(i + n / 2) {
-                if empty[i] || empty[j] || rng.gen::<f64>() < 0.3 {
+                if empty[i] || empty[j] || rng.r#gen::<f64>() < 0.3 {
                     continue;
                 }
                 let d = (j - i) as f64 + 1.0;
-                let v = (1.0 + 0.5 * kind[i] * kind[j]) / d * (0.5 + rng.gen::<f64>());
+                let v = (1.0 + 0.5 * kind[i] * kind[j]) / d * (0.5 + rng.r#gen::<f64>());
                 a[i][j] = v;
                 a[j][i] = v;
             }

@@ -3,10 +3,10 @@
 //! for large operators, faer's dense decomposition for small ones.
 
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
-use faer::matrix_free::eigen::{
-    partial_self_adjoint_eigen, partial_self_adjoint_eigen_scratch, PartialEigenParams,
-};
 use faer::matrix_free::LinOp;
+use faer::matrix_free::eigen::{
+    PartialEigenParams, partial_self_adjoint_eigen, partial_self_adjoint_eigen_scratch,
+};
 use faer::{Col, Mat, MatMut, MatRef, Par, Side};
 use rand::{Rng, SeedableRng};
 
@@ -96,7 +96,7 @@ impl<O: SymmetricOperator> LinOp<f64> for Adapter<'_, O> {
 /// the all-ones vector nearly is, for compartment vectors).
 fn start_vector(n: usize) -> Vec<f64> {
     let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(0x5eed_c0de);
-    (0..n).map(|_| rng.gen::<f64>() - 0.5).collect()
+    (0..n).map(|_| rng.r#gen::<f64>() - 0.5).collect()
 }
 
 fn norm(v: &[f64]) -> f64 {
@@ -276,7 +276,7 @@ mod tests {
         let mut m = vec![vec![0.0; n]; n];
         for i in 0..n {
             for j in 0..=i {
-                let v: f64 = rng.gen::<f64>() - 0.5;
+                let v: f64 = rng.r#gen::<f64>() - 0.5;
                 m[i][j] = v;
                 m[j][i] = v;
             }

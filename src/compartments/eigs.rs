@@ -5,12 +5,12 @@
 
 use crate::error::Result;
 use crate::genome::View;
-use crate::io::{default_memory_budget, MatrixReader};
+use crate::io::{MatrixReader, default_memory_budget};
 use crate::matrix::PixelBlock;
 
-use super::cis::{cis_eig, CisEigParams, CisMatrixBuilder, RegionEigs};
+use super::cis::{CisEigParams, CisMatrixBuilder, RegionEigs, cis_eig};
 use super::phasing::{self, SortMetric};
-use super::trans::{trans_eig, DenseMatrix, TransEigParams};
+use super::trans::{DenseMatrix, TransEigParams, trans_eig};
 
 /// How the eigenvectors are oriented: by `track` (GC content, gene density; one value per bin of
 /// the map, NaN where unknown) and, with `sort`, reordered by their agreement with it; without a

@@ -8,7 +8,7 @@ use rayon::prelude::*;
 use crate::error::{Error, Result};
 use crate::genome::{BinTable, Chrom};
 use crate::geometry::cells::{CellList, Space};
-use crate::io::trajectory::{for_each_chunk, Conformation};
+use crate::io::trajectory::{Conformation, for_each_chunk};
 use crate::matrix::{ContactMatrix, CountType, MatrixBuilder};
 
 /// The bins of chains of beads, polychrom's way (see the module docs).
@@ -468,9 +468,9 @@ mod tests {
         let mut points: Vec<[f64; 3]> = (0..400)
             .map(|_| {
                 [
-                    rng.gen::<f64>() * 8.0,
-                    rng.gen::<f64>() * 8.0,
-                    rng.gen::<f64>() * 8.0,
+                    rng.r#gen::<f64>() * 8.0,
+                    rng.r#gen::<f64>() * 8.0,
+                    rng.r#gen::<f64>() * 8.0,
                 ]
             })
             .collect();
@@ -508,7 +508,7 @@ mod tests {
                 cell: None,
                 unit: crate::io::trajectory::LengthUnit::Model,
                 positions: (0..n)
-                    .map(|_| [0; 3].map(|_| rng.gen::<f64>() * side))
+                    .map(|_| [0; 3].map(|_| rng.r#gen::<f64>() * side))
                     .collect(),
             })
             .collect()
@@ -621,7 +621,7 @@ mod tests {
             (0..n)
                 .map(|_| {
                     for x in &mut p {
-                        *x += rng.gen::<f64>() - 0.5;
+                        *x += rng.r#gen::<f64>() - 0.5;
                     }
                     p
                 })

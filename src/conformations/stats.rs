@@ -18,7 +18,7 @@ use rayon::prelude::*;
 use super::contact_pairs;
 use crate::error::{Error, Result};
 use crate::geometry::cells::CellList;
-use crate::io::trajectory::{for_each_chunk, Conformation};
+use crate::io::trajectory::{Conformation, for_each_chunk};
 
 /// polychrom's `generate_bins(N, start=4, bins_per_order_magn=10)`: log-spaced separations from
 /// `start` to `N - 1` (numpy's `linspace`, `10^x` and the cast to integers, replayed).

@@ -21,8 +21,8 @@
 //!
 //! Distances here are in bins (diagonals), as in cooltools; multiply by the bin size for bp.
 
-use super::smooth::robust_gauss_filter;
 use super::CisExpected;
+use super::smooth::robust_gauss_filter;
 use crate::error::{Error, Result};
 
 /// Parameters of [`logbin_expected`], with cooltools' defaults.

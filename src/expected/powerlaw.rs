@@ -53,8 +53,8 @@
 
 use statrs::distribution::{ContinuousCDF, StudentsT};
 
-use super::logbin::{logbin_expected, CombinedBin, LogBinParams, LogBinned};
-use super::{expected_cis, CisExpected, CisParams};
+use super::logbin::{CombinedBin, LogBinParams, LogBinned, logbin_expected};
+use super::{CisExpected, CisParams, expected_cis};
 use crate::error::{Error, Result};
 use crate::genome::View;
 use crate::genome::{format_bp, format_distance};

@@ -13,7 +13,7 @@ use super::logbin::LogBinned;
 use super::{CisExpected, TransExpected};
 use crate::error::{Error, Result};
 use crate::genome::BinTable;
-use crate::io::tables::{region_table, write_real, write_u64, Table};
+use crate::io::tables::{Table, region_table, write_real, write_u64};
 use crate::normalize::DiagonalCurve;
 
 impl CisExpected {
@@ -121,7 +121,9 @@ impl CisExpected {
             if r1 != r2 {
                 return Err(bad_row(
                     row,
-                    format!("region1 '{r1}' differs from region2 '{r2}': a trans table, not the cis expected (contactmap expected, cooltools expected-cis)"),
+                    format!(
+                        "region1 '{r1}' differs from region2 '{r2}': a trans table, not the cis expected (contactmap expected, cooltools expected-cis)"
+                    ),
                 ));
             }
             if out.region_names.last().map(String::as_str) != Some(r1) {
@@ -141,7 +143,9 @@ impl CisExpected {
             if dist != expected_dist {
                 return Err(bad_row(
                     row,
-                    format!("dist {dist} where {expected_dist} was expected (one row per diagonal of each region, in order)"),
+                    format!(
+                        "dist {dist} where {expected_dist} was expected (one row per diagonal of each region, in order)"
+                    ),
                 ));
             }
             if let Some(size) = dist_bp.checked_div(dist) {

@@ -144,7 +144,7 @@ impl BinTable {
                 Some(p) if p.chrom_id > bin.chrom_id => {
                     return Err(Error::Invalid(format!(
                         "bin {index}: bins are not sorted by chromosome"
-                    )))
+                    )));
                 }
                 // The first bin of a chromosome may start anywhere (a cut-out matrix).
                 _ => {
@@ -406,7 +406,9 @@ impl BinTable {
                 if self.chrom_id(prefix).is_some() {
                     return Err(Error::region(
                         region.to_string(),
-                        format!("'{coords}' is not a position range (expected start-end, e.g. 1,000,000-2,000,000)"),
+                        format!(
+                            "'{coords}' is not a position range (expected start-end, e.g. 1,000,000-2,000,000)"
+                        ),
                     ));
                 }
             }

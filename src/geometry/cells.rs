@@ -764,7 +764,7 @@ mod tests {
         use rand::Rng;
         let mut rng = crate::random::stream_rng(8, 0, 0);
         let points: Vec<[f64; 3]> = (0..30_000)
-            .map(|_| [0; 3].map(|_| rng.gen::<f64>() * 60.0 - 10.0))
+            .map(|_| [0; 3].map(|_| rng.r#gen::<f64>() * 60.0 - 10.0))
             .collect();
         for space in [Space::Open, Space::Periodic(50.0)] {
             let build = |threads: usize| {
@@ -839,7 +839,7 @@ mod tests {
         let mut rng = crate::random::stream_rng(12, 0, 0);
         let side = (800.0f64 / 0.4).cbrt();
         let points: Vec<[f64; 3]> = (0..800)
-            .map(|_| [0; 3].map(|_| rng.gen::<f64>() * side * 1.5 - side / 4.0))
+            .map(|_| [0; 3].map(|_| rng.r#gen::<f64>() * side * 1.5 - side / 4.0))
             .collect();
         let wca = 2f64.powf(1.0 / 6.0);
         let mut reused = CellList::new();

@@ -129,7 +129,7 @@ impl Temporary {
                             persisted: false,
                         },
                         value,
-                    ))
+                    ));
                 }
                 Err(error) => match candidate.symlink_metadata() {
                     // Another process took the name between our look and our create.
@@ -344,7 +344,7 @@ impl WriteLock {
                              nothing was changed; run again when it has finished",
                             path.display()
                         ),
-                    ))
+                    ));
                 }
                 Err(e) => return Err(Error::io(&path, e)),
             }
@@ -417,7 +417,7 @@ fn open_lock_file(path: &Path) -> Result<File> {
 /// 1.89, above the crate's `rust-version`.)
 #[cfg(unix)]
 fn try_lock_exclusive(file: &File) -> std::io::Result<bool> {
-    use rustix::fs::{flock, FlockOperation};
+    use rustix::fs::{FlockOperation, flock};
     match flock(file, FlockOperation::NonBlockingLockExclusive) {
         Ok(()) => Ok(true),
         Err(e) if e == rustix::io::Errno::WOULDBLOCK => Ok(false),

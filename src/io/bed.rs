@@ -391,7 +391,10 @@ impl BedpeTable {
                 return Err(Error::parse(
                     source,
                     line,
-                    format!("expected at least 6 columns (chrom1 start1 end1 chrom2 start2 end2), found {}", row.len()),
+                    format!(
+                        "expected at least 6 columns (chrom1 start1 end1 chrom2 start2 end2), found {}",
+                        row.len()
+                    ),
                 ));
             }
             let fields: Vec<&str> = row.iter().map(|f| f.trim()).collect();

@@ -39,10 +39,10 @@ use hdf5::types::{TypeDescriptor, VarLenAscii, VarLenUnicode};
 
 use crate::error::{Error, Result};
 use crate::genome::{Bin, BinTable, Chrom};
-use crate::io::{hdf5_guard, MatrixInfo, MatrixReader};
+use crate::io::{MatrixInfo, MatrixReader, hdf5_guard};
 use crate::matrix::{CountType, PixelBlock, Weights};
 use chunks::Column;
-pub use writer::{write_cool, write_mcool, CoolWriteOptions};
+pub use writer::{CoolWriteOptions, write_cool, write_mcool};
 
 /// Maximum number of pixels in one streamed block.
 pub const BLOCK_PIXELS: usize = 1 << 20;
@@ -51,7 +51,7 @@ pub const BLOCK_PIXELS: usize = 1 << 20;
 pub const DIVISIVE_BY_NAME: [&str; 3] = ["KR", "VC", "VC_SQRT"];
 
 mod reader;
-pub use reader::{inspect, CoolReader, HdfContent};
+pub use reader::{CoolReader, HdfContent, inspect};
 
 /// HDF5 file options: no file locking. We only read whole files or write fresh temporary ones,
 /// locking fails on many network file systems, and a lock would be held by any child process

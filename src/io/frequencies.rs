@@ -86,7 +86,18 @@ pub fn read_frequency_table(path: impl AsRef<Path>) -> Result<Vec<FrequencyRow>>
                 ),
             )
         })?;
-    let &[chain, residue1, residue2, name1, name2, _, _, frames, frequency] = &columns[..] else {
+    let &[
+        chain,
+        residue1,
+        residue2,
+        name1,
+        name2,
+        _,
+        _,
+        frames,
+        frequency,
+    ] = &columns[..]
+    else {
         unreachable!("nine columns in the header")
     };
     let mut rows = Vec::with_capacity(table.len());

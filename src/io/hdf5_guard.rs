@@ -242,7 +242,7 @@ pub fn read_strings(path: &str, dataset: &hdf5::Dataset, name: &str) -> Result<V
                 return Err(Error::format(
                     path,
                     format!("{name} has type {other:?}; expected strings"),
-                ))
+                ));
             }
         })
     })

@@ -80,8 +80,8 @@ mod writer;
 
 pub use expected::{JuicerExpected, JuicerExpectedBuilder, MultiResolutionExpected};
 pub use norms::HicExpected;
-pub use reader::{HicReader, BAND_BUDGET_BYTES};
-pub use writer::{HicNormVector, HicWriteOptions, HicWriter, BATCH_RECORDS};
+pub use reader::{BAND_BUDGET_BYTES, HicReader};
+pub use writer::{BATCH_RECORDS, HicNormVector, HicWriteOptions, HicWriter};
 
 #[cfg(test)]
 mod synthetic;

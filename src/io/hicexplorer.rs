@@ -50,8 +50,8 @@ use hdf5::types::{TypeDescriptor, VarLenUnicode};
 
 use crate::error::{Error, Result};
 use crate::genome::{Bin, BinTable, Chrom};
-use crate::io::{hdf5_guard, MatrixInfo, MatrixReader};
-use crate::matrix::{invert_weight, CountType, PixelBlock, Weights};
+use crate::io::{MatrixInfo, MatrixReader, hdf5_guard};
+use crate::matrix::{CountType, PixelBlock, Weights, invert_weight};
 
 /// Stored entries read from the file at a time (whole rows; a longer row is read whole).
 pub const BLOCK_PIXELS: usize = 1 << 20;

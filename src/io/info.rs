@@ -1,7 +1,7 @@
 //! What `contactmap info` reports about a matrix file: its attributes as `cooler info` shows
 //! them, and the figures computed from its data.
 
-use serde_json::{json, Map, Value};
+use serde_json::{Map, Value, json};
 
 use crate::error::Result;
 use crate::io::cool::{self, HdfContent};

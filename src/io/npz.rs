@@ -141,12 +141,16 @@ mod tests {
         };
         let bytes = npy_bytes(&text);
         let len = u16::from_le_bytes([bytes[8], bytes[9]]) as usize;
-        assert!(std::str::from_utf8(&bytes[10..10 + len])
-            .unwrap()
-            .contains("'<U3'"));
-        assert!(std::str::from_utf8(&bytes[10..10 + len])
-            .unwrap()
-            .contains("(2,)"));
+        assert!(
+            std::str::from_utf8(&bytes[10..10 + len])
+                .unwrap()
+                .contains("'<U3'")
+        );
+        assert!(
+            std::str::from_utf8(&bytes[10..10 + len])
+                .unwrap()
+                .contains("(2,)")
+        );
         assert_eq!(bytes.len(), 10 + len + 2 * 3 * 4);
     }
 

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
 
-use super::{cool, hic, hicexplorer, text, InMemory, MatrixReader};
+use super::{InMemory, MatrixReader, cool, hic, hicexplorer, text};
 
 /// Split `cool.mcool::/resolutions/1000` into the file path and the group path (if any).
 pub fn split_uri(uri: &str) -> (&str, Option<&str>) {

@@ -10,12 +10,12 @@ use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::Path;
 
-use flate2::write::GzEncoder;
 use flate2::Compression;
+use flate2::write::GzEncoder;
 
 use crate::error::{Error, Result};
-use crate::io::tables::write_u64;
 use crate::io::Temporary;
+use crate::io::tables::write_u64;
 
 /// An output text stream: stdout, or a (possibly gzip-compressed) file committed on `finish`.
 pub struct Output {

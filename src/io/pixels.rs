@@ -3,7 +3,7 @@
 
 use crate::error::{Error, Result};
 use crate::genome::BinTable;
-use crate::matrix::pixels::{PixelSlice, PixelSource, Pixels, BYTES_PER_PIXEL};
+use crate::matrix::pixels::{BYTES_PER_PIXEL, PixelSlice, PixelSource, Pixels};
 use crate::matrix::{ContactMatrix, CountType};
 
 use super::MatrixReader;
@@ -256,7 +256,7 @@ pub fn parse_memory_size(text: &str) -> Result<u64> {
         _ => {
             return Err(Error::Invalid(format!(
                 "'{text}' is not a memory size (expected e.g. 8G, 512M)"
-            )))
+            )));
         }
     };
     let value: f64 = number.parse().map_err(|_| {

@@ -322,7 +322,7 @@ pub fn parse_rr(text: &str, path: &Path) -> Result<Prediction> {
                         "RR row with {n} fields, expected `i j score`, `i j d1 d2 score` or \
                          `i j p` and 10 bin probabilities (mode 2)"
                     ),
-                ))
+                ));
             }
         };
         let i = parse_residue(fields[0], path, line_number)?;
@@ -456,7 +456,7 @@ pub fn parse_gremlin(text: &str, path: &Path) -> Result<Prediction> {
                         path,
                         line_number,
                         "GREMLIN header without i_id, j_id and r_sco columns",
-                    ))
+                    ));
                 }
             }
             continue;
@@ -488,7 +488,7 @@ pub fn parse_gremlin(text: &str, path: &Path) -> Result<Prediction> {
                         path,
                         line_number,
                         format!("residue id '{id}' is not `{residue}_X`"),
-                    ))
+                    ));
                 }
             };
             named.name(residue, letter, path, line_number)?;
@@ -640,7 +640,7 @@ pub fn parse_npy(bytes: &[u8], path: &Path) -> Result<NpyArray> {
             return Err(bad(format!(
                 "the .npy header's 'fortran_order' is {}, expected True or False",
                 quote(other)
-            )))
+            )));
         }
         None => return Err(bad("the .npy header has no 'fortran_order' entry".into())),
     }
@@ -662,7 +662,7 @@ pub fn parse_npy(bytes: &[u8], path: &Path) -> Result<NpyArray> {
             return Err(bad(format!(
                 ".npy dtype {} is not supported (expected <f2, <f4 or <f8)",
                 quote(other)
-            )))
+            )));
         }
     };
     let data = &bytes[data_start..];
@@ -680,14 +680,14 @@ pub fn parse_npy(bytes: &[u8], path: &Path) -> Result<NpyArray> {
             return Err(bad(format!(
                 "truncated .npy data: shape {shape:?} needs {n} bytes, found {}",
                 data.len()
-            )))
+            )));
         }
         None => {
             return Err(bad(format!(
                 ".npy shape {shape:?} is too large: its size overflows (the file holds {} bytes \
                  of data)",
                 data.len()
-            )))
+            )));
         }
     };
     let values = data[..n_bytes]
@@ -740,7 +740,7 @@ pub fn parse_npz(bytes: &[u8], path: &Path) -> Result<Prediction> {
                     "'dist' has shape {:?}, expected (L, L, {TRROSETTA_N_BINS}) (trRosetta bins)",
                     array.shape
                 ),
-            ))
+            ));
         }
     };
     let at = |i: usize, j: usize| {
@@ -769,7 +769,7 @@ pub fn parse_distance_npy(bytes: &[u8], path: &Path) -> Result<Prediction> {
                     "distance map has shape {:?}, expected a square (L, L) or (L, L, 1)",
                     array.shape
                 ),
-            ))
+            ));
         }
     };
     Ok(Prediction {
@@ -791,7 +791,7 @@ pub fn read_fasta(path: impl AsRef<Path>) -> Result<String> {
                 path,
                 1,
                 "FASTA file without a '>' header line",
-            ))
+            ));
         }
     }
     let sequence: String = lines

@@ -104,11 +104,7 @@ const STANDARD_RESIDUES: &[(&str, char)] = &[
 
 /// A chain id as messages and reports show it: `(blank)` for the blank id.
 pub fn chain_label(id: &str) -> &str {
-    if id.is_empty() {
-        "(blank)"
-    } else {
-        id
-    }
+    if id.is_empty() { "(blank)" } else { id }
 }
 
 /// The parent residue name and its one-letter code for a residue name found in a file, or

@@ -196,7 +196,9 @@ pub fn read_track(path: &std::path::Path, column: &str) -> Result<Vec<TrackRow>>
                 index = Some(numbered.ok_or_else(|| {
                     Error::format(
                         path,
-                        format!("has no header line: give the track column as a number (e.g. {label}:4)"),
+                        format!(
+                            "has no header line: give the track column as a number (e.g. {label}:4)"
+                        ),
                     )
                 })?);
             } else {
@@ -278,7 +280,8 @@ pub fn track_on_bins(path: &std::path::Path, column: &str, bins: &BinTable) -> R
                     row.chrom,
                     row.start,
                     row.end,
-                    bins.bin_size_bp().map_or(String::new(), |b| format!(" ({b} bp bins)"))
+                    bins.bin_size_bp()
+                        .map_or(String::new(), |b| format!(" ({b} bp bins)"))
                 ),
             ));
         };
@@ -346,11 +349,13 @@ mod tests {
         assert!(table.number(0, c).unwrap().is_nan());
         assert_eq!(table.number(1, c).unwrap(), 0.5);
         assert_eq!(table.text(1, table.column("region1").unwrap()), "chr1");
-        assert!(table
-            .column("count.avg")
-            .unwrap_err()
-            .to_string()
-            .contains("balanced.avg"));
+        assert!(
+            table
+                .column("count.avg")
+                .unwrap_err()
+                .to_string()
+                .contains("balanced.avg")
+        );
         std::fs::write(&path, "a\tb\n1\n").unwrap();
         let err = Table::read(path.to_str().unwrap()).unwrap_err().to_string();
         assert!(err.contains(":2:") && err.contains("expected 2"), "{err}");

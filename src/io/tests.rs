@@ -4,8 +4,8 @@ use std::ops::Range;
 use crate::error::{Error, Result};
 use crate::genome::BinTable;
 use crate::genome::Chrom;
-use crate::matrix::pixels::PixelSource;
 use crate::matrix::MatrixBuilder;
+use crate::matrix::pixels::PixelSource;
 use crate::matrix::{CountType, PixelBlock, Weights};
 
 #[test]

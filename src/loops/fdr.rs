@@ -270,7 +270,7 @@ impl KernelStats {
         self.thresholds
             .iter()
             .zip(&self.pixels)
-            .filter(|(_, &n)| n > 0)
+            .filter(|&(_, &n)| n > 0)
             .map(|(&t, _)| t)
             .min()
             .unwrap_or(0)

@@ -25,7 +25,7 @@ use rayon::prelude::*;
 
 use super::kernels::Kernel;
 use crate::error::{Error, Result};
-use crate::io::{read_ahead, MatrixReader};
+use crate::io::{MatrixReader, read_ahead};
 
 /// Rows of pixels read from the file at a time (their memory: rows times the band).
 const BLOCK_ROWS: usize = 2048;

@@ -2,8 +2,8 @@ use std::io::Read as _;
 
 use super::tables::{dots_tsv, enriched_tsv};
 use super::*;
-use crate::expected::{expected_cis, CisParams};
-use crate::io::{load_pixels, open_matrix, OpenOptions};
+use crate::expected::{CisParams, expected_cis};
+use crate::io::{OpenOptions, load_pixels, open_matrix};
 
 fn gz_text(path: &str) -> String {
     let mut text = String::new();
@@ -132,7 +132,7 @@ fn lambda_index_is_a_search_of_the_edges() {
 /// (every pixel) and in the extraction pass (pixels from a count up, the same values to the bit).
 #[test]
 fn scan_is_a_naive_sum_over_kernel_cells() {
-    use scan::{scan_region, RegionScan, ScanSettings};
+    use scan::{RegionScan, ScanSettings, scan_region};
     let reader = open_matrix("data/yeast.10kb.cool", &OpenOptions::default()).unwrap();
     let mut weights = reader.weights("weight").unwrap().values;
     // more masked bins than the file has, to exercise the missing-cell paths

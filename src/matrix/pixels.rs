@@ -40,7 +40,7 @@ impl<'a> PixelSlice<'a> {
     }
 
     /// Iterate over `(bin1, bin2, count)`.
-    pub fn iter(&self) -> impl Iterator<Item = (usize, usize, f64)> + 'a {
+    pub fn iter(&self) -> impl Iterator<Item = (usize, usize, f64)> + 'a + use<'a> {
         let (b1, b2, c) = (self.bin1, self.bin2, self.count);
         (0..c.len()).map(move |k| (b1[k] as usize, b2[k] as usize, c[k]))
     }

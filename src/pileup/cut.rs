@@ -13,7 +13,7 @@ use rayon::prelude::*;
 
 use super::rescale::{rescale_snippet, zoom_axis};
 use crate::error::Result;
-use crate::io::{read_ahead_by, MatrixReader};
+use crate::io::{MatrixReader, read_ahead_by};
 use crate::matrix::PixelBlock;
 
 /// Rows read together at most (unless one snippet is taller).
@@ -167,7 +167,11 @@ impl Rows {
     }
 
     /// The stored pixels of row `i` in `cols`: `(column, count)`.
-    fn row(&self, i: usize, cols: &Range<usize>) -> impl Iterator<Item = (usize, f64)> + '_ {
+    fn row(
+        &self,
+        i: usize,
+        cols: &Range<usize>,
+    ) -> impl Iterator<Item = (usize, f64)> + '_ + use<'_> {
         let (b, span) = &self.spans[i - self.first];
         let block = &self.blocks[*b];
         let (c, v) = (&block.bin2[span.clone()], &block.count[span.clone()]);
@@ -176,7 +180,7 @@ impl Rows {
         c[from..]
             .iter()
             .zip(&v[from..])
-            .take_while(move |(&j, _)| j < end)
+            .take_while(move |&(&j, _)| j < end)
             .map(|(&j, &v)| (j as usize, v))
     }
 }

@@ -4,7 +4,7 @@
 //! All take the pileup as a square matrix; NaN pixels are left out of means and sums as numpy's
 //! `nanmean` / `nansum` leave them out.
 
-use ndarray::{s, Array2, ArrayView2};
+use ndarray::{Array2, ArrayView2, s};
 use statrs::statistics::Statistics;
 
 use crate::error::{Error, Result};
@@ -202,11 +202,7 @@ pub fn pileup_scores(
 
 /// Juicer APA's corner width for a bin size: 3 at 5 kb, 6 otherwise (its `-q` defaults).
 pub fn apa_corner_width(bin_size_bp: u64) -> usize {
-    if bin_size_bp == 5_000 {
-        3
-    } else {
-        6
-    }
+    if bin_size_bp == 5_000 { 3 } else { 6 }
 }
 
 /// A group's pileup and its scores by name.

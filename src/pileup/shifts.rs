@@ -71,10 +71,12 @@ impl Mt19937 {
         }
         let mask = u32::MAX >> range.leading_zeros();
         (0..size)
-            .map(|_| loop {
-                let v = self.next_u32() & mask;
-                if v <= range {
-                    break low + v as i64;
+            .map(|_| {
+                loop {
+                    let v = self.next_u32() & mask;
+                    if v <= range {
+                        break low + v as i64;
+                    }
                 }
             })
             .collect()

@@ -2,13 +2,13 @@
 //! the yeast map (`data/reference/pileup/`, `scripts/pileup_reference.py`).
 
 use super::*;
-use crate::expected::{expected_cis, expected_trans, CisParams};
+use crate::expected::{CisParams, expected_cis, expected_trans};
 use crate::io::bed::{read_bed, read_bed_table, read_bedpe, read_bedpe_table};
-use crate::io::{open_matrix, LoadedPixels, OpenOptions, StreamedPixels};
+use crate::io::{LoadedPixels, OpenOptions, StreamedPixels, open_matrix};
 
 #[path = "../../tests/support/pileup_reference.rs"]
 mod pileup_reference;
-use pileup_reference::{reference_case, RefGroup};
+use pileup_reference::{RefGroup, reference_case};
 
 /// The reference case `name` (of `pileups.tsv.gz`): its groups, the group of all last.
 fn reference(name: &str) -> Vec<RefGroup> {

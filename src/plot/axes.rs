@@ -5,9 +5,9 @@
 //! Linear ticks fall on 1, 2, 2.5 and 5 times a power of ten (matplotlib's `MaxNLocator`
 //! steps); log axes tick every decade, labelled `10^k`, with minor ticks at 2..9 times it.
 
-use crate::plot::colormap::{ColorMap, ColorScale, ScaleKind};
-use crate::plot::svg::{text_width, Anchor, Baseline, Rgb, RgbImage, Stroke, Svg, TextStyle};
 use crate::Result;
+use crate::plot::colormap::{ColorMap, ColorScale, ScaleKind};
+use crate::plot::svg::{Anchor, Baseline, Rgb, RgbImage, Stroke, Svg, TextStyle, text_width};
 
 /// Sizes of a figure's text and lines.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -10,9 +10,9 @@ use crate::error::{Error, Result};
 use crate::expected::powerlaw::PowerLaw;
 use crate::genome::{format_bp, format_distance};
 use crate::plot::axes::{
-    legend, legend_size, log_ticks, Axes, AxisScale, LegendEntry, Side, Theme, CURVE_COLOURS,
+    Axes, AxisScale, CURVE_COLOURS, LegendEntry, Side, Theme, legend, legend_size, log_ticks,
 };
-use crate::plot::svg::{text_width, Anchor, Baseline, Stroke, Svg, TextStyle};
+use crate::plot::svg::{Anchor, Baseline, Stroke, Svg, TextStyle, text_width};
 
 /// One line.
 #[derive(Clone, Debug, PartialEq)]

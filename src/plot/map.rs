@@ -17,7 +17,7 @@ use crate::genome::BinTable;
 use crate::io::bed::{BedRecord, BedpeRecord};
 use crate::io::tables::read_track;
 use crate::plot::axes::{
-    self, colour_bar, genomic_unit, linear_ticks, Axes, AxisScale, Side, Theme,
+    self, Axes, AxisScale, Side, Theme, colour_bar, genomic_unit, linear_ticks,
 };
 use crate::plot::colormap::{ColorMap, ColorScale};
 use crate::plot::heatmap::CellGrid;

@@ -3,7 +3,7 @@
 //! corner of each, one colour bar for all.
 
 use crate::error::{Error, Result};
-use crate::plot::axes::{colour_bar, Theme};
+use crate::plot::axes::{Theme, colour_bar};
 use crate::plot::svg::{Anchor, Baseline, RgbImage, Svg, TextStyle};
 use crate::plot::{ColorMap, ColorScale, Rgb};
 

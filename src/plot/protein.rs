@@ -24,10 +24,10 @@
 //! `dpi / 72` ([`Theme`]); the panels' edges are snapped to whole pixels.
 
 use crate::error::Result;
-use crate::plot::axes::{self, linear_ticks, Axes, AxisScale, LegendEntry, Side, Theme};
-use crate::plot::svg::{text_width, Anchor, Baseline, Rgb, Stroke, Svg, TextStyle};
+use crate::plot::axes::{self, Axes, AxisScale, LegendEntry, Side, Theme, linear_ticks};
+use crate::plot::svg::{Anchor, Baseline, Rgb, Stroke, Svg, TextStyle, text_width};
 use crate::score::contacts::{
-    list_length, ranked_predictions, score_contacts, Prediction, ScoreParams, TrueContacts,
+    Prediction, ScoreParams, TrueContacts, list_length, ranked_predictions, score_contacts,
 };
 
 /// Colour of a true positive (ConKit's `ColorDefinitions.MATCH`).
@@ -192,11 +192,7 @@ impl ContactFigure {
             .iter()
             .map(|p| p.curve_max_k as f64 / p.length.max(1) as f64)
             .fold(0.0, f64::max);
-        if max > 0.0 {
-            max
-        } else {
-            1.0
-        }
+        if max > 0.0 { max } else { 1.0 }
     }
 
     /// Rows of the legend under the panels: the true contacts, then one per prediction.

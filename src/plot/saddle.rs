@@ -3,7 +3,7 @@
 //! 2 by default), with a colour bar.
 
 use crate::error::{Error, Result};
-use crate::plot::axes::{colour_bar, Axes, AxisScale, Side, Theme};
+use crate::plot::axes::{Axes, AxisScale, Side, Theme, colour_bar};
 use crate::plot::svg::{Anchor, Baseline, RgbImage, Svg, TextStyle};
 use crate::plot::{ColorMap, ColorScale, Rgb};
 

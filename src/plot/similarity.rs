@@ -5,8 +5,8 @@
 
 use crate::compare::cluster::Dendrogram;
 use crate::error::{Error, Result};
-use crate::plot::axes::{colour_bar, Theme};
-use crate::plot::svg::{text_width, Anchor, Baseline, RgbImage, Stroke, Svg, TextStyle};
+use crate::plot::axes::{Theme, colour_bar};
+use crate::plot::svg::{Anchor, Baseline, RgbImage, Stroke, Svg, TextStyle, text_width};
 use crate::plot::{ColorMap, ColorScale, Rgb};
 
 /// What a similarity figure shows.
@@ -79,7 +79,7 @@ pub fn draw_similarity(figure: &SimilarityFigure) -> Result<Svg> {
             return Err(Error::Invalid(format!(
                 "a dendrogram of {} leaves for {n} samples",
                 tree.n
-            )))
+            )));
         }
         None => (0..n).collect(),
     };

@@ -90,10 +90,10 @@ pub fn score_track_table(truth_path: &Path, eigs: &Path, column: &str) -> Result
                     return Err(Error::format(
                         truth_path,
                         format!(
-                        "{}:{}-{}: the 4th column must be A, B or a signed number, found '{name}'",
-                        record.chrom, record.start, record.end
-                    ),
-                    ))
+                            "{}:{}-{}: the 4th column must be A, B or a signed number, found '{name}'",
+                            record.chrom, record.start, record.end
+                        ),
+                    ));
                 }
             },
         };

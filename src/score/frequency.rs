@@ -47,7 +47,7 @@ use crate::error::{Error, Result};
 use crate::io::frequencies::FREQUENCY_HEADER;
 use crate::io::topology::Topology;
 use crate::io::trajectory::{
-    for_each_chunk, open_trajectories, AtomSelection, Conformation, LengthUnit,
+    AtomSelection, Conformation, LengthUnit, for_each_chunk, open_trajectories,
 };
 
 /// How the distance between two residues is measured (MDTraj's schemes, and CASP's Cb).

@@ -147,7 +147,7 @@ pub fn parse_length(text: Option<&str>) -> Result<LengthChoice> {
                 _ => {
                     return Err(Error::Invalid(format!(
                         "bad --length '{text}' (expected sequence, observed or a positive number)"
-                    )))
+                    )));
                 }
             },
         },

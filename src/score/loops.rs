@@ -56,9 +56,9 @@ impl Loop {
                 Ok(f) if (0.0..=1.0).contains(&f) => f,
                 _ => {
                     return Err(Error::Invalid(format!(
-                    "{source}: fraction '{text}' of the loop {} {} {} is not a number in [0, 1]",
-                    a.chrom, a.start, b.start
-                )))
+                        "{source}: fraction '{text}' of the loop {} {} {} is not a number in [0, 1]",
+                        a.chrom, a.start, b.start
+                    )));
                 }
             }
         } else {
@@ -67,11 +67,7 @@ impl Loop {
         // each anchor at its midpoint, as `score boundaries` places a boundary
         let (first, second) = {
             let (a, b) = (boundary_position(a), boundary_position(b));
-            if a <= b {
-                (a, b)
-            } else {
-                (b, a)
-            }
+            if a <= b { (a, b) } else { (b, a) }
         };
         Ok(Loop {
             chrom1: first.0,
@@ -273,7 +269,7 @@ pub fn score_loops(
         let truth_hit = strong
             .iter()
             .zip(&truth_matched)
-            .filter(|(l, &m)| m && in_class(l))
+            .filter(|(l, m)| **m && in_class(l))
             .count();
         let mut n_calls = 0;
         let mut n_weak = 0;

@@ -10,7 +10,7 @@
 
 use std::collections::HashSet;
 
-use super::contacts::{rank_pairs, ListSize, Prediction, Rounding, SeparationRange};
+use super::contacts::{ListSize, Prediction, Rounding, SeparationRange, rank_pairs};
 use super::lists::{LabelledSize, NamedRange};
 use crate::error::{Error, Result};
 use crate::io::tables::real_text;
@@ -164,7 +164,7 @@ pub fn compare_predictions<'a>(
                         "sizes",
                         "NC",
                         "list size NC needs a structure (use score contacts)",
-                    ))
+                    ));
                 }
             };
             results.push((named, label.as_str(), overlap(&a, &b, k)));
@@ -229,9 +229,11 @@ pub fn overlap_text(
     length: usize,
     results: &[OverlapRow<'_>],
 ) -> String {
-    let mut rows = vec![["range", "list", "k", "A", "B", "shared", "Jaccard"]
-        .map(String::from)
-        .to_vec()];
+    let mut rows = vec![
+        ["range", "list", "k", "A", "B", "shared", "Jaccard"]
+            .map(String::from)
+            .to_vec(),
+    ];
     for (named, label, result) in results {
         rows.push(vec![
             named.name.clone(),

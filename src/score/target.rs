@@ -7,14 +7,14 @@ use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 use super::contacts::{
-    score_contacts, ContactDefinition, ContactScore, Prediction, ScoreParams, TrueContacts,
+    ContactDefinition, ContactScore, Prediction, ScoreParams, TrueContacts, score_contacts,
 };
 use super::lists::{LengthChoice, NamedRange};
-use super::register::{register, Register, RegisterMethod, RegisterMode};
+use super::register::{Register, RegisterMethod, RegisterMode, register};
 use crate::error::{Error, Result};
-use crate::io::frequencies::{read_frequency_table, FrequencyResidue, FrequencyRow};
-use crate::io::predictions::{read_prediction, PredictionFormat};
-use crate::io::structure::{amino_acid, chain_label, read_structure, Chain};
+use crate::io::frequencies::{FrequencyResidue, FrequencyRow, read_frequency_table};
+use crate::io::predictions::{PredictionFormat, read_prediction};
+use crate::io::structure::{Chain, amino_acid, chain_label, read_structure};
 use crate::io::tables::real_text;
 use crate::score::contacts::{ListSize, Rounding, SeparationRange};
 use crate::score::frequency::BLANK_CHAIN;
@@ -618,22 +618,24 @@ pub fn scores_text(
                 text.push_str("  register: none (the prediction's numbers are the structure's)\n")
             }
         }
-        let mut rows = vec![[
-            "range",
-            "sep",
-            "true",
-            "avail",
-            "list",
-            "k",
-            "TP",
-            "precision",
-            "recall",
-            "F1",
-            "MCC",
-            "Xd",
-        ]
-        .map(String::from)
-        .to_vec()];
+        let mut rows = vec![
+            [
+                "range",
+                "sep",
+                "true",
+                "avail",
+                "list",
+                "k",
+                "TP",
+                "precision",
+                "recall",
+                "F1",
+                "MCC",
+                "Xd",
+            ]
+            .map(String::from)
+            .to_vec(),
+        ];
         for (named, labels, score) in &report.scores {
             let separation = match named.range.max {
                 Some(max) => format!("{}-{max}", named.range.min),

@@ -94,8 +94,8 @@ pub fn mean_square_bond_length(conformations: &[Vec<[f64; 3]>], chains: &[usize]
 mod tests {
     use super::*;
     use crate::random::stream_rng;
-    use crate::sim::ensemble::{run_ensemble, EnsembleParams};
-    use crate::sim::polymer::{radius_of_gyration, BondModel, Polymer, PolymerParams, Repulsion};
+    use crate::sim::ensemble::{EnsembleParams, run_ensemble};
+    use crate::sim::polymer::{BondModel, Polymer, PolymerParams, Repulsion, radius_of_gyration};
 
     #[test]
     fn closed_forms() {

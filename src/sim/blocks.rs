@@ -363,8 +363,8 @@ fn draw_domains(
             score,
         });
         // Always draw, so the stream does not depend on the domain's size.
-        let split_draw: f64 = rng.gen();
-        let position_draw: f64 = rng.gen();
+        let split_draw: f64 = rng.r#gen();
+        let position_draw: f64 = rng.r#gen();
         if split_draw < params.nested_fraction && size >= 2 * min_sub {
             let n_positions = size - 2 * min_sub + 1;
             let offset = ((position_draw * n_positions as f64) as usize).min(n_positions - 1);

@@ -19,10 +19,10 @@
 use rayon::prelude::*;
 
 use super::extrusion::{Extruder, ExtrusionParams};
-use super::polymer::{radius_of_gyration, Polymer, PolymerParams};
+use super::polymer::{Polymer, PolymerParams, radius_of_gyration};
 use crate::error::{Error, Result};
 use crate::geometry::cells::{CellList, Space};
-use crate::random::{stream_rng, SeededRng};
+use crate::random::{SeededRng, stream_rng};
 
 /// Stream tag of the 3D dynamics.
 pub const POLYMER_STREAM: u64 = 0x5045_4c59; // "PELY"
@@ -620,10 +620,12 @@ mod tests {
     #[test]
     fn bad_parameters_before_any_work() {
         let mut params = small(0);
-        assert!(run_ensemble(&params, &|_| {})
-            .unwrap_err()
-            .to_string()
-            .contains("replica"));
+        assert!(
+            run_ensemble(&params, &|_| {})
+                .unwrap_err()
+                .to_string()
+                .contains("replica")
+        );
         params.replicas = 1;
         params.polymer.repulsion = Repulsion::Polynomial {
             energy: 3.0,

@@ -203,9 +203,7 @@ pub enum ExtrusionError {
         n_monomers: usize,
     },
     /// A capture or release probability is not in `[0, 1]`.
-    #[error(
-        "element {index} at position {position}: {which} probability {value} is not in [0, 1]"
-    )]
+    #[error("element {index} at position {position}: {which} probability {value} is not in [0, 1]")]
     Probability {
         /// Index of the element.
         index: usize,
@@ -396,7 +394,7 @@ fn bernoulli<R: Rng + ?Sized>(rng: &mut R, p: f64) -> bool {
     } else if p <= 0.0 {
         false
     } else {
-        rng.gen::<f64>() < p
+        rng.r#gen::<f64>() < p
     }
 }
 

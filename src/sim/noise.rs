@@ -53,7 +53,7 @@ pub fn threefry2x32(key: [u32; 2], counter: [u32; 2]) -> [u32; 2] {
 
 /// The noise key of a polymer, drawn from its generator.
 pub fn noise_key(rng: &mut SeededRng) -> [u32; 2] {
-    let word: u64 = rng.gen();
+    let word: u64 = rng.r#gen();
     [word as u32, (word >> 32) as u32]
 }
 

@@ -57,7 +57,7 @@
 
 use super::noise;
 use crate::error::{Error, Result};
-use crate::geometry::cells::{split_lengths, CellList, Space};
+use crate::geometry::cells::{CellList, Space, split_lengths};
 use crate::random::SeededRng;
 
 mod forces;

@@ -14,7 +14,7 @@
 
 use rand::Rng;
 
-use super::polymer::{bond_terms, pair_terms, BondModel, Repulsion};
+use super::polymer::{BondModel, Repulsion, bond_terms, pair_terms};
 use crate::error::{Error, Result};
 use crate::random::SeededRng;
 
@@ -37,7 +37,7 @@ fn distance2(a: [f64; 3], b: [f64; 3]) -> f64 {
 /// A uniformly random rotation matrix (from a uniformly random unit quaternion).
 fn random_rotation(rng: &mut SeededRng) -> [[f64; 3]; 3] {
     let q = loop {
-        let q: [f64; 4] = std::array::from_fn(|_| 2.0 * rng.gen::<f64>() - 1.0);
+        let q: [f64; 4] = std::array::from_fn(|_| 2.0 * rng.r#gen::<f64>() - 1.0);
         let norm2: f64 = q.iter().map(|v| v * v).sum();
         if norm2 < 1.0 && norm2 > 1e-6 {
             break q.map(|v| v / norm2.sqrt());
@@ -102,7 +102,7 @@ impl ChainSampler {
     }
 
     fn accept(&mut self, delta: f64) -> bool {
-        delta <= 0.0 || self.rng.gen::<f64>() < (-delta).exp()
+        delta <= 0.0 || self.rng.r#gen::<f64>() < (-delta).exp()
     }
 
     /// Two pivot moves and `n` single-bead moves.
@@ -146,7 +146,7 @@ impl ChainSampler {
         let n = self.positions.len();
         let i = self.rng.gen_range(0..n);
         let old = self.positions[i];
-        let new: [f64; 3] = std::array::from_fn(|a| old[a] + (self.rng.gen::<f64>() - 0.5) * 0.5);
+        let new: [f64; 3] = std::array::from_fn(|a| old[a] + (self.rng.r#gen::<f64>() - 0.5) * 0.5);
         let mut delta = 0.0;
         for j in [i.wrapping_sub(1), i + 1] {
             if j < n {
@@ -167,8 +167,8 @@ impl ChainSampler {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sim::ensemble::{run_ensemble, EnsembleParams};
-    use crate::sim::polymer::{radius_of_gyration, Confinement, PolymerParams};
+    use crate::sim::ensemble::{EnsembleParams, run_ensemble};
+    use crate::sim::polymer::{Confinement, PolymerParams, radius_of_gyration};
     use rand::SeedableRng;
 
     const BOND: BondModel = BondModel::Harmonic {

@@ -12,10 +12,10 @@ use crate::sim::files::{
     boundary_elements_from_bed, boundary_elements_from_list, parse_type_pattern,
 };
 use crate::sim::polymer::{
-    box_side, chain_ranges, sphere_radius, Attraction, BondModel, Confinement, PolymerParams,
-    Repulsion,
+    Attraction, BondModel, Confinement, PolymerParams, Repulsion, box_side, chain_ranges,
+    sphere_radius,
 };
-use crate::sim::relaxation::{parse_steps, Relaxation};
+use crate::sim::relaxation::{Relaxation, parse_steps};
 
 /// Bond models.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

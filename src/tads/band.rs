@@ -169,9 +169,9 @@ fn empty_band(region: &ViewRegion, weights: Option<&[f64]>, width: usize) -> Cis
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::PixelBlock;
     use crate::genome::{BinTable, Chrom};
     use crate::matrix::{CountType, Pixels};
-    use crate::PixelBlock;
 
     fn pixels(bins: BinTable, triplets: &[(u64, u64, f64)]) -> Pixels {
         let mut block = PixelBlock::with_capacity(triplets.len());

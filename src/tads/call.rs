@@ -8,13 +8,13 @@ use crate::genome::View;
 use crate::io::LoadedPixels;
 use crate::matrix::pixels::PixelSource;
 
-use super::armatus::{armatus, level_boundaries, ArmatusParams};
+use super::armatus::{ArmatusParams, armatus, level_boundaries};
 use super::band::cis_bands;
-use super::directionality::{directionality, DirectionalityParams, DirectionalityTable};
-use super::domains::{domains_between, Boundary, Domain};
-use super::hmm::{dixon_domains, DiState, HmmParams};
-use super::insulation::{insulation, InsulationParams, InsulationTable};
-use super::topdom::{topdom, TopDomParams, TopDomRegion, TopDomTag};
+use super::directionality::{DirectionalityParams, DirectionalityTable, directionality};
+use super::domains::{Boundary, Domain, domains_between};
+use super::hmm::{DiState, HmmParams, dixon_domains};
+use super::insulation::{InsulationParams, InsulationTable, insulation};
+use super::topdom::{TopDomParams, TopDomRegion, TopDomTag, topdom};
 
 /// A TAD caller and its parameters.
 #[derive(Clone, Debug)]

@@ -20,7 +20,7 @@ use crate::error::{Error, Result};
 use crate::genome::View;
 use crate::matrix::{PixelSlice, PixelSource};
 
-use super::insulation::{check_weights, window_bins, Layout, Partial};
+use super::insulation::{Layout, Partial, check_weights, window_bins};
 
 /// Parameters of [`directionality`].
 #[derive(Clone, Debug, PartialEq)]
@@ -233,7 +233,7 @@ mod tests {
     use super::super::insulation::tests::{column, max_rel};
     use super::*;
     use crate::io::tables::Table;
-    use crate::io::{open_matrix, OpenOptions, StreamedPixels};
+    use crate::io::{OpenOptions, StreamedPixels, open_matrix};
 
     #[test]
     fn edges_and_bad_bins_are_masked_as_the_peer() {

@@ -40,7 +40,7 @@
 //!   the domain starts. Bins are genome-wide (`first_bin + local index`).
 
 use super::directionality::DirectionalityTable;
-use super::domains::{region_rows, Boundary, Domain};
+use super::domains::{Boundary, Domain, region_rows};
 use crate::error::{Error, Result};
 
 /// Parameters of the fit and of the domain calls.
@@ -725,7 +725,7 @@ mod tests {
             let agree = path
                 .iter()
                 .zip(states.iter())
-                .filter(|(p, &s)| p.index() == s)
+                .filter(|(p, s)| p.index() == **s)
                 .count();
             assert!(
                 agree as f64 > 0.9 * x.len() as f64,

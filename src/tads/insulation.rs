@@ -1029,7 +1029,7 @@ pub(super) mod tests {
     }
 
     fn parity(uri: &str, reference_path: &str, windows: &[u64]) -> Vec<Vec<f64>> {
-        use crate::io::{open_matrix, OpenOptions, StreamedPixels};
+        use crate::io::{OpenOptions, StreamedPixels, open_matrix};
         let reader = open_matrix(uri, &OpenOptions::default()).unwrap();
         let weights = reader.weights("weight").unwrap().values;
         let source = StreamedPixels::new(reader.as_ref());

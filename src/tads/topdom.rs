@@ -497,11 +497,7 @@ fn stretch_pvalue(scaled: &ScaledDiagonals, s: usize, e: usize, i: usize, w: usi
     diamond.retain(|v| v.is_finite());
     within.retain(|v| v.is_finite());
     let p = rank_sum_less(&diamond, &within);
-    if p.is_nan() {
-        1.0
-    } else {
-        p
-    }
+    if p.is_nan() { 1.0 } else { p }
 }
 
 /// One-sided ("less": `x` tends to be smaller than `y`) Wilcoxon rank-sum p-value, as R's
@@ -629,10 +625,11 @@ mod tests {
         for (c, e) in called.iter().zip(&edges[1..]) {
             assert!(c.abs_diff(*e) <= 1, "called {called:?}");
         }
-        assert!(out
-            .boundaries
-            .iter()
-            .all(|b| b.strength > -(0.05f64.log10())));
+        assert!(
+            out.boundaries
+                .iter()
+                .all(|b| b.strength > -(0.05f64.log10()))
+        );
         // Segments tile the region.
         assert_eq!(out.segments[0].0.start_bin, 100);
         assert_eq!(out.segments.last().unwrap().0.end_bin, 160);

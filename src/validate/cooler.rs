@@ -1,6 +1,6 @@
 //! Checks of `.cool` / `.mcool` files on the stored HDF5 data.
 
-use super::{guarded, BinTable, Column, File, TypeDescriptor, VarLenAscii, VarLenUnicode};
+use super::{BinTable, Column, File, TypeDescriptor, VarLenAscii, VarLenUnicode, guarded};
 use crate::error::Result;
 
 /// Cooler groups of a file: (group path, resolution from the group name if any).

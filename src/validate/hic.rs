@@ -1,7 +1,7 @@
 //! Checks of the formats read through their readers, every pixel streamed: Juicer `.hic` (every
 //! resolution) and HiCExplorer `.h5`.
 
-use super::{io, Class, Collector, HicReader, MatrixReader, Report};
+use super::{Class, Collector, HicReader, MatrixReader, Report, io};
 use crate::error::Result;
 use std::path::Path;
 

@@ -1,9 +1,9 @@
 //! `--repair`: a corrected copy of a cooler written through the library writer.
 
 use super::{
-    chunks, cool, cooler_groups, io, kind_of, open_hdf5, read_attr, Class, Collector,
-    CoolWriteOptions, CoolerCheck, CountType, File, FileKind, InMemory, Kind, MatrixBuilder,
-    Report, Severity, Weights, BLOCK_PIXELS, DIVISIVE_BY_NAME,
+    BLOCK_PIXELS, Class, Collector, CoolWriteOptions, CoolerCheck, CountType, DIVISIVE_BY_NAME,
+    File, FileKind, InMemory, Kind, MatrixBuilder, Report, Severity, Weights, chunks, cool,
+    cooler_groups, io, kind_of, open_hdf5, read_attr,
 };
 use crate::error::{Error, Result};
 use std::path::Path;

@@ -268,11 +268,13 @@ fn store_refuses_an_existing_column_without_force_and_leaves_the_file_unchanged(
     let n_chroms = file.dataset("chroms/length").unwrap().size();
     let scales = dataset.attr("scale").unwrap().read_raw::<f64>().unwrap();
     assert_eq!(scales.len(), n_chroms);
-    assert!(dataset
-        .attr("cis_only")
-        .unwrap()
-        .read_scalar::<bool>()
-        .unwrap());
+    assert!(
+        dataset
+            .attr("cis_only")
+            .unwrap()
+            .read_scalar::<bool>()
+            .unwrap()
+    );
 }
 
 #[test]
@@ -405,7 +407,8 @@ fn an_all_zero_chromosome_gives_nan_weights_and_nan_expected_without_failing() {
         "n_valid 0 on chrB"
     );
     let oe = run_ok(&["normalize", cool, "-", "--to", "coo"]);
-    assert!(oe
-        .lines()
-        .all(|l| l.split('\t').next().unwrap().parse::<usize>().unwrap() < 30));
+    assert!(
+        oe.lines()
+            .all(|l| l.split('\t').next().unwrap().parse::<usize>().unwrap() < 30)
+    );
 }

@@ -129,7 +129,9 @@ fn eigs_cis_equals_cooltools_with_and_without_phasing() {
         // cooltools' columns: the bin table's (every weight column, by name), then E1..E3
         assert_eq!(
             vecs.header,
-            ["chrom", "start", "end", "KR", "SCALE", "VC", "VC_SQRT", "weight", "E1", "E2", "E3"]
+            [
+                "chrom", "start", "end", "KR", "SCALE", "VC", "VC_SQRT", "weight", "E1", "E2", "E3"
+            ]
         );
         let chroms: Vec<String> = vecs.rows.iter().map(|r| r[0].clone()).collect();
         for name in ["E1", "E2", "E3"] {

@@ -264,8 +264,10 @@ fn true_contacts_pdb_and_cif_identical() {
     assert_eq!(pdb, cif);
     // Sequence line, then 77 contacts with separation >= 6 (data/protein/README.md).
     let lines: Vec<&str> = pdb.lines().collect();
-    assert!(lines[0]
-        .ends_with("MDIRQGPKEPFRDYVDRFYKTLRAEQASQEVKNWMTETLLVQNANPDCKTILKALGPGATLEEMMTACQG"));
+    assert!(
+        lines[0]
+            .ends_with("MDIRQGPKEPFRDYVDRFYKTLRAEQASQEVKNWMTETLLVQNANPDCKTILKALGPGATLEEMMTACQG")
+    );
     assert_eq!(lines.len(), 1 + 77);
     assert!(lines[1..].iter().all(|line| line.ends_with(" 0 8 1")));
     let pdb_matrix = run_ok(&["contacts", "--matrix", &protein("1a8o/1A8O.pdb")]);

@@ -176,9 +176,11 @@ fn errors_in_the_input_pixels_name_the_input_and_the_pixel() {
              int32 lengths (at most 2147483647 bp)"
         )
     );
-    assert!(std::fs::read_dir(dir.path()).unwrap().all(|e| !e
-        .unwrap()
-        .file_name()
-        .to_string_lossy()
-        .starts_with("out")));
+    assert!(
+        std::fs::read_dir(dir.path()).unwrap().all(|e| !e
+            .unwrap()
+            .file_name()
+            .to_string_lossy()
+            .starts_with("out"))
+    );
 }

@@ -13,11 +13,11 @@ use std::io::Read;
 use std::path::Path;
 
 use contactmap::genome::{BinTable, Chrom};
-use contactmap::io::cool::{write_cool, CoolWriteOptions};
-use contactmap::io::{load_matrix, open_matrix, InMemory, OpenOptions};
+use contactmap::io::cool::{CoolWriteOptions, write_cool};
+use contactmap::io::{InMemory, OpenOptions, load_matrix, open_matrix};
 use contactmap::matrix::{CountType, MatrixBuilder};
 
-use crate::{data, parse_table, reference_table, run_err, run_ok, Table};
+use crate::{Table, data, parse_table, reference_table, run_err, run_ok};
 
 const DM6: &str = "cooler_test_file.mcool::/resolutions/100000";
 const MM9: &str = "CN.mm9.10000kb.cool";

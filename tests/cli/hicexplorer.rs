@@ -7,7 +7,7 @@
 use std::collections::HashMap;
 use std::io::Read;
 
-use crate::{data, parse_table, reference_table, run_err, run_ok, Table};
+use crate::{Table, data, parse_table, reference_table, run_err, run_ok};
 
 const H5: &str = "hicexplorer/small_test_matrix.h5";
 const COOL: &str = "hicexplorer/small_test_matrix.cool";

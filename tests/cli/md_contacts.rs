@@ -312,9 +312,11 @@ fn a_one_frame_ensemble_scores_as_its_structure() {
         "-o",
         &table,
     ]);
-    assert!(std::fs::read_to_string(&table)
-        .unwrap()
-        .contains("\t101\t104\t"));
+    assert!(
+        std::fs::read_to_string(&table)
+            .unwrap()
+            .contains("\t101\t104\t")
+    );
     let fasta = data("protein/1aapA/1aapA.fasta");
     for register in ["auto", "align"] {
         let args = [

@@ -4,7 +4,7 @@
 
 use std::collections::BTreeSet;
 
-use crate::plot::{decode_png, plot_fails, plot_svg, Image};
+use crate::plot::{Image, decode_png, plot_fails, plot_svg};
 use crate::{data, run, run_ok};
 
 fn protein(name: &str) -> String {
@@ -417,11 +417,13 @@ fn a_second_prediction_goes_to_the_lower_triangle() {
     // Top L = 59 of its 115 true contacts, all true positives, mirrored below the diagonal.
     assert_eq!(count(&figure, "lower", "tp"), 59);
     assert_eq!(count(&figure, "lower", "fp"), 0);
-    assert!(figure
-        .markers
-        .iter()
-        .filter(|m| m.0 == "lower")
-        .all(|m| m.2 > m.3));
+    assert!(
+        figure
+            .markers
+            .iter()
+            .filter(|m| m.0 == "lower")
+            .all(|m| m.2 > m.3)
+    );
     assert_eq!(count(&figure, "upper", "tp"), 34);
     assert_eq!(figure.curves.len(), 2);
     // Precision 1 at every k; the curve stops at the 115 listed pairs, short of 2L = 118, as
@@ -429,9 +431,11 @@ fn a_second_prediction_goes_to_the_lower_triangle() {
     let (_, fy, _, fh) = figure.curve_frame;
     let one = fy + fh * (1.0 - 1.0 / 1.05);
     assert_eq!(figure.curves[1].len(), 115);
-    assert!(figure.curves[1]
-        .iter()
-        .all(|&(_, y)| (y - one).abs() < 0.02));
+    assert!(
+        figure.curves[1]
+            .iter()
+            .all(|&(_, y)| (y - one).abs() < 0.02)
+    );
     assert!(svg.contains("lower: true.rr, top L (k = 59):"), "legend");
 }
 

@@ -98,7 +98,7 @@ fn decade_ticks(svg: &str) -> (Points, Points) {
 }
 
 /// The linear map `value -> pixel` through two ticks.
-fn through(ticks: &[(f64, f64)]) -> impl Fn(f64) -> f64 {
+fn through(ticks: &[(f64, f64)]) -> impl Fn(f64) -> f64 + use<> {
     assert!(ticks.len() >= 2, "two ticks needed: {ticks:?}");
     let (a, b) = (ticks[0], ticks[ticks.len() - 1]);
     let slope = (b.0 - a.0) / (b.1 - a.1);

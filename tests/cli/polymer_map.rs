@@ -4,7 +4,7 @@
 
 use super::*;
 use contactmap::io::trajectory::polychrom::write_blocks;
-use contactmap::io::{open_matrix, OpenOptions};
+use contactmap::io::{OpenOptions, open_matrix};
 
 /// The full symmetric matrix of a .cool's raw counts.
 fn dense(path: &str) -> Vec<Vec<u64>> {

@@ -6,10 +6,10 @@ use std::collections::BTreeMap;
 use proptest::prelude::*;
 
 use contactmap::genome::{BinTable, Chrom};
-use contactmap::io::cool::{write_cool, write_mcool, CoolReader, CoolWriteOptions};
+use contactmap::io::cool::{CoolReader, CoolWriteOptions, write_cool, write_mcool};
 use contactmap::io::hic::{HicReader, HicWriteOptions, HicWriter};
-use contactmap::io::text::{read_matrix, write_text, TextFormat};
-use contactmap::io::{load_matrix, InMemory, MatrixReader, OpenOptions};
+use contactmap::io::text::{TextFormat, read_matrix, write_text};
+use contactmap::io::{InMemory, MatrixReader, OpenOptions, load_matrix};
 use contactmap::matrix::{ContactMatrix, CountType, MatrixBuilder, Weights};
 
 /// A random matrix: 1-3 chromosomes, a bin size, triplets in either triangle, optional weights.

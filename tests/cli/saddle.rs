@@ -207,7 +207,9 @@ fn runs_say_their_orientation_and_strength_and_the_picture_names_the_track() {
         "-o",
         svg.to_str().unwrap(),
     ]);
-    assert!(std::fs::read_to_string(&svg)
-        .unwrap()
-        .contains("E1 class (low to high)"));
+    assert!(
+        std::fs::read_to_string(&svg)
+            .unwrap()
+            .contains("E1 class (low to high)")
+    );
 }

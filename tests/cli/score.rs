@@ -106,9 +106,11 @@ fn known_examples() {
         "-o",
         out.to_str().unwrap(),
     ]);
-    assert!(std::fs::read_to_string(&out)
-        .unwrap()
-        .starts_with("tolerance_bp\t"));
+    assert!(
+        std::fs::read_to_string(&out)
+            .unwrap()
+            .starts_with("tolerance_bp\t")
+    );
 }
 
 #[test]

@@ -60,9 +60,11 @@ fn simulated_map_has_the_expected_shape_and_truth() {
 
     let domains = bed_lines(&domains);
     let top: Vec<&Vec<String>> = domains.iter().filter(|f| f[3] == "0").collect();
-    assert!(domains
-        .iter()
-        .all(|f| f.len() == 4 && (f[3] == "0" || f[3] == "1")));
+    assert!(
+        domains
+            .iter()
+            .all(|f| f.len() == 4 && (f[3] == "0" || f[3] == "1"))
+    );
     assert!(domains.iter().any(|f| f[3] == "1"), "some nested domains");
     for chrom in ["chr1", "chr2"] {
         let spans: Vec<(u64, u64)> = top

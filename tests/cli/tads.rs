@@ -5,7 +5,7 @@
 //! `|ours - reference| <= 1e-9 * |reference|` (twice the quantisation; the acceptance bound is
 //! 1e-8), integers and booleans exactly, NaN must be NaN in both.
 
-use crate::{data, parse_table, reference_table, run, run_err, run_ok, Table};
+use crate::{Table, data, parse_table, reference_table, run, run_err, run_ok};
 
 const DM6: &str = "cooler_test_file.mcool::/resolutions/100000";
 const YEAST: &str = "yeast.10kb.cool";

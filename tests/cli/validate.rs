@@ -327,10 +327,12 @@ fn out_of_range_ids_a_broken_bin_table_and_bad_chroms_are_not_repaired() {
     let (_dir, path) = copy(CN);
     edit_ints(&path, "bins/start", |v| v[10] += 1);
     let json = assert_findings(&path, &[("bin-table", "/", "bins row 10 (chr1)")]);
-    assert!(json["findings"][0]["message"]
-        .as_str()
-        .unwrap()
-        .contains("does not follow the previous bin"));
+    assert!(
+        json["findings"][0]["message"]
+            .as_str()
+            .unwrap()
+            .contains("does not follow the previous bin")
+    );
 
     let (_dir, path) = copy(CN);
     edit_ints(&path, "chroms/length", |v| v[2] = 0);
@@ -405,10 +407,12 @@ fn a_changed_coarse_count_breaks_the_coarsening_and_repair_regenerates_it() {
             &format!("pixel ({}, {})", bin1[3], bin2[3]),
         )],
     );
-    assert!(json["findings"][0]["message"]
-        .as_str()
-        .unwrap()
-        .contains("the base resolution's pixels sum to"));
+    assert!(
+        json["findings"][0]["message"]
+            .as_str()
+            .unwrap()
+            .contains("the base resolution's pixels sum to")
+    );
     let fixed = dir.path().join("fixed.mcool");
     let text = repair_ok(&path, &fixed);
     assert!(
@@ -440,10 +444,12 @@ fn a_corrupt_hic_block_is_reported_with_its_resolution() {
     assert_eq!(found.len(), 1, "{json:#}");
     assert_eq!(found[0].0, "hic-read");
     assert_eq!(found[0].1, "/resolutions/100000");
-    assert!(json["findings"][0]["message"]
-        .as_str()
-        .unwrap()
-        .contains("zlib"));
+    assert!(
+        json["findings"][0]["message"]
+            .as_str()
+            .unwrap()
+            .contains("zlib")
+    );
     // A .hic file cannot be repaired.
     let out = repair(&path, &path.with_extension("fixed.hic"));
     assert_eq!(out.status.code(), Some(1));
@@ -507,10 +513,12 @@ fn a_negative_count_in_a_hicexplorer_matrix_is_found() {
     let found = findings(&json);
     assert_eq!(found.len(), 1, "{json:#}");
     assert_eq!(found[0].0, "count");
-    assert!(json["findings"][0]["message"]
-        .as_str()
-        .unwrap()
-        .contains("count -5"));
+    assert!(
+        json["findings"][0]["message"]
+            .as_str()
+            .unwrap()
+            .contains("count -5")
+    );
     // Not repairable: refused, nothing written.
     let out = path.with_file_name("fixed.cool");
     assert_eq!(repair(&path, &out).status.code(), Some(1));

@@ -9,8 +9,8 @@ use std::collections::BTreeMap;
 use std::io::Read;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
-use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Mutex;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
 use rand::Rng;
@@ -194,7 +194,7 @@ fn gunzip_head(name: &str, max_lines: usize) -> Vec<u8> {
     let end = text
         .iter()
         .enumerate()
-        .filter(|(_, &b)| b == b'\n')
+        .filter(|&(_, &b)| b == b'\n')
         .nth(max_lines.saturating_sub(1))
         .map_or(text.len(), |(k, _)| k + 1);
     text.truncate(end);
@@ -860,23 +860,25 @@ pub fn campaign(
     let failures = Mutex::new(Vec::new());
     std::thread::scope(|s| {
         for _ in 0..jobs.max(1) {
-            s.spawn(|| loop {
-                let k = next.fetch_add(1, Ordering::Relaxed) as usize;
-                let Some(&index) = indices.get(k) else { break };
-                let outcome = run_mutant(binary, format, seed, index, scratch);
-                on_done(&outcome);
-                {
-                    let mut sum = summary.lock().expect("summary lock");
-                    sum.mutants += 1;
-                    for run in &outcome.runs {
-                        *sum.runs.entry(run.class).or_insert(0) += 1;
+            s.spawn(|| {
+                loop {
+                    let k = next.fetch_add(1, Ordering::Relaxed) as usize;
+                    let Some(&index) = indices.get(k) else { break };
+                    let outcome = run_mutant(binary, format, seed, index, scratch);
+                    on_done(&outcome);
+                    {
+                        let mut sum = summary.lock().expect("summary lock");
+                        sum.mutants += 1;
+                        for run in &outcome.runs {
+                            *sum.runs.entry(run.class).or_insert(0) += 1;
+                        }
+                        if outcome.failed() {
+                            sum.failing_mutants += 1;
+                        }
                     }
                     if outcome.failed() {
-                        sum.failing_mutants += 1;
+                        failures.lock().expect("failures lock").push(outcome);
                     }
-                }
-                if outcome.failed() {
-                    failures.lock().expect("failures lock").push(outcome);
                 }
             });
         }

@@ -50,7 +50,9 @@ pub fn mutant_rng(seed: u64, format: &str, index: u64) -> Xoshiro256PlusPlus {
     for _ in 0..(index % 64) {
         rng.jump();
     }
-    Xoshiro256PlusPlus::seed_from_u64(rng.gen::<u64>() ^ index.wrapping_mul(0x9e37_79b9_7f4a_7c15))
+    Xoshiro256PlusPlus::seed_from_u64(
+        rng.r#gen::<u64>() ^ index.wrapping_mul(0x9e37_79b9_7f4a_7c15),
+    )
 }
 
 /// Mutate `input` (a seed of kind `kind`) with 1 to 4 mutations; returns the mutant and one short
@@ -145,7 +147,7 @@ fn span(rng: &mut Xoshiro256PlusPlus, max: usize) -> usize {
 /// One byte-level mutation; `head` is the size of the region favoured at the start.
 pub fn mutate_bytes(data: &mut Vec<u8>, rng: &mut Xoshiro256PlusPlus, head: usize) -> String {
     if data.is_empty() {
-        data.push(rng.gen());
+        data.push(rng.r#gen());
         return "insert 1 byte into an empty file".into();
     }
     let len = data.len();
@@ -197,7 +199,7 @@ pub fn mutate_bytes(data: &mut Vec<u8>, rng: &mut Xoshiro256PlusPlus, head: usiz
         }
         6 => {
             let n = span(rng, 64);
-            let bytes: Vec<u8> = (0..n).map(|_| rng.gen()).collect();
+            let bytes: Vec<u8> = (0..n).map(|_| rng.r#gen()).collect();
             data.splice(at..at, bytes);
             format!("insert {n} random bytes at {at}")
         }
@@ -211,7 +213,7 @@ pub fn mutate_bytes(data: &mut Vec<u8>, rng: &mut Xoshiro256PlusPlus, head: usiz
         _ => {
             let n = span(rng, len - at);
             for b in &mut data[at..at + n] {
-                *b = rng.gen();
+                *b = rng.r#gen();
             }
             format!("randomise {n} bytes at {at}")
         }

@@ -6,11 +6,11 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
-use super::figure::{write_figure, FigureArgs};
+use super::figure::{FigureArgs, write_figure};
 use crate::cli::output::refuse_overwrites;
 use crate::cli::protein::{DefinitionArgs, RoundingArg, TargetArgs};
 use contactmap::error::{Error, Result};
-use contactmap::plot::protein::{draw_contacts, ContactFigure, ContactLayout, PredictionLayer};
+use contactmap::plot::protein::{ContactFigure, ContactLayout, PredictionLayer, draw_contacts};
 use contactmap::score::contacts::{ScoreParams, SeparationRange};
 use contactmap::score::lists::{parse_length, parse_list_size};
 use contactmap::score::target::load_prediction;

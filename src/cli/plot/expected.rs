@@ -5,16 +5,16 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
-use super::figure::{write_figure, FigureArgs};
+use super::figure::{FigureArgs, write_figure};
 use crate::cli::args::InputArgs;
 use crate::cli::input::{open_for_analysis, weights_and_view};
 use crate::cli::output::{refuse_overwrites, uri_file};
 use contactmap::error::{Error, Result};
-use contactmap::expected::powerlaw::{power_law, power_law_of_table, FitRange, PowerLaw};
+use contactmap::expected::powerlaw::{FitRange, PowerLaw, power_law, power_law_of_table};
 use contactmap::expected::{CisExpected, CisParams};
 use contactmap::genome::format_bp;
 use contactmap::io::{LoadedPixels, StreamedPixels};
-use contactmap::plot::curves::{draw_curves, ps_figure, PsFigure, PsSample};
+use contactmap::plot::curves::{PsFigure, PsSample, draw_curves, ps_figure};
 
 /// Arguments of `contactmap plot expected`.
 #[derive(Debug, Args)]

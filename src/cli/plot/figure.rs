@@ -7,7 +7,7 @@ use clap::{Args, ValueEnum};
 
 use crate::cli::output::Output;
 use contactmap::error::{Error, Result};
-use contactmap::plot::{figure_bytes, ImageFormat, Svg};
+use contactmap::plot::{ImageFormat, Svg, figure_bytes};
 
 /// The legend names of `inputs`: `labels` (`--labels`, one per input) or `default` of each.
 pub fn legend_labels(

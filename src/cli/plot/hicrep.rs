@@ -4,13 +4,13 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use super::figure::{write_figure, FigureArgs};
+use super::figure::{FigureArgs, write_figure};
 use crate::cli::output::refuse_overwrites;
 use contactmap::compare::cluster::Dendrogram;
 use contactmap::compare::hicrep::SccTable;
 use contactmap::error::{Error, Result};
 use contactmap::io::tables::Table;
-use contactmap::plot::similarity::{draw_similarity, SimilarityFigure};
+use contactmap::plot::similarity::{SimilarityFigure, draw_similarity};
 use contactmap::plot::{ColorMap, ColorScale, Rgb, ScaleKind};
 
 /// Default figure width in inches.

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
 
-use super::figure::{write_figure, FigureArgs};
+use super::figure::{FigureArgs, write_figure};
 use crate::cli::args::InputArgs;
 use crate::cli::input::expected_column;
 use crate::cli::input::{open_for_analysis, read_weights};
@@ -14,12 +14,12 @@ use contactmap::compare::check_comparable;
 use contactmap::compare::coverage::total;
 use contactmap::error::{Error, Result};
 use contactmap::genome::{BinTable, Region};
-use contactmap::io::bed::{read_bed, read_bedpe, BedRecord};
+use contactmap::io::bed::{BedRecord, read_bed, read_bedpe};
 use contactmap::io::{LoadedPixels, MatrixReader, StreamedPixels};
 use contactmap::normalize::{Method, Normalizer};
-use contactmap::plot::heatmap::{colour_limits, AxisCells, CellGrid, GridComparison};
+use contactmap::plot::heatmap::{AxisCells, CellGrid, GridComparison, colour_limits};
 use contactmap::plot::map::{
-    draw_map, GenomicSpan, MapFigure, MapLayout, MapStyle, MapView, Overlays, Track,
+    GenomicSpan, MapFigure, MapLayout, MapStyle, MapView, Overlays, Track, draw_map,
 };
 use contactmap::plot::{ColorMap, ColorScale, Rgb, ScaleKind};
 

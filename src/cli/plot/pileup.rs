@@ -4,11 +4,11 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
-use super::figure::{write_figure, FigureArgs};
+use super::figure::{FigureArgs, write_figure};
 use crate::cli::output::refuse_overwrites;
 use contactmap::error::{Error, Result};
 use contactmap::io::tables::Table;
-use contactmap::plot::pileup::{centred_limits, draw_pileups, PileupFigure, PileupPanel};
+use contactmap::plot::pileup::{PileupFigure, PileupPanel, centred_limits, draw_pileups};
 use contactmap::plot::{ColorMap, ColorScale, ScaleKind};
 
 /// Default figure width in inches.
@@ -136,7 +136,7 @@ pub fn run(args: &PileupPlotArgs) -> Result<()> {
                 "vmax",
                 vmax,
                 "a number above 1 (the scale is 1/vmax to vmax)",
-            ))
+            ));
         }
         None => centred_limits(grids.iter().flat_map(|g| &g.2)),
     };

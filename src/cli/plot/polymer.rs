@@ -5,11 +5,11 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
-use super::figure::{write_figure, FigureArgs};
+use super::figure::{FigureArgs, write_figure};
 use crate::cli::output::refuse_overwrites;
 use contactmap::error::{Error, Result};
 use contactmap::io::tables::Table;
-use contactmap::plot::curves::{draw_curves, polymer_figure, PolymerFigure, PolymerSample};
+use contactmap::plot::curves::{PolymerFigure, PolymerSample, draw_curves, polymer_figure};
 
 /// Arguments of `contactmap plot polymer-stats`.
 #[derive(Debug, Args)]

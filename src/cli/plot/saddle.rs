@@ -4,11 +4,11 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use super::figure::{write_figure, FigureArgs};
+use super::figure::{FigureArgs, write_figure};
 use crate::cli::output::refuse_overwrites;
 use contactmap::error::{Error, Result};
 use contactmap::io::tables::Table;
-use contactmap::plot::saddle::{draw_saddle, SaddleFigure};
+use contactmap::plot::saddle::{SaddleFigure, draw_saddle};
 use contactmap::plot::{ColorMap, ColorScale, ScaleKind};
 
 /// Default figure width in inches.

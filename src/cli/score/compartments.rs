@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 
 use crate::cli::input::file_column;
-use crate::cli::output::{column_file, refuse_overwrites, Output};
+use crate::cli::output::{Output, column_file, refuse_overwrites};
 use contactmap::error::Result;
 use contactmap::score::compartments::score_track_table;
 

@@ -4,7 +4,7 @@ use clap::Args;
 
 use crate::cli::protein::RoundingArg;
 use contactmap::error::Result;
-use contactmap::score::lists::{parse_list_size, parse_range, LabelledSize, NamedRange};
+use contactmap::score::lists::{LabelledSize, NamedRange, parse_list_size, parse_range};
 
 /// Separation ranges, list sizes and their rounding, shared by `score contacts` and
 /// `score overlap`.

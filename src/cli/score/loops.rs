@@ -5,10 +5,10 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 
 use crate::cli::input::bp_option;
-use crate::cli::output::{refuse_overwrites, Output};
+use crate::cli::output::{Output, refuse_overwrites};
 use contactmap::error::{Error, Result};
 use contactmap::io::bed::read_bedpe;
-use contactmap::score::loops::{loop_score_table, score_loops, Loop, LoopScoreParams};
+use contactmap::score::loops::{Loop, LoopScoreParams, loop_score_table, score_loops};
 
 /// Arguments of `contactmap score loops`.
 #[derive(Debug, Args)]

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 
 use super::lists::ListArgs;
-use crate::cli::output::{refuse_overwrites, Output};
+use crate::cli::output::{Output, refuse_overwrites};
 use crate::cli::protein::PredictionFormatArg;
 use contactmap::error::{Error, Result};
 use contactmap::io::predictions::{read_fasta, read_prediction};

@@ -6,11 +6,11 @@ use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
 
-use crate::cli::output::{check_cool_output, refuse_overwrites, write_text_file, Output};
+use crate::cli::output::{Output, check_cool_output, refuse_overwrites, write_text_file};
 use crate::cli::warnings::Warnings;
 use contactmap::error::{Error, Result};
-use contactmap::io::cool::{write_cool, CoolWriteOptions};
 use contactmap::io::InMemory;
+use contactmap::io::cool::{CoolWriteOptions, write_cool};
 use contactmap::sim::ensemble::EnsembleParams;
 use contactmap::sim::files::parse_type_pattern;
 use contactmap::sim::gpu::{Backend, Device};

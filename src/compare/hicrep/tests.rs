@@ -30,11 +30,11 @@ fn random_map(sizes: &[usize], band: usize, seed: u64, float: bool) -> InMemory 
         let range = bins.chrom_bins(c);
         for i in range.clone() {
             for j in i..(i + band).min(range.end) {
-                if rng.gen::<f64>() < 0.5 {
+                if rng.r#gen::<f64>() < 0.5 {
                     let mean = 40.0 / (1.0 + (j - i) as f64);
-                    let mut count = (rng.gen::<f64>() * 2.0 * mean).floor() + 1.0;
+                    let mut count = (rng.r#gen::<f64>() * 2.0 * mean).floor() + 1.0;
                     if float {
-                        count += rng.gen::<f64>();
+                        count += rng.r#gen::<f64>();
                     }
                     builder.push(i as u64, j as u64, count).unwrap();
                 }
@@ -206,13 +206,13 @@ fn pieces_smooth_only_as_far_as_their_pixels_reach() {
         for i in 0..n {
             let reach = if (300..340).contains(&i) { 36 } else { 7 };
             for j in i..(i + reach).min(n) {
-                if rng.gen::<f64>() < 0.5 {
-                    let fraction = if float { rng.gen::<f64>() } else { 0.0 };
+                if rng.r#gen::<f64>() < 0.5 {
+                    let fraction = if float { rng.r#gen::<f64>() } else { 0.0 };
                     builder
                         .push(
                             i as u64,
                             j as u64,
-                            (rng.gen::<f64>() * 9.0).floor() + 1.0 + fraction,
+                            (rng.r#gen::<f64>() * 9.0).floor() + 1.0 + fraction,
                         )
                         .unwrap();
                 }
@@ -339,7 +339,7 @@ fn hicreppy_scc_of_whole_chromosomes_equals_hicreppy() {
     // data/reference/compare/hicreppy.tsv.gz: hicreppy 0.1.0's get_scc of the yeast map and a
     // copy thinned to 30% (seed 30), as scripts/compare_references.py made it.
     use crate::compare::sample::{SampleParams, Sampled, Target};
-    use crate::io::{open_matrix, OpenOptions};
+    use crate::io::{OpenOptions, open_matrix};
     use std::io::Read;
     let yeast = open_matrix("data/yeast.10kb.cool", &OpenOptions::default()).unwrap();
     let params = SampleParams {

@@ -167,7 +167,7 @@ impl<T: ChunkValue> ChunkedColumn<T> {
         Ok(())
     }
 
-    fn hdf5_err(&self, what: &str) -> impl FnOnce(hdf5::Error) -> Error + '_ {
+    fn hdf5_err(&self, what: &str) -> impl FnOnce(hdf5::Error) -> Error + '_ + use<'_, T> {
         let what = format!("{what} {}", self.name);
         move |e| Error::hdf5(&self.path, what, e)
     }

@@ -189,13 +189,13 @@ impl Column {
                 return Err(Error::format(
                     path,
                     format!("dataset {name} has shape {shape:?}; expected one dimension"),
-                ))
+                ));
             }
             (Some(width), _) => {
                 return Err(Error::format(
                     path,
                     format!("dataset {name} has shape {shape:?}; expected N x {width}"),
-                ))
+                ));
             }
         };
         let descriptor = dataset

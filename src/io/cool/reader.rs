@@ -2,9 +2,9 @@
 //! streamed pixel queries.
 
 use super::{
-    chunks, file_builder, file_len, hdf5_guard, Bin, BinTable, Chrom, Column, CountType, File,
-    MatrixInfo, MatrixReader, PixelBlock, Range, TypeDescriptor, VarLenAscii, VarLenUnicode,
-    Weights, BLOCK_PIXELS, DIVISIVE_BY_NAME,
+    BLOCK_PIXELS, Bin, BinTable, Chrom, Column, CountType, DIVISIVE_BY_NAME, File, MatrixInfo,
+    MatrixReader, PixelBlock, Range, TypeDescriptor, VarLenAscii, VarLenUnicode, Weights, chunks,
+    file_builder, file_len, hdf5_guard,
 };
 use crate::error::{Error, Result};
 use crate::io::read_ahead;
@@ -589,7 +589,9 @@ impl MatrixReader for CoolReader {
             Ok(Weights::from_divisive(
                 name,
                 &values,
-                format!("bins/{name} is divisive (Juicer convention); inverted to multiplicative on read"),
+                format!(
+                    "bins/{name} is divisive (Juicer convention); inverted to multiplicative on read"
+                ),
             ))
         } else {
             Ok(Weights {

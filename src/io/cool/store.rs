@@ -17,10 +17,10 @@
 
 use hdf5::types::VarLenUnicode;
 
-use super::{file_builder, CoolReader, DIVISIVE_BY_NAME};
+use super::{CoolReader, DIVISIVE_BY_NAME, file_builder};
 use crate::error::{Error, Result};
 use crate::io::MatrixReader;
-use crate::matrix::{invert_weight, Weights};
+use crate::matrix::{Weights, invert_weight};
 
 /// A value of an HDF5 attribute, as h5py writes the Python values cooler stores.
 #[derive(Clone, Debug, PartialEq)]
@@ -77,7 +77,9 @@ fn existing_column(uri: &str, name: &str) -> Error {
     let (path, _) = crate::io::split_uri(uri);
     Error::format(
         path,
-        format!("bins/{name} already exists: use --force to replace it (or --name to choose another column)"),
+        format!(
+            "bins/{name} already exists: use --force to replace it (or --name to choose another column)"
+        ),
     )
 }
 
@@ -381,8 +383,8 @@ fn write_attr(location: &hdf5::Location, key: &str, value: &AttrValue) -> hdf5::
 mod tests {
     use super::*;
     use crate::genome::{BinTable, Chrom};
-    use crate::io::cool::{write_cool, CoolWriteOptions};
     use crate::io::InMemory;
+    use crate::io::cool::{CoolWriteOptions, write_cool};
     use crate::matrix::{CountType, MatrixBuilder};
 
     fn small_cool(dir: &std::path::Path) -> String {
@@ -440,16 +442,20 @@ mod tests {
         assert_eq!(names, vec!["chrom", "end", "start", "weight"]);
         let dataset = bins.dataset("weight").unwrap();
         assert_eq!(dataset.read_raw::<f64>().unwrap(), vec![9.0; 8]);
-        assert!(dataset
-            .attr("converged")
-            .unwrap()
-            .read_scalar::<bool>()
-            .unwrap());
-        assert!(!dataset
-            .attr("divisive_weights")
-            .unwrap()
-            .read_scalar::<bool>()
-            .unwrap());
+        assert!(
+            dataset
+                .attr("converged")
+                .unwrap()
+                .read_scalar::<bool>()
+                .unwrap()
+        );
+        assert!(
+            !dataset
+                .attr("divisive_weights")
+                .unwrap()
+                .read_scalar::<bool>()
+                .unwrap()
+        );
         assert_eq!(
             dataset.attr("var").unwrap().read_raw::<f64>().unwrap(),
             vec![1e-6, 2e-6]

@@ -7,9 +7,9 @@ use hdf5::types::{FixedAscii, VarLenUnicode};
 use super::chunk_writer::{ChunkValue, ChunkedColumn};
 use crate::error::{Error, Result};
 use crate::genome::BinTable;
-use crate::io::atomic::with_temporary;
 use crate::io::MatrixReader;
-use crate::matrix::{invert_weight, CountType, PixelBlock, Weights};
+use crate::io::atomic::with_temporary;
+use crate::matrix::{CountType, PixelBlock, Weights, invert_weight};
 
 /// Elements per HDF5 chunk of the pixel columns (128 KiB of `int64` before compression).
 const PIXEL_CHUNK: usize = 16_384;

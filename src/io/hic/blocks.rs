@@ -340,7 +340,7 @@ pub(super) fn decode_block(
         other => {
             return Err(format!(
                 "unknown matrix representation {other} (expected 1, list of rows, or 2, dense)"
-            ))
+            ));
         }
     }
     Ok(stats)

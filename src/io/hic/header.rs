@@ -4,8 +4,8 @@ use std::collections::HashMap;
 use std::fs::File;
 use std::path::Path;
 
-use super::bytes::{printable, SeqReader};
-use super::norms::{read_norm_index, skip_expected_values, NormVector};
+use super::bytes::{SeqReader, printable};
+use super::norms::{NormVector, read_norm_index, skip_expected_values};
 use crate::error::{Error, Result};
 use crate::genome::Chrom;
 
@@ -196,7 +196,7 @@ pub(super) fn read_footer(
                          outside the file ({file_len} bytes): the file is truncated or corrupt",
                         header.chroms[i].name, header.chroms[j].name
                     ),
-                ))
+                ));
             }
         }
     }

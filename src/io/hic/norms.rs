@@ -4,7 +4,7 @@
 //! [`HicReader::expected_values`]: super::HicReader::expected_values
 //! [`HicReader::read_norm_vector`]: super::HicReader
 
-use super::bytes::{printable, SeqReader};
+use super::bytes::{SeqReader, printable};
 use crate::error::{Error, Result};
 use crate::genome::Chrom;
 

@@ -12,9 +12,9 @@ use std::sync::{Arc, Mutex};
 use rayon::prelude::*;
 
 use super::blocks::{
-    decode_block, inflate, BlockEntry, BlockStats, MatrixIndex, PairPlan, Pixel, BLOCK_ENTRY_BYTES,
+    BLOCK_ENTRY_BYTES, BlockEntry, BlockStats, MatrixIndex, PairPlan, Pixel, decode_block, inflate,
 };
-use super::bytes::{printable, SeqReader};
+use super::bytes::{SeqReader, printable};
 use super::header::{read_footer, read_header};
 use super::norms::{HicExpected, NormVector};
 use crate::error::{Error, Result};
@@ -101,7 +101,7 @@ impl HicReader {
                 return Err(Error::format(
                     path,
                     format!("no resolution {r} in this .hic file (available: {listed})"),
-                ))
+                ));
             }
             None if resolutions.len() == 1 => resolutions[0],
             None if resolutions.is_empty() => return Err(no_base_pair_resolution(path)),
@@ -114,7 +114,7 @@ impl HicReader {
                         resolutions.len(),
                         path.display()
                     ),
-                ))
+                ));
             }
         };
 

@@ -58,7 +58,9 @@ fn reads_the_bin_table_and_metadata() {
     let names: Vec<&str> = bins.chroms().iter().map(|c| c.name.as_str()).collect();
     assert_eq!(
         names,
-        ["chr2L", "chr2R", "chr3L", "chr3R", "chr4", "chrX", "chrY", "chrM"]
+        [
+            "chr2L", "chr2R", "chr3L", "chr3R", "chr4", "chrX", "chrY", "chrM"
+        ]
     );
     assert_eq!(bins.chroms()[0].length_bp, 23_513_712);
     assert_eq!(
@@ -74,10 +76,11 @@ fn reads_the_bin_table_and_metadata() {
     assert_eq!(info.format, "hic (version 9)");
     assert_eq!(info.resolutions, [100_000]);
     assert!(info.notes[0].contains("divisive"));
-    assert!(info
-        .attributes
-        .iter()
-        .any(|(k, v)| k == "software" && v.as_str() == Some("Juicer Tools Version 3.30.00")));
+    assert!(
+        info.attributes
+            .iter()
+            .any(|(k, v)| k == "software" && v.as_str() == Some("Juicer Tools Version 3.30.00"))
+    );
 }
 
 #[test]
@@ -177,11 +180,13 @@ fn ice_weights_match_hictkpy_and_the_mcool() {
     // chrM (bin 1379) has no ICE vector; hictkpy gives NaN for 61 bins
     assert!(weights.values[1379].is_nan());
     assert_eq!(weights.values.iter().filter(|w| w.is_nan()).count(), 61);
-    assert!(reader
-        .weights("KR")
-        .unwrap_err()
-        .to_string()
-        .contains("available: ICE"));
+    assert!(
+        reader
+            .weights("KR")
+            .unwrap_err()
+            .to_string()
+            .contains("available: ICE")
+    );
 }
 
 #[test]
@@ -568,7 +573,7 @@ fn corrupt_sizes_and_offsets_are_named_errors() {
 #[test]
 fn header_bins_are_bounded_by_the_file_size() {
     use super::header::MAX_CHROM_LENGTH_BP;
-    use super::reader::{max_bins, BINS_PER_FILE_BYTE, MIN_BIN_ALLOWANCE};
+    use super::reader::{BINS_PER_FILE_BYTE, MIN_BIN_ALLOWANCE, max_bins};
     // The bound: never more than the allowance or 16 bins per byte, never past 32-bit bins.
     for len in [0, 1, 1000, 1 << 20, 1 << 30, 1 << 40, u64::MAX] {
         let bound = max_bins(len);

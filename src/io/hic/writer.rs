@@ -56,7 +56,7 @@ use crate::genome::{BinTable, Chrom};
 use crate::io::MatrixReader;
 use crate::matrix::PixelBlock;
 
-use block::{block_coordinates, compress_block, Record};
+use block::{Record, block_coordinates, compress_block};
 
 /// Pixels the resolutions take at a time (a slice of the reader's block).
 const RUN_PIXELS: usize = 1 << 18;

@@ -133,10 +133,11 @@ fn attaching_a_sequence_checks_residue_numbers() {
 fn reads_trrosetta_npz_and_npy_distances() {
     let npz = read_prediction(format!("{DATA}/1guuA/1guuA.npz"), None).unwrap();
     assert_eq!(npz.pairs.len(), 50 * 49 / 2);
-    assert!(npz
-        .pairs
-        .iter()
-        .all(|p| (-1e-6..=1.0 + 1e-5).contains(&p.2)));
+    assert!(
+        npz.pairs
+            .iter()
+            .all(|p| (-1e-6..=1.0 + 1e-5).contains(&p.2))
+    );
     let npy = read_prediction(format!("{DATA}/1guuA/1guuA.predicted.npy"), None).unwrap();
     assert_eq!(npy.pairs.len(), 50 * 49 / 2);
     assert!(npy.pairs.iter().all(|p| p.2 < 0.0));

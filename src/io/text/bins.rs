@@ -4,7 +4,7 @@
 use std::collections::HashMap;
 use std::path::Path;
 
-use super::lines::{parse_u64, show, Fields, LineReader};
+use super::lines::{Fields, LineReader, parse_u64, show};
 use crate::error::{Error, Result};
 use crate::genome::{Bin, BinTable, Chrom};
 use crate::io::OpenOptions;
@@ -33,7 +33,7 @@ pub fn read_chrom_sizes(path: &Path) -> Result<Vec<Chrom>> {
                     "length '{}' of '{}' is not a positive whole number",
                     show(length),
                     show(name)
-                )))
+                )));
             }
             Some(n) => n,
         };
@@ -90,7 +90,7 @@ pub fn read_bins_bed(path: &Path) -> Result<BinTable> {
                     "start '{}' and end '{}' must be whole numbers",
                     show(fields[1]),
                     show(fields[2])
-                )))
+                )));
             }
         };
         first_data_line = false;
@@ -103,17 +103,16 @@ pub fn read_bins_bed(path: &Path) -> Result<BinTable> {
                 id
             }
         };
-        let expected_start = match bins.last() {
-            Some(last) if last.chrom_id == chrom_id => last.end,
-            Some(_) if chroms[chrom_id].length_bp > 0 => {
-                return Err(lines.error(format!(
+        let expected_start =
+            match bins.last() {
+                Some(last) if last.chrom_id == chrom_id => last.end,
+                Some(_) if chroms[chrom_id].length_bp > 0 => return Err(lines.error(format!(
                     "chromosome '{}' appears again after other chromosomes: bins must be grouped \
                      by chromosome",
                     chroms[chrom_id].name
-                )))
-            }
-            _ => 0,
-        };
+                ))),
+                _ => 0,
+            };
         if start != expected_start || end <= start {
             return Err(lines.error(format!(
                 "bin {}:{start}-{end} does not continue the tiling of '{}': expected a bin starting \

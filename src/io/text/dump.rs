@@ -8,9 +8,9 @@ use rayon::prelude::*;
 
 use crate::error::Result;
 use crate::genome::BinTable;
-use crate::io::output::{write_count, FloatFormat};
-use crate::io::tables::write_u64;
 use crate::io::MatrixReader;
+use crate::io::output::{FloatFormat, write_count};
+use crate::io::tables::write_u64;
 use crate::matrix::{CountType, PixelBlock};
 
 /// How the tables are printed.

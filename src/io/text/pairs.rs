@@ -7,7 +7,7 @@ use std::hash::{BuildHasherDefault, Hasher};
 use std::path::Path;
 
 use super::bins::{bin_table_for, read_chrom_sizes};
-use super::lines::{pairs_columns, parse_u64, show, Fields, LineReader};
+use super::lines::{Fields, LineReader, pairs_columns, parse_u64, show};
 use crate::error::{Error, Result};
 use crate::genome::{BinTable, Chrom};
 use crate::io::OpenOptions;
@@ -73,7 +73,7 @@ impl PairBinner {
                         "{}: the pairs have no '#chromsize:' header lines: pass --chrom-sizes FILE \
                          (or --bins BED) to give the chromosomes",
                         path.display()
-                    )))
+                    )));
                 }
             };
             BinTable::fixed(chroms, size)?
@@ -198,7 +198,7 @@ pub(super) fn read_pairs(lines: &mut LineReader, options: &OpenOptions) -> Resul
                 }
                 _ => {
                     return Err(lines
-                        .error("expected '#chromsize: name length' with a positive whole length"))
+                        .error("expected '#chromsize: name length' with a positive whole length"));
                 }
             }
         } else if let Some(rest) = line.strip_prefix(b"#columns:") {
@@ -455,7 +455,7 @@ mod tests {
     use tempfile::TempDir;
 
     use super::super::test_support::*;
-    use super::super::{read_matrix, TextFormat};
+    use super::super::{TextFormat, read_matrix};
     use super::CHUNK_BYTES;
     use crate::error::Error;
     use crate::io::OpenOptions;

@@ -2,7 +2,7 @@
 
 use std::collections::HashMap;
 
-use super::lines::{first_fields, parse_count, parse_number, parse_u64, show, Fields, LineReader};
+use super::lines::{Fields, LineReader, first_fields, parse_count, parse_number, parse_u64, show};
 use crate::error::{Error, Result};
 use crate::genome::BinTable;
 use crate::matrix::{ContactMatrix, CountType, MatrixBuilder, ZeroCounts};
@@ -282,7 +282,7 @@ mod tests {
     use tempfile::TempDir;
 
     use super::super::test_support::*;
-    use super::super::{read_bins_bed, read_matrix, TextFormat};
+    use super::super::{TextFormat, read_bins_bed, read_matrix};
     use crate::error::Error;
     use crate::genome::Chrom;
     use crate::io::OpenOptions;

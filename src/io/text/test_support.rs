@@ -4,11 +4,11 @@ use std::fs::File;
 use std::io::{Read, Write};
 use std::path::PathBuf;
 
-use flate2::write::GzEncoder;
 use flate2::Compression;
+use flate2::write::GzEncoder;
 use tempfile::TempDir;
 
-use super::{read_matrix, TextFormat};
+use super::{TextFormat, read_matrix};
 use crate::error::{Error, Result};
 use crate::io::OpenOptions;
 use crate::matrix::{ContactMatrix, CountType};

@@ -3,11 +3,11 @@
 use std::io::{BufWriter, Write};
 use std::path::Path;
 
-use flate2::write::GzEncoder;
 use flate2::Compression;
+use flate2::write::GzEncoder;
 
 use super::lines::BUFFER_BYTES;
-use super::{TextFormat, MAX_DENSE_BINS};
+use super::{MAX_DENSE_BINS, TextFormat};
 use crate::error::{Error, Result};
 use crate::io::MatrixReader;
 use crate::matrix::CountType;
@@ -49,13 +49,13 @@ pub fn write_text(reader: &dyn MatrixReader, path: &str, format: TextFormat) -> 
             return Err(Error::Invalid(format!(
                 "{path}: cannot write pairs: a contact matrix does not hold read pairs (write bg2, \
                  coo or dense instead)"
-            )))
+            )));
         }
         TextFormat::Dense if n_bins > MAX_DENSE_BINS => {
             return Err(Error::Invalid(format!(
                 "{path}: a dense matrix of {n_bins} x {n_bins} bins is too large to write as text \
                  (at most {MAX_DENSE_BINS} bins): write bg2 or coo, or select a coarser resolution"
-            )))
+            )));
         }
         _ => {}
     }

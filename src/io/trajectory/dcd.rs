@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 
 use std::sync::Arc;
 
-use super::{checked, non_finite, positions_buffer, AtomSelection, Conformation, LengthUnit};
+use super::{AtomSelection, Conformation, LengthUnit, checked, non_finite, positions_buffer};
 use crate::error::{Error, Result};
 
 /// The frames of a DCD file.
@@ -311,11 +311,7 @@ fn cell_vectors(lengths: [f64; 3], angles: [f64; 3]) -> Option<[[f64; 3]; 3]> {
     let [a, b, c] = lengths;
     let cos = |x: f64| {
         let v = x.cos();
-        if v.abs() < 1e-12 {
-            0.0
-        } else {
-            v
-        }
+        if v.abs() < 1e-12 { 0.0 } else { v }
     };
     let bx = b * cos(gamma);
     let by = b * gamma.sin();

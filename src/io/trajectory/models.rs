@@ -7,7 +7,7 @@
 use std::collections::VecDeque;
 use std::path::Path;
 
-use super::{checked, Conformation, LengthUnit};
+use super::{Conformation, LengthUnit, checked};
 use crate::error::{Error, Result};
 use crate::io::structure::{for_each_atom_site, structure_text};
 

@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 
 use rayon::prelude::*;
 
-use super::{checked, positions_buffer, Conformation, LengthUnit};
+use super::{Conformation, LengthUnit, checked, positions_buffer};
 use crate::error::{Error, Result};
 use crate::io::cool::chunks::Column;
 use crate::io::hdf5_guard::guarded;

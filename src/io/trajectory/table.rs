@@ -5,7 +5,7 @@
 use std::io::BufRead;
 use std::path::{Path, PathBuf};
 
-use super::{checked, coordinates, Conformation, LengthUnit};
+use super::{Conformation, LengthUnit, checked, coordinates};
 use crate::error::{Error, Result};
 
 /// The conformations of a table, read one at a time.

@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 
 use molly::selection::AtomSelection;
 
-use super::{checked, positions_buffer, Conformation, LengthUnit};
+use super::{Conformation, LengthUnit, checked, positions_buffer};
 use crate::error::{Error, Result};
 
 /// The frames of an XTC file.
@@ -183,7 +183,7 @@ impl XtcFrames {
         let used = match result {
             Some(Ok(used)) => used,
             Some(Err(e)) if e.kind() == std::io::ErrorKind::UnexpectedEof => {
-                return Err(corrupt("truncated frame (the file ends inside it)".into()))
+                return Err(corrupt("truncated frame (the file ends inside it)".into()));
             }
             Some(Err(e)) => return Err(corrupt(format!("unreadable frame ({e})"))),
             None => return Err(corrupt("corrupt compressed coordinates".into())),

@@ -4,7 +4,7 @@
 use std::io::BufRead;
 use std::path::{Path, PathBuf};
 
-use super::{checked, coordinates, Conformation, LengthUnit};
+use super::{Conformation, LengthUnit, checked, coordinates};
 use crate::error::{Error, Result};
 
 /// The frames of an XYZ file, read one at a time.

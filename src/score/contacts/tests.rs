@@ -174,10 +174,12 @@ fn xd_and_curve_against_naive() {
         assert_eq!(score.curve[list.k - 1], list.true_positives);
     }
     assert_eq!(score.curve.len(), 118);
-    assert!(score
-        .curve
-        .windows(2)
-        .all(|w| w[1] >= w[0] && w[1] <= w[0] + 1));
+    assert!(
+        score
+            .curve
+            .windows(2)
+            .all(|w| w[1] >= w[0] && w[1] <= w[0] + 1)
+    );
     // Listing every observed pair of the range reproduces the background: Xd = 0.
     let everything = Prediction {
         pairs: numbers

@@ -22,7 +22,7 @@
 //! cell vectors' lengths) `x (1 + the sum of the vectors' lengths over their plane spacings)`,
 //! some hundreds of roundings of the numbers MDTraj adds.
 
-use super::distance::{boxed_below, triclinic_below, Displacements};
+use super::distance::{Displacements, boxed_below, triclinic_below};
 use super::frame::{Cell, Frame};
 
 /// The index of the residue pair `(i, j)`, `i < j`, among the pairs, in constant time.
@@ -53,7 +53,7 @@ impl PairIndex {
             member[i] = true;
             member[j] = true;
         }
-        let members = member.iter().enumerate().filter(|(_, &m)| m);
+        let members = member.iter().enumerate().filter(|&(_, &m)| m);
         for (next, (r, _)) in members.enumerate() {
             rank[r] = next as u32;
         }
@@ -529,8 +529,8 @@ mod tests {
 
     use super::super::distance::{boxed, sqrt_threshold, triclinic};
     use super::super::{
-        contact_frequencies, contact_pairs, count_frame, single_runs, ContactPairs, FrequencySpec,
-        Scheme,
+        ContactPairs, FrequencySpec, Scheme, contact_frequencies, contact_pairs, count_frame,
+        single_runs,
     };
     use super::*;
     use crate::io::trajectory::{Conformation, LengthUnit};

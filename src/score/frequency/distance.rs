@@ -99,11 +99,7 @@ pub(super) fn round_even(x: f32) -> f32 {
     // rounded to the nearest, ties to even (2^23 is even); the subtraction is exact
     let shift = INTEGRAL.copysign(x);
     let rounded = (x + shift) - shift;
-    if x.abs() < INTEGRAL {
-        rounded
-    } else {
-        x
-    }
+    if x.abs() < INTEGRAL { rounded } else { x }
 }
 
 /// `x` rounded to the nearest integer, ties away from zero: `x.round()` (but for the sign of a

@@ -1,8 +1,8 @@
 use super::*;
 use proptest::prelude::*;
 use rand::Rng;
-use rand_xoshiro::rand_core::SeedableRng;
 use rand_xoshiro::Xoshiro256PlusPlus;
+use rand_xoshiro::rand_core::SeedableRng;
 
 fn rng(seed: u64) -> Xoshiro256PlusPlus {
     Xoshiro256PlusPlus::seed_from_u64(seed)
@@ -177,7 +177,7 @@ impl Naive {
         } else if q == 0.0 {
             false
         } else {
-            rng.gen::<f64>() < q
+            rng.r#gen::<f64>() < q
         }
     }
     fn site(&self, rng: &mut Xoshiro256PlusPlus) -> Option<usize> {

@@ -31,7 +31,7 @@ pub use context::Gpu;
 use rayon::prelude::*;
 
 use super::ensemble::{
-    assemble, replica_extrusion, Ensemble, EnsembleParams, Sampler, POLYMER_STREAM,
+    Ensemble, EnsembleParams, POLYMER_STREAM, Sampler, assemble, replica_extrusion,
 };
 use super::noise::noise_key;
 use super::polymer::Polymer;

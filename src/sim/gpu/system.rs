@@ -9,7 +9,7 @@
 
 use std::num::NonZeroU64;
 
-use super::context::{block_on, Gpu};
+use super::context::{Gpu, block_on};
 use crate::error::{Error, Result};
 use crate::sim::polymer::{BondModel, Confinement, PolymerParams, Repulsion};
 

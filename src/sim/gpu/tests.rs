@@ -13,7 +13,7 @@ use crate::sim::analysis::{
 };
 use crate::sim::noise::{bead_normals, bead_words};
 use crate::sim::polymer::{
-    box_side, sphere_radius, Attraction, BondModel, Confinement, PolymerParams, Repulsion,
+    Attraction, BondModel, Confinement, PolymerParams, Repulsion, box_side, sphere_radius,
 };
 
 /// The GPU, or `None` (with the reason printed) when there is none and none is required.
@@ -319,7 +319,7 @@ fn ideal_chain_statistics_match_the_cpu() {
 #[test]
 fn ensembles_are_reproducible_and_agree_with_the_cpu() {
     let Some(gpu) = test_gpu() else { return };
-    use crate::sim::ensemble::{run_ensemble, ExtrusionCoupling};
+    use crate::sim::ensemble::{ExtrusionCoupling, run_ensemble};
     use crate::sim::extrusion::{BoundaryElement, ExtrusionParams, Orientation};
     let chains = vec![300, 200];
     let polymer = PolymerParams {

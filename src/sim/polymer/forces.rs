@@ -6,8 +6,8 @@
 use rayon::prelude::*;
 
 use super::{
-    for_each_block, split_lengths, Attraction, BondModel, Confinement, PlaneBuffers, Polymer,
-    Repulsion, Scratch,
+    Attraction, BondModel, Confinement, PlaneBuffers, Polymer, Repulsion, Scratch, for_each_block,
+    split_lengths,
 };
 
 /// The attraction well `(depth, range)` between beads `i` and `j`, when they are of one type.
@@ -163,11 +163,7 @@ impl Polymer {
         let mut energy = self.pair_forces(parallel);
         energy += self.extra_bond_forces();
         energy += self.bonded_forces(parallel, with_energy);
-        if with_energy {
-            energy
-        } else {
-            0.0
-        }
+        if with_energy { energy } else { 0.0 }
     }
 
     /// Set the forces to the pair forces (through the cell list); return their energy.

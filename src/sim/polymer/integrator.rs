@@ -6,7 +6,7 @@ use rand::Rng;
 use rayon::prelude::*;
 
 use super::{
-    noise, CellList, Confinement, Polymer, PolymerParams, Repulsion, Scratch, SeededRng, Space,
+    CellList, Confinement, Polymer, PolymerParams, Repulsion, Scratch, SeededRng, Space, noise,
 };
 
 /// Below this many beads a polymer is stepped on the calling thread alone (the result is the
@@ -37,8 +37,8 @@ where
 #[inline]
 pub(super) fn normal_pair(rng: &mut SeededRng) -> (f64, f64) {
     loop {
-        let u = 2.0 * rng.gen::<f64>() - 1.0;
-        let v = 2.0 * rng.gen::<f64>() - 1.0;
+        let u = 2.0 * rng.r#gen::<f64>() - 1.0;
+        let v = 2.0 * rng.r#gen::<f64>() - 1.0;
         let s = u * u + v * v;
         if s < 1.0 && s > 0.0 {
             let factor = (-2.0 * s.ln() / s).sqrt();
@@ -94,13 +94,13 @@ impl Polymer {
             let mut current = match params.confinement {
                 Confinement::Sphere { radius, .. } => {
                     let direction = random_unit(&mut rng);
-                    let r = radius * rng.gen::<f64>().cbrt() * 0.9;
+                    let r = radius * rng.r#gen::<f64>().cbrt() * 0.9;
                     direction.map(|x| x * r)
                 }
                 Confinement::Periodic { side } => [
-                    rng.gen::<f64>() * side,
-                    rng.gen::<f64>() * side,
-                    rng.gen::<f64>() * side,
+                    rng.r#gen::<f64>() * side,
+                    rng.r#gen::<f64>() * side,
+                    rng.r#gen::<f64>() * side,
                 ],
                 Confinement::None => [0.0; 3],
             };

@@ -301,11 +301,13 @@ fn bad_parameters() {
     assert!(params.check().is_err());
     params.chains = vec![10];
     params.dt = 0.0;
-    assert!(params
-        .check()
-        .unwrap_err()
-        .to_string()
-        .contains("time step"));
+    assert!(
+        params
+            .check()
+            .unwrap_err()
+            .to_string()
+            .contains("time step")
+    );
 }
 
 #[test]

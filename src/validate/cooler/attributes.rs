@@ -1,6 +1,6 @@
 //! The attributes of a cooler and its weight columns.
 
-use super::{kind_of, read_attr, BinTable, CoolerCheck, Kind};
+use super::{BinTable, CoolerCheck, Kind, kind_of, read_attr};
 use crate::error::{Error, Result};
 use crate::validate::{Class, Collector, DIVISIVE_BY_NAME, FLOAT_TOLERANCE};
 

@@ -1,8 +1,8 @@
 //! The checks of one cooler group: its datasets, their kinds, and the order of the checks.
 
-use super::{kind_of, read_attr, Attr, BinColumns, BinTable, CheckedCooler, CoolerCheck, Kind};
+use super::{Attr, BinColumns, BinTable, CheckedCooler, CoolerCheck, Kind, kind_of, read_attr};
 use crate::error::{Error, Result};
-use crate::validate::{read_strings, Bin, Chrom, Class, Collector};
+use crate::validate::{Bin, Chrom, Class, Collector, read_strings};
 
 impl CoolerCheck<'_> {
     pub(crate) fn add(&self, out: &mut Collector, class: Class, location: &str, message: String) {

@@ -2,7 +2,7 @@
 
 use super::{CheckedCooler, File, PixelColumns};
 use crate::error::Result;
-use crate::validate::{Class, Collector, BLOCK_PIXELS, FLOAT_TOLERANCE};
+use crate::validate::{BLOCK_PIXELS, Class, Collector, FLOAT_TOLERANCE};
 
 pub(crate) struct PixelSummary {
     pub(crate) sum: f64,

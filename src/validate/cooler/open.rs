@@ -1,8 +1,8 @@
 //! Finding the coolers of an HDF5 file and running every check on each.
 
-use super::{check_coarsening, guarded, CoolerCheck, CoolerGroups};
+use super::{CoolerCheck, CoolerGroups, check_coarsening, guarded};
 use crate::error::{Error, Result};
-use crate::validate::{chunks, validate_hicexplorer, Collector, Report};
+use crate::validate::{Collector, Report, chunks, validate_hicexplorer};
 use std::path::Path;
 
 /// The format name and the coolers of an HDF5 file.

@@ -2,7 +2,7 @@
 
 use super::{CoolerCheck, PixelColumns, PixelSummary};
 use crate::error::Result;
-use crate::validate::{Class, Collector, BLOCK_PIXELS};
+use crate::validate::{BLOCK_PIXELS, Class, Collector};
 
 impl CoolerCheck<'_> {
     pub(crate) fn check_pixels(

@@ -11,8 +11,8 @@
 
 use std::io::Write;
 
-use flate2::write::ZlibEncoder;
 use flate2::Compression;
+use flate2::write::ZlibEncoder;
 
 /// One record of a block.
 #[derive(Clone, Copy, Debug, PartialEq)]
