@@ -238,6 +238,31 @@ pub fn argument_error_line(error: &clap::Error) -> String {
     }
 }
 
+/// The option that gives the library's parameter `field` (an [`contactmap::Error::Parameter`]'s
+/// name) in the command line `args`: the long name of the argument with that id in the
+/// subcommand `args` ran, else the field's name in kebab case (clap's own rule for a field
+/// without a long name of its own).
+pub fn option_name(args: &[std::ffi::OsString], field: &str) -> String {
+    let mut command = command();
+    let long = command
+        .try_get_matches_from_mut(args)
+        .ok()
+        .and_then(|matches| {
+            let mut command = &command;
+            let mut matches = &matches;
+            while let Some((name, sub)) = matches.subcommand() {
+                command = command.find_subcommand(name)?;
+                matches = sub;
+            }
+            command
+                .get_arguments()
+                .find(|arg| arg.get_id() == field)
+                .and_then(|arg| arg.get_long())
+                .map(str::to_string)
+        });
+    long.unwrap_or_else(|| field.replace('_', "-"))
+}
+
 /// Run a parsed command line.
 pub fn run(cli: Cli) -> Result<Status> {
     match cli.command {

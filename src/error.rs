@@ -74,9 +74,49 @@ pub enum Error {
         expected: String,
     },
 
-    /// Inconsistent input given to a library function (bad parameters, bins out of range...).
+    /// A value the caller gave (an argument, an option or a combination of them) that cannot be
+    /// used, where it is not one named field ([`Error::Parameter`]): a window that is not a
+    /// multiple of the bin size, two options that exclude each other, a name that is not known.
+    #[error("{0}")]
+    Argument(String),
+
+    /// Input data that contradicts itself or the other inputs (a bin table that does not tile
+    /// its chromosomes, a pixel past the last bin, two maps with other bins), where the file it
+    /// came from is not known; [`Error::in_file`] names the file.
+    #[error("{0}")]
+    Data(String),
+
+    /// Input in a format version, layout or type this version cannot read or write (a .hic
+    /// version, a dtype, a cooler layout): the input is not wrong, only not supported.
+    #[error("{0}")]
+    Unsupported(String),
+
+    /// Work stopped on request ([`crate::interrupt::request`]: Ctrl-C in Python).
+    #[error("interrupted")]
+    Interrupted,
+
+    /// Anything else a library function cannot use (the few messages that are not clearly one
+    /// of the above).
     #[error("{0}")]
     Invalid(String),
+}
+
+/// What an error is about, for hosts that map errors to their own kinds (the binary's exit
+/// codes, Python's exception classes).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Concern {
+    /// A value or combination the caller gave ([`Error::Parameter`], [`Error::Argument`],
+    /// [`Error::Region`], [`Error::Invalid`]).
+    Parameter,
+    /// Input that does not follow its format or contradicts itself ([`Error::Format`],
+    /// [`Error::Parse`], [`Error::Hdf5`], [`Error::Data`]).
+    Format,
+    /// Input in a layout or version not supported ([`Error::Unsupported`]).
+    Unsupported,
+    /// The operating system refused a read or a write ([`Error::Io`]).
+    Io,
+    /// Stopped on request ([`Error::Interrupted`]).
+    Interrupted,
 }
 
 impl Error {
@@ -141,13 +181,48 @@ impl Error {
         }
     }
 
-    /// Name `path` in an [`Error::Invalid`] message (`path: message`), for checks that do not
-    /// know which file their input came from; every other error already names its file and is
-    /// returned unchanged.
+    /// Name `path` in an [`Error::Invalid`] or [`Error::Data`] message (`path: message`; data
+    /// becomes an [`Error::Format`] of that file), for checks that do not know which file their
+    /// input came from; every other error already names its file and is returned unchanged.
+    ///
+    /// ```
+    /// use contactmap::Error;
+    ///
+    /// let error = Error::Data("bin 3: bins are not sorted by chromosome".into());
+    /// let named = error.in_file(std::path::Path::new("a.cool"));
+    /// assert!(matches!(named, Error::Format { .. }));
+    /// assert_eq!(named.to_string(), "a.cool: bin 3: bins are not sorted by chromosome");
+    /// ```
     pub fn in_file(self, path: &std::path::Path) -> Self {
         match self {
             Error::Invalid(message) => Error::Invalid(format!("{}: {message}", path.display())),
+            Error::Data(message) => Error::format(path, message),
             other => other,
+        }
+    }
+
+    /// What the error is about: the binary and the Python binding map it to an exit code and an
+    /// exception class.
+    ///
+    /// ```
+    /// use contactmap::error::{Concern, Error};
+    ///
+    /// assert_eq!(Error::parameter("n_eigs", 0, "at least 1").concern(), Concern::Parameter);
+    /// assert_eq!(Error::format("a.cool", "no bins").concern(), Concern::Format);
+    /// assert_eq!(Error::Interrupted.concern(), Concern::Interrupted);
+    /// ```
+    pub fn concern(&self) -> Concern {
+        match self {
+            Error::Parameter { .. }
+            | Error::Argument(_)
+            | Error::Region { .. }
+            | Error::Invalid(_) => Concern::Parameter,
+            Error::Format { .. } | Error::Parse { .. } | Error::Hdf5 { .. } | Error::Data(_) => {
+                Concern::Format
+            }
+            Error::Unsupported(_) => Concern::Unsupported,
+            Error::Io { .. } => Concern::Io,
+            Error::Interrupted => Concern::Interrupted,
         }
     }
 

@@ -47,7 +47,7 @@ pub fn parse_normalizations(items: &[String]) -> Result<Vec<Method>> {
             continue;
         }
         let method = Method::from_juicer_name(item).ok_or_else(|| {
-            Error::Invalid(format!(
+            Error::Argument(format!(
                 "'{item}' is not one of VC, VC_SQRT, KR, SCALE, ICE, none"
             ))
         })?;

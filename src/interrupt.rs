@@ -38,7 +38,7 @@ pub fn requested() -> bool {
 /// ```
 pub fn check() -> Result<()> {
     if requested() {
-        Err(Error::Invalid("interrupted".into()))
+        Err(Error::Interrupted)
     } else {
         Ok(())
     }

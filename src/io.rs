@@ -96,15 +96,25 @@ macro_rules! forward_reader_metadata {
 }
 
 mod adapters;
+mod input;
+mod kind;
 mod open;
 mod pixels;
 mod query;
 mod reader;
 #[cfg(test)]
 mod tests;
+mod uri;
 
-pub use adapters::*;
-pub use open::*;
-pub use pixels::*;
-pub use query::*;
-pub use reader::*;
+pub use adapters::{CheckedCounts, Inspect};
+pub use input::open_text;
+pub use kind::{FileKind, detect_kind};
+pub use open::{list_resolutions, open_matrix};
+pub use pixels::{
+    LoadedPixels, StreamedPixels, default_memory_budget, load_matrix, load_pixels,
+    load_pixels_for_balancing, parse_memory_size,
+};
+pub use query::{QueryPixels, query_dense, query_dense_into, query_pixels};
+pub use reader::{InMemory, MatrixInfo, MatrixReader, read_ahead, read_ahead_by};
+pub use text::options::OpenOptions;
+pub use uri::{parse_resolution_group, split_uri};

@@ -24,8 +24,7 @@
 //! The `contactmap` command line is a thin layer over these modules, in the binary (`src/cli/`):
 //! each command parses its options into the library's parameters, calls the library and prints.
 //! Modules import one another one way, the ground floor imports no room and no room borrows from
-//! [`sim`] (`tests/architecture.rs` checks it, and that no module imports from its parent's file
-//! beyond the list not yet moved, `tests/architecture_ancestor_imports.txt`).
+//! [`sim`], and no module imports from an ancestor's file (`tests/architecture.rs` checks it).
 //!
 //! Coordinates are 0-based and half-open; weights are multiplicative (cooler's convention).
 //!

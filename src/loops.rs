@@ -30,6 +30,7 @@
 //! scored with a truncated footprint).
 
 pub mod birch;
+mod calls;
 pub mod fdr;
 pub mod kernels;
 pub mod merge;
@@ -37,6 +38,8 @@ pub mod scan;
 pub mod tables;
 #[cfg(test)]
 mod tests;
+
+pub use calls::{Dot, DotCalls, EnrichedPixel};
 
 use std::collections::BTreeMap;
 
@@ -160,53 +163,6 @@ impl Default for DotsParams {
     }
 }
 
-/// An enriched pixel.
-#[derive(Clone, Debug, PartialEq)]
-pub struct EnrichedPixel {
-    /// Row bin (genome-wide).
-    pub bin1: usize,
-    /// Column bin.
-    pub bin2: usize,
-    /// Raw count.
-    pub count: u64,
-    /// Locally adjusted expected per kernel (cooltools' order).
-    pub la_exp: Vec<f64>,
-    /// q-value per kernel.
-    pub qval: Vec<f64>,
-    /// Index of its view region.
-    pub region: usize,
-}
-
-/// A dot: the brightest enriched pixel of a cluster.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Dot {
-    /// The representative pixel.
-    pub pixel: EnrichedPixel,
-    /// The cluster's centroid `(start1, start2)` in bp (BIRCH's subcluster centre).
-    pub centroid: [f64; 2],
-    /// The cluster's label within its region.
-    pub label: usize,
-    /// Pixels in the cluster.
-    pub size: usize,
-}
-
-/// What the dot caller found.
-#[derive(Clone, Debug, PartialEq)]
-pub struct DotCalls {
-    /// The kernels' names, in column order.
-    pub kernels: Vec<&'static str>,
-    /// Pixels scored (per kernel they are the same).
-    pub n_scored: u64,
-    /// Per kernel: counts, thresholds and q-values per lambda bin.
-    pub stats: Vec<KernelStats>,
-    /// The enriched pixels, by `(bin1, bin2)`.
-    pub enriched: Vec<EnrichedPixel>,
-    /// The dots (when clustering was asked for), cooltools' order.
-    pub dots: Option<Vec<Dot>>,
-    /// Lambda bins past cooltools' last edge that hold pixels (0 when cooltools would run).
-    pub extra_lambda_bins: usize,
-}
-
 /// Call dots on `reader` balanced by `weights` (multiplicative, genome-wide), in the regions of
 /// `view`, with `expected[r][d]` the balanced expected of region `r` at diagonal `d` (NaN for
 /// ignored diagonals; cooltools' `balanced.avg`).
@@ -226,14 +182,14 @@ pub fn call_dots(
         )
     })?;
     if weights.len() != bins_table.n_bins() {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Data(format!(
             "{} weights for {} bins",
             weights.len(),
             bins_table.n_bins()
         )));
     }
     if expected.len() != view.regions().len() {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Data(format!(
             "expected for {} regions, the view has {}",
             expected.len(),
             view.regions().len()
@@ -263,7 +219,7 @@ pub fn call_dots(
 
     // 1. the histogram
     let beyond = |x: f64| {
-        Error::Invalid(format!(
+        Error::Data(format!(
             "a locally adjusted expected of {x:e} is beyond the last lambda bin ({:e})",
             lambda.edges[lambda.edges.len() - 1]
         ))

@@ -1,8 +1,9 @@
 //! The `contactmap` command-line tool: a thin layer over the library.
 //!
 //! Exit codes: 0 on success (including a closed output pipe, as in `contactmap dump ... | head`),
-//! 2 on bad input or any other error, with one line on standard error naming the file and the
-//! problem.
+//! 2 on bad input or any other error (a parameter, a corrupt or unsupported file, an I/O error:
+//! `contactmap::error::Concern`), with one line on standard error naming the file and the
+//! problem; 130 when the work was interrupted.
 
 use std::process::ExitCode;
 
@@ -44,11 +45,14 @@ fn main() -> ExitCode {
             expected,
         }) => {
             // A parameter is named as its option.
-            eprintln!(
-                "contactmap: error: --{} {value}: {expected}",
-                name.replace('_', "-")
-            );
+            let args: Vec<_> = std::env::args_os().collect();
+            let option = cli::option_name(&args, name);
+            eprintln!("contactmap: error: --{option} {value}: {expected}");
             ExitCode::from(2)
+        }
+        Err(contactmap::Error::Interrupted) => {
+            eprintln!("contactmap: error: interrupted");
+            ExitCode::from(130)
         }
         Err(error) => {
             let mut message = error.to_string();

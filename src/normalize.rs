@@ -110,7 +110,7 @@ impl Normalizer {
     ) -> Result<Self> {
         if let Some(w) = &weights {
             if w.len() != n_bins {
-                return Err(Error::Invalid(format!(
+                return Err(Error::Data(format!(
                     "{} weights for {n_bins} bins",
                     w.len()
                 )));
@@ -119,13 +119,13 @@ impl Normalizer {
         let mut region_of_bin = vec![u32::MAX; n_bins];
         for (r, curve) in curves.iter().enumerate() {
             if curve.bins.end > n_bins {
-                return Err(Error::Invalid(format!(
+                return Err(Error::Data(format!(
                     "expected region {r} (bins {}..{}) is past the {n_bins} bins of the matrix",
                     curve.bins.start, curve.bins.end
                 )));
             }
             if curve.expected.len() < curve.bins.len() || curve.n_valid.len() < curve.bins.len() {
-                return Err(Error::Invalid(format!(
+                return Err(Error::Data(format!(
                     "expected region {r} has {} diagonals for {} bins",
                     curve.expected.len(),
                     curve.bins.len()
@@ -133,7 +133,7 @@ impl Normalizer {
             }
             for slot in &mut region_of_bin[curve.bins.clone()] {
                 if *slot != u32::MAX {
-                    return Err(Error::Invalid(format!(
+                    return Err(Error::Data(format!(
                         "expected regions overlap (region {r} and region {})",
                         *slot
                     )));
@@ -222,7 +222,7 @@ impl Normalizer {
     /// Transform a sorted block of stored pixels; pixels without a finite value are dropped.
     pub fn apply(&self, block: &PixelBlock) -> Result<PixelBlock> {
         if self.needs_deviations() {
-            return Err(Error::Invalid(
+            return Err(Error::Argument(
                 "zscore needs the per-diagonal deviations: call compute_deviations first".into(),
             ));
         }
@@ -320,7 +320,7 @@ impl MatrixReader for NormalizedReader<'_> {
     }
 
     fn weights(&self, name: &str) -> Result<Weights> {
-        Err(Error::Invalid(format!(
+        Err(Error::Argument(format!(
             "a normalised matrix has no weight column '{name}'"
         )))
     }

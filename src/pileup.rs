@@ -23,12 +23,15 @@
 pub mod cut;
 pub mod groups;
 pub mod rescale;
+mod result;
 pub mod scores;
 pub mod shifts;
 pub mod tables;
 #[cfg(test)]
 mod tests;
 pub mod windows;
+
+pub use result::{Pileup, Pileups};
 
 use std::collections::BTreeMap;
 
@@ -198,48 +201,6 @@ impl PileupParams {
     }
 }
 
-/// The pileup of one group of snippets.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Pileup {
-    /// The group (the one of all snippets: [`GroupKey::all`]).
-    pub key: GroupKey,
-    /// The mean snippet (over the mean control with shifts).
-    pub data: Array2<f64>,
-    /// Per pixel, the number of snippets with a finite value there.
-    pub num: Array2<u64>,
-    /// Snippets piled up.
-    pub n: usize,
-    /// Controls piled up (with shifts).
-    pub control_n: Option<usize>,
-}
-
-/// The pileups of a set of features: per group, then the one of all snippets.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Pileups {
-    /// Per group (sorted by strands, then distance band), the group of all snippets last.
-    pub groups: Vec<Pileup>,
-    /// Features left out, by reason.
-    pub skipped: Skipped,
-    /// Controls left out: their window left the region.
-    pub controls_at_edge: usize,
-    /// The minimum distance used (bp).
-    pub min_dist_bp: f64,
-    /// Snippets whose anchor 2 lies upstream of anchor 1 (BEDPE pairs given that way): below
-    /// the diagonal, every pixel left out, yet counted in `n` (as coolpuppy counts them).
-    pub below_diagonal: usize,
-    /// The distance bands' edges (bp) with `by_distance`.
-    pub distance_edges: Option<Vec<u64>>,
-}
-
-impl Pileups {
-    /// The pileup of all snippets.
-    pub fn all(&self) -> &Pileup {
-        self.groups
-            .last()
-            .expect("the group of all snippets is always there")
-    }
-}
-
 /// Pile up `features` on `reader`'s map: balanced by `weights` (a weight per bin, NaN for a
 /// masked bin) or raw counts (`None`), over the regions of `view`, divided by `expected` when
 /// given, or by shifted controls with `params.shifts`. The `expected` is per view region, the
@@ -286,31 +247,31 @@ pub fn pileup(
     params.check(res)?;
     let local = features.local();
     if expected.is_some() && params.shifts.is_some() {
-        return Err(Error::Invalid(
+        return Err(Error::Argument(
             "shifted controls and an expected are two normalisations: give one".into(),
         ));
     }
     if local && params.by_distance.is_some() {
-        return Err(Error::Invalid(
+        return Err(Error::Argument(
             "local pileups have no distance to group by (--by-distance is for pairs)".into(),
         ));
     }
     if params.trans {
         if local {
-            return Err(Error::Invalid(
+            return Err(Error::Argument(
                 "local pileups are on the diagonal, trans ones between chromosomes: give one"
                     .into(),
             ));
         }
         if params.by_distance.is_some() {
-            return Err(Error::Invalid(
+            return Err(Error::Argument(
                 "trans pairs have no distance to group by (--by-distance is for cis pairs)".into(),
             ));
         }
         let mut chroms: Vec<usize> = view.regions().iter().map(|r| r.chrom_id).collect();
         chroms.dedup();
         if chroms.len() < 2 {
-            return Err(Error::Invalid(
+            return Err(Error::Argument(
                 "trans pileups need a view of two chromosomes or more".into(),
             ));
         }
@@ -321,14 +282,14 @@ pub fn pileup(
             Features::Bedpe(pairs) => pairs.len(),
         };
         if groupby.values.len() != n {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Argument(format!(
                 "--groupby has the values of {} features for {n} features",
                 groupby.values.len()
             )));
         }
     }
     if params.coverage_norm.is_some() && weights.is_some() {
-        return Err(Error::Invalid(
+        return Err(Error::Argument(
             "coverage normalisation is for raw counts (as in coolpuppy): add --raw".into(),
         ));
     }
@@ -377,7 +338,7 @@ pub fn pileup(
             if params.by_strand {
                 match pair.strands {
                     (Some(a), Some(b)) => Some((a, b)),
-                    _ => return Err(Error::Invalid(
+                    _ => return Err(Error::Data(
                         "--by-strand needs the strand (+ or -) of every feature: a feature has \
                          none (BED column 6, BEDPE columns 9 and 10)"
                             .into(),

@@ -19,6 +19,7 @@
 pub mod boundaries;
 pub mod compartments;
 pub mod contacts;
+mod fraction;
 pub mod frequency;
 pub mod lists;
 pub mod loops;
@@ -27,13 +28,3 @@ pub mod register;
 pub mod target;
 
 pub use boundaries::{BoundaryMatch, DomainOverlap, domain_overlap, score_boundaries};
-
-/// `numerator / denominator`, or 0 when the denominator is 0 (a precision without calls, a recall
-/// without truth).
-fn ratio(numerator: usize, denominator: usize) -> f64 {
-    if denominator == 0 {
-        0.0
-    } else {
-        numerator as f64 / denominator as f64
-    }
-}

@@ -21,7 +21,7 @@ from __future__ import annotations
 from ._compartments import digitize, eigs_cis, eigs_trans, saddle, saddle_strength
 from ._file import File, MultiResFile, PixelSelector
 from ._loops import dots, pileup
-from ._native import ContactmapError
+from ._native import ContactmapError, FormatError
 from ._protein import Structure, contact_frequencies, read_structure, score_contacts
 from ._simulate import (
     PolymerMap,
@@ -37,6 +37,7 @@ from ._writers import convert, create_cooler, merge, zoomify
 __all__ = [
     "ContactmapError",
     "File",
+    "FormatError",
     "MultiResFile",
     "PixelSelector",
     "PolymerMap",

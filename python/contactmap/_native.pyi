@@ -7,6 +7,7 @@ import numpy.typing as npt
 
 __all__ = [
     "ContactmapError",
+    "FormatError",
     "NativeFile",
     "balance",
     "balance_store",
@@ -36,6 +37,10 @@ __all__ = [
 
 class ContactmapError(ValueError):
     """An input contactmap cannot use: the command line's one-line message."""
+
+class FormatError(ContactmapError):
+    """A file or data that does not follow its format, contradicts itself, or is in a layout
+    this version does not support."""
 
 _Region = tuple[str, int, int, str | None]
 _Column = tuple[str, npt.NDArray[Any]]

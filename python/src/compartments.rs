@@ -141,7 +141,7 @@ pub(crate) fn check_track(
     track: Option<&[f64]>,
 ) -> Result<(), Error> {
     match track {
-        Some(track) if track.len() != reader.bins().n_bins() => Err(Error::Invalid(format!(
+        Some(track) if track.len() != reader.bins().n_bins() => Err(Error::Argument(format!(
             "{name}: {} values for {} bins",
             track.len(),
             reader.bins().n_bins()

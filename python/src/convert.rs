@@ -2,11 +2,15 @@
 //! library with the GIL released (and Ctrl-C honoured), vectors and matrices as numpy arrays,
 //! and the tuple types of regions and named columns.
 
-use contactmap::error::Error;
+use contactmap::error::{Concern, Error};
 use contactmap::io::tables::Column;
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::create_exception;
-use pyo3::exceptions::{PyFileNotFoundError, PyValueError};
+use pyo3::exceptions::{
+    PyBrokenPipeError, PyFileExistsError, PyFileNotFoundError, PyInterruptedError,
+    PyIsADirectoryError, PyKeyboardInterrupt, PyNotADirectoryError, PyOSError, PyPermissionError,
+    PyValueError,
+};
 use pyo3::prelude::*;
 
 create_exception!(
@@ -16,15 +20,42 @@ create_exception!(
     "An input contactmap cannot use (a file, a region, a parameter): the command line's one-line message."
 );
 
-/// The library's error as a Python exception: a missing file as FileNotFoundError, anything
-/// else as ContactmapError (a ValueError), with the command line's message.
+create_exception!(
+    contactmap,
+    FormatError,
+    ContactmapError,
+    "A file or data that does not follow its format, contradicts itself, or is in a layout this \
+     version does not support (a ContactmapError, so a ValueError)."
+);
+
+/// The library's error as a Python exception, by what it is about: a parameter as
+/// ContactmapError (a ValueError), corrupt or unsupported input as FormatError (a
+/// ContactmapError), an operating-system error as the OSError subclass of its kind
+/// (FileNotFoundError, PermissionError, IsADirectoryError ...), an interruption as
+/// KeyboardInterrupt; always with the command line's message.
 pub(crate) fn py_err(error: Error) -> PyErr {
-    if let Error::Io { source, .. } = &error {
-        if source.kind() == std::io::ErrorKind::NotFound {
-            return PyFileNotFoundError::new_err(error.to_string());
-        }
+    let message = error.to_string();
+    match (error.concern(), &error) {
+        (Concern::Io, Error::Io { source, .. }) => os_error(source.kind(), message),
+        (Concern::Format | Concern::Unsupported, _) => FormatError::new_err(message),
+        (Concern::Interrupted, _) => PyKeyboardInterrupt::new_err(message),
+        _ => ContactmapError::new_err(message),
     }
-    ContactmapError::new_err(error.to_string())
+}
+
+/// The OSError subclass Python raises for an error of this kind.
+fn os_error(kind: std::io::ErrorKind, message: String) -> PyErr {
+    use std::io::ErrorKind;
+    match kind {
+        ErrorKind::NotFound => PyFileNotFoundError::new_err(message),
+        ErrorKind::PermissionDenied => PyPermissionError::new_err(message),
+        ErrorKind::AlreadyExists => PyFileExistsError::new_err(message),
+        ErrorKind::IsADirectory => PyIsADirectoryError::new_err(message),
+        ErrorKind::NotADirectory => PyNotADirectoryError::new_err(message),
+        ErrorKind::BrokenPipe => PyBrokenPipeError::new_err(message),
+        ErrorKind::Interrupted => PyInterruptedError::new_err(message),
+        _ => PyOSError::new_err(message),
+    }
 }
 
 /// Run `work` with the GIL released, on a thread of its own, while this thread watches for

@@ -42,7 +42,7 @@ impl NativeFile {
             Some(name) => {
                 let reader = self.raw();
                 if !reader.weight_names().iter().any(|n| n == name) {
-                    return Err(Error::Invalid(format!(
+                    return Err(Error::Argument(format!(
                         "{}: no weight column '{name}' (the file has: {})",
                         reader.source(),
                         if reader.weight_names().is_empty() {

@@ -19,13 +19,14 @@ mod simulate;
 mod tables;
 mod writers;
 
-use convert::ContactmapError;
+use convert::{ContactmapError, FormatError};
 use pyo3::prelude::*;
 
 /// The native part of the `contactmap` package.
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("ContactmapError", m.py().get_type::<ContactmapError>())?;
+    m.add("FormatError", m.py().get_type::<FormatError>())?;
     m.add_class::<file::NativeFile>()?;
     m.add_function(wrap_pyfunction!(file::resolutions, m)?)?;
     m.add_function(wrap_pyfunction!(tables::expected_cis, m)?)?;

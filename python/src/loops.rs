@@ -199,7 +199,7 @@ pub(crate) fn pileup<'py>(
         let reader: &dyn MatrixReader = &file.reader;
         let (features, groupby) = if bedpe {
             if local {
-                return Err(Error::Invalid(
+                return Err(Error::Argument(
                     "local pileups are of BED features on the diagonal; these features are \
                      BEDPE (pairs)"
                         .into(),

@@ -165,7 +165,7 @@ pub(crate) fn simulate_polymer<'py>(
             Some(threads) => rayon::ThreadPoolBuilder::new()
                 .num_threads(threads)
                 .build()
-                .map_err(|err| Error::Invalid(format!("threads {threads}: {err}")))?
+                .map_err(|err| Error::Argument(format!("threads {threads}: {err}")))?
                 .install(simulate)?,
         };
         if let Some(path) = &output {

@@ -292,7 +292,7 @@ pub(crate) fn balance_store<'py>(
     let result = run(py, || {
         let (path, _) = io::split_uri(uri);
         if io::detect_kind(path)? != io::FileKind::Hdf5 {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Argument(format!(
                 "{uri}: store=True writes into .cool / .mcool files only"
             )));
         }
@@ -306,7 +306,7 @@ pub(crate) fn balance_store<'py>(
         };
         let result = balanced.result;
         if !result.converged && !store_unconverged {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Argument(format!(
                 "{uri}: {} balancing did not converge within {} iterations ({}); nothing \
                  stored: raise max_iters or tol{}, or pass store_unconverged=True",
                 params.method.name(),

@@ -36,7 +36,7 @@ fn kind_of(path: &Path) -> Result<Kind, Error> {
     } else if name.ends_with(".hic") {
         Ok(Kind::Hic)
     } else {
-        Err(Error::Invalid(format!(
+        Err(Error::Argument(format!(
             "{}: the output is written as .cool, .mcool or .hic (give one of those extensions)",
             path.display()
         )))
@@ -48,7 +48,7 @@ fn kind_of(path: &Path) -> Result<Kind, Error> {
 fn refuse_input(out: &Path, inputs: &[&str]) -> Result<(), Error> {
     for uri in inputs {
         if io::same_file(Path::new(io::split_uri(uri).0), out) {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Argument(format!(
                 "{}: this is an input too; write the output elsewhere",
                 out.display()
             )));
@@ -60,7 +60,7 @@ fn refuse_input(out: &Path, inputs: &[&str]) -> Result<(), Error> {
 /// Normalisation names as methods (`export::parse_normalizations`); None is Juicer's set.
 fn methods_of(names: Option<Vec<String>>) -> Result<Vec<Method>, Error> {
     export::parse_normalizations(&names.unwrap_or_default())
-        .map_err(|e| Error::Invalid(format!("normalizations: {e}")))
+        .map_err(|e| Error::Argument(format!("normalizations: {e}")))
 }
 
 /// Write `reader` to `out` as its extension says: the resolutions of an .mcool / .hic (None:
@@ -81,7 +81,7 @@ fn write_map(
     match kind {
         Kind::Cool => {
             if resolutions.is_some() {
-                return Err(Error::Invalid(
+                return Err(Error::Argument(
                     "resolutions: a .cool holds one resolution; write an .mcool or a .hic".into(),
                 ));
             }
@@ -158,7 +158,7 @@ pub(crate) fn zoomify(
         refuse_input(Path::new(output), &[input])?;
         let out = Path::new(output);
         if kind_of(out)? == Kind::Cool {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Argument(format!(
                 "{output}: zoomify writes an .mcool or a .hic"
             )));
         }
@@ -213,7 +213,7 @@ pub(crate) fn merge(
         let uris: Vec<&str> = inputs.iter().map(String::as_str).collect();
         refuse_input(Path::new(output), &uris)?;
         if inputs.is_empty() {
-            return Err(Error::Invalid("merge: no input map".into()));
+            return Err(Error::Argument("merge: no input map".into()));
         }
         let opened: Vec<Box<dyn MatrixReader>> = inputs
             .iter()
@@ -297,7 +297,7 @@ pub(crate) fn create_cooler(
         let mut bins = Vec::with_capacity(starts.len());
         for (k, ((&chrom, &start), &end)) in chrom_ids.iter().zip(&starts).zip(&ends).enumerate() {
             if chrom as usize >= chroms.len() {
-                return Err(Error::Invalid(format!(
+                return Err(Error::Data(format!(
                     "bins row {k}: chromosome index {chrom} of {} chromosomes",
                     chroms.len()
                 )));
@@ -327,7 +327,7 @@ pub(crate) fn create_cooler(
         }
         for (k, ((&a, &b), &c)) in ids1.iter().zip(&ids2).zip(counts).enumerate() {
             if a >= n || b >= n {
-                return Err(Error::Invalid(format!(
+                return Err(Error::Data(format!(
                     "pixels row {k}: bin ids ({a}, {b}) for {n} bins"
                 )));
             }

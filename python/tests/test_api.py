@@ -314,6 +314,33 @@ def test_errors_are_python_exceptions_with_the_cli_message():
         cm.File(42)
 
 
+def test_errors_come_as_the_exception_class_of_their_kind(tmp_path):
+    # a parameter: ContactmapError, a ValueError, and not a FormatError
+    f = cm.File(YEAST)
+    with pytest.raises(cm.ContactmapError, match="method 'nope'") as bad:
+        cm.balance(f, method="nope")
+    assert isinstance(bad.value, ValueError) and not isinstance(bad.value, cm.FormatError)
+    # a corrupt file (a cooler cut after 4 kB): FormatError, naming the file
+    truncated = tmp_path / "truncated.cool"
+    truncated.write_bytes(Path(YEAST).read_bytes()[:4096])
+    with pytest.raises(cm.FormatError, match="truncated.cool: not a readable HDF5 file"):
+        cm.File(truncated)
+    # a structure with a bad line (a letter in a coordinate): FormatError naming file and line
+    lines = (DATA / "protein" / "1aapA" / "1aapA.pdb").read_text().splitlines(keepends=True)
+    at = next(i for i, line in enumerate(lines) if line.startswith("ATOM"))
+    lines[at] = lines[at][:30] + "   xx.xxx" + lines[at][39:]
+    bad = tmp_path / "bad.pdb"
+    bad.write_text("".join(lines))
+    with pytest.raises(cm.FormatError, match=f"bad.pdb:{at + 1}: x"):
+        cm.read_structure(bad)
+    # what the operating system refuses: its OSError subclass, not a ContactmapError
+    with pytest.raises(FileNotFoundError, match="no-such.cool") as missing:
+        cm.File(tmp_path / "no-such.cool")
+    assert not isinstance(missing.value, cm.ContactmapError)
+    with pytest.raises(IsADirectoryError):
+        cm.File(tmp_path)
+
+
 def test_a_call_releases_the_gil():
     # While one thread runs contactmap, another runs Python: its ticks land inside the call.
     f = cm.File(GM12878)

@@ -4,10 +4,11 @@
 
 use std::cmp::Ordering;
 
-use super::{
-    BalanceParams, BalanceResult, GroupStats, Layout, Product, ProductGroup, juicer_filter,
-    row_sums, solve_groups, sum_factor,
+use super::params::BalanceParams;
+use super::passes::{
+    Layout, Product, ProductGroup, juicer_filter, row_sums, solve_groups, sum_factor,
 };
+use super::result::{BalanceResult, GroupStats};
 use crate::error::Result;
 use crate::matrix::PixelSource;
 

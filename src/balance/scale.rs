@@ -27,14 +27,12 @@
 //! the raw one; the multiplicative weight is its inverse. All arithmetic is in `f64`, as Juicer's
 //! (the fraction `p` in `f32`, as Juicer's).
 
-use super::{
-    BalanceParams, GroupStats, Layout, PixelFilter, Product, ProductGroup, solve_groups, sum_factor,
-};
+use super::params::BalanceParams;
+use super::passes::{Layout, PixelFilter, Product, ProductGroup, solve_groups, sum_factor};
+use super::result::GroupStats;
 use crate::error::Result;
 use crate::matrix::PixelSource;
 
-/// Juicer's tolerance on the change of the vector (and 5 times it on the row sums).
-pub const SCALE_TOL: f64 = 5e-4;
 /// Starting fraction of the nonzero rows (by nonzero-pixel count) left out.
 const PERCENT_LOW_START: f32 = 1e-4;
 /// Its increase after a failed try.
@@ -43,8 +41,6 @@ const PERCENT_LOW_STEP: f32 = PERCENT_LOW_START / 2.0;
 const PERCENT_LOW_MAX: f64 = 0.2;
 /// Least relative fall of the change in one of the last five iterations.
 const MIN_ERROR_DROP: f64 = 0.02;
-/// Iterations per try (Juicer: 100; `max_iters`), three times as many in all.
-pub const SCALE_MAX_ITERS: usize = 100;
 
 /// What the group's next product is for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

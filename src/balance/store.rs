@@ -1,7 +1,9 @@
 //! Balancing a map read from a file and storing the weights into a cooler, as `cooler balance`
 //! does: the steps `balance` and `zoomify --balance` share.
 
-use super::{BalanceParams, BalanceResult, Scope, balance};
+use super::params::{BalanceParams, Scope};
+use super::result::BalanceResult;
+use super::run::balance;
 use crate::error::{Error, Result};
 use crate::genome::BinTable;
 use crate::io::cool::store::{AttrValue, store_weights};

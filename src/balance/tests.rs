@@ -1,7 +1,10 @@
 use super::kr::juicer_percentile;
+use super::passes::*;
 use super::*;
+use crate::genome::BinTable;
 use crate::genome::Chrom;
 use crate::matrix::{CountType, PixelBlock, Pixels};
+use crate::numeric::median;
 use proptest::prelude::*;
 
 /// Pixels from a dense symmetric matrix (upper triangle, zeros left out).
@@ -258,7 +261,7 @@ proptest! {
         cis in any::<bool>(),
     ) {
         // The rows are balanced to SCALE's row-sum tolerance (5 tol = 0.25%).
-        check_balanced(seed, &sizes, cis, Method::Scale, 5.0 * scale::SCALE_TOL)?;
+        check_balanced(seed, &sizes, cis, Method::Scale, 5.0 * super::params::SCALE_TOL)?;
     }
 }
 

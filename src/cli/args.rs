@@ -70,7 +70,7 @@ impl InputArgs {
             None => None,
             Some(cols) => {
                 if cols.len() != 4 || cols.contains(&0) {
-                    return Err(contactmap::Error::Invalid(
+                    return Err(contactmap::Error::Argument(
                         "--pairs-columns takes four 1-based column numbers: chrom1,pos1,chrom2,pos2".into(),
                     ));
                 }
@@ -78,7 +78,7 @@ impl InputArgs {
             }
         };
         if self.bin_size == Some(0) {
-            return Err(contactmap::Error::Invalid(
+            return Err(contactmap::Error::Argument(
                 "--bin-size must be positive".into(),
             ));
         }

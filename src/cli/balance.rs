@@ -174,7 +174,7 @@ pub fn run(args: &BalanceArgs) -> Result<()> {
     inputs.extend(args.input.files());
     refuse_overwrites(&inputs, &[args.out.as_deref()])?;
     if args.json && !args.store && is_stdout(args.out.as_deref()) {
-        return Err(Error::Invalid(
+        return Err(Error::Argument(
             "--json prints the summary on standard output, where the weights table goes without --store or -o FILE: give one of them".into(),
         ));
     }
@@ -222,7 +222,7 @@ pub fn run(args: &BalanceArgs) -> Result<()> {
             "raise --max-iters or --tol"
         };
         if args.store && !args.store_unconverged {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Argument(format!(
                 "{message}; nothing stored: {advice}, or pass --store-unconverged"
             )));
         }
@@ -268,7 +268,7 @@ fn params(args: &BalanceArgs, bins: &BinTable) -> Result<BalanceParams> {
     }
     if let Some(bp) = args.ignore_dist {
         let Some(bin_size) = bins.bin_size_bp() else {
-            return Err(Error::Invalid(
+            return Err(Error::Argument(
                 "--ignore-dist needs fixed-size bins; use --ignore-diags".into(),
             ));
         };
@@ -276,7 +276,7 @@ fn params(args: &BalanceArgs, bins: &BinTable) -> Result<BalanceParams> {
     }
     if let Some(m) = args.mad_max {
         if !(m.is_finite() && m >= 0.0) {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Argument(format!(
                 "--mad-max must be a non-negative number (got {m})"
             )));
         }
@@ -290,7 +290,7 @@ fn params(args: &BalanceArgs, bins: &BinTable) -> Result<BalanceParams> {
     }
     if let Some(tol) = args.tol {
         if !(tol.is_finite() && tol > 0.0) {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Argument(format!(
                 "--tol must be a positive number (got {tol})"
             )));
         }
@@ -298,7 +298,7 @@ fn params(args: &BalanceArgs, bins: &BinTable) -> Result<BalanceParams> {
     }
     if let Some(n) = args.max_iters {
         if n == 0 {
-            return Err(Error::Invalid("--max-iters must be at least 1".into()));
+            return Err(Error::Argument("--max-iters must be at least 1".into()));
         }
         params.max_iters = n;
     }

@@ -132,7 +132,7 @@ pub fn run(args: &CompartmentsArgs) -> Result<()> {
     };
     cis_params.check()?;
     if args.sort_metric.is_some() && args.phasing_track.is_none() && args.fasta.is_none() {
-        return Err(Error::Invalid(
+        return Err(Error::Argument(
             "--sort-metric ranks eigenvectors by their agreement with a phasing track: give --phasing-track or --fasta".into(),
         ));
     }

@@ -88,12 +88,12 @@ pub fn run(args: &ConvertArgs) -> Result<()> {
     };
     let (input_path, _) = io::split_uri(&args.input);
     if args.input_args.bin_size.is_some() && io::detect_kind(input_path)? != FileKind::Text {
-        return Err(Error::Invalid(
+        return Err(Error::Argument(
             "--bin-size bins text and pairs inputs; to coarsen a .cool or .hic matrix, write an .mcool with --resolutions".into(),
         ));
     }
     if !args.resolutions.is_empty() && !matches!(format, OutputFormat::Mcool | OutputFormat::Hic) {
-        return Err(Error::Invalid(
+        return Err(Error::Argument(
             "--resolutions applies to .mcool and .hic outputs only".into(),
         ));
     }
@@ -103,7 +103,7 @@ pub fn run(args: &ConvertArgs) -> Result<()> {
             OutputFormat::Cool | OutputFormat::Mcool | OutputFormat::Hic
         )
     {
-        return Err(Error::Invalid(
+        return Err(Error::Argument(
             ".cool, .mcool and .hic outputs need a file path, not '-'".into(),
         ));
     }

@@ -64,7 +64,7 @@ pub fn run(args: &CoverageArgs) -> Result<()> {
     let ignore_diags = match args.ignore_diags {
         Some(n) => n,
         None => reader.stored_ignore_diags("weight").ok_or_else(|| {
-            Error::Invalid(format!(
+            Error::Argument(format!(
                 "--ignore-diags: give it: {} has no `weight` column with an ignore_diags \
                      attribute saying how many diagonals its balancing left out (cooltools \
                      stops here too)",

@@ -137,7 +137,7 @@ impl DotsArgs {
         let (w, p) = match (self.w, self.p) {
             (Some(w), Some(p)) => (w, p),
             _ => recommended_w_p(bin_size).ok_or_else(|| {
-                Error::Invalid(format!(
+                Error::Argument(format!(
                     "no kernel size for {bin_size} bp bins: cooltools recommends kernels for 4-28 kb \
                      bins only; give --w and --p (HiCCUPS: --w 7 --p 4 at 5 kb, --w 5 --p 2 at 10 kb, \
                      --w 3 --p 1 at 25 kb)"
@@ -171,7 +171,7 @@ impl DotsArgs {
         params.cluster_filtering = !self.no_filter;
         params.check()?;
         if params.max_separation_bp < 2 * bin_size {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Argument(format!(
                 "--max-separation {}: at least two bins ({} bp)",
                 params.max_separation_bp,
                 2 * bin_size
@@ -253,7 +253,7 @@ pub fn run(args: &DotsArgs) -> Result<()> {
         .collect();
     refuse_overwrites(&inputs, &[args.out.as_deref(), args.enriched.as_deref()])?;
     if args.no_cluster && args.enriched.is_some() {
-        return Err(Error::Invalid(
+        return Err(Error::Argument(
             "--no-cluster writes the enriched pixels to -o: leave out --enriched".into(),
         ));
     }
@@ -281,7 +281,7 @@ pub fn run(args: &DotsArgs) -> Result<()> {
 /// `dots --resolutions`: call each level of a multi-resolution file, merge as HiCCUPS.
 fn run_resolutions(args: &DotsArgs, resolutions: &[String]) -> Result<()> {
     let refuse = |option: &str, why: &str| -> Result<()> {
-        Err(Error::Invalid(format!(
+        Err(Error::Argument(format!(
             "--resolutions: leave out {option} ({why})"
         )))
     };
@@ -304,7 +304,7 @@ fn run_resolutions(args: &DotsArgs, resolutions: &[String]) -> Result<()> {
         )?;
     }
     if contactmap::io::split_uri(&args.uri).1.is_some() {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Argument(format!(
             "--resolutions needs the multi-resolution file alone, not '{}': the levels come \
              from --resolutions",
             args.uri
@@ -363,7 +363,7 @@ fn merged_table(tables: &[ResolutionTable], params: &MergeParams) -> Result<(Str
         .or(tables.first())
         .map_or("", |t| &t.header);
     if let Some(other) = with_rows.iter().find(|t| t.header != header) {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Data(format!(
             "{} and {} have different columns: merge lists written the same way (cooltools' \
              dots tables, all with or all without --no-cluster)",
             with_rows[0].source, other.source
@@ -489,12 +489,12 @@ fn read_list(text: &str) -> Result<ResolutionTable> {
         (Some(r), _) => r,
         (None, 1) => *widths.first().expect("one width"),
         (None, 0) => {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Argument(format!(
                 "{path_text}: no calls to take the resolution from: give it as {path_text}@RESOLUTION"
             )));
         }
         (None, _) => {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Argument(format!(
                 "{path_text}: calls of several widths ({}): give the resolution as \
                  {path_text}@RESOLUTION",
                 widths
@@ -530,7 +530,7 @@ pub fn run_merge(args: &DotsMergeArgs) -> Result<()> {
     // the merge's own checks, with the files named
     for (k, table) in tables.iter().enumerate() {
         if !MERGE_RESOLUTIONS.contains(&table.resolution) {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Argument(format!(
                 "{}: calls at {} bp: the HiCCUPS merge is defined for 5, 10 and 25 kb calls",
                 table.source, table.resolution
             )));
@@ -539,7 +539,7 @@ pub fn run_merge(args: &DotsMergeArgs) -> Result<()> {
             .iter()
             .find(|t| t.resolution == table.resolution)
         {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Argument(format!(
                 "{} and {} are both at {} bp: give one list per resolution",
                 first.source, table.source, table.resolution
             )));

@@ -133,13 +133,13 @@ fn check(args: &ExpectedArgs) -> Result<Checked> {
         Report::Cis
     };
     if !(args.smooth_sigma > 0.0 && args.smooth_sigma.is_finite()) {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Argument(format!(
             "--smooth-sigma must be a positive number (got {})",
             args.smooth_sigma
         )));
     }
     if args.fit_range.is_some() && !matches!(report, Report::Fit { .. }) {
-        return Err(Error::Invalid(
+        return Err(Error::Argument(
             "--fit-range sets the distances of the power-law fit: add --fit (or --json)".into(),
         ));
     }

@@ -12,7 +12,7 @@ use contactmap::io::hic::HicWriteOptions;
 /// Parse `--normalizations` ([`export::parse_normalizations`]).
 pub fn parse_normalizations(items: &[String]) -> Result<Vec<Method>> {
     export::parse_normalizations(items)
-        .map_err(|e| Error::Invalid(format!("--normalizations: {e}")))
+        .map_err(|e| Error::Argument(format!("--normalizations: {e}")))
 }
 
 /// [`export::write_hic`], then a warning on standard error for each chromosome whose balancing

@@ -116,7 +116,7 @@ pub fn run(args: &HicrepArgs) -> Result<()> {
     let h = parse_h(&args.h)?;
     let max_distance_bp = parse_max_distance(&args.max_distance)?;
     if !args.names.is_empty() && args.names.len() != args.uris.len() {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Argument(format!(
             "--names: {} names for {} maps",
             args.names.len(),
             args.uris.len()

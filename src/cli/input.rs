@@ -123,7 +123,7 @@ pub fn file_column<'a>(
             Ok((path, column))
         }
         (_, Some(column)) => Ok((argument, column)),
-        _ => Err(Error::Invalid(format!(
+        _ => Err(Error::Argument(format!(
             "{option} '{argument}': expected FILE:COLUMN (a header name or a 1-based column number)"
         ))),
     }
@@ -208,5 +208,5 @@ impl TableReading {
 
 /// The distance given to `option` (`20k`, `1.5M`, `5000`) in bp; the error names the option.
 pub fn bp_option(option: &str, text: &str) -> Result<u64> {
-    contactmap::genome::parse_bp(text).map_err(|e| Error::Invalid(format!("{option}: {e}")))
+    contactmap::genome::parse_bp(text).map_err(|e| Error::Argument(format!("{option}: {e}")))
 }

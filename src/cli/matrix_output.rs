@@ -42,7 +42,7 @@ pub fn format_from_extension(path: &Path) -> Result<OutputFormat> {
     } else if name.ends_with(".dense") || name.ends_with(".matrix") || name.ends_with(".mat") {
         OutputFormat::Dense
     } else {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Argument(format!(
             "cannot tell the output format from '{}': use an extension (.cool, .mcool, .hic, .bg2, .coo, .dense) or --to",
             path.display()
         )));

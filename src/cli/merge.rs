@@ -74,14 +74,14 @@ pub fn run(args: &MergeArgs) -> Result<()> {
             format
         }
         _ => {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Argument(format!(
                 "--out {}: merge writes .cool, .mcool or .hic (give one of those extensions)",
                 args.out.display()
             )));
         }
     };
     if format == OutputFormat::Cool && !args.resolutions.is_empty() {
-        return Err(Error::Invalid(
+        return Err(Error::Argument(
             "--resolutions needs an .mcool or .hic output".into(),
         ));
     }

@@ -93,7 +93,7 @@ pub fn run(args: &NormalizeArgs) -> Result<()> {
         format,
         OutputFormat::Mcool | OutputFormat::Hic | OutputFormat::Dense
     ) {
-        return Err(Error::Invalid(
+        return Err(Error::Argument(
             "normalize writes .cool, .bg2 or .coo outputs".into(),
         ));
     }

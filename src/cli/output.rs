@@ -14,13 +14,13 @@ pub use contactmap::io::output::{
 /// would be a cooler named .hic, which Juicebox cannot open).
 pub fn check_cool_output(command: &str, output: &Path) -> Result<()> {
     if output.as_os_str() == "-" {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Argument(format!(
             "{command} writes a .cool file: give a file name to -o, not '-'"
         )));
     }
     match format_from_extension(output) {
         Ok(OutputFormat::Cool) | Err(_) => Ok(()),
-        Ok(_) => Err(Error::Invalid(format!(
+        Ok(_) => Err(Error::Argument(format!(
             "{command} writes a .cool file, and '{}' names another format: write OUT.cool, then \
              `contactmap convert OUT.cool {}`",
             output.display(),
@@ -59,7 +59,7 @@ pub fn print_json(value: &serde_json::Value) -> Result<()> {
 pub fn store_lock(uri: &str, instead: &str) -> Result<contactmap::io::WriteLock> {
     let (path, _) = contactmap::io::split_uri(uri);
     if contactmap::io::detect_kind(path)? != contactmap::io::FileKind::Hdf5 {
-        return Err(contactmap::error::Error::Invalid(format!(
+        return Err(contactmap::error::Error::Argument(format!(
             "{uri}: --store writes into .cool / .mcool files only{instead}"
         )));
     }

@@ -261,7 +261,7 @@ pub fn run(args: &PileupArgs) -> Result<()> {
         }
         FeatureTable::Bedpe(table) => {
             if args.local {
-                return Err(Error::Invalid(format!(
+                return Err(Error::Argument(format!(
                     "--local piles up BED features on the diagonal; {} is read as BEDPE (pairs), \
                      since {} (--features-format bed reads it as BED)",
                     args.features.display(),
@@ -376,7 +376,7 @@ pub fn run(args: &PileupArgs) -> Result<()> {
         s.at_edge
     );
     if pups.all().n == 0 {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Data(format!(
             "no snippet to pile up from {} ({limits}; {left_out}): nothing was written",
             args.features.display()
         )));

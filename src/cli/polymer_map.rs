@@ -77,7 +77,7 @@ pub fn run(args: &PolymerMapArgs) -> Result<()> {
     refuse_overwrites(&inputs, &[Some(&args.out)])?;
     check_cool_output("polymer-map", &args.out)?;
     if args.monomer_bp == 0 {
-        return Err(Error::Invalid("--monomer-bp must be at least 1".into()));
+        return Err(Error::Argument("--monomer-bp must be at least 1".into()));
     }
     let chains = args.chains.as_deref().map(chains_of_lengths);
     let params = MapParams {

@@ -107,7 +107,7 @@ pub struct SaddleArgs {
 pub fn run(args: &SaddleArgs) -> Result<()> {
     for (name, range) in [("--qrange", &args.qrange), ("--vrange", &args.vrange)] {
         if range.as_ref().is_some_and(|r| r.len() != 2) {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Argument(format!(
                 "{name}: expected two numbers LO,HI"
             )));
         }

@@ -65,7 +65,7 @@ pub fn run(args: &SampleArgs) -> Result<()> {
         .collect();
     refuse_overwrites(&inputs, &[Some(&args.out)])?;
     if !matches!(format_from_extension(&args.out), Ok(OutputFormat::Cool)) {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Argument(format!(
             "--out {}: sample writes a .cool (give the .cool extension)",
             args.out.display()
         )));

@@ -123,7 +123,7 @@ pub fn run(args: &ScoreArgs) -> Result<()> {
 
 fn run_boundaries(args: &BoundariesArgs) -> Result<()> {
     if args.bin_size == Some(0) {
-        return Err(Error::Invalid("--bin-size must be positive".into()));
+        return Err(Error::Argument("--bin-size must be positive".into()));
     }
     let inputs: Vec<&Path> = [args.truth.as_path(), args.calls.as_path()]
         .into_iter()

@@ -173,7 +173,7 @@ pub fn run(args: &TadsArgs) -> Result<()> {
     // Option values are checked before any file is read.
     parse_threshold(args)?;
     if args.json && is_stdout(args.out.as_deref()) {
-        return Err(Error::Invalid(
+        return Err(Error::Argument(
             "--json prints the summary on standard output, where the track goes without -o FILE: give -o FILE".into(),
         ));
     }
@@ -237,13 +237,13 @@ pub fn run(args: &TadsArgs) -> Result<()> {
 
 fn parse_threshold(args: &TadsArgs) -> Result<Threshold> {
     if !(0.0..=1.0).contains(&args.min_frac_valid_pixels) {
-        return Err(Error::Invalid(
+        return Err(Error::Argument(
             "--min-frac-valid-pixels must be between 0 and 1".into(),
         ));
     }
     args.threshold
         .parse()
-        .map_err(|e| Error::Invalid(format!("--threshold: {e}")))
+        .map_err(|e| Error::Argument(format!("--threshold: {e}")))
 }
 
 /// The windows in bp: given, or the method's default number of bins.
@@ -252,7 +252,7 @@ fn windows_bp(args: &TadsArgs, bin_size: u64) -> Result<Vec<u64>> {
     for text in &args.window {
         let value = bp_option("--window", text)?;
         if value == 0 || value % bin_size != 0 {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Argument(format!(
                 "--window {text}: a window must be a positive multiple of the bin size ({bin_size} bp)"
             )));
         }
@@ -267,7 +267,7 @@ fn windows_bp(args: &TadsArgs, bin_size: u64) -> Result<Vec<u64>> {
         windows.push(n_bins * bin_size);
     }
     if windows.len() > 1 && args.method != MethodArg::Insulation {
-        return Err(Error::Invalid(
+        return Err(Error::Argument(
             format!("--window: {:?} takes a single window", args.method).to_lowercase(),
         ));
     }
@@ -294,7 +294,7 @@ fn caller(
                 Some(text) => {
                     let bp = bp_option("--bed-window", text)?;
                     windows.iter().position(|&w| w == bp).ok_or_else(|| {
-                        Error::Invalid(format!(
+                        Error::Argument(format!(
                             "--bed-window {text} is not one of the --window values"
                         ))
                     })?
@@ -332,7 +332,7 @@ fn caller(
             let max_domain_bp = bp_option("--max-domain", &args.max_domain)?;
             let mut gammas = args.gamma.clone();
             if gammas.iter().any(|g| !g.is_finite() || *g < 0.0) {
-                return Err(Error::Invalid("--gamma values must be >= 0".into()));
+                return Err(Error::Argument("--gamma values must be >= 0".into()));
             }
             gammas.sort_by(f64::total_cmp);
             gammas.dedup();

@@ -103,7 +103,7 @@ pub fn run(args: &ZoomifyArgs) -> Result<()> {
     let name = out.to_string_lossy().to_ascii_lowercase();
     let hic = name.ends_with(".hic");
     if !hic && !name.ends_with(".mcool") {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Argument(format!(
             "--out {}: zoomify writes an .mcool or a .hic",
             out.display()
         )));

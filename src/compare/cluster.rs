@@ -59,7 +59,7 @@ impl Dendrogram {
     /// ```
     pub fn average_linkage(distances: &[f64], n: usize) -> Result<Dendrogram> {
         if distances.len() != n * n {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Argument(format!(
                 "clustering {n} items needs {} distances, not {}",
                 n * n,
                 distances.len()
@@ -68,7 +68,7 @@ impl Dendrogram {
         if let Some(k) = (0..n * n)
             .find(|&k| k / n != k % n && (!distances[k].is_finite() || distances[k] < 0.0))
         {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Data(format!(
                 "distance between items {} and {} is {}: distances must be finite and not negative",
                 k / n,
                 k % n,

@@ -39,7 +39,7 @@ use std::ops::Range;
 
 use rayon::prelude::*;
 
-use crate::compare::check_comparable;
+use super::comparable::check_comparable;
 use crate::compare::sample::{draw_with_replacement, draw_without_replacement};
 use crate::error::{Error, Result};
 use crate::genome::BinTable;
@@ -1082,7 +1082,7 @@ pub fn compare_samples(
     params: &SccParams,
 ) -> Result<SampleComparison> {
     if samples.len() < 2 {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Argument(format!(
             "HiCRep compares two maps or more ({} given)",
             samples.len()
         )));

@@ -68,7 +68,7 @@ fn whole(count: f64, at: impl FnOnce() -> String) -> Result<u64> {
     if (0.0..9_007_199_254_740_992.0).contains(&count) && (count as u64) as f64 == count {
         Ok(count as u64)
     } else {
-        Err(Error::Invalid(format!(
+        Err(Error::Unsupported(format!(
             "{}: count {count} is not a whole number of contacts; sampling draws contacts, so \
              it needs raw integer counts",
             at()
@@ -451,7 +451,7 @@ impl MatrixReader for Sampled<'_> {
     }
 
     fn weights(&self, name: &str) -> Result<Weights> {
-        Err(Error::Invalid(format!(
+        Err(Error::Argument(format!(
             "{}: a downsampled map has no weight column '{name}' (balance the sample itself)",
             self.source
         )))

@@ -35,10 +35,14 @@ impl CisEigParams {
     /// ```
     pub fn check(&self) -> crate::error::Result<()> {
         if self.n_eigs == 0 {
-            return Err(crate::Error::parameter("n_eigs", 0, "expected at least 1"));
+            return Err(crate::error::Error::parameter(
+                "n_eigs",
+                0,
+                "expected at least 1",
+            ));
         }
         if !self.clip_percentile.is_finite() || self.clip_percentile < 0.0 {
-            return Err(crate::Error::parameter(
+            return Err(crate::error::Error::parameter(
                 "clip_percentile",
                 self.clip_percentile,
                 "expected a percentile in 0..100 (0 or 100: no clipping)",
@@ -101,7 +105,7 @@ impl CisMatrixBuilder {
     pub fn push(&mut self, i: usize, j: usize, value: f64) -> Result<()> {
         let m = &mut self.matrix;
         if i > j || j >= m.n || self.last.is_some_and(|last| (i, j) <= last) {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Data(format!(
                 "pixel ({i}, {j}) out of order or outside a region of {} bins",
                 m.n
             )));

@@ -109,14 +109,14 @@ fn percentile(sorted: &[f64], q: f64) -> f64 {
 /// ```
 pub fn digitize(track: &[f64], n_bins: usize, binning: Binning) -> Result<Digitized> {
     if n_bins == 0 {
-        return Err(Error::Invalid(
+        return Err(Error::Argument(
             "the number of saddle bins must be at least 1".into(),
         ));
     }
     let edges = match binning {
         Binning::Values(lo, hi) => {
             if lo.is_nan() || hi.is_nan() || lo > hi {
-                return Err(Error::Invalid(format!(
+                return Err(Error::Argument(format!(
                     "the value range {lo}..{hi} is empty"
                 )));
             }
@@ -124,13 +124,13 @@ pub fn digitize(track: &[f64], n_bins: usize, binning: Binning) -> Result<Digiti
         }
         Binning::Quantiles(lo, hi) => {
             if !(0.0..=1.0).contains(&lo) || !(0.0..=1.0).contains(&hi) || lo > hi {
-                return Err(Error::Invalid(format!(
+                return Err(Error::Argument(format!(
                     "the quantile range {lo}..{hi} must lie within 0..1, low first"
                 )));
             }
             let mut sorted: Vec<f64> = track.iter().copied().filter(|v| !v.is_nan()).collect();
             if sorted.is_empty() {
-                return Err(Error::Invalid(
+                return Err(Error::Data(
                     "the track has no value on a bin with a weight".into(),
                 ));
             }
@@ -222,7 +222,7 @@ pub fn saddle_cis<S: PixelSource>(
     let n_bins = pixels.bins().n_bins();
     check_lengths(n_bins, weights, digitized)?;
     if expected.len() != view.len() {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Data(format!(
             "{} expected curves for {} regions",
             expected.len(),
             view.len()
@@ -337,7 +337,7 @@ fn class_pair_sums<S: PixelSource>(
 /// One weight and one class per bin.
 fn check_lengths(n_bins: usize, weights: &[f64], digitized: &Digitized) -> Result<()> {
     if weights.len() != n_bins || digitized.classes.len() != n_bins {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Data(format!(
             "the weights ({}) and the track ({}) must have one value per bin ({n_bins})",
             weights.len(),
             digitized.classes.len()

@@ -42,14 +42,18 @@ impl TransEigParams {
     /// Check the values: at least one eigenvector, percentiles in 0..=100.
     pub fn check(&self) -> crate::error::Result<()> {
         if self.n_eigs == 0 {
-            return Err(crate::Error::parameter("n_eigs", 0, "expected at least 1"));
+            return Err(crate::error::Error::parameter(
+                "n_eigs",
+                0,
+                "expected at least 1",
+            ));
         }
         for (name, value) in [
             ("perc_top", self.perc_top),
             ("perc_bottom", self.perc_bottom),
         ] {
             if !(0.0..=100.0).contains(&value) {
-                return Err(crate::Error::parameter(
+                return Err(crate::error::Error::parameter(
                     name,
                     value,
                     "expected a percentile in 0..100",
@@ -138,7 +142,7 @@ impl DenseMatrix {
     pub fn zeros(n: usize, max_bytes: u64) -> Result<Self> {
         let bytes = (n as u64) * (n as u64) * 8;
         if bytes > max_bytes {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Unsupported(format!(
                 "trans eigenvectors need the genome-wide matrix dense ({n} bins: {:.1} GB, more than the {:.1} GB available): use a coarser resolution (trans compartments are computed at 250 kb to 1 Mb)",
                 bytes as f64 / 1e9,
                 max_bytes as f64 / 1e9

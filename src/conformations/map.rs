@@ -376,10 +376,10 @@ pub fn contact_map(
     params: &MapParams,
     progress: &(dyn Fn(usize) + Sync),
 ) -> Result<EnsembleMap> {
-    super::check_radius(params.contact_radius)?;
+    super::beads::check_radius(params.contact_radius)?;
     let chunk_size = CHUNK_PER_THREAD * rayon::current_num_threads();
     let mut conformations = conformations.peekable();
-    let n_beads = super::first_beads(&mut conformations)?;
+    let n_beads = super::beads::first_beads(&mut conformations)?;
     let chains = params.chains.clone().unwrap_or_else(|| vec![(0, n_beads)]);
     if let Some(&(_, end)) = chains.last() {
         if end > n_beads {
@@ -403,7 +403,7 @@ pub fn contact_map(
     for_each_chunk(
         &mut conformations,
         chunk_size,
-        |_, c| super::same_beads(c, n_beads),
+        |_, c| super::beads::same_beads(c, n_beads),
         |chunk| {
             tally.add_chunk(chunk, params.contact_radius, &bead_bin);
             done += chunk.len();

@@ -15,7 +15,7 @@
 
 use rayon::prelude::*;
 
-use super::contact_pairs;
+use super::map::contact_pairs;
 use crate::error::{Error, Result};
 use crate::geometry::cells::CellList;
 use crate::io::trajectory::{Conformation, for_each_chunk};
@@ -180,12 +180,12 @@ pub fn ensemble_stats(
     conformations: impl Iterator<Item = Result<Conformation>>,
     cutoff: f64,
 ) -> Result<EnsembleStats> {
-    super::check_radius(cutoff)?;
+    super::beads::check_radius(cutoff)?;
     let chunk_size = 4 * rayon::current_num_threads();
     let mut conformations = conformations.peekable();
-    let n_beads = super::first_beads(&mut conformations)?;
+    let n_beads = super::beads::first_beads(&mut conformations)?;
     if n_beads < 6 {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Data(format!(
             "{n_beads} beads: polymer statistics need at least 6 (separations from 4 to N - 1)"
         )));
     }
@@ -198,7 +198,7 @@ pub fn ensemble_stats(
     for_each_chunk(
         &mut conformations,
         chunk_size,
-        |_, c| super::same_beads(c, n_beads),
+        |_, c| super::beads::same_beads(c, n_beads),
         |chunk| {
             let results: Vec<_> = chunk
                 .par_iter()

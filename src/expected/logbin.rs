@@ -21,7 +21,7 @@
 //!
 //! Distances here are in bins (diagonals), as in cooltools; multiply by the bin size for bp.
 
-use super::CisExpected;
+use super::result::CisExpected;
 use super::smooth::robust_gauss_filter;
 use crate::error::{Error, Result};
 
@@ -314,14 +314,14 @@ fn slopes(points: &[(usize, f64, f64, u64)], sigma: f64, region: Option<u32>) ->
 pub fn logbin_expected(table: &CisExpected, params: &LogBinParams) -> Result<LogBinned> {
     params.check()?;
     if params.bins_per_order_magnitude == 0 {
-        return Err(Error::Invalid(
+        return Err(Error::Argument(
             "log bins per decade must be positive".into(),
         ));
     }
     let edges = persistent_log_bins(10, params.bins_per_order_magnitude);
     let max_dist = table.dist.iter().copied().max().unwrap_or(0);
     if edges[edges.len() - 1] < max_dist {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Data(format!(
             "distances up to {max_dist} bins exceed the log bins (up to {})",
             edges[edges.len() - 1]
         )));

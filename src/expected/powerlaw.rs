@@ -53,8 +53,10 @@
 
 use statrs::distribution::{ContinuousCDF, StudentsT};
 
+use super::compute::expected_cis;
 use super::logbin::{CombinedBin, LogBinParams, LogBinned, logbin_expected};
-use super::{CisExpected, CisParams, expected_cis};
+use super::params::CisParams;
+use super::result::CisExpected;
 use crate::error::{Error, Result};
 use crate::genome::View;
 use crate::genome::{format_bp, format_distance};
@@ -261,7 +263,7 @@ pub fn fit_power_law(points: &[(f64, f64)]) -> Result<PowerLawFit> {
     let (x, y) = log_points(points)?;
     let n = x.len();
     if n < 3 {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Data(format!(
             "a power-law fit needs at least 3 points, got {n}"
         )));
     }
@@ -275,7 +277,7 @@ pub fn fit_power_law(points: &[(f64, f64)]) -> Result<PowerLawFit> {
         .sum();
     let syy: f64 = y.iter().map(|v| (v - mean_y) * (v - mean_y)).sum();
     if sxx <= 0.0 {
-        return Err(Error::Invalid(
+        return Err(Error::Data(
             "a power-law fit needs points at different distances".into(),
         ));
     }
@@ -311,13 +313,13 @@ fn log_points(points: &[(f64, f64)]) -> Result<(Vec<f64>, Vec<f64>)> {
         .iter()
         .find(|(s, p)| !(s.is_finite() && *s > 0.0 && p.is_finite() && *p > 0.0))
     {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Data(format!(
             "power-law fits need positive distances and values, got ({}, {})",
             bad.0, bad.1
         )));
     }
     if points.windows(2).any(|w| w[1].0 <= w[0].0) {
-        return Err(Error::Invalid(
+        return Err(Error::Data(
             "power-law fit points must be sorted by increasing distance".into(),
         ));
     }
@@ -456,7 +458,7 @@ pub fn fit_piecewise(points: &[(f64, f64)], params: &FitParams) -> Result<Piecew
     let (x, y) = log_points(points)?;
     let n = x.len();
     if n < 3 {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Data(format!(
             "a piecewise power-law fit needs at least 3 points, got {n}"
         )));
     }
@@ -496,7 +498,7 @@ pub fn fit_piecewise(points: &[(f64, f64)], params: &FitParams) -> Result<Piecew
         rss,
         inverse,
         ..
-    } = best.ok_or_else(|| Error::Invalid("no piecewise fit was possible".into()))?;
+    } = best.ok_or_else(|| Error::Data("no piecewise fit was possible".into()))?;
     let n_parameters = 2 + indices.len();
     let dof = n.saturating_sub(n_parameters);
     let sigma2 = if dof > 0 { rss / dof as f64 } else { f64::NAN };
@@ -573,20 +575,20 @@ pub fn fit_log_binned(binned: &LogBinned, params: &FitParams) -> Result<PowerLaw
     params.check()?;
     let range = params.range;
     if !(range.min_bp > 0.0 && range.max_bp > range.min_bp) {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Argument(format!(
             "the fit range {}-{} bp is empty (it must be positive and increasing)",
             range.min_bp, range.max_bp
         )));
     }
     if binned.combined.len() < 3 {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Data(format!(
             "the log-binned P(s) has {} point(s), fewer than the 3 a fit needs: log bins keep only regions with more than 200 valid pixels and 50 counts in them (cooltools' defaults), so the map is too coarse or too sparse",
             binned.combined.len()
         )));
     }
     let bins = fit_bins(binned, &range);
     if bins.len() < 3 {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Argument(format!(
             "the fit range {}-{} bp holds {} log-binned P(s) point(s); at least 3 are needed (widen the range)",
             range.min_bp,
             range.max_bp,

@@ -10,7 +10,7 @@ use std::collections::HashMap;
 use std::ops::Range;
 
 use super::logbin::LogBinned;
-use super::{CisExpected, TransExpected};
+use super::result::{CisExpected, TransExpected};
 use crate::error::{Error, Result};
 use crate::genome::BinTable;
 use crate::io::tables::{Table, region_table, write_real, write_u64};
@@ -381,7 +381,7 @@ pub fn read_curves(path: &str, bins: &BinTable, column: &str) -> Result<Vec<Diag
 pub fn read_region_column(
     path: &str,
     bins: &BinTable,
-    view: &super::View,
+    view: &crate::genome::View,
     column: &str,
 ) -> Result<Vec<Vec<f64>>> {
     region_column(&Table::read(path)?, bins, view, column)
@@ -391,7 +391,7 @@ pub fn read_region_column(
 pub fn region_column(
     table: &Table,
     bins: &BinTable,
-    view: &super::View,
+    view: &crate::genome::View,
     column: &str,
 ) -> Result<Vec<Vec<f64>>> {
     let (c1, c2, dist) = (
@@ -480,12 +480,20 @@ pub fn region_column(
 /// # std::fs::remove_file(&path)?;
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
-pub fn read_pair_column(path: &str, view: &super::View, column: &str) -> Result<Vec<Vec<f64>>> {
+pub fn read_pair_column(
+    path: &str,
+    view: &crate::genome::View,
+    column: &str,
+) -> Result<Vec<Vec<f64>>> {
     pair_column(&Table::read(path)?, view, column)
 }
 
 /// [`read_pair_column`] of a table already read.
-pub fn pair_column(table: &Table, view: &super::View, column: &str) -> Result<Vec<Vec<f64>>> {
+pub fn pair_column(
+    table: &Table,
+    view: &crate::genome::View,
+    column: &str,
+) -> Result<Vec<Vec<f64>>> {
     let (c1, c2) = (table.column("region1")?, table.column("region2")?);
     let value = table.column(column)?;
     let regions = view.regions();

@@ -1,6 +1,8 @@
 use proptest::prelude::*;
 
+use super::compute::*;
 use super::*;
+use crate::genome::View;
 use crate::genome::{BinTable, Chrom, RegionSpec};
 use crate::matrix::{ContactMatrix, CountType, MatrixBuilder, Pixels};
 

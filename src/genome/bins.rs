@@ -60,7 +60,7 @@ pub struct BinTable {
 pub const MAX_BINS: usize = u32::MAX as usize;
 
 fn too_many_bins(bin_size_bp: u64) -> Error {
-    Error::Invalid(format!(
+    Error::Argument(format!(
         "bins of {bin_size_bp} bp make more than {MAX_BINS} bins: the chromosome lengths or the \
          bin size are wrong"
     ))
@@ -82,11 +82,11 @@ impl BinTable {
         spans: Vec<Range<u64>>,
     ) -> Result<Self> {
         if bin_size_bp == 0 {
-            return Err(Error::Invalid("bin size must be positive".into()));
+            return Err(Error::Argument("bin size must be positive".into()));
         }
         check_chrom_names(&chroms)?;
         if spans.len() != chroms.len() {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Argument(format!(
                 "{} chromosome spans for {} chromosomes",
                 spans.len(),
                 chroms.len()
@@ -96,7 +96,7 @@ impl BinTable {
         let mut n = 0usize;
         for (chrom, span) in chroms.iter().zip(&spans) {
             if span.end > chrom.length_bp || span.start > span.end {
-                return Err(Error::Invalid(format!(
+                return Err(Error::Argument(format!(
                     "bins of {} over {}-{}: not within the chromosome's {} bp",
                     chrom.name, span.start, span.end, chrom.length_bp
                 )));
@@ -133,7 +133,7 @@ impl BinTable {
         let mut previous: Option<Bin> = None;
         for (index, bin) in bins.iter().enumerate() {
             if bin.chrom_id >= chroms.len() {
-                return Err(Error::Invalid(format!(
+                return Err(Error::Data(format!(
                     "bin {index}: chromosome index {} out of range (there are {} chromosomes)",
                     bin.chrom_id,
                     chroms.len()
@@ -142,7 +142,7 @@ impl BinTable {
             let expected_start = match previous {
                 Some(p) if p.chrom_id == bin.chrom_id => p.end,
                 Some(p) if p.chrom_id > bin.chrom_id => {
-                    return Err(Error::Invalid(format!(
+                    return Err(Error::Data(format!(
                         "bin {index}: bins are not sorted by chromosome"
                     )));
                 }
@@ -153,13 +153,13 @@ impl BinTable {
                 }
             };
             if bin.start != expected_start || bin.end <= bin.start {
-                return Err(Error::Invalid(format!(
+                return Err(Error::Data(format!(
                     "bin {index} ({}:{}-{}): bins must tile the chromosome (expected a bin starting at {expected_start})",
                     chroms[bin.chrom_id].name, bin.start, bin.end
                 )));
             }
             if bin.end > chroms[bin.chrom_id].length_bp {
-                return Err(Error::Invalid(format!(
+                return Err(Error::Data(format!(
                     "bin {index} ({}:{}-{}) ends past the chromosome's length {}",
                     chroms[bin.chrom_id].name, bin.start, bin.end, chroms[bin.chrom_id].length_bp
                 )));
@@ -462,18 +462,18 @@ impl BinTable {
     /// Coarsen a fixed table to `factor` times its bin size.
     pub fn coarsen(&self, factor: u64) -> Result<BinTable> {
         if self.is_cut() {
-            return Err(Error::Invalid(
+            return Err(Error::Unsupported(
                 "bin tables that do not cover whole chromosomes cannot be coarsened".into(),
             ));
         }
         match self.bin_size_bp {
             Some(size) if factor > 0 => match size.checked_mul(factor) {
                 Some(coarse) => BinTable::fixed(self.chroms.clone(), coarse),
-                None => Err(Error::Invalid(format!(
+                None => Err(Error::Argument(format!(
                     "bins of {size} bp x {factor} overflow 64 bits"
                 ))),
             },
-            _ => Err(Error::Invalid(
+            _ => Err(Error::Unsupported(
                 "only fixed-size bin tables can be coarsened".into(),
             )),
         }
@@ -484,10 +484,10 @@ fn check_chrom_names(chroms: &[Chrom]) -> Result<()> {
     let mut seen = std::collections::HashSet::new();
     for chrom in chroms {
         if chrom.name.is_empty() {
-            return Err(Error::Invalid("empty chromosome name".into()));
+            return Err(Error::Data("empty chromosome name".into()));
         }
         if !seen.insert(chrom.name.as_str()) {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Data(format!(
                 "chromosome '{}' appears twice in the chromosome table",
                 chrom.name
             )));

@@ -106,7 +106,7 @@ impl View {
     /// ```
     pub fn new(bins: &BinTable, specs: &[RegionSpec]) -> Result<View> {
         if specs.is_empty() {
-            return Err(Error::Invalid("the view has no region".into()));
+            return Err(Error::Argument("the view has no region".into()));
         }
         let mut regions: Vec<ViewRegion> = Vec::with_capacity(specs.len());
         let mut names = HashSet::new();
@@ -119,14 +119,14 @@ impl View {
                 spec.end_bp
             );
             let chrom_id = bins.chrom_id(&spec.chrom).ok_or_else(|| {
-                Error::Invalid(format!("{label}: {}", bins.missing_chrom(&spec.chrom)))
+                Error::Argument(format!("{label}: {}", bins.missing_chrom(&spec.chrom)))
             })?;
             let length = bins.chroms()[chrom_id].length_bp;
             if spec.start_bp >= spec.end_bp {
-                return Err(Error::Invalid(format!("{label}: start is not before end")));
+                return Err(Error::Argument(format!("{label}: start is not before end")));
             }
             if spec.end_bp > length {
-                return Err(Error::Invalid(format!(
+                return Err(Error::Argument(format!(
                     "{label}: ends past the length of {} ({length} bp)",
                     spec.chrom
                 )));
@@ -134,13 +134,13 @@ impl View {
             if let Some(previous) = regions.last() {
                 let key = (chrom_id, spec.start_bp);
                 if key < (previous.chrom_id, previous.start_bp) {
-                    return Err(Error::Invalid(format!(
+                    return Err(Error::Argument(format!(
                         "{label}: regions must be sorted by chromosome (in the matrix's order) and start; it comes after '{}'",
                         previous.name
                     )));
                 }
                 if previous.chrom_id == chrom_id && spec.start_bp < previous.end_bp {
-                    return Err(Error::Invalid(format!(
+                    return Err(Error::Argument(format!(
                         "{label}: overlaps region '{}' ({}:{}-{})",
                         previous.name, spec.chrom, previous.start_bp, previous.end_bp
                     )));
@@ -151,7 +151,7 @@ impl View {
                 .clone()
                 .unwrap_or_else(|| format!("{}:{}-{}", spec.chrom, spec.start_bp, spec.end_bp));
             if !names.insert(name.clone()) {
-                return Err(Error::Invalid(format!(
+                return Err(Error::Argument(format!(
                     "{label}: the name '{name}' is used twice"
                 )));
             }

@@ -6,7 +6,7 @@ use std::ops::Range;
 use crate::error::{Error, Result};
 use crate::matrix::PixelBlock;
 
-use super::MatrixReader;
+use super::reader::MatrixReader;
 
 /// A reader that shows every block of pixels it streams to a callback, then passes it on
 /// unchanged: progress bars, running sums beside another job, checks (an error from the callback

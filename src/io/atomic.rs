@@ -103,14 +103,14 @@ impl Temporary {
         mut create: impl FnMut(&Path) -> Result<T>,
     ) -> Result<(Temporary, T)> {
         if is_special_file(target) {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Argument(format!(
                 "'{}' is not a regular file: this output is written to a file",
                 target.display()
             )));
         }
         let name = target
             .file_name()
-            .ok_or_else(|| Error::Invalid(format!("'{}' is not a file name", target.display())))?
+            .ok_or_else(|| Error::Argument(format!("'{}' is not a file name", target.display())))?
             .to_string_lossy()
             .into_owned();
         check_output_folder(target)?;
@@ -330,7 +330,7 @@ impl WriteLock {
     pub fn acquire(target: &Path) -> Result<WriteLock> {
         let name = target
             .file_name()
-            .ok_or_else(|| Error::Invalid(format!("'{}' is not a file name", target.display())))?;
+            .ok_or_else(|| Error::Argument(format!("'{}' is not a file name", target.display())))?;
         let path = target.with_file_name(format!(".{}.lock", name.to_string_lossy()));
         loop {
             let file = open_lock_file(&path)?;
@@ -571,7 +571,7 @@ mod tests {
         let out = dir.path().join("out.cool");
         let error = Temporary::create_with(&out, |candidate| -> Result<()> {
             std::fs::write(candidate, b"half").unwrap();
-            Err(Error::Invalid("no space".into()))
+            Err(Error::Data("no space".into()))
         })
         .unwrap_err();
         assert_eq!(error.to_string(), "no space");

@@ -27,49 +27,14 @@
 
 mod chunk_writer;
 pub mod chunks;
+mod hdf5_file;
+mod reader;
 pub mod resolutions;
 pub mod store;
+mod weights;
 mod writer;
 
-use std::fs::File;
-use std::ops::Range;
-use std::path::Path;
-
-use hdf5::types::{TypeDescriptor, VarLenAscii, VarLenUnicode};
-
-use crate::error::{Error, Result};
-use crate::genome::{Bin, BinTable, Chrom};
-use crate::io::{MatrixInfo, MatrixReader, hdf5_guard};
-use crate::matrix::{CountType, PixelBlock, Weights};
-use chunks::Column;
+pub(crate) use hdf5_file::{create_excl, file_builder, file_len};
+pub use reader::{BLOCK_PIXELS, CoolReader, HdfContent, inspect};
+pub use weights::DIVISIVE_BY_NAME;
 pub use writer::{CoolWriteOptions, write_cool, write_mcool};
-
-/// Maximum number of pixels in one streamed block.
-pub const BLOCK_PIXELS: usize = 1 << 20;
-
-/// Weight columns that cooler itself reads as divisive, by name (`cooler.api._4DN_DIVISIVE_WEIGHTS`).
-pub const DIVISIVE_BY_NAME: [&str; 3] = ["KR", "VC", "VC_SQRT"];
-
-mod reader;
-pub use reader::{CoolReader, HdfContent, inspect};
-
-/// HDF5 file options: no file locking. We only read whole files or write fresh temporary ones,
-/// locking fails on many network file systems, and a lock would be held by any child process
-/// that inherits libhdf5's descriptor (libhdf5 does not open files close-on-exec).
-pub(crate) fn file_builder() -> hdf5::FileBuilder {
-    let mut builder = hdf5::File::with_options();
-    builder.fapl().file_locking(false);
-    builder
-}
-/// Create a new HDF5 file at `path` exclusively (libhdf5's `H5F_ACC_EXCL`, which opens with
-/// `O_EXCL`: it fails on any existing name, a planted link included), for the temporaries of
-/// [`crate::io::atomic`].
-pub(crate) fn create_excl(path: &Path) -> Result<hdf5::File> {
-    file_builder()
-        .create_excl(path)
-        .map_err(|e| Error::hdf5(path, "creating the file", e))
-}
-/// The size of the file at `path` (0 when it cannot be read: the reads that follow say why).
-pub(crate) fn file_len(path: &str) -> u64 {
-    std::fs::metadata(path).map_or(0, |m| m.len())
-}

@@ -50,7 +50,8 @@ use hdf5::types::{TypeDescriptor, VarLenUnicode};
 
 use crate::error::{Error, Result};
 use crate::genome::{Bin, BinTable, Chrom};
-use crate::io::{MatrixInfo, MatrixReader, hdf5_guard};
+use crate::io::hdf5_guard;
+use crate::io::reader::{MatrixInfo, MatrixReader};
 use crate::matrix::{CountType, PixelBlock, Weights, invert_weight};
 
 /// Stored entries read from the file at a time (whole rows; a longer row is read whole).

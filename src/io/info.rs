@@ -5,7 +5,12 @@ use serde_json::{Map, Value, json};
 
 use crate::error::Result;
 use crate::io::cool::{self, HdfContent};
-use crate::io::{self, FileKind, MatrixReader};
+use crate::io::hic::HicReader;
+use crate::io::kind::{FileKind, detect_kind};
+use crate::io::open::open_matrix;
+use crate::io::reader::MatrixReader;
+use crate::io::text::options::OpenOptions;
+use crate::io::uri::split_uri;
 
 /// The report of the file or matrix at `uri`, as `cooler info` prints it (the attributes under
 /// cooler's names, then `nbins`, `nchroms`, `nnz` and `sum` computed from the data); for a
@@ -22,22 +27,22 @@ use crate::io::{self, FileKind, MatrixReader};
 /// assert!(levels["levels"].as_array().unwrap().len() > 1);
 /// # Ok::<(), contactmap::Error>(())
 /// ```
-pub fn describe(uri: &str, options: &io::OpenOptions) -> Result<Value> {
-    let (path, group) = io::split_uri(uri);
-    Ok(match (io::detect_kind(path)?, group) {
+pub fn describe(uri: &str, options: &OpenOptions) -> Result<Value> {
+    let (path, group) = split_uri(uri);
+    Ok(match (detect_kind(path)?, group) {
         (FileKind::Hdf5, None) => match cool::inspect(path)? {
             HdfContent::Multires(resolutions) => multires_report(path, &resolutions, "mcool")?,
-            HdfContent::Cooler => matrix_report(io::open_matrix(uri, options)?.as_ref())?,
+            HdfContent::Cooler => matrix_report(open_matrix(uri, options)?.as_ref())?,
         },
         (FileKind::Hic, None) => {
-            let resolutions = io::hic::HicReader::list_resolutions(std::path::Path::new(path))?;
+            let resolutions = HicReader::list_resolutions(std::path::Path::new(path))?;
             if resolutions.len() == 1 {
-                matrix_report(io::open_matrix(uri, options)?.as_ref())?
+                matrix_report(open_matrix(uri, options)?.as_ref())?
             } else {
                 multires_report(path, &resolutions, "hic")?
             }
         }
-        _ => matrix_report(io::open_matrix(uri, options)?.as_ref())?,
+        _ => matrix_report(open_matrix(uri, options)?.as_ref())?,
     })
 }
 
@@ -46,7 +51,7 @@ fn multires_report(path: &str, resolutions: &[u64], kind: &str) -> Result<Value>
     let mut levels = Vec::new();
     for &r in resolutions {
         let uri = format!("{path}::/resolutions/{r}");
-        let reader = io::open_matrix(&uri, &io::OpenOptions::default())?;
+        let reader = open_matrix(&uri, &OpenOptions::default())?;
         let (nnz, sum) = reader.totals()?;
         levels.push(json!({
             "uri": uri,

@@ -7,7 +7,7 @@ use rayon::prelude::*;
 
 use crate::error::{Error, Result};
 use crate::genome::BinTable;
-use crate::io::{MatrixInfo, MatrixReader};
+use crate::io::reader::{MatrixInfo, MatrixReader};
 use crate::matrix::{CountType, PixelBlock, Weights};
 
 /// Pixels gathered from all inputs per band, aimed at (the band grows or shrinks to it).
@@ -25,7 +25,7 @@ impl<'a> MergedReader<'a> {
     /// Merge `readers`; fails when one has other chromosomes or other bins than the first.
     pub fn new(readers: Vec<&'a dyn MatrixReader>) -> Result<Self> {
         let Some(first) = readers.first() else {
-            return Err(Error::Invalid("nothing to merge: no input".into()));
+            return Err(Error::Argument("nothing to merge: no input".into()));
         };
         for other in &readers[1..] {
             if let Some(why) = first.bins().difference(other.bins()) {
@@ -90,7 +90,7 @@ impl MatrixReader for MergedReader<'_> {
     }
 
     fn weights(&self, name: &str) -> Result<Weights> {
-        Err(Error::Invalid(format!(
+        Err(Error::Argument(format!(
             "{}: a merged map has no weight column '{name}' (balance the merged file)",
             self.source
         )))

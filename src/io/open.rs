@@ -1,73 +1,16 @@
-//! Opening a matrix by its URI: the file and group of a URI, the kind of a file from its first
-//! bytes, the reader it needs ([`open_matrix`]), and text inputs (plain, gzip or standard input).
+//! Opening a matrix by its URI: the reader it needs ([`open_matrix`]) and the resolutions a
+//! file holds ([`list_resolutions`]).
 
-use std::io::{BufRead, BufReader, Read};
-use std::path::{Path, PathBuf};
+use std::io::Read;
+use std::path::Path;
 
 use crate::error::{Error, Result};
 
-use super::{InMemory, MatrixReader, cool, hic, hicexplorer, text};
-
-/// Split `cool.mcool::/resolutions/1000` into the file path and the group path (if any).
-pub fn split_uri(uri: &str) -> (&str, Option<&str>) {
-    match uri.split_once("::") {
-        Some((path, group)) => (path, Some(group)),
-        None => (uri, None),
-    }
-}
-
-/// The on-disk kind of a matrix file.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum FileKind {
-    /// HDF5: .cool / .mcool.
-    Hdf5,
-    /// Juicer .hic.
-    Hic,
-    /// Anything else: a text table, maybe gzip-compressed.
-    Text,
-}
-
-/// Recognise a file by its first bytes (`-`, stdin, is always text).
-pub fn detect_kind(path: &str) -> Result<FileKind> {
-    if path == "-" {
-        return Ok(FileKind::Text);
-    }
-    let mut file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
-    let mut magic = [0u8; 8];
-    let mut n = 0;
-    while n < magic.len() {
-        match file.read(&mut magic[n..]).map_err(|e| Error::io(path, e))? {
-            0 => break,
-            k => n += k,
-        }
-    }
-    Ok(if n >= 8 && &magic == b"\x89HDF\r\n\x1a\n" {
-        FileKind::Hdf5
-    } else if n >= 4 && &magic[..4] == b"HIC\0" {
-        FileKind::Hic
-    } else {
-        FileKind::Text
-    })
-}
-
-/// Options for opening inputs that do not carry their own bin table (text tables, pairs).
-#[derive(Clone, Debug, Default)]
-pub struct OpenOptions {
-    /// Text format; guessed from the extension and the first data line when `None`.
-    pub text_format: Option<text::TextFormat>,
-    /// Bin size for pairs and for BG2 / COO tables given with `chrom_sizes`.
-    pub bin_size_bp: Option<u64>,
-    /// Chromosome sizes file (`name<TAB>length`).
-    pub chrom_sizes: Option<PathBuf>,
-    /// Bin table BED (`chrom start end`), for COO and dense tables.
-    pub bins_bed: Option<PathBuf>,
-    /// 1-based columns of chrom1, pos1, chrom2, pos2 in a pairs file (default: from the
-    /// `#columns:` header, else the 4DN layout 2, 3, 4, 5).
-    pub pairs_columns: Option<[usize; 4]>,
-    /// Pairs positions are 0-based (cooler `cload pairs --zero-based`); default 1-based, as the
-    /// 4DN pairs specification and cooler's default.
-    pub pairs_zero_based: bool,
-}
+use super::kind::{FileKind, detect_kind};
+use super::reader::{InMemory, MatrixReader};
+use super::text::options::OpenOptions;
+use super::uri::{parse_resolution_group, split_uri};
+use super::{cool, hic, hicexplorer, text};
 
 /// Open any supported matrix: `.cool`, `.mcool::/resolutions/N`, `.hic[::/resolutions/N]`, or a
 /// text table (`-` for stdin).
@@ -162,38 +105,6 @@ fn not_binary(path: &str, expected: &str) -> Error {
             if expected == "HDF5" { "n" } else { "" }
         ),
     )
-}
-
-/// Parse `/resolutions/N` (or a bare `N`) in a URI.
-pub fn parse_resolution_group(uri: &str, group: &str) -> Result<u64> {
-    let trimmed = group.trim_start_matches('/');
-    let number = trimmed.strip_prefix("resolutions/").unwrap_or(trimmed);
-    number.parse::<u64>().map_err(|_| {
-        Error::format(
-            uri,
-            format!("'{group}' is not a resolution path (expected /resolutions/<bin size>)"),
-        )
-    })
-}
-
-/// Open a text file for reading line by line: `-` is standard input; gzip is detected from the
-/// content (the magic bytes), whatever the extension.
-pub fn open_text(path: &Path) -> Result<Box<dyn BufRead>> {
-    let input: Box<dyn Read> = if path == Path::new("-") {
-        Box::new(std::io::stdin())
-    } else {
-        Box::new(std::fs::File::open(path).map_err(|e| Error::io(path, e))?)
-    };
-    let mut reader = BufReader::new(input);
-    let gzip = reader
-        .fill_buf()
-        .map_err(|e| Error::io(path, e))?
-        .starts_with(&[0x1f, 0x8b]);
-    Ok(if gzip {
-        Box::new(BufReader::new(flate2::read::MultiGzDecoder::new(reader)))
-    } else {
-        Box::new(reader)
-    })
 }
 
 /// The resolutions (bin sizes in bp, ascending) of a multi-resolution file: an `.mcool`'s

@@ -14,7 +14,7 @@ use flate2::Compression;
 use flate2::write::GzEncoder;
 
 use crate::error::{Error, Result};
-use crate::io::Temporary;
+use crate::io::atomic::Temporary;
 use crate::io::tables::write_u64;
 
 /// An output text stream: stdout, or a (possibly gzip-compressed) file committed on `finish`.
@@ -52,7 +52,7 @@ impl Output {
                 label: "<stdout>".into(),
             });
         };
-        let (file, tmp) = if crate::io::is_special_file(path) {
+        let (file, tmp) = if crate::io::atomic::is_special_file(path) {
             let file = File::options()
                 .write(true)
                 .open(path)
@@ -321,17 +321,17 @@ pub fn refuse_overwrites(inputs: &[&Path], outputs: &[Option<&Path>]) -> Result<
         .iter()
         .flatten()
         .copied()
-        .filter(|path| !is_stdout(Some(path)) && !crate::io::is_special_file(path))
+        .filter(|path| !is_stdout(Some(path)) && !crate::io::atomic::is_special_file(path))
         .collect();
     for output in &outputs {
         for file in inputs {
-            if file.as_os_str() != "-" && crate::io::same_file(output, file) {
+            if file.as_os_str() != "-" && crate::io::atomic::same_file(output, file) {
                 let relation = if file == output {
                     "is"
                 } else {
                     "is the same file as"
                 };
-                return Err(Error::Invalid(format!(
+                return Err(Error::Argument(format!(
                     "the output '{}' {relation} the input '{}': writing it would destroy the \
                      input; choose another output path (nothing was written)",
                     output.display(),
@@ -347,7 +347,7 @@ pub fn refuse_overwrites(inputs: &[&Path], outputs: &[Option<&Path>]) -> Result<
             } else {
                 format!(" (also as '{}')", second.display())
             };
-            return Err(Error::Invalid(format!(
+            return Err(Error::Argument(format!(
                 "'{}' is named for two outputs{also}: give each output its own path (nothing \
                  was written)",
                 first.display()
@@ -363,7 +363,7 @@ pub fn refuse_overwrites(inputs: &[&Path], outputs: &[Option<&Path>]) -> Result<
 /// Whether two output paths name one file: the same existing file, or, for files still to be
 /// written, the same name in the same folder.
 fn same_path(a: &Path, b: &Path) -> bool {
-    if crate::io::same_file(a, b) {
+    if crate::io::atomic::same_file(a, b) {
         return true;
     }
     let folder = |p: &Path| {

@@ -6,7 +6,7 @@ use crate::genome::BinTable;
 use crate::matrix::pixels::{BYTES_PER_PIXEL, PixelSlice, PixelSource, Pixels};
 use crate::matrix::{ContactMatrix, CountType};
 
-use super::MatrixReader;
+use super::reader::MatrixReader;
 
 /// Read every pixel of `reader` into a [`ContactMatrix`] (with all its weight columns).
 ///
@@ -254,13 +254,13 @@ pub fn parse_memory_size(text: &str) -> Result<u64> {
         "g" | "gb" | "gib" => 1 << 30,
         "t" | "tb" | "tib" => 1 << 40,
         _ => {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Argument(format!(
                 "'{text}' is not a memory size (expected e.g. 8G, 512M)"
             )));
         }
     };
     let value: f64 = number.parse().map_err(|_| {
-        Error::Invalid(format!(
+        Error::Argument(format!(
             "'{text}' is not a memory size (expected e.g. 8G, 512M)"
         ))
     })?;

@@ -64,7 +64,7 @@ impl Prediction {
                 .get(..own.len())
                 .is_some_and(|start| own.eq_ignore_ascii_case(start));
             if !agrees {
-                return Err(Error::Invalid(format!(
+                return Err(Error::Data(format!(
                     "the prediction's sequence ({} residues) differs from the one given ({} residues)",
                     own.len(),
                     sequence.len()
@@ -73,7 +73,7 @@ impl Prediction {
         }
         let length = sequence.chars().count();
         if let Some(covered) = self.length.filter(|&covered| covered != length) {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Data(format!(
                 "the prediction covers {covered} residues but the sequence has {length}"
             )));
         }
@@ -82,7 +82,7 @@ impl Prediction {
             .iter()
             .find(|(i, j, _)| !in_sequence(*i, length) || !in_sequence(*j, length))
         {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Data(format!(
                 "predicted pair {i}-{j} refers to a residue beyond the sequence (length {length})"
             )));
         }

@@ -9,7 +9,7 @@ use ndarray::Array2;
 use rayon::prelude::*;
 
 use crate::error::{Error, Result};
-use crate::io::MatrixReader;
+use crate::io::reader::MatrixReader;
 use crate::matrix::PixelBlock;
 
 /// The stored pixels of a query with their balanced values.
@@ -26,7 +26,7 @@ fn check_ranges(reader: &dyn MatrixReader, rows: &Range<usize>, cols: &Range<usi
     let n = reader.bins().n_bins();
     for (what, range) in [("rows", rows), ("columns", cols)] {
         if range.start > range.end || range.end > n {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Argument(format!(
                 "{}: {what} {}..{} outside the map's {n} bins",
                 reader.source(),
                 range.start,
@@ -40,7 +40,7 @@ fn check_ranges(reader: &dyn MatrixReader, rows: &Range<usize>, cols: &Range<usi
 fn check_weights(reader: &dyn MatrixReader, weights: Option<&[f64]>) -> Result<()> {
     let n = reader.bins().n_bins();
     match weights {
-        Some(w) if w.len() != n => Err(Error::Invalid(format!(
+        Some(w) if w.len() != n => Err(Error::Argument(format!(
             "{}: {} weights for {n} bins",
             reader.source(),
             w.len()
@@ -101,7 +101,7 @@ pub fn query_dense_into(
     check_weights(reader, weights)?;
     let width = cols.len();
     if out.len() != rows.len() * width {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Argument(format!(
             "dense query: {} values for {} x {width}",
             out.len(),
             rows.len()

@@ -193,7 +193,7 @@ impl Structure {
             None => self
                 .chains
                 .first()
-                .ok_or_else(|| Error::Invalid("the structure has no protein chain".into())),
+                .ok_or_else(|| Error::Data("the structure has no protein chain".into())),
             Some(id) => self
                 .chains
                 .iter()
@@ -201,7 +201,7 @@ impl Structure {
                 .ok_or_else(|| {
                     let ids: Vec<&str> =
                         self.chains.iter().map(|chain| chain.id.as_str()).collect();
-                    Error::Invalid(format!(
+                    Error::Data(format!(
                         "the structure has no protein chain '{id}' (chains: {})",
                         ids.join(", ")
                     ))
@@ -229,7 +229,7 @@ pub fn read_structure(path: impl AsRef<Path>) -> Result<Structure> {
 /// replaced, as old PDB files hold a few).
 pub fn structure_text(path: &Path) -> Result<String> {
     let mut bytes = Vec::new();
-    crate::io::open_text(path)?
+    crate::io::input::open_text(path)?
         .read_to_end(&mut bytes)
         .map_err(|err| Error::io(path, err))?;
     Ok(String::from_utf8_lossy(&bytes).into_owned())

@@ -69,7 +69,7 @@ impl MatrixReader for OneBlock {
         Vec::new()
     }
     fn weights(&self, name: &str) -> Result<Weights> {
-        Err(Error::Invalid(name.into()))
+        Err(Error::Argument(name.into()))
     }
     fn info(&self) -> MatrixInfo {
         MatrixInfo::default()
@@ -217,7 +217,7 @@ fn reading_ahead_at_any_depth_keeps_the_order_and_stops_at_the_first_error() {
             depth,
             |&k| {
                 if k == 7 {
-                    Err(Error::Invalid(format!("item {k}")))
+                    Err(Error::Data(format!("item {k}")))
                 } else {
                     Ok(k)
                 }
@@ -239,7 +239,7 @@ fn reading_ahead_at_any_depth_keeps_the_order_and_stops_at_the_first_error() {
             |k, _| {
                 processed += 1;
                 if k == 3 {
-                    Err(Error::Invalid("stop".into()))
+                    Err(Error::Data("stop".into()))
                 } else {
                     Ok(())
                 }

@@ -65,113 +65,28 @@
 //! that decompression and parsing overlap. Chunks are handed over in order: results never depend
 //! on the scheduling.
 
-use std::path::Path;
-
-use crate::error::{Error, Result};
-use crate::io::OpenOptions;
-use crate::matrix::ContactMatrix;
-
 mod bins;
 pub mod dump;
+mod format;
 mod lines;
+pub(super) mod options;
 mod pairs;
 mod pixels;
+mod read;
 #[cfg(test)]
 mod test_support;
 mod write;
 
 pub use bins::{read_bins_bed, read_chrom_sizes};
-pub use write::write_text;
-
-use bins::bin_table_for;
-use lines::LineReader;
-use pairs::read_pairs;
-use pixels::{read_bg2, read_coo, read_dense};
-
-/// A text layout (see the [module documentation](self) for the columns of each).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum TextFormat {
-    /// `chrom1 start1 end1 chrom2 start2 end2 count` (`cooler dump --join`).
-    Bg2,
-    /// `bin1_id bin2_id count`, 0-based bin ids (`cooler dump`), with a separate bin table.
-    Coo,
-    /// Read pairs (4DN `.pairs` or pair text), binned on the fly.
-    Pairs,
-    /// A square dense matrix, one row per line.
-    Dense,
-}
-
-/// The largest number of bins [`write_text`] writes as a dense matrix.
-pub const MAX_DENSE_BINS: usize = 20_000;
-
-/// Guess the format from the file name (a trailing `.gz` is ignored): `.bg2` / `.bedpe` -> BG2,
-/// `.pairs` / `.pairsam` -> pairs, `.coo` / `.pixels` -> COO, `.dense` / `.mat` / `.matrix` ->
-/// dense.
-pub fn guess_format(path: &str) -> Option<TextFormat> {
-    let lower = path.to_ascii_lowercase();
-    let name = lower.strip_suffix(".gz").unwrap_or(&lower);
-    let (_, extension) = name.rsplit_once('.')?;
-    match extension {
-        "bg2" | "bedpe" => Some(TextFormat::Bg2),
-        "pairs" | "pairsam" => Some(TextFormat::Pairs),
-        "coo" | "pixels" => Some(TextFormat::Coo),
-        "dense" | "mat" | "matrix" => Some(TextFormat::Dense),
-        _ => None,
-    }
-}
-
-/// Read a text matrix into memory (`path` `-` is standard input).
-///
-/// The format is `options.text_format`, else guessed from the name ([`guess_format`]), else sniffed
-/// from the first lines: a `## pairs format`, `#columns:` or `#chromsize:` header means pairs, a
-/// data line of 7 or more columns with numeric columns 2, 3, 5 and 6 means BG2, exactly 3 numeric
-/// columns mean COO.
-///
-/// # Examples
-///
-/// The GM12878 map as BG2 text (`cooler dump --join`) with its bin table: the same pixels as
-/// the cooler it was dumped from.
-///
-/// ```
-/// use contactmap::io::text::read_matrix;
-/// use contactmap::io::OpenOptions;
-///
-/// let options = OpenOptions {
-///     bins_bed: Some("data/hg19.bins.2000kb.bed.gz".into()),
-///     ..OpenOptions::default()
-/// };
-/// let matrix = read_matrix("data/hg19.GM12878-MboI.matrix.2000kb.bg2.gz", &options)?;
-/// // data/reference/totals.tsv: 1561 bins, 38156 pixels, sum 100000
-/// assert_eq!(matrix.bins().n_bins(), 1_561);
-/// assert_eq!((matrix.nnz(), matrix.sum()), (38_156, 100_000.0));
-/// # Ok::<(), contactmap::Error>(())
-/// ```
-pub fn read_matrix(path: &str, options: &OpenOptions) -> Result<ContactMatrix> {
-    let mut lines = LineReader::open(Path::new(path))?;
-    let format = match options.text_format.or_else(|| guess_format(path)) {
-        Some(format) => format,
-        None => lines.sniff_format()?.ok_or_else(|| {
-            Error::format(
-                path,
-                "cannot tell the text format from the name or the first lines: pass --format \
-                 (bg2, coo, pairs or dense)",
-            )
-        })?,
-    };
-    match format {
-        TextFormat::Bg2 => read_bg2(&mut lines, bin_table_for(path, "a BG2 table", options)?),
-        TextFormat::Coo => read_coo(&mut lines, bin_table_for(path, "a COO table", options)?),
-        TextFormat::Dense => {
-            read_dense(&mut lines, bin_table_for(path, "a dense matrix", options)?)
-        }
-        TextFormat::Pairs => read_pairs(&mut lines, options),
-    }
-}
+pub use format::{TextFormat, guess_format};
+pub use read::read_matrix;
+pub use write::{MAX_DENSE_BINS, write_text};
 
 #[cfg(test)]
 mod tests {
     use tempfile::TempDir;
 
+    use super::options::OpenOptions;
     use super::*;
     use crate::error::Error;
     use test_support::*;

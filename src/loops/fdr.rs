@@ -311,7 +311,7 @@ pub fn kernel_stats(
 ) -> Result<KernelStats> {
     let (counts, rows) = histogram.table(kernel);
     if counts.is_empty() {
-        return Err(Error::Invalid(
+        return Err(Error::Data(
             "no pixel could be scored: every pixel's kernels reach a masked bin, the diagonal or \
              the region's edge (check the balancing weights, the expected and --max-nans-tolerated)"
                 .into(),

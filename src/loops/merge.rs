@@ -18,7 +18,7 @@
 
 use std::collections::BTreeSet;
 
-use super::Dot;
+use super::calls::Dot;
 use crate::error::{Error, Result};
 use crate::genome::BinTable;
 
@@ -168,12 +168,12 @@ pub fn sort_merged(lists: &[(u64, &[ResolutionCall])], kept: &mut [(usize, usize
 pub fn check_resolutions(resolutions: &[u64]) -> Result<()> {
     for (index, resolution) in resolutions.iter().enumerate() {
         if !MERGE_RESOLUTIONS.contains(resolution) {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Argument(format!(
                 "the HiCCUPS merge is defined for 5, 10 and 25 kb calls; got a list at {resolution} bp"
             )));
         }
         if resolutions[..index].contains(resolution) {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Argument(format!(
                 "two lists at {resolution} bp: give one list per resolution"
             )));
         }

@@ -597,7 +597,7 @@ fn score_chunk(
     let min_count = settings.min_count as f64;
     let check_count = |i: i64, j: i64, count: f64| {
         if count.fract() != 0.0 || count < 0.0 {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Unsupported(format!(
                 "dots needs integer counts (raw contacts): pixel ({i}, {j}) has {count}"
             )));
         }

@@ -1,7 +1,7 @@
 //! The dot caller's tables as cooltools writes them (`DataFrame.to_csv(sep="\t", index=False,
 //! na_rep="nan")`): BEDPE columns first, floats in Python's shortest round-trip form.
 
-use super::{DotCalls, EnrichedPixel};
+use super::calls::{DotCalls, EnrichedPixel};
 use crate::genome::BinTable;
 use crate::genome::View;
 use crate::io::output::python_float;

@@ -5,9 +5,11 @@
 //! zero is the caller's choice ([`ZeroCounts`]): a reader of a pixel table keeps them, as
 //! `cooler load` does, while [`MatrixBuilder::build`] drops them.
 
+use super::block::CountType;
+use super::contact::ContactMatrix;
+use super::weights::Weights;
 use crate::error::{Error, Result};
 use crate::genome::BinTable;
-use crate::matrix::{ContactMatrix, CountType, Weights};
 
 /// What [`MatrixBuilder::build_with`] does with a pixel whose summed count is zero.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -53,12 +55,12 @@ impl MatrixBuilder {
     pub fn push(&mut self, bin1: u64, bin2: u64, count: f64) -> Result<()> {
         let n_bins = self.bins.n_bins() as u64;
         if bin1 >= n_bins || bin2 >= n_bins {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Data(format!(
                 "pixel ({bin1}, {bin2}) is out of range: the bin table has {n_bins} bins"
             )));
         }
         if !count.is_finite() {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Data(format!(
                 "pixel ({bin1}, {bin2}) has a non-finite count {count}"
             )));
         }
@@ -73,7 +75,7 @@ impl MatrixBuilder {
 
     /// Attach a weight column (one value per bin).
     pub fn add_weights(&mut self, weights: Weights) -> Result<()> {
-        crate::matrix::insert_weights(&mut self.weights, self.bins.n_bins(), weights)
+        super::weights::insert_weights(&mut self.weights, self.bins.n_bins(), weights)
     }
 
     /// Number of triplets pushed so far (before duplicates are summed).
@@ -95,7 +97,7 @@ impl MatrixBuilder {
         let mut last: Option<(u64, u64)> = None;
         for (i, j, count) in pixels {
             if i > j || j >= n_bins as u64 || last.is_some_and(|l| l >= (i, j)) {
-                return Err(Error::Invalid(format!(
+                return Err(Error::Data(format!(
                     "pixel ({i}, {j}) is out of order, below the diagonal or out of range"
                 )));
             }

@@ -10,9 +10,9 @@
 
 use rayon::prelude::*;
 
+use super::block::{CountType, PixelBlock};
 use crate::error::{Error, Result};
 use crate::genome::BinTable;
-use crate::matrix::{CountType, PixelBlock};
 
 /// Pixels per slice of a parallel pass (fixed, so results do not depend on the thread count).
 pub const SLICE_PIXELS: usize = 1 << 16;
@@ -119,7 +119,7 @@ impl Pixels {
     /// An empty store for pixels over `bins`, with room for `capacity` pixels.
     pub fn with_capacity(bins: BinTable, count_type: CountType, capacity: usize) -> Result<Self> {
         if bins.n_bins() > u32::MAX as usize {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Unsupported(format!(
                 "{} bins do not fit 32-bit bin ids",
                 bins.n_bins()
             )));
@@ -143,7 +143,7 @@ impl Pixels {
         for k in 0..block.len() {
             let key = (block.bin1[k], block.bin2[k]);
             if key.0 > key.1 || key.1 >= n_bins || last.is_some_and(|l| l >= key) {
-                return Err(Error::Invalid(format!(
+                return Err(Error::Data(format!(
                     "pixel ({}, {}) is out of order, below the diagonal or out of range",
                     key.0, key.1
                 )));
@@ -172,7 +172,7 @@ impl Pixels {
             .iter()
             .find(|&&(i, j, _)| i as usize >= n_bins || j as usize >= n_bins)
         {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Data(format!(
                 "pixel ({i}, {j}) is out of range ({n_bins} bins)"
             )));
         }

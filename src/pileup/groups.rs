@@ -158,7 +158,7 @@ fn unknown_column(name: &str, columns: &[String], bed: bool) -> Error {
 }
 
 fn missing_value(name: &str, column: &str, feature: usize) -> Error {
-    Error::Invalid(format!(
+    Error::Data(format!(
         "--groupby {name}: feature {} has no column {column}",
         feature + 1
     ))

@@ -206,11 +206,11 @@ pub fn apa_corner_width(bin_size_bp: u64) -> usize {
 }
 
 /// A group's pileup and its scores by name.
-pub type GroupScores<'a> = (&'a super::Pileup, Vec<(String, f64)>);
+pub type GroupScores<'a> = (&'a super::result::Pileup, Vec<(String, f64)>);
 
 /// The scores of every group of `pileups` ([`pileup_scores`] of each), in the groups' order.
 pub fn group_scores(
-    pileups: &super::Pileups,
+    pileups: &super::result::Pileups,
     local: bool,
     rescale_flank: Option<f64>,
     center: usize,

@@ -1,7 +1,7 @@
 //! A pileup's tables as `contactmap pileup` writes them: the grids and the scores, floats in
 //! Python's shortest round-trip form.
 
-use super::{Pileup, Pileups};
+use super::result::{Pileup, Pileups};
 use crate::io::npz::{NpyArray, NpyData};
 use crate::io::output::python_float;
 

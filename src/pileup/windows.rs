@@ -151,7 +151,7 @@ fn check_order(
     params: &WindowParams,
 ) -> Result<()> {
     if params.rescale_flank.is_some() && start > end {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Data(format!(
             "{}: start {start} is after end {end}; a feature to rescale needs start <= end",
             what()
         )));

@@ -5,7 +5,7 @@
 //! Linear ticks fall on 1, 2, 2.5 and 5 times a power of ten (matplotlib's `MaxNLocator`
 //! steps); log axes tick every decade, labelled `10^k`, with minor ticks at 2..9 times it.
 
-use crate::Result;
+use crate::error::Result;
 use crate::plot::colormap::{ColorMap, ColorScale, ScaleKind};
 use crate::plot::svg::{Anchor, Baseline, Rgb, RgbImage, Stroke, Svg, TextStyle, text_width};
 

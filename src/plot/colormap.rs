@@ -188,7 +188,7 @@ impl ColorMap {
             None => (name, false),
         };
         let mut lut = Self::table(base).ok_or_else(|| {
-            Error::Invalid(format!(
+            Error::Argument(format!(
                 "unknown colour map '{name}' (known: {}; add _r to reverse)",
                 COLOR_MAP_NAMES.join(", ")
             ))
@@ -291,12 +291,12 @@ impl ColorScale {
     /// Check the limits (finite, ordered, positive for a log scale).
     pub fn new(kind: ScaleKind, vmin: f64, vmax: f64) -> Result<ColorScale> {
         if !(vmin.is_finite() && vmax.is_finite() && vmin < vmax) {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Argument(format!(
                 "colour limits must be finite with vmin < vmax (got {vmin} and {vmax})"
             )));
         }
         if kind == ScaleKind::Log && vmin <= 0.0 {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Argument(format!(
                 "a log colour scale needs vmin > 0 (got {vmin}); use --linear for zero or negative values"
             )));
         }

@@ -228,7 +228,7 @@ fn legend_corner(
 /// ```
 pub fn draw_curves(figure: &CurveFigure) -> Result<Svg> {
     if figure.panels.is_empty() {
-        return Err(Error::Invalid("a figure needs at least one panel".into()));
+        return Err(Error::Argument("a figure needs at least one panel".into()));
     }
     let theme = Theme::new(figure.dpi);
     let all_points = || {
@@ -238,13 +238,13 @@ pub fn draw_curves(figure: &CurveFigure) -> Result<Svg> {
             .flat_map(|p| p.series.iter().flat_map(|s| s.points.iter()))
     };
     let x_limits = data_limits(all_points().map(|p| p.0), figure.x_scale)
-        .ok_or_else(|| Error::Invalid("nothing to draw: no point has a usable distance".into()))?;
+        .ok_or_else(|| Error::Data("nothing to draw: no point has a usable distance".into()))?;
     let x_scale = axis_scale(figure.x_scale, x_limits);
     let mut y_scales = Vec::with_capacity(figure.panels.len());
     for panel in &figure.panels {
         let points = panel.series.iter().flat_map(|s| s.points.iter());
         let mut limits = data_limits(points.map(|p| p.1), panel.y_scale).ok_or_else(|| {
-            Error::Invalid(format!("nothing to draw in the panel '{}'", panel.y_label))
+            Error::Data(format!("nothing to draw in the panel '{}'", panel.y_label))
         })?;
         if panel.y_scale == Scale::Linear && limits.1 - limits.0 < panel.min_span {
             let middle = (limits.0 + limits.1) / 2.0;
@@ -274,7 +274,7 @@ pub fn draw_curves(figure: &CurveFigure) -> Result<Svg> {
     let width = figure.width_px as f64;
     let axes_width = width - left - right;
     if axes_width < theme.px(60.0) {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Argument(format!(
             "the figure is too narrow for its axes ({} pixels)",
             figure.width_px
         )));
@@ -286,7 +286,7 @@ pub fn draw_curves(figure: &CurveFigure) -> Result<Svg> {
         None => (UNIT_HEIGHT * axes_width * total_weight).round(),
     };
     if panels_height < theme.px(30.0) * figure.panels.len() as f64 {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Argument(format!(
             "the figure is too short for {} panel(s)",
             figure.panels.len()
         )));

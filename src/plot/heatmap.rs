@@ -313,12 +313,12 @@ impl CellGrid {
     /// ```
     pub fn compared(first: &CellGrid, second: &CellGrid, how: GridComparison) -> Result<CellGrid> {
         if first.rows != second.rows || first.cols != second.cols {
-            return Err(crate::error::Error::Invalid(
+            return Err(crate::error::Error::Data(
                 "the two maps are drawn on different cells: they must cover the same bins".into(),
             ));
         }
         if matches!(how, GridComparison::Split { .. }) && first.rows != first.cols {
-            return Err(crate::error::Error::Invalid(
+            return Err(crate::error::Error::Argument(
                 "a split map shows one region (rows and columns the same bins)".into(),
             ));
         }

@@ -4,8 +4,8 @@
 
 use crate::error::{Error, Result};
 use crate::plot::axes::{Theme, colour_bar};
-use crate::plot::svg::{Anchor, Baseline, RgbImage, Svg, TextStyle};
-use crate::plot::{ColorMap, ColorScale, Rgb};
+use crate::plot::colormap::{ColorMap, ColorScale};
+use crate::plot::svg::{Anchor, Baseline, Rgb, RgbImage, Svg, TextStyle};
 
 /// One facet: a pileup grid and what is written on it.
 #[derive(Clone, Debug, PartialEq)]
@@ -85,11 +85,11 @@ pub fn centred_limits<'a>(values: impl IntoIterator<Item = &'a f64>) -> (f64, f6
 pub fn draw_pileups(figure: &PileupFigure) -> Result<Svg> {
     let count = figure.panels.len();
     if count == 0 {
-        return Err(Error::Invalid("no pileup to draw".into()));
+        return Err(Error::Argument("no pileup to draw".into()));
     }
     for panel in &figure.panels {
         if panel.n == 0 || panel.values.len() != panel.n * panel.n {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Argument(format!(
                 "pileup '{}': {} values for a {2} x {2} grid",
                 panel.title,
                 panel.values.len(),
@@ -109,7 +109,7 @@ pub fn draw_pileups(figure: &PileupFigure) -> Result<Svg> {
     let room = figure.width_px as f64 - 2.0 * margin - bar_room - (columns - 1) as f64 * gap;
     let side = (room / columns as f64).floor();
     if side < theme.px(40.0) {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Argument(format!(
             "the figure is too narrow for {columns} pileups side by side ({} pixels)",
             figure.width_px
         )));

@@ -95,10 +95,9 @@ impl PredictionLayer {
         prediction: &Prediction,
         params: &ScoreParams,
     ) -> Result<(PredictionLayer, (i32, i32))> {
-        let list_size =
-            params.list_sizes.first().copied().ok_or_else(|| {
-                crate::Error::parameter("list_sizes", "[]", "expected one list size")
-            })?;
+        let list_size = params.list_sizes.first().copied().ok_or_else(|| {
+            crate::error::Error::parameter("list_sizes", "[]", "expected one list size")
+        })?;
         let curve_size = params.curve.unwrap_or(list_size);
         let score = score_contacts(truth, prediction, params)?;
         let k = list_length(list_size, score.length, params.rounding, score.n_true);

@@ -58,7 +58,7 @@ pub fn rasterize(svg: &Svg) -> Result<Vec<u8>> {
         .map_err(|e| Error::Invalid(format!("internal error: the figure's SVG is invalid: {e}")))?;
     let (width, height) = (svg.width_px() as u32, svg.height_px() as u32);
     let mut pixmap = tiny_skia::Pixmap::new(width, height).ok_or_else(|| {
-        Error::Invalid(format!(
+        Error::Argument(format!(
             "a {width} x {height} pixel image is too large or empty"
         ))
     })?;
@@ -80,7 +80,7 @@ pub fn rasterize(svg: &Svg) -> Result<Vec<u8>> {
 /// The PNG file of `svg`, with its dpi recorded.
 pub fn png_bytes(svg: &Svg, dpi: f64) -> Result<Vec<u8>> {
     let rgb = rasterize(svg)?;
-    let invalid = |e: png::EncodingError| Error::Invalid(format!("PNG encoding: {e}"));
+    let invalid = |e: png::EncodingError| Error::Argument(format!("PNG encoding: {e}"));
     let mut bytes = Vec::new();
     {
         let mut encoder =

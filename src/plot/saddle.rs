@@ -4,8 +4,8 @@
 
 use crate::error::{Error, Result};
 use crate::plot::axes::{Axes, AxisScale, Side, Theme, colour_bar};
-use crate::plot::svg::{Anchor, Baseline, RgbImage, Svg, TextStyle};
-use crate::plot::{ColorMap, ColorScale, Rgb};
+use crate::plot::colormap::{ColorMap, ColorScale};
+use crate::plot::svg::{Anchor, Baseline, Rgb, RgbImage, Svg, TextStyle};
 
 /// What a saddle figure shows.
 #[derive(Clone, Debug)]
@@ -59,7 +59,7 @@ pub struct SaddleFigure {
 pub fn draw_saddle(figure: &SaddleFigure) -> Result<Svg> {
     let n = figure.n;
     if n == 0 || figure.values.len() != n * n {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Argument(format!(
             "a saddle needs n x n values ({} for n = {n})",
             figure.values.len()
         )));
@@ -72,7 +72,7 @@ pub fn draw_saddle(figure: &SaddleFigure) -> Result<Svg> {
     let bar_room = (theme.px(12.0) + theme.px(10.0) + font * 3.0 + theme.label_font() * 1.6).ceil();
     let side = figure.width_px as f64 - left - bar_room - theme.px(8.0);
     if side < theme.px(60.0) {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Argument(format!(
             "the figure is too narrow for a saddle ({} pixels)",
             figure.width_px
         )));

@@ -6,8 +6,8 @@
 use crate::compare::cluster::Dendrogram;
 use crate::error::{Error, Result};
 use crate::plot::axes::{Theme, colour_bar};
-use crate::plot::svg::{Anchor, Baseline, RgbImage, Stroke, Svg, TextStyle, text_width};
-use crate::plot::{ColorMap, ColorScale, Rgb};
+use crate::plot::colormap::{ColorMap, ColorScale};
+use crate::plot::svg::{Anchor, Baseline, Rgb, RgbImage, Stroke, Svg, TextStyle, text_width};
 
 /// What a similarity figure shows.
 #[derive(Clone, Debug)]
@@ -67,7 +67,7 @@ pub struct SimilarityFigure {
 pub fn draw_similarity(figure: &SimilarityFigure) -> Result<Svg> {
     let n = figure.names.len();
     if n == 0 || figure.values.len() != n * n {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Argument(format!(
             "a similarity matrix of {n} samples needs {} values, not {}",
             n * n,
             figure.values.len()
@@ -76,7 +76,7 @@ pub fn draw_similarity(figure: &SimilarityFigure) -> Result<Svg> {
     let order: Vec<usize> = match &figure.dendrogram {
         Some(tree) if tree.n == n => tree.leaf_order(),
         Some(tree) => {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Argument(format!(
                 "a dendrogram of {} leaves for {n} samples",
                 tree.n
             )));
@@ -95,7 +95,7 @@ pub fn draw_similarity(figure: &SimilarityFigure) -> Result<Svg> {
     let bar_room = (theme.px(14.0) + theme.px(10.0) + font * 3.0 + theme.label_font() * 1.6).ceil();
     let side = (figure.width_px as f64 - left - bar_room - theme.px(8.0)).round();
     if side < theme.px(60.0) {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Argument(format!(
             "the figure is too narrow for {n} samples ({} pixels wide; names take {name_width:.0})",
             figure.width_px
         )));

@@ -104,7 +104,7 @@ impl RgbImage {
 
 /// Encode an RGB buffer as PNG.
 pub fn encode_png_rgb(width: usize, height: usize, data: &[u8]) -> Result<Vec<u8>> {
-    let invalid = |e: png::EncodingError| Error::Invalid(format!("PNG encoding: {e}"));
+    let invalid = |e: png::EncodingError| Error::Argument(format!("PNG encoding: {e}"));
     let mut bytes = Vec::new();
     {
         let mut encoder = png::Encoder::new(&mut bytes, width as u32, height as u32);

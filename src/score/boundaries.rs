@@ -28,7 +28,7 @@
 //! do not overlap each other on any chromosome (no nesting); gaps between domains are not filled
 //! (Zufferey et al. count inter-TAD gaps as domains: give them explicitly to reproduce that).
 
-use super::ratio;
+use super::fraction::ratio;
 use crate::io::bed::BedRecord;
 use std::collections::BTreeMap;
 

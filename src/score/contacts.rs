@@ -54,7 +54,7 @@
 //! place the chain on the prediction's sequence first ([`crate::score::register`]) when the
 //! structure's numbering is not the sequence's.
 
-use super::ratio;
+use super::fraction::ratio;
 use std::collections::HashMap;
 
 use crate::error::{Error, Result};
@@ -330,7 +330,7 @@ impl TrueContacts {
         threshold: f64,
     ) -> Result<Self> {
         if !(threshold > 0.0 && threshold <= 1.0) {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Argument(format!(
                 "the contact frequency threshold must be a fraction of frames above 0 and at \
                  most 1, got {threshold}"
             )));
@@ -730,7 +730,7 @@ pub fn target_length(
             .as_ref()
             .map(|sequence| sequence.chars().count())
             .ok_or_else(|| {
-                Error::Invalid(
+                Error::Data(
                     "L is the sequence length, but the prediction has no sequence: give one \
                      (FASTA) or take L from the observed residues"
                         .into(),

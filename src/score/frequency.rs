@@ -228,7 +228,7 @@ pub fn contact_pairs(topology: &Topology, spec: &FrequencySpec) -> Result<Contac
                 Scheme::Ca | Scheme::Cb if atoms[i].len() != 1 || atoms[j].len() != 1 => {
                     for r in [i, j] {
                         if atoms[r].len() > 1 {
-                            return Err(Error::Invalid(format!(
+                            return Err(Error::Data(format!(
                                 "{} has {} atoms named {}",
                                 describe(r),
                                 atoms[r].len(),
@@ -246,7 +246,7 @@ pub fn contact_pairs(topology: &Topology, spec: &FrequencySpec) -> Result<Contac
             }
             for r in [i, j] {
                 if atoms[r].is_empty() {
-                    return Err(Error::Invalid(format!(
+                    return Err(Error::Data(format!(
                         "{} has no atom for the {} scheme",
                         describe(r),
                         spec.scheme.name()
@@ -257,7 +257,7 @@ pub fn contact_pairs(topology: &Topology, spec: &FrequencySpec) -> Result<Contac
         }
     }
     if pairs.is_empty() {
-        return Err(Error::Invalid(
+        return Err(Error::Data(
             "no residue pair to measure: the topology has no chain of residues with a CA atom \
              three or more residues apart"
                 .into(),
@@ -538,7 +538,7 @@ fn frequencies(
     let mut counts = vec![0u32; pairs.pairs.len()];
     let keep = |index: usize, conformation: &Conformation| {
         if conformation.unit == LengthUnit::Model {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Unsupported(format!(
                 "{}: not an MD trajectory (give DCD, XTC or multi-model PDB / mmCIF files; \
                  polymer conformations go to `polymer-map`)",
                 conformation.label
@@ -546,7 +546,7 @@ fn frequencies(
         }
         // (selected frames were checked against the topology by their reader)
         if !selected && conformation.positions.len() != atoms {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Data(format!(
                 "{}: {} atoms, the topology has {atoms}",
                 conformation.label,
                 conformation.positions.len(),
@@ -592,7 +592,7 @@ fn frequencies(
     let mut frames = frames;
     let n_frames = for_each_chunk(&mut frames, CHUNK, keep, work)?;
     if n_frames == 0 {
-        return Err(Error::Invalid("the trajectory has no frame".into()));
+        return Err(Error::Data("the trajectory has no frame".into()));
     }
     Ok(ContactFrequencies {
         pairs,

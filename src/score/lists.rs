@@ -34,7 +34,7 @@ pub struct NamedRange {
 pub fn parse_range(token: &str) -> Result<NamedRange> {
     let token = token.trim();
     let bad = || {
-        Error::Invalid(format!(
+        Error::Argument(format!(
             "bad separation range '{token}' (expected short, medium, long, all, MIN-MAX or MIN+)"
         ))
     };
@@ -79,7 +79,7 @@ pub fn parse_range(token: &str) -> Result<NamedRange> {
 pub fn parse_list_size(token: &str) -> Result<(String, ListSize)> {
     let token = token.trim();
     let bad = || {
-        Error::Invalid(format!(
+        Error::Argument(format!(
             "bad list size '{token}' (expected L/10, L, 0.3L, a count N, or NC)"
         ))
     };
@@ -145,7 +145,7 @@ pub fn parse_length(text: Option<&str>) -> Result<LengthChoice> {
             other => match other.parse::<usize>() {
                 Ok(n) if n > 0 => LengthChoice::Fixed(TargetLength::Residues(n)),
                 _ => {
-                    return Err(Error::Invalid(format!(
+                    return Err(Error::Argument(format!(
                         "bad --length '{text}' (expected sequence, observed or a positive number)"
                     )));
                 }

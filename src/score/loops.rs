@@ -20,7 +20,7 @@
 use std::fmt::Write as _;
 
 use super::boundaries::boundary_position;
-use super::ratio;
+use super::fraction::ratio;
 use crate::error::{Error, Result};
 use crate::io::bed::BedpeRecord;
 
@@ -46,7 +46,7 @@ impl Loop {
         let (a, b) = (&record.first, &record.second);
         let fraction = if weighted {
             let text = record.rest.first().ok_or_else(|| {
-                Error::Invalid(format!(
+                Error::Data(format!(
                     "{source}: a truth loop has no 7th column (the fraction of samples, as \
                      `simulate polymer --truth-loops` writes): {} {} {}",
                     a.chrom, a.start, b.start
@@ -55,7 +55,7 @@ impl Loop {
             match text.parse::<f64>() {
                 Ok(f) if (0.0..=1.0).contains(&f) => f,
                 _ => {
-                    return Err(Error::Invalid(format!(
+                    return Err(Error::Data(format!(
                         "{source}: fraction '{text}' of the loop {} {} {} is not a number in [0, 1]",
                         a.chrom, a.start, b.start
                     )));

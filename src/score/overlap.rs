@@ -127,7 +127,7 @@ pub fn compare_predictions<'a>(
         .map(|p| p.sequence.as_ref().map(|s| s.chars().count()).or(p.length))
         .collect();
     let different = |what: String| {
-        Error::Invalid(format!(
+        Error::Data(format!(
             "{first_name} and {second_name} {what}: they are not predictions for the same target"
         ))
     };
@@ -148,7 +148,7 @@ pub fn compare_predictions<'a>(
     let length = match length {
         Some(length) => length,
         None => implied[0].or(implied[1]).ok_or_else(|| {
-            Error::Invalid("L is unknown: give the target sequence (--fasta) or --length".into())
+            Error::Argument("L is unknown: give the target sequence (--fasta) or --length".into())
         })?,
     };
     let mut results = Vec::new();

@@ -191,7 +191,7 @@ pub fn place(
         None => chain.residues.iter().map(|r| Some(r.number)).collect(),
     };
     let truth = measure(structure, &placed, definition).map_err(|err| match err {
-        Error::Invalid(message) if sequence.is_none() => Error::Invalid(format!(
+        Error::Invalid(message) if sequence.is_none() => Error::Data(format!(
             "{message} (give the target sequence with --fasta to place the residues on it)"
         )),
         other => other,
@@ -233,7 +233,7 @@ impl EnsembleTruth {
     /// Read the frequency table at `path`; `threshold` in `(0, 1]`.
     pub fn read(path: &Path, threshold: f64) -> Result<Self> {
         if !(threshold > 0.0 && threshold <= 1.0) {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Argument(format!(
                 "--truth-frequency must be a fraction of frames above 0 and at most 1, got \
                  {threshold}"
             )));

@@ -91,7 +91,7 @@ impl Default for BlockMapParams {
 impl BlockMapParams {
     /// Check the parameters; the error says which one is wrong and what is allowed.
     pub fn check(&self) -> Result<()> {
-        let fail = |message: String| Err(Error::Invalid(message));
+        let fail = |message: String| Err(Error::Argument(message));
         if self.n_chroms == 0 {
             return fail("the number of chromosomes must be at least 1".into());
         }
@@ -297,7 +297,7 @@ pub fn block_map(params: &BlockMapParams) -> Result<BlockMap> {
         .collect();
     let total: f64 = row_sums.iter().sum();
     if total <= 0.0 {
-        return Err(Error::Invalid(
+        return Err(Error::Argument(
             "every generated pixel has an expected count of 0 (all bins dead?)".into(),
         ));
     }

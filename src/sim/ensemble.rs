@@ -72,18 +72,20 @@ impl EnsembleParams {
     pub fn check(&self) -> Result<()> {
         self.polymer.check()?;
         if self.replicas == 0 {
-            return Err(Error::Invalid("at least one replica is needed".into()));
+            return Err(Error::Argument("at least one replica is needed".into()));
         }
         if self.samples == 0 || self.sample_every == 0 {
-            return Err(Error::Invalid(
+            return Err(Error::Argument(
                 "samples and steps between samples must be at least 1".into(),
             ));
         }
         if self.monomers_per_bin == 0 {
-            return Err(Error::Invalid("monomers per bin must be at least 1".into()));
+            return Err(Error::Argument(
+                "monomers per bin must be at least 1".into(),
+            ));
         }
         if !(self.contact_radius.is_finite() && self.contact_radius > 0.0) {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Argument(format!(
                 "contact radius must be a positive number, got {}",
                 self.contact_radius
             )));
@@ -92,26 +94,26 @@ impl EnsembleParams {
             coupling
                 .params
                 .check()
-                .map_err(|err| Error::Invalid(format!("loop extrusion: {err}")))?;
+                .map_err(|err| Error::Argument(format!("loop extrusion: {err}")))?;
             let n = self.polymer.n_beads();
             if coupling.params.n_monomers() != n {
-                return Err(Error::Invalid(format!(
+                return Err(Error::Argument(format!(
                     "loop extrusion covers {} monomers, the polymer has {n}",
                     coupling.params.n_monomers()
                 )));
             }
             if coupling.params.chains != self.polymer.chain_ranges() {
-                return Err(Error::Invalid(
+                return Err(Error::Argument(
                     "loop extrusion chains differ from the polymer's chains".into(),
                 ));
             }
             if coupling.steps_per_move == 0 {
-                return Err(Error::Invalid(
+                return Err(Error::Argument(
                     "3D steps per extrusion step must be at least 1".into(),
                 ));
             }
             if !(coupling.bond_length >= 0.0 && coupling.bond_wiggle > 0.0) {
-                return Err(Error::Invalid(
+                return Err(Error::Argument(
                     "LEF bond length must be 0 or more and its wiggle positive".into(),
                 ));
             }
@@ -364,7 +366,7 @@ pub(crate) fn replica_extrusion(
         Some(coupling) => {
             let mut rng = stream_rng(params.seed, EXTRUSION_STREAM, replica as u64);
             let extruder = Extruder::new(&coupling.params, &mut rng)
-                .map_err(|err| Error::Invalid(format!("loop extrusion: {err}")))?;
+                .map_err(|err| Error::Argument(format!("loop extrusion: {err}")))?;
             Ok(Some((coupling, extruder, rng)))
         }
         None => Ok(None),

@@ -31,7 +31,7 @@ use crate::matrix::{ContactMatrix, CountType, MatrixBuilder};
 /// ```
 pub fn parse_type_pattern(pattern: &str) -> Result<(Vec<u8>, Vec<u8>)> {
     let bad = || {
-        Error::Invalid(format!(
+        Error::Argument(format!(
             "bad --types '{pattern}' (expected letters with optional run lengths, e.g. A200B200)"
         ))
     };
@@ -95,7 +95,7 @@ pub fn boundary_elements_from_bed(
             .and_then(|k| k.parse::<usize>().ok())
             .filter(|&k| k >= 1 && k <= chains.len())
             .ok_or_else(|| {
-                Error::Invalid(format!(
+                Error::Data(format!(
                     "{}: chromosome '{}' is not one of the simulated chains chr1..chr{}",
                     path.display(),
                     record.chrom,
@@ -104,7 +104,7 @@ pub fn boundary_elements_from_bed(
             })?;
         let bead = (record.start / monomer_bp) as usize;
         if bead >= chains[chain - 1] {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Data(format!(
                 "{}: boundary element at {}:{} is beyond the chain ({} bp)",
                 path.display(),
                 record.chrom,
@@ -152,7 +152,7 @@ pub fn boundary_elements_from_list(
                 _ => (token, None),
             };
             let position: usize = number.parse().map_err(|_| {
-                Error::Invalid(format!(
+                Error::Argument(format!(
                     "bad --ctcf element '{token}' (expected a bead index with an optional + or \
                      -, or an existing BED file)"
                 ))

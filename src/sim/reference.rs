@@ -73,7 +73,7 @@ impl ChainSampler {
         rng: SeededRng,
     ) -> Result<Self> {
         if n < 3 {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Argument(format!(
                 "the chain sampler needs at least 3 beads, got {n}"
             )));
         }

@@ -162,7 +162,7 @@ fn check_density(density: f64) -> Result<()> {
     if density.is_finite() && density > 0.0 {
         Ok(())
     } else {
-        Err(Error::Invalid(format!(
+        Err(Error::Argument(format!(
             "--density must be a positive number, got {density}"
         )))
     }
@@ -196,7 +196,7 @@ impl SimulationSpec {
         if repulsion_kind != RepulsionKind::Polynomial
             && (self.repulsion_energy.is_some() || self.repulsion_radius.is_some())
         {
-            return Err(Error::Invalid(
+            return Err(Error::Argument(
                 "--repulsion-energy and --repulsion-radius shape the polynomial repulsion: they \
                  do not apply with --repulsion wca or none"
                     .into(),
@@ -231,8 +231,9 @@ impl SimulationSpec {
             (None, None) => ConfinementKind::None,
         };
         let density = || {
-            self.density
-                .ok_or_else(|| Error::Invalid("--confinement sphere or box needs --density".into()))
+            self.density.ok_or_else(|| {
+                Error::Argument("--confinement sphere or box needs --density".into())
+            })
         };
         let confinement = match kind {
             ConfinementKind::None => Confinement::None,
@@ -325,7 +326,7 @@ impl SimulationSpec {
             keep_conformations: self.keep_conformations,
         };
         if self.monomer_bp == 0 {
-            return Err(Error::Invalid("--monomer-bp must be at least 1".into()));
+            return Err(Error::Argument("--monomer-bp must be at least 1".into()));
         }
         params.check()?;
         Ok(params)

@@ -89,7 +89,7 @@ impl Default for ArmatusParams {
 
 /// Domains at every resolution of `params` for one region's band, ordered by level then start.
 ///
-/// Errors with [`Error::Invalid`] when a `gamma` is negative or not finite, no `gamma` is given,
+/// Errors with [`Error::Argument`] when a `gamma` is negative or not finite, no `gamma` is given,
 /// `max_domain_bins` is 0 or larger than the band width.
 ///
 /// # Examples
@@ -126,7 +126,7 @@ impl Default for ArmatusParams {
 pub fn armatus(band: &CisBand, params: &ArmatusParams) -> Result<Vec<Domain>> {
     params.check()?;
     if params.max_domain_bins > band.width {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Argument(format!(
             "Armatus: max_domain_bins must be in 1..={} (the band width), got {}",
             band.width, params.max_domain_bins
         )));

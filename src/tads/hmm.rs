@@ -156,7 +156,7 @@ impl GaussianHmm {
             .filter(|v| v.is_finite())
             .collect();
         if finite.len() < 3 {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Data(format!(
                 "HMM: need at least 3 finite observations to fit 3 states, got {}",
                 finite.len()
             )));
@@ -246,7 +246,7 @@ impl GaussianHmm {
             .chain(&model.variances)
             .all(|v| v.is_finite())
         {
-            return Err(Error::Invalid(
+            return Err(Error::Data(
                 "HMM: the fit did not converge to finite parameters".into(),
             ));
         }

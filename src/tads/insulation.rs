@@ -273,7 +273,7 @@ pub fn check_window_fits(
         format!("{}, ... ({} regions)", short[..6].join(", "), short.len())
     };
     if explicit_view || short.len() == view.len() {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Argument(format!(
             "region{} {names} shorter than the {window_bp} bp window ({window_bins} bins): use a smaller --window",
             if short.len() > 1 { "s" } else { "" },
         )));
@@ -287,10 +287,12 @@ pub fn check_window_fits(
 /// variable-size bins.
 pub(super) fn window_bins(bins: &BinTable, window_bp: u64) -> Result<usize> {
     let bin_size = bins.bin_size_bp().ok_or_else(|| {
-        Error::Invalid("the matrix has variable-size bins; windows need a fixed bin size".into())
+        Error::Unsupported(
+            "the matrix has variable-size bins; windows need a fixed bin size".into(),
+        )
     })?;
     if window_bp == 0 || bin_size == 0 || !window_bp.is_multiple_of(bin_size) {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Argument(format!(
             "window {window_bp} bp is not a positive multiple of the bin size {bin_size} bp"
         )));
     }
@@ -301,7 +303,7 @@ pub(super) fn window_bins(bins: &BinTable, window_bp: u64) -> Result<usize> {
 pub(super) fn check_weights(bins: &BinTable, weights: Option<&[f64]>) -> Result<()> {
     if let Some(w) = weights {
         if w.len() != bins.n_bins() {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Data(format!(
                 "{} weights for {} bins",
                 w.len(),
                 bins.n_bins()

@@ -37,7 +37,7 @@ impl FromStr for Threshold {
             "otsu" => Ok(Threshold::Otsu),
             _ => match trimmed.parse::<f64>() {
                 Ok(value) if !value.is_nan() => Ok(Threshold::Value(value)),
-                _ => Err(Error::Invalid(format!(
+                _ => Err(Error::Argument(format!(
                     "boundary threshold '{text}': expected 'Li', 'Otsu' or a number"
                 ))),
             },

@@ -53,7 +53,7 @@
 //! at least `2w` bins.
 
 use super::band::CisBand;
-use super::{Boundary, Domain};
+use super::domains::{Boundary, Domain};
 use crate::error::{Error, Result};
 use statrs::distribution::{ContinuousCDF, Normal};
 
@@ -141,7 +141,7 @@ pub struct TopDomRegion {
 
 /// Run TopDom on one region's band.
 ///
-/// Errors with [`Error::Invalid`] when the window is 0, the band holds fewer than
+/// Errors with [`Error::Argument`] when the window is 0, the band holds fewer than
 /// `2 * window_bins + 1` diagonals, or the region has fewer than `2 * window_bins` bins.
 ///
 /// # Examples
@@ -180,14 +180,14 @@ pub fn topdom(band: &CisBand, params: &TopDomParams) -> Result<TopDomRegion> {
     let w = params.window_bins;
     let n = band.n_bins;
     if band.width < 2 * w + 1 {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Argument(format!(
             "TopDom: window {w} needs a band of at least {} diagonals, got {}",
             2 * w + 1,
             band.width
         )));
     }
     if n < 2 * w {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Argument(format!(
             "TopDom: region starting at bin {} has {n} bins, fewer than twice the window ({})",
             band.first_bin,
             2 * w

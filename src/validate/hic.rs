@@ -1,8 +1,10 @@
 //! Checks of the formats read through their readers, every pixel streamed: Juicer `.hic` (every
 //! resolution) and HiCExplorer `.h5`.
 
-use super::{Class, Collector, HicReader, MatrixReader, Report, io};
+use super::report::{Class, Collector, Report};
 use crate::error::Result;
+use crate::io::hic::HicReader;
+use crate::io::{self, MatrixReader};
 use std::path::Path;
 
 pub(super) fn validate_hic(uri: &str, path: &str, group: Option<&str>) -> Result<Report> {

@@ -1,11 +1,12 @@
 //! `--repair`: a corrected copy of a cooler written through the library writer.
 
-use super::{
-    BLOCK_PIXELS, Class, Collector, CoolWriteOptions, CoolerCheck, CountType, DIVISIVE_BY_NAME,
-    File, FileKind, InMemory, Kind, MatrixBuilder, Report, Severity, Weights, chunks, cool,
-    cooler_groups, io, kind_of, open_hdf5, read_attr,
-};
+use super::cooler::{CoolerCheck, Kind, cooler_groups, kind_of, open_hdf5, read_attr};
+use super::report::{Class, Collector, Report, Severity};
 use crate::error::{Error, Result};
+use crate::io::cool::{self, BLOCK_PIXELS, CoolWriteOptions, DIVISIVE_BY_NAME, chunks};
+use crate::io::{self, FileKind, InMemory};
+use crate::matrix::{CountType, MatrixBuilder, Weights};
+use std::fs::File;
 use std::path::Path;
 
 /// The result of [`repair`].
@@ -27,7 +28,7 @@ pub enum RepairOutcome {
 pub fn repair(uri: &str, report: &Report, out: &Path) -> Result<RepairOutcome> {
     let (path, group) = io::split_uri(uri);
     if io::same_file(Path::new(path), out) {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Argument(format!(
             "--repair {}: the output is the input file; write the corrected copy elsewhere",
             out.display()
         )));

@@ -147,7 +147,7 @@ pub fn run(args: &ContactsArgs) -> Result<()> {
         layers.push(layer);
     }
     if first > last {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Data(format!(
             "{}: no observed residue to draw",
             args.target.structure.display()
         )));
@@ -174,7 +174,7 @@ pub fn run(args: &ContactsArgs) -> Result<()> {
 /// An invalid-value error with the option's name in front.
 fn prefixed(option: &str, err: Error) -> Error {
     match err {
-        Error::Invalid(message) => Error::Invalid(format!("{option}: {message}")),
+        Error::Argument(message) => Error::Argument(format!("{option}: {message}")),
         other => other,
     }
 }

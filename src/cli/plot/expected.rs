@@ -157,14 +157,14 @@ pub fn run(args: &ExpectedPlotArgs) -> Result<()> {
     for (uri, label) in args.inputs.iter().zip(labels) {
         let power_law = load(uri, args, fit_range)?;
         if power_law.binned.combined.is_empty() {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Data(format!(
                 "{uri}: no distance has enough valid pixels for a P(s) point (cooltools' thresholds: more than 200 valid pixels and a sum above 50 per log bin and region)"
             )));
         }
         if args.fit {
             match &power_law.fit {
                 Ok(report) => eprintln!("{label}: {}", report.headline()),
-                Err(e) => return Err(Error::Invalid(format!("{uri}: no power-law fit: {e}"))),
+                Err(e) => return Err(Error::Data(format!("{uri}: no power-law fit: {e}"))),
             }
         }
         samples.push(PsSample { label, power_law });

@@ -16,7 +16,7 @@ pub fn legend_labels(
     default: impl Fn(&str) -> String,
 ) -> Result<Vec<String>> {
     match labels {
-        Some(labels) if labels.len() != inputs.len() => Err(Error::Invalid(format!(
+        Some(labels) if labels.len() != inputs.len() => Err(Error::Argument(format!(
             "--labels gives {} name(s) for {} input(s)",
             labels.len(),
             inputs.len()
@@ -82,14 +82,14 @@ impl FigureArgs {
             Some(FormatArg::Svg) => ImageFormat::Svg,
             None if self.out.as_os_str() == "-" => ImageFormat::Png,
             None => ImageFormat::from_path(&self.out).ok_or_else(|| {
-                Error::Invalid(format!(
+                Error::Argument(format!(
                     "--out {}: the extension must be .png or .svg (or give --to png|svg)",
                     self.out.display()
                 ))
             })?,
         };
         if !(self.dpi >= 10.0 && self.dpi <= 2400.0) {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Argument(format!(
                 "--dpi must be between 10 and 2400 (got {})",
                 self.dpi
             )));
@@ -97,7 +97,7 @@ impl FigureArgs {
         let pixels = |inches: f64, what: &str| -> Result<usize> {
             let px = inches * self.dpi;
             if !(inches > 0.0 && (50.0..=MAX_SIDE_PX).contains(&px)) {
-                return Err(Error::Invalid(format!(
+                return Err(Error::Argument(format!(
                     "--{what} {inches} in at {} dpi gives {px:.0} pixels: it must give 50 to {MAX_SIDE_PX} pixels",
                     self.dpi
                 )));

@@ -191,7 +191,7 @@ pub fn run(args: &MapArgs) -> Result<()> {
         "fall"
     }))?;
     let nan = Rgb::parse(&args.nan_color).ok_or_else(|| {
-        Error::Invalid(format!(
+        Error::Argument(format!(
             "--nan-color '{}' is not a colour (#rrggbb, #rgb or a name such as lightgrey)",
             args.nan_color
         ))
@@ -200,7 +200,7 @@ pub fn run(args: &MapArgs) -> Result<()> {
         || !(0.0..=100.0).contains(&args.percentiles[0])
         || !(args.percentiles[0] < args.percentiles[1] && args.percentiles[1] <= 100.0)
     {
-        return Err(Error::Invalid(
+        return Err(Error::Argument(
             "--percentiles takes LOW,HIGH with 0 <= LOW < HIGH <= 100".into(),
         ));
     }
@@ -216,18 +216,18 @@ pub fn run(args: &MapArgs) -> Result<()> {
     let same_chrom = row_span.chrom == col_span.chrom;
     let view = if args.triangle {
         if rows != cols {
-            return Err(Error::Invalid(
+            return Err(Error::Argument(
                 "--triangle draws one region: leave out --region2".into(),
             ));
         }
         let length = col_span.end_bp - col_span.start_bp;
         let depth = match &args.depth {
             Some(text) => contactmap::genome::parse_bp(text)
-                .map_err(|m| Error::Invalid(format!("--depth '{text}': {m}")))?,
+                .map_err(|m| Error::Argument(format!("--depth '{text}': {m}")))?,
             None => length.div_ceil(4),
         };
         if depth == 0 {
-            return Err(Error::Invalid("--depth must be positive".into()));
+            return Err(Error::Argument("--depth must be positive".into()));
         }
         MapView::Triangle {
             depth_bp: depth.min(length),
@@ -236,14 +236,14 @@ pub fn run(args: &MapArgs) -> Result<()> {
         MapView::Square
     };
     if args.compare.is_some() && !args.ratio && (rows != cols || args.triangle) {
-        return Err(Error::Invalid(
+        return Err(Error::Argument(
             "--compare splits one square map along its diagonal: leave out --region2 and \
              --triangle, or draw the log2 ratio (--ratio)"
                 .into(),
         ));
     }
     if oe && !same_chrom {
-        return Err(Error::Invalid(
+        return Err(Error::Argument(
             "observed / expected (--oe, --compare-mode expected) needs both regions on one \
              chromosome (the expected is per diagonal)"
                 .into(),

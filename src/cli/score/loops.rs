@@ -128,7 +128,7 @@ fn check_shared_chroms(
         ""
     };
     let show = |names: &[String]| names.iter().take(5).cloned().collect::<Vec<_>>().join(", ");
-    Err(Error::Invalid(format!(
+    Err(Error::Data(format!(
         "{} and {} share no chromosome ({} against {}), so no call can match{hint}",
         calls_path.display(),
         truth_path.display(),

@@ -71,12 +71,12 @@ pub fn run(args: &OverlapArgs) -> Result<()> {
         .iter()
         .any(|(_, size)| *size == ListSize::TrueContacts)
     {
-        return Err(Error::Invalid(
+        return Err(Error::Argument(
             "list size NC needs a structure (use `score contacts`)".into(),
         ));
     }
     if args.length == Some(0) {
-        return Err(Error::Invalid("--length must be positive".into()));
+        return Err(Error::Argument("--length must be positive".into()));
     }
     let fasta = args.fasta.as_deref().map(read_fasta).transpose()?;
     let mut predictions = Vec::with_capacity(2);

@@ -339,7 +339,7 @@ impl PolymerArgs {
 pub fn run(args: &PolymerArgs) -> Result<()> {
     check_cool_output("simulate", &args.output)?;
     if args.threads == Some(0) {
-        return Err(Error::Invalid("--threads must be at least 1".into()));
+        return Err(Error::Argument("--threads must be at least 1".into()));
     }
     let ctcf_file = args.ctcf.as_deref().map(Path::new).filter(|p| p.is_file());
     refuse_overwrites(
@@ -374,7 +374,7 @@ pub fn run(args: &PolymerArgs) -> Result<()> {
             rayon::ThreadPoolBuilder::new()
                 .num_threads(threads)
                 .build()
-                .map_err(|err| Error::Invalid(format!("--threads {threads}: {err}")))?,
+                .map_err(|err| Error::Argument(format!("--threads {threads}: {err}")))?,
         ),
     };
     let simulate = || {

@@ -16,6 +16,7 @@ use hdf5::filters::Filter;
 use hdf5::types::{FloatSize, IntSize, TypeDescriptor};
 use rayon::prelude::*;
 
+use super::hdf5_file::file_len;
 use crate::error::{Error, Result};
 
 /// Element type of a column, as stored (little-endian).
@@ -180,7 +181,7 @@ impl Column {
         path: &str,
         width: Option<usize>,
     ) -> Result<Column> {
-        crate::io::hdf5_guard::checked_len(path, &dataset, name, super::file_len(path))?;
+        crate::io::hdf5_guard::checked_len(path, &dataset, name, file_len(path))?;
         let shape = dataset.shape();
         let len = match (width, shape.as_slice()) {
             (None, &[n]) => n,

@@ -1,15 +1,24 @@
 //! Reading a cooler: the bin table, weight columns (divisive ones inverted), attributes and
 //! streamed pixel queries.
 
-use super::{
-    BLOCK_PIXELS, Bin, BinTable, Chrom, Column, CountType, DIVISIVE_BY_NAME, File, MatrixInfo,
-    MatrixReader, PixelBlock, Range, TypeDescriptor, VarLenAscii, VarLenUnicode, Weights, chunks,
-    file_builder, file_len, hdf5_guard,
-};
-use crate::error::{Error, Result};
-use crate::io::read_ahead;
+use std::fs::File;
+use std::ops::Range;
 use std::path::Path;
 use std::sync::Mutex;
+
+use hdf5::types::{TypeDescriptor, VarLenAscii, VarLenUnicode};
+
+use super::chunks::{self, Column};
+use super::hdf5_file::{file_builder, file_len};
+use super::weights::DIVISIVE_BY_NAME;
+use crate::error::{Error, Result};
+use crate::genome::{Bin, BinTable, Chrom};
+use crate::io::hdf5_guard;
+use crate::io::reader::{MatrixInfo, MatrixReader, read_ahead};
+use crate::matrix::{CountType, PixelBlock, Weights};
+
+/// Maximum number of pixels in one streamed block.
+pub const BLOCK_PIXELS: usize = 1 << 20;
 
 /// The most blocks a reader keeps to read into again: one being read ahead, one being handed
 /// over, one spare.
@@ -119,7 +128,7 @@ impl CoolReader {
     /// # Ok::<(), contactmap::Error>(())
     /// ```
     pub fn open(uri: &str) -> Result<CoolReader> {
-        let (path, group_path) = crate::io::split_uri(uri);
+        let (path, group_path) = crate::io::uri::split_uri(uri);
         let file = open_file(path)?;
         let group = match group_path {
             None | Some("") | Some("/") => {

@@ -38,7 +38,7 @@ pub fn parse_resolutions(items: &[String], base: u64, longest_bp: u64) -> Result
     for item in items {
         let item = item.trim();
         let bad = || {
-            Error::Invalid(format!(
+            Error::Argument(format!(
                 "--resolutions: '{item}' is not a resolution (a bin size in bp, or BASE N / BASE B)"
             ))
         };
@@ -54,7 +54,7 @@ pub fn parse_resolutions(items: &[String], base: u64, longest_bp: u64) -> Result
     resolutions.dedup();
     for &r in &resolutions {
         if r == 0 || r % base != 0 {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Argument(format!(
                 "--resolutions: {r} is not a multiple of the input's bin size {base}"
             )));
         }
@@ -66,7 +66,7 @@ pub fn parse_resolutions(items: &[String], base: u64, longest_bp: u64) -> Result
 /// it in the error.
 pub fn fixed_bin_size(bins: &BinTable, source: &str) -> Result<u64> {
     bins.bin_size_bp().ok_or_else(|| {
-        Error::Invalid(format!(
+        Error::Unsupported(format!(
             "{source}: multi-resolution outputs (.mcool, .hic) need fixed-size bins; this matrix has variable bins"
         ))
     })

@@ -17,9 +17,11 @@
 
 use hdf5::types::VarLenUnicode;
 
-use super::{CoolReader, DIVISIVE_BY_NAME, file_builder};
+use super::hdf5_file::file_builder;
+use super::reader::CoolReader;
+use super::weights::DIVISIVE_BY_NAME;
 use crate::error::{Error, Result};
-use crate::io::MatrixReader;
+use crate::io::reader::MatrixReader;
 use crate::matrix::{Weights, invert_weight};
 
 /// A value of an HDF5 attribute, as h5py writes the Python values cooler stores.
@@ -44,7 +46,7 @@ const RESERVED: [&str; 3] = ["chrom", "start", "end"];
 
 fn check_name(uri: &str, name: &str) -> Result<()> {
     if name.is_empty() || name.contains('/') || name.starts_with('.') || RESERVED.contains(&name) {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Argument(format!(
             "{uri}: '{name}' cannot name a weight column (it must be non-empty, without '/', not start with '.', and not be chrom, start or end)"
         )));
     }
@@ -74,7 +76,7 @@ pub fn check_target(uri: &str, name: &str, overwrite: bool) -> Result<()> {
 }
 
 fn existing_column(uri: &str, name: &str) -> Error {
-    let (path, _) = crate::io::split_uri(uri);
+    let (path, _) = crate::io::uri::split_uri(uri);
     Error::format(
         path,
         format!(
@@ -126,7 +128,7 @@ pub fn store_weights(
     check_name(uri, name)?;
     let n_bins = n_bins_of(uri)?;
     if weights.values.len() != n_bins {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Argument(format!(
             "{uri}: {} weights for {n_bins} bins",
             weights.values.len()
         )));
@@ -147,7 +149,7 @@ fn in_cooler(
     uri: &str,
     write: impl FnOnce(&str, &hdf5::Group, &hdf5::Group) -> Result<()>,
 ) -> Result<()> {
-    let (path, group_path) = crate::io::split_uri(uri);
+    let (path, group_path) = crate::io::uri::split_uri(uri);
     let err = |what: String| move |e| Error::hdf5(path, what, e);
     let file = file_builder()
         .open_rw(path)
@@ -272,7 +274,7 @@ pub fn store_bin_columns(
     for (name, values) in columns {
         check_name(uri, name)?;
         if values.len() != n_bins {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Argument(format!(
                 "{uri}: column {name} has {} values for {n_bins} bins",
                 values.len()
             )));

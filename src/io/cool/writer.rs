@@ -7,8 +7,8 @@ use hdf5::types::{FixedAscii, VarLenUnicode};
 use super::chunk_writer::{ChunkValue, ChunkedColumn};
 use crate::error::{Error, Result};
 use crate::genome::BinTable;
-use crate::io::MatrixReader;
 use crate::io::atomic::with_temporary;
+use crate::io::reader::MatrixReader;
 use crate::matrix::{CountType, PixelBlock, Weights, invert_weight};
 
 /// Elements per HDF5 chunk of the pixel columns (128 KiB of `int64` before compression).
@@ -73,7 +73,7 @@ pub fn write_cool(
     options: &CoolWriteOptions,
 ) -> Result<()> {
     check_chroms(reader)?;
-    with_temporary(path, super::create_excl, |tmp, file| {
+    with_temporary(path, super::hdf5_file::create_excl, |tmp, file| {
         let root = file
             .as_group()
             .map_err(|e| Error::hdf5(tmp, "opening the root group", e))?;
@@ -125,7 +125,7 @@ pub fn write_mcool(
 ) -> Result<()> {
     let base_bins = reader.bins();
     let Some(base) = base_bins.bin_size_bp() else {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Unsupported(format!(
             "{}: .mcool needs fixed-size bins; this matrix has variable bins",
             reader.source()
         )));
@@ -138,13 +138,13 @@ pub fn write_mcool(
     }
     for &r in &resolutions {
         if r % base != 0 {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Argument(format!(
                 "resolution {r} is not a multiple of the input's bin size {base}"
             )));
         }
     }
     check_chroms(reader)?;
-    with_temporary(path, super::create_excl, |tmp, file| {
+    with_temporary(path, super::hdf5_file::create_excl, |tmp, file| {
         write_str_attr(tmp, &file, "format", "HDF5::MCOOL")?;
         write_int_attr(tmp, &file, "format-version", 2)?;
         write_str_attr(tmp, &file, "bin-type", "fixed")?;
@@ -476,7 +476,7 @@ impl GroupWriter {
                 ));
             }
             // cooler divides by KR / VC / VC_SQRT whatever their attributes say: store those divisive.
-            let divisive = super::DIVISIVE_BY_NAME.contains(&w.name.as_str());
+            let divisive = super::weights::DIVISIVE_BY_NAME.contains(&w.name.as_str());
             let dataset = if divisive {
                 let inverted: Vec<f64> = w.values.iter().map(|&v| invert_weight(v)).collect();
                 write_column(path, &bins_group, &w.name, &inverted)?
@@ -743,7 +743,7 @@ mod tests {
             Vec::new()
         }
         fn weights(&self, name: &str) -> Result<Weights> {
-            Err(Error::Invalid(format!("no weight column '{name}'")))
+            Err(Error::Argument(format!("no weight column '{name}'")))
         }
         fn info(&self) -> MatrixInfo {
             MatrixInfo::default()

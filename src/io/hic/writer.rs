@@ -53,7 +53,7 @@ use rayon::prelude::*;
 use super::expected::JuicerExpected;
 use crate::error::{Error, Result};
 use crate::genome::{BinTable, Chrom};
-use crate::io::MatrixReader;
+use crate::io::reader::MatrixReader;
 use crate::matrix::PixelBlock;
 
 use block::{Record, block_coordinates, compress_block};
@@ -140,7 +140,7 @@ impl HicWriter {
         options: &HicWriteOptions,
     ) -> Result<HicWriter> {
         let base = base_bins.bin_size_bp().ok_or_else(|| {
-            Error::Invalid(".hic needs fixed-size bins; this matrix has variable bins".into())
+            Error::Unsupported(".hic needs fixed-size bins; this matrix has variable bins".into())
         })?;
         let mut resolutions = resolutions.to_vec();
         resolutions.sort_unstable();
@@ -149,17 +149,17 @@ impl HicWriter {
             resolutions.push(base);
         }
         if let Some(r) = resolutions.iter().find(|&&r| r == 0 || r % base != 0) {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Argument(format!(
                 "resolution {r} is not a multiple of the input's bin size {base}"
             )));
         }
         if let Some(r) = resolutions.iter().find(|&&r| r > i32::MAX as u64) {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Argument(format!(
                 "resolution {r} does not fit the .hic format's 32-bit bin sizes"
             )));
         }
         if !(1..=i32::MAX as u64 / 2).contains(&options.block_bin_count) {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Argument(format!(
                 "block size {} is out of range",
                 options.block_bin_count
             )));
@@ -202,7 +202,7 @@ impl HicWriter {
     }
     fn put_i32(&mut self, v: i64) -> Result<()> {
         let v = i32::try_from(v).map_err(|_| {
-            Error::Invalid(format!(
+            Error::Unsupported(format!(
                 "{v} does not fit a 32-bit field of the .hic format"
             ))
         })?;
@@ -225,7 +225,7 @@ impl HicWriter {
     }
     fn put_str(&mut self, s: &str) -> Result<()> {
         if s.as_bytes().contains(&0) {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Unsupported(format!(
                 "'{}' holds a NUL byte, which the .hic format cannot store",
                 s.escape_debug()
             )));
@@ -274,7 +274,7 @@ impl HicWriter {
     /// blocks at every resolution, with the `All` matrix if asked.
     pub fn write_matrices(&mut self, reader: &dyn MatrixReader) -> Result<()> {
         if reader.bins() != &self.base_bins {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Data(format!(
                 "{}: its bins are not those the .hic was created for",
                 reader.source()
             )));

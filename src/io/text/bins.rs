@@ -5,9 +5,9 @@ use std::collections::HashMap;
 use std::path::Path;
 
 use super::lines::{Fields, LineReader, parse_u64, show};
+use super::options::OpenOptions;
 use crate::error::{Error, Result};
 use crate::genome::{Bin, BinTable, Chrom};
-use crate::io::OpenOptions;
 
 /// Read a chromosome sizes file: `name<TAB>length` per line (extra columns ignored, `#` comments
 /// skipped, gzip allowed), in the order of the file.
@@ -145,7 +145,7 @@ pub(super) fn bin_table_for(path: &str, what: &str, options: &OpenOptions) -> Re
             // is the fixed one of the given size when its bins are the same.
             let fixed = BinTable::fixed(table.chroms().to_vec(), size)?;
             if fixed.n_bins() != table.n_bins() || !fixed.iter().eq(table.iter()) {
-                return Err(Error::Invalid(format!(
+                return Err(Error::Argument(format!(
                     "{path}: --bin-size {size} disagrees with the bins of {} ({}): pass one of them",
                     bed.display(),
                     match table.bin_size_bp() {
@@ -160,11 +160,11 @@ pub(super) fn bin_table_for(path: &str, what: &str, options: &OpenOptions) -> Re
     }
     match (&options.chrom_sizes, options.bin_size_bp) {
         (Some(sizes), Some(size)) => BinTable::fixed(read_chrom_sizes(sizes)?, size),
-        (Some(_), None) => Err(Error::Invalid(format!(
+        (Some(_), None) => Err(Error::Argument(format!(
             "{path}: --chrom-sizes needs a bin size to build the bin table of {what}: pass \
              --bin-size N"
         ))),
-        _ => Err(Error::Invalid(format!(
+        _ => Err(Error::Argument(format!(
             "{path}: {what} does not carry its bin table: pass --bins BED, or --chrom-sizes FILE \
              --bin-size N"
         ))),
@@ -229,7 +229,8 @@ mod tests {
     fn bg2_needs_a_bin_table() {
         let dir = TempDir::new().unwrap();
         let path = write_plain(&dir, "m.bg2", "chr1\t0\t10\tchr1\t10\t20\t5\n");
-        let message = invalid_message(read_matrix(path.to_str().unwrap(), &OpenOptions::default()));
+        let message =
+            argument_message(read_matrix(path.to_str().unwrap(), &OpenOptions::default()));
         assert!(
             message.ends_with(
                 "a BG2 table does not carry its bin table: pass --bins BED, or --chrom-sizes \
@@ -241,13 +242,13 @@ mod tests {
             chrom_sizes: Some(write_plain(&dir, "s", SMALL_SIZES)),
             ..OpenOptions::default()
         };
-        let message = invalid_message(read_matrix(path.to_str().unwrap(), &options));
+        let message = argument_message(read_matrix(path.to_str().unwrap(), &options));
         assert!(message.contains("pass --bin-size N"), "{message}");
         let options = OpenOptions {
             bin_size_bp: Some(1000),
             ..bins_options()
         };
-        let message = invalid_message(read_matrix(path.to_str().unwrap(), &options));
+        let message = argument_message(read_matrix(path.to_str().unwrap(), &options));
         assert!(message.contains("--bin-size 1000 disagrees"), "{message}");
     }
 }

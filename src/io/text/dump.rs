@@ -8,8 +8,8 @@ use rayon::prelude::*;
 
 use crate::error::Result;
 use crate::genome::BinTable;
-use crate::io::MatrixReader;
 use crate::io::output::{FloatFormat, write_count};
+use crate::io::reader::MatrixReader;
 use crate::io::tables::write_u64;
 use crate::matrix::{CountType, PixelBlock};
 

@@ -10,7 +10,7 @@ use std::sync::{Arc, Mutex};
 
 use flate2::bufread::MultiGzDecoder;
 
-use super::TextFormat;
+use super::format::TextFormat;
 use crate::error::{Error, Result};
 
 /// Read buffer size.

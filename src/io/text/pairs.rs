@@ -8,9 +8,9 @@ use std::path::Path;
 
 use super::bins::{bin_table_for, read_chrom_sizes};
 use super::lines::{Fields, LineReader, pairs_columns, parse_u64, show};
+use super::options::OpenOptions;
 use crate::error::{Error, Result};
 use crate::genome::{BinTable, Chrom};
-use crate::io::OpenOptions;
 use crate::matrix::{ContactMatrix, CountType, MatrixBuilder};
 
 /// A fast hasher for pixel keys and chromosome names (splitmix64 finaliser; the inputs are not
@@ -60,7 +60,7 @@ impl PairBinner {
             bin_table_for(&path.to_string_lossy(), "a pairs file", options)?
         } else {
             let Some(size) = options.bin_size_bp else {
-                return Err(Error::Invalid(format!(
+                return Err(Error::Argument(format!(
                     "{}: binning pairs needs a bin size: pass --bin-size N (or --bins BED)",
                     path.display()
                 )));
@@ -69,7 +69,7 @@ impl PairBinner {
                 Some(sizes) => read_chrom_sizes(sizes)?,
                 None if !header_chroms.is_empty() => header_chroms,
                 None => {
-                    return Err(Error::Invalid(format!(
+                    return Err(Error::Argument(format!(
                         "{}: the pairs have no '#chromsize:' header lines: pass --chrom-sizes FILE \
                          (or --bins BED) to give the chromosomes",
                         path.display()
@@ -170,7 +170,7 @@ pub(super) fn read_pairs(lines: &mut LineReader, options: &OpenOptions) -> Resul
     let mut columns: Option<[usize; 4]> = match options.pairs_columns {
         Some(one_based) => {
             if one_based.contains(&0) {
-                return Err(Error::Invalid(format!(
+                return Err(Error::Argument(format!(
                     "pairs columns {one_based:?} must be 1-based (chrom1,pos1,chrom2,pos2)"
                 )));
             }
@@ -620,13 +620,13 @@ mod tests {
         let pairs = "r1\tchr1\t10\tchr1\t11\t+\t-\n";
         let path = write_plain(&dir, "reads.pairs", pairs);
         let path = path.to_str().unwrap();
-        let message = invalid_message(read_matrix(path, &OpenOptions::default()));
+        let message = argument_message(read_matrix(path, &OpenOptions::default()));
         assert!(message.contains("pass --bin-size N"), "{message}");
         let options = OpenOptions {
             bin_size_bp: Some(10),
             ..OpenOptions::default()
         };
-        let message = invalid_message(read_matrix(path, &options));
+        let message = argument_message(read_matrix(path, &options));
         assert!(message.contains("pass --chrom-sizes FILE"), "{message}");
         // All pairs on unknown chromosomes: probably the wrong columns.
         let options = small_options(&dir, TextFormat::Pairs);

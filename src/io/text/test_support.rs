@@ -8,9 +8,10 @@ use flate2::Compression;
 use flate2::write::GzEncoder;
 use tempfile::TempDir;
 
-use super::{TextFormat, read_matrix};
+use super::format::TextFormat;
+use super::options::OpenOptions;
+use super::read::read_matrix;
 use crate::error::{Error, Result};
-use crate::io::OpenOptions;
 use crate::matrix::{ContactMatrix, CountType};
 
 pub(crate) const BG2: &str = concat!(
@@ -81,10 +82,10 @@ pub(crate) fn parse_error<T: std::fmt::Debug>(result: Result<T>) -> (u64, String
     }
 }
 
-pub(crate) fn invalid_message<T: std::fmt::Debug>(result: Result<T>) -> String {
+pub(crate) fn argument_message<T: std::fmt::Debug>(result: Result<T>) -> String {
     match result {
-        Err(Error::Invalid(message)) => message,
-        other => panic!("expected an Invalid error, got {other:?}"),
+        Err(Error::Argument(message)) => message,
+        other => panic!("expected an Argument error, got {other:?}"),
     }
 }
 

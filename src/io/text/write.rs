@@ -6,11 +6,14 @@ use std::path::Path;
 use flate2::Compression;
 use flate2::write::GzEncoder;
 
+use super::format::TextFormat;
 use super::lines::BUFFER_BYTES;
-use super::{MAX_DENSE_BINS, TextFormat};
 use crate::error::{Error, Result};
-use crate::io::MatrixReader;
+use crate::io::reader::MatrixReader;
 use crate::matrix::CountType;
+
+/// The largest number of bins [`write_text`] writes as a dense matrix.
+pub const MAX_DENSE_BINS: usize = 20_000;
 
 /// Values per band when writing a dense matrix (32 MB of `f64`).
 const DENSE_BAND_VALUES: usize = 1 << 22;
@@ -21,7 +24,7 @@ const DENSE_BAND_VALUES: usize = 1 << 22;
 /// A file is first written next to the target under a temporary name, then renamed, so that a
 /// failure never leaves a partial output. Pairs cannot be written (a matrix does not hold read
 /// pairs) and dense output is refused above [`MAX_DENSE_BINS`] bins: both are
-/// [`Error::Invalid`]. A closed standard output comes back as an [`Error::Io`] of kind
+/// [`Error::Argument`]. A closed standard output comes back as an [`Error::Io`] of kind
 /// `BrokenPipe`.
 ///
 /// # Examples
@@ -46,13 +49,13 @@ pub fn write_text(reader: &dyn MatrixReader, path: &str, format: TextFormat) -> 
     let n_bins = reader.bins().n_bins();
     match format {
         TextFormat::Pairs => {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Argument(format!(
                 "{path}: cannot write pairs: a contact matrix does not hold read pairs (write bg2, \
                  coo or dense instead)"
             )));
         }
         TextFormat::Dense if n_bins > MAX_DENSE_BINS => {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Argument(format!(
                 "{path}: a dense matrix of {n_bins} x {n_bins} bins is too large to write as text \
                  (at most {MAX_DENSE_BINS} bins): write bg2 or coo, or select a coarser resolution"
             )));
@@ -64,7 +67,7 @@ pub fn write_text(reader: &dyn MatrixReader, path: &str, format: TextFormat) -> 
         write_body(reader, format, &mut out, path)?;
         return out.flush().map_err(|e| Error::io(path, e));
     }
-    let (pending, file) = crate::io::Temporary::create(Path::new(path))?;
+    let (pending, file) = crate::io::atomic::Temporary::create(Path::new(path))?;
     let buffered = BufWriter::with_capacity(BUFFER_BYTES, file);
     let buffered = if path.ends_with(".gz") {
         let mut encoder = GzEncoder::new(buffered, Compression::default());
@@ -131,7 +134,7 @@ fn write_body<W: Write>(
                 for k in 0..block.len() {
                     let (bin1, bin2) = (block.bin1[k], block.bin2[k]);
                     if bin1 >= n_bins as u64 || bin2 >= n_bins as u64 {
-                        return Err(Error::Invalid(format!(
+                        return Err(Error::Data(format!(
                             "{}: pixel ({bin1}, {bin2}) is out of range: the bin table has \
                              {n_bins} bins",
                             reader.source()
@@ -178,7 +181,7 @@ fn write_body<W: Write>(
                     for k in 0..block.len() {
                         let (i, j) = (block.bin1[k] as usize, block.bin2[k] as usize);
                         if i >= n_bins || j >= n_bins {
-                            return Err(Error::Invalid(format!(
+                            return Err(Error::Data(format!(
                                 "{}: pixel ({i}, {j}) is out of range: the bin table has \
                                  {n_bins} bins",
                                 reader.source()
@@ -208,7 +211,7 @@ fn write_body<W: Write>(
             }
             Ok(())
         }
-        TextFormat::Pairs => Err(Error::Invalid(format!(
+        TextFormat::Pairs => Err(Error::Argument(format!(
             "{path}: cannot write pairs: a contact matrix does not hold read pairs"
         ))),
     }
@@ -258,7 +261,7 @@ mod tests {
         let dir = TempDir::new().unwrap();
         let reader = InMemory::new("fixture".into(), fixture_matrix());
         let out = dir.path().join("out.pairs");
-        let message = invalid_message(write_text(
+        let message = argument_message(write_text(
             &reader,
             out.to_str().unwrap(),
             TextFormat::Pairs,
@@ -270,7 +273,7 @@ mod tests {
             MatrixBuilder::new(bins, CountType::Integer).build(),
         );
         let out = dir.path().join("out.dense");
-        let message = invalid_message(write_text(&big, out.to_str().unwrap(), TextFormat::Dense));
+        let message = argument_message(write_text(&big, out.to_str().unwrap(), TextFormat::Dense));
         assert!(message.contains("too large"), "{message}");
         assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
     }
@@ -304,7 +307,7 @@ mod tests {
             sink: &mut dyn FnMut(&PixelBlock) -> Result<()>,
         ) -> Result<()> {
             self.0.read_pixels(rows, cols, sink)?;
-            Err(Error::Invalid("disk on fire".into()))
+            Err(Error::Data("disk on fire".into()))
         }
     }
 
@@ -316,7 +319,7 @@ mod tests {
             let out = dir.path().join(name);
             let format = guess_format(name).unwrap();
             let result = write_text(&reader, out.to_str().unwrap(), format);
-            assert_eq!(invalid_message(result), "disk on fire");
+            assert!(matches!(result, Err(Error::Data(m)) if m == "disk on fire"));
         }
         assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
     }

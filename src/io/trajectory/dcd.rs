@@ -16,7 +16,9 @@ use std::path::{Path, PathBuf};
 
 use std::sync::Arc;
 
-use super::{AtomSelection, Conformation, LengthUnit, checked, non_finite, positions_buffer};
+use super::buffers::positions_buffer;
+use super::frame::{Conformation, LengthUnit, checked, non_finite};
+use super::selection::AtomSelection;
 use crate::error::{Error, Result};
 
 /// The frames of a DCD file.
@@ -214,7 +216,7 @@ impl DcdFrames {
         self.frame += 1;
         let label = format!("{}:frame {}", self.path.display(), self.frame);
         if self.remaining < self.frame_bytes() {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Data(format!(
                 "{label}: truncated frame ({} of its {} bytes)",
                 self.remaining,
                 self.frame_bytes()
@@ -321,7 +323,7 @@ fn cell_vectors(lengths: [f64; 3], angles: [f64; 3]) -> Option<[[f64; 3]; 3]> {
     Some([[a, 0.0, 0.0], [bx, by, 0.0], [cx, cy, cz]])
 }
 
-impl super::ReadFrame for DcdFrames {
+impl super::frame::ReadFrame for DcdFrames {
     fn read_frame(&mut self) -> Result<Option<Conformation>> {
         self.next_frame()
     }

@@ -7,7 +7,7 @@
 use std::collections::VecDeque;
 use std::path::Path;
 
-use super::{Conformation, LengthUnit, checked};
+use super::frame::{Conformation, LengthUnit, checked};
 use crate::error::{Error, Result};
 use crate::io::structure::{for_each_atom_site, structure_text};
 
@@ -33,7 +33,7 @@ impl ModelFrames {
         for (k, positions) in models.into_iter().enumerate() {
             let label = format!("{}:model {}", path.display(), k + 1);
             if positions.len() != first {
-                frames.push_back(Err(Error::Invalid(format!(
+                frames.push_back(Err(Error::Data(format!(
                     "{label}: {} atoms, the first model has {first}",
                     positions.len()
                 ))));

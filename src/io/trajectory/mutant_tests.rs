@@ -4,7 +4,7 @@
 //! `scripts/md_mutants.py` (`data/reference/mdtraj/mutants.tsv`); the mutants are drawn again
 //! here with the same generator.
 
-use super::open_trajectories;
+use super::stream::open_trajectories;
 
 /// splitmix64: the next (state, value).
 fn splitmix64(state: u64) -> (u64, u64) {

@@ -15,7 +15,8 @@ use std::path::{Path, PathBuf};
 
 use rayon::prelude::*;
 
-use super::{Conformation, LengthUnit, checked, positions_buffer};
+use super::buffers::positions_buffer;
+use super::frame::{Conformation, LengthUnit, checked};
 use crate::error::{Error, Result};
 use crate::io::cool::chunks::Column;
 use crate::io::hdf5_guard::guarded;
@@ -84,12 +85,12 @@ impl PolychromBlocks {
         let plan: Plan = match input.split_once("::") {
             Some((file, block)) => {
                 let block: u64 = block.trim_start_matches('/').parse().map_err(|_| {
-                    Error::Invalid(format!(
+                    Error::Argument(format!(
                         "{input}: a polychrom URI ends with a block number (blocks_1-50.h5::42)"
                     ))
                 })?;
                 if Path::new(file).is_dir() {
-                    return Err(Error::Invalid(format!(
+                    return Err(Error::Argument(format!(
                         "{input}: {file} is a folder; a polychrom URI names a blocks file and \
                          a block (blocks_1-50.h5::42)"
                     )));
@@ -147,26 +148,26 @@ impl PolychromBlocks {
         let label = format!("{}::{block}", path.display());
         let text = path.to_string_lossy().into_owned();
         if !guarded(&text, "a block", || file.link_exists(&block.to_string())) {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Data(format!(
                 "{label}: no block {block} in this file (polychrom's blocks are groups /0, /1 \
                  ... each with a dataset pos)"
             )));
         }
         let dataset =
             guarded(&text, "a block", || file.dataset(&format!("{block}/pos"))).map_err(|_| {
-                Error::Invalid(format!(
+                Error::Data(format!(
                     "{label}: no dataset pos in block {block} (polychrom's blocks are groups \
                      with a dataset pos of N x 3 positions)"
                 ))
             })?;
         let shape = dataset.shape();
         if shape.len() != 2 || shape[1] != 3 {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Data(format!(
                 "{label}: pos has shape {shape:?}; expected N x 3 positions"
             )));
         }
         if shape[0] == 0 {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Data(format!(
                 "{label}: an empty block (pos has no position)"
             )));
         }

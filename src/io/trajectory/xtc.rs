@@ -16,7 +16,8 @@ use std::path::{Path, PathBuf};
 
 use molly::selection::AtomSelection;
 
-use super::{Conformation, LengthUnit, checked, positions_buffer};
+use super::buffers::positions_buffer;
+use super::frame::{Conformation, LengthUnit, checked};
 use crate::error::{Error, Result};
 
 /// The frames of an XTC file.
@@ -84,7 +85,7 @@ impl XtcFrames {
         }
         self.frame += 1;
         let label = format!("{}:frame {}", self.path.display(), self.frame);
-        let corrupt = |why: String| Error::Invalid(format!("{label}: {why}"));
+        let corrupt = |why: String| Error::Data(format!("{label}: {why}"));
         // header: magic, natoms, step, time, box (9), natoms again; then for more than 9
         // atoms: precision, minint (3), maxint (3), smallidx
         let head = self.peek(88)?;
@@ -249,7 +250,7 @@ fn quietly<T>(f: impl FnOnce() -> T) -> Option<T> {
     result.ok()
 }
 
-impl super::ReadFrame for XtcFrames {
+impl super::frame::ReadFrame for XtcFrames {
     fn read_frame(&mut self) -> Result<Option<Conformation>> {
         self.next_frame()
     }

@@ -4,7 +4,7 @@
 use std::io::BufRead;
 use std::path::{Path, PathBuf};
 
-use super::{Conformation, LengthUnit, checked, coordinates};
+use super::frame::{Conformation, LengthUnit, checked, coordinates};
 use crate::error::{Error, Result};
 
 /// The frames of an XYZ file, read one at a time.
@@ -20,7 +20,7 @@ impl XyzFrames {
     pub fn open(path: &Path) -> Result<XyzFrames> {
         Ok(XyzFrames {
             path: path.to_path_buf(),
-            lines: crate::io::open_text(path)?.lines(),
+            lines: crate::io::input::open_text(path)?.lines(),
             line_no: 0,
             frame: 0,
         })
@@ -89,7 +89,7 @@ impl XyzFrames {
     }
 }
 
-impl super::ReadFrame for XyzFrames {
+impl super::frame::ReadFrame for XyzFrames {
     fn read_frame(&mut self) -> Result<Option<Conformation>> {
         self.frame()
     }

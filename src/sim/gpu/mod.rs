@@ -78,7 +78,7 @@ impl Backend {
         Ok(match device {
             Device::Cpu => Backend::Cpu,
             Device::Gpu => Backend::Gpu(Box::new(Gpu::open(true).map_err(|reason| {
-                crate::Error::parameter("device", "gpu", format!("no usable GPU: {reason}"))
+                crate::error::Error::parameter("device", "gpu", format!("no usable GPU: {reason}"))
             })?)),
             Device::Auto => {
                 Gpu::open(false).map_or(Backend::Cpu, |gpu| Backend::Gpu(Box::new(gpu)))

@@ -221,7 +221,7 @@ impl<'g> GpuSystem<'g> {
         let n_per_replica = params.n_beads();
         let n_total = n_per_replica * replicas;
         if n_total as u64 >= u32::MAX as u64 / 2 {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Unsupported(format!(
                 "{n_total} beads in one GPU batch is more than the GPU backend handles"
             )));
         }
@@ -622,7 +622,7 @@ impl<'g> GpuSystem<'g> {
             .max_storage_buffer_binding_size
             .min(self.gpu.limits.max_buffer_size);
         if size > limit {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Unsupported(format!(
                 "GPU: {needed} beads crowd into one cell, more than the GPU's buffers hold \
                  ({slots} slots x {} cells > {limit} bytes); lower the density",
                 self.grid.buckets

@@ -5,10 +5,10 @@
 
 use rayon::prelude::*;
 
-use super::{
-    Attraction, BondModel, Confinement, PlaneBuffers, Polymer, Repulsion, Scratch, for_each_block,
-    split_lengths,
-};
+use super::chain::{PlaneBuffers, Polymer, Scratch};
+use super::integrator::for_each_block;
+use super::params::{Attraction, BondModel, Confinement, Repulsion};
+use crate::geometry::cells::split_lengths;
 
 /// The attraction well `(depth, range)` between beads `i` and `j`, when they are of one type.
 #[inline]

@@ -5,9 +5,11 @@ use crate::error::{Error, Result};
 use rand::Rng;
 use rayon::prelude::*;
 
-use super::{
-    CellList, Confinement, Polymer, PolymerParams, Repulsion, Scratch, SeededRng, Space, noise,
-};
+use super::chain::{Polymer, Scratch};
+use super::params::{Confinement, PolymerParams, Repulsion};
+use crate::geometry::cells::{CellList, Space};
+use crate::random::SeededRng;
+use crate::sim::noise;
 
 /// Below this many beads a polymer is stepped on the calling thread alone (the result is the
 /// same bit for bit; splitting a small chain costs more than it saves).
@@ -171,7 +173,7 @@ impl Polymer {
     ) -> Result<Self> {
         params.check()?;
         if positions.len() != params.n_beads() {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Argument(format!(
                 "{} positions for {} beads",
                 positions.len(),
                 params.n_beads()

@@ -1,6 +1,11 @@
+use super::chain::*;
 use super::forces::{angle_terms, same_type_well};
+use super::integrator::*;
+use super::params::*;
 use super::*;
+use crate::geometry::cells::Space;
 use crate::random::stream_rng;
+use crate::sim::noise;
 
 fn params_with(repulsion: Repulsion, confinement: Confinement) -> PolymerParams {
     PolymerParams {

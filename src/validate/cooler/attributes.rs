@@ -1,8 +1,12 @@
 //! The attributes of a cooler and its weight columns.
 
-use super::{BinTable, CoolerCheck, Kind, kind_of, read_attr};
+use super::check::CoolerCheck;
+use super::stored::{Kind, kind_of, read_attr};
 use crate::error::{Error, Result};
-use crate::validate::{Class, Collector, DIVISIVE_BY_NAME, FLOAT_TOLERANCE};
+use crate::genome::BinTable;
+use crate::io::cool::DIVISIVE_BY_NAME;
+use crate::validate::report::{Class, Collector};
+use crate::validate::tolerance::FLOAT_TOLERANCE;
 
 impl CoolerCheck<'_> {
     pub(crate) fn check_attributes(

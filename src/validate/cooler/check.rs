@@ -1,8 +1,33 @@
-//! The checks of one cooler group: its datasets, their kinds, and the order of the checks.
+//! The checks of one cooler group: its datasets, their kinds, and the order of the checks; what
+//! they learned about the cooler.
 
-use super::{Attr, BinColumns, BinTable, CheckedCooler, CoolerCheck, Kind, kind_of, read_attr};
+use super::columns::{BinColumns, PixelColumns};
+use super::stored::{Attr, Kind, kind_of, read_attr};
 use crate::error::{Error, Result};
-use crate::validate::{Bin, Chrom, Class, Collector, read_strings};
+use crate::genome::{Bin, BinTable, Chrom};
+use crate::io::hdf5_guard::read_strings;
+use crate::validate::report::{Class, Collector};
+use std::fs::File;
+
+/// The checks of one cooler group.
+pub(in crate::validate) struct CoolerCheck<'a> {
+    pub(in crate::validate) path: &'a str,
+    pub(in crate::validate) name: &'a str,
+    pub(in crate::validate) group: &'a hdf5::Group,
+    pub(in crate::validate) raw: &'a File,
+}
+
+/// What the checks learned about one cooler, for the coarsening check and the repair.
+pub(in crate::validate) struct CheckedCooler {
+    pub(super) name: String,
+    pub(super) resolution: Option<u64>,
+    /// The bin table when it is valid.
+    pub(super) bins: Option<BinTable>,
+    /// True when the pixels are in range, upper-triangle (when stored so), sorted and unique.
+    pub(super) pixels_clean: bool,
+    /// The pixel columns when they could be opened.
+    pub(super) pixels: Option<PixelColumns>,
+}
 
 impl CoolerCheck<'_> {
     pub(crate) fn add(&self, out: &mut Collector, class: Class, location: &str, message: String) {

@@ -1,8 +1,12 @@
 //! The levels of an .mcool against each other: each coarser level the sum of the finer one.
 
-use super::{CheckedCooler, File, PixelColumns};
+use super::check::CheckedCooler;
+use super::columns::PixelColumns;
 use crate::error::Result;
-use crate::validate::{BLOCK_PIXELS, Class, Collector, FLOAT_TOLERANCE};
+use crate::io::cool::BLOCK_PIXELS;
+use crate::validate::report::{Class, Collector};
+use crate::validate::tolerance::FLOAT_TOLERANCE;
+use std::fs::File;
 
 pub(crate) struct PixelSummary {
     pub(crate) sum: f64,

@@ -1,9 +1,12 @@
 //! The indexes of a cooler: `indexes/chrom_offset` and `indexes/bin1_offset` against the bins
 //! and the pixels.
 
-use super::{Column, CoolerCheck, Kind, PixelColumns};
+use super::check::CoolerCheck;
+use super::columns::PixelColumns;
+use super::stored::Kind;
 use crate::error::Result;
-use crate::validate::{Class, Collector};
+use crate::io::cool::chunks::Column;
+use crate::validate::report::{Class, Collector};
 
 impl CoolerCheck<'_> {
     pub(crate) fn check_chrom_offset(

@@ -1,9 +1,16 @@
 //! Finding the coolers of an HDF5 file and running every check on each.
 
-use super::{CoolerCheck, CoolerGroups, check_coarsening, guarded};
+use super::check::CoolerCheck;
+use super::coarsening::check_coarsening;
 use crate::error::{Error, Result};
-use crate::validate::{Collector, Report, chunks, validate_hicexplorer};
+use crate::io::cool::chunks;
+use crate::io::hdf5_guard::guarded;
+use crate::validate::hic::validate_hicexplorer;
+use crate::validate::report::{Collector, Report};
 use std::path::Path;
+
+/// Cooler groups of a file: (group path, resolution from the group name if any).
+pub(in crate::validate) type CoolerGroups = Vec<(String, Option<u64>)>;
 
 /// The format name and the coolers of an HDF5 file.
 pub(crate) fn cooler_groups(

@@ -1,8 +1,11 @@
 //! The pixels of a cooler: in range, upper triangle when stored so, sorted, unique, finite.
 
-use super::{CoolerCheck, PixelColumns, PixelSummary};
+use super::check::CoolerCheck;
+use super::coarsening::PixelSummary;
+use super::columns::PixelColumns;
 use crate::error::Result;
-use crate::validate::{BLOCK_PIXELS, Class, Collector};
+use crate::io::cool::BLOCK_PIXELS;
+use crate::validate::report::{Class, Collector};
 
 impl CoolerCheck<'_> {
     pub(crate) fn check_pixels(

@@ -1,0 +1,24 @@
+//! The options of inputs that do not carry their own bin table (text tables, pairs).
+
+use std::path::PathBuf;
+
+use super::format::TextFormat;
+
+/// Options for opening inputs that do not carry their own bin table (text tables, pairs).
+#[derive(Clone, Debug, Default)]
+pub struct OpenOptions {
+    /// Text format; guessed from the extension and the first data line when `None`.
+    pub text_format: Option<TextFormat>,
+    /// Bin size for pairs and for BG2 / COO tables given with `chrom_sizes`.
+    pub bin_size_bp: Option<u64>,
+    /// Chromosome sizes file (`name<TAB>length`).
+    pub chrom_sizes: Option<PathBuf>,
+    /// Bin table BED (`chrom start end`), for COO and dense tables.
+    pub bins_bed: Option<PathBuf>,
+    /// 1-based columns of chrom1, pos1, chrom2, pos2 in a pairs file (default: from the
+    /// `#columns:` header, else the 4DN layout 2, 3, 4, 5).
+    pub pairs_columns: Option<[usize; 4]>,
+    /// Pairs positions are 0-based (cooler `cload pairs --zero-based`); default 1-based, as the
+    /// 4DN pairs specification and cooler's default.
+    pub pairs_zero_based: bool,
+}
