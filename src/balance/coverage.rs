@@ -1,7 +1,7 @@
 //! VC and VC_SQRT, as Juicer computes them: the inverse of each row's sum (or of its square root).
 
 use super::params::BalanceParams;
-use super::passes::{Layout, juicer_filter, product, row_sums, sum_factor};
+use super::passes::{Layout, product, row_sums, scope_filter, sum_factor};
 use super::result::{BalanceResult, GroupStats};
 use crate::error::Result;
 use crate::matrix::PixelSource;
@@ -13,7 +13,7 @@ pub(super) fn coverage<S: PixelSource>(
     masked: &[bool],
     square_root: bool,
 ) -> Result<BalanceResult> {
-    let filter = juicer_filter(params, layout);
+    let filter = scope_filter(params, layout);
     let sums = row_sums(source, layout, filter, masked)?;
     // Multiplicative weights before scaling: 1 / v, v = row sum (or its square root).
     let inverse: Vec<f64> = sums

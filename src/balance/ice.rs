@@ -1,7 +1,7 @@
 //! ICE, as cooler balances: iterative correction of the marginals to their mean.
 
 use super::params::{BalanceParams, Scope};
-use super::passes::{Keep, Layout, PixelFilter, marginals};
+use super::passes::{Layout, marginals, scope_filter};
 use super::result::{BalanceResult, GroupStats};
 use crate::error::Result;
 use crate::matrix::PixelSource;
@@ -44,15 +44,7 @@ pub(super) fn ice<S: PixelSource>(
             })
             .collect()
     });
-    let filter = PixelFilter {
-        ignore_diags: params.ignore_diags.min(usize::MAX as u64) as usize,
-        keep: match params.scope {
-            Scope::GenomeWide => Keep::All,
-            Scope::Cis => Keep::Cis,
-            Scope::Trans => Keep::Trans,
-        },
-        chrom_end: &layout.chrom_end,
-    };
+    let filter = scope_filter(params, layout);
     let groups = layout.groups();
     let mut stats: Vec<GroupStats> = groups
         .iter()

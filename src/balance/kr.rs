@@ -6,7 +6,7 @@ use std::cmp::Ordering;
 
 use super::params::BalanceParams;
 use super::passes::{
-    Layout, Product, ProductGroup, juicer_filter, row_sums, solve_groups, sum_factor,
+    Layout, Product, ProductGroup, row_sums, scope_filter, solve_groups, sum_factor,
 };
 use super::result::{BalanceResult, GroupStats};
 use crate::error::Result;
@@ -452,7 +452,7 @@ pub(super) fn kr<S: PixelSource>(
     layout: &Layout,
     masked: &[bool],
 ) -> Result<BalanceResult> {
-    let filter = juicer_filter(params, layout);
+    let filter = scope_filter(params, layout);
     let sums = row_sums(source, layout, filter, masked)?;
     let ranges = layout.groups();
     let mut groups: Vec<KrGroup> = ranges

@@ -373,8 +373,9 @@ pub(super) fn solve_groups<S: PixelSource, G: ProductGroup>(
     Ok(())
 }
 
-/// The pixel filter of VC and KR: the scope's pixels, minus the ignored diagonals.
-pub(super) fn juicer_filter<'a>(params: &BalanceParams, layout: &'a Layout) -> PixelFilter<'a> {
+/// The pixels every method balances (ICE, VC, KR, SCALE): the scope's, minus the ignored
+/// diagonals.
+pub(super) fn scope_filter<'a>(params: &BalanceParams, layout: &'a Layout) -> PixelFilter<'a> {
     PixelFilter {
         ignore_diags: params.ignore_diags.min(usize::MAX as u64) as usize,
         keep: match params.scope {

@@ -4,7 +4,7 @@ use super::coverage::coverage;
 use super::ice::ice;
 use super::mask::prefilter;
 use super::params::{BalanceParams, Method};
-use super::passes::{Layout, juicer_filter, marginals};
+use super::passes::{Layout, marginals, scope_filter};
 use super::result::BalanceResult;
 use super::{kr, scale};
 use crate::error::Result;
@@ -79,7 +79,7 @@ pub fn balance(source: &impl PixelSource, params: &BalanceParams) -> Result<Bala
         Method::VcSqrt => coverage(source, params, &layout, &masked, true),
         Method::Kr => kr::kr(source, params, &layout, &masked),
         Method::Scale => {
-            let filter = juicer_filter(params, &layout);
+            let filter = scope_filter(params, &layout);
             let rows: Vec<f64> = masked.iter().map(|&m| f64::from(u8::from(!m))).collect();
             let nnz = marginals(source, layout.n_bins, filter, &rows, true)?;
             let (weights, stats) = scale::scale(source, params, &layout, filter, &nnz)?;
