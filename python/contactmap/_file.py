@@ -85,12 +85,18 @@ class File:
     Names follow hictkpy (``chromosomes``, ``resolution``, ``fetch``, ``avail_normalizations``)
     and cooler (``bins``, ``attributes``).
 
-    Raises ``FileNotFoundError`` for a missing file and ``ContactmapError`` (a ``ValueError``)
-    for a file contactmap cannot read, with the command line's one-line message.
+    ``resolution`` chooses the level of an ``.mcool`` or ``.hic`` named without one (hictkpy's
+    ``File(path, resolution)``, the same as ``::/resolutions/R``); for a map of one resolution it
+    must be its bin size.
+
+    Raises ``FileNotFoundError`` for a missing file, ``ContactmapError`` (a ``ValueError``) for a
+    bad argument (a resolution the file does not have) and ``FormatError`` for a file contactmap
+    cannot read, with the command line's one-line message.
     """
 
-    def __init__(self, uri: Any) -> None:
-        self._native = _native.NativeFile(_uri_of(uri, "uri"))
+    def __init__(self, uri: Any, resolution: int | None = None) -> None:
+        resolution = check.integer("resolution", resolution, minimum=1, none=True)
+        self._native = _native.NativeFile(_uri_of(uri, "uri"), resolution)
 
     def __repr__(self) -> str:
         return f"contactmap.File({self.uri()!r})"

@@ -1,6 +1,6 @@
 """Type stubs of the native module (Rust, pyo3): the library's functions, converted."""
 
-from typing import Any, final
+from typing import Any, TypedDict, final
 
 import numpy as np
 import numpy.typing as npt
@@ -47,7 +47,7 @@ _Column = tuple[str, npt.NDArray[Any]]
 
 @final
 class NativeFile:
-    def __new__(cls, uri: str) -> NativeFile: ...
+    def __new__(cls, uri: str, resolution: int | None = None) -> NativeFile: ...
     def uri(self) -> str: ...
     def format(self) -> str: ...
     def chromosomes(self) -> list[tuple[str, int]]: ...
@@ -157,17 +157,18 @@ def saddle(
 def saddle_strength(
     sum: list[float], count: list[float], n: int
 ) -> npt.NDArray[np.float64]: ...
-_BalanceOptions = tuple[
-    str,
-    bool,
-    int | None,
-    float | None,
-    int | None,
-    float | None,
-    float | None,
-    int | None,
-    bool | None,
-]
+class _BalanceOptions(TypedDict):
+    """The options of balance() and balance_store(), by name (None: the method's default)."""
+
+    method: str
+    cis_only: bool
+    ignore_diags: int | None
+    mad_max: float | None
+    min_nnz: int | None
+    min_count: float | None
+    tol: float | None
+    max_iters: int | None
+    rescale_marginals: bool | None
 
 def balance(
     file: NativeFile, options: _BalanceOptions

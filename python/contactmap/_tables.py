@@ -233,17 +233,17 @@ def balance(
     written and reopened after (it then lists the new column); other ``File`` objects open on
     the same file in this process must be closed first (``del f``), as libhdf5 cannot open a
     file for writing that the process holds open for reading."""
-    options = (
-        check.text("method", method),  # its value: the library's check (ContactmapError)
-        check.flag("cis_only", cis_only),
-        check.integer("ignore_diags", ignore_diags, minimum=0, none=True),
-        check.number("mad_max", mad_max, minimum=0, none=True),
-        check.integer("min_nnz", min_nnz, minimum=0, none=True),
-        check.number("min_count", min_count, minimum=0, none=True),
-        check.number("tol", tol, above=0, none=True),
-        check.integer("max_iters", max_iters, minimum=1, none=True),
-        check.flag("rescale_marginals", rescale_marginals, none=True),
-    )
+    options: _native._BalanceOptions = {
+        "method": check.text("method", method),  # its value: the library's check (ContactmapError)
+        "cis_only": check.flag("cis_only", cis_only),
+        "ignore_diags": check.integer("ignore_diags", ignore_diags, minimum=0, none=True),
+        "mad_max": check.number("mad_max", mad_max, minimum=0, none=True),
+        "min_nnz": check.integer("min_nnz", min_nnz, minimum=0, none=True),
+        "min_count": check.number("min_count", min_count, minimum=0, none=True),
+        "tol": check.number("tol", tol, above=0, none=True),
+        "max_iters": check.integer("max_iters", max_iters, minimum=1, none=True),
+        "rescale_marginals": check.flag("rescale_marginals", rescale_marginals, none=True),
+    }
     store = check.flag("store", store)
     name = check.text("name", name)
     overwrite = check.flag("overwrite", overwrite)

@@ -65,8 +65,13 @@ pub(crate) fn range(pair: (usize, usize)) -> Range<usize> {
 #[pymethods]
 impl NativeFile {
     #[new]
-    fn new(py: Python<'_>, uri: &str) -> PyResult<Self> {
-        let reader = run(py, || io::open_matrix(uri, &OpenOptions::default()))?;
+    #[pyo3(signature = (uri, resolution=None))]
+    fn new(py: Python<'_>, uri: &str, resolution: Option<u64>) -> PyResult<Self> {
+        let options = OpenOptions {
+            resolution,
+            ..OpenOptions::default()
+        };
+        let reader = run(py, || io::open_matrix(uri, &options))?;
         Ok(NativeFile {
             reader: CheckedCounts::new(reader),
         })

@@ -190,25 +190,26 @@ pub(crate) fn insulation<'py>(
     ))
 }
 
-/// The balancing options as Python passes them (one tuple): method, cis_only, ignore_diags,
-/// mad_max, min_nnz, min_count, tol, max_iters, rescale_marginals; `None` takes the method's
-/// reference default (`BalanceParams::for_method`: cooler's for ICE, Juicer's for the others).
+/// The balancing options as Python passes them: one dict, read by key (`_tables.balance` builds
+/// it; a missing key is a TypeError naming it); `None` takes the method's reference default
+/// (`BalanceParams::for_method`: cooler's for ICE, Juicer's for the others).
 #[derive(FromPyObject)]
-pub(crate) struct BalanceOptions(
-    String,
-    bool,
-    Option<u64>,
-    Option<f64>,
-    Option<u64>,
-    Option<f64>,
-    Option<f64>,
-    Option<usize>,
-    Option<bool>,
-);
+#[pyo3(from_item_all)]
+pub(crate) struct BalanceOptions {
+    method: String,
+    cis_only: bool,
+    ignore_diags: Option<u64>,
+    mad_max: Option<f64>,
+    min_nnz: Option<u64>,
+    min_count: Option<f64>,
+    tol: Option<f64>,
+    max_iters: Option<usize>,
+    rescale_marginals: Option<bool>,
+}
 
 impl BalanceOptions {
     fn params(&self) -> PyResult<BalanceParams> {
-        let BalanceOptions(
+        let BalanceOptions {
             method,
             cis_only,
             ignore_diags,
@@ -218,7 +219,7 @@ impl BalanceOptions {
             tol,
             max_iters,
             rescale_marginals,
-        ) = self;
+        } = self;
         let method = Method::from_juicer_name(method).ok_or_else(|| {
             ContactmapError::new_err(format!(
                 "method '{method}': expected ice, kr, vc, vc_sqrt or scale"

@@ -109,6 +109,23 @@ def test_multires_file_lists_and_opens_resolutions():
         cm.MultiResFile(YEAST)
 
 
+def test_file_takes_the_resolution_apart_as_hictkpy():
+    levels = ((DATA / "cooler_test_file.mcool", 100000), (DATA / "CN.mm9.multires.hic", 20000000))
+    for path, level in levels:
+        by_option = cm.File(path, resolution=level)
+        by_uri = cm.File(f"{path}::/resolutions/{level}")
+        assert by_option.uri() == by_uri.uri()
+        assert by_option.resolution() == level
+        np.testing.assert_array_equal(by_option.fetch().to_numpy(), by_uri.fetch().to_numpy())
+    assert cm.File(MM9, resolution=10000000).resolution() == 10000000
+    with pytest.raises(cm.ContactmapError, match="has no resolution 5000: it has 100000, 1000000"):
+        cm.File(DATA / "cooler_test_file.mcool", resolution=5000)
+    with pytest.raises(cm.ContactmapError, match="holds one resolution, 10000000 bp"):
+        cm.File(MM9, resolution=5000)
+    with pytest.raises(ValueError, match="resolution"):
+        cm.File(MM9, resolution=0)
+
+
 # ---------------------------------------------------------------------------------------------
 # Analyses against cooltools
 

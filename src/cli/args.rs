@@ -53,6 +53,10 @@ pub struct InputArgs {
     /// Pairs positions are 0-based (default: 1-based, as the 4DN spec and `cooler cload pairs`).
     #[arg(long)]
     pub zero_based: bool,
+    /// Resolution (bin size in bp) to read in an .mcool or .hic named without one: the same as
+    /// FILE::/resolutions/BP (hictk's --resolution); a map of one resolution must have this one.
+    #[arg(long, value_name = "BP", help_heading = "Input")]
+    pub resolution: Option<u64>,
 }
 
 impl InputArgs {
@@ -89,6 +93,16 @@ impl InputArgs {
             bins_bed: self.bins_bed.clone(),
             pairs_columns,
             pairs_zero_based: self.zero_based,
+            resolution: self.resolution,
         })
+    }
+
+    /// The URI of `uri`'s level at --resolution (`uri` itself without it), for commands that
+    /// use the URI beyond opening it (to store into it, to name it).
+    pub fn uri_at_resolution(&self, uri: &str) -> Result<String> {
+        match self.resolution {
+            Some(resolution) => contactmap::io::uri_at_resolution(uri, resolution),
+            None => Ok(uri.to_string()),
+        }
     }
 }

@@ -169,7 +169,9 @@ pub struct BalanceArgs {
 
 /// Run `contactmap balance`.
 pub fn run(args: &BalanceArgs) -> Result<()> {
-    let mut inputs = vec![uri_file(&args.uri)];
+    // --store writes into the level --resolution names
+    let uri = args.input.uri_at_resolution(&args.uri)?;
+    let mut inputs = vec![uri_file(&uri)];
     inputs.extend(args.blacklist.as_deref());
     inputs.extend(args.input.files());
     refuse_overwrites(&inputs, &[args.out.as_deref()])?;
@@ -186,8 +188,8 @@ pub fn run(args: &BalanceArgs) -> Result<()> {
     // that a second `balance --store` on it refuses at once instead of overwriting the column the
     // first one reports as stored.
     let _lock = if args.store {
-        let lock = store_lock(&args.uri, "; write a table with -o instead")?;
-        check_target(&args.uri, &args.name, args.force)?;
+        let lock = store_lock(&uri, "; write a table with -o instead")?;
+        check_target(&uri, &args.name, args.force)?;
         Some(lock)
     } else {
         None
@@ -202,7 +204,7 @@ pub fn run(args: &BalanceArgs) -> Result<()> {
         params_used,
         reader_warnings,
     ) = {
-        let reader = open_for_analysis(&args.uri, &args.input)?;
+        let reader = open_for_analysis(&uri, &args.input)?;
         let params = params(args, reader.bins())?;
         let balanced = balance_reader(reader.as_ref(), &params, budget)?;
         (balanced, reader.bins().clone(), params, reader.warnings())
@@ -210,7 +212,7 @@ pub fn run(args: &BalanceArgs) -> Result<()> {
     if !result.converged {
         let message = format!(
             "{}: {} balancing did not converge within {} iterations ({})",
-            args.uri,
+            uri,
             params_used.method.name(),
             params_used.max_iters,
             result.unconverged_detail(&bins, params_used.tol)
@@ -232,7 +234,7 @@ pub fn run(args: &BalanceArgs) -> Result<()> {
         );
     }
     if args.store {
-        store_balanced(&args.uri, &args.name, &params_used, &result, args.force)?;
+        store_balanced(&uri, &args.name, &params_used, &result, args.force)?;
     } else {
         let weights = Weights {
             name: args.name.clone(),
@@ -244,7 +246,7 @@ pub fn run(args: &BalanceArgs) -> Result<()> {
         out.finish()?;
     }
     if args.json {
-        print_json(&result.report_json(&args.uri, &params_used, &bins))?;
+        print_json(&result.report_json(&uri, &params_used, &bins))?;
     } else {
         eprint!("{}", result.report_text(&params_used, &bins));
     }

@@ -303,6 +303,9 @@ fn run_resolutions(args: &DotsArgs, resolutions: &[String]) -> Result<()> {
             "the merge works on clustered dots",
         )?;
     }
+    if args.input.resolution.is_some() {
+        refuse("--resolution", "the levels come from --resolutions")?;
+    }
     if contactmap::io::split_uri(&args.uri).1.is_some() {
         return Err(Error::Argument(format!(
             "--resolutions needs the multi-resolution file alone, not '{}': the levels come \

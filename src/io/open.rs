@@ -13,7 +13,9 @@ use super::uri::{parse_resolution_group, split_uri};
 use super::{cool, hic, hicexplorer, text};
 
 /// Open any supported matrix: `.cool`, `.mcool::/resolutions/N`, `.hic[::/resolutions/N]`, or a
-/// text table (`-` for stdin).
+/// text table (`-` for stdin). `options.resolution` chooses the level of an `.mcool` or `.hic`
+/// named without one (the same reader as the URI's `::/resolutions/N`); given with a URI that
+/// names another, or for a single-resolution map of another bin size, it is an error.
 ///
 /// # Examples
 ///
@@ -31,9 +33,94 @@ use super::{cool, hic, hicexplorer, text};
 /// assert_eq!(cool.totals()?, (38_503, 499_864_755.0)); // cooler's nnz and sum
 /// assert_eq!(hic.totals()?, cool.totals()?);
 /// assert!(open_matrix("data/no-such-file.cool", &options).is_err());
+///
+/// // a level chosen apart from the path, as hictk's --resolution
+/// let at = |resolution| OpenOptions { resolution: Some(resolution), ..OpenOptions::default() };
+/// let level = open_matrix("data/CN.mm9.multires.hic", &at(10_000_000))?;
+/// assert_eq!(level.totals()?, hic.totals()?);
+/// let level = open_matrix("data/cooler_test_file.mcool", &at(1_000_000))?;
+/// assert_eq!(level.source(), "data/cooler_test_file.mcool::/resolutions/1000000");
+/// assert!(open_matrix("data/cooler_test_file.mcool", &at(5_000)).is_err()); // no such level
+/// assert!(open_matrix("data/CN.mm9.10000kb.cool", &at(10_000_000)).is_ok()); // its own
+/// assert!(open_matrix("data/CN.mm9.10000kb.cool", &at(5_000)).is_err());
 /// # Ok::<(), contactmap::Error>(())
 /// ```
 pub fn open_matrix(uri: &str, options: &OpenOptions) -> Result<Box<dyn MatrixReader>> {
+    let Some(resolution) = options.resolution else {
+        return open_uri(uri, options);
+    };
+    let uri = uri_at_resolution(uri, resolution)?;
+    let reader = open_uri(&uri, options)?;
+    // a single-resolution map (a cooler, HiCExplorer's .h5, a group of a legacy layout)
+    match reader.bins().bin_size_bp() {
+        Some(size) if size == resolution => Ok(reader),
+        size => Err(Error::Argument(format!(
+            "{uri} holds one resolution, {}, not the resolution {resolution} asked for",
+            size.map_or("bins of varying sizes".to_string(), |s| format!("{s} bp"))
+        ))),
+    }
+}
+
+/// The URI of the level `resolution` of the matrix at `uri`: `path::/resolutions/N` for an
+/// `.mcool` or `.hic` named without a level, `uri` itself otherwise (a single-resolution map,
+/// whose bin size [`open_matrix`] then checks). An error (a parameter's) when `uri` names
+/// another level, the file has no such level, or `uri` is a text table.
+///
+/// ```
+/// use contactmap::io::uri_at_resolution;
+///
+/// let uri = uri_at_resolution("data/cooler_test_file.mcool", 100_000)?;
+/// assert_eq!(uri, "data/cooler_test_file.mcool::/resolutions/100000");
+/// assert_eq!(uri_at_resolution(&uri, 100_000)?, uri);
+/// assert!(uri_at_resolution(&uri, 1_000_000).is_err());
+/// # Ok::<(), contactmap::Error>(())
+/// ```
+pub fn uri_at_resolution(uri: &str, resolution: u64) -> Result<String> {
+    if resolution == 0 {
+        return Err(Error::Argument("the resolution must be positive".into()));
+    }
+    let (path, group) = split_uri(uri);
+    let kind = detect_kind(path)?;
+    let named = group.and_then(|g| parse_resolution_group(uri, g).ok());
+    Ok(match (kind, group, named) {
+        (FileKind::Text, _, _) => {
+            return Err(Error::Argument(format!(
+                "{uri}: the resolution chooses a level of an .mcool or .hic file, and this is a \
+                 text table (pairs are binned at the bin size instead)"
+            )));
+        }
+        (_, Some(_), Some(named)) if named != resolution => {
+            return Err(Error::Argument(format!(
+                "{uri} names the resolution {named} and the resolution {resolution} is asked \
+                 for: give one of the two"
+            )));
+        }
+        (FileKind::Hdf5, None, _) => match cool::inspect(path)? {
+            cool::HdfContent::Multires(levels) if !levels.contains(&resolution) => {
+                return Err(Error::Argument(format!(
+                    "{path} has no resolution {resolution}: it has {}",
+                    join(&levels)
+                )));
+            }
+            cool::HdfContent::Multires(_) => format!("{path}::/resolutions/{resolution}"),
+            cool::HdfContent::Cooler => uri.to_string(),
+        },
+        (FileKind::Hic, None, _) => format!("{path}::/resolutions/{resolution}"),
+        _ => uri.to_string(),
+    })
+}
+
+/// The resolutions, comma-separated.
+fn join(levels: &[u64]) -> String {
+    levels
+        .iter()
+        .map(u64::to_string)
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// [`open_matrix`] of the URI as it is.
+fn open_uri(uri: &str, options: &OpenOptions) -> Result<Box<dyn MatrixReader>> {
     let (path, group) = split_uri(uri);
     match detect_kind(path)? {
         FileKind::Hdf5 if group.is_none() && hicexplorer::is_hicexplorer(path)? => {
@@ -126,5 +213,57 @@ pub fn list_resolutions(path: &str) -> Result<Vec<u64>> {
         },
         FileKind::Hic => hic::HicReader::list_resolutions(Path::new(path)),
         FileKind::Text => Ok(Vec::new()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn at(resolution: u64) -> OpenOptions {
+        OpenOptions {
+            resolution: Some(resolution),
+            ..OpenOptions::default()
+        }
+    }
+
+    fn message(uri: &str, resolution: u64) -> String {
+        match open_matrix(uri, &at(resolution)) {
+            Ok(_) => panic!("{uri} opened at {resolution}"),
+            Err(e) => {
+                assert!(matches!(e, Error::Argument(_)), "{e:?}");
+                e.to_string()
+            }
+        }
+    }
+
+    #[test]
+    fn the_resolution_option_opens_the_level_the_uri_would() {
+        let uri = "data/cooler_test_file.mcool::/resolutions/100000";
+        let by_uri = open_matrix(uri, &OpenOptions::default()).unwrap();
+        let by_option = open_matrix("data/cooler_test_file.mcool", &at(100_000)).unwrap();
+        assert_eq!(by_option.source(), by_uri.source());
+        assert_eq!(by_option.totals().unwrap(), by_uri.totals().unwrap());
+        // the same resolution both ways is no conflict
+        assert!(open_matrix(uri, &at(100_000)).is_ok());
+    }
+
+    #[test]
+    fn a_resolution_that_the_file_cannot_give_is_a_parameter_error() {
+        let m = message(
+            "data/cooler_test_file.mcool::/resolutions/100000",
+            1_000_000,
+        );
+        assert!(m.contains("names the resolution 100000"), "{m}");
+        let m = message("data/cooler_test_file.mcool", 5_000);
+        assert!(
+            m.contains("has no resolution 5000: it has 100000, 1000000"),
+            "{m}"
+        );
+        let m = message("data/CN.mm9.10000kb.cool", 5_000);
+        assert!(m.contains("holds one resolution, 10000000 bp"), "{m}");
+        let m = message("data/hg19.GM12878-MboI.matrix.2000kb.bg2.gz", 2_000_000);
+        assert!(m.contains("text table"), "{m}");
+        assert!(message("data/CN.mm9.10000kb.cool", 0).contains("positive"));
     }
 }

@@ -206,6 +206,30 @@ fn streamed_pixels_give_the_same_weights_as_in_memory() {
 }
 
 #[test]
+fn store_with_the_resolution_option_writes_into_that_level() {
+    let dir = tempfile::tempdir().unwrap();
+    let copy = dir.path().join("copy.mcool");
+    std::fs::copy(data("cooler_test_file.mcool"), &copy).unwrap();
+    let file = copy.to_string_lossy().into_owned();
+    let level = format!("{file}::/resolutions/100000");
+    let table = run_ok(&["balance", &level]);
+    run_ok(&[
+        "balance",
+        &file,
+        "--resolution",
+        "100000",
+        "--store",
+        "--name",
+        "ice2",
+    ]);
+    let bins = run_ok(&["dump", "-t", "bins", "-H", "--float-format", ".17g", &level]);
+    assert_eq!(assert_weights_match(&table, &bins, "ice2", 1e-15), 0.0);
+    let other = format!("{file}::/resolutions/1000000");
+    let bins = run_ok(&["dump", "-t", "bins", "-H", &other]);
+    assert!(!bins.lines().next().unwrap().contains("ice2"), "{bins}");
+}
+
+#[test]
 fn store_writes_a_column_that_dump_reads_back() {
     let dir = tempfile::tempdir().unwrap();
     let copy = dir.path().join("copy.mcool");

@@ -65,6 +65,41 @@ fn mcool_level_joined_equals_cooler_dump() {
 }
 
 #[test]
+fn the_resolution_option_reads_the_level_the_uri_names() {
+    // an .mcool and a .hic named alone, the level given apart (hictk's --resolution)
+    for (file, level) in [
+        ("toy.symm.upper.2.mcool", "4"),
+        ("CN.mm9.multires.hic", "10000000"),
+    ] {
+        let by_uri = run_ok(&[
+            "dump",
+            "--join",
+            &data(&format!("{file}::/resolutions/{level}")),
+        ]);
+        let by_option = run_ok(&["dump", "--join", &data(file), "--resolution", level]);
+        assert_eq!(by_option, by_uri, "{file}");
+    }
+    assert_eq!(
+        run_ok(&[
+            "dump",
+            "--join",
+            &data("toy.symm.upper.2.mcool"),
+            "--resolution",
+            "4"
+        ]),
+        reference("toy_4.join.tsv")
+    );
+    // a level the file lacks, or another than the URI's: exit 2, the levels named
+    let out = crate::run(&["dump", &data("toy.symm.upper.2.mcool"), "--resolution", "3"]);
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("has no resolution 3: it has"), "{stderr}");
+    let uri = data("toy.symm.upper.2.mcool::/resolutions/4");
+    let out = crate::run(&["dump", &uri, "--resolution", "2"]);
+    assert_eq!(out.status.code(), Some(2));
+}
+
+#[test]
 fn a_region_dump_is_the_filtered_full_dump() {
     let uri = data("cooler_test_file.mcool::/resolutions/100000");
     let full = run_ok(&["dump", &uri]);

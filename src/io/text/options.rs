@@ -1,10 +1,12 @@
-//! The options of inputs that do not carry their own bin table (text tables, pairs).
+//! The options of opening a matrix: the resolution of a multi-resolution file, and what inputs
+//! that do not carry their own bin table (text tables, pairs) need.
 
 use std::path::PathBuf;
 
 use super::format::TextFormat;
 
-/// Options for opening inputs that do not carry their own bin table (text tables, pairs).
+/// Options for opening a matrix ([`open_matrix`](crate::io::open_matrix)): the resolution of a
+/// multi-resolution file, and what inputs without their own bin table (text tables, pairs) need.
 #[derive(Clone, Debug, Default)]
 pub struct OpenOptions {
     /// Text format; guessed from the extension and the first data line when `None`.
@@ -21,4 +23,8 @@ pub struct OpenOptions {
     /// Pairs positions are 0-based (cooler `cload pairs --zero-based`); default 1-based, as the
     /// 4DN pairs specification and cooler's default.
     pub pairs_zero_based: bool,
+    /// The resolution (bin size in bp) to open in a multi-resolution file (`.mcool`, `.hic`), as
+    /// a URI's `::/resolutions/N` names it (hictk's `--resolution`); for a single-resolution
+    /// map, the bin size it must have. `None`: the URI alone decides.
+    pub resolution: Option<u64>,
 }
