@@ -11,12 +11,15 @@ use crate::cli::output::{is_stdout, print_json, write_whole};
 use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::warnings::Warnings;
 use contactmap::error::{Error, Result};
+use contactmap::genome::BinTable;
 use contactmap::io::{LoadedPixels, MatrixReader, StreamedPixels};
 use contactmap::tads::armatus::ArmatusParams;
 use contactmap::tads::call::{Caller, call};
 use contactmap::tads::directionality::DirectionalityParams;
 use contactmap::tads::hmm::HmmParams;
-use contactmap::tads::insulation::{InsulationParams, check_window_fits};
+use contactmap::tads::insulation::{
+    DEFAULT_WINDOW_BINS, InsulationParams, check_window_fits, window_bins,
+};
 use contactmap::tads::threshold::Threshold;
 use contactmap::tads::topdom::TopDomParams;
 
@@ -185,7 +188,7 @@ pub fn run(args: &TadsArgs) -> Result<()> {
             "TAD calling needs fixed-size bins (windows are counted in bins)",
         )
     })?;
-    let windows = windows_bp(args, bin_size)?;
+    let windows = windows_bp(args, &bins, bin_size)?;
     let explicit_view = args.view.is_some();
     let (weights, view) = weights_and_view(
         reader.as_ref(),
@@ -246,25 +249,21 @@ fn parse_threshold(args: &TadsArgs) -> Result<Threshold> {
         .map_err(|e| Error::Argument(format!("--threshold: {e}")))
 }
 
-/// The windows in bp: given, or the method's default number of bins.
-fn windows_bp(args: &TadsArgs, bin_size: u64) -> Result<Vec<u64>> {
+/// The windows in bp: given (each checked by the library's one check), or the method's default
+/// number of bins.
+fn windows_bp(args: &TadsArgs, bins: &BinTable, bin_size: u64) -> Result<Vec<u64>> {
     let mut windows = Vec::with_capacity(args.window.len());
     for text in &args.window {
         let value = bp_option("--window", text)?;
-        if value == 0 || value % bin_size != 0 {
-            return Err(Error::Argument(format!(
-                "--window {text}: a window must be a positive multiple of the bin size ({bin_size} bp)"
-            )));
-        }
+        window_bins(bins, value).map_err(|e| Error::Argument(format!("--window {text}: {e}")))?;
         windows.push(value);
     }
     if windows.is_empty() {
-        let n_bins = if args.method == MethodArg::Topdom {
-            5
-        } else {
-            10
+        let n_bins = match args.method {
+            MethodArg::Topdom => TopDomParams::default().window_bins,
+            _ => DEFAULT_WINDOW_BINS,
         };
-        windows.push(n_bins * bin_size);
+        windows.push(n_bins as u64 * bin_size);
     }
     if windows.len() > 1 && args.method != MethodArg::Insulation {
         return Err(Error::Argument(

@@ -283,9 +283,26 @@ pub fn check_window_fits(
     )))
 }
 
-/// A window in bins; errors for a zero window, one that is not a multiple of the bin size, or
-/// variable-size bins.
-pub(super) fn window_bins(bins: &BinTable, window_bp: u64) -> Result<usize> {
+/// The window of the insulation and directionality callers when none is given: 10 bins
+/// (`contactmap tads`' default; cooltools' insulation has none, TopDom's is
+/// [`TopDomParams::default`](super::topdom::TopDomParams)'s 5).
+pub const DEFAULT_WINDOW_BINS: usize = 10;
+
+/// A window in bins: the one check of every window in bp (insulation, directionality, the
+/// command line's --window); errors for a zero window, one that is not a multiple of the bin
+/// size, or variable-size bins.
+///
+/// ```
+/// use contactmap::genome::{BinTable, Chrom};
+/// use contactmap::tads::insulation::window_bins;
+///
+/// let bins = BinTable::fixed(vec![Chrom::new("chr1", 1_000_000)], 10_000).unwrap();
+/// assert_eq!(window_bins(&bins, 50_000)?, 5);
+/// assert!(window_bins(&bins, 15_000).is_err());
+/// assert!(window_bins(&bins, 0).is_err());
+/// # Ok::<(), contactmap::Error>(())
+/// ```
+pub fn window_bins(bins: &BinTable, window_bp: u64) -> Result<usize> {
     let bin_size = bins.bin_size_bp().ok_or_else(|| {
         Error::Unsupported(
             "the matrix has variable-size bins; windows need a fixed bin size".into(),

@@ -186,7 +186,9 @@ fn otsu_works_where_cooltools_crashes() {
 fn bad_windows_and_missing_weights_are_clear_errors() {
     let message = run_err(&["tads", &data(YEAST), "--window", "25000"]);
     assert!(
-        message.contains("multiple of the bin size (10000 bp)"),
+        message.contains(
+            "--window 25000: window 25000 bp is not a positive multiple of the bin size 10000 bp"
+        ),
         "{message}"
     );
     let message = run_err(&["tads", &data(YEAST), "--window", "0"]);
