@@ -74,6 +74,9 @@ pub struct Format {
     /// Other input files of the commands that an error may name instead of the mutant (a BED
     /// mutant that drops a chromosome makes the BG2 table that uses it wrong).
     pub companions: Vec<String>,
+    /// The deadline of each libhdf5 metadata read in its runs, seconds (`CONTACTMAP_HDF5_TIMEOUT`
+    /// of the children; [`hdf5_timeout`]'s unless a replay sets another).
+    pub hdf5_timeout: String,
 }
 
 /// The outcome of one command on one mutant.
@@ -628,6 +631,7 @@ pub fn format(name: &str, aux: &Path) -> Format {
         kind,
         seeds,
         companions,
+        hdf5_timeout: hdf5_timeout(),
     }
 }
 
@@ -650,13 +654,14 @@ fn expand(args: &[String], mutant: &str, out: &str) -> Vec<String> {
 fn run_one(
     binary: &Path,
     args: &[String],
+    hdf5_timeout: &str,
     stderr_file: &Path,
 ) -> (Option<std::process::ExitStatus>, String, Duration) {
     let start = Instant::now();
     let err = std::fs::File::create(stderr_file).expect("stderr file");
     let mut child = Command::new(binary)
         .args(args)
-        .env("CONTACTMAP_HDF5_TIMEOUT", hdf5_timeout())
+        .env("CONTACTMAP_HDF5_TIMEOUT", hdf5_timeout)
         .stdin(Stdio::null())
         .stdout(Stdio::null())
         .stderr(err)
@@ -778,7 +783,7 @@ pub fn run_mutant(
     let mut runs = Vec::new();
     for command in &pick.commands {
         let args = expand(command, &mutant_str, &out);
-        let (status, stderr, elapsed) = run_one(binary, &args, &stderr_file);
+        let (status, stderr, elapsed) = run_one(binary, &args, &format.hdf5_timeout, &stderr_file);
         let mut leftovers: Vec<String> = std::fs::read_dir(&dir)
             .expect("list the mutant folder")
             .filter_map(|e| e.ok())
