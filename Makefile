@@ -15,7 +15,7 @@ BIN := target/release/contactmap
 # is compiled once for all of them (and `maturin develop` / `make wheel` reuse it).
 TESTED := --workspace --exclude contactmap-benches
 
-.PHONY: all build demo test lint man check-peers bench clean python wheel
+.PHONY: all build demo test test-venvs lint man check-peers bench clean python wheel
 
 all: build
 
@@ -35,8 +35,11 @@ demo: build
 # their dependencies (target/debug/lib_native.so; pyo3 told that it is an extension module, as
 # maturin tells it): maturin's own build resolved the build scripts' dependencies apart from the
 # tests' (no dev-dependencies) and compiled hdf5 and contactmap again (3.5 min on a fresh clone).
+# The Python environments of the workflows' and the package's tests are installed while clippy
+# compiles (pip mostly downloads and unpacks: a minute of a fresh clone's make test).
 test: export PYO3_BUILD_EXTENSION_MODULE := 1
-test: lint
+test:
+	$(MAKE) --no-print-directory -j2 lint test-venvs
 	$(CARGO) build $(TESTED) --all-targets
 	$(CARGO) test $(TESTED) --all-targets
 	$(CARGO) test $(TESTED) --doc
@@ -56,6 +59,10 @@ wheel: build
 ## make man: one man page per command into target/man (man -l target/man/contactmap-balance.1)
 man: build
 	$(BIN) man --dir target/man
+
+test-venvs:
+	scripts/test_workflows.sh --prepare
+	scripts/test_python.sh --prepare
 
 lint:
 	$(CARGO) fmt --all -- --check

@@ -8,8 +8,23 @@
 # PYO3_BUILD_EXTENSION_MODULE=1): it is copied into python/contactmap and python/ is put on the
 # venv's path, as `maturin develop` does, without compiling anything again.
 # usage: scripts/test_python.sh [CONTACTMAP] [--release | --module SO]
+#        scripts/test_python.sh --prepare   (only the venv and its requirements: make test makes
+#                                           them while cargo compiles)
 set -euo pipefail
 cd "$(dirname "$0")/.."
+prepare() {
+  [ -x "$venv/bin/python" ] || python3 -m venv "$venv"
+  # (re)install when the requirements changed since the last install
+  if ! cmp -s python/requirements-test.txt "$venv/.requirements-test.txt"; then
+    "$venv/bin/pip" install -q --disable-pip-version-check -r python/requirements-test.txt
+    cp python/requirements-test.txt "$venv/.requirements-test.txt"
+  fi
+}
+venv=.venv-python
+if [ "${1:-}" = "--prepare" ]; then
+  prepare
+  exit 0
+fi
 export CONTACTMAP_BIN
 CONTACTMAP_BIN=$(realpath "${1:-target/debug/contactmap}")
 profile=()
@@ -20,13 +35,7 @@ case "${2:-}" in
   "") ;;
   *) echo "test_python.sh: unknown option $2 (expected --release or --module SO)" >&2; exit 2 ;;
 esac
-venv=.venv-python
-[ -x "$venv/bin/python" ] || python3 -m venv "$venv"
-# (re)install when the requirements changed since the last install
-if ! cmp -s python/requirements-test.txt "$venv/.requirements-test.txt"; then
-  "$venv/bin/pip" install -q --disable-pip-version-check -r python/requirements-test.txt
-  cp python/requirements-test.txt "$venv/.requirements-test.txt"
-fi
+prepare
 if [ -z "$module" ]; then
   VIRTUAL_ENV="$(realpath "$venv")" "$venv/bin/maturin" develop -q -m python/Cargo.toml "${profile[@]}"
 else

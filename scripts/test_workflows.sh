@@ -7,9 +7,10 @@
 # merge` of batches simulated by hand. Installs the pinned snakemake into .venv-workflows when
 # missing (SNAKEMAKE=path/to/snakemake uses another).
 # usage: scripts/test_workflows.sh [CONTACTMAP]   (default: target/debug/contactmap)
+#        scripts/test_workflows.sh --prepare      (only install snakemake: make test does it
+#                                                  while cargo compiles)
 set -euo pipefail
 cd "$(dirname "$0")/.."
-cm=$(realpath "${1:-${CONTACTMAP:-target/debug/contactmap}}")
 if [ -z "${SNAKEMAKE:-}" ]; then
   if [ ! -x .venv-workflows/bin/snakemake ]; then
     python3 -m venv .venv-workflows
@@ -17,6 +18,8 @@ if [ -z "${SNAKEMAKE:-}" ]; then
   fi
   SNAKEMAKE=.venv-workflows/bin/snakemake
 fi
+[ "${1:-}" = "--prepare" ] && exit 0
+cm=$(realpath "${1:-${CONTACTMAP:-target/debug/contactmap}}")
 py=$(dirname "$SNAKEMAKE")/python
 [ -x "$py" ] || py=python3
 work=$(mktemp -d)

@@ -178,7 +178,7 @@ pub fn draw_without_replacement(counts: &mut [f64], n_draw: u64, rng: &mut impl 
 
 /// Up to this many sequential trials a hypergeometric draw is made trial by trial; beyond it,
 /// by rand_distr's rejection sampler where that one runs in bounded time.
-const TRIALS_MAX: u64 = 1_000;
+pub const TRIALS_MAX: u64 = 1_000;
 
 /// A draw of `Hypergeometric(population, successes, draws)`: the successes among `draws` items
 /// taken without replacement. Exact either way: by sequential trials over the smallest of its

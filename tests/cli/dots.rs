@@ -394,4 +394,13 @@ fn dots_at_three_resolutions_find_simulated_loops() {
         "1",
     ]);
     assert!(line.contains("--w"), "{line}");
+    let line = run_err(&[
+        "dots",
+        &mcool,
+        "--resolutions",
+        "5k,10k",
+        "--resolution",
+        "5000",
+    ]);
+    assert!(line.contains("leave out --resolution"), "{line}");
 }
