@@ -80,6 +80,7 @@ mod writer;
 
 pub use expected::{JuicerExpected, JuicerExpectedBuilder, MultiResolutionExpected};
 pub use norms::HicExpected;
+pub(crate) use reader::list_numbers;
 pub use reader::{BAND_BUDGET_BYTES, HicReader};
 pub use writer::{BATCH_RECORDS, HicNormVector, HicWriteOptions, HicWriter};
 

@@ -99,7 +99,7 @@ pub fn uri_at_resolution(uri: &str, resolution: u64) -> Result<String> {
             cool::HdfContent::Multires(levels) if !levels.contains(&resolution) => {
                 return Err(Error::Argument(format!(
                     "{path} has no resolution {resolution}: it has {}",
-                    join(&levels)
+                    hic::list_numbers(&levels)
                 )));
             }
             cool::HdfContent::Multires(_) => format!("{path}::/resolutions/{resolution}"),
@@ -108,15 +108,6 @@ pub fn uri_at_resolution(uri: &str, resolution: u64) -> Result<String> {
         (FileKind::Hic, None, _) => format!("{path}::/resolutions/{resolution}"),
         _ => uri.to_string(),
     })
-}
-
-/// The resolutions, comma-separated.
-fn join(levels: &[u64]) -> String {
-    levels
-        .iter()
-        .map(u64::to_string)
-        .collect::<Vec<_>>()
-        .join(", ")
 }
 
 /// [`open_matrix`] of the URI as it is.

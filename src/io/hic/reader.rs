@@ -822,7 +822,7 @@ pub(super) fn max_bins(file_len: u64) -> u64 {
 }
 
 /// `1000, 5000, 10000`.
-fn list_numbers(values: &[u64]) -> String {
+pub(crate) fn list_numbers(values: &[u64]) -> String {
     values
         .iter()
         .map(u64::to_string)
