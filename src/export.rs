@@ -1,11 +1,14 @@
 //! Whole-file outputs that carry computed results: a Juicer `.hic` with the normalisation
-//! vectors and expected values Juicer stores ([`write_hic`]).
+//! vectors and expected values Juicer stores ([`write_hic`]), and results stored into a cooler
+//! ([`cooler`]: balancing weights, coverage).
 //!
 //! This module stands above both the formats ([`crate::io`]) and the algorithms
 //! ([`crate::balance`]): writing a `.hic` as Juicer does means balancing every chromosome at every
 //! resolution, and the formats floor imports no algorithm. The expected values a `.hic` stores are
 //! the format's own record ([`crate::io::hic::expected`], as hictk keeps them in its `hic`
 //! library), computed while the pixels stream.
+
+pub mod cooler;
 
 use std::path::Path;
 use std::sync::Mutex;

@@ -574,3 +574,147 @@ fn the_checker_sees_grouped_imports_super_and_cycles() {
         ]
     );
 }
+
+/// The rooms whose work is files (checks and repairs; whole-file outputs that carry computed
+/// results): above the algorithms' rule that they never open one.
+const FILE_ROOMS: [&str; 2] = ["export", "validate"];
+
+/// The functions of `io` that take a path (`&Path`, `impl AsRef<Path>`, `path: &str`,
+/// `uri: &str`): the ways to open a file, read from `io`'s own sources, each with the module
+/// that defines it. Free functions by name, associated ones as `Type::name` (a method `fn
+/// m(&self, path: &Path)` of a reader already open is not an opener: it is reached through it).
+fn io_openers() -> Vec<(Module, String)> {
+    let mut openers = Vec::new();
+    for (module, path) in library_files() {
+        if module.first().map(String::as_str) != Some("io") {
+            continue;
+        }
+        let code = code_of(&std::fs::read_to_string(&path).unwrap());
+        let mut from = 0;
+        while let Some(at) = code[from..].find("pub fn ") {
+            let at = from + at;
+            let rest = &code[at + "pub fn ".len()..];
+            from = at + "pub fn ".len();
+            let name: String = rest
+                .chars()
+                .take_while(|c| c.is_alphanumeric() || *c == '_')
+                .collect();
+            let Some(open) = rest.find('(') else { break };
+            let Some(close) = rest[open..].find(')') else {
+                break;
+            };
+            let params = &rest[open..open + close];
+            let takes_path = params.contains("Path")
+                || params.contains("path: &str")
+                || params.contains("uri: &str");
+            if !takes_path || params.contains("self") {
+                continue;
+            }
+            let line_start = code[..at].rfind('\n').map_or(0, |n| n + 1);
+            if at == line_start {
+                openers.push((module.clone(), name));
+                continue;
+            }
+            // an associated function: the type of the nearest `impl` above it
+            let Some(block) = code[..at].rfind("\nimpl") else {
+                continue;
+            };
+            let header = &code[block + 1..];
+            let header = &header[..header.find('{').unwrap_or(header.len())];
+            let header = header.split(" for ").last().unwrap_or(header);
+            let header = header.trim().trim_start_matches("impl").trim();
+            let header = header.split('<').next().unwrap_or(header).trim();
+            if let Some(ty) = header.split_whitespace().last() {
+                openers.push((module.clone(), format!("{ty}::{name}")));
+            }
+        }
+    }
+    openers
+}
+
+/// The openers of `openers` that `code` (of `module`) reaches: a free function imported or named
+/// through `crate::io` (`use crate::io::bed::read_bed`, `crate::io::open_text(`), or called
+/// through its module's name (`bed::read_bed(`, `io::open_matrix(`); an associated function
+/// called as `Type::name(` with `Type` imported from `io`. And every use of `std::fs` / `File::`.
+fn file_calls(code: &str, module: &Module, openers: &[(Module, String)]) -> Vec<String> {
+    let mut found = Vec::new();
+    for marker in ["std::fs", "File::"] {
+        if code.contains(marker) {
+            found.push(marker.to_string());
+        }
+    }
+    let io_paths: Vec<Vec<String>> = paths_named(code, module)
+        .into_iter()
+        .filter(|p| p.first().is_some_and(|top| top == "io"))
+        .collect();
+    let named = |item: &str| io_paths.iter().any(|p| p.last().is_some_and(|l| l == item));
+    for (defined_in, name) in openers {
+        let reached = match name.split_once("::") {
+            Some((ty, _)) => named(ty) && code.contains(&format!("{name}(")),
+            None => {
+                let parent = defined_in.last().map_or("io", String::as_str);
+                named(name)
+                    || code.contains(&format!("{parent}::{name}("))
+                    || code.contains(&format!("io::{name}("))
+            }
+        };
+        if reached && !found.contains(name) {
+            found.push(name.clone());
+        }
+    }
+    found
+}
+
+#[test]
+fn no_algorithm_opens_a_file() {
+    let openers = io_openers();
+    // the check sees the openers it must see
+    for name in [
+        "open_matrix",
+        "open_text",
+        "read_bed",
+        "read_structure",
+        "read_track",
+        "Table::read",
+    ] {
+        assert!(
+            openers.iter().any(|(_, n)| n == name),
+            "{name} not found among {openers:?}"
+        );
+    }
+    let mut offending = Vec::new();
+    for (module, path) in library_files() {
+        let Some(top) = module.first() else { continue };
+        if !ALGORITHMS.contains(&top.as_str()) || FILE_ROOMS.contains(&top.as_str()) {
+            continue;
+        }
+        let code = code_of(&std::fs::read_to_string(&path).unwrap());
+        for call in file_calls(&code, &module, &openers) {
+            offending.push(format!(
+                "{} ({}) calls {call}",
+                name(&module),
+                path.display()
+            ));
+        }
+    }
+    assert!(
+        offending.is_empty(),
+        "algorithms take what io read, never a path (the caller reads):\n{}",
+        offending.join("\n")
+    );
+    // and the check fails where it should
+    let here: Module = vec!["tads".into(), "insulation".into()];
+    let calls = |code: &str| file_calls(code, &here, &openers);
+    assert_eq!(calls("use crate::io::bed::read_bed;"), ["read_bed"]);
+    assert_eq!(calls("fn f() { crate::io::open_text(p); }"), ["open_text"]);
+    assert_eq!(
+        calls("use crate::io; fn f() { io::open_matrix(u, o); }"),
+        ["open_matrix"]
+    );
+    assert_eq!(
+        calls("use crate::io::tables::{Table, real_text}; fn f() { Table::read(p); }"),
+        ["Table::read"]
+    );
+    assert!(calls("fn describe(r: u8) {} fn f() { describe(1); x.read_bed(2); }").is_empty());
+    assert_eq!(calls("fn f() { std::fs::File::open(p); }"), ["std::fs", "File::"]);
+}

@@ -4,15 +4,17 @@
 use std::path::Path;
 
 use contactmap::error::Error;
+use contactmap::io::predictions::load_prediction;
 use contactmap::io::predictions::{read_fasta, PredictionFormat};
+use contactmap::io::structure::read_chain;
 use contactmap::score::contacts::{
     ContactAtom, ContactDefinition, ContactScore, DistanceTest, ListScore, Rounding,
     SeparationRange,
 };
 use contactmap::score::lists::{parse_length, parse_list_size, parse_range, NamedRange};
 use contactmap::score::target::{
-    load_prediction, measure, place_chain, place_prediction, read_chain, score_prediction, Placed,
-    PredictionScores, RegisterChoice, ScorePlan,
+    measure, place_chain, place_prediction, score_prediction, Placed, PredictionScores,
+    RegisterChoice, ScorePlan,
 };
 use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;

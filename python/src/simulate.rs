@@ -4,17 +4,20 @@
 use std::path::Path;
 
 use contactmap::error::Error;
+use contactmap::io::bed::read_bed_if_file;
 use contactmap::io::cool::{write_cool, CoolWriteOptions};
 use contactmap::io::InMemory;
 use contactmap::sim::files::parse_type_pattern;
 use contactmap::sim::gpu::{Backend, Device};
-use contactmap::sim::spec::{BondKind, ConfinementKind, RepulsionKind, SimulationSpec};
+use contactmap::sim::spec::{
+    BondKind, BoundarySites, ConfinementKind, RepulsionKind, SimulationSpec,
+};
 use numpy::{PyArray1, PyArray2, PyArray3, PyArrayMethods};
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::convert::{run, vec1, ContactmapError};
+use crate::convert::{py_err, run, vec1, ContactmapError};
 
 fn kind<T>(key: &str, value: &str, choices: &[(&str, T)]) -> PyResult<T>
 where
@@ -95,7 +98,16 @@ fn spec_of(options: &Bound<'_, PyDict>) -> PyResult<SimulationSpec> {
             "contact_radius" => spec.contact_radius = value.extract().map_err(bad)?,
             "seed" => spec.seed = value.extract().map_err(bad)?,
             "extrusion" => spec.extrusion = value.extract().map_err(bad)?,
-            "ctcf" => spec.ctcf = value.extract().map_err(bad)?,
+            "ctcf" => {
+                let value: Option<String> = value.extract().map_err(bad)?;
+                spec.ctcf = match value {
+                    Some(value) => {
+                        let bed = read_bed_if_file(&value).map_err(py_err)?;
+                        Some(BoundarySites::new(&value, bed))
+                    }
+                    None => None,
+                };
+            }
             "processivity" => spec.processivity = value.extract().map_err(bad)?,
             "separation" => spec.separation = value.extract().map_err(bad)?,
             "capture" => spec.capture = value.extract().map_err(bad)?,

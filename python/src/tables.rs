@@ -1,11 +1,12 @@
 //! cooltools' tables (expected, insulation, directionality) and balancing.
 
-use contactmap::balance::store::{balance_reader, store_balanced};
+use contactmap::balance::store::balance_reader;
 use contactmap::balance::{balance as balance_pixels, BalanceParams, BalanceResult, Method, Scope};
 use contactmap::error::Error;
 use contactmap::expected::{
     expected_cis as cis_expected, expected_trans as trans_expected, CisParams,
 };
+use contactmap::export::cooler::store_balanced;
 use contactmap::io::cool::store::check_target;
 use contactmap::io::{
     self, default_memory_budget, load_pixels_for_balancing, LoadedPixels, MatrixReader,

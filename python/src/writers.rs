@@ -3,9 +3,9 @@
 
 use std::path::Path;
 
-use contactmap::balance::store::balance_and_store;
 use contactmap::balance::Method;
 use contactmap::error::Error;
+use contactmap::export::cooler::balance_and_store;
 use contactmap::export::{self, DEFAULT_HIC_NORMALIZATIONS};
 use contactmap::genome::{Bin, BinTable, Chrom};
 use contactmap::io::cool::resolutions::{fixed_bin_size, mcool_resolutions};

@@ -1,12 +1,13 @@
-//! Balancing a map read from a file and storing the weights into a cooler, as `cooler balance`
-//! does: the steps `balance` and `zoomify --balance` share.
+//! Balancing the map of a reader, with what explains a failure to converge, and the attributes
+//! cooler stores beside a weight column: the steps `balance` and `zoomify --balance` share (the
+//! store itself is [`crate::export::cooler`]'s).
 
 use super::params::{BalanceParams, Scope};
 use super::result::BalanceResult;
 use super::run::balance;
 use crate::error::{Error, Result};
 use crate::genome::BinTable;
-use crate::io::cool::store::{AttrValue, store_weights};
+use crate::io::cool::store::AttrValue;
 use crate::io::{self, MatrixReader};
 use crate::matrix::Weights;
 
@@ -100,41 +101,6 @@ impl BalanceResult {
             None => format!("var={:e}, tol={tol:e}", self.var),
         }
     }
-}
-
-/// Store the weights of `result` as the column `name` of the cooler at `uri` (a .cool, or an
-/// .mcool resolution), with the attributes cooler writes beside it ([`stored_attributes`]);
-/// `overwrite` replaces an existing column.
-pub fn store_balanced(
-    uri: &str,
-    name: &str,
-    params: &BalanceParams,
-    result: &BalanceResult,
-    overwrite: bool,
-) -> Result<()> {
-    let weights = Weights {
-        name: name.to_string(),
-        values: result.weights.clone(),
-        provenance: None,
-    };
-    store_weights(uri, &weights, &stored_attributes(params, result), overwrite)
-}
-
-/// ICE with cooler's defaults on the cooler at `uri`, stored as `weight`, unless the file
-/// already has a `weight` column (a copied one is kept, as `cooler zoomify --balance` does).
-/// Returns the result when it balanced (`converged` says whether it converged; the weights
-/// are stored either way, with `converged=false`).
-pub fn balance_and_store(uri: &str, max_memory_bytes: u64) -> Result<Option<BalanceResult>> {
-    let params = BalanceParams::default();
-    let result = {
-        let reader = io::cool::CoolReader::open(uri)?;
-        if reader.weight_names().iter().any(|n| n == "weight") {
-            return Ok(None);
-        }
-        balance_reader(&reader, &params, max_memory_bytes)?.result
-    };
-    store_balanced(uri, "weight", &params, &result, true)?;
-    Ok(Some(result))
 }
 
 /// An integral value as an integer attribute (cooler stores its integer options as int64).

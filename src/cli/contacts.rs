@@ -14,13 +14,12 @@ use crate::cli::protein::{DefinitionArgs, RegisterArg};
 
 use contactmap::error::Result;
 use contactmap::io::predictions::read_fasta;
+use contactmap::io::structure::read_chain;
 use contactmap::io::topology::read_topology;
 use contactmap::score::frequency::{
     FrequencySpec, Scheme, contact_frequencies_of, frequency_table,
 };
-use contactmap::score::target::{
-    distance_matrix_tsv, measure, place_chain, read_chain, true_contacts_rr,
-};
+use contactmap::score::target::{distance_matrix_tsv, measure, place_chain, true_contacts_rr};
 
 /// Arguments of `contactmap contacts`.
 #[derive(Debug, Args)]

@@ -7,8 +7,9 @@ use clap::Args;
 use crate::cli::args::InputArgs;
 use crate::cli::input::{open_for_analysis, read_weights};
 use crate::cli::output::{Output, refuse_overwrites, store_lock, uri_file};
-use contactmap::compare::coverage::{balanced_coverage, coverage, store};
+use contactmap::compare::coverage::{balanced_coverage, coverage};
 use contactmap::error::{Error, Result};
+use contactmap::export::cooler::store_coverage;
 use contactmap::io::output::python_float;
 
 /// Arguments of `contactmap coverage`.
@@ -104,7 +105,7 @@ pub fn run(args: &CoverageArgs) -> Result<()> {
     let warnings = reader.warnings();
     drop(reader);
     if args.store {
-        store(&args.uri, &cov, args.weight_name.as_deref())?;
+        store_coverage(&args.uri, &cov, args.weight_name.as_deref())?;
     }
     let mut out = Output::open(args.out.as_deref())?;
     out.write_all(text.as_bytes())?;

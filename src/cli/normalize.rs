@@ -125,8 +125,8 @@ pub fn run(args: &NormalizeArgs) -> Result<()> {
         None
     };
     let curves = match &args.expected {
-        Some(path) => contactmap::expected::table::read_curves(
-            path,
+        Some(path) => contactmap::expected::table::curves(
+            &contactmap::io::tables::Table::read(path)?,
             &bins,
             expected_column(args.expected_column.as_deref(), args.raw),
         )?,

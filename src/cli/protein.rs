@@ -11,10 +11,11 @@ use clap::{Args, ValueEnum};
 use contactmap::error::Result;
 use contactmap::io::predictions::PredictionFormat;
 use contactmap::io::structure::Chain;
+use contactmap::io::structure::read_chain;
 use contactmap::score::contacts::{
     ContactAtom, ContactDefinition, DistanceTest, Prediction, Rounding,
 };
-use contactmap::score::target::{Placed, RegisterChoice, place_prediction, read_chain};
+use contactmap::score::target::{Placed, RegisterChoice, place_prediction};
 
 /// The atoms measured, for `--atom`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]

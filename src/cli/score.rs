@@ -16,14 +16,16 @@ use crate::cli::output::{Output, refuse_overwrites, write_text_file};
 use crate::cli::protein::{DefinitionArgs, TargetArgs};
 use contactmap::error::{Error, Result};
 use contactmap::io::bed::read_bed;
+use contactmap::io::frequencies::read_frequency_table;
+use contactmap::io::predictions::load_prediction;
 use contactmap::score::boundaries::{
     boundary_table, domain_overlap_records, median_width, score_boundary_records,
 };
 use contactmap::score::contacts::SeparationRange;
 use contactmap::score::lists::{NamedRange, parse_length, parse_list_size};
 use contactmap::score::target::{
-    EnsembleTruth, Placed, ScorePlan, curves_tsv, load_prediction, score_prediction, scores_json,
-    scores_text, scores_tsv,
+    EnsembleTruth, Placed, ScorePlan, curves_tsv, score_prediction, scores_json, scores_text,
+    scores_tsv,
 };
 use lists::ListArgs;
 
@@ -319,7 +321,13 @@ fn run_contacts(args: &ContactsScoreArgs) -> Result<()> {
     let ensemble = args
         .frequencies
         .as_deref()
-        .map(|path| EnsembleTruth::read(path, args.truth_frequency.unwrap_or(0.5)))
+        .map(|path| {
+            EnsembleTruth::new(
+                path,
+                read_frequency_table(path)?,
+                args.truth_frequency.unwrap_or(0.5),
+            )
+        })
         .transpose()?;
     let definition = match &ensemble {
         Some(ensemble) => ensemble.describe(&args.definition.definition()),

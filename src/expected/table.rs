@@ -17,35 +17,8 @@ use crate::io::tables::{Table, region_table, write_real, write_u64};
 use crate::normalize::DiagonalCurve;
 
 impl CisExpected {
-    /// Whether `uri` names a cis expected table: a text file whose first line (comments aside)
-    /// starts with `region1`. Only the first 64 KiB are looked at, as bytes (a .cool file is not
-    /// text).
-    ///
-    /// ```
-    /// use contactmap::expected::CisExpected;
-    /// assert!(CisExpected::is_table("data/reference/numerics/dm6_100kb.expected_cis.raw.tsv.gz")?);
-    /// assert!(!CisExpected::is_table("data/yeast.10kb.cool")?);
-    /// # Ok::<(), contactmap::Error>(())
-    /// ```
-    pub fn is_table(uri: &str) -> Result<bool> {
-        use std::io::Read as _;
-        let path = std::path::Path::new(uri);
-        if uri.contains("::") || !path.is_file() {
-            return Ok(false);
-        }
-        let mut head = Vec::new();
-        crate::io::open_text(path)?
-            .take(64 << 10)
-            .read_to_end(&mut head)
-            .map_err(|e| Error::io(path, e))?;
-        Ok(head
-            .split(|&b| b == b'\n')
-            .find(|line| !(line.iter().all(u8::is_ascii_whitespace) || line.starts_with(b"#")))
-            .is_some_and(|line| line.starts_with(b"region1\t")))
-    }
-
-    /// Read a cooltools `expected-cis` table (as `cooltools expected-cis` or `contactmap
-    /// expected` write it), for the P(s) analyses. The smoothed columns are not read; the
+    /// A cooltools `expected-cis` table (as `cooltools expected-cis` or `contactmap expected`
+    /// write it, read by [`Table::read`]), for the P(s) analyses. The smoothed columns are not read; the
     /// averages are the table's own. Errors name the file and line: a trans table, regions
     /// whose rows are apart, missing or out-of-order diagonals, `dist_bp` that is not `dist`
     /// times one bin size.
@@ -54,6 +27,7 @@ impl CisExpected {
     ///
     /// ```
     /// use contactmap::expected::CisExpected;
+    /// use contactmap::io::tables::Table;
     ///
     /// let path = std::env::temp_dir().join(format!("cis-{}.tsv", std::process::id()));
     /// std::fs::write(
@@ -61,15 +35,15 @@ impl CisExpected {
     ///     "region1\tregion2\tdist\tdist_bp\tn_total\tn_valid\tcount.sum\tcount.avg\n\
     ///      chr1\tchr1\t0\t0\t4\t4\t40\t10\nchr1\tchr1\t1\t1000\t3\t3\t12\t4\n",
     /// )?;
-    /// let table = CisExpected::read_tsv(path.to_str().unwrap())?;
+    /// let table = CisExpected::from_table(&Table::read(path.to_str().unwrap())?)?;
     /// assert_eq!((table.bin_size_bp, table.average()), (1000, &[10.0, 4.0][..]));
     /// assert_eq!(table.median_region_length_bp(), 2000.0);
     /// assert_eq!(String::from_utf8(table.to_tsv())?.lines().count(), 3);
     /// # std::fs::remove_file(&path)?;
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
-    pub fn read_tsv(path: &str) -> Result<CisExpected> {
-        let table = Table::read(path)?;
+    pub fn from_table(table: &Table) -> Result<CisExpected> {
+        let path = table.path();
         let (c1, c2) = (table.column("region1")?, table.column("region2")?);
         let dist_column = table.column("dist")?;
         let dist_bp_column = table.column("dist_bp")?;
@@ -292,14 +266,15 @@ impl LogBinned {
 }
 
 /// Per-chromosome expected curves (for observed / expected) from column `column` of the
-/// cooltools expected-cis table at `path`, whose regions must be whole chromosomes of `bins`
+/// cooltools expected-cis table `table`, whose regions must be whole chromosomes of `bins`
 /// (`balanced.avg` is the usual column, `count.avg` for raw counts).
 ///
 /// # Examples
 ///
 /// ```
-/// use contactmap::expected::table::read_curves;
+/// use contactmap::expected::table::curves;
 /// use contactmap::genome::{BinTable, Chrom};
+/// use contactmap::io::tables::Table;
 ///
 /// let bins = BinTable::fixed(vec![Chrom::new("chr1", 300)], 100)?;
 /// let path = std::env::temp_dir().join(format!("curves-{}.tsv", std::process::id()));
@@ -307,14 +282,13 @@ impl LogBinned {
 ///     &path,
 ///     "region1\tregion2\tdist\tn_valid\tbalanced.avg\nchr1\tchr1\t0\t3\t0.5\nchr1\tchr1\t1\t2\t0.25\n",
 /// )?;
-/// let curves = read_curves(path.to_str().unwrap(), &bins, "balanced.avg")?;
+/// let curves = curves(&Table::read(path.to_str().unwrap())?, &bins, "balanced.avg")?;
 /// assert_eq!(curves[0].expected[1], 0.25);
 /// assert!(curves[0].expected[2].is_nan()); // a diagonal the table does not give
 /// # std::fs::remove_file(&path)?;
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
-pub fn read_curves(path: &str, bins: &BinTable, column: &str) -> Result<Vec<DiagonalCurve>> {
-    let table = &Table::read(path)?;
+pub fn curves(table: &Table, bins: &BinTable, column: &str) -> Result<Vec<DiagonalCurve>> {
     let (c1, c2) = (table.column("region1")?, table.column("region2")?);
     let (dist, n_valid, value) = (
         table.column("dist")?,
@@ -365,29 +339,20 @@ pub fn read_curves(path: &str, bins: &BinTable, column: &str) -> Result<Vec<Diag
 /// `dist` times the bin size of `bins` (another resolution).
 ///
 /// ```
-/// use contactmap::expected::table::read_region_column;
+/// use contactmap::expected::table::region_column;
+/// use contactmap::io::tables::Table;
 /// use contactmap::genome::View;
 /// use contactmap::io::{open_matrix, OpenOptions};
 /// let reader = open_matrix("data/cooler_test_file.mcool::/resolutions/100000", &OpenOptions::default())?;
 /// let view = View::chromosomes(reader.bins());
-/// let path = "data/reference/numerics/dm6_100kb.expected_cis.raw.tsv.gz";
-/// let values = read_region_column(path, reader.bins(), &view, "count.avg")?;
+/// let table = Table::read("data/reference/numerics/dm6_100kb.expected_cis.raw.tsv.gz")?;
+/// let values = region_column(&table, reader.bins(), &view, "count.avg")?;
 /// assert_eq!(values.len(), view.regions().len());
 /// assert!(values[0][0].is_nan() && values[0][2] > values[0][10]);
 /// let other = open_matrix("data/cooler_test_file.mcool::/resolutions/1000000", &OpenOptions::default())?;
-/// assert!(read_region_column(path, other.bins(), &View::chromosomes(other.bins()), "count.avg").is_err());
+/// assert!(region_column(&table, other.bins(), &View::chromosomes(other.bins()), "count.avg").is_err());
 /// # Ok::<(), contactmap::Error>(())
 /// ```
-pub fn read_region_column(
-    path: &str,
-    bins: &BinTable,
-    view: &crate::genome::View,
-    column: &str,
-) -> Result<Vec<Vec<f64>>> {
-    region_column(&Table::read(path)?, bins, view, column)
-}
-
-/// [`read_region_column`] of a table already read.
 pub fn region_column(
     table: &Table,
     bins: &BinTable,
@@ -461,7 +426,8 @@ pub fn region_column(
 /// [`TransExpected::average_by_pair`]: super::TransExpected::average_by_pair
 ///
 /// ```
-/// use contactmap::expected::{expected_trans, table::read_pair_column};
+/// use contactmap::expected::{expected_trans, table::pair_column};
+/// use contactmap::io::tables::Table;
 /// use contactmap::genome::View;
 /// use contactmap::io::{open_matrix, LoadedPixels, OpenOptions, StreamedPixels};
 /// let reader = open_matrix("data/yeast.10kb.cool", &OpenOptions::default())?;
@@ -474,21 +440,12 @@ pub fn region_column(
 ///     text.push_str(&format!("{r1}\t{r2}\t{v}\n"));
 /// }
 /// std::fs::write(&path, text)?;
-/// let values = read_pair_column(path.to_str().unwrap(), &view, "count.avg")?;
+/// let values = pair_column(&Table::read(path.to_str().unwrap())?, &view, "count.avg")?;
 /// // the same matrix (NaN below the diagonal, so compared as text)
 /// assert_eq!(format!("{values:?}"), format!("{:?}", table.average_by_pair(&view)));
 /// # std::fs::remove_file(&path)?;
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
-pub fn read_pair_column(
-    path: &str,
-    view: &crate::genome::View,
-    column: &str,
-) -> Result<Vec<Vec<f64>>> {
-    pair_column(&Table::read(path)?, view, column)
-}
-
-/// [`read_pair_column`] of a table already read.
 pub fn pair_column(
     table: &Table,
     view: &crate::genome::View,

@@ -95,6 +95,17 @@ pub fn for_each_line(
     Ok(())
 }
 
+/// The records of the BED file named `value` when a file of that name exists, `None` when none
+/// does: for options that take a BED file or a literal list (`simulate polymer --ctcf`).
+pub fn read_bed_if_file(value: &str) -> Result<Option<Vec<BedRecord>>> {
+    let path = Path::new(value);
+    if path.exists() {
+        read_bed(path).map(Some)
+    } else {
+        Ok(None)
+    }
+}
+
 /// Read every record of the BED file at `path` (plain or gzip), in file order.
 ///
 /// Errors name the file and the 1-based line: fewer than 3 fields, a coordinate that is not a

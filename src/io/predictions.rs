@@ -219,6 +219,34 @@ pub fn detect_format(bytes: &[u8], path: &Path) -> Result<PredictionFormat> {
     }
 }
 
+/// [`read_prediction`], then, with `fasta`, that sequence attached and the residue numbers
+/// checked against it ([`Prediction::with_sequence`]; errors name the file). The sequence is made
+/// upper case.
+///
+/// ```
+/// use contactmap::io::predictions::load_prediction;
+/// let prediction = load_prediction("data/protein/1aapA/1aapA.rr", None, None)?;
+/// assert!(prediction.sequence.is_some_and(|s| s.starts_with("VREVCSEQ")));
+/// # Ok::<(), contactmap::Error>(())
+/// ```
+pub fn load_prediction(
+    path: impl AsRef<Path>,
+    format: Option<PredictionFormat>,
+    fasta: Option<&str>,
+) -> Result<Prediction> {
+    let path = path.as_ref();
+    let mut prediction = read_prediction(path, format)?;
+    if let Some(sequence) = fasta {
+        prediction = prediction
+            .with_sequence(sequence)
+            .map_err(|err| err.in_file(path))?;
+    }
+    if let Some(sequence) = &mut prediction.sequence {
+        sequence.make_ascii_uppercase();
+    }
+    Ok(prediction)
+}
+
 /// Read a prediction file; `format` overrides [`detect_format`].
 ///
 /// # Examples

@@ -225,6 +225,22 @@ pub fn read_structure(path: impl AsRef<Path>) -> Result<Structure> {
     parse_structure(&structure_text(path)?, path)
 }
 
+/// Read the structure at `path` and select one chain, as [`Structure::chain`] selects it (errors
+/// name the file).
+///
+/// ```
+/// let chain = contactmap::io::structure::read_chain("data/protein/1aapA/1aapA.pdb", None)?;
+/// assert!(chain.sequence().starts_with("VREVCSEQ"));
+/// # Ok::<(), contactmap::Error>(())
+/// ```
+pub fn read_chain(path: impl AsRef<Path>, chain: Option<&str>) -> Result<Chain> {
+    let path = path.as_ref();
+    Ok(read_structure(path)?
+        .chain(chain)
+        .map_err(|err| err.in_file(path))?
+        .clone())
+}
+
 /// The text of a PDB or mmCIF file (gzip detected from its content; bytes that are not UTF-8
 /// replaced, as old PDB files hold a few).
 pub fn structure_text(path: &Path) -> Result<String> {

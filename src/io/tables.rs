@@ -27,6 +27,34 @@ pub struct Table {
 }
 
 impl Table {
+    /// Whether `uri` names a table whose header (the first line that is neither blank nor a
+    /// `#` comment) starts with column `column`: a text file, as bytes, of which only the first
+    /// 64 KiB are looked at (a `.cool` file is not text; a URI with `::` names an HDF5 group).
+    ///
+    /// ```
+    /// use contactmap::io::tables::Table;
+    /// let cis = "data/reference/numerics/dm6_100kb.expected_cis.raw.tsv.gz";
+    /// assert!(Table::starts_with_column(cis, "region1")?);
+    /// assert!(!Table::starts_with_column("data/yeast.10kb.cool", "region1")?);
+    /// # Ok::<(), contactmap::Error>(())
+    /// ```
+    pub fn starts_with_column(uri: &str, column: &str) -> Result<bool> {
+        let path = std::path::Path::new(uri);
+        if uri.contains("::") || !path.is_file() {
+            return Ok(false);
+        }
+        let mut head = Vec::new();
+        crate::io::input::open_text(path)?
+            .take(64 << 10)
+            .read_to_end(&mut head)
+            .map_err(|e| Error::io(path, e))?;
+        let named = format!("{column}\t");
+        Ok(head
+            .split(|&b| b == b'\n')
+            .find(|line| !(line.iter().all(u8::is_ascii_whitespace) || line.starts_with(b"#")))
+            .is_some_and(|line| line.starts_with(named.as_bytes())))
+    }
+
     /// Read `path` (`-` for stdin, gzip detected from the content).
     pub fn read(path: &str) -> Result<Table> {
         // The whole text read once; the fields' bounds point into it (no copy per line).

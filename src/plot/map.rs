@@ -15,7 +15,7 @@ use std::path::Path;
 use crate::error::{Error, Result};
 use crate::genome::BinTable;
 use crate::io::bed::{BedRecord, BedpeRecord};
-use crate::io::tables::read_track;
+use crate::io::tables::TrackRow;
 use crate::plot::axes::{
     self, Axes, AxisScale, Side, Theme, colour_bar, genomic_unit, linear_ticks,
 };
@@ -101,18 +101,20 @@ pub struct Track {
 }
 
 impl Track {
-    /// The track in column `column` of the table at `path` (a header name, or a 1-based column
-    /// number of a bedGraph) on the bins `cols` of `bins`, whose span is `span`: the file must
-    /// hold one row per bin there (same resolution), else an error naming the file and the
+    /// The track of column `column` of the table at `path` (a header name, or a 1-based column
+    /// number of a bedGraph; its `rows` read by [`read_track`](crate::io::tables::read_track),
+    /// the path named in messages) on the bins `cols` of `bins`, whose span is `span`: the file
+    /// must hold one row per bin there (same resolution), else an error naming the file and the
     /// counts.
-    pub fn read(
+    pub fn from_rows(
         path: &Path,
         column: &str,
+        rows: Vec<TrackRow>,
         bins: &BinTable,
         cols: &Range<usize>,
         span: &GenomicSpan,
     ) -> Result<Track> {
-        let rows: Vec<_> = read_track(path, column)?
+        let rows: Vec<_> = rows
             .into_iter()
             .filter(|r| span.overlaps(&r.chrom, r.start, r.end))
             .collect();

@@ -6,8 +6,8 @@ use std::path::Path;
 
 use crate::compartments::phasing::{finite_pairs, pearson};
 use crate::error::{Error, Result};
-use crate::io::bed::read_bed;
-use crate::io::tables::{read_track, real_text as real};
+use crate::io::bed::BedRecord;
+use crate::io::tables::{TrackRow, real_text as real};
 
 /// The score of one set of bins.
 #[derive(Clone, Debug, PartialEq)]
@@ -59,27 +59,34 @@ pub fn score_compartments(values: &[f64], truth: &[f64]) -> CompartmentScore {
     }
 }
 
-/// `score compartments`: the eigenvector `column` of the table at `eigs` (`chrom start end`
-/// then columns, as `compartments` writes) against the truth BED at `truth_path` (4th column
-/// `A`, `B` or a signed number, on the same bins), scored per chromosome then over all bins:
+/// `score compartments`: an eigenvector column (`rows`, from the table at `eigs`: `chrom start
+/// end` then columns, as `compartments` writes) against the truth BED (`truth`, read from
+/// `truth_path`: 4th column `A`, `B` or a signed number, on the same bins; both paths are named
+/// in messages), scored per chromosome then over all bins:
 /// TSV `chrom n_bins sign_accuracy sign_accuracy_up_to_sign pearson`. A truth that matches no
 /// bin of the table is an error.
 ///
 /// ```
+/// use contactmap::io::{bed::read_bed, tables::read_track};
 /// use contactmap::score::compartments::score_track_table;
 /// let dir = std::env::temp_dir().join(format!("cm-score-ab-{}", std::process::id()));
 /// std::fs::create_dir_all(&dir).unwrap();
 /// let (truth, eigs) = (dir.join("truth.bed"), dir.join("eigs.tsv"));
 /// std::fs::write(&truth, "chr1\t0\t10\tA\nchr1\t10\t20\tB\n").unwrap();
 /// std::fs::write(&eigs, "chrom\tstart\tend\tE1\nchr1\t0\t10\t0.4\nchr1\t10\t20\t-0.2\n").unwrap();
-/// let table = score_track_table(&truth, &eigs, "E1")?;
+/// let table = score_track_table(&truth, &read_bed(&truth)?, &eigs, &read_track(&eigs, "E1")?)?;
 /// assert!(table.ends_with("all\t2\t1\t1\t1\n"), "{table}");
 /// std::fs::remove_dir_all(&dir).unwrap();
 /// # Ok::<(), contactmap::Error>(())
 /// ```
-pub fn score_track_table(truth_path: &Path, eigs: &Path, column: &str) -> Result<String> {
+pub fn score_track_table(
+    truth_path: &Path,
+    truth_records: &[BedRecord],
+    eigs: &Path,
+    rows: &[TrackRow],
+) -> Result<String> {
     let mut truth: HashMap<(String, u64, u64), f64> = HashMap::new();
-    for record in read_bed(truth_path)? {
+    for record in truth_records {
         let name = record.name.as_deref().unwrap_or("");
         let sign = match name.to_ascii_uppercase().as_str() {
             "A" => 1.0,
@@ -99,11 +106,10 @@ pub fn score_track_table(truth_path: &Path, eigs: &Path, column: &str) -> Result
         };
         truth.insert((record.chrom.clone(), record.start, record.end), sign);
     }
-    let rows = read_track(eigs, column)?;
     let mut chroms: Vec<String> = Vec::new();
     let mut by_chrom: HashMap<String, (Vec<f64>, Vec<f64>)> = HashMap::new();
     let mut matched = 0usize;
-    for row in &rows {
+    for row in rows {
         let t = truth
             .get(&(row.chrom.clone(), row.start, row.end))
             .copied()

@@ -12,9 +12,8 @@ use super::contacts::{
 use super::lists::{LengthChoice, NamedRange};
 use super::register::{Register, RegisterMethod, RegisterMode, register};
 use crate::error::{Error, Result};
-use crate::io::frequencies::{FrequencyResidue, FrequencyRow, read_frequency_table};
-use crate::io::predictions::{PredictionFormat, read_prediction};
-use crate::io::structure::{Chain, amino_acid, chain_label, read_structure};
+use crate::io::frequencies::{FrequencyResidue, FrequencyRow};
+use crate::io::structure::{Chain, amino_acid, chain_label};
 use crate::io::tables::real_text;
 use crate::score::contacts::{ListSize, Rounding, SeparationRange};
 use crate::score::frequency::BLANK_CHAIN;
@@ -100,15 +99,6 @@ pub fn check_numbering(
         )));
     }
     Ok(None)
-}
-
-/// Read `structure` and select the chain.
-pub fn read_chain(structure: &Path, chain: Option<&str>) -> Result<Chain> {
-    let parsed = read_structure(structure)?;
-    Ok(parsed
-        .chain(chain)
-        .map_err(|err| err.in_file(structure))?
-        .clone())
 }
 
 /// The chain with its residues numbered by their position in `sequence` (see
@@ -230,8 +220,10 @@ pub struct EnsembleTruth {
 }
 
 impl EnsembleTruth {
-    /// Read the frequency table at `path`; `threshold` in `(0, 1]`.
-    pub fn read(path: &Path, threshold: f64) -> Result<Self> {
+    /// The rows of the frequency table at `path` (read by
+    /// [`read_frequency_table`](crate::io::frequencies::read_frequency_table); `path` is named in
+    /// messages); `threshold` in `(0, 1]`.
+    pub fn new(path: &Path, rows: Vec<FrequencyRow>, threshold: f64) -> Result<Self> {
         if !(threshold > 0.0 && threshold <= 1.0) {
             return Err(Error::Argument(format!(
                 "--truth-frequency must be a fraction of frames above 0 and at most 1, got \
@@ -240,7 +232,7 @@ impl EnsembleTruth {
         }
         Ok(EnsembleTruth {
             path: path.to_path_buf(),
-            rows: read_frequency_table(path)?,
+            rows,
             threshold,
         })
     }
@@ -360,7 +352,8 @@ impl EnsembleTruth {
 ///
 /// ```
 /// use contactmap::score::contacts::ContactDefinition;
-/// use contactmap::score::target::{load_prediction, place_prediction, read_chain, RegisterChoice};
+/// use contactmap::io::{predictions::load_prediction, structure::read_chain};
+/// use contactmap::score::target::{place_prediction, RegisterChoice};
 /// use std::path::Path;
 /// let (structure, rr) = (Path::new("data/protein/1aapA/1aapA.pdb"), Path::new("data/protein/1aapA/1aapA.rr"));
 /// let chain = read_chain(structure, None)?;
@@ -391,25 +384,6 @@ pub fn place_prediction(
     .map_err(|err| err.in_file(path))?;
     placed.warning = warning;
     Ok(placed)
-}
-
-/// Read the prediction at `path` (`format`, or detected from the content); with `fasta`, attach
-/// that sequence and check the residue numbers against it. The sequence is made upper case.
-pub fn load_prediction(
-    path: &Path,
-    format: Option<PredictionFormat>,
-    fasta: Option<&str>,
-) -> Result<Prediction> {
-    let mut prediction = read_prediction(path, format)?;
-    if let Some(sequence) = fasta {
-        prediction = prediction
-            .with_sequence(sequence)
-            .map_err(|err| err.in_file(path))?;
-    }
-    if let Some(sequence) = &mut prediction.sequence {
-        sequence.make_ascii_uppercase();
-    }
-    Ok(prediction)
 }
 
 /// The scores of one prediction.
@@ -554,6 +528,7 @@ pub fn curves_tsv(reports: &[PredictionScores]) -> String {
 /// ```
 /// use contactmap::score::contacts::{ContactDefinition, Rounding};
 /// use contactmap::score::lists::{parse_length, parse_list_size, parse_range};
+/// use contactmap::io::{predictions::load_prediction, structure::read_chain};
 /// use contactmap::score::target::*;
 /// use std::path::Path;
 /// let (structure, rr) = (Path::new("data/protein/1aapA/1aapA.pdb"), Path::new("data/protein/1aapA/1aapA.rr"));
@@ -700,7 +675,8 @@ fn sequence_line(chain: &Chain) -> Option<(String, i32)> {
 ///
 /// ```
 /// use contactmap::score::contacts::ContactDefinition;
-/// use contactmap::score::target::{measure, read_chain, true_contacts_rr};
+/// use contactmap::io::structure::read_chain;
+/// use contactmap::score::target::{measure, true_contacts_rr};
 /// use std::path::Path;
 /// let path = Path::new("data/protein/1aapA/1aapA.pdb");
 /// let chain = read_chain(path, None)?;
@@ -748,7 +724,8 @@ pub fn true_contacts_rr(
 ///
 /// ```
 /// use contactmap::score::contacts::ContactDefinition;
-/// use contactmap::score::target::{distance_matrix_tsv, measure, read_chain};
+/// use contactmap::io::structure::read_chain;
+/// use contactmap::score::target::{distance_matrix_tsv, measure};
 /// use std::path::Path;
 /// let path = Path::new("data/protein/toxd/toxd.pdb");
 /// let chain = read_chain(path, None)?;

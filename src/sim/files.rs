@@ -11,7 +11,7 @@ use super::polymer::chain_ranges;
 use super::relaxation::Relaxation;
 use crate::error::{Error, Result};
 use crate::genome::{BinTable, Chrom};
-use crate::io::bed::{bins_bed, read_bed, write_bed_line};
+use crate::io::bed::{BedRecord, bins_bed, write_bed_line};
 use crate::io::tables::write_real;
 use crate::matrix::{ContactMatrix, CountType, MatrixBuilder};
 
@@ -76,11 +76,13 @@ fn orientation(strand: Option<char>) -> Orientation {
     }
 }
 
-/// Boundary elements from the BED file at `path` (CTCF sites: `chrK start end [name score
-/// strand]`, `+` stops left-moving legs, `-` right-moving ones, no strand both), on the chains of
-/// lengths `chains` (chromosomes `chr1..chrN`) whose beads are `monomer_bp` long.
+/// Boundary elements from the `records` of the BED file at `path` (named in messages; CTCF sites:
+/// `chrK start end [name score strand]`, `+` stops left-moving legs, `-` right-moving ones, no
+/// strand both), on the chains of lengths `chains` (chromosomes `chr1..chrN`) whose beads are
+/// `monomer_bp` long.
 pub fn boundary_elements_from_bed(
     path: &Path,
+    records: &[BedRecord],
     chains: &[usize],
     monomer_bp: u64,
     capture: f64,
@@ -88,7 +90,7 @@ pub fn boundary_elements_from_bed(
 ) -> Result<Vec<BoundaryElement>> {
     let mut elements = Vec::new();
     let starts = chain_ranges(chains);
-    for record in read_bed(path)? {
+    for record in records {
         let chain = record
             .chrom
             .strip_prefix("chr")

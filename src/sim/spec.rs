@@ -3,9 +3,10 @@
 //! [`EnsembleParams`] by [`SimulationSpec::params`] (confinement radius from the density, the
 //! default time step of soft and hard potentials, equilibration in Rouse times ...).
 
-use std::path::Path;
+use std::path::PathBuf;
 
 use crate::error::{Error, Result};
+use crate::io::bed::BedRecord;
 use crate::sim::ensemble::{EnsembleParams, ExtrusionCoupling};
 use crate::sim::extrusion::ExtrusionParams;
 use crate::sim::files::{
@@ -16,6 +17,41 @@ use crate::sim::polymer::{
     sphere_radius,
 };
 use crate::sim::relaxation::{Relaxation, parse_steps};
+
+/// Where the boundary elements of loop extrusion are (`--ctcf`).
+#[derive(Clone, Debug, PartialEq)]
+pub enum BoundarySites {
+    /// Bead indices, each with an optional orientation (`500+,1000-,1500`).
+    Beads(String),
+    /// The sites of a BED file (its path named in messages).
+    Bed {
+        /// The file.
+        path: PathBuf,
+        /// Its records.
+        records: Vec<BedRecord>,
+    },
+}
+
+impl BoundarySites {
+    /// The sites `value` names: the records of a BED file of that name when there is one
+    /// (`bed`, as [`read_bed_if_file`](crate::io::bed::read_bed_if_file) reads it), else a list of
+    /// beads.
+    ///
+    /// ```
+    /// use contactmap::sim::spec::BoundarySites;
+    /// let sites = BoundarySites::new("500+,1000-", None);
+    /// assert_eq!(sites, BoundarySites::Beads("500+,1000-".into()));
+    /// ```
+    pub fn new(value: &str, bed: Option<Vec<BedRecord>>) -> Self {
+        match bed {
+            Some(records) => BoundarySites::Bed {
+                path: PathBuf::from(value),
+                records,
+            },
+            None => BoundarySites::Beads(value.to_string()),
+        }
+    }
+}
 
 /// Bond models.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -103,8 +139,8 @@ pub struct SimulationSpec {
     pub seed: u64,
     /// Loop extrusion.
     pub extrusion: bool,
-    /// Boundary elements: a BED file or positions (`500+,1000-`).
-    pub ctcf: Option<String>,
+    /// Boundary elements: a BED file's sites or bead positions (`500+,1000-`).
+    pub ctcf: Option<BoundarySites>,
     /// LEF processivity (beads): 100.
     pub processivity: f64,
     /// Beads per LEF: 200.
@@ -283,14 +319,17 @@ impl SimulationSpec {
         let extrusion = if self.extrusion {
             let chains = chain_ranges(&self.chains);
             let elements = match &self.ctcf {
-                Some(text) if Path::new(text).exists() => boundary_elements_from_bed(
-                    Path::new(text),
+                Some(BoundarySites::Bed { path, records }) => boundary_elements_from_bed(
+                    path,
+                    records,
                     &self.chains,
                     self.monomer_bp,
                     self.capture,
                     self.release,
                 )?,
-                Some(text) => boundary_elements_from_list(text, self.capture, self.release)?,
+                Some(BoundarySites::Beads(text)) => {
+                    boundary_elements_from_list(text, self.capture, self.release)?
+                }
                 None => Vec::new(),
             };
             Some(ExtrusionCoupling {

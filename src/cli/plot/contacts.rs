@@ -10,10 +10,10 @@ use super::figure::{FigureArgs, write_figure};
 use crate::cli::output::refuse_overwrites;
 use crate::cli::protein::{DefinitionArgs, RoundingArg, TargetArgs};
 use contactmap::error::{Error, Result};
+use contactmap::io::predictions::load_prediction;
 use contactmap::plot::protein::{ContactFigure, ContactLayout, PredictionLayer, draw_contacts};
 use contactmap::score::contacts::{ScoreParams, SeparationRange};
 use contactmap::score::lists::{parse_length, parse_list_size};
-use contactmap::score::target::load_prediction;
 
 /// Arguments of `contactmap plot contacts`.
 #[derive(Debug, Args)]

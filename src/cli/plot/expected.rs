@@ -13,6 +13,7 @@ use contactmap::error::{Error, Result};
 use contactmap::expected::powerlaw::{FitRange, PowerLaw, power_law, power_law_of_table};
 use contactmap::expected::{CisExpected, CisParams};
 use contactmap::genome::format_bp;
+use contactmap::io::tables::Table;
 use contactmap::io::{LoadedPixels, StreamedPixels};
 use contactmap::plot::curves::{PsFigure, PsSample, draw_curves, ps_figure};
 
@@ -106,8 +107,8 @@ fn default_label(uri: &str) -> String {
 }
 
 fn load(uri: &str, args: &ExpectedPlotArgs, fit_range: Option<FitRange>) -> Result<PowerLaw> {
-    if CisExpected::is_table(uri)? {
-        let table = CisExpected::read_tsv(uri)?;
+    if Table::starts_with_column(uri, "region1")? {
+        let table = CisExpected::from_table(&Table::read(uri)?)?;
         let median_bp = table.median_region_length_bp();
         return power_law_of_table(table, args.ignore_diags, median_bp, fit_range);
     }

@@ -15,6 +15,7 @@ use contactmap::compare::coverage::total;
 use contactmap::error::{Error, Result};
 use contactmap::genome::{BinTable, Region};
 use contactmap::io::bed::{BedRecord, read_bed, read_bedpe};
+use contactmap::io::tables::read_track;
 use contactmap::io::{LoadedPixels, MatrixReader, StreamedPixels};
 use contactmap::normalize::{Method, Normalizer};
 use contactmap::plot::heatmap::{AxisCells, CellGrid, GridComparison, colour_limits};
@@ -274,7 +275,8 @@ pub fn run(args: &MapArgs) -> Result<()> {
         .iter()
         .map(|spec| {
             let (path, column) = crate::cli::input::file_column(spec, "--track", None)?;
-            Track::read(Path::new(path), column, &bins, &cols, &col_span)
+            let rows = read_track(Path::new(path), column)?;
+            Track::from_rows(Path::new(path), column, rows, &bins, &cols, &col_span)
         })
         .collect::<Result<Vec<_>>>()?;
 
@@ -394,8 +396,8 @@ fn oe_normalizer(
 ) -> Result<Normalizer> {
     let bins = reader.bins();
     let curves = match &args.expected {
-        Some(path) => contactmap::expected::table::read_curves(
-            path,
+        Some(path) => contactmap::expected::table::curves(
+            &contactmap::io::tables::Table::read(path)?,
             bins,
             expected_column(args.expected_column.as_deref(), args.raw),
         )?,

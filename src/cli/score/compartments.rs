@@ -8,6 +8,8 @@ use clap::Args;
 use crate::cli::input::file_column;
 use crate::cli::output::{Output, column_file, refuse_overwrites};
 use contactmap::error::Result;
+use contactmap::io::bed::read_bed;
+use contactmap::io::tables::read_track;
 use contactmap::score::compartments::score_track_table;
 
 /// Arguments of `contactmap score compartments`.
@@ -52,7 +54,9 @@ pub fn run(args: &CompartmentsScoreArgs) -> Result<()> {
         &[args.out.as_deref()],
     )?;
     let (path, column) = file_column(&args.eigs, "EIGS", Some("E1"))?;
-    let text = score_track_table(&args.truth, Path::new(path), column)?;
+    let truth = read_bed(&args.truth)?;
+    let rows = read_track(Path::new(path), column)?;
+    let text = score_track_table(&args.truth, &truth, Path::new(path), &rows)?;
     let mut out = Output::open(args.out.as_deref())?;
     out.write_all(text.as_bytes())?;
     out.finish()

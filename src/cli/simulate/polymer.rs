@@ -10,11 +10,14 @@ use crate::cli::output::{Output, check_cool_output, refuse_overwrites, write_tex
 use crate::cli::warnings::Warnings;
 use contactmap::error::{Error, Result};
 use contactmap::io::InMemory;
+use contactmap::io::bed::read_bed_if_file;
 use contactmap::io::cool::{CoolWriteOptions, write_cool};
 use contactmap::sim::ensemble::EnsembleParams;
 use contactmap::sim::files::parse_type_pattern;
 use contactmap::sim::gpu::{Backend, Device};
-use contactmap::sim::spec::{BondKind, ConfinementKind, RepulsionKind, SimulationSpec};
+use contactmap::sim::spec::{
+    BondKind, BoundarySites, ConfinementKind, RepulsionKind, SimulationSpec,
+};
 
 /// Bond models, for `--bonds`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -281,8 +284,12 @@ pub struct PolymerArgs {
 impl PolymerArgs {
     /// The library's parameters, checked before any work.
     /// The library's specification of the run (`contactmap::sim::spec`).
-    pub fn spec(&self) -> SimulationSpec {
-        SimulationSpec {
+    pub fn spec(&self) -> Result<SimulationSpec> {
+        let ctcf = match &self.ctcf {
+            Some(value) => Some(BoundarySites::new(value, read_bed_if_file(value)?)),
+            None => None,
+        };
+        Ok(SimulationSpec {
             chains: self.chains.clone(),
             monomer_bp: self.monomer_bp,
             monomers_per_bin: self.monomers_per_bin,
@@ -319,19 +326,19 @@ impl PolymerArgs {
             contact_radius: self.contact_radius,
             seed: self.seed,
             extrusion: self.extrusion,
-            ctcf: self.ctcf.clone(),
+            ctcf,
             processivity: self.processivity,
             separation: self.separation,
             capture: self.capture,
             release: self.release,
             steps_per_move: self.steps_per_move,
             keep_conformations: self.conformations.is_some(),
-        }
+        })
     }
 
     /// The simulator's parameters ([`SimulationSpec::params`]).
     pub fn params(&self) -> Result<EnsembleParams> {
-        self.spec().params()
+        self.spec()?.params()
     }
 }
 
