@@ -33,6 +33,7 @@ pub mod birch;
 mod calls;
 pub mod fdr;
 pub mod kernels;
+pub mod lists;
 pub mod merge;
 pub mod scan;
 pub mod tables;

@@ -716,5 +716,8 @@ fn no_algorithm_opens_a_file() {
         ["Table::read"]
     );
     assert!(calls("fn describe(r: u8) {} fn f() { describe(1); x.read_bed(2); }").is_empty());
-    assert_eq!(calls("fn f() { std::fs::File::open(p); }"), ["std::fs", "File::"]);
+    assert_eq!(
+        calls("fn f() { std::fs::File::open(p); }"),
+        ["std::fs", "File::"]
+    );
 }

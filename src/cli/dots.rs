@@ -14,10 +14,8 @@ use contactmap::io::bed::read_bedpe_table;
 use contactmap::io::output::write_whole;
 use contactmap::io::tables::Table;
 use contactmap::loops::kernels::recommended_w_p;
-use contactmap::loops::merge::{
-    MERGE_RESOLUTIONS, MergeParams, ResolutionCall, check_resolutions, merge_resolutions,
-    sort_merged,
-};
+use contactmap::loops::lists::{ResolutionList, merge_lists};
+use contactmap::loops::merge::{MergeParams, check_resolutions};
 use contactmap::loops::tables::{dots_tsv, enriched_tsv};
 use contactmap::loops::{DotCalls, DotsParams, call_dots};
 
@@ -189,10 +187,10 @@ struct Called {
     calls: DotCalls,
 }
 
-/// Call the dots of `uri` with the options of `args`.
-fn call(args: &DotsArgs, uri: &str) -> Result<Called> {
+/// Call the dots of `uri` (opened with `input`) with the options of `args`.
+fn call(args: &DotsArgs, uri: &str, input: &InputArgs) -> Result<Called> {
     let (reader, weights, view) =
-        open_balanced(uri, &args.input, &args.weight_name, args.view.as_deref())?;
+        open_balanced(uri, input, &args.weight_name, args.view.as_deref())?;
     let bins = reader.bins();
     let bin_size = bins.bin_size_bp().ok_or_else(|| {
         Error::format(
@@ -260,7 +258,7 @@ pub fn run(args: &DotsArgs) -> Result<()> {
     if let Some(resolutions) = &args.resolutions {
         return run_resolutions(args, resolutions);
     }
-    let called = call(args, &args.uri)?;
+    let called = call(args, &args.uri, &args.input)?;
     let bins = called.reader.bins();
     let table = match dots_tsv(&called.calls, bins, &called.view) {
         Some(dots) => {
@@ -318,83 +316,29 @@ fn run_resolutions(args: &DotsArgs, resolutions: &[String]) -> Result<()> {
         .map(|text| bp_option("--resolutions", text))
         .collect::<Result<Vec<u64>>>()?;
     check_resolutions(&resolutions)?;
-    let mut tables = Vec::new();
+    let mut lists = Vec::new();
     let mut notes = Warnings::new();
     for resolution in resolutions {
-        let uri = format!("{}::/resolutions/{resolution}", args.uri);
-        let called = call(args, &uri)?;
+        let input = InputArgs {
+            resolution: Some(resolution),
+            ..args.input.clone()
+        };
+        let called = call(args, &args.uri, &input)?;
         report(&called, &mut notes, &format!(" at {resolution} bp"));
         let bins = called.reader.bins();
-        let text = dots_tsv(&called.calls, bins, &called.view).unwrap_or_default();
-        let mut lines = text.lines();
-        let header = lines.next().unwrap_or_default().to_string();
-        let dots = called.calls.dots.as_deref().unwrap_or_default();
-        let calls = ResolutionCall::of_dots(dots, bins);
-        tables.push(ResolutionTable {
-            source: uri,
+        lists.extend(ResolutionList::of_dots(
+            called.reader.source(),
             resolution,
-            header,
-            rows: lines.map(str::to_string).collect(),
-            calls,
-        });
-    }
-    let (table, summary) = merged_table(&tables, &MergeParams::default())?;
-    write_whole(args.out.as_deref(), table.as_bytes())?;
-    notes.note(summary);
-    notes.print();
-    Ok(())
-}
-
-/// One resolution's list of calls: its rows as text and what the merge rule reads of them.
-struct ResolutionTable {
-    source: String,
-    resolution: u64,
-    header: String,
-    rows: Vec<String>,
-    calls: Vec<ResolutionCall>,
-}
-
-/// The merged table (the kept rows with a last column `resolution`, sorted by chromosome in
-/// order of appearance, start1, start2, resolution) and a one-line summary.
-fn merged_table(tables: &[ResolutionTable], params: &MergeParams) -> Result<(String, String)> {
-    // Tables without rows may carry another column order (cooltools' empty result): only the
-    // headers of tables with rows must agree.
-    let with_rows: Vec<&ResolutionTable> = tables.iter().filter(|t| !t.rows.is_empty()).collect();
-    let header = with_rows
-        .first()
-        .copied()
-        .or(tables.first())
-        .map_or("", |t| &t.header);
-    if let Some(other) = with_rows.iter().find(|t| t.header != header) {
-        return Err(Error::Data(format!(
-            "{} and {} have different columns: merge lists written the same way (cooltools' \
-             dots tables, all with or all without --no-cluster)",
-            with_rows[0].source, other.source
-        )));
-    }
-    let lists: Vec<(u64, &[ResolutionCall])> = tables
-        .iter()
-        .map(|t| (t.resolution, &t.calls[..]))
-        .collect();
-    let mut kept = merge_resolutions(&lists, params)?;
-    sort_merged(&lists, &mut kept);
-    let mut text = format!("{header}\tresolution\n");
-    for &(l, k) in &kept {
-        text.push_str(&format!(
-            "{}\t{}\n",
-            tables[l].rows[k], tables[l].resolution
+            &called.calls,
+            bins,
+            &called.view,
         ));
     }
-    let counts: Vec<String> = tables
-        .iter()
-        .enumerate()
-        .map(|(l, t)| {
-            let n = kept.iter().filter(|&&(kl, _)| kl == l).count();
-            format!("{n} of {} at {} bp", t.calls.len(), t.resolution)
-        })
-        .collect();
-    let summary = format!("merged {} loops: {}", kept.len(), counts.join(", "));
-    Ok((text, summary))
+    let merged = merge_lists(&lists, &MergeParams::default())?;
+    write_whole(args.out.as_deref(), merged.to_tsv().as_bytes())?;
+    notes.note(merged.summary());
+    notes.print();
+    Ok(())
 }
 
 /// Arguments of `contactmap dots-merge`.
@@ -450,71 +394,11 @@ fn split_list(text: &str) -> Result<(&str, Option<u64>)> {
     }
 }
 
-/// Read one dots table for the merge.
-fn read_list(text: &str) -> Result<ResolutionTable> {
+/// Read one dots table (`FILE` or `FILE@RESOLUTION`) for the merge.
+fn read_list(text: &str) -> Result<ResolutionList> {
     let (path_text, given) = split_list(text)?;
     let path = std::path::Path::new(path_text);
-    let table = read_bedpe_table(path)?;
-    let column = table
-        .rest_column("count")
-        .or_else(|| table.rest_column("observed"))
-        .ok_or_else(|| {
-            Error::format(
-                path,
-                "no header line with a `count` (cooltools) or `observed` (Juicer) column: \
-                 dots-merge reads dot tables as `contactmap dots` writes them",
-            )
-        })?;
-    let mut widths = std::collections::BTreeSet::new();
-    let mut calls = Vec::new();
-    let mut rows = Vec::new();
-    for record in &table.records {
-        let count_text = record.rest.get(column).map_or("", String::as_str);
-        let count: f64 = count_text.parse().map_err(|_| {
-            Error::parse(
-                path,
-                record.line,
-                format!("count '{count_text}' is not a number"),
-            )
-        })?;
-        widths.insert(record.first.width());
-        widths.insert(record.second.width());
-        calls.push(ResolutionCall {
-            chrom1: record.first.chrom.clone(),
-            start1: record.first.start,
-            chrom2: record.second.chrom.clone(),
-            start2: record.second.start,
-            count,
-        });
-        rows.push(record.tsv_line());
-    }
-    let resolution = match (given, widths.len()) {
-        (Some(r), _) => r,
-        (None, 1) => *widths.first().expect("one width"),
-        (None, 0) => {
-            return Err(Error::Argument(format!(
-                "{path_text}: no calls to take the resolution from: give it as {path_text}@RESOLUTION"
-            )));
-        }
-        (None, _) => {
-            return Err(Error::Argument(format!(
-                "{path_text}: calls of several widths ({}): give the resolution as \
-                 {path_text}@RESOLUTION",
-                widths
-                    .iter()
-                    .map(u64::to_string)
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            )));
-        }
-    };
-    Ok(ResolutionTable {
-        source: path_text.to_string(),
-        resolution,
-        header: table.header.unwrap_or_default().join("\t"),
-        rows,
-        calls,
-    })
+    ResolutionList::of_table(path, &read_bedpe_table(path)?, given)
 }
 
 /// Run `contactmap dots-merge`.
@@ -525,37 +409,19 @@ pub fn run_merge(args: &DotsMergeArgs) -> Result<()> {
     }
     let inputs: Vec<&std::path::Path> = paths.iter().map(std::path::Path::new).collect();
     refuse_overwrites(&inputs, &[args.out.as_deref()])?;
-    let tables = args
+    let lists = args
         .lists
         .iter()
         .map(|text| read_list(text))
         .collect::<Result<Vec<_>>>()?;
-    // the merge's own checks, with the files named
-    for (k, table) in tables.iter().enumerate() {
-        if !MERGE_RESOLUTIONS.contains(&table.resolution) {
-            return Err(Error::Argument(format!(
-                "{}: calls at {} bp: the HiCCUPS merge is defined for 5, 10 and 25 kb calls",
-                table.source, table.resolution
-            )));
-        }
-        if let Some(first) = tables[..k]
-            .iter()
-            .find(|t| t.resolution == table.resolution)
-        {
-            return Err(Error::Argument(format!(
-                "{} and {} are both at {} bp: give one list per resolution",
-                first.source, table.source, table.resolution
-            )));
-        }
-    }
     let params = MergeParams {
         near_diagonal_bp: bp_option("--near-diagonal", &args.near_diagonal)?,
         strong_count: args.strong,
     };
-    let (table, summary) = merged_table(&tables, &params)?;
-    write_whole(args.out.as_deref(), table.as_bytes())?;
+    let merged = merge_lists(&lists, &params)?;
+    write_whole(args.out.as_deref(), merged.to_tsv().as_bytes())?;
     let mut notes = Warnings::new();
-    notes.note(summary);
+    notes.note(merged.summary());
     notes.print();
     Ok(())
 }

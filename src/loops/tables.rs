@@ -50,23 +50,40 @@ pub fn enriched_tsv(calls: &DotCalls, bins: &BinTable) -> String {
 /// Without any enriched pixel cooltools returns an empty table whose last seven columns come in
 /// another order (`region region1 region2 c_label c_size cstart1 cstart2`): so does this.
 pub fn dots_tsv(calls: &DotCalls, bins: &BinTable, view: &View) -> Option<String> {
-    let dots = calls.dots.as_ref()?;
-    let mut text = header(calls);
-    if calls.enriched.is_empty() {
-        text.push_str("\tregion\tregion1\tregion2\tc_label\tc_size\tcstart1\tcstart2\n");
-        return Some(text);
-    }
-    text.push_str("\tregion\tcstart1\tcstart2\tc_label\tc_size\tregion1\tregion2\n");
-    for dot in dots {
-        pixel_columns(&mut text, bins, &dot.pixel);
-        let region = &view.regions()[dot.pixel.region].name;
-        text.push_str(&format!(
-            "\t{region}\t{}\t{}\t{}\t{}\t{region}\t{region}\n",
-            python_float(dot.centroid[0]),
-            python_float(dot.centroid[1]),
-            dot.label,
-            dot.size
-        ));
+    let (header, rows) = dots_rows(calls, bins, view)?;
+    let mut text = header;
+    text.push('\n');
+    for row in rows {
+        text.push_str(&row);
+        text.push('\n');
     }
     Some(text)
+}
+
+/// [`dots_tsv`] as its header line and one line per dot (without line ends), in the dots' order.
+pub fn dots_rows(calls: &DotCalls, bins: &BinTable, view: &View) -> Option<(String, Vec<String>)> {
+    let dots = calls.dots.as_ref()?;
+    let mut head = header(calls);
+    if calls.enriched.is_empty() {
+        head.push_str("\tregion\tregion1\tregion2\tc_label\tc_size\tcstart1\tcstart2");
+        return Some((head, Vec::new()));
+    }
+    head.push_str("\tregion\tcstart1\tcstart2\tc_label\tc_size\tregion1\tregion2");
+    let rows = dots
+        .iter()
+        .map(|dot| {
+            let mut text = String::new();
+            pixel_columns(&mut text, bins, &dot.pixel);
+            let region = &view.regions()[dot.pixel.region].name;
+            text.push_str(&format!(
+                "\t{region}\t{}\t{}\t{}\t{}\t{region}\t{region}",
+                python_float(dot.centroid[0]),
+                python_float(dot.centroid[1]),
+                dot.label,
+                dot.size
+            ));
+            text
+        })
+        .collect();
+    Some((head, rows))
 }
