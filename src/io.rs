@@ -16,28 +16,14 @@
 //! (CASP RR, CCMpred / PSICOV matrices, `i j score` tables, trRosetta `.npz`, `.npy` distance
 //! maps).
 //!
+//! The modules stand in folders by domain, re-exported here by name (`io::cool`, `io::structure`
+//! ...): [`matrices`] (the contact-matrix formats, the reader trait, opening by URI, pixel
+//! queries), [`protein`] (structures, predictions, sequences, contact frequencies),
+//! [`trajectory`] (polymer and MD trajectories, topologies), [`bed`] (genomic intervals:
+//! BED, BEDPE, views) and [`plumbing`] (atomic outputs and locks, compressed input, tables,
+//! the libhdf5 guard) that the others share.
+//!
 //! Format modules only read and write: they never compute biology.
-
-pub mod atomic;
-pub mod bed;
-pub mod cool;
-pub mod fasta;
-pub mod frequencies;
-pub mod hdf5_guard;
-pub mod hic;
-pub mod hicexplorer;
-pub mod info;
-pub mod merged;
-pub mod npz;
-pub mod output;
-pub mod predictions;
-pub mod structure;
-pub mod tables;
-pub mod text;
-pub mod topology;
-pub mod trajectory;
-
-pub use atomic::{Temporary, WriteLock, is_special_file, same_file};
 
 /// Inside `impl MatrixReader for W`, where `self.FIELD` is the wrapped reader: every method but
 /// the pixel reads forwarded to it (totals, the stored pixels' sums, included). An adapter that
@@ -95,26 +81,23 @@ macro_rules! forward_reader_metadata {
     };
 }
 
-mod adapters;
-mod input;
-mod kind;
-mod open;
-mod pixels;
-mod query;
-mod reader;
+pub mod bed;
+pub mod matrices;
+pub mod plumbing;
+pub mod protein;
 #[cfg(test)]
 mod tests;
-mod uri;
+pub mod trajectory;
 
-pub use adapters::{CheckedCounts, Inspect};
-pub use input::open_text;
-pub use kind::{FileKind, detect_kind};
-pub use open::{list_resolutions, open_matrix, uri_at_resolution};
-pub use pixels::{
-    LoadedPixels, StreamedPixels, default_memory_budget, load_matrix, load_pixels,
-    load_pixels_for_balancing, parse_memory_size,
+pub use matrices::{
+    CheckedCounts, FileKind, InMemory, Inspect, LoadedPixels, MatrixInfo, MatrixReader,
+    OpenOptions, QueryPixels, StreamedPixels, cool, default_memory_budget, detect_kind, hic,
+    hicexplorer, info, list_resolutions, load_matrix, load_pixels, load_pixels_for_balancing,
+    merged, open_matrix, parse_memory_size, parse_resolution_group, query_dense, query_dense_into,
+    query_pixels, read_ahead, read_ahead_by, split_uri, text, uri_at_resolution,
 };
-pub use query::{QueryPixels, query_dense, query_dense_into, query_pixels};
-pub use reader::{InMemory, MatrixInfo, MatrixReader, read_ahead, read_ahead_by};
-pub use text::options::OpenOptions;
-pub use uri::{parse_resolution_group, split_uri};
+pub use plumbing::{
+    Temporary, WriteLock, atomic, hdf5_guard, is_special_file, open_text, output, same_file, tables,
+};
+pub use protein::{fasta, frequencies, npz, predictions, structure};
+pub use trajectory::topology;

@@ -159,7 +159,7 @@ fn fuzz_dcd() {
 
 #[test]
 /// F-MCOOL-1, fixed: a corrupt global heap made libhdf5 loop forever; the watchdog of
-/// src/io/hdf5_guard.rs now ends each command with one line and exit 2. A 0.5 s deadline (the
+/// src/io/plumbing/hdf5_guard.rs now ends each command with one line and exit 2. A 0.5 s deadline (the
 /// campaigns' 2 s: each of the ~20 runs that loop spent it, 44 s of CI; these small files' reads
 /// that do not loop take milliseconds).
 fn known_mcool_hang() {

@@ -72,7 +72,7 @@ pub fn for_each_line(
     path: &Path,
     mut record: impl FnMut(u64, &str, &[&str]) -> Result<()>,
 ) -> Result<()> {
-    let reader = crate::io::input::open_text(path)?;
+    let reader = crate::io::plumbing::input::open_text(path)?;
     for (index, line) in reader.lines().enumerate() {
         let line_no = index as u64 + 1;
         let line = line.map_err(|e| Error::io(path, e))?;

@@ -24,6 +24,7 @@ pub mod dcd;
 pub mod models;
 pub mod polychrom;
 pub mod table;
+pub mod topology;
 pub mod xtc;
 pub mod xyz;
 

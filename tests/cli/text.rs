@@ -48,7 +48,7 @@ fn hg19_sizes(dir: &std::path::Path) -> std::path::PathBuf {
 #[test]
 fn pairs_binned_like_cooler_cload() {
     // cooler cload pairs -c1 1 -p1 2 -c2 4 -p2 5 hg19.sizes:2000000 pairs.txt.gz out.cool gives
-    // exactly the 2 Mb cooler of the same library (see src/io/text.rs tests).
+    // exactly the 2 Mb cooler of the same library (see src/io/matrices/text.rs tests).
     let dir = tempfile::tempdir().unwrap();
     let sizes = hg19_sizes(dir.path());
     let out = dir.path().join("pairs.cool");

@@ -3,7 +3,7 @@
 use std::path::Path;
 
 use crate::error::Result;
-use crate::io::kind::{FileKind, detect_kind};
+use crate::io::matrices::kind::{FileKind, detect_kind};
 
 /// The trajectory formats.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -1,6 +1,6 @@
 //! Multi-model PDB / mmCIF files as trajectories (NMR ensembles, MD frames written as PDB):
 //! each model a frame of all its atoms (waters and ligands too), in file order, with the
-//! reading rules of [`crate::io::structure`] (first alternate location of an atom, Angstrom).
+//! reading rules of [`crate::io::protein::structure`] (first alternate location of an atom, Angstrom).
 //! The file is read whole (such files hold tens of models); every model must have the first
 //! one's atoms.
 
@@ -9,7 +9,7 @@ use std::path::Path;
 
 use super::frame::{Conformation, LengthUnit, checked};
 use crate::error::{Error, Result};
-use crate::io::structure::{for_each_atom_site, structure_text};
+use crate::io::protein::structure::{for_each_atom_site, structure_text};
 
 /// The models of a PDB or mmCIF file.
 pub struct ModelFrames {

@@ -18,8 +18,8 @@ use rayon::prelude::*;
 use super::buffers::positions_buffer;
 use super::frame::{Conformation, LengthUnit, checked};
 use crate::error::{Error, Result};
-use crate::io::cool::chunks::Column;
-use crate::io::hdf5_guard::guarded;
+use crate::io::matrices::cool::chunks::Column;
+use crate::io::plumbing::hdf5_guard::guarded;
 
 /// Blocks per file of polychrom's `HDF5Reporter` (`max_data_length`).
 pub const BLOCKS_PER_FILE: usize = 50;
@@ -120,7 +120,7 @@ impl PolychromBlocks {
     fn open_file(path: &Path, blocks: Option<Vec<u64>>) -> Result<(hdf5::File, Vec<u64>)> {
         let text = path.to_string_lossy().into_owned();
         let file = guarded(&text, "the file", || {
-            crate::io::cool::file_builder().open(path)
+            crate::io::matrices::cool::file_builder().open(path)
         })
         .map_err(|e| Error::hdf5(path, "opening the polychrom blocks file", e))?;
         let blocks = match blocks {
@@ -178,7 +178,7 @@ impl PolychromBlocks {
     /// index), stopping at the first bad block.
     fn open_blocks(path: PathBuf, blocks: Option<Vec<u64>>) -> Result<OpenedFile> {
         let (file, blocks) = Self::open_file(&path, blocks)?;
-        let raw = crate::io::cool::chunks::open_raw(&path)?;
+        let raw = crate::io::matrices::cool::chunks::open_raw(&path)?;
         let mut columns = Vec::with_capacity(blocks.len());
         let mut failure = None;
         for &block in &blocks {
@@ -277,28 +277,32 @@ pub fn write_blocks(folder: &Path, conformations: &[Vec<[f64; 3]>]) -> Result<Ve
         let first = index * BLOCKS_PER_FILE;
         let last = first + chunk.len() - 1;
         let path = folder.join(format!("blocks_{first}-{last}.h5"));
-        crate::io::atomic::with_temporary(&path, crate::io::cool::create_excl, |tmp, file| {
-            for (k, positions) in chunk.iter().enumerate() {
-                let block = first + k;
-                let group = file
-                    .create_group(&block.to_string())
-                    .map_err(|e| Error::hdf5(tmp, "writing a block", e))?;
-                let flat: Vec<f64> = positions.iter().flatten().copied().collect();
-                group
-                    .new_dataset::<f64>()
-                    .shape((positions.len(), 3))
-                    .deflate(9)
-                    .create("pos")
-                    .and_then(|pos| pos.write_raw(&flat))
-                    .map_err(|e| Error::hdf5(tmp, "writing pos", e))?;
-                group
-                    .new_attr::<u64>()
-                    .create("block")
-                    .and_then(|a| a.write_scalar(&(block as u64)))
-                    .map_err(|e| Error::hdf5(tmp, "writing the block attribute", e))?;
-            }
-            Ok(())
-        })?;
+        crate::io::plumbing::atomic::with_temporary(
+            &path,
+            crate::io::matrices::cool::create_excl,
+            |tmp, file| {
+                for (k, positions) in chunk.iter().enumerate() {
+                    let block = first + k;
+                    let group = file
+                        .create_group(&block.to_string())
+                        .map_err(|e| Error::hdf5(tmp, "writing a block", e))?;
+                    let flat: Vec<f64> = positions.iter().flatten().copied().collect();
+                    group
+                        .new_dataset::<f64>()
+                        .shape((positions.len(), 3))
+                        .deflate(9)
+                        .create("pos")
+                        .and_then(|pos| pos.write_raw(&flat))
+                        .map_err(|e| Error::hdf5(tmp, "writing pos", e))?;
+                    group
+                        .new_attr::<u64>()
+                        .create("block")
+                        .and_then(|a| a.write_scalar(&(block as u64)))
+                        .map_err(|e| Error::hdf5(tmp, "writing the block attribute", e))?;
+                }
+                Ok(())
+            },
+        )?;
         written.push(path);
     }
     Ok(written)

@@ -26,7 +26,7 @@ const HEADER: [&str; 7] = ["replica", "sample", "chain", "bead", "x", "y", "z"];
 impl TableConformations {
     /// Open the table at `path` and check its header.
     pub fn open(path: &Path) -> Result<TableConformations> {
-        let mut lines = crate::io::input::open_text(path)?.lines();
+        let mut lines = crate::io::plumbing::input::open_text(path)?.lines();
         let header = match lines.next() {
             Some(line) => line.map_err(|e| Error::io(path, e))?,
             None => return Err(Error::format(path, "an empty file: no conformation")),

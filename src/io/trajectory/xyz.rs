@@ -20,7 +20,7 @@ impl XyzFrames {
     pub fn open(path: &Path) -> Result<XyzFrames> {
         Ok(XyzFrames {
             path: path.to_path_buf(),
-            lines: crate::io::input::open_text(path)?.lines(),
+            lines: crate::io::plumbing::input::open_text(path)?.lines(),
             line_no: 0,
             frame: 0,
         })

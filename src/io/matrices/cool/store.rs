@@ -21,7 +21,7 @@ use super::hdf5_file::file_builder;
 use super::reader::CoolReader;
 use super::weights::DIVISIVE_BY_NAME;
 use crate::error::{Error, Result};
-use crate::io::reader::MatrixReader;
+use crate::io::matrices::reader::MatrixReader;
 use crate::matrix::{Weights, invert_weight};
 
 /// A value of an HDF5 attribute, as h5py writes the Python values cooler stores.
@@ -76,7 +76,7 @@ pub fn check_target(uri: &str, name: &str, overwrite: bool) -> Result<()> {
 }
 
 fn existing_column(uri: &str, name: &str) -> Error {
-    let (path, _) = crate::io::uri::split_uri(uri);
+    let (path, _) = crate::io::matrices::uri::split_uri(uri);
     Error::format(
         path,
         format!(
@@ -149,7 +149,7 @@ fn in_cooler(
     uri: &str,
     write: impl FnOnce(&str, &hdf5::Group, &hdf5::Group) -> Result<()>,
 ) -> Result<()> {
-    let (path, group_path) = crate::io::uri::split_uri(uri);
+    let (path, group_path) = crate::io::matrices::uri::split_uri(uri);
     let err = |what: String| move |e| Error::hdf5(path, what, e);
     let file = file_builder()
         .open_rw(path)
@@ -386,7 +386,7 @@ mod tests {
     use super::*;
     use crate::genome::{BinTable, Chrom};
     use crate::io::InMemory;
-    use crate::io::cool::{CoolWriteOptions, write_cool};
+    use crate::io::matrices::cool::{CoolWriteOptions, write_cool};
     use crate::matrix::{CountType, MatrixBuilder};
 
     fn small_cool(dir: &std::path::Path) -> String {

@@ -284,7 +284,7 @@ pub fn read_prediction(
 }
 
 fn parse_residue(field: &str, path: &Path, line: u64) -> Result<i32> {
-    use crate::io::structure::MAX_RESIDUE_NUMBER;
+    use crate::io::protein::structure::MAX_RESIDUE_NUMBER;
     match field.parse::<i32>() {
         Ok(residue) if residue >= 1 && residue.unsigned_abs() <= MAX_RESIDUE_NUMBER => Ok(residue),
         _ => Err(Error::parse(

@@ -20,7 +20,7 @@ struct Tally {
 /// of `bins` must be in the FASTA; FASTA records that are not chromosomes of the map are
 /// skipped.
 pub fn gc_content(path: &Path, bins: &BinTable) -> Result<Vec<f64>> {
-    let reader = crate::io::input::open_text(path)?;
+    let reader = crate::io::plumbing::input::open_text(path)?;
     let mut tallies = vec![Tally::default(); bins.n_bins()];
     let mut seen = vec![false; bins.chroms().len()];
     // the current record: its bins, the bin being filled, the position

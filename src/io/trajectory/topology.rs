@@ -2,18 +2,18 @@
 //! mmCIF file, in file order (the order of the trajectory's coordinates), grouped into residues
 //! and chains as MDTraj's PDB reader groups them.
 //!
-//! Unlike [`crate::io::structure`], nothing is dropped (waters, ions, ligands, hydrogens stay,
+//! Unlike [`crate::io::protein::structure`], nothing is dropped (waters, ions, ligands, hydrogens stay,
 //! so atom `k` here is atom `k` of each frame) and residue names are kept as written (`HSD`,
 //! `HIE` ...). Rules: a new residue starts when the chain id, residue number, insertion code or
 //! residue name changes; a new chain when the chain id changes or after a `TER` record; later
 //! alternate locations are skipped by the shared atom-record reader
-//! ([`crate::io::structure::for_each_atom_site`]), in the trajectory readers of PDB models too. Elements come
+//! ([`crate::io::protein::structure::for_each_atom_site`]), in the trajectory readers of PDB models too. Elements come
 //! from PDB columns 77-78 (mmCIF `type_symbol`), else from the atom name.
 
 use std::path::Path;
 
 use crate::error::{Error, Result};
-use crate::io::structure::for_each_atom_site;
+use crate::io::protein::structure::for_each_atom_site;
 
 /// One atom of a topology.
 #[derive(Clone, Debug, PartialEq)]
@@ -72,7 +72,7 @@ pub struct Topology {
 /// ```
 pub fn read_topology(path: impl AsRef<Path>) -> Result<Topology> {
     let path = path.as_ref();
-    parse_topology(&crate::io::structure::structure_text(path)?, path)
+    parse_topology(&crate::io::protein::structure::structure_text(path)?, path)
 }
 
 /// Parse the topology in `text` (`path` names it in messages).

@@ -1,6 +1,6 @@
 //! The text layouts ([`TextFormat`]) and their guess from a file name.
 
-/// A text layout (see the [module documentation](crate::io::text) for the columns of each).
+/// A text layout (see the [module documentation](crate::io::matrices::text) for the columns of each).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum TextFormat {
     /// `chrom1 start1 end1 chrom2 start2 end2 count` (`cooler dump --join`).

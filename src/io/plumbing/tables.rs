@@ -44,7 +44,7 @@ impl Table {
             return Ok(false);
         }
         let mut head = Vec::new();
-        crate::io::input::open_text(path)?
+        crate::io::plumbing::input::open_text(path)?
             .take(64 << 10)
             .read_to_end(&mut head)
             .map_err(|e| Error::io(path, e))?;
@@ -59,7 +59,7 @@ impl Table {
     pub fn read(path: &str) -> Result<Table> {
         // The whole text read once; the fields' bounds point into it (no copy per line).
         let mut text = String::new();
-        crate::io::input::open_text(std::path::Path::new(path))?
+        crate::io::plumbing::input::open_text(std::path::Path::new(path))?
             .read_to_string(&mut text)
             .map_err(|e| Error::io(path, e))?;
         let mut header: Option<Vec<String>> = None;
@@ -200,7 +200,7 @@ pub struct TrackRow {
 /// fields has no header (bedGraph; `column` must then be a number).
 pub fn read_track(path: &std::path::Path, column: &str) -> Result<Vec<TrackRow>> {
     let label = path.display().to_string();
-    let reader = crate::io::input::open_text(path)?;
+    let reader = crate::io::plumbing::input::open_text(path)?;
     let mut index: Option<usize> = None;
     let mut rows = Vec::new();
     let numbered = column

@@ -3,7 +3,7 @@
 //!
 //! Files are written under a temporary name and renamed when the command succeeds, so a failed
 //! command never leaves a half-written output behind (the temporary is created exclusively, see
-//! [`crate::io::atomic`]). Special files (`/dev/null`, a named pipe,
+//! [`crate::io::plumbing::atomic`]). Special files (`/dev/null`, a named pipe,
 //! `/dev/stdout`) are written in place: a rename would replace them.
 
 use std::fs::File;
@@ -14,8 +14,8 @@ use flate2::Compression;
 use flate2::write::GzEncoder;
 
 use crate::error::{Error, Result};
-use crate::io::atomic::Temporary;
-use crate::io::tables::write_u64;
+use crate::io::plumbing::atomic::Temporary;
+use crate::io::plumbing::tables::write_u64;
 
 /// An output text stream: stdout, or a (possibly gzip-compressed) file committed on `finish`.
 pub struct Output {
@@ -52,7 +52,7 @@ impl Output {
                 label: "<stdout>".into(),
             });
         };
-        let (file, tmp) = if crate::io::atomic::is_special_file(path) {
+        let (file, tmp) = if crate::io::plumbing::atomic::is_special_file(path) {
             let file = File::options()
                 .write(true)
                 .open(path)
@@ -314,18 +314,20 @@ pub fn is_stdout(path: Option<&Path>) -> bool {
 /// are skipped); `outputs` are the files the command will write (`None` and `-`, standard output,
 /// skipped). An output is an input when both name the same
 /// file: the same path, a symbolic or hard link to it, or another spelling of its path. Each
-/// output's folder must exist ([`crate::io::atomic::check_output_folder`]), so that a long run
+/// output's folder must exist ([`crate::io::plumbing::atomic::check_output_folder`]), so that a long run
 /// does not end on an output it cannot write.
 pub fn refuse_overwrites(inputs: &[&Path], outputs: &[Option<&Path>]) -> Result<()> {
     let outputs: Vec<&Path> = outputs
         .iter()
         .flatten()
         .copied()
-        .filter(|path| !is_stdout(Some(path)) && !crate::io::atomic::is_special_file(path))
+        .filter(|path| {
+            !is_stdout(Some(path)) && !crate::io::plumbing::atomic::is_special_file(path)
+        })
         .collect();
     for output in &outputs {
         for file in inputs {
-            if file.as_os_str() != "-" && crate::io::atomic::same_file(output, file) {
+            if file.as_os_str() != "-" && crate::io::plumbing::atomic::same_file(output, file) {
                 let relation = if file == output {
                     "is"
                 } else {
@@ -355,7 +357,7 @@ pub fn refuse_overwrites(inputs: &[&Path], outputs: &[Option<&Path>]) -> Result<
         }
     }
     for output in &outputs {
-        crate::io::atomic::check_output_folder(output)?;
+        crate::io::plumbing::atomic::check_output_folder(output)?;
     }
     Ok(())
 }
@@ -363,7 +365,7 @@ pub fn refuse_overwrites(inputs: &[&Path], outputs: &[Option<&Path>]) -> Result<
 /// Whether two output paths name one file: the same existing file, or, for files still to be
 /// written, the same name in the same folder.
 fn same_path(a: &Path, b: &Path) -> bool {
-    if crate::io::atomic::same_file(a, b) {
+    if crate::io::plumbing::atomic::same_file(a, b) {
         return true;
     }
     let folder = |p: &Path| {

@@ -10,7 +10,7 @@
 use std::path::Path;
 
 use crate::error::{Error, Result};
-use crate::io::tables::Table;
+use crate::io::plumbing::tables::Table;
 
 /// The header of a contact frequency table.
 pub const FREQUENCY_HEADER: &str =

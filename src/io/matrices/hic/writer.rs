@@ -53,7 +53,7 @@ use rayon::prelude::*;
 use super::expected::JuicerExpected;
 use crate::error::{Error, Result};
 use crate::genome::{BinTable, Chrom};
-use crate::io::reader::MatrixReader;
+use crate::io::matrices::reader::MatrixReader;
 use crate::matrix::PixelBlock;
 
 use block::{Record, block_coordinates, compress_block};
@@ -164,7 +164,7 @@ impl HicWriter {
                 options.block_bin_count
             )));
         }
-        // Exclusively: `path` is a temporary name (crate::io::atomic), never followed as a link.
+        // Exclusively: `path` is a temporary name (crate::io::plumbing::atomic), never followed as a link.
         let file = File::options()
             .write(true)
             .create_new(true)

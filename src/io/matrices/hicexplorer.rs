@@ -50,8 +50,8 @@ use hdf5::types::{TypeDescriptor, VarLenUnicode};
 
 use crate::error::{Error, Result};
 use crate::genome::{Bin, BinTable, Chrom};
-use crate::io::hdf5_guard;
-use crate::io::reader::{MatrixInfo, MatrixReader};
+use crate::io::matrices::reader::{MatrixInfo, MatrixReader};
+use crate::io::plumbing::hdf5_guard;
 use crate::matrix::{CountType, PixelBlock, Weights, invert_weight};
 
 /// Stored entries read from the file at a time (whole rows; a longer row is read whole).
@@ -86,7 +86,7 @@ fn open_file(path: &str) -> Result<hdf5::File> {
         return Err(Error::io(path, e));
     }
     hdf5_guard::guarded(path, "the file's superblock and root group", || {
-        crate::io::cool::file_builder().open(path)
+        crate::io::matrices::cool::file_builder().open(path)
     })
     .map_err(|e| {
         Error::format(

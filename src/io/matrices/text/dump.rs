@@ -8,9 +8,9 @@ use rayon::prelude::*;
 
 use crate::error::Result;
 use crate::genome::BinTable;
-use crate::io::output::{FloatFormat, write_count};
-use crate::io::reader::MatrixReader;
-use crate::io::tables::write_u64;
+use crate::io::matrices::reader::MatrixReader;
+use crate::io::plumbing::output::{FloatFormat, write_count};
+use crate::io::plumbing::tables::write_u64;
 use crate::matrix::{CountType, PixelBlock};
 
 /// How the tables are printed.

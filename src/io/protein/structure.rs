@@ -245,7 +245,7 @@ pub fn read_chain(path: impl AsRef<Path>, chain: Option<&str>) -> Result<Chain> 
 /// replaced, as old PDB files hold a few).
 pub fn structure_text(path: &Path) -> Result<String> {
     let mut bytes = Vec::new();
-    crate::io::input::open_text(path)?
+    crate::io::plumbing::input::open_text(path)?
         .read_to_end(&mut bytes)
         .map_err(|err| Error::io(path, err))?;
     Ok(String::from_utf8_lossy(&bytes).into_owned())

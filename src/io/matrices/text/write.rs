@@ -9,7 +9,7 @@ use flate2::write::GzEncoder;
 use super::format::TextFormat;
 use super::lines::BUFFER_BYTES;
 use crate::error::{Error, Result};
-use crate::io::reader::MatrixReader;
+use crate::io::matrices::reader::MatrixReader;
 use crate::matrix::CountType;
 
 /// The largest number of bins [`write_text`] writes as a dense matrix.
@@ -67,7 +67,7 @@ pub fn write_text(reader: &dyn MatrixReader, path: &str, format: TextFormat) -> 
         write_body(reader, format, &mut out, path)?;
         return out.flush().map_err(|e| Error::io(path, e));
     }
-    let (pending, file) = crate::io::atomic::Temporary::create(Path::new(path))?;
+    let (pending, file) = crate::io::plumbing::atomic::Temporary::create(Path::new(path))?;
     let buffered = BufWriter::with_capacity(BUFFER_BYTES, file);
     let buffered = if path.ends_with(".gz") {
         let mut encoder = GzEncoder::new(buffered, Compression::default());

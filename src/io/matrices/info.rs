@@ -4,13 +4,13 @@
 use serde_json::{Map, Value, json};
 
 use crate::error::Result;
-use crate::io::cool::{self, HdfContent};
-use crate::io::hic::HicReader;
-use crate::io::kind::{FileKind, detect_kind};
-use crate::io::open::open_matrix;
-use crate::io::reader::MatrixReader;
-use crate::io::text::options::OpenOptions;
-use crate::io::uri::split_uri;
+use crate::io::matrices::cool::{self, HdfContent};
+use crate::io::matrices::hic::HicReader;
+use crate::io::matrices::kind::{FileKind, detect_kind};
+use crate::io::matrices::open::open_matrix;
+use crate::io::matrices::reader::MatrixReader;
+use crate::io::matrices::text::options::OpenOptions;
+use crate::io::matrices::uri::split_uri;
 
 /// The report of the file or matrix at `uri`, as `cooler info` prints it (the attributes under
 /// cooler's names, then `nbins`, `nchroms`, `nnz` and `sum` computed from the data); for a

@@ -7,7 +7,7 @@ use rayon::prelude::*;
 
 use crate::error::{Error, Result};
 use crate::genome::BinTable;
-use crate::io::reader::{MatrixInfo, MatrixReader};
+use crate::io::matrices::reader::{MatrixInfo, MatrixReader};
 use crate::matrix::{CountType, PixelBlock, Weights};
 
 /// Pixels gathered from all inputs per band, aimed at (the band grows or shrinks to it).

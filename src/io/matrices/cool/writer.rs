@@ -7,8 +7,8 @@ use hdf5::types::{FixedAscii, VarLenUnicode};
 use super::chunk_writer::{ChunkValue, ChunkedColumn};
 use crate::error::{Error, Result};
 use crate::genome::BinTable;
-use crate::io::atomic::with_temporary;
-use crate::io::reader::MatrixReader;
+use crate::io::matrices::reader::MatrixReader;
+use crate::io::plumbing::atomic::with_temporary;
 use crate::matrix::{CountType, PixelBlock, Weights, invert_weight};
 
 /// Elements per HDF5 chunk of the pixel columns (128 KiB of `int64` before compression).

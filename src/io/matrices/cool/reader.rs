@@ -13,8 +13,8 @@ use super::hdf5_file::{file_builder, file_len};
 use super::weights::DIVISIVE_BY_NAME;
 use crate::error::{Error, Result};
 use crate::genome::{Bin, BinTable, Chrom};
-use crate::io::hdf5_guard;
-use crate::io::reader::{MatrixInfo, MatrixReader, read_ahead};
+use crate::io::matrices::reader::{MatrixInfo, MatrixReader, read_ahead};
+use crate::io::plumbing::hdf5_guard;
 use crate::matrix::{CountType, PixelBlock, Weights};
 
 /// Maximum number of pixels in one streamed block.
@@ -95,7 +95,7 @@ fn open_file(path: &str) -> Result<hdf5::File> {
     if let Err(e) = std::fs::metadata(path) {
         return Err(Error::io(path, e));
     }
-    crate::io::hdf5_guard::guarded(path, "the file's superblock and root group", || {
+    crate::io::plumbing::hdf5_guard::guarded(path, "the file's superblock and root group", || {
         file_builder().open(path)
     })
     .map_err(|e| {
@@ -128,7 +128,7 @@ impl CoolReader {
     /// # Ok::<(), contactmap::Error>(())
     /// ```
     pub fn open(uri: &str) -> Result<CoolReader> {
-        let (path, group_path) = crate::io::uri::split_uri(uri);
+        let (path, group_path) = crate::io::matrices::uri::split_uri(uri);
         let file = open_file(path)?;
         let group = match group_path {
             None | Some("") | Some("/") => {

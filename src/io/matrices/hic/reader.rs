@@ -19,7 +19,7 @@ use super::header::{read_footer, read_header};
 use super::norms::{HicExpected, NormVector};
 use crate::error::{Error, Result};
 use crate::genome::{BinTable, Chrom};
-use crate::io::reader::{MatrixInfo, MatrixReader};
+use crate::io::matrices::reader::{MatrixInfo, MatrixReader};
 use crate::matrix::{CountType, PixelBlock, Weights};
 
 /// Compressed bytes of blocks decoded per band of rows; bounds the memory of a pixel query.

@@ -15,7 +15,7 @@ pub(crate) fn file_builder() -> hdf5::FileBuilder {
 }
 /// Create a new HDF5 file at `path` exclusively (libhdf5's `H5F_ACC_EXCL`, which opens with
 /// `O_EXCL`: it fails on any existing name, a planted link included), for the temporaries of
-/// [`crate::io::atomic`].
+/// [`crate::io::plumbing::atomic`].
 pub(crate) fn create_excl(path: &Path) -> Result<hdf5::File> {
     file_builder()
         .create_excl(path)

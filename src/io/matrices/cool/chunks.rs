@@ -181,7 +181,7 @@ impl Column {
         path: &str,
         width: Option<usize>,
     ) -> Result<Column> {
-        crate::io::hdf5_guard::checked_len(path, &dataset, name, file_len(path))?;
+        crate::io::plumbing::hdf5_guard::checked_len(path, &dataset, name, file_len(path))?;
         let shape = dataset.shape();
         let len = match (width, shape.as_slice()) {
             (None, &[n]) => n,
@@ -766,7 +766,7 @@ mod tests {
         let values: Vec<i64> = (0..53i64)
             .map(|k| (k * 0x0123_4567_89ab_cdef_i64).wrapping_mul(k + 1) ^ (k << 40))
             .collect();
-        let shuffled = crate::io::cool::chunk_writer::shuffle(&values);
+        let shuffled = crate::io::matrices::cool::chunk_writer::shuffle(&values);
         for skip in [0, 1, 7, 8, 13] {
             for len in [0, 1, 8, 9, 16, 40 - skip.min(8)] {
                 let mut target = vec![0i64; len];
@@ -776,7 +776,7 @@ mod tests {
         }
         // 4-byte elements (cooler's int32 counts), signed and float
         let ints: Vec<i32> = values.iter().map(|&v| (v >> 13) as i32).collect();
-        let shuffled_ints = crate::io::cool::chunk_writer::shuffle(&ints);
+        let shuffled_ints = crate::io::matrices::cool::chunk_writer::shuffle(&ints);
         for skip in [0, 1, 7, 8, 13] {
             for len in [0, 1, 8, 9, 16, 40 - skip.min(8)] {
                 let mut target = vec![0i64; len];
@@ -786,7 +786,7 @@ mod tests {
             }
         }
         let floats: Vec<f64> = values.iter().map(|&v| v as f64 / 7.0).collect();
-        let shuffled = crate::io::cool::chunk_writer::shuffle(&floats);
+        let shuffled = crate::io::matrices::cool::chunk_writer::shuffle(&floats);
         let mut target = vec![0.0f64; 50];
         decode_elements::<8, f64>(&shuffled, true, Element::F64, 3, &mut target);
         assert_eq!(target, floats[3..53]);

@@ -9,7 +9,7 @@ use ndarray::Array2;
 use rayon::prelude::*;
 
 use crate::error::{Error, Result};
-use crate::io::reader::MatrixReader;
+use crate::io::matrices::reader::MatrixReader;
 use crate::matrix::PixelBlock;
 
 /// The stored pixels of a query with their balanced values.
@@ -357,7 +357,7 @@ mod tests {
     /// matrix of its pixels streamed whole (rows from the bin1_id column, checked).
     #[test]
     fn a_coolers_rectangles_equal_its_streamed_pixels() {
-        let reader = crate::io::cool::CoolReader::open("data/yeast.10kb.cool").unwrap();
+        let reader = crate::io::matrices::cool::CoolReader::open("data/yeast.10kb.cool").unwrap();
         let n = reader.bins().n_bins();
         let w = reader.weights("weight").unwrap().values;
         let mut full = vec![0.0f64; n * n];

@@ -1,0 +1,13 @@
+//! What every format shares: outputs written atomically and locks ([`atomic`]), standard output
+//! and whole-file writes ([`output`]), compressed or standard input ([`open_text`]), tables with a
+//! header ([`tables`]), and the deadline on libhdf5's metadata reads ([`hdf5_guard`]).
+
+pub mod atomic;
+pub mod hdf5_guard;
+pub mod output;
+pub mod tables;
+
+pub(crate) mod input;
+
+pub use atomic::{Temporary, WriteLock, is_special_file, same_file};
+pub use input::open_text;
