@@ -15,6 +15,7 @@ pub mod colormap;
 pub mod curves;
 pub mod heatmap;
 pub mod map;
+pub mod map_job;
 pub mod pileup;
 pub mod protein;
 pub mod render;

@@ -1,6 +1,5 @@
 //! `contactmap plot map`: a contact-map heatmap of a region or a pair of regions.
 
-use std::ops::Range;
 use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
@@ -10,19 +9,14 @@ use crate::cli::args::InputArgs;
 use crate::cli::input::expected_column;
 use crate::cli::input::{open_for_analysis, read_weights};
 use crate::cli::output::{column_file, refuse_overwrites, uri_file};
-use contactmap::compare::check_comparable;
-use contactmap::compare::coverage::total;
 use contactmap::error::{Error, Result};
-use contactmap::genome::{BinTable, Region};
+use contactmap::io::MatrixReader;
 use contactmap::io::bed::{BedRecord, read_bed, read_bedpe};
-use contactmap::io::tables::read_track;
-use contactmap::io::{LoadedPixels, MatrixReader, StreamedPixels};
-use contactmap::normalize::{Method, Normalizer};
-use contactmap::plot::heatmap::{AxisCells, CellGrid, GridComparison, colour_limits};
-use contactmap::plot::map::{
-    GenomicSpan, MapFigure, MapLayout, MapStyle, MapView, Overlays, Track, draw_map,
+use contactmap::io::tables::{Table, read_track};
+use contactmap::plot::Rgb;
+use contactmap::plot::map_job::{
+    Comparison, ExpectedTable, MapDecorations, MapRequest, MapSource, map_figure,
 };
-use contactmap::plot::{ColorMap, ColorScale, Rgb, ScaleKind};
 
 /// Arguments of `contactmap plot map`.
 #[derive(Debug, Args)]
@@ -167,6 +161,9 @@ pub enum CompareMode {
     Expected,
 }
 
+/// A map opened, with the weights it is drawn with (none for --raw).
+type Opened = (Box<dyn MatrixReader>, Option<Vec<f64>>);
+
 /// Default figure width in inches.
 const DEFAULT_WIDTH_IN: f64 = 6.0;
 
@@ -183,152 +180,61 @@ pub fn run(args: &MapArgs) -> Result<()> {
         .collect();
     refuse_overwrites(&inputs, &[Some(&args.figure.out)])?;
     let figure = args.figure.check(DEFAULT_WIDTH_IN)?;
-    // With --compare-mode expected, each map is drawn as observed / expected.
-    let oe =
-        args.oe || (args.compare.is_some() && args.compare_mode == Some(CompareMode::Expected));
-    let colour_map = ColorMap::by_name(args.cmap.as_deref().unwrap_or(if oe || args.ratio {
-        "RdBu_r"
-    } else {
-        "fall"
-    }))?;
     let nan = Rgb::parse(&args.nan_color).ok_or_else(|| {
         Error::Argument(format!(
             "--nan-color '{}' is not a colour (#rrggbb, #rgb or a name such as lightgrey)",
             args.nan_color
         ))
     })?;
-    if args.percentiles.len() != 2
-        || !(0.0..=100.0).contains(&args.percentiles[0])
-        || !(args.percentiles[0] < args.percentiles[1] && args.percentiles[1] <= 100.0)
-    {
-        return Err(Error::Argument(
-            "--percentiles takes LOW,HIGH with 0 <= LOW < HIGH <= 100".into(),
-        ));
-    }
-    let reader = open_for_analysis(&args.uri, &args.input)?;
-    let bins = reader.bins().clone();
-    let rows = region_bins(&bins, &args.region, reader.source())?;
-    let cols = match &args.region2 {
-        Some(text) => region_bins(&bins, text, reader.source())?,
-        None => rows.clone(),
-    };
-    let row_span = GenomicSpan::of_bins(&bins, &rows);
-    let col_span = GenomicSpan::of_bins(&bins, &cols);
-    let same_chrom = row_span.chrom == col_span.chrom;
-    let view = if args.triangle {
-        if rows != cols {
+    let percentiles = match args.percentiles[..] {
+        [low, high] => [low, high],
+        _ => {
             return Err(Error::Argument(
-                "--triangle draws one region: leave out --region2".into(),
+                "--percentiles takes LOW,HIGH with 0 <= LOW < HIGH <= 100".into(),
             ));
         }
-        let length = col_span.end_bp - col_span.start_bp;
-        let depth = match &args.depth {
-            Some(text) => contactmap::genome::parse_bp(text)
+    };
+    let depth_bp = match &args.depth {
+        Some(text) => Some(
+            contactmap::genome::parse_bp(text)
                 .map_err(|m| Error::Argument(format!("--depth '{text}': {m}")))?,
-            None => length.div_ceil(4),
-        };
-        if depth == 0 {
-            return Err(Error::Argument("--depth must be positive".into()));
-        }
-        MapView::Triangle {
-            depth_bp: depth.min(length),
-        }
-    } else {
-        MapView::Square
+        ),
+        None => None,
     };
-    if args.compare.is_some() && !args.ratio && (rows != cols || args.triangle) {
-        return Err(Error::Argument(
-            "--compare splits one square map along its diagonal: leave out --region2 and \
-             --triangle, or draw the log2 ratio (--ratio)"
-                .into(),
-        ));
-    }
-    if oe && !same_chrom {
-        return Err(Error::Argument(
-            "observed / expected (--oe, --compare-mode expected) needs both regions on one \
-             chromosome (the expected is per diagonal)"
-                .into(),
-        ));
-    }
     let weight_name = args.balanced.as_deref().unwrap_or("weight");
-    // the weights drawn with (none for --raw)
-    let weights_of = |reader: &dyn MatrixReader| {
-        (!args.raw)
-            .then(|| read_weights(reader, weight_name, "--balanced", true))
-            .transpose()
+    let request = MapRequest {
+        region: args.region.clone(),
+        region2: args.region2.clone(),
+        triangle: args.triangle,
+        depth_bp,
+        // with --compare-mode expected, each map is drawn as observed / expected
+        oe: args.oe || (args.compare.is_some() && args.compare_mode == Some(CompareMode::Expected)),
+        ignore_diags: args.ignore_diags,
+        comparison: match args.ratio {
+            true => Comparison::Log2Ratio,
+            false => Comparison::Split,
+        },
+        linear: args.linear,
+        vmin: args.vmin,
+        vmax: args.vmax,
+        percentiles,
+        colour_map: args.cmap.clone(),
+        nan,
+        weight_name: weight_name.to_string(),
+        title: args.figure.title.clone(),
+        width_px: figure.width_px,
+        height_px: figure.height_px,
+        dpi: figure.dpi,
     };
-    let weights = weights_of(reader.as_ref())?;
-    let second = args
-        .compare
-        .as_deref()
-        .map(|uri| -> Result<_> {
-            let other = open_for_analysis(uri, &args.input)?;
-            check_comparable(reader.as_ref(), other.as_ref())?;
-            let weights = weights_of(other.as_ref())?;
-            Ok((other, weights))
-        })
-        .transpose()?;
-
-    let overlays = read_overlays(args, &row_span, &col_span)?;
-    let tracks = args
-        .track
-        .iter()
-        .map(|spec| {
-            let (path, column) = crate::cli::input::file_column(spec, "--track", None)?;
-            let rows = read_track(Path::new(path), column)?;
-            Track::from_rows(Path::new(path), column, rows, &bins, &cols, &col_span)
-        })
-        .collect::<Result<Vec<_>>>()?;
-
-    let layout = MapLayout::new(
-        figure.width_px,
-        figure.height_px,
-        figure.dpi,
-        view,
-        &row_span,
-        &col_span,
-        tracks.len(),
-    );
-    let (max_rows, max_cols) = match view {
-        MapView::Square => (layout.map_height_px(), layout.map_width_px()),
-        MapView::Triangle { .. } => (layout.map_width_px(), layout.map_width_px()),
+    request.check(args.ratio)?;
+    // the maps, with the weights drawn with (none for --raw)
+    let open = |uri: &str| -> Result<Opened> {
+        let reader = open_for_analysis(uri, &args.input)?;
+        let weights = (!args.raw)
+            .then(|| read_weights(reader.as_ref(), weight_name, "--balanced", true))
+            .transpose()?;
+        Ok((reader, weights))
     };
-    let fill = |reader: &dyn MatrixReader, weights: Option<&[f64]>| -> Result<CellGrid> {
-        let normalizer = match oe {
-            true => Some(oe_normalizer(args, reader, weights.map(<[f64]>::to_vec))?),
-            false => None,
-        };
-        let valid = |bin: usize| weights.is_none_or(|w| w[bin].is_finite());
-        let mut grid = CellGrid::new(
-            AxisCells::new(rows.clone(), max_rows),
-            AxisCells::new(cols.clone(), max_cols),
-            &valid,
-            if oe { args.ignore_diags } else { 0 },
-            same_chrom,
-        );
-        grid.fill(reader, weights, normalizer.as_ref())?;
-        Ok(grid)
-    };
-    let grid = fill(reader.as_ref(), weights.as_deref())?;
-    let grid = match &second {
-        None => grid,
-        Some((other, other_weights)) => {
-            let other_grid = fill(other.as_ref(), other_weights.as_deref())?;
-            let scale_second = if oe {
-                1.0
-            } else {
-                total(reader.as_ref(), weights.as_deref())?
-                    / total(other.as_ref(), other_weights.as_deref())?
-            };
-            let how = match args.ratio {
-                true => GridComparison::Log2Ratio { scale_second },
-                false => GridComparison::Split { scale_second },
-            };
-            CellGrid::compared(&grid, &other_grid, how)?
-        }
-    };
-
-    let scale = colour_scale(args, oe, &grid.values(), &args.region)?;
     let name = |uri: &str| {
         let path = uri_file(uri);
         path.file_stem().map_or_else(
@@ -336,131 +242,54 @@ pub fn run(args: &MapArgs) -> Result<()> {
             |stem| stem.to_string_lossy().into_owned(),
         )
     };
-    let second_name = args.compare.as_deref().map(name);
-    let colour_label = if let (true, Some(second)) = (args.ratio, &second_name) {
-        format!("log2({} / {second})", name(&args.uri))
-    } else if oe {
-        "observed / expected".to_string()
-    } else if args.raw {
-        "contacts".to_string()
-    } else if weight_name == "weight" {
-        "balanced contacts".to_string()
-    } else {
-        format!("contacts balanced by {weight_name}")
+    let (reader, weights) = open(&args.uri)?;
+    let second = match args.compare.as_deref() {
+        Some(uri) => Some((open(uri)?, name(uri))),
+        None => None,
     };
-    let style = MapStyle {
-        colour_map,
-        scale,
-        nan,
-        colour_label,
-        title: match (&args.figure.title, &second_name) {
-            (Some(title), _) => title.clone(),
-            (None, Some(second)) if !args.ratio => {
-                format!("{} (upper) vs {second} (lower)", name(&args.uri))
-            }
-            (None, _) => String::new(),
-        },
-    };
-    let svg = draw_map(&MapFigure {
-        layout: &layout,
-        view,
-        grid: &grid,
-        rows: &row_span,
-        cols: &col_span,
-        style: &style,
-        overlays: &overlays,
-        tracks: &tracks,
-    })?;
-    write_figure(&svg, &figure, &args.figure)?;
-    crate::cli::warnings::print_reader_warnings(reader.warnings());
-    Ok(())
-}
-
-/// The bins of region `text`, which must hold at least one.
-fn region_bins(bins: &BinTable, text: &str, source: &str) -> Result<Range<usize>> {
-    let range = bins.region_bins(&Region::parse(text)?)?;
-    if range.is_empty() {
-        return Err(Error::region(
-            text,
-            format!("no bins of {source} in this region (empty region)"),
-        ));
-    }
-    Ok(range)
-}
-
-/// The o/e transform: the expected of every chromosome, computed or read.
-fn oe_normalizer(
-    args: &MapArgs,
-    reader: &dyn MatrixReader,
-    weights: Option<Vec<f64>>,
-) -> Result<Normalizer> {
-    let bins = reader.bins();
-    let curves = match &args.expected {
-        Some(path) => contactmap::expected::table::curves(
-            &contactmap::io::tables::Table::read(path)?,
-            bins,
-            expected_column(args.expected_column.as_deref(), args.raw),
-        )?,
-        None => {
-            let pixels = LoadedPixels::Streamed(StreamedPixels::new(reader));
-            contactmap::expected::cis_curves(&pixels, weights.as_deref(), args.ignore_diags)?
-        }
-    };
-    Normalizer::new(Method::Oe, bins.n_bins(), weights, curves)
-}
-
-/// The colour scale from the options and the drawn values.
-fn colour_scale(args: &MapArgs, oe: bool, values: &[f64], region: &str) -> Result<ColorScale> {
-    let kind = if args.linear || args.ratio {
-        ScaleKind::Linear
-    } else {
-        ScaleKind::Log
-    };
-    let (vmin, vmax) = match (args.vmin, args.vmax) {
-        (Some(a), Some(b)) => (a, b),
-        (low, high) => {
-            let free = low.is_none() && high.is_none();
-            let centre = match (args.ratio, oe) {
-                (true, _) if free => Some(0.0),
-                (false, true) if free => Some(1.0),
-                _ => None,
-            };
-            let (a, b) = colour_limits(
-                values,
-                kind,
-                args.percentiles[0],
-                args.percentiles[1],
-                centre,
-            )
-            .ok_or_else(|| {
-                Error::region(
-                    region,
-                    format!(
-                        "no {}values to draw (the region holds no contacts); give --vmin and --vmax to draw it anyway",
-                        if kind == ScaleKind::Log { "positive " } else { "" }
-                    ),
-                )
-            })?;
-            (low.unwrap_or(a), high.unwrap_or(b))
-        }
-    };
-    ColorScale::new(kind, vmin, vmax)
-}
-
-/// Domains, boundaries and loops on the drawn regions.
-fn read_overlays(args: &MapArgs, rows: &GenomicSpan, cols: &GenomicSpan) -> Result<Overlays> {
+    let expected = args.expected.as_deref().map(Table::read).transpose()?;
+    let expected = expected.as_ref().map(|table| ExpectedTable {
+        table,
+        column: expected_column(args.expected_column.as_deref(), args.raw),
+    });
     let bed = |path: &Option<PathBuf>| -> Result<Vec<BedRecord>> {
         path.as_deref().map_or(Ok(Vec::new()), read_bed)
     };
-    let loops = match &args.loops {
-        Some(path) => read_bedpe(path)?,
-        None => Vec::new(),
+    let decorations = MapDecorations {
+        domains: bed(&args.domains)?,
+        boundaries: bed(&args.boundaries)?,
+        loops: match &args.loops {
+            Some(path) => read_bedpe(path)?,
+            None => Vec::new(),
+        },
+        tracks: args
+            .track
+            .iter()
+            .map(|spec| {
+                let (path, column) = crate::cli::input::file_column(spec, "--track", None)?;
+                let rows = read_track(Path::new(path), column)?;
+                Ok((PathBuf::from(path), column.to_string(), rows))
+            })
+            .collect::<Result<Vec<_>>>()?,
     };
-    Ok(Overlays::on_spans(
-        &bed(&args.domains)?,
-        &bed(&args.boundaries)?,
-        &loops,
-        rows,
-        cols,
-    ))
+    let first = MapSource {
+        reader: reader.as_ref(),
+        weights,
+        name: name(&args.uri),
+    };
+    let second = second.as_ref().map(|((reader, weights), name)| MapSource {
+        reader: reader.as_ref(),
+        weights: weights.clone(),
+        name: name.clone(),
+    });
+    let svg = map_figure(
+        &request,
+        &first,
+        second.as_ref(),
+        expected.as_ref(),
+        &decorations,
+    )?;
+    write_figure(&svg, &figure, &args.figure)?;
+    crate::cli::warnings::print_reader_warnings(reader.warnings());
+    Ok(())
 }
