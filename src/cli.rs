@@ -10,7 +10,6 @@ pub mod coverage;
 pub mod dots;
 pub mod dump;
 pub mod expected;
-pub mod hic_output;
 pub mod hicrep;
 pub mod info;
 pub mod input;

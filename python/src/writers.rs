@@ -6,10 +6,10 @@ use std::path::Path;
 use contactmap::balance::Method;
 use contactmap::error::Error;
 use contactmap::export::cooler::balance_and_store;
-use contactmap::export::{self, DEFAULT_HIC_NORMALIZATIONS};
+use contactmap::export::{self, MatrixFormat, MatrixOutput, DEFAULT_HIC_NORMALIZATIONS};
 use contactmap::genome::{Bin, BinTable, Chrom};
 use contactmap::io::cool::resolutions::{fixed_bin_size, mcool_resolutions};
-use contactmap::io::cool::{write_cool, write_mcool, CoolWriteOptions};
+use contactmap::io::cool::{write_cool, CoolWriteOptions};
 use contactmap::io::hic::HicWriteOptions;
 use contactmap::io::merged::MergedReader;
 use contactmap::io::{self, default_memory_budget, InMemory, MatrixReader, OpenOptions};
@@ -78,29 +78,27 @@ fn write_map(
         None => Ok(vec![fixed_bin_size(reader.bins(), reader.source())?]),
         Some(items) => mcool_resolutions(reader.bins(), reader.source(), items),
     };
-    match kind {
-        Kind::Cool => {
-            if resolutions.is_some() {
-                return Err(Error::Argument(
-                    "resolutions: a .cool holds one resolution; write an .mcool or a .hic".into(),
-                ));
-            }
-            write_cool(reader, out, options)?;
-            Ok(Vec::new())
-        }
-        Kind::Mcool => {
-            write_mcool(reader, out, &levels()?, options)?;
-            Ok(Vec::new())
-        }
-        Kind::Hic => {
-            let hic_options = HicWriteOptions {
-                compression_level,
-                ..HicWriteOptions::for_genome(options.assembly.clone())
-            };
-            let unconverged = export::write_hic(reader, out, &levels()?, methods, &hic_options)?;
-            Ok(unconverged.iter().map(|u| u.to_string()).collect())
-        }
+    if kind == Kind::Cool && resolutions.is_some() {
+        return Err(Error::Argument(
+            "resolutions: a .cool holds one resolution; write an .mcool or a .hic".into(),
+        ));
     }
+    let mut output = MatrixOutput::new(match kind {
+        Kind::Cool => MatrixFormat::Cool,
+        Kind::Mcool => MatrixFormat::Mcool,
+        Kind::Hic => MatrixFormat::Hic,
+    });
+    if kind != Kind::Cool {
+        output.resolutions = levels()?;
+    }
+    output.cool = options.clone();
+    output.hic = HicWriteOptions {
+        compression_level,
+        ..HicWriteOptions::for_genome(options.assembly.clone())
+    };
+    output.normalizations = methods.to_vec();
+    let unconverged = export::write_matrix(reader, out, &output)?;
+    Ok(unconverged.iter().map(|u| u.to_string()).collect())
 }
 
 /// `contactmap convert`: the map at `input` written to `output` (.cool, .mcool, .hic).

@@ -1,19 +1,20 @@
 //! `contactmap convert`: any supported input to .cool, .mcool, .hic or a text table.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use clap::Args;
 
 use crate::cli::args::InputArgs;
-use crate::cli::hic_output::{parse_normalizations, write_hic};
-use crate::cli::matrix_output::{OutputFormat, format_from_extension};
+use crate::cli::matrix_output::{
+    OutputFormat, format_from_extension, parse_normalizations, write_matrix,
+};
 use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::progress::Progress;
 use contactmap::error::{Error, Result};
+use contactmap::export::MatrixOutput;
+use contactmap::io::cool::CoolWriteOptions;
 use contactmap::io::cool::resolutions::mcool_resolutions;
-use contactmap::io::cool::{CoolWriteOptions, write_cool, write_mcool};
 use contactmap::io::hic::HicWriteOptions;
-use contactmap::io::text::{self, TextFormat};
 use contactmap::io::{self, FileKind, MatrixReader};
 
 /// Arguments of `contactmap convert`.
@@ -111,35 +112,22 @@ pub fn run(args: &ConvertArgs) -> Result<()> {
     let opened = io::open_matrix(&args.input, &args.input_args.to_options()?)?;
     let bar = Progress::new(opened.as_ref(), "converting")?;
     let reader = bar.reader();
-    let options = CoolWriteOptions {
-        assembly: args.assembly.clone().or_else(|| reader.info().assembly()),
+    let assembly = args.assembly.clone().or_else(|| reader.info().assembly());
+    let mut output = MatrixOutput::new(format.into());
+    if matches!(format, OutputFormat::Mcool | OutputFormat::Hic) {
+        output.resolutions = mcool_resolutions(reader.bins(), &args.input, &args.resolutions)?;
+    }
+    output.cool = CoolWriteOptions {
+        assembly: assembly.clone(),
         weight_columns: None,
     };
-    let written = match format {
-        OutputFormat::Cool => write_cool(&reader, &args.output, &options),
-        OutputFormat::Mcool => {
-            let resolutions = mcool_resolutions(reader.bins(), &args.input, &args.resolutions)?;
-            write_mcool(&reader, &args.output, &resolutions, &options)
-        }
-        OutputFormat::Hic => {
-            let resolutions = mcool_resolutions(reader.bins(), &args.input, &args.resolutions)?;
-            let hic_options = HicWriteOptions {
-                compression_level: args.compression_level,
-                ..HicWriteOptions::for_genome(options.assembly.clone())
-            };
-            write_hic(&reader, &args.output, &resolutions, &methods, &hic_options)
-        }
-        OutputFormat::Bg2 => text::write_text(&reader, &path_text(&args.output), TextFormat::Bg2),
-        OutputFormat::Coo => text::write_text(&reader, &path_text(&args.output), TextFormat::Coo),
-        OutputFormat::Dense => {
-            text::write_text(&reader, &path_text(&args.output), TextFormat::Dense)
-        }
+    output.hic = HicWriteOptions {
+        compression_level: args.compression_level,
+        ..HicWriteOptions::for_genome(assembly)
     };
+    output.normalizations = methods;
+    let written = write_matrix(&reader, &args.output, &output);
     written?;
     super::warnings::print_reader_warnings(reader.warnings());
     Ok(())
-}
-
-fn path_text(path: &Path) -> String {
-    path.to_string_lossy().into_owned()
 }

@@ -1,12 +1,15 @@
-//! The matrix files several commands write (`convert`, `merge`, `zoomify`, `normalize`): the
-//! output format named by a file's extension (the resolutions of an .mcool or .hic are
-//! [`contactmap::io::cool::resolutions`]).
+//! The matrix files several commands write (`convert`, `merge`, `zoomify`, `normalize`,
+//! `sample`): `--to`'s names for [`MatrixFormat`], the format named by a file's extension,
+//! `--normalizations`, and [`export::write_matrix`] with its warnings printed.
 
 use std::path::Path;
 
 use clap::ValueEnum;
 
+use contactmap::balance::Method;
 use contactmap::error::{Error, Result};
+use contactmap::export::{self, MatrixFormat, MatrixOutput};
+use contactmap::io::MatrixReader;
 
 /// Output formats.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -25,27 +28,42 @@ pub enum OutputFormat {
     Dense,
 }
 
-/// The output format named by the extension of `path` (a `.gz` suffix aside).
+impl From<OutputFormat> for MatrixFormat {
+    fn from(format: OutputFormat) -> MatrixFormat {
+        match format {
+            OutputFormat::Cool => MatrixFormat::Cool,
+            OutputFormat::Mcool => MatrixFormat::Mcool,
+            OutputFormat::Hic => MatrixFormat::Hic,
+            OutputFormat::Bg2 => MatrixFormat::Bg2,
+            OutputFormat::Coo => MatrixFormat::Coo,
+            OutputFormat::Dense => MatrixFormat::Dense,
+        }
+    }
+}
+
+/// The output format named by the extension of `path` ([`MatrixFormat::from_extension`]).
 pub fn format_from_extension(path: &Path) -> Result<OutputFormat> {
-    let name = path.to_string_lossy().to_ascii_lowercase();
-    let name = name.strip_suffix(".gz").unwrap_or(&name);
-    let format = if name.ends_with(".mcool") {
-        OutputFormat::Mcool
-    } else if name.ends_with(".hic") {
-        OutputFormat::Hic
-    } else if name.ends_with(".cool") {
-        OutputFormat::Cool
-    } else if name.ends_with(".bg2") || name.ends_with(".bedpe") {
-        OutputFormat::Bg2
-    } else if name.ends_with(".coo") || name.ends_with(".pixels") {
-        OutputFormat::Coo
-    } else if name.ends_with(".dense") || name.ends_with(".matrix") || name.ends_with(".mat") {
-        OutputFormat::Dense
-    } else {
-        return Err(Error::Argument(format!(
-            "cannot tell the output format from '{}': use an extension (.cool, .mcool, .hic, .bg2, .coo, .dense) or --to",
-            path.display()
-        )));
-    };
-    Ok(format)
+    Ok(match MatrixFormat::from_extension(path)? {
+        MatrixFormat::Cool => OutputFormat::Cool,
+        MatrixFormat::Mcool => OutputFormat::Mcool,
+        MatrixFormat::Hic => OutputFormat::Hic,
+        MatrixFormat::Bg2 => OutputFormat::Bg2,
+        MatrixFormat::Coo => OutputFormat::Coo,
+        MatrixFormat::Dense => OutputFormat::Dense,
+    })
+}
+
+/// Parse `--normalizations` ([`export::parse_normalizations`]).
+pub fn parse_normalizations(items: &[String]) -> Result<Vec<Method>> {
+    export::parse_normalizations(items)
+        .map_err(|e| Error::Argument(format!("--normalizations: {e}")))
+}
+
+/// [`export::write_matrix`], then a warning on standard error for each chromosome whose
+/// balancing did not converge (a `.hic`'s).
+pub fn write_matrix(reader: &dyn MatrixReader, path: &Path, output: &MatrixOutput) -> Result<()> {
+    for unconverged in export::write_matrix(reader, path, output)? {
+        eprintln!("contactmap: WARNING: {unconverged}");
+    }
+    Ok(())
 }

@@ -6,13 +6,12 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 
 use crate::cli::args::InputArgs;
-use crate::cli::hic_output::write_hic;
-use crate::cli::matrix_output::{OutputFormat, format_from_extension};
+use crate::cli::matrix_output::{OutputFormat, format_from_extension, write_matrix};
 use crate::cli::output::{refuse_overwrites, uri_file};
 use contactmap::error::{Error, Result};
-use contactmap::export::DEFAULT_HIC_NORMALIZATIONS;
+use contactmap::export::MatrixOutput;
+use contactmap::io::cool::CoolWriteOptions;
 use contactmap::io::cool::resolutions::{fixed_bin_size, mcool_resolutions};
-use contactmap::io::cool::{CoolWriteOptions, write_cool, write_mcool};
 use contactmap::io::hic::HicWriteOptions;
 use contactmap::io::merged::MergedReader;
 use contactmap::io::{self, MatrixReader};
@@ -100,27 +99,17 @@ pub fn run(args: &MergeArgs) -> Result<()> {
         assembly,
         weight_columns: Some(Vec::new()),
     };
-    match format {
-        OutputFormat::Mcool | OutputFormat::Hic => {
-            let resolutions = if args.resolutions.is_empty() {
-                vec![fixed_bin_size(reader.bins(), reader.source())?]
-            } else {
-                mcool_resolutions(reader.bins(), reader.source(), &args.resolutions)?
-            };
-            if format == OutputFormat::Hic {
-                write_hic(
-                    &reader,
-                    &args.out,
-                    &resolutions,
-                    &DEFAULT_HIC_NORMALIZATIONS,
-                    &HicWriteOptions::for_genome(write_options.assembly.clone()),
-                )?;
-            } else {
-                write_mcool(&reader, &args.out, &resolutions, &write_options)?;
-            }
-        }
-        _ => write_cool(&reader, &args.out, &write_options)?,
+    let mut output = MatrixOutput::new(format.into());
+    if matches!(format, OutputFormat::Mcool | OutputFormat::Hic) {
+        output.resolutions = if args.resolutions.is_empty() {
+            vec![fixed_bin_size(reader.bins(), reader.source())?]
+        } else {
+            mcool_resolutions(reader.bins(), reader.source(), &args.resolutions)?
+        };
     }
+    output.hic = HicWriteOptions::for_genome(write_options.assembly.clone());
+    output.cool = write_options;
+    write_matrix(&reader, &args.out, &output)?;
     for reader in &opened {
         super::warnings::print_reader_warnings(reader.warnings());
     }

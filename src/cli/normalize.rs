@@ -7,13 +7,13 @@ use clap::{Args, ValueEnum};
 
 use crate::cli::args::InputArgs;
 use crate::cli::input::expected_column;
-use crate::cli::matrix_output::OutputFormat;
+use crate::cli::matrix_output::{OutputFormat, write_matrix};
 use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::progress::Progress;
 use contactmap::error::{Error, Result};
+use contactmap::export::MatrixOutput;
 use contactmap::io;
-use contactmap::io::cool::{CoolWriteOptions, write_cool};
-use contactmap::io::text::{TextFormat, write_text};
+use contactmap::io::cool::CoolWriteOptions;
 use contactmap::normalize::{Method, NormalizedReader, Normalizer};
 
 /// Normalisation methods.
@@ -148,17 +148,10 @@ pub fn run(args: &NormalizeArgs) -> Result<()> {
     );
     let bar = Progress::new(&normalized, "normalizing")?;
     let progress = bar.reader();
-    let out = args.output.to_string_lossy().into_owned();
-    match format {
-        OutputFormat::Cool => write_cool(
-            &progress,
-            &args.output,
-            &CoolWriteOptions {
-                weight_columns: Some(Vec::new()),
-                ..CoolWriteOptions::default()
-            },
-        ),
-        OutputFormat::Bg2 => write_text(&progress, &out, TextFormat::Bg2),
-        _ => write_text(&progress, &out, TextFormat::Coo),
-    }
+    let mut output = MatrixOutput::new(format.into());
+    output.cool = CoolWriteOptions {
+        weight_columns: Some(Vec::new()),
+        ..CoolWriteOptions::default()
+    };
+    write_matrix(&progress, &args.output, &output)
 }

@@ -6,14 +6,14 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 
 use crate::cli::args::InputArgs;
-use crate::cli::hic_output::write_hic;
+use crate::cli::matrix_output::write_matrix;
 use crate::cli::output::{refuse_overwrites, uri_file};
 use contactmap::balance::{BalanceParams, Method};
 use contactmap::error::{Error, Result};
-use contactmap::export::DEFAULT_HIC_NORMALIZATIONS;
 use contactmap::export::cooler::balance_and_store;
+use contactmap::export::{MatrixFormat, MatrixOutput};
+use contactmap::io::cool::CoolWriteOptions;
 use contactmap::io::cool::resolutions::mcool_resolutions;
-use contactmap::io::cool::{CoolWriteOptions, write_mcool};
 use contactmap::io::hic::HicWriteOptions;
 use contactmap::io::{self, default_memory_budget};
 
@@ -119,23 +119,21 @@ pub fn run(args: &ZoomifyArgs) -> Result<()> {
             assembly: args.assembly.clone().or_else(|| reader.info().assembly()),
             weight_columns: None,
         };
+        let mut output = MatrixOutput::new(match hic {
+            true => MatrixFormat::Hic,
+            false => MatrixFormat::Mcool,
+        });
+        output.resolutions = resolutions.clone();
+        if args.balance {
+            output.normalizations.push(Method::Ice);
+        }
+        output.hic = HicWriteOptions::for_genome(options.assembly.clone());
+        output.cool = options;
+        write_matrix(reader.as_ref(), &out, &output)?;
+        super::warnings::print_reader_warnings(reader.warnings());
         if hic {
-            let mut methods = DEFAULT_HIC_NORMALIZATIONS.to_vec();
-            if args.balance {
-                methods.push(Method::Ice);
-            }
-            write_hic(
-                reader.as_ref(),
-                &out,
-                &resolutions,
-                &methods,
-                &HicWriteOptions::for_genome(options.assembly),
-            )?;
-            super::warnings::print_reader_warnings(reader.warnings());
             return Ok(());
         }
-        write_mcool(reader.as_ref(), &out, &resolutions, &options)?;
-        super::warnings::print_reader_warnings(reader.warnings());
         resolutions
     };
     if args.balance {
