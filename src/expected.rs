@@ -8,7 +8,7 @@
 //!
 //! | column | value |
 //! |---|---|
-//! | `dist`, `dist_bp` | the diagonal, and `dist * bin_size` |
+//! | `dist`, `dist_bp` | the diagonal, and `dist * resolution` |
 //! | `n_total` | pixels on the diagonal: `n_bins - dist` |
 //! | `n_valid` | pixels whose two bins have a non-NaN weight (`n_total` for raw counts) |
 //! | `count.sum` | sum of the raw counts (balanced mode: of valid pixels only) |

@@ -76,7 +76,7 @@ mod tests {
             }))
             .collect();
         let t = BinTable::from_bins(chroms.clone(), &bins, Some(100)).unwrap();
-        assert_eq!(t.bin_size_bp(), Some(100));
+        assert_eq!(t.resolution(), Some(100));
         assert!(t.is_cut());
         assert_eq!(t.span(0), 250..1000);
         assert_eq!(t.chrom_offsets(), &[0, 8, 11]);
@@ -145,7 +145,7 @@ mod tests {
             },
         ];
         let t = BinTable::from_bins(chroms.clone(), &bins, None).unwrap();
-        assert_eq!(t.bin_size_bp(), None);
+        assert_eq!(t.resolution(), None);
         assert_eq!(t.bin_at(0, 5), 1);
         assert_eq!(t.chrom_of(2), 1);
         let gap = [
@@ -191,7 +191,7 @@ mod tests {
         assert_eq!(
             BinTable::from_bins(chroms.clone(), &fixed, None)
                 .unwrap()
-                .bin_size_bp(),
+                .resolution(),
             Some(5)
         );
         // A chromosome shorter than one bin: the hint (the file's bin-size) decides.
@@ -208,6 +208,6 @@ mod tests {
             },
         ];
         let table = BinTable::from_bins(chroms, &short, Some(20)).unwrap();
-        assert_eq!(table.bin_size_bp(), Some(20));
+        assert_eq!(table.resolution(), Some(20));
     }
 }

@@ -74,23 +74,23 @@ pub struct DotsParams {
 }
 
 impl DotsParams {
-    /// The cooltools API defaults for `bin_size_bp`, with its recommended kernels (an error for
+    /// The cooltools API defaults for `resolution`, with its recommended kernels (an error for
     /// bin sizes it has none for: give `w` and `p`).
     ///
     /// ```
     /// use contactmap::loops::DotsParams;
-    /// let params = DotsParams::for_bin_size(10_000)?;
+    /// let params = DotsParams::for_resolution(10_000)?;
     /// assert_eq!((params.w, params.p, params.max_separation_bp), (5, 2, 10_000_000));
-    /// assert!(DotsParams::for_bin_size(100_000).is_err());
+    /// assert!(DotsParams::for_resolution(100_000).is_err());
     /// # Ok::<(), contactmap::Error>(())
     /// ```
-    pub fn for_bin_size(bin_size_bp: u64) -> Result<DotsParams> {
-        let (w, p) = kernels::recommended_w_p(bin_size_bp).ok_or_else(|| {
+    pub fn for_resolution(resolution: u64) -> Result<DotsParams> {
+        let (w, p) = kernels::recommended_w_p(resolution).ok_or_else(|| {
             Error::parameter(
                 "w",
                 "(none)",
                 format!(
-                    "cooltools recommends kernels for bins of 4-28 kb only (this map has {bin_size_bp} bp \
+                    "cooltools recommends kernels for bins of 4-28 kb only (this map has {resolution} bp \
                      bins): give the kernel half-widths w and p (HiCCUPS uses w=7,p=4 at 5 kb, \
                      w=5,p=2 at 10 kb, w=3,p=1 at 25 kb)"
                 ),
@@ -176,7 +176,7 @@ pub fn call_dots(
 ) -> Result<DotCalls> {
     params.check()?;
     let bins_table = reader.bins();
-    let bin_size = bins_table.bin_size_bp().ok_or_else(|| {
+    let resolution = bins_table.resolution().ok_or_else(|| {
         Error::format(
             reader.source(),
             "dots needs fixed-size bins (kernels are counted in bins)",
@@ -197,7 +197,7 @@ pub fn call_dots(
         )));
     }
     let kernels = Kernel::hiccups(params.w, params.p)?;
-    let band = (params.max_separation_bp as f64 / bin_size as f64) as usize;
+    let band = (params.max_separation_bp as f64 / resolution as f64) as usize;
     let settings = ScanSettings {
         kernels: &kernels,
         band,

@@ -154,15 +154,15 @@ impl Default for PileupParams {
 }
 
 impl PileupParams {
-    /// An error unless the flank is a whole number of bins of `bin_size_bp`, at least one
+    /// An error unless the flank is a whole number of bins of `resolution`, at least one
     /// (coolpuppy gives a map of another size, or fails, otherwise), and the other parameters
     /// are ones coolpuppy takes.
-    pub fn check(&self, bin_size_bp: u64) -> Result<()> {
-        if self.flank_bp == 0 || !self.flank_bp.is_multiple_of(bin_size_bp) {
+    pub fn check(&self, resolution: u64) -> Result<()> {
+        if self.flank_bp == 0 || !self.flank_bp.is_multiple_of(resolution) {
             return Err(Error::parameter(
                 "flank",
                 self.flank_bp,
-                format!("a whole number of bins ({bin_size_bp} bp here), at least one"),
+                format!("a whole number of bins ({resolution} bp here), at least one"),
             ));
         }
         if let Some(rescale) = &self.rescale {
@@ -242,7 +242,7 @@ pub fn pileup(
 ) -> Result<Pileups> {
     let bins = reader.bins();
     let res = bins
-        .bin_size_bp()
+        .resolution()
         .ok_or_else(|| Error::format(reader.source(), "pileups need fixed-size bins"))?;
     params.check(res)?;
     let local = features.local();
@@ -308,7 +308,7 @@ pub fn pileup(
         .min_dist_bp
         .unwrap_or((2 * params.flank_bp + 2 * res) as f64);
     let window_params = WindowParams {
-        bin_size_bp: res,
+        resolution: res,
         flank_bins,
         min_dist,
         max_dist: params.max_dist_bp.unwrap_or(f64::INFINITY),

@@ -523,7 +523,7 @@ fn every_caller_finds_the_boundaries_of_a_simulated_map() {
     let matrix = contactmap::io::InMemory::new("blocks".into(), map.matrix.clone());
     let pixels = load_pixels(&matrix, u64::MAX).unwrap();
     let view = View::chromosomes(&bins);
-    let bin_bp = params.bin_size_bp;
+    let bin_bp = params.resolution;
     let callers = [
         (
             Caller::Insulation {

@@ -99,7 +99,7 @@ impl NativeFile {
 
     /// The bin size in bp, or None for variable bins.
     fn resolution(&self) -> Option<u64> {
-        self.raw().bins().bin_size_bp()
+        self.raw().bins().resolution()
     }
 
     /// Per bin: chromosome index, start, end (bp).

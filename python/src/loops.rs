@@ -82,7 +82,7 @@ pub(crate) fn dots<'py>(
     let (calls, regions) = run(py, || {
         let reader: &dyn MatrixReader = &file.reader;
         let (view, weights) = file.view_and_weights(view, Some(&weight_name))?;
-        let bin_size = reader.bins().bin_size_bp().ok_or_else(|| {
+        let resolution = reader.bins().resolution().ok_or_else(|| {
             Error::format(
                 reader.source(),
                 "dots needs fixed-size bins (kernels are counted in bins)",
@@ -94,7 +94,7 @@ pub(crate) fn dots<'py>(
                 p,
                 ..DotsParams::default()
             },
-            _ => DotsParams::for_bin_size(bin_size)?,
+            _ => DotsParams::for_resolution(resolution)?,
         };
         let params = DotsParams {
             max_separation_bp,

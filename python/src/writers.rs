@@ -8,7 +8,7 @@ use contactmap::error::Error;
 use contactmap::export::cooler::balance_and_store;
 use contactmap::export::{self, MatrixFormat, MatrixOutput, DEFAULT_HIC_NORMALIZATIONS};
 use contactmap::genome::{Bin, BinTable, Chrom};
-use contactmap::io::cool::resolutions::{fixed_bin_size, mcool_resolutions};
+use contactmap::io::cool::resolutions::{fixed_resolution, mcool_resolutions};
 use contactmap::io::cool::{write_cool, CoolWriteOptions};
 use contactmap::io::hic::HicWriteOptions;
 use contactmap::io::merged::MergedReader;
@@ -75,7 +75,7 @@ fn write_map(
 ) -> Result<Vec<String>, Error> {
     let kind = kind_of(out)?;
     let levels = || match &resolutions {
-        None => Ok(vec![fixed_bin_size(reader.bins(), reader.source())?]),
+        None => Ok(vec![fixed_resolution(reader.bins(), reader.source())?]),
         Some(items) => mcool_resolutions(reader.bins(), reader.source(), items),
     };
     if kind == Kind::Cool && resolutions.is_some() {

@@ -88,7 +88,7 @@ impl InputArgs {
         }
         Ok(OpenOptions {
             text_format: self.format.map(Into::into),
-            bin_size_bp: self.bin_size,
+            text_resolution: self.bin_size,
             chrom_sizes: self.chrom_sizes.clone(),
             bins_bed: self.bins_bed.clone(),
             pairs_columns,

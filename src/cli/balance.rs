@@ -270,12 +270,12 @@ fn params(args: &BalanceArgs, bins: &BinTable) -> Result<BalanceParams> {
         params.ignore_diags = n;
     }
     if let Some(bp) = args.ignore_dist {
-        let Some(bin_size) = bins.bin_size_bp() else {
+        let Some(resolution) = bins.resolution() else {
             return Err(Error::Argument(
                 "--ignore-dist needs fixed-size bins; use --ignore-diags".into(),
             ));
         };
-        params.ignore_diags = params.ignore_diags.max(bp.div_ceil(bin_size));
+        params.ignore_diags = params.ignore_diags.max(bp.div_ceil(resolution));
     }
     if let Some(m) = args.mad_max {
         if !(m.is_finite() && m >= 0.0) {

@@ -130,13 +130,13 @@ pub struct DotsArgs {
 }
 
 impl DotsArgs {
-    /// The library's parameters for bins of `bin_size` bp.
-    fn params(&self, bin_size: u64) -> Result<DotsParams> {
+    /// The library's parameters for bins of `resolution` bp.
+    fn params(&self, resolution: u64) -> Result<DotsParams> {
         let (w, p) = match (self.w, self.p) {
             (Some(w), Some(p)) => (w, p),
-            _ => recommended_w_p(bin_size).ok_or_else(|| {
+            _ => recommended_w_p(resolution).ok_or_else(|| {
                 Error::Argument(format!(
-                    "no kernel size for {bin_size} bp bins: cooltools recommends kernels for 4-28 kb \
+                    "no kernel size for {resolution} bp bins: cooltools recommends kernels for 4-28 kb \
                      bins only; give --w and --p (HiCCUPS: --w 7 --p 4 at 5 kb, --w 5 --p 2 at 10 kb, \
                      --w 3 --p 1 at 25 kb)"
                 ))
@@ -168,11 +168,11 @@ impl DotsArgs {
         params.max_nans_tolerated = self.max_nans_tolerated;
         params.cluster_filtering = !self.no_filter;
         params.check()?;
-        if params.max_separation_bp < 2 * bin_size {
+        if params.max_separation_bp < 2 * resolution {
             return Err(Error::Argument(format!(
                 "--max-separation {}: at least two bins ({} bp)",
                 params.max_separation_bp,
-                2 * bin_size
+                2 * resolution
             )));
         }
         Ok(params)
@@ -192,13 +192,13 @@ fn call(args: &DotsArgs, uri: &str, input: &InputArgs) -> Result<Called> {
     let (reader, weights, view) =
         open_balanced(uri, input, &args.weight_name, args.view.as_deref())?;
     let bins = reader.bins();
-    let bin_size = bins.bin_size_bp().ok_or_else(|| {
+    let resolution = bins.resolution().ok_or_else(|| {
         Error::format(
             reader.source(),
             "dots needs fixed-size bins (kernels are counted in bins)",
         )
     })?;
-    let params = args.params(bin_size)?;
+    let params = args.params(resolution)?;
     let table = args.expected.as_deref().map(Table::read).transpose()?;
     let expected = expected_to_divide(
         reader.as_ref(),

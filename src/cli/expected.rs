@@ -181,7 +181,7 @@ pub fn run(args: &ExpectedArgs) -> Result<()> {
         &args.weight_name,
         args.view.as_deref(),
     )?;
-    if reader.bins().bin_size_bp().is_none() {
+    if reader.bins().resolution().is_none() {
         return Err(Error::format(
             reader.source(),
             "expected needs fixed-size bins (distances are diagonals times the bin size)",

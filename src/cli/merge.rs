@@ -11,7 +11,7 @@ use crate::cli::output::{refuse_overwrites, uri_file};
 use contactmap::error::{Error, Result};
 use contactmap::export::MatrixOutput;
 use contactmap::io::cool::CoolWriteOptions;
-use contactmap::io::cool::resolutions::{fixed_bin_size, mcool_resolutions};
+use contactmap::io::cool::resolutions::{fixed_resolution, mcool_resolutions};
 use contactmap::io::hic::HicWriteOptions;
 use contactmap::io::merged::MergedReader;
 use contactmap::io::{self, MatrixReader};
@@ -102,7 +102,7 @@ pub fn run(args: &MergeArgs) -> Result<()> {
     let mut output = MatrixOutput::new(format.into());
     if matches!(format, OutputFormat::Mcool | OutputFormat::Hic) {
         output.resolutions = if args.resolutions.is_empty() {
-            vec![fixed_bin_size(reader.bins(), reader.source())?]
+            vec![fixed_resolution(reader.bins(), reader.source())?]
         } else {
             mcool_resolutions(reader.bins(), reader.source(), &args.resolutions)?
         };

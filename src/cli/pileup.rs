@@ -289,8 +289,8 @@ pub fn run(args: &PileupArgs) -> Result<()> {
         args.view.as_deref(),
     )?;
     let bins = reader.bins();
-    let bin_size = bins
-        .bin_size_bp()
+    let resolution = bins
+        .resolution()
         .ok_or_else(|| Error::format(reader.source(), "pileups need fixed-size bins"))?;
     let params = PileupParams {
         flank_bp: bp_option("--flank", &args.flank)?,
@@ -329,7 +329,7 @@ pub fn run(args: &PileupArgs) -> Result<()> {
             Some(_) => Some(CoverageNorm::Total),
         },
     };
-    params.check(bin_size)?;
+    params.check(resolution)?;
     let expected_table = expected_table.finish()?;
     let expected = if args.no_expected || args.nshifts.is_some() {
         None
@@ -382,7 +382,7 @@ pub fn run(args: &PileupArgs) -> Result<()> {
         )));
     }
     let rescale_flank = args.rescale.then_some(args.rescale_flank);
-    let scores = group_scores(&pups, args.local, rescale_flank, args.center, bin_size)?;
+    let scores = group_scores(&pups, args.local, rescale_flank, args.center, resolution)?;
     let pup = pups.all();
     write_text_file(format!("{prefix}.pileup.tsv"), grid_tsv(pup))?;
     if grouped {

@@ -138,7 +138,7 @@ fn run_boundaries(args: &BoundariesArgs) -> Result<()> {
     let tolerance_bp = if args.tolerance_bins == 0 {
         0
     } else {
-        let bin_size = match args.bin_size {
+        let resolution = match args.bin_size {
             Some(size) => size,
             None => median_width(&calls).ok_or_else(|| {
                 Error::format(
@@ -148,7 +148,7 @@ fn run_boundaries(args: &BoundariesArgs) -> Result<()> {
                 )
             })?,
         };
-        args.tolerance_bins.saturating_mul(bin_size)
+        args.tolerance_bins.saturating_mul(resolution)
     };
     let m = score_boundary_records(&truth, &calls, tolerance_bp);
 

@@ -128,7 +128,7 @@ impl BlocksArgs {
         BlockMapParams {
             n_chroms: self.chroms,
             n_bins: self.bins,
-            bin_size_bp: self.bin_size,
+            resolution: self.bin_size,
             min_domain_bins: self.min_domain,
             max_domain_bins: self.max_domain,
             decay_exponent: self.alpha,

@@ -182,13 +182,13 @@ pub fn run(args: &TadsArgs) -> Result<()> {
     }
     let reader = crate::cli::input::open_for_analysis(&args.uri, &args.input)?;
     let bins = reader.bins().clone();
-    let bin_size = bins.bin_size_bp().ok_or_else(|| {
+    let resolution = bins.resolution().ok_or_else(|| {
         Error::format(
             reader.source(),
             "TAD calling needs fixed-size bins (windows are counted in bins)",
         )
     })?;
-    let windows = windows_bp(args, &bins, bin_size)?;
+    let windows = windows_bp(args, &bins, resolution)?;
     let explicit_view = args.view.is_some();
     let (weights, view) = weights_and_view(
         reader.as_ref(),
@@ -196,11 +196,11 @@ pub fn run(args: &TadsArgs) -> Result<()> {
         &args.weight_name,
         args.view.as_deref(),
     )?;
-    let largest = windows.iter().copied().max().unwrap_or(bin_size);
+    let largest = windows.iter().copied().max().unwrap_or(resolution);
     // Printed only once the outputs are written: a warning never comes before an error.
     let mut warnings = Warnings::new();
     if args.method != MethodArg::Armatus {
-        let window_bins = (largest / bin_size) as usize;
+        let window_bins = (largest / resolution) as usize;
         warnings.extend(check_window_fits(
             &view,
             window_bins,
@@ -210,7 +210,7 @@ pub fn run(args: &TadsArgs) -> Result<()> {
     }
     let pixels = LoadedPixels::Streamed(StreamedPixels::new(reader.as_ref()));
     let weights = weights.as_deref();
-    let caller = caller(args, reader.as_ref(), &windows, bin_size)?;
+    let caller = caller(args, reader.as_ref(), &windows, resolution)?;
     let calls = call(&pixels, weights, &view, &caller)?;
     warnings.extend(calls.warnings.iter().cloned());
     for note in &calls.notes {
@@ -251,7 +251,7 @@ fn parse_threshold(args: &TadsArgs) -> Result<Threshold> {
 
 /// The windows in bp: given (each checked by the library's one check), or the method's default
 /// number of bins.
-fn windows_bp(args: &TadsArgs, bins: &BinTable, bin_size: u64) -> Result<Vec<u64>> {
+fn windows_bp(args: &TadsArgs, bins: &BinTable, resolution: u64) -> Result<Vec<u64>> {
     let mut windows = Vec::with_capacity(args.window.len());
     for text in &args.window {
         let value = bp_option("--window", text)?;
@@ -263,7 +263,7 @@ fn windows_bp(args: &TadsArgs, bins: &BinTable, bin_size: u64) -> Result<Vec<u64
             MethodArg::Topdom => TopDomParams::default().window_bins,
             _ => DEFAULT_WINDOW_BINS,
         };
-        windows.push(n_bins as u64 * bin_size);
+        windows.push(n_bins as u64 * resolution);
     }
     if windows.len() > 1 && args.method != MethodArg::Insulation {
         return Err(Error::Argument(
@@ -278,7 +278,7 @@ fn caller(
     args: &TadsArgs,
     reader: &dyn MatrixReader,
     windows: &[u64],
-    bin_size: u64,
+    resolution: u64,
 ) -> Result<Caller> {
     // cooltools' default: the diagonals the balancing left out, stored with the weights
     let stored = |column: &str| match args.ignore_diags {
@@ -323,7 +323,7 @@ fn caller(
             },
         },
         MethodArg::Topdom => Caller::TopDom(TopDomParams {
-            window_bins: (windows[0] / bin_size) as usize,
+            window_bins: (windows[0] / resolution) as usize,
             statistical_filter: !args.no_filter,
             ..TopDomParams::default()
         }),
@@ -338,7 +338,7 @@ fn caller(
             Caller::Armatus {
                 params: ArmatusParams {
                     gammas,
-                    max_domain_bins: (max_domain_bp / bin_size).max(2) as usize,
+                    max_domain_bins: (max_domain_bp / resolution).max(2) as usize,
                 },
                 ignore_diags: args.ignore_diags.unwrap_or(2),
                 boundary_level: args.bed_level,

@@ -130,8 +130,8 @@ pub struct Scc {
 
 /// The bin size that turns a distance into diagonals: the fixed bin size, or the median bin
 /// length of variable bins (as hicrep).
-fn bin_size(bins: &BinTable) -> u64 {
-    bins.bin_size_bp().unwrap_or_else(|| {
+fn resolution(bins: &BinTable) -> u64 {
+    bins.resolution().unwrap_or_else(|| {
         let mut lengths: Vec<u64> = bins.iter().map(|b| b.end - b.start).collect();
         lengths.sort_unstable();
         // numpy's median of integers: the mean of the two middle values, truncated by int().
@@ -152,7 +152,7 @@ pub fn max_diagonals(bins: &BinTable, max_distance_bp: Option<u64>) -> Result<us
     let Some(max) = max_distance_bp else {
         return Ok(bins.n_bins());
     };
-    let size = bin_size(bins);
+    let size = resolution(bins);
     let d_max = (max / size) as usize + 1;
     if d_max <= 1 {
         return Err(Error::parameter(
@@ -1180,7 +1180,7 @@ pub fn train_h(
     }
     let bins = a.bins();
     max_diagonals(bins, max_distance_bp)?;
-    let size = bin_size(bins);
+    let size = resolution(bins);
     let kernel = (2 * h_max as u64 + 1) * size;
     let long_enough = |min: u64| -> Vec<usize> {
         chroms
@@ -1270,7 +1270,7 @@ pub fn hicreppy_chrom_scc(
     let bins = a.bins();
     let range = bins.chrom_bins(chrom);
     let n = range.len();
-    let max_bins = ((max_distance_bp / bin_size(bins)) as usize).min(n);
+    let max_bins = ((max_distance_bp / resolution(bins)) as usize).min(n);
     let geometry = Geometry {
         n,
         n_diags: (max_bins + h + 1).min(n),

@@ -56,7 +56,7 @@ fn check_inputs<S: PixelSource>(pixels: &S, weights: Option<&[f64]>, view: &View
 /// Compute the cis expected of `pixels` over `view`: balanced with `weights` (multiplicative,
 /// one per bin, NaN for masked bins), or raw counts when `weights` is `None`.
 ///
-/// Needs fixed-size bins (distances in bp are `dist * bin_size`, as cooltools writes them).
+/// Needs fixed-size bins (distances in bp are `dist * resolution`, as cooltools writes them).
 ///
 /// # Examples
 ///
@@ -108,7 +108,7 @@ pub fn expected_cis<S: PixelSource>(
     params.check()?;
     check_inputs(pixels, weights, view)?;
     let bins = pixels.bins();
-    let bin_size = bins.bin_size_bp().ok_or_else(|| {
+    let resolution = bins.resolution().ok_or_else(|| {
         Error::Unsupported(
             "expected needs fixed-size bins (distances are diagonals times the bin size)".into(),
         )
@@ -144,7 +144,7 @@ pub fn expected_cis<S: PixelSource>(
 
     let balanced = weights.is_some();
     let mut table = CisExpected {
-        bin_size_bp: bin_size,
+        resolution,
         region_names: view.regions().iter().map(|r| r.name.clone()).collect(),
         region: Vec::with_capacity(n_keys),
         dist: Vec::with_capacity(n_keys),
@@ -180,7 +180,7 @@ pub fn expected_cis<S: PixelSource>(
             let count_sum = if ignored { f64::NAN } else { count };
             table.region.push(r as u32);
             table.dist.push(d as u64);
-            table.dist_bp.push(d as u64 * bin_size);
+            table.dist_bp.push(d as u64 * resolution);
             table.n_total.push(n_total);
             table.n_valid.push(n_valid);
             table.count_sum.push(count_sum);

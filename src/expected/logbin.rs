@@ -184,7 +184,7 @@ impl CombinedBin {
 #[derive(Clone, Debug, PartialEq)]
 pub struct LogBinned {
     /// Bin size of the matrix in bp.
-    pub bin_size_bp: u64,
+    pub resolution: u64,
     /// `balanced` or `count`: which average P(s) is.
     pub prefix: &'static str,
     /// Region names (as in the expected table).
@@ -438,7 +438,7 @@ pub fn logbin_expected(table: &CisExpected, params: &LogBinParams) -> Result<Log
         }
     }
     Ok(LogBinned {
-        bin_size_bp: table.bin_size_bp,
+        resolution: table.resolution,
         prefix: table.prefix(),
         region_names: table.region_names.clone(),
         by_region,

@@ -109,9 +109,9 @@ impl std::str::FromStr for FitRange {
 
 /// The default fit range: `max(ignore_diags, 2)` bins to a quarter of the median region length
 /// (see the module documentation).
-pub fn default_fit_range(bin_size_bp: u64, ignore_diags: usize, median_region_bp: f64) -> FitRange {
+pub fn default_fit_range(resolution: u64, ignore_diags: usize, median_region_bp: f64) -> FitRange {
     FitRange {
-        min_bp: ignore_diags.max(2) as f64 * bin_size_bp as f64,
+        min_bp: ignore_diags.max(2) as f64 * resolution as f64,
         max_bp: median_region_bp / 4.0,
     }
 }
@@ -552,21 +552,21 @@ pub const EFFECTIVE_DISTANCE_ROUNDS: usize = 4;
 
 /// The bins of the combined log-binned curve whose mean distance `dist.avg` lies in `range`.
 pub fn fit_bins<'a>(binned: &'a LogBinned, range: &FitRange) -> Vec<&'a CombinedBin> {
-    let bin_size = binned.bin_size_bp as f64;
+    let resolution = binned.resolution as f64;
     binned
         .combined
         .iter()
         .filter(|b| {
-            let s = b.dist_avg * bin_size;
+            let s = b.dist_avg * resolution;
             s >= range.min_bp && s <= range.max_bp && b.average > 0.0 && b.average.is_finite()
         })
         .collect()
 }
 
 /// Fit points `(effective distance in bp, P)` of `bins` for the exponent `alpha`.
-pub fn fit_points(bins: &[&CombinedBin], bin_size_bp: u64, alpha: f64) -> Vec<(f64, f64)> {
+pub fn fit_points(bins: &[&CombinedBin], resolution: u64, alpha: f64) -> Vec<(f64, f64)> {
     bins.iter()
-        .map(|b| (b.effective_dist(alpha) * bin_size_bp as f64, b.average))
+        .map(|b| (b.effective_dist(alpha) * resolution as f64, b.average))
         .collect()
 }
 
@@ -596,11 +596,11 @@ pub fn fit_log_binned(binned: &LogBinned, params: &FitParams) -> Result<PowerLaw
         )));
     }
     // Start at the mean distances (alpha 0), then refit at the effective distances.
-    let mut fit = fit_power_law(&fit_points(&bins, binned.bin_size_bp, 0.0))?;
+    let mut fit = fit_power_law(&fit_points(&bins, binned.resolution, 0.0))?;
     for _ in 0..EFFECTIVE_DISTANCE_ROUNDS {
-        fit = fit_power_law(&fit_points(&bins, binned.bin_size_bp, fit.alpha))?;
+        fit = fit_power_law(&fit_points(&bins, binned.resolution, fit.alpha))?;
     }
-    let points = fit_points(&bins, binned.bin_size_bp, fit.alpha);
+    let points = fit_points(&bins, binned.resolution, fit.alpha);
     Ok(PowerLawReport {
         range,
         piecewise: fit_piecewise(&points, params)?,
@@ -682,7 +682,7 @@ pub fn power_law_of_table(
 ) -> Result<PowerLaw> {
     let binned = logbin_expected(&table, &LogBinParams::default())?;
     let range = fit_range
-        .unwrap_or_else(|| default_fit_range(table.bin_size_bp, ignore_diags, median_region_bp));
+        .unwrap_or_else(|| default_fit_range(table.resolution, ignore_diags, median_region_bp));
     let fit = fit_log_binned(&binned, &FitParams::new(range));
     Ok(PowerLaw { table, binned, fit })
 }
@@ -777,7 +777,7 @@ impl PowerLawReport {
             .map(|(bin, (s, p))| {
                 json!({
                     "dist_bin_id": bin.dist_bin_id,
-                    "dist_bp_avg": bin.dist_avg * table.bin_size_bp as f64,
+                    "dist_bp_avg": bin.dist_avg * table.resolution as f64,
                     "dist_bp_effective": s,
                     "p": p,
                     "n_valid": bin.n_valid,
@@ -787,7 +787,7 @@ impl PowerLawReport {
         json!({
             "uri": uri,
             "values": if table.is_balanced() { format!("balanced ({weight_name})") } else { "raw counts".to_string() },
-            "bin_size_bp": table.bin_size_bp,
+            "bin_size_bp": table.resolution,
             "fit_range_bp": [report.range.min_bp, report.range.max_bp],
             "power_law": {
                 "alpha": fit.alpha,

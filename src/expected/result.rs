@@ -7,14 +7,14 @@ use crate::io::tables::Column;
 #[derive(Clone, Debug, PartialEq)]
 pub struct CisExpected {
     /// The bin size in bp.
-    pub bin_size_bp: u64,
+    pub resolution: u64,
     /// Names of the regions (`region1` = `region2` of each row).
     pub region_names: Vec<String>,
     /// Index into `region_names` of each row.
     pub region: Vec<u32>,
     /// Diagonal (distance in bins).
     pub dist: Vec<u64>,
-    /// Distance in bp: `dist * bin_size`.
+    /// Distance in bp: `dist * resolution`.
     pub dist_bp: Vec<u64>,
     /// Pixels on the diagonal.
     pub n_total: Vec<u64>,

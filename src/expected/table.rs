@@ -36,7 +36,7 @@ impl CisExpected {
     ///      chr1\tchr1\t0\t0\t4\t4\t40\t10\nchr1\tchr1\t1\t1000\t3\t3\t12\t4\n",
     /// )?;
     /// let table = CisExpected::from_table(&Table::read(path.to_str().unwrap())?)?;
-    /// assert_eq!((table.bin_size_bp, table.average()), (1000, &[10.0, 4.0][..]));
+    /// assert_eq!((table.resolution, table.average()), (1000, &[10.0, 4.0][..]));
     /// assert_eq!(table.median_region_length_bp(), 2000.0);
     /// assert_eq!(String::from_utf8(table.to_tsv())?.lines().count(), 3);
     /// # std::fs::remove_file(&path)?;
@@ -75,7 +75,7 @@ impl CisExpected {
             }
         };
         let mut out = CisExpected {
-            bin_size_bp: 0,
+            resolution: 0,
             region_names: Vec::new(),
             region: Vec::with_capacity(table.len()),
             dist: Vec::with_capacity(table.len()),
@@ -123,15 +123,15 @@ impl CisExpected {
                 ));
             }
             if let Some(size) = dist_bp.checked_div(dist) {
-                if out.bin_size_bp == 0 {
-                    out.bin_size_bp = size;
+                if out.resolution == 0 {
+                    out.resolution = size;
                 }
-                if dist.checked_mul(out.bin_size_bp) != Some(dist_bp) || out.bin_size_bp == 0 {
+                if dist.checked_mul(out.resolution) != Some(dist_bp) || out.resolution == 0 {
                     return Err(bad_row(
                         row,
                         format!(
                             "dist_bp {dist_bp} is not dist {dist} times the bin size {} of the rows above",
-                            out.bin_size_bp
+                            out.resolution
                         ),
                     ));
                 }
@@ -150,7 +150,7 @@ impl CisExpected {
                 avgs.push(table.number(row, column)?);
             }
         }
-        if out.bin_size_bp == 0 {
+        if out.resolution == 0 {
             return Err(Error::format(
                 path,
                 "every region has a single diagonal: no distances to plot",
@@ -165,7 +165,7 @@ impl CisExpected {
     pub fn median_region_length_bp(&self) -> f64 {
         let mut lengths = vec![0u64; self.region_names.len()];
         for &region in &self.region {
-            lengths[region as usize] += self.bin_size_bp;
+            lengths[region as usize] += self.resolution;
         }
         lengths.sort_unstable();
         let n = lengths.len();
@@ -239,7 +239,7 @@ impl LogBinned {
             for value in [
                 bin.low_err,
                 bin.high_err,
-                bin.dist_avg * self.bin_size_bp as f64,
+                bin.dist_avg * self.resolution as f64,
             ] {
                 text.push(b'\t');
                 write_real(&mut text, value);
@@ -366,7 +366,7 @@ pub fn region_column(
     );
     let value = table.column(column)?;
     let dist_bp = table.column("dist_bp").ok();
-    let bin_size = bins.bin_size_bp();
+    let resolution = bins.resolution();
     let regions = view.regions();
     let mut values: Vec<Vec<f64>> = regions.iter().map(|r| vec![f64::NAN; r.n_bins()]).collect();
     let mut seen = vec![false; regions.len()];
@@ -391,7 +391,7 @@ pub fn region_column(
                 ),
             ));
         }
-        if let (Some(c), Some(size)) = (dist_bp, bin_size) {
+        if let (Some(c), Some(size)) = (dist_bp, resolution) {
             let bp = table.number(row, c)?;
             if bp != d * size as f64 {
                 return Err(Error::format(

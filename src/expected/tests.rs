@@ -14,13 +14,13 @@ fn cases() -> impl Strategy<Value = (ContactMatrix, Vec<f64>, Vec<RegionSpec>)> 
         5u64..40,
         any::<u64>(),
     )
-        .prop_flat_map(|(lengths, bin_size, seed)| {
+        .prop_flat_map(|(lengths, resolution, seed)| {
             let chroms: Vec<Chrom> = lengths
                 .iter()
                 .enumerate()
                 .map(|(i, &l)| Chrom::new(format!("c{i}"), l))
                 .collect();
-            let bins = BinTable::fixed(chroms, bin_size).unwrap();
+            let bins = BinTable::fixed(chroms, resolution).unwrap();
             let n = bins.n_bins() as u64;
             let triplets = prop::collection::vec((0..n, 0..n, 1u32..50), 0..300);
             let cuts =

@@ -65,7 +65,7 @@ pub struct Unconverged {
     /// The normalisation.
     pub method: Method,
     /// The resolution.
-    pub bin_size_bp: u64,
+    pub resolution: u64,
     /// The chromosome's name.
     pub chrom: String,
 }
@@ -76,7 +76,7 @@ impl std::fmt::Display for Unconverged {
             f,
             "{} at {} bp: {} did not converge; its vector is stored as the last iteration left it",
             self.method.juicer_name(),
-            self.bin_size_bp,
+            self.resolution,
             self.chrom
         )
     }
@@ -247,7 +247,7 @@ fn juicer_vectors(
                 if !result.converged {
                     unconverged.push(Unconverged {
                         method,
-                        bin_size_bp: resolution,
+                        resolution,
                         chrom: chrom.name.clone(),
                     });
                 }
@@ -263,7 +263,7 @@ fn juicer_vectors(
             vectors.push(HicNormVector {
                 name: method.juicer_name().into(),
                 chrom: chrom_id,
-                bin_size_bp: resolution,
+                resolution,
                 values: divisive,
             });
         }

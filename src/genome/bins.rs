@@ -40,12 +40,12 @@ pub struct Bin {
 /// Bins are sorted by chromosome (in chromosome-table order), then by start; they tile each
 /// chromosome's covered span without gaps or overlaps. The span is normally the whole chromosome;
 /// a matrix cut out of a chromosome (HiCExplorer writes such files, cooler and cooltools compute on
-/// them) covers `first start .. last end` only. Fixed bins are `bin_size_bp` long except the last of
+/// them) covers `first start .. last end` only. Fixed bins are `resolution` long except the last of
 /// each chromosome, which ends at the span's end.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct BinTable {
     chroms: Vec<Chrom>,
-    bin_size_bp: Option<u64>,
+    resolution: Option<u64>,
     /// First bin of each chromosome; `chrom_offsets[n_chroms] == n_bins`.
     chrom_offsets: Vec<usize>,
     /// Starts of every bin (used for variable bins; for fixed bins, computed on the fly).
@@ -59,29 +59,29 @@ pub struct BinTable {
 /// a human genome at 1 bp is 3.1e9 bins.
 pub const MAX_BINS: usize = u32::MAX as usize;
 
-fn too_many_bins(bin_size_bp: u64) -> Error {
+fn too_many_bins(resolution: u64) -> Error {
     Error::Argument(format!(
-        "bins of {bin_size_bp} bp make more than {MAX_BINS} bins: the chromosome lengths or the \
+        "bins of {resolution} bp make more than {MAX_BINS} bins: the chromosome lengths or the \
          bin size are wrong"
     ))
 }
 
 impl BinTable {
-    /// Chromosomes cut into bins of `bin_size_bp` base pairs.
-    pub fn fixed(chroms: Vec<Chrom>, bin_size_bp: u64) -> Result<Self> {
+    /// Chromosomes cut into bins of `resolution` base pairs.
+    pub fn fixed(chroms: Vec<Chrom>, resolution: u64) -> Result<Self> {
         let spans = chroms.iter().map(|c| 0..c.length_bp).collect();
-        BinTable::fixed_spans(chroms, bin_size_bp, spans)
+        BinTable::fixed_spans(chroms, resolution, spans)
     }
 
-    /// Chromosomes cut into bins of `bin_size_bp` base pairs over `spans[c]` only: the bins of
+    /// Chromosomes cut into bins of `resolution` base pairs over `spans[c]` only: the bins of
     /// chromosome `c` start at `spans[c].start` and the last ends at `spans[c].end` (a matrix cut
     /// out of the chromosomes). An empty span gives the chromosome no bins.
     pub fn fixed_spans(
         chroms: Vec<Chrom>,
-        bin_size_bp: u64,
+        resolution: u64,
         spans: Vec<Range<u64>>,
     ) -> Result<Self> {
-        if bin_size_bp == 0 {
+        if resolution == 0 {
             return Err(Error::Argument("bin size must be positive".into()));
         }
         check_chrom_names(&chroms)?;
@@ -102,16 +102,16 @@ impl BinTable {
                 )));
             }
             chrom_offsets.push(n);
-            n = usize::try_from((span.end - span.start).div_ceil(bin_size_bp))
+            n = usize::try_from((span.end - span.start).div_ceil(resolution))
                 .ok()
                 .and_then(|bins| n.checked_add(bins))
                 .filter(|&total| total <= MAX_BINS)
-                .ok_or_else(|| too_many_bins(bin_size_bp))?;
+                .ok_or_else(|| too_many_bins(resolution))?;
         }
         chrom_offsets.push(n);
         Ok(BinTable {
             chroms,
-            bin_size_bp: Some(bin_size_bp),
+            resolution: Some(resolution),
             chrom_offsets,
             starts: Vec::new(),
             ends: Vec::new(),
@@ -177,7 +177,7 @@ impl BinTable {
         }
         Ok(BinTable {
             chroms,
-            bin_size_bp: None,
+            resolution: None,
             chrom_offsets,
             starts,
             ends,
@@ -187,13 +187,17 @@ impl BinTable {
 
     /// Build a table from explicit bins, detecting whether they are fixed-size.
     ///
-    /// Readers use this: the candidate size is `bin_size_hint` (a file's own bin-size attribute)
+    /// Readers use this: the candidate size is `resolution_hint` (a file's own bin-size attribute)
     /// or else the largest bin; if the bins equal `BinTable::fixed` with that size, the result is
     /// a fixed table, otherwise a variable one.
-    pub fn from_bins(chroms: Vec<Chrom>, bins: &[Bin], bin_size_hint: Option<u64>) -> Result<Self> {
+    pub fn from_bins(
+        chroms: Vec<Chrom>,
+        bins: &[Bin],
+        resolution_hint: Option<u64>,
+    ) -> Result<Self> {
         let variable = BinTable::variable(chroms, bins)?;
         let largest = bins.iter().map(|b| b.end - b.start).max();
-        if let Some(size) = bin_size_hint.filter(|&s| s > 0).or(largest) {
+        if let Some(size) = resolution_hint.filter(|&s| s > 0).or(largest) {
             // A size that cannot tile the spans (too many bins) means variable bins.
             let fixed =
                 BinTable::fixed_spans(variable.chroms.clone(), size, variable.spans.clone());
@@ -234,8 +238,8 @@ impl BinTable {
                 ));
             }
         }
-        if a.bin_size_bp() != b.bin_size_bp() {
-            return Some(match (a.bin_size_bp(), b.bin_size_bp()) {
+        if a.resolution() != b.resolution() {
+            return Some(match (a.resolution(), b.resolution()) {
                 (Some(x), Some(y)) => format!("bin size {y} instead of {x}"),
                 _ => "variable bins on one side only".into(),
             });
@@ -243,7 +247,7 @@ impl BinTable {
         if a.n_bins() != b.n_bins() {
             return Some(format!("{} bins instead of {}", b.n_bins(), a.n_bins()));
         }
-        if a.bin_size_bp().is_none() {
+        if a.resolution().is_none() {
             if let Some(k) = (0..a.n_bins()).find(|&k| a.bin(k) != b.bin(k)) {
                 return Some(format!("bin {k} differs"));
             }
@@ -267,8 +271,8 @@ impl BinTable {
     }
 
     /// The bin size for fixed tables, `None` for variable ones.
-    pub fn bin_size_bp(&self) -> Option<u64> {
-        self.bin_size_bp
+    pub fn resolution(&self) -> Option<u64> {
+        self.resolution
     }
 
     /// Index of the chromosome called `name`.
@@ -355,7 +359,7 @@ impl BinTable {
     /// Bin `bin_id` (panics when out of range; check against `n_bins` first).
     pub fn bin(&self, bin_id: usize) -> Bin {
         let chrom_id = self.chrom_of(bin_id);
-        match self.bin_size_bp {
+        match self.resolution {
             Some(size) => {
                 let local = (bin_id - self.chrom_offsets[chrom_id]) as u64;
                 let span = &self.spans[chrom_id];
@@ -386,7 +390,7 @@ impl BinTable {
         if range.is_empty() {
             return range.start;
         }
-        match self.bin_size_bp {
+        match self.resolution {
             Some(size) => {
                 let local = pos_bp.saturating_sub(self.spans[chrom_id].start) / size;
                 (range.start + local as usize).min(range.end - 1)
@@ -466,7 +470,7 @@ impl BinTable {
                 "bin tables that do not cover whole chromosomes cannot be coarsened".into(),
             ));
         }
-        match self.bin_size_bp {
+        match self.resolution {
             Some(size) if factor > 0 => match size.checked_mul(factor) {
                 Some(coarse) => BinTable::fixed(self.chroms.clone(), coarse),
                 None => Err(Error::Argument(format!(

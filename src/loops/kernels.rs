@@ -49,8 +49,8 @@ impl KernelType {
 /// assert_eq!(recommended_w_p(25_000), Some((3, 1)));
 /// assert_eq!(recommended_w_p(100_000), None);
 /// ```
-pub fn recommended_w_p(bin_size_bp: u64) -> Option<(usize, usize)> {
-    match bin_size_bp {
+pub fn recommended_w_p(resolution: u64) -> Option<(usize, usize)> {
+    match resolution {
         0..=3_999 => None,
         4_000..=7_999 => Some((7, 4)),
         8_000..=17_999 => Some((5, 2)),

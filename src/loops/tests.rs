@@ -96,7 +96,7 @@ fn yeast_dots_are_cooltools() {
     let expected = expected_cis(&pixels, Some(&weights), &view, &CisParams::default())
         .unwrap()
         .average_by_region();
-    let params = DotsParams::for_bin_size(10_000).unwrap();
+    let params = DotsParams::for_resolution(10_000).unwrap();
     let calls = call_dots(reader.as_ref(), &weights, &view, &expected, &params).unwrap();
     assert_eq!(calls.extra_lambda_bins, 0);
     assert_same_table(

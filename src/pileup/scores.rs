@@ -154,13 +154,13 @@ pub fn apa_scores(pileup: ArrayView2<f64>, width: usize) -> ApaScores {
 /// The scores of a pileup by name, in the order `contactmap pileup` writes them: for a local
 /// pileup coolpuppy's insulation strength; otherwise coolpuppy's enrichment of the central
 /// `center` pixels (`enrichment_{center}x{center}`) and corner CV (4 x 4 corners), then Juicer
-/// APA's scores with its corner width for `bin_size_bp`.
+/// APA's scores with its corner width for `resolution`.
 pub fn pileup_scores(
     pileup: ArrayView2<f64>,
     local: bool,
     rescale_flank: Option<f64>,
     center: usize,
-    bin_size_bp: u64,
+    resolution: u64,
 ) -> Result<Vec<(String, f64)>> {
     if let (true, Some(flank)) = (local, rescale_flank) {
         // the domain is the central third (flank 1) ...: defined for whole flanks
@@ -187,7 +187,7 @@ pub fn pileup_scores(
             ),
         )
     })?;
-    let apa = apa_scores(pileup, apa_corner_width(bin_size_bp));
+    let apa = apa_scores(pileup, apa_corner_width(resolution));
     Ok(vec![
         (format!("enrichment_{center}x{center}"), value),
         ("corner_cv".into(), corner_cv(pileup, 4)),
@@ -201,8 +201,8 @@ pub fn pileup_scores(
 }
 
 /// Juicer APA's corner width for a bin size: 3 at 5 kb, 6 otherwise (its `-q` defaults).
-pub fn apa_corner_width(bin_size_bp: u64) -> usize {
-    if bin_size_bp == 5_000 { 3 } else { 6 }
+pub fn apa_corner_width(resolution: u64) -> usize {
+    if resolution == 5_000 { 3 } else { 6 }
 }
 
 /// A group's pileup and its scores by name.
@@ -214,13 +214,13 @@ pub fn group_scores(
     local: bool,
     rescale_flank: Option<f64>,
     center: usize,
-    bin_size_bp: u64,
+    resolution: u64,
 ) -> Result<Vec<GroupScores<'_>>> {
     pileups
         .groups
         .iter()
         .map(|p| {
-            pileup_scores(p.data.view(), local, rescale_flank, center, bin_size_bp).map(|s| (p, s))
+            pileup_scores(p.data.view(), local, rescale_flank, center, resolution).map(|s| (p, s))
         })
         .collect()
 }

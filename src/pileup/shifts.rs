@@ -116,7 +116,7 @@ pub fn batch_shifts(
     rng: &mut Mt19937,
     params: &ShiftParams,
     m: usize,
-    bin_size_bp: u64,
+    resolution: u64,
     trans: bool,
 ) -> Vec<i64> {
     let count = params.n * m;
@@ -131,7 +131,7 @@ pub fn batch_shifts(
         .zip(&signs)
         .map(|(&shift, &sign)| {
             let signed = if sign == 0 { -shift } else { shift };
-            (signed as f64 / bin_size_bp as f64).round_ties_even() as i64
+            (signed as f64 / resolution as f64).round_ties_even() as i64
         })
         .collect()
 }

@@ -99,7 +99,7 @@ impl Skipped {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct WindowParams {
     /// The map's bin size (bp).
-    pub bin_size_bp: u64,
+    pub resolution: u64,
     /// Bins each side of the centre bin.
     pub flank_bins: usize,
     /// Smallest distance between paired anchors (bp, inclusive).
@@ -125,7 +125,7 @@ fn midpoint(start: u64, end: u64) -> f64 {
 
 /// The window of a feature `[start, end)`, in bins from the start of `region`.
 fn window(view: &View, region: usize, start: u64, end: u64, params: &WindowParams) -> (i64, i64) {
-    let res = params.bin_size_bp as i64;
+    let res = params.resolution as i64;
     let lo = view.regions()[region].start_bp as i64 / res;
     let (first, last) = match params.rescale_flank {
         Some(scale) => {
@@ -135,7 +135,7 @@ fn window(view: &View, region: usize, start: u64, end: u64, params: &WindowParam
             (from.div_euclid(res), -(-to).div_euclid(res))
         }
         None => {
-            let centre = (midpoint(start, end) / params.bin_size_bp as f64).floor() as i64;
+            let centre = (midpoint(start, end) / params.resolution as f64).floor() as i64;
             let flank = params.flank_bins as i64;
             (centre - flank, centre + flank + 1)
         }

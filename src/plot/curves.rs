@@ -406,7 +406,7 @@ pub fn ps_figure(samples: &[PsSample], options: &PsFigure) -> CurveFigure {
     let mut colour = 0;
     for sample in samples {
         let binned = &sample.power_law.binned;
-        let bin_bp = binned.bin_size_bp as f64;
+        let bin_bp = binned.resolution as f64;
         if options.per_region {
             for (region, name) in binned.region_names.iter().enumerate() {
                 let points: Vec<(f64, f64)> = binned

@@ -124,13 +124,13 @@ impl Track {
                 row.start == bin.start && row.end == bin.end
             });
         if !matches {
-            let bin_size = bins
-                .bin_size_bp()
+            let resolution = bins
+                .resolution()
                 .map_or(String::new(), |b| format!(" of {b} bp"));
             return Err(Error::format(
                 path,
                 format!(
-                    "track column '{column}' has {} rows in {}:{}-{}, where the map has {} bins{bin_size}: a track must hold one row per bin of the map (same resolution)",
+                    "track column '{column}' has {} rows in {}:{}-{}, where the map has {} bins{resolution}: a track must hold one row per bin of the map (same resolution)",
                     rows.len(),
                     span.chrom,
                     span.start_bp,

@@ -7,9 +7,9 @@
 use std::ops::Range;
 use std::path::PathBuf;
 
+use super::colormap::{ColorMap, ColorScale, ScaleKind};
 use super::heatmap::{AxisCells, CellGrid, GridComparison, colour_limits};
 use super::map::{GenomicSpan, MapFigure, MapLayout, MapStyle, MapView, Overlays, Track, draw_map};
-use super::colormap::{ColorMap, ColorScale, ScaleKind};
 use super::svg::{Rgb, Svg};
 use crate::compare::check_comparable;
 use crate::compare::coverage::total;

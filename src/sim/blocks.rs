@@ -2,7 +2,7 @@
 //!
 //! Model (intra-chromosomal pixels only; no trans contacts):
 //!
-//! - each chromosome (`chr1` .. `chrN`, `n_bins` bins of `bin_size_bp`) is tiled by domains whose
+//! - each chromosome (`chr1` .. `chrN`, `n_bins` bins of `resolution`) is tiled by domains whose
 //!   sizes are drawn uniformly in `[min_domain_bins, max_domain_bins]`; when the stretch left after
 //!   a draw would be shorter than `min_domain_bins`, the domain absorbs it (so domains hold between
 //!   `min_domain_bins` and `max_domain_bins + min_domain_bins - 1` bins);
@@ -42,7 +42,7 @@ pub struct BlockMapParams {
     /// Bins per chromosome (default 2000).
     pub n_bins: usize,
     /// Bin size in bp (default 10 000).
-    pub bin_size_bp: u64,
+    pub resolution: u64,
     /// Smallest domain, in bins (default 10).
     pub min_domain_bins: usize,
     /// Largest drawn domain, in bins (default 60); the last domain of a chromosome may be longer.
@@ -73,7 +73,7 @@ impl Default for BlockMapParams {
         BlockMapParams {
             n_chroms: 1,
             n_bins: 2000,
-            bin_size_bp: 10_000,
+            resolution: 10_000,
             min_domain_bins: 10,
             max_domain_bins: 60,
             decay_exponent: 1.0,
@@ -95,7 +95,7 @@ impl BlockMapParams {
         if self.n_chroms == 0 {
             return fail("the number of chromosomes must be at least 1".into());
         }
-        if self.bin_size_bp == 0 {
+        if self.resolution == 0 {
             return fail("the bin size must be positive".into());
         }
         if self.min_domain_bins == 0 {
@@ -247,9 +247,9 @@ impl BlockMap {
 pub fn block_map(params: &BlockMapParams) -> Result<BlockMap> {
     params.check()?;
     let chroms: Vec<Chrom> = (1..=params.n_chroms)
-        .map(|k| Chrom::new(format!("chr{k}"), params.n_bins as u64 * params.bin_size_bp))
+        .map(|k| Chrom::new(format!("chr{k}"), params.n_bins as u64 * params.resolution))
         .collect();
-    let bins = BinTable::fixed(chroms, params.bin_size_bp)?;
+    let bins = BinTable::fixed(chroms, params.resolution)?;
     let n_total = bins.n_bins();
 
     let mut rng = stream_rng(params.seed, TAG_STRUCTURE, 0);

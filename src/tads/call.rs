@@ -251,8 +251,8 @@ fn call_topdom(
         .map(|(domain, _)| *domain)
         .collect();
     // Labelled by the window in bp (in bins where bins vary in size).
-    let label = match pixels.bins().bin_size_bp() {
-        Some(bin_size) => format!("topdom_{}", params.window_bins as u64 * bin_size),
+    let label = match pixels.bins().resolution() {
+        Some(resolution) => format!("topdom_{}", params.window_bins as u64 * resolution),
         None => format!("topdom_{}bins", params.window_bins),
     };
     Ok(TadCalls {

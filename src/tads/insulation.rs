@@ -303,17 +303,17 @@ pub const DEFAULT_WINDOW_BINS: usize = 10;
 /// # Ok::<(), contactmap::Error>(())
 /// ```
 pub fn window_bins(bins: &BinTable, window_bp: u64) -> Result<usize> {
-    let bin_size = bins.bin_size_bp().ok_or_else(|| {
+    let resolution = bins.resolution().ok_or_else(|| {
         Error::Unsupported(
             "the matrix has variable-size bins; windows need a fixed bin size".into(),
         )
     })?;
-    if window_bp == 0 || bin_size == 0 || !window_bp.is_multiple_of(bin_size) {
+    if window_bp == 0 || resolution == 0 || !window_bp.is_multiple_of(resolution) {
         return Err(Error::Argument(format!(
-            "window {window_bp} bp is not a positive multiple of the bin size {bin_size} bp"
+            "window {window_bp} bp is not a positive multiple of the bin size {resolution} bp"
         )));
     }
-    Ok((window_bp / bin_size) as usize)
+    Ok((window_bp / resolution) as usize)
 }
 
 /// Checks the weights have one value per bin.

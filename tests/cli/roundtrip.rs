@@ -113,7 +113,7 @@ proptest! {
             prop_assert!(same_weights(&back.weight(name).unwrap().values, &matrix.weight(name).unwrap().values));
         }
         let mcool = dir.path().join("m.mcool");
-        let base = matrix.bins().bin_size_bp().unwrap();
+        let base = matrix.bins().resolution().unwrap();
         write_mcool(&source, &mcool, &[base, 3 * base], &CoolWriteOptions::default()).unwrap();
         let uri = format!("{}::/resolutions/{base}", mcool.display());
         let level = load_matrix(&CoolReader::open(&uri).unwrap()).unwrap();
@@ -151,7 +151,7 @@ proptest! {
         let dir = tempfile::tempdir().unwrap();
         let source = InMemory::new("random".into(), matrix.clone());
         let path = dir.path().join("m.hic");
-        let base = matrix.bins().bin_size_bp().unwrap();
+        let base = matrix.bins().resolution().unwrap();
         let options = HicWriteOptions { block_bin_count: block, whole_genome, ..HicWriteOptions::default() };
         let mut writer = HicWriter::create(&path, matrix.bins(), &[base, factor * base], &options).unwrap();
         writer.write_matrices(&source).unwrap();

@@ -113,7 +113,7 @@ fn load(uri: &str, args: &ExpectedPlotArgs, fit_range: Option<FitRange>) -> Resu
         return power_law_of_table(table, args.ignore_diags, median_bp, fit_range);
     }
     let reader = open_for_analysis(uri, &args.input)?;
-    if reader.bins().bin_size_bp().is_none() {
+    if reader.bins().resolution().is_none() {
         return Err(Error::format(
             reader.source(),
             "P(s) needs fixed-size bins (distances are diagonals times the bin size)",

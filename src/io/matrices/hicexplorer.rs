@@ -461,7 +461,7 @@ impl MatrixReader for HicExplorerReader {
         MatrixInfo {
             format: "HiCExplorer h5 (HiCMatrix CSR)".to_string(),
             attributes: self.attributes.clone(),
-            resolutions: self.bins.bin_size_bp().into_iter().collect(),
+            resolutions: self.bins.resolution().into_iter().collect(),
             notes,
         }
     }

@@ -82,7 +82,7 @@ fn matrix_report(reader: &dyn MatrixReader) -> Result<Value> {
     for (key, value) in &info.attributes {
         map.insert(key.clone(), attribute_json(value, cooler));
     }
-    match bins.bin_size_bp() {
+    match bins.resolution() {
         Some(size) => {
             map.insert("bin-type".into(), Value::from("fixed"));
             map.insert("bin-size".into(), Value::from(size));

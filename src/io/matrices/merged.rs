@@ -100,7 +100,7 @@ impl MatrixReader for MergedReader<'_> {
         MatrixInfo {
             format: "merged".into(),
             attributes: Vec::new(),
-            resolutions: self.bins().bin_size_bp().into_iter().collect(),
+            resolutions: self.bins().resolution().into_iter().collect(),
             notes: Vec::new(),
         }
     }

@@ -52,7 +52,7 @@ pub fn open_matrix(uri: &str, options: &OpenOptions) -> Result<Box<dyn MatrixRea
     let uri = uri_at_resolution(uri, resolution)?;
     let reader = open_uri(&uri, options)?;
     // a single-resolution map (a cooler, HiCExplorer's .h5, a group of a legacy layout)
-    match reader.bins().bin_size_bp() {
+    match reader.bins().resolution() {
         Some(size) if size == resolution => Ok(reader),
         size => Err(Error::Argument(format!(
             "{uri} holds one resolution, {}, not the resolution {resolution} asked for",

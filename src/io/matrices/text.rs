@@ -36,7 +36,7 @@
 //!
 //! - positions are **1-based** (the 4DN pairs convention and cooler's default without
 //!   `--zero-based`, which `OpenOptions::pairs_zero_based` mirrors): a pair at `pos` falls in the bin containing the 0-based coordinate `pos - 1`,
-//!   i.e. bin `chrom_offset + (pos - 1) / bin_size_bp` for fixed bins;
+//!   i.e. bin `chrom_offset + (pos - 1) / resolution` for fixed bins;
 //! - pairs with a chromosome that is not in the chromosome table are dropped (cooler drops them
 //!   silently); position 0 and positions past the chromosome's length are errors (cooler raises
 //!   `BadInputError` for them, except for `pos == length + 1`, which it accepts and bins out of

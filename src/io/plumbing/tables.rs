@@ -308,7 +308,7 @@ pub fn track_on_bins(path: &std::path::Path, column: &str, bins: &BinTable) -> R
                     row.chrom,
                     row.start,
                     row.end,
-                    bins.bin_size_bp()
+                    bins.resolution()
                         .map_or(String::new(), |b| format!(" ({b} bp bins)"))
                 ),
             ));

@@ -32,7 +32,7 @@ impl CoolerCheck<'_> {
             }
         }
         if let (Some(bins), Some(stored)) = (bins, self.attr("bin-size")) {
-            if let (Some(size), Some(stored_size)) = (bins.bin_size_bp(), stored.as_i64()) {
+            if let (Some(size), Some(stored_size)) = (bins.resolution(), stored.as_i64()) {
                 if size as i64 != stored_size {
                     self.add(
                         out,

@@ -392,9 +392,9 @@ impl CoolerCheck<'_> {
             return None;
         }
         let bin_type = self.attr("bin-type");
-        let bin_size = self.attr("bin-size").and_then(|a| a.as_i64());
+        let resolution = self.attr("bin-size").and_then(|a| a.as_i64());
         if bin_type.as_ref().and_then(|a| a.as_str()) == Some("fixed") {
-            match bin_size {
+            match resolution {
                 Some(size) if size > 0 => {
                     for (k, bin) in bins.iter().enumerate() {
                         let width = (bin.end - bin.start) as i64;
@@ -426,7 +426,7 @@ impl CoolerCheck<'_> {
         if out.count(self.name, Class::BinTable) > errors_before {
             return None;
         }
-        let hint = bin_size.filter(|&s| s > 0).map(|s| s as u64);
+        let hint = resolution.filter(|&s| s > 0).map(|s| s as u64);
         BinTable::from_bins(chroms.to_vec(), &bins, hint).ok()
     }
 }

@@ -112,7 +112,7 @@ pub(crate) fn validate_hdf5(path: &str, group: Option<&str>) -> Result<Report> {
             raw: &raw,
         };
         if let Some(mut cooler) = checker.run(&mut collector)? {
-            cooler.resolution = resolution.or(cooler.bins.as_ref().and_then(|b| b.bin_size_bp()));
+            cooler.resolution = resolution.or(cooler.bins.as_ref().and_then(|b| b.resolution()));
             coolers.push(cooler);
         }
     }

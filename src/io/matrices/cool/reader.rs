@@ -123,7 +123,7 @@ impl CoolReader {
     /// use contactmap::io::cool::CoolReader;
     /// use contactmap::io::MatrixReader;
     /// let reader = CoolReader::open("data/cooler_test_file.mcool::/resolutions/100000")?;
-    /// assert_eq!(reader.bins().bin_size_bp(), Some(100_000));
+    /// assert_eq!(reader.bins().resolution(), Some(100_000));
     /// assert!(reader.weight_names().iter().any(|name| name == "weight"));
     /// # Ok::<(), contactmap::Error>(())
     /// ```
@@ -219,11 +219,11 @@ impl CoolReader {
             ));
         }
         let chroms = read_chroms(path, &group)?;
-        let bin_size_hint = attributes
+        let resolution_hint = attributes
             .iter()
             .find(|(k, _)| k == "bin-size")
             .and_then(|(_, v)| v.as_u64());
-        let (bins, weight_columns) = read_bins(path, &group, chroms, bin_size_hint)?;
+        let (bins, weight_columns) = read_bins(path, &group, chroms, resolution_hint)?;
         let mut bin1_offsets = read_int_column(path, &group, "indexes/bin1_offset")?;
         let mut layout_notes = Vec::new();
         let bin1 = Column::open(&group, "pixels/bin1_id", path)?;
@@ -649,7 +649,7 @@ impl MatrixReader for CoolReader {
         MatrixInfo {
             format: format!("cool (format-version {})", self.format_version),
             attributes: self.attributes.clone(),
-            resolutions: self.bins.bin_size_bp().into_iter().collect(),
+            resolutions: self.bins.resolution().into_iter().collect(),
             notes,
         }
     }
@@ -816,7 +816,7 @@ fn read_bins(
     path: &str,
     group: &hdf5::Group,
     chroms: Vec<Chrom>,
-    bin_size_hint: Option<u64>,
+    resolution_hint: Option<u64>,
 ) -> Result<(BinTable, Vec<String>)> {
     let chrom_ids = read_int_column(path, group, "bins/chrom")?;
     let starts = read_int_column(path, group, "bins/start")?;
@@ -850,7 +850,7 @@ fn read_bins(
             end: e as u64,
         });
     }
-    let table = BinTable::from_bins(chroms, &bins, bin_size_hint)
+    let table = BinTable::from_bins(chroms, &bins, resolution_hint)
         .map_err(|e| Error::format(path, format!("bins table: {e}")))?;
     let mut weights = Vec::new();
     let bins_group = group

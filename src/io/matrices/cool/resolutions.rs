@@ -64,8 +64,8 @@ pub fn parse_resolutions(items: &[String], base: u64, longest_bp: u64) -> Result
 
 /// The bin size of a matrix with fixed-size bins (an .mcool or .hic needs one); `source` names
 /// it in the error.
-pub fn fixed_bin_size(bins: &BinTable, source: &str) -> Result<u64> {
-    bins.bin_size_bp().ok_or_else(|| {
+pub fn fixed_resolution(bins: &BinTable, source: &str) -> Result<u64> {
+    bins.resolution().ok_or_else(|| {
         Error::Unsupported(format!(
             "{source}: multi-resolution outputs (.mcool, .hic) need fixed-size bins; this matrix has variable bins"
         ))
@@ -87,7 +87,7 @@ pub fn fixed_bin_size(bins: &BinTable, source: &str) -> Result<u64> {
 /// # Ok::<(), contactmap::Error>(())
 /// ```
 pub fn mcool_resolutions(bins: &BinTable, source: &str, items: &[String]) -> Result<Vec<u64>> {
-    let base = fixed_bin_size(bins, source)?;
+    let base = fixed_resolution(bins, source)?;
     let longest = bins
         .chroms()
         .iter()

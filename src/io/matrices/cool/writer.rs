@@ -124,7 +124,7 @@ pub fn write_mcool(
     options: &CoolWriteOptions,
 ) -> Result<()> {
     let base_bins = reader.bins();
-    let Some(base) = base_bins.bin_size_bp() else {
+    let Some(base) = base_bins.resolution() else {
         return Err(Error::Unsupported(format!(
             "{}: .mcool needs fixed-size bins; this matrix has variable bins",
             reader.source()
@@ -528,7 +528,7 @@ impl GroupWriter {
             options.assembly.as_deref().unwrap_or("unknown"),
         )?;
         write_str_attr(path, group, "metadata", "{}")?;
-        match bins.bin_size_bp() {
+        match bins.resolution() {
             Some(size) => {
                 write_str_attr(path, group, "bin-type", "fixed")?;
                 write_int_attr(path, group, "bin-size", size as i64)?;

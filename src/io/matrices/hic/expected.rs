@@ -8,7 +8,7 @@
 //! - Every intra-chromosomal pixel adds its value (raw count, or normalised count with a
 //!   normalisation vector; pixels with a non-finite value are skipped) to `actual[d]`,
 //!   `d = bin2 - bin1`, and to its chromosome's total.
-//! - Each chromosome that received a value has `n = floor(length / bin_size)` bins (Juicer's
+//! - Each chromosome that received a value has `n = floor(length / resolution)` bins (Juicer's
 //!   count, which leaves out a last partial bin) and adds `n - d` to `possible[d]` for `d < n`.
 //!   The vectors have `max n` entries; pixels at larger distances count only in the totals.
 //! - `expected[d]` is `actual / possible` summed over a window around `d` that grows until it
@@ -32,7 +32,7 @@ pub const SHOT_NOISE_MIN: f64 = 400.0;
 #[derive(Clone, Debug, PartialEq)]
 pub struct JuicerExpected {
     /// The bin size the vector was computed at.
-    pub bin_size_bp: u64,
+    pub resolution: u64,
     /// Expected value at each distance in bins.
     pub values: Vec<f64>,
     /// `(chromosome index in the bin table, scale factor)` for each chromosome with contacts.
@@ -42,8 +42,8 @@ pub struct JuicerExpected {
 /// Accumulates intra-chromosomal values for one [`JuicerExpected`].
 #[derive(Clone, Debug)]
 pub struct JuicerExpectedBuilder {
-    bin_size_bp: u64,
-    /// Juicer's bin count of each chromosome (`floor(length / bin_size)`).
+    resolution: u64,
+    /// Juicer's bin count of each chromosome (`floor(length / resolution)`).
     chrom_bins: Vec<usize>,
     actual: Vec<f64>,
     totals: Vec<f64>,
@@ -51,16 +51,16 @@ pub struct JuicerExpectedBuilder {
 }
 
 impl JuicerExpectedBuilder {
-    /// An empty accumulator for the chromosomes of `bins` (fixed-size bins of `bin_size_bp`).
-    pub fn new(bins: &BinTable, bin_size_bp: u64) -> Self {
+    /// An empty accumulator for the chromosomes of `bins` (fixed-size bins of `resolution`).
+    pub fn new(bins: &BinTable, resolution: u64) -> Self {
         let chrom_bins: Vec<usize> = bins
             .chroms()
             .iter()
-            .map(|c| (c.length_bp / bin_size_bp) as usize)
+            .map(|c| (c.length_bp / resolution) as usize)
             .collect();
         let n_max = chrom_bins.iter().copied().max().unwrap_or(0);
         JuicerExpectedBuilder {
-            bin_size_bp,
+            resolution,
             actual: vec![0.0; n_max],
             totals: vec![0.0; chrom_bins.len()],
             seen: vec![false; chrom_bins.len()],
@@ -177,7 +177,7 @@ impl JuicerExpectedBuilder {
             })
             .collect();
         JuicerExpected {
-            bin_size_bp: self.bin_size_bp,
+            resolution: self.resolution,
             values,
             chrom_scale_factors,
         }
@@ -197,7 +197,7 @@ pub struct MultiResolutionExpected {
 impl MultiResolutionExpected {
     /// Accumulators for `resolutions` (multiples of the fixed bin size of `bins`).
     pub fn new(bins: &BinTable, resolutions: &[u64]) -> Self {
-        let base = bins.bin_size_bp().unwrap_or(1);
+        let base = bins.resolution().unwrap_or(1);
         MultiResolutionExpected {
             chrom_of: (0..bins.n_bins())
                 .map(|b| bins.chrom_of(b) as u32)

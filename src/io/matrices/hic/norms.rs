@@ -22,7 +22,7 @@ pub struct HicExpected {
     /// `NONE` for the expected values of the raw counts, else the normalisation's name.
     pub normalization: String,
     /// Bin size.
-    pub bin_size_bp: u64,
+    pub resolution: u64,
     /// Expected value at each distance in bins.
     pub values: Vec<f64>,
     /// Chromosome scale factors by chromosome name (the reader divides `values` by them).
@@ -80,14 +80,14 @@ pub(super) fn read_norm_index(
         let name = reader.string(what)?;
         let chrom = reader.i32(what)?;
         let unit = reader.string(what)?;
-        let bin_size = reader.i32(what)?;
+        let vector_resolution = reader.i32(what)?;
         let position = reader.i64(what)?;
         let n_bytes = if version >= 9 {
             reader.i64(what)?
         } else {
             i64::from(reader.i32(what)?)
         };
-        if unit != "BP" || i64::from(bin_size) != resolution as i64 || name == "NONE" {
+        if unit != "BP" || i64::from(vector_resolution) != resolution as i64 || name == "NONE" {
             continue;
         }
         let chrom_name = usize::try_from(chrom)

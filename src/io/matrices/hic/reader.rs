@@ -82,7 +82,7 @@ impl HicReader {
     /// use contactmap::io::hic::HicReader;
     /// use contactmap::io::MatrixReader;
     /// let reader = HicReader::open(Path::new("data/hic_test_file.hic"), Some(100_000))?;
-    /// assert_eq!(reader.bins().bin_size_bp(), Some(100_000));
+    /// assert_eq!(reader.bins().resolution(), Some(100_000));
     /// assert!(reader.bins().n_bins() > 0);
     /// # Ok::<(), contactmap::Error>(())
     /// ```
@@ -325,12 +325,12 @@ impl HicReader {
             reader.i32(&what)?; // occupied cell count (unused)
             reader.f32(&what)?; // 5th percentile (unused)
             reader.f32(&what)?; // 95th percentile (unused)
-            let bin_size = reader.i32(&what)?;
+            let resolution = reader.i32(&what)?;
             let block_bin_count = reader.i32(&what)?;
             let block_column_count = reader.i32(&what)?;
             let n_blocks = reader.i32(&what)?;
             let n_blocks = reader.count(i64::from(n_blocks), BLOCK_ENTRY_BYTES, &what)?;
-            if unit != "BP" || i64::from(bin_size) != self.resolution as i64 {
+            if unit != "BP" || i64::from(resolution) != self.resolution as i64 {
                 reader.skip(n_blocks as u64 * BLOCK_ENTRY_BYTES, &what)?;
                 continue;
             }
@@ -927,14 +927,14 @@ impl HicReader {
                 "NONE".to_string()
             };
             let unit = reader.string(what)?;
-            let bin_size = reader.i32(what)?;
+            let resolution = reader.i32(what)?;
             let n_values = if version >= 9 {
                 reader.i64(what)?
             } else {
                 i64::from(reader.i32(what)?)
             };
             let n_values = reader.count(n_values, value_bytes, what)?;
-            let keep = unit == "BP" && i64::from(bin_size) == self.resolution as i64;
+            let keep = unit == "BP" && i64::from(resolution) == self.resolution as i64;
             let mut values = Vec::new();
             if keep {
                 values.reserve(n_values);
@@ -961,7 +961,7 @@ impl HicReader {
             if keep {
                 out.push(HicExpected {
                     normalization,
-                    bin_size_bp: bin_size as u64,
+                    resolution: resolution as u64,
                     values,
                     chrom_scale_factors: factors,
                 });

@@ -67,7 +67,7 @@ fn reads_the_bin_table_and_metadata() {
         bins.chrom_offsets(),
         &[0, 236, 489, 771, 1092, 1106, 1342, 1379, 1380]
     );
-    assert_eq!(bins.bin_size_bp(), Some(100_000));
+    assert_eq!(bins.resolution(), Some(100_000));
     assert_eq!(reader.resolutions(), &[100_000]);
     assert_eq!(reader.version(), 9);
     assert_eq!(reader.count_type(), CountType::Integer);

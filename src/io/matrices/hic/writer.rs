@@ -99,7 +99,7 @@ impl HicWriteOptions {
 }
 
 /// One normalisation vector to store: divisive values (Juicer's convention), one per bin of
-/// `chrom` at `bin_size_bp`.
+/// `chrom` at `resolution`.
 #[derive(Clone, Debug)]
 pub struct HicNormVector {
     /// Normalisation name (`VC`, `VC_SQRT`, `KR`, `SCALE`, ...).
@@ -107,7 +107,7 @@ pub struct HicNormVector {
     /// Chromosome index in the bin table.
     pub chrom: usize,
     /// Resolution.
-    pub bin_size_bp: u64,
+    pub resolution: u64,
     /// Divisive values (`NaN` for bins without one).
     pub values: Vec<f64>,
 }
@@ -139,7 +139,7 @@ impl HicWriter {
         resolutions: &[u64],
         options: &HicWriteOptions,
     ) -> Result<HicWriter> {
-        let base = base_bins.bin_size_bp().ok_or_else(|| {
+        let base = base_bins.resolution().ok_or_else(|| {
             Error::Unsupported(".hic needs fixed-size bins; this matrix has variable bins".into())
         })?;
         let mut resolutions = resolutions.to_vec();
@@ -279,7 +279,7 @@ impl HicWriter {
                 reader.source()
             )));
         }
-        let base = self.base_bins.bin_size_bp().expect("checked in create");
+        let base = self.base_bins.resolution().expect("checked in create");
         let offsets: Vec<u64> = self
             .base_bins
             .chrom_offsets()
@@ -549,7 +549,7 @@ impl HicWriter {
             self.put_str(&v.name)?;
             self.put_i32((v.chrom + self.chrom_shift) as i64)?;
             self.put_str("BP")?;
-            self.put_i32(v.bin_size_bp as i64)?;
+            self.put_i32(v.resolution as i64)?;
             slots.push(self.position);
             self.put_i64(0)?;
             self.put_i64(8 + 4 * v.values.len() as i64)?;
@@ -581,7 +581,7 @@ impl HicWriter {
     }
 
     fn write_expected(&mut self, e: &JuicerExpected) -> Result<()> {
-        self.put_i32(e.bin_size_bp as i64)?;
+        self.put_i32(e.resolution as i64)?;
         self.put_f32_vector(&e.values)?;
         self.put_i32(e.chrom_scale_factors.len() as i64)?;
         for &(chrom, factor) in &e.chrom_scale_factors {

@@ -205,7 +205,7 @@ fn intervals_become_a_fixed_bin_table_with_lengths_from_the_last_bin() {
     let path = write(&dir, "m.h5", &layout(false));
     let reader = HicExplorerReader::open(&path).unwrap();
     let bins = reader.bins();
-    assert_eq!(bins.bin_size_bp(), Some(10));
+    assert_eq!(bins.resolution(), Some(10));
     let chroms: Vec<(&str, u64)> = bins
         .chroms()
         .iter()

@@ -140,7 +140,7 @@ pub fn read_bins_bed(path: &Path) -> Result<BinTable> {
 pub(super) fn bin_table_for(path: &str, what: &str, options: &OpenOptions) -> Result<BinTable> {
     if let Some(bed) = &options.bins_bed {
         let table = read_bins_bed(bed)?;
-        if let Some(size) = options.bin_size_bp {
+        if let Some(size) = options.text_resolution {
             // A BED cannot tell bin sizes apart when every chromosome is a single bin: the table
             // is the fixed one of the given size when its bins are the same.
             let fixed = BinTable::fixed(table.chroms().to_vec(), size)?;
@@ -148,7 +148,7 @@ pub(super) fn bin_table_for(path: &str, what: &str, options: &OpenOptions) -> Re
                 return Err(Error::Argument(format!(
                     "{path}: --bin-size {size} disagrees with the bins of {} ({}): pass one of them",
                     bed.display(),
-                    match table.bin_size_bp() {
+                    match table.resolution() {
                         Some(s) => format!("{s} bp bins"),
                         None => "variable-size bins".to_string(),
                     }
@@ -158,7 +158,7 @@ pub(super) fn bin_table_for(path: &str, what: &str, options: &OpenOptions) -> Re
         }
         return Ok(table);
     }
-    match (&options.chrom_sizes, options.bin_size_bp) {
+    match (&options.chrom_sizes, options.text_resolution) {
         (Some(sizes), Some(size)) => BinTable::fixed(read_chrom_sizes(sizes)?, size),
         (Some(_), None) => Err(Error::Argument(format!(
             "{path}: --chrom-sizes needs a bin size to build the bin table of {what}: pass \
@@ -207,7 +207,7 @@ mod tests {
         );
         let table = read_bins_bed(&bed).unwrap();
         assert_eq!(table.n_bins(), 3);
-        assert_eq!(table.bin_size_bp(), Some(10));
+        assert_eq!(table.resolution(), Some(10));
         assert_eq!(table.chroms()[0], Chrom::new("c", 12));
         let gap = write_plain(&dir, "b", "c\t0\t10\nc\t11\t20\n");
         let (line, message) = parse_error(read_bins_bed(&gap));
@@ -245,7 +245,7 @@ mod tests {
         let message = argument_message(read_matrix(path.to_str().unwrap(), &options));
         assert!(message.contains("pass --bin-size N"), "{message}");
         let options = OpenOptions {
-            bin_size_bp: Some(1000),
+            text_resolution: Some(1000),
             ..bins_options()
         };
         let message = argument_message(read_matrix(path.to_str().unwrap(), &options));

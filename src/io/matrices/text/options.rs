@@ -11,8 +11,10 @@ use super::format::TextFormat;
 pub struct OpenOptions {
     /// Text format; guessed from the extension and the first data line when `None`.
     pub text_format: Option<TextFormat>,
-    /// Bin size for pairs and for BG2 / COO tables given with `chrom_sizes`.
-    pub bin_size_bp: Option<u64>,
+    /// The resolution (bp) pairs and BG2 / COO tables given with `chrom_sizes` are binned at
+    /// (`--bin-size`, hictk load's name; [`resolution`](Self::resolution) chooses a level of a
+    /// file that has several).
+    pub text_resolution: Option<u64>,
     /// Chromosome sizes file (`name<TAB>length`).
     pub chrom_sizes: Option<PathBuf>,
     /// Bin table BED (`chrom start end`), for COO and dense tables.

@@ -59,7 +59,7 @@ impl PairBinner {
         let bins = if options.bins_bed.is_some() {
             bin_table_for(&path.to_string_lossy(), "a pairs file", options)?
         } else {
-            let Some(size) = options.bin_size_bp else {
+            let Some(size) = options.text_resolution else {
                 return Err(Error::Argument(format!(
                     "{}: binning pairs needs a bin size: pass --bin-size N (or --bins BED)",
                     path.display()
@@ -128,7 +128,7 @@ impl PairBinner {
             ));
         }
         let coordinate = pos_bp - first;
-        Ok(match self.bins.bin_size_bp() {
+        Ok(match self.bins.resolution() {
             Some(size) => self.offsets[chrom_id] + coordinate / size,
             None => self.bins.bin_at(chrom_id, coordinate) as u64,
         })
@@ -484,7 +484,7 @@ mod tests {
             text_format: Some(TextFormat::Pairs),
             pairs_columns: Some([1, 2, 4, 5]),
             chrom_sizes: Some(write_plain(&dir, "hg19.sizes", &sizes)),
-            bin_size_bp: Some(2_000_000),
+            text_resolution: Some(2_000_000),
             ..OpenOptions::default()
         };
         let plain = write_plain(&dir, "pairs.txt", &gunzip(PAIRS));
@@ -510,7 +510,7 @@ mod tests {
                 "sub.sizes",
                 "chr21\t48129895\nchr22\t51304566\nchrX\t155270560\n",
             )),
-            bin_size_bp: Some(2_000_000),
+            text_resolution: Some(2_000_000),
             ..OpenOptions::default()
         };
         let matrix = read_matrix(PAIRS, &options).unwrap();
@@ -539,7 +539,7 @@ mod tests {
             text_format: Some(TextFormat::Pairs),
             pairs_columns: Some([1, 2, 4, 5]),
             chrom_sizes: Some(write_plain(&dir, "tiny.sizes", "c1\t100\n")),
-            bin_size_bp: Some(10),
+            text_resolution: Some(10),
             ..OpenOptions::default()
         };
         let pairs = "c1\t10\t+\tc1\t11\t+\nc1\t1\t+\tc1\t20\t+\nc1\t100\t+\tc1\t50\t+\n";
@@ -586,7 +586,7 @@ mod tests {
                      r3\tchr1\t1\tchr2\t50\t+\t-\n\
                      r4\t!\t0\tchr1\t5\t+\t-\n";
         let options = OpenOptions {
-            bin_size_bp: Some(10),
+            text_resolution: Some(10),
             ..OpenOptions::default()
         };
         let path = write_gz(&dir, "reads.pairs.gz", pairs);
@@ -603,7 +603,7 @@ mod tests {
             pairs,
             &OpenOptions {
                 text_format: Some(TextFormat::Pairs),
-                bin_size_bp: Some(10),
+                text_resolution: Some(10),
                 ..OpenOptions::default()
             },
         )
@@ -623,7 +623,7 @@ mod tests {
         let message = argument_message(read_matrix(path, &OpenOptions::default()));
         assert!(message.contains("pass --bin-size N"), "{message}");
         let options = OpenOptions {
-            bin_size_bp: Some(10),
+            text_resolution: Some(10),
             ..OpenOptions::default()
         };
         let message = argument_message(read_matrix(path, &options));

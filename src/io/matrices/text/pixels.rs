@@ -101,7 +101,7 @@ impl<'a> BinLocator<'a> {
         let bin_id = self.bins.bin_at(chrom_id, start_bp);
         let bin = self.bins.bin(bin_id);
         if bin.start != start_bp {
-            let rule = match self.bins.bin_size_bp() {
+            let rule = match self.bins.resolution() {
                 Some(size) => format!(" (bins of {size} bp start at multiples of {size})"),
                 None => String::new(),
             };
@@ -313,7 +313,7 @@ mod tests {
             .collect();
         let options = OpenOptions {
             chrom_sizes: Some(write_gz(&dir, "hg19.sizes.gz", &sizes)),
-            bin_size_bp: Some(2_000_000),
+            text_resolution: Some(2_000_000),
             ..OpenOptions::default()
         };
         assert_eq!(read_matrix(BG2, &options).unwrap(), from_plain);
@@ -443,7 +443,7 @@ mod tests {
             ..OpenOptions::default()
         };
         let matrix = read_str(&dir, "1 2 0\n2 0 3\n0 3 4\n", &options).unwrap();
-        assert_eq!(matrix.bins().bin_size_bp(), None);
+        assert_eq!(matrix.bins().resolution(), None);
         assert_eq!(matrix.nnz(), 4);
         assert_eq!(matrix.get(2, 1), 3.0);
         assert_eq!(matrix.count_type(), CountType::Integer);

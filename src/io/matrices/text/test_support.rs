@@ -61,7 +61,7 @@ pub(crate) fn small_options(dir: &TempDir, format: TextFormat) -> OpenOptions {
     OpenOptions {
         text_format: Some(format),
         chrom_sizes: Some(write_plain(dir, "small.sizes", SMALL_SIZES)),
-        bin_size_bp: Some(10),
+        text_resolution: Some(10),
         ..OpenOptions::default()
     }
 }
@@ -116,7 +116,7 @@ pub(crate) const FIXTURE_PIXELS: [(usize, usize, f64); 6] = [
 
 pub(crate) fn assert_fixture_figures(matrix: &ContactMatrix) {
     assert_eq!(matrix.bins().n_bins(), 1561);
-    assert_eq!(matrix.bins().bin_size_bp(), Some(2_000_000));
+    assert_eq!(matrix.bins().resolution(), Some(2_000_000));
     assert_eq!(matrix.nnz(), 38156);
     assert_eq!(matrix.sum(), 100000.0);
     assert_eq!(matrix.count_type(), CountType::Integer);

@@ -458,7 +458,7 @@ mod tests {
             let dir = TempDir::new().unwrap();
             let options = OpenOptions {
                 bins_bed: Some(write_plain(&dir, "bins.bed", &bed_of(matrix.bins()))),
-                bin_size_bp: matrix.bins().bin_size_bp(),
+                text_resolution: matrix.bins().resolution(),
                 ..OpenOptions::default()
             };
             let reader = InMemory::new("random".into(), matrix.clone());
