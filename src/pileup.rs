@@ -40,7 +40,7 @@ use ndarray::Array2;
 use crate::error::{Error, Result};
 use crate::genome::View;
 use crate::io::MatrixReader;
-use crate::io::bed::{BedRecord, BedpeRecord};
+use crate::io::bed::{BedRecord, BedpeRecord, FeatureTable};
 use cut::{Cutter, Make, Snip, Sums};
 use groups::{GroupBy, GroupKey, band_of, distance_edges};
 use shifts::{Mt19937, ShiftParams, batch_shifts};
@@ -64,6 +64,54 @@ pub enum Features {
 }
 
 impl Features {
+    /// The features of a table io read and their grouping by the `groupby` columns (none
+    /// when `groupby` is empty): BED intervals, each with itself on the diagonal with `local`
+    /// (else paired with each other), or BEDPE pairs. `local` with pairs is an error (a caller
+    /// that knows the file checks it first, to say how it was read).
+    ///
+    /// ```
+    /// use contactmap::io::bed::{BedpeTable, FeatureTable};
+    /// use contactmap::pileup::Features;
+    /// let header = Some(["chrom1", "start1", "end1", "chrom2", "start2", "end2", "kind"].map(String::from).to_vec());
+    /// let rows = vec![["chr1", "0", "10", "chr1", "90", "100", "a"].map(String::from).to_vec()];
+    /// let table = FeatureTable::Bedpe(BedpeTable::from_rows("loops", header, rows)?);
+    /// let (features, groups) = Features::of_table(table.clone(), &["kind".into()], false)?;
+    /// assert!(matches!(features, Features::Bedpe(ref pairs) if pairs.len() == 1) && groups.is_some());
+    /// assert!(Features::of_table(table, &[], true).is_err());
+    /// # Ok::<(), contactmap::Error>(())
+    /// ```
+    pub fn of_table(
+        table: FeatureTable,
+        groupby: &[String],
+        local: bool,
+    ) -> Result<(Features, Option<GroupBy>)> {
+        Ok(match table {
+            FeatureTable::Bed(table) => {
+                let groups = (!groupby.is_empty())
+                    .then(|| GroupBy::bed(&table, groupby, local))
+                    .transpose()?;
+                let features = Features::Bed {
+                    features: table.records,
+                    local,
+                };
+                (features, groups)
+            }
+            FeatureTable::Bedpe(_) if local => {
+                return Err(Error::Argument(
+                    "local pileups are of BED features on the diagonal; these features are \
+                     BEDPE (pairs)"
+                        .into(),
+                ));
+            }
+            FeatureTable::Bedpe(table) => {
+                let groups = (!groupby.is_empty())
+                    .then(|| GroupBy::bedpe(&table, groupby))
+                    .transpose()?;
+                (Features::Bedpe(table.records), groups)
+            }
+        })
+    }
+
     fn local(&self) -> bool {
         matches!(self, Features::Bed { local: true, .. })
     }

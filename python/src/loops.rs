@@ -1,10 +1,9 @@
 //! Loops and pileups: cooltools' `dots` and coolpuppy's `pileup`.
 
 use contactmap::error::Error;
-use contactmap::io::bed::{BedTable, BedpeTable};
+use contactmap::io::bed::{BedTable, BedpeTable, FeatureTable};
 use contactmap::io::MatrixReader;
 use contactmap::loops::{call_dots, DotsParams, EnrichedPixel};
-use contactmap::pileup::groups::GroupBy;
 use contactmap::pileup::shifts::ShiftParams;
 use contactmap::pileup::{pileup as pile_up, CoverageNorm, Features, PileupParams, RescaleParams};
 use numpy::PyArray2;
@@ -197,30 +196,12 @@ pub(crate) fn pileup<'py>(
     };
     let pups = run(py, || {
         let reader: &dyn MatrixReader = &file.reader;
-        let (features, groupby) = if bedpe {
-            if local {
-                return Err(Error::Argument(
-                    "local pileups are of BED features on the diagonal; these features are \
-                     BEDPE (pairs)"
-                        .into(),
-                ));
-            }
-            let table = BedpeTable::from_rows("features (BEDPE)", header, rows)?;
-            let groupby = (!groupby.is_empty())
-                .then(|| GroupBy::bedpe(&table, &groupby))
-                .transpose()?;
-            (Features::Bedpe(table.records), groupby)
+        let table = if bedpe {
+            FeatureTable::Bedpe(BedpeTable::from_rows("features (BEDPE)", header, rows)?)
         } else {
-            let table = BedTable::from_rows("features (BED)", header, rows)?;
-            let groupby = (!groupby.is_empty())
-                .then(|| GroupBy::bed(&table, &groupby, local))
-                .transpose()?;
-            let features = Features::Bed {
-                features: table.records,
-                local,
-            };
-            (features, groupby)
+            FeatureTable::Bed(BedTable::from_rows("features (BED)", header, rows)?)
         };
+        let (features, groupby) = Features::of_table(table, &groupby, local)?;
         let (view, weights) = file.view_and_weights(view, weight_name.as_deref())?;
         let params = PileupParams {
             flank_bp,

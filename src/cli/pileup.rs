@@ -15,7 +15,6 @@ use contactmap::error::{Error, Result};
 use contactmap::genome::BinTable;
 use contactmap::io::bed::{FeatureFormat, FeatureTable, read_features};
 use contactmap::io::npz::npz_bytes;
-use contactmap::pileup::groups::GroupBy;
 use contactmap::pileup::scores::group_scores;
 use contactmap::pileup::shifts::ShiftParams;
 use contactmap::pileup::tables::{grid_tsv, groups_tsv, pileup_arrays, scores_tsv};
@@ -234,53 +233,36 @@ pub fn run(args: &PileupArgs) -> Result<()> {
     };
     let (table, detection) = read_features(&args.features, format)?;
     let mut notes = Warnings::new();
-    let (features, groupby) = match table {
-        FeatureTable::Bed(table) => {
-            let groupby = (!args.groupby.is_empty())
-                .then(|| GroupBy::bed(&table, &args.groupby, args.local))
-                .transpose()?;
-            let features = table.records;
-            notes.note(format!(
-                "read {} BED features from {}{} (BED: {})",
-                features.len(),
-                args.features.display(),
-                if args.local {
-                    " (on the diagonal)"
-                } else {
-                    " (paired)"
-                },
-                detection.reason
-            ));
-            (
-                Features::Bed {
-                    features,
-                    local: args.local,
-                },
-                groupby,
-            )
-        }
-        FeatureTable::Bedpe(table) => {
-            if args.local {
-                return Err(Error::Argument(format!(
-                    "--local piles up BED features on the diagonal; {} is read as BEDPE (pairs), \
-                     since {} (--features-format bed reads it as BED)",
-                    args.features.display(),
-                    detection.reason
-                )));
-            }
-            let groupby = (!args.groupby.is_empty())
-                .then(|| GroupBy::bedpe(&table, &args.groupby))
-                .transpose()?;
-            let pairs = table.records;
-            notes.note(format!(
-                "read {} BEDPE pairs from {} (BEDPE: {})",
-                pairs.len(),
-                args.features.display(),
-                detection.reason
-            ));
-            (Features::Bedpe(pairs), groupby)
-        }
+    let n_features = match &table {
+        FeatureTable::Bed(table) => table.records.len(),
+        FeatureTable::Bedpe(table) => table.records.len(),
     };
+    notes.note(match &table {
+        FeatureTable::Bed(_) => format!(
+            "read {n_features} BED features from {}{} (BED: {})",
+            args.features.display(),
+            if args.local {
+                " (on the diagonal)"
+            } else {
+                " (paired)"
+            },
+            detection.reason
+        ),
+        FeatureTable::Bedpe(_) => format!(
+            "read {n_features} BEDPE pairs from {} (BEDPE: {})",
+            args.features.display(),
+            detection.reason
+        ),
+    });
+    if args.local && matches!(table, FeatureTable::Bedpe(_)) {
+        return Err(Error::Argument(format!(
+            "--local piles up BED features on the diagonal; {} is read as BEDPE (pairs), \
+             since {} (--features-format bed reads it as BED)",
+            args.features.display(),
+            detection.reason
+        )));
+    }
+    let (features, groupby) = Features::of_table(table, &args.groupby, args.local)?;
     let reader = open_for_analysis(&args.uri, &args.input)?;
     let (weights, view) = weights_and_view(
         reader.as_ref(),
