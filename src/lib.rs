@@ -211,18 +211,22 @@
 //!
 //! ## Write
 //!
-//! [`io::cool::write_cool`] and [`io::cool::write_mcool`] write coolers (format-version 3, as
-//! cooler reads them), [`io::text::write_text`] pixel tables, [`export::write_hic`] a Juicer
-//! `.hic` with its normalisation vectors and expected values. Each writes under a temporary name
-//! and renames the file when it is complete.
+//! [`export::write_matrix`] writes a map in any format, named by the file's extension
+//! ([`export::MatrixFormat`]) with what each format takes ([`export::MatrixOutput`]: the
+//! resolutions of an `.mcool` or `.hic`, a cooler's assembly and weight columns, a `.hic`'s
+//! normalisations): coolers (format-version 3, as cooler reads them; [`io::cool::write_cool`],
+//! [`io::cool::write_mcool`]), pixel tables ([`io::text::write_text`]) and a Juicer `.hic` with
+//! its normalisation vectors and expected values ([`export::write_hic`]). Each writes under a
+//! temporary name and renames the file when it is complete.
 //!
 //! ```
-//! use contactmap::io::cool::{write_cool, CoolWriteOptions};
+//! use contactmap::export::{write_matrix, MatrixFormat, MatrixOutput};
 //! use contactmap::io::{open_matrix, MatrixReader, OpenOptions};
 //!
 //! let input = open_matrix("data/CN.mm9.10000kb.cool", &OpenOptions::default())?;
 //! let path = std::env::temp_dir().join(format!("contactmap-lib-{}.cool", std::process::id()));
-//! write_cool(&*input, &path, &CoolWriteOptions::default())?;
+//! let output = MatrixOutput::new(MatrixFormat::from_extension(&path)?);
+//! write_matrix(&*input, &path, &output)?;
 //! let copy = open_matrix(path.to_str().unwrap(), &OpenOptions::default())?;
 //! assert_eq!(copy.totals()?, input.totals()?);
 //! assert_eq!(copy.weights("weight")?.values.len(), 278);
