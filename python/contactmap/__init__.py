@@ -20,7 +20,7 @@ from __future__ import annotations
 
 from ._compartments import digitize, eigs_cis, eigs_trans, saddle, saddle_strength
 from ._file import File, MultiResFile, PixelSelector
-from ._loops import dots, pileup
+from ._loops import dots, merge_dots, pileup
 from ._native import ContactmapError, FormatError
 from ._protein import Structure, contact_frequencies, read_structure, score_contacts
 from ._simulate import (
@@ -57,6 +57,7 @@ __all__ = [
     "expected_trans",
     "insulation",
     "merge",
+    "merge_dots",
     "pileup",
     "polymer_map",
     "polymer_stats",

@@ -1,8 +1,10 @@
-"""Loops and pileups: cooltools' ``dots`` and coolpuppy's ``pileup``."""
+"""Loops and pileups: cooltools' ``dots``, HiCCUPS' merge of dots across resolutions and
+coolpuppy's ``pileup``."""
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any, Sequence
+import io
+from typing import TYPE_CHECKING, Any, Mapping, Sequence
 
 import numpy as np
 
@@ -134,14 +136,17 @@ def _text(value: Any) -> str:
     return str(value)
 
 
-def _feature_rows(features: Any, features_format: str) -> tuple[bool, list[str], list[list[str]]]:
+def _feature_rows(
+    features: Any, features_format: str, name: str = "features"
+) -> tuple[bool, list[str], list[list[str]]]:
     """Features (a DataFrame with coolpuppy's column names) as the library reads a BED or
     BEDPE file: the fields in BED's order (``chrom start end name score strand`` or
-    ``chrom1 ... end2``, then the other columns), with the column names."""
+    ``chrom1 ... end2``, then the other columns), with the column names; ``name`` is the
+    argument's, in messages."""
     features_format = check.text("features_format", features_format, ["auto", "bed", "bedpe"])
     if not hasattr(features, "columns") or not hasattr(features, "itertuples"):
         raise TypeError(
-            "features: expected a pandas DataFrame with columns chrom start end [...] (BED) or "
+            f"{name}: expected a pandas DataFrame with columns chrom start end [...] (BED) or "
             f"chrom1 start1 end1 chrom2 start2 end2 [...] (BEDPE), got {type(features).__name__}"
         )
     columns = [str(c) for c in features.columns]
@@ -152,12 +157,12 @@ def _feature_rows(features: Any, features_format: str) -> tuple[bool, list[str],
             features_format = "bed"
         else:
             raise ValueError(
-                f"features: columns {columns} are neither BED (chrom start end) nor BEDPE "
+                f"{name}: columns {columns} are neither BED (chrom start end) nor BEDPE "
                 "(chrom1 start1 end1 chrom2 start2 end2)"
             )
     bedpe = features_format == "bedpe"
     leading = list(_BEDPE_FIELDS if bedpe else _BED_FIELDS)
-    check.frame(f"features ({features_format})", features, leading[: 6 if bedpe else 3])
+    check.frame(f"{name} ({features_format})", features, leading[: 6 if bedpe else 3])
     if not bedpe:
         # the optional BED columns up to the last one present (placeholders before it)
         while leading[-1] not in columns:
@@ -169,6 +174,36 @@ def _feature_rows(features: Any, features_format: str) -> tuple[bool, list[str],
     ]
     rows = [[_text(v) for v in row] for row in zip(*table)]
     return bedpe, header, rows
+
+
+def merge_dots(
+    dots: Mapping[int, Any], near_diagonal: int = 110_000, strong: float = 100.0
+) -> pandas.DataFrame:
+    """Dot calls at 5, 10 and 25 kb merged into one list as Juicer's HiCCUPS merges its
+    resolutions (``contactmap dots-merge``, ``dots --resolutions``): ``dots`` maps each
+    resolution (bp) to its dots as ``dots`` returns them (or any table with the BEDPE columns
+    and ``count``, or Juicer's ``observed``). 5 kb calls are kept when a 10 kb call lies within
+    20 kb of them, when their anchors are closer than ``near_diagonal`` bp or their count is
+    above ``strong``; 10 kb calls with no 5 kb call within 20 kb; 25 kb calls with no kept call
+    within 50 kb. Returns the kept rows with a last column ``resolution``, sorted by
+    chromosome, ``start1``, ``start2``, as the command writes them."""
+    if not isinstance(dots, Mapping):
+        raise TypeError(
+            "dots: expected a mapping of resolution (bp) to dots DataFrame, got "
+            f"{type(dots).__name__}"
+        )
+    lists = []
+    for resolution, frame in dots.items():
+        resolution = check.integer("dots: resolution", resolution, minimum=1)
+        _, header, rows = _feature_rows(frame, "bedpe", f"dots[{resolution}]")
+        lists.append((f"dots at {resolution} bp", resolution, header, rows))
+    near_diagonal = check.integer("near_diagonal", near_diagonal, minimum=0)
+    strong = check.number("strong", strong)
+    text, _summary = _native.merge_dots(lists, near_diagonal, strong)
+    pd = _pandas()
+    # exact floats: pandas 3 parses them round-trip by default, pandas 2 when asked
+    exact = {} if int(pd.__version__.split(".")[0]) >= 3 else {"float_precision": "round_trip"}
+    return pd.read_csv(io.StringIO(text), sep="\t", **exact)
 
 
 def pileup(

@@ -23,6 +23,7 @@ __all__ = [
     "expected_trans",
     "insulation",
     "merge",
+    "merge_dots",
     "pileup",
     "polymer_map",
     "polymer_stats",
@@ -191,6 +192,12 @@ def dots(
     clustering_radius_bp: float | None = ...,
     cluster_filtering: bool = True,
 ) -> tuple[list[str], list[str], list[_Column]]: ...
+
+def merge_dots(
+    lists: list[tuple[str, int, list[str], list[list[str]]]],
+    near_diagonal_bp: int,
+    strong_count: float,
+) -> tuple[str, str]: ...
 
 _PileupGroup = tuple[
     str,

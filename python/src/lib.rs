@@ -41,6 +41,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(compartments::saddle, m)?)?;
     m.add_function(wrap_pyfunction!(compartments::saddle_strength, m)?)?;
     m.add_function(wrap_pyfunction!(loops::dots, m)?)?;
+    m.add_function(wrap_pyfunction!(loops::merge_dots, m)?)?;
     m.add_function(wrap_pyfunction!(loops::pileup, m)?)?;
     m.add_function(wrap_pyfunction!(writers::convert, m)?)?;
     m.add_function(wrap_pyfunction!(writers::zoomify, m)?)?;

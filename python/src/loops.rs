@@ -3,6 +3,8 @@
 use contactmap::error::Error;
 use contactmap::io::bed::{BedTable, BedpeTable, FeatureTable};
 use contactmap::io::MatrixReader;
+use contactmap::loops::lists::{merge_lists, ResolutionList};
+use contactmap::loops::merge::MergeParams;
 use contactmap::loops::{call_dots, DotsParams, EnrichedPixel};
 use contactmap::pileup::shifts::ShiftParams;
 use contactmap::pileup::{pileup as pile_up, CoverageNorm, Features, PileupParams, RescaleParams};
@@ -10,7 +12,7 @@ use numpy::PyArray2;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::convert::{array2, run, vec1, ContactmapError, NamedColumn, RegionTuple};
+use crate::convert::{array2, py_err, run, vec1, ContactmapError, NamedColumn, RegionTuple};
 use crate::file::NativeFile;
 
 /// The columns of enriched pixels: `bin1_id bin2_id count`, then per kernel
@@ -262,4 +264,32 @@ pub(crate) fn pileup<'py>(
         })
         .collect();
     Ok((groups, skipped))
+}
+
+/// One list of dots for [`merge_dots`]: its name (in messages), its resolution (bp), its
+/// header and its rows (BEDPE's six fields first).
+type DotList = (String, u64, Vec<String>, Vec<Vec<String>>);
+
+/// `dots-merge` ([`merge_lists`]): the lists merged as Juicer's HiCCUPS merges its
+/// resolutions; the merged table as TSV text and its one-line summary.
+#[pyfunction]
+pub(crate) fn merge_dots(
+    lists: Vec<DotList>,
+    near_diagonal_bp: u64,
+    strong_count: f64,
+) -> PyResult<(String, String)> {
+    let lists = lists
+        .into_iter()
+        .map(|(name, resolution, header, rows)| {
+            let table = BedpeTable::from_rows(&name, Some(header), rows)?;
+            ResolutionList::of_table(std::path::Path::new(&name), &table, Some(resolution))
+        })
+        .collect::<Result<Vec<_>, Error>>()
+        .map_err(py_err)?;
+    let params = MergeParams {
+        near_diagonal_bp,
+        strong_count,
+    };
+    let merged = merge_lists(&lists, &params).map_err(py_err)?;
+    Ok((merged.to_tsv(), merged.summary()))
 }

@@ -245,6 +245,23 @@ def test_merge(tmp_path: Path) -> None:
     assert not out.exists()
 
 
+def test_merge_dots() -> None:
+    dots = pd.DataFrame(
+        {"chrom1": ["chr1"], "start1": [0], "end1": [5000], "chrom2": ["chr1"],
+         "start2": [50_000], "end2": [55_000], "count": [12]}
+    )
+    refused(TypeError, "dots", lambda: cm.merge_dots([dots]), "mapping", "list")
+    refused(ValueError, "dots: resolution", lambda: cm.merge_dots({-5: dots}), "got -5")
+    refused(
+        ValueError,
+        "dots[5000] (bedpe)",
+        lambda: cm.merge_dots({5000: dots[["chrom1", "start1"]]}),
+        "missing columns",
+    )
+    refused(TypeError, "near_diagonal", lambda: cm.merge_dots({5000: dots}, near_diagonal="x"))
+    refused(ValueError, "strong", lambda: cm.merge_dots({5000: dots}, strong=float("nan")))
+
+
 def test_pileup(yeast: cm.File) -> None:
     features = pd.DataFrame({"chrom": ["chrIV"], "start": [500_000], "end": [510_000]})
     refused(TypeError, "features", lambda: cm.pileup(yeast, None), "DataFrame", "NoneType")

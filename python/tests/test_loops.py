@@ -143,6 +143,73 @@ CASES = pileup_cases()
 REFERENCE = reference_cases()
 
 
+def _dot_list(width: int, rows: list[tuple[int, int, int, str]]) -> pd.DataFrame:
+    """Dots on chr1 of one width: (start1, start2, count, note) each."""
+    return pd.DataFrame(
+        {
+            "chrom1": ["chr1"] * len(rows),
+            "start1": [r[0] for r in rows],
+            "end1": [r[0] + width for r in rows],
+            "chrom2": ["chr1"] * len(rows),
+            "start2": [r[1] for r in rows],
+            "end2": [r[1] + width for r in rows],
+            "count": [r[2] for r in rows],
+            "note": [r[3] for r in rows],
+        }
+    )
+
+
+def test_merge_dots_keeps_what_hiccups_keeps_as_the_command_line(tmp_path: Any) -> None:
+    """HiCCUPS' rule worked by hand (as tests/cli/dots.rs), and the same table as
+    `contactmap dots-merge` writes from files."""
+    lists = {
+        5_000: _dot_list(
+            5_000,
+            [
+                (1_000_000, 1_500_000, 40, "confirmed"),  # a 10 kb call 20 kb away
+                (2_000_000, 2_600_000, 30, "unconfirmed"),  # nothing near: dropped
+                (3_000_000, 3_105_000, 20, "near-diagonal"),
+                (4_000_000, 4_800_000, 101, "strong"),
+                (5_000_000, 5_900_000, 100, "not-strong"),  # 100 is not above 100
+            ],
+        ),
+        10_000: _dot_list(
+            10_000,
+            [
+                (1_020_000, 1_500_000, 50, "at-5kb"),  # confirms the first 5 kb call
+                (6_000_000, 6_500_000, 60, "only-10kb"),
+            ],
+        ),
+        25_000: _dot_list(
+            25_000,
+            [
+                (6_050_000, 6_500_000, 70, "near-kept"),  # 50 kb from a kept call
+                (8_000_000, 8_500_000, 80, "only-25kb"),
+            ],
+        ),
+    }
+    merged = cm.merge_dots(lists)
+    assert list(merged.columns) == [*lists[5_000].columns, "resolution"]
+    assert [f"{n} {r}" for n, r in zip(merged["note"], merged["resolution"])] == [
+        "confirmed 5000",
+        "near-diagonal 5000",
+        "strong 5000",
+        "only-10kb 10000",
+        "only-25kb 25000",
+    ]
+    paths = []
+    for resolution, frame in lists.items():
+        path = tmp_path / f"d{resolution}.bedpe"
+        frame.to_csv(path, sep="\t", index=False)
+        paths.append(f"{path}@{resolution}")
+    pd.testing.assert_frame_equal(merged, cli_table("dots-merge", *paths))
+    # the thresholds are the command's options
+    assert "not-strong" in set(cm.merge_dots(lists, strong=99)["note"])
+    # a resolution the rule does not define: the library's error, naming the list
+    with pytest.raises(cm.ContactmapError, match="dots at 7000 bp: calls at 7000 bp"):
+        cm.merge_dots({7_000: lists[5_000]})
+
+
 @pytest.mark.parametrize("case", sorted(CASES))
 def test_pileups_equal_coolpuppy(case: str) -> None:
     cool, features, arguments = CASES[case]
