@@ -212,9 +212,9 @@
 //! ## Write
 //!
 //! [`export::write_matrix`] writes a map in any format, named by the file's extension
-//! ([`export::MatrixFormat`]) with what each format takes ([`export::MatrixOutput`]: the
-//! resolutions of an `.mcool` or `.hic`, a cooler's assembly and weight columns, a `.hic`'s
-//! normalisations): coolers (format-version 3, as cooler reads them; [`io::cool::write_cool`],
+//! ([`export::MatrixFormat`]) with what the formats take ([`export::MatrixOutput`]: the
+//! resolutions of an `.mcool` or `.hic`, the assembly, a cooler's weight columns, a `.hic`'s
+//! normalisations and compression): coolers (format-version 3, as cooler reads them; [`io::cool::write_cool`],
 //! [`io::cool::write_mcool`]), pixel tables ([`io::text::write_text`]) and a Juicer `.hic` with
 //! its normalisation vectors and expected values ([`export::write_hic`]). Each writes under a
 //! temporary name and renames the file when it is complete.
@@ -225,8 +225,8 @@
 //!
 //! let input = open_matrix("data/CN.mm9.10000kb.cool", &OpenOptions::default())?;
 //! let path = std::env::temp_dir().join(format!("contactmap-lib-{}.cool", std::process::id()));
-//! let output = MatrixOutput::new(MatrixFormat::from_extension(&path)?);
-//! write_matrix(&*input, &path, &output)?;
+//! let format = MatrixFormat::from_extension(&path)?;
+//! write_matrix(&*input, &path, format, &MatrixOutput::default())?;
 //! let copy = open_matrix(path.to_str().unwrap(), &OpenOptions::default())?;
 //! assert_eq!(copy.totals()?, input.totals()?);
 //! assert_eq!(copy.weights("weight")?.values.len(), 278);

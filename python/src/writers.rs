@@ -10,7 +10,6 @@ use contactmap::export::{self, MatrixFormat, MatrixOutput, DEFAULT_HIC_NORMALIZA
 use contactmap::genome::{Bin, BinTable, Chrom};
 use contactmap::io::cool::resolutions::{fixed_resolution, mcool_resolutions};
 use contactmap::io::cool::{write_cool, CoolWriteOptions};
-use contactmap::io::hic::HicWriteOptions;
 use contactmap::io::merged::MergedReader;
 use contactmap::io::{self, default_memory_budget, InMemory, MatrixReader, OpenOptions};
 use contactmap::matrix::{CountType, MatrixBuilder, Weights, ZeroCounts};
@@ -63,41 +62,34 @@ fn methods_of(names: Option<Vec<String>>) -> Result<Vec<Method>, Error> {
         .map_err(|e| Error::Argument(format!("normalizations: {e}")))
 }
 
-/// Write `reader` to `out` as its extension says: the resolutions of an .mcool / .hic (None:
-/// the map's own), the normalisations of a .hic; returns the warnings (unconverged vectors).
+/// Write `reader` to `out` as its extension says, with `output` (the resolutions of an .mcool /
+/// .hic from `resolutions`, the map's own when None); returns the warnings (unconverged
+/// vectors).
 fn write_map(
     reader: &dyn MatrixReader,
     out: &Path,
     resolutions: Option<Vec<String>>,
-    options: &CoolWriteOptions,
-    methods: &[Method],
-    compression_level: u32,
+    output: MatrixOutput,
 ) -> Result<Vec<String>, Error> {
-    let kind = kind_of(out)?;
-    let levels = || match &resolutions {
-        None => Ok(vec![fixed_resolution(reader.bins(), reader.source())?]),
-        Some(items) => mcool_resolutions(reader.bins(), reader.source(), items),
+    let format = match kind_of(out)? {
+        Kind::Cool => MatrixFormat::Cool,
+        Kind::Mcool => MatrixFormat::Mcool,
+        Kind::Hic => MatrixFormat::Hic,
     };
-    if kind == Kind::Cool && resolutions.is_some() {
+    if format == MatrixFormat::Cool && resolutions.is_some() {
         return Err(Error::Argument(
             "resolutions: a .cool holds one resolution; write an .mcool or a .hic".into(),
         ));
     }
-    let mut output = MatrixOutput::new(match kind {
-        Kind::Cool => MatrixFormat::Cool,
-        Kind::Mcool => MatrixFormat::Mcool,
-        Kind::Hic => MatrixFormat::Hic,
-    });
-    if kind != Kind::Cool {
-        output.resolutions = levels()?;
-    }
-    output.cool = options.clone();
-    output.hic = HicWriteOptions {
-        compression_level,
-        ..HicWriteOptions::for_genome(options.assembly.clone())
+    let output = MatrixOutput {
+        resolutions: match (format, &resolutions) {
+            (MatrixFormat::Cool, _) => Vec::new(),
+            (_, None) => vec![fixed_resolution(reader.bins(), reader.source())?],
+            (_, Some(items)) => mcool_resolutions(reader.bins(), reader.source(), items)?,
+        },
+        ..output
     };
-    output.normalizations = methods.to_vec();
-    let unconverged = export::write_matrix(reader, out, &output)?;
+    let unconverged = export::write_matrix(reader, out, format, &output)?;
     Ok(unconverged.iter().map(|u| u.to_string()).collect())
 }
 
@@ -122,18 +114,13 @@ pub(crate) fn convert(
         refuse_input(Path::new(output), &[input])?;
         let methods = methods_of(normalizations)?;
         let reader = io::open_matrix(input, &OpenOptions::default())?;
-        let options = CoolWriteOptions {
+        let options = MatrixOutput {
             assembly: assembly.or_else(|| reader.info().assembly()),
-            weight_columns: None,
-        };
-        let mut warnings = write_map(
-            reader.as_ref(),
-            Path::new(output),
-            resolutions,
-            &options,
-            &methods,
+            normalizations: methods,
             compression_level,
-        )?;
+            ..MatrixOutput::default()
+        };
+        let mut warnings = write_map(reader.as_ref(), Path::new(output), resolutions, options)?;
         warnings.extend(reader.warnings());
         Ok(warnings)
     })
@@ -162,22 +149,17 @@ pub(crate) fn zoomify(
         }
         let reader = io::open_matrix(input, &OpenOptions::default())?;
         let levels = mcool_resolutions(reader.bins(), reader.source(), &resolutions)?;
-        let options = CoolWriteOptions {
-            assembly: assembly.or_else(|| reader.info().assembly()),
-            weight_columns: None,
-        };
-        let mut methods = DEFAULT_HIC_NORMALIZATIONS.to_vec();
+        let mut normalizations = DEFAULT_HIC_NORMALIZATIONS.to_vec();
         if balance {
-            methods.push(Method::Ice);
+            normalizations.push(Method::Ice);
         }
-        let mut warnings = write_map(
-            reader.as_ref(),
-            out,
-            Some(levels.iter().map(|r| r.to_string()).collect()),
-            &options,
-            &methods,
-            6,
-        )?;
+        let options = MatrixOutput {
+            assembly: assembly.or_else(|| reader.info().assembly()),
+            normalizations,
+            ..MatrixOutput::default()
+        };
+        let levels_text = Some(levels.iter().map(|r| r.to_string()).collect());
+        let mut warnings = write_map(reader.as_ref(), out, levels_text, options)?;
         warnings.extend(reader.warnings());
         drop(reader);
         if balance && kind_of(out)? == Kind::Mcool {
@@ -217,19 +199,13 @@ pub(crate) fn merge(
             .iter()
             .map(|uri| io::open_matrix(uri, &OpenOptions::default()))
             .collect::<Result<_, Error>>()?;
-        let options = CoolWriteOptions {
+        let options = MatrixOutput {
             assembly: assembly.or_else(|| opened[0].info().assembly()),
             weight_columns: Some(Vec::new()),
+            ..MatrixOutput::default()
         };
         let reader = MergedReader::new(opened.iter().map(|r| r.as_ref()).collect())?;
-        let mut warnings = write_map(
-            &reader,
-            Path::new(output),
-            resolutions,
-            &options,
-            &DEFAULT_HIC_NORMALIZATIONS,
-            6,
-        )?;
+        let mut warnings = write_map(&reader, Path::new(output), resolutions, options)?;
         for reader in &opened {
             warnings.extend(reader.warnings());
         }

@@ -5,16 +5,12 @@ use std::path::PathBuf;
 use clap::Args;
 
 use crate::cli::args::InputArgs;
-use crate::cli::matrix_output::{
-    OutputFormat, format_from_extension, parse_normalizations, write_matrix,
-};
+use crate::cli::matrix_output::{OutputFormat, parse_normalizations, write_matrix};
 use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::progress::Progress;
 use contactmap::error::{Error, Result};
-use contactmap::export::MatrixOutput;
-use contactmap::io::cool::CoolWriteOptions;
+use contactmap::export::{MatrixFormat, MatrixOutput};
 use contactmap::io::cool::resolutions::mcool_resolutions;
-use contactmap::io::hic::HicWriteOptions;
 use contactmap::io::{self, FileKind, MatrixReader};
 
 /// Arguments of `contactmap convert`.
@@ -84,8 +80,8 @@ pub fn run(args: &ConvertArgs) -> Result<()> {
     inputs.extend(args.input_args.files());
     refuse_overwrites(&inputs, &[Some(&args.output)])?;
     let format = match args.to {
-        Some(format) => format,
-        None => format_from_extension(&args.output)?,
+        Some(format) => format.into(),
+        None => MatrixFormat::from_extension(&args.output)?,
     };
     let (input_path, _) = io::split_uri(&args.input);
     if args.input_args.bin_size.is_some() && io::detect_kind(input_path)? != FileKind::Text {
@@ -93,17 +89,12 @@ pub fn run(args: &ConvertArgs) -> Result<()> {
             "--bin-size bins text and pairs inputs; to coarsen a .cool or .hic matrix, write an .mcool with --resolutions".into(),
         ));
     }
-    if !args.resolutions.is_empty() && !matches!(format, OutputFormat::Mcool | OutputFormat::Hic) {
+    if !args.resolutions.is_empty() && !format.has_resolutions() {
         return Err(Error::Argument(
             "--resolutions applies to .mcool and .hic outputs only".into(),
         ));
     }
-    if args.output.as_os_str() == "-"
-        && matches!(
-            format,
-            OutputFormat::Cool | OutputFormat::Mcool | OutputFormat::Hic
-        )
-    {
+    if args.output.as_os_str() == "-" && format.needs_a_file() {
         return Err(Error::Argument(
             ".cool, .mcool and .hic outputs need a file path, not '-'".into(),
         ));
@@ -112,21 +103,17 @@ pub fn run(args: &ConvertArgs) -> Result<()> {
     let opened = io::open_matrix(&args.input, &args.input_args.to_options()?)?;
     let bar = Progress::new(opened.as_ref(), "converting")?;
     let reader = bar.reader();
-    let assembly = args.assembly.clone().or_else(|| reader.info().assembly());
-    let mut output = MatrixOutput::new(format.into());
-    if matches!(format, OutputFormat::Mcool | OutputFormat::Hic) {
-        output.resolutions = mcool_resolutions(reader.bins(), &args.input, &args.resolutions)?;
-    }
-    output.cool = CoolWriteOptions {
-        assembly: assembly.clone(),
-        weight_columns: None,
-    };
-    output.hic = HicWriteOptions {
+    let output = MatrixOutput {
+        resolutions: match format.has_resolutions() {
+            true => mcool_resolutions(reader.bins(), &args.input, &args.resolutions)?,
+            false => Vec::new(),
+        },
+        assembly: args.assembly.clone().or_else(|| reader.info().assembly()),
+        normalizations: methods,
         compression_level: args.compression_level,
-        ..HicWriteOptions::for_genome(assembly)
+        ..MatrixOutput::default()
     };
-    output.normalizations = methods;
-    let written = write_matrix(&reader, &args.output, &output);
+    let written = write_matrix(&reader, &args.output, format, &output);
     written?;
     super::warnings::print_reader_warnings(reader.warnings());
     Ok(())

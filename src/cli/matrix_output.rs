@@ -1,6 +1,6 @@
-//! The matrix files several commands write (`convert`, `merge`, `zoomify`, `normalize`,
-//! `sample`): `--to`'s names for [`MatrixFormat`], the format named by a file's extension,
-//! `--normalizations`, and [`export::write_matrix`] with its warnings printed.
+//! The matrix files several commands write (`convert`, `merge`, `zoomify`, `normalize`):
+//! `--to`'s names for [`MatrixFormat`], `--normalizations`, and [`export::write_matrix`] with its
+//! warnings printed.
 
 use std::path::Path;
 
@@ -41,18 +41,6 @@ impl From<OutputFormat> for MatrixFormat {
     }
 }
 
-/// The output format named by the extension of `path` ([`MatrixFormat::from_extension`]).
-pub fn format_from_extension(path: &Path) -> Result<OutputFormat> {
-    Ok(match MatrixFormat::from_extension(path)? {
-        MatrixFormat::Cool => OutputFormat::Cool,
-        MatrixFormat::Mcool => OutputFormat::Mcool,
-        MatrixFormat::Hic => OutputFormat::Hic,
-        MatrixFormat::Bg2 => OutputFormat::Bg2,
-        MatrixFormat::Coo => OutputFormat::Coo,
-        MatrixFormat::Dense => OutputFormat::Dense,
-    })
-}
-
 /// Parse `--normalizations` ([`export::parse_normalizations`]).
 pub fn parse_normalizations(items: &[String]) -> Result<Vec<Method>> {
     export::parse_normalizations(items)
@@ -61,8 +49,13 @@ pub fn parse_normalizations(items: &[String]) -> Result<Vec<Method>> {
 
 /// [`export::write_matrix`], then a warning on standard error for each chromosome whose
 /// balancing did not converge (a `.hic`'s).
-pub fn write_matrix(reader: &dyn MatrixReader, path: &Path, output: &MatrixOutput) -> Result<()> {
-    for unconverged in export::write_matrix(reader, path, output)? {
+pub fn write_matrix(
+    reader: &dyn MatrixReader,
+    path: &Path,
+    format: MatrixFormat,
+    output: &MatrixOutput,
+) -> Result<()> {
+    for unconverged in export::write_matrix(reader, path, format, output)? {
         eprintln!("contactmap: WARNING: {unconverged}");
     }
     Ok(())

@@ -6,13 +6,11 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 
 use crate::cli::args::InputArgs;
-use crate::cli::matrix_output::{OutputFormat, format_from_extension, write_matrix};
+use crate::cli::matrix_output::write_matrix;
 use crate::cli::output::{refuse_overwrites, uri_file};
 use contactmap::error::{Error, Result};
-use contactmap::export::MatrixOutput;
-use contactmap::io::cool::CoolWriteOptions;
+use contactmap::export::{MatrixFormat, MatrixOutput};
 use contactmap::io::cool::resolutions::{fixed_resolution, mcool_resolutions};
-use contactmap::io::hic::HicWriteOptions;
 use contactmap::io::merged::MergedReader;
 use contactmap::io::{self, MatrixReader};
 
@@ -68,10 +66,8 @@ pub fn run(args: &MergeArgs) -> Result<()> {
         .to_string_lossy()
         .to_ascii_lowercase()
         .ends_with(".gz");
-    let format = match format_from_extension(&args.out) {
-        Ok(format @ (OutputFormat::Cool | OutputFormat::Mcool | OutputFormat::Hic)) if !gzip => {
-            format
-        }
+    let format = match MatrixFormat::from_extension(&args.out) {
+        Ok(format) if format.needs_a_file() && !gzip => format,
         _ => {
             return Err(Error::Argument(format!(
                 "--out {}: merge writes .cool, .mcool or .hic (give one of those extensions)",
@@ -79,7 +75,7 @@ pub fn run(args: &MergeArgs) -> Result<()> {
             )));
         }
     };
-    if format == OutputFormat::Cool && !args.resolutions.is_empty() {
+    if format == MatrixFormat::Cool && !args.resolutions.is_empty() {
         return Err(Error::Argument(
             "--resolutions needs an .mcool or .hic output".into(),
         ));
@@ -90,26 +86,21 @@ pub fn run(args: &MergeArgs) -> Result<()> {
         .iter()
         .map(|uri| io::open_matrix(uri, &options))
         .collect::<Result<_>>()?;
-    let assembly = args
-        .assembly
-        .clone()
-        .or_else(|| opened[0].info().assembly());
     let reader = MergedReader::new(opened.iter().map(|r| r.as_ref()).collect())?;
-    let write_options = CoolWriteOptions {
-        assembly,
+    let output = MatrixOutput {
+        resolutions: match (format.has_resolutions(), args.resolutions.is_empty()) {
+            (false, _) => Vec::new(),
+            (true, true) => vec![fixed_resolution(reader.bins(), reader.source())?],
+            (true, false) => mcool_resolutions(reader.bins(), reader.source(), &args.resolutions)?,
+        },
+        assembly: args
+            .assembly
+            .clone()
+            .or_else(|| opened[0].info().assembly()),
         weight_columns: Some(Vec::new()),
+        ..MatrixOutput::default()
     };
-    let mut output = MatrixOutput::new(format.into());
-    if matches!(format, OutputFormat::Mcool | OutputFormat::Hic) {
-        output.resolutions = if args.resolutions.is_empty() {
-            vec![fixed_resolution(reader.bins(), reader.source())?]
-        } else {
-            mcool_resolutions(reader.bins(), reader.source(), &args.resolutions)?
-        };
-    }
-    output.hic = HicWriteOptions::for_genome(write_options.assembly.clone());
-    output.cool = write_options;
-    write_matrix(&reader, &args.out, &output)?;
+    write_matrix(&reader, &args.out, format, &output)?;
     for reader in &opened {
         super::warnings::print_reader_warnings(reader.warnings());
     }

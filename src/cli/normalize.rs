@@ -11,9 +11,8 @@ use crate::cli::matrix_output::{OutputFormat, write_matrix};
 use crate::cli::output::{refuse_overwrites, uri_file};
 use crate::cli::progress::Progress;
 use contactmap::error::{Error, Result};
-use contactmap::export::MatrixOutput;
+use contactmap::export::{MatrixFormat, MatrixOutput};
 use contactmap::io;
-use contactmap::io::cool::CoolWriteOptions;
 use contactmap::normalize::{Method, NormalizedReader, Normalizer};
 
 /// Normalisation methods.
@@ -86,13 +85,10 @@ pub fn run(args: &NormalizeArgs) -> Result<()> {
         .collect();
     refuse_overwrites(&inputs, &[Some(&args.output)])?;
     let format = match args.to {
-        Some(format) => format,
-        None => crate::cli::matrix_output::format_from_extension(&args.output)?,
+        Some(format) => format.into(),
+        None => MatrixFormat::from_extension(&args.output)?,
     };
-    if matches!(
-        format,
-        OutputFormat::Mcool | OutputFormat::Hic | OutputFormat::Dense
-    ) {
+    if format.has_resolutions() || format == MatrixFormat::Dense {
         return Err(Error::Argument(
             "normalize writes .cool, .bg2 or .coo outputs".into(),
         ));
@@ -148,10 +144,9 @@ pub fn run(args: &NormalizeArgs) -> Result<()> {
     );
     let bar = Progress::new(&normalized, "normalizing")?;
     let progress = bar.reader();
-    let mut output = MatrixOutput::new(format.into());
-    output.cool = CoolWriteOptions {
+    let output = MatrixOutput {
         weight_columns: Some(Vec::new()),
-        ..CoolWriteOptions::default()
+        ..MatrixOutput::default()
     };
-    write_matrix(&progress, &args.output, &output)
+    write_matrix(&progress, &args.output, format, &output)
 }

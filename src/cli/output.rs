@@ -3,8 +3,8 @@
 
 use std::path::Path;
 
-use crate::cli::matrix_output::{OutputFormat, format_from_extension};
 use contactmap::error::{Error, Result};
+use contactmap::export::MatrixFormat;
 pub use contactmap::io::output::{
     FloatFormat, Output, is_stdout, refuse_overwrites, write_text_file, write_whole,
 };
@@ -18,8 +18,8 @@ pub fn check_cool_output(command: &str, output: &Path) -> Result<()> {
             "{command} writes a .cool file: give a file name to -o, not '-'"
         )));
     }
-    match format_from_extension(output) {
-        Ok(OutputFormat::Cool) | Err(_) => Ok(()),
+    match MatrixFormat::from_extension(output) {
+        Ok(MatrixFormat::Cool) | Err(_) => Ok(()),
         Ok(_) => Err(Error::Argument(format!(
             "{command} writes a .cool file, and '{}' names another format: write OUT.cool, then \
              `contactmap convert OUT.cool {}`",

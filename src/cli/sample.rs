@@ -6,10 +6,10 @@ use clap::{ArgGroup, Args};
 
 use crate::cli::args::InputArgs;
 use crate::cli::input::open_for_analysis;
-use crate::cli::matrix_output::{OutputFormat, format_from_extension};
 use crate::cli::output::{refuse_overwrites, uri_file};
 use contactmap::compare::sample::{SampleParams, Sampled, Target};
 use contactmap::error::{Error, Result};
+use contactmap::export::MatrixFormat;
 use contactmap::io::cool::{CoolWriteOptions, write_cool};
 
 /// Arguments of `contactmap sample`.
@@ -64,7 +64,10 @@ pub fn run(args: &SampleArgs) -> Result<()> {
         .chain(args.input.files())
         .collect();
     refuse_overwrites(&inputs, &[Some(&args.out)])?;
-    if !matches!(format_from_extension(&args.out), Ok(OutputFormat::Cool)) {
+    if !matches!(
+        MatrixFormat::from_extension(&args.out),
+        Ok(MatrixFormat::Cool)
+    ) {
         return Err(Error::Argument(format!(
             "--out {}: sample writes a .cool (give the .cool extension)",
             args.out.display()

@@ -11,10 +11,8 @@ use crate::cli::output::{refuse_overwrites, uri_file};
 use contactmap::balance::{BalanceParams, Method};
 use contactmap::error::{Error, Result};
 use contactmap::export::cooler::balance_and_store;
-use contactmap::export::{MatrixFormat, MatrixOutput};
-use contactmap::io::cool::CoolWriteOptions;
+use contactmap::export::{DEFAULT_HIC_NORMALIZATIONS, MatrixFormat, MatrixOutput};
 use contactmap::io::cool::resolutions::mcool_resolutions;
-use contactmap::io::hic::HicWriteOptions;
 use contactmap::io::{self, default_memory_budget};
 
 /// Arguments of `contactmap zoomify`.
@@ -115,21 +113,21 @@ pub fn run(args: &ZoomifyArgs) -> Result<()> {
     let resolutions = {
         let reader = io::open_matrix(&args.input, &args.input_args.to_options()?)?;
         let resolutions = mcool_resolutions(reader.bins(), reader.source(), &args.resolutions)?;
-        let options = CoolWriteOptions {
+        let mut normalizations = DEFAULT_HIC_NORMALIZATIONS.to_vec();
+        if args.balance {
+            normalizations.push(Method::Ice);
+        }
+        let output = MatrixOutput {
+            resolutions: resolutions.clone(),
             assembly: args.assembly.clone().or_else(|| reader.info().assembly()),
-            weight_columns: None,
+            normalizations,
+            ..MatrixOutput::default()
         };
-        let mut output = MatrixOutput::new(match hic {
+        let format = match hic {
             true => MatrixFormat::Hic,
             false => MatrixFormat::Mcool,
-        });
-        output.resolutions = resolutions.clone();
-        if args.balance {
-            output.normalizations.push(Method::Ice);
-        }
-        output.hic = HicWriteOptions::for_genome(options.assembly.clone());
-        output.cool = options;
-        write_matrix(reader.as_ref(), &out, &output)?;
+        };
+        write_matrix(reader.as_ref(), &out, format, &output)?;
         super::warnings::print_reader_warnings(reader.warnings());
         if hic {
             return Ok(());

@@ -1,5 +1,5 @@
 //! One way to write a matrix ([`write_matrix`]): the format ([`MatrixFormat`], from a file's
-//! extension or named) and what each format needs ([`MatrixOutput`]), over the formats' writers
+//! extension or named) and what the formats take beyond the map ([`MatrixOutput`]), over the formats' writers
 //! (`io::cool::write_cool` / `write_mcool`, `io::text::write_text`) and the `.hic` writer that
 //! balances ([`super::hic::write_hic`]). `convert`, `merge`, `zoomify`, `normalize` and the Python
 //! package's writers all write through it.
@@ -75,41 +75,47 @@ impl MatrixFormat {
             MatrixFormat::Cool | MatrixFormat::Mcool | MatrixFormat::Hic
         )
     }
+
+    /// Whether the format holds several resolutions (`.mcool`, `.hic`).
+    pub fn has_resolutions(self) -> bool {
+        matches!(self, MatrixFormat::Mcool | MatrixFormat::Hic)
+    }
 }
 
-/// How a matrix is written: the format and what each format takes.
+/// What the formats take beyond the map: each field is read by the formats it names, the
+/// others ignore it.
 #[derive(Clone, Debug)]
 pub struct MatrixOutput {
-    /// The format.
-    pub format: MatrixFormat,
     /// The resolutions of an `.mcool` or `.hic` (bp; the map's own first; see
     /// [`crate::io::cool::resolutions`]).
     pub resolutions: Vec<u64>,
-    /// A cooler's assembly and weight columns (an `.mcool`'s too).
-    pub cool: CoolWriteOptions,
-    /// A `.hic`'s genome and compression.
-    pub hic: HicWriteOptions,
-    /// The normalisations a `.hic` stores.
+    /// The genome assembly: a cooler's `genome-assembly`, a `.hic`'s genome (`unknown` when
+    /// none).
+    pub assembly: Option<String>,
+    /// The weight columns a cooler copies (every one when `None`; only at the map's own
+    /// resolution).
+    pub weight_columns: Option<Vec<String>>,
+    /// The normalisations a `.hic` stores (default: Juicer's set).
     pub normalizations: Vec<Method>,
+    /// A `.hic`'s zlib compression level, 0-9 (default: 6, Juicer's).
+    pub compression_level: u32,
 }
 
-impl MatrixOutput {
-    /// `format` with the defaults: no resolutions, the map's assembly unknown, every weight
-    /// column copied, Juicer's normalisations for a `.hic`.
-    pub fn new(format: MatrixFormat) -> MatrixOutput {
+impl Default for MatrixOutput {
+    fn default() -> Self {
         MatrixOutput {
-            format,
             resolutions: Vec::new(),
-            cool: CoolWriteOptions::default(),
-            hic: HicWriteOptions::for_genome(None),
+            assembly: None,
+            weight_columns: None,
             normalizations: DEFAULT_HIC_NORMALIZATIONS.to_vec(),
+            compression_level: HicWriteOptions::default().compression_level,
         }
     }
 }
 
-/// Write the map of `reader` to `path` as `output` says (text formats write to standard output
-/// for `-`); returns the `.hic`'s balancings that did not converge (stored anyway, as Juicer
-/// does), none for the other formats.
+/// Write the map of `reader` to `path` in `format`, with what `output` gives it (text formats
+/// write to standard output for `-`); returns the `.hic`'s balancings that did not converge
+/// (stored anyway, as Juicer does), none for the other formats.
 ///
 /// ```
 /// use contactmap::export::{MatrixFormat, MatrixOutput, write_matrix};
@@ -119,8 +125,8 @@ impl MatrixOutput {
 /// let reader = open_matrix("data/CN.mm9.10000kb.cool", &OpenOptions::default())?;
 /// for name in ["copy.cool", "copy.bg2"] {
 ///     let path = dir.join(name);
-///     let output = MatrixOutput::new(MatrixFormat::from_extension(&path)?);
-///     assert!(write_matrix(reader.as_ref(), &path, &output)?.is_empty());
+///     let format = MatrixFormat::from_extension(&path)?;
+///     assert!(write_matrix(reader.as_ref(), &path, format, &MatrixOutput::default())?.is_empty());
 /// }
 /// let copy = open_matrix(dir.join("copy.cool").to_str().unwrap(), &OpenOptions::default())?;
 /// assert_eq!(copy.totals()?, reader.totals()?);
@@ -130,19 +136,28 @@ impl MatrixOutput {
 pub fn write_matrix(
     reader: &dyn MatrixReader,
     path: &Path,
+    format: MatrixFormat,
     output: &MatrixOutput,
 ) -> Result<Vec<Unconverged>> {
+    let cool = || CoolWriteOptions {
+        assembly: output.assembly.clone(),
+        weight_columns: output.weight_columns.clone(),
+    };
     let text = |format: TextFormat| write_text(reader, &path.to_string_lossy(), format);
-    match output.format {
-        MatrixFormat::Cool => write_cool(reader, path, &output.cool)?,
-        MatrixFormat::Mcool => write_mcool(reader, path, &output.resolutions, &output.cool)?,
+    match format {
+        MatrixFormat::Cool => write_cool(reader, path, &cool())?,
+        MatrixFormat::Mcool => write_mcool(reader, path, &output.resolutions, &cool())?,
         MatrixFormat::Hic => {
+            let options = HicWriteOptions {
+                compression_level: output.compression_level,
+                ..HicWriteOptions::for_genome(output.assembly.clone())
+            };
             return write_hic(
                 reader,
                 path,
                 &output.resolutions,
                 &output.normalizations,
-                &output.hic,
+                &options,
             );
         }
         MatrixFormat::Bg2 => text(TextFormat::Bg2)?,
