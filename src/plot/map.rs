@@ -109,13 +109,13 @@ impl Track {
     pub fn from_rows(
         path: &Path,
         column: &str,
-        rows: Vec<TrackRow>,
+        rows: &[TrackRow],
         bins: &BinTable,
         cols: &Range<usize>,
         span: &GenomicSpan,
     ) -> Result<Track> {
-        let rows: Vec<_> = rows
-            .into_iter()
+        let rows: Vec<&TrackRow> = rows
+            .iter()
             .filter(|r| span.overlaps(&r.chrom, r.start, r.end))
             .collect();
         let matches = rows.len() == cols.len()

@@ -25,7 +25,7 @@ pub struct MapSource<'a> {
     /// The map.
     pub reader: &'a dyn MatrixReader,
     /// Its weights; `None` draws raw counts.
-    pub weights: Option<Vec<f64>>,
+    pub weights: Option<&'a [f64]>,
     /// Its name in the title and the colour bar's label (the file's stem).
     pub name: String,
 }
@@ -54,8 +54,8 @@ pub struct MapRequest {
     pub oe: bool,
     /// Diagonals left out of the expected of o/e.
     pub ignore_diags: usize,
-    /// How a second map is drawn (with one).
-    pub comparison: Comparison,
+    /// How the second map is drawn: `None` for one map, which [`map_figure`] then takes alone.
+    pub comparison: Option<Comparison>,
     /// A linear colour scale (else log; always linear for a log2 ratio).
     pub linear: bool,
     /// Value of the lowest colour (default from `percentiles`).
@@ -83,10 +83,9 @@ pub struct MapRequest {
 
 impl MapRequest {
     /// An error unless the colour map is known and the percentiles are `0 <= low < high <=
-    /// 100` (what can be checked before a map is read); `ratio` says whether a log2 ratio is
-    /// drawn.
-    pub fn check(&self, ratio: bool) -> Result<()> {
-        self.colour_map(ratio)?;
+    /// 100` (what can be checked before a map is read).
+    pub fn check(&self) -> Result<()> {
+        self.colour_map()?;
         let [low, high] = self.percentiles;
         if !((0.0..=100.0).contains(&low) && low < high && high <= 100.0) {
             return Err(Error::Argument(
@@ -96,9 +95,18 @@ impl MapRequest {
         Ok(())
     }
 
+    /// Whether a log2 ratio of two maps is drawn.
+    fn ratio(&self) -> bool {
+        self.comparison == Some(Comparison::Log2Ratio)
+    }
+
     /// The colour map: the one named, else `RdBu_r` for o/e and ratios, `fall` otherwise.
-    fn colour_map(&self, ratio: bool) -> Result<ColorMap> {
-        let default = if self.oe || ratio { "RdBu_r" } else { "fall" };
+    fn colour_map(&self) -> Result<ColorMap> {
+        let default = if self.oe || self.ratio() {
+            "RdBu_r"
+        } else {
+            "fall"
+        };
         ColorMap::by_name(self.colour_map.as_deref().unwrap_or(default))
     }
 }
@@ -125,7 +133,7 @@ pub struct ExpectedTable<'a> {
 }
 
 /// The figure of `request`: `first` alone, or with `second` (on the same bins) drawn as
-/// `request.comparison` says; o/e from `expected` when given (one map), else computed over
+/// `request.comparison` says (a second map is given with a comparison, and only then); o/e from `expected` when given (one map), else computed over
 /// whole chromosomes. Errors say what cannot be drawn together (`--region2` with the 45-degree
 /// view or a split comparison, o/e across chromosomes, maps on other bins) and name the region
 /// when it holds nothing to draw.
@@ -136,9 +144,16 @@ pub fn map_figure(
     expected: Option<&ExpectedTable<'_>>,
     decorations: &MapDecorations,
 ) -> Result<Svg> {
-    request.check(second.is_some() && request.comparison == Comparison::Log2Ratio)?;
-    let ratio = second.is_some() && request.comparison == Comparison::Log2Ratio;
-    let colour_map = request.colour_map(ratio)?;
+    request.check()?;
+    if second.is_some() != request.comparison.is_some() {
+        return Err(Error::Argument(
+            "a second map is drawn with a comparison (split or log2 ratio), and a comparison \
+             needs a second map"
+                .into(),
+        ));
+    }
+    let ratio = request.ratio();
+    let colour_map = request.colour_map()?;
     let reader = first.reader;
     let bins = reader.bins().clone();
     let rows = region_bins(&bins, &request.region, reader.source())?;
@@ -194,9 +209,7 @@ pub fn map_figure(
     let tracks = decorations
         .tracks
         .iter()
-        .map(|(path, column, rows)| {
-            Track::from_rows(path, column, rows.clone(), &bins, &cols, &col_span)
-        })
+        .map(|(path, column, rows)| Track::from_rows(path, column, rows, &bins, &cols, &col_span))
         .collect::<Result<Vec<_>>>()?;
 
     let layout = MapLayout::new(
@@ -213,11 +226,11 @@ pub fn map_figure(
         MapView::Triangle { .. } => (layout.map_width_px(), layout.map_width_px()),
     };
     let fill = |source: &MapSource<'_>, expected: Option<&ExpectedTable<'_>>| -> Result<CellGrid> {
-        let weights = source.weights.as_deref();
+        let weights = source.weights;
         let normalizer = match request.oe {
             true => Some(oe_normalizer(
                 source.reader,
-                source.weights.clone(),
+                weights,
                 expected,
                 request.ignore_diags,
             )?),
@@ -242,8 +255,7 @@ pub fn map_figure(
             let scale_second = if request.oe {
                 1.0
             } else {
-                total(reader, first.weights.as_deref())?
-                    / total(second.reader, second.weights.as_deref())?
+                total(reader, first.weights)? / total(second.reader, second.weights)?
             };
             let how = match ratio {
                 true => GridComparison::Log2Ratio { scale_second },
@@ -253,7 +265,7 @@ pub fn map_figure(
         }
     };
 
-    let scale = colour_scale(request, ratio, &grid.values())?;
+    let scale = colour_scale(request, &grid.values())?;
     let colour_label = match second {
         Some(second) if ratio => format!("log2({} / {})", first.name, second.name),
         _ if request.oe => "observed / expected".to_string(),
@@ -301,7 +313,7 @@ fn region_bins(bins: &BinTable, text: &str, source: &str) -> Result<Range<usize>
 /// The o/e transform of a map: the expected of every chromosome, read or computed.
 fn oe_normalizer(
     reader: &dyn MatrixReader,
-    weights: Option<Vec<f64>>,
+    weights: Option<&[f64]>,
     expected: Option<&ExpectedTable<'_>>,
     ignore_diags: usize,
 ) -> Result<Normalizer> {
@@ -310,14 +322,20 @@ fn oe_normalizer(
         Some(table) => crate::expected::table::curves(table.table, bins, table.column)?,
         None => {
             let pixels = LoadedPixels::Streamed(StreamedPixels::new(reader));
-            crate::expected::cis_curves(&pixels, weights.as_deref(), ignore_diags)?
+            crate::expected::cis_curves(&pixels, weights, ignore_diags)?
         }
     };
-    Normalizer::new(Method::Oe, bins.n_bins(), weights, curves)
+    Normalizer::new(
+        Method::Oe,
+        bins.n_bins(),
+        weights.map(<[f64]>::to_vec),
+        curves,
+    )
 }
 
 /// The colour scale from the request and the drawn values.
-fn colour_scale(request: &MapRequest, ratio: bool, values: &[f64]) -> Result<ColorScale> {
+fn colour_scale(request: &MapRequest, values: &[f64]) -> Result<ColorScale> {
+    let ratio = request.ratio();
     let kind = if request.linear || ratio {
         ScaleKind::Linear
     } else {

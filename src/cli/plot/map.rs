@@ -210,10 +210,10 @@ pub fn run(args: &MapArgs) -> Result<()> {
         // with --compare-mode expected, each map is drawn as observed / expected
         oe: args.oe || (args.compare.is_some() && args.compare_mode == Some(CompareMode::Expected)),
         ignore_diags: args.ignore_diags,
-        comparison: match args.ratio {
+        comparison: args.compare.as_ref().map(|_| match args.ratio {
             true => Comparison::Log2Ratio,
             false => Comparison::Split,
-        },
+        }),
         linear: args.linear,
         vmin: args.vmin,
         vmax: args.vmax,
@@ -226,7 +226,7 @@ pub fn run(args: &MapArgs) -> Result<()> {
         height_px: figure.height_px,
         dpi: figure.dpi,
     };
-    request.check(args.ratio)?;
+    request.check()?;
     // the maps, with the weights drawn with (none for --raw)
     let open = |uri: &str| -> Result<Opened> {
         let reader = open_for_analysis(uri, &args.input)?;
@@ -274,12 +274,12 @@ pub fn run(args: &MapArgs) -> Result<()> {
     };
     let first = MapSource {
         reader: reader.as_ref(),
-        weights,
+        weights: weights.as_deref(),
         name: name(&args.uri),
     };
     let second = second.as_ref().map(|((reader, weights), name)| MapSource {
         reader: reader.as_ref(),
-        weights: weights.clone(),
+        weights: weights.as_deref(),
         name: name.clone(),
     });
     let svg = map_figure(
