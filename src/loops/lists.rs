@@ -9,7 +9,8 @@ use std::path::Path;
 
 use super::calls::DotCalls;
 use super::merge::{
-    MERGE_RESOLUTIONS, MergeParams, ResolutionCall, merge_resolutions, sort_merged,
+    MergeParams, ResolutionCall, ResolutionProblem, merge_resolutions, resolution_problem,
+    sort_merged,
 };
 use super::tables::dots_rows;
 use crate::error::{Error, Result};
@@ -200,17 +201,19 @@ impl MergedList {
 /// # Ok::<(), contactmap::Error>(())
 /// ```
 pub fn merge_lists(lists: &[ResolutionList], params: &MergeParams) -> Result<MergedList> {
-    for (k, list) in lists.iter().enumerate() {
-        if !MERGE_RESOLUTIONS.contains(&list.resolution) {
+    let resolutions: Vec<u64> = lists.iter().map(|list| list.resolution).collect();
+    match resolution_problem(&resolutions) {
+        None => {}
+        Some(ResolutionProblem::Undefined(k)) => {
             return Err(Error::Argument(format!(
                 "{}: calls at {} bp: the HiCCUPS merge is defined for 5, 10 and 25 kb calls",
-                list.source, list.resolution
+                lists[k].source, lists[k].resolution
             )));
         }
-        if let Some(first) = lists[..k].iter().find(|t| t.resolution == list.resolution) {
+        Some(ResolutionProblem::Repeated(first, k)) => {
             return Err(Error::Argument(format!(
                 "{} and {} are both at {} bp: give one list per resolution",
-                first.source, list.source, list.resolution
+                lists[first].source, lists[k].source, lists[k].resolution
             )));
         }
     }

@@ -163,22 +163,52 @@ pub fn sort_merged(lists: &[(u64, &[ResolutionCall])], kept: &mut [(usize, usize
     });
 }
 
+/// Why the rule cannot merge a set of lists, with the lists' indices.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ResolutionProblem {
+    /// The list at this index is at a resolution other than 5, 10 or 25 kb.
+    Undefined(usize),
+    /// The second list is at the first one's resolution.
+    Repeated(usize, usize),
+}
+
+/// The first reason, in list order, why [`merge_resolutions`] cannot merge lists at
+/// `resolutions` (`None` when they are distinct and among 5, 10 and 25 kb): callers word it,
+/// with the lists' names when they have them.
+///
+/// ```
+/// use contactmap::loops::merge::{ResolutionProblem, resolution_problem};
+/// assert_eq!(resolution_problem(&[5_000, 25_000]), None);
+/// assert_eq!(resolution_problem(&[5_000, 7_000]), Some(ResolutionProblem::Undefined(1)));
+/// assert_eq!(resolution_problem(&[10_000, 5_000, 10_000]), Some(ResolutionProblem::Repeated(0, 2)));
+/// ```
+pub fn resolution_problem(resolutions: &[u64]) -> Option<ResolutionProblem> {
+    resolutions
+        .iter()
+        .enumerate()
+        .find_map(|(index, resolution)| {
+            if !MERGE_RESOLUTIONS.contains(resolution) {
+                return Some(ResolutionProblem::Undefined(index));
+            }
+            let first = resolutions[..index].iter().position(|r| r == resolution)?;
+            Some(ResolutionProblem::Repeated(first, index))
+        })
+}
+
 /// An error unless `resolutions` are distinct and among 5, 10 and 25 kb (what
 /// [`merge_resolutions`] accepts).
 pub fn check_resolutions(resolutions: &[u64]) -> Result<()> {
-    for (index, resolution) in resolutions.iter().enumerate() {
-        if !MERGE_RESOLUTIONS.contains(resolution) {
-            return Err(Error::Argument(format!(
-                "the HiCCUPS merge is defined for 5, 10 and 25 kb calls; got a list at {resolution} bp"
-            )));
-        }
-        if resolutions[..index].contains(resolution) {
-            return Err(Error::Argument(format!(
-                "two lists at {resolution} bp: give one list per resolution"
-            )));
-        }
+    match resolution_problem(resolutions) {
+        None => Ok(()),
+        Some(ResolutionProblem::Undefined(index)) => Err(Error::Argument(format!(
+            "the HiCCUPS merge is defined for 5, 10 and 25 kb calls; got a list at {} bp",
+            resolutions[index]
+        ))),
+        Some(ResolutionProblem::Repeated(_, index)) => Err(Error::Argument(format!(
+            "two lists at {} bp: give one list per resolution",
+            resolutions[index]
+        ))),
     }
-    Ok(())
 }
 
 /// Whether `a` and `b` lie on the same chromosome pair within `radius` bp.
