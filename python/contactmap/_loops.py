@@ -199,7 +199,7 @@ def merge_dots(
         lists.append((f"dots at {resolution} bp", resolution, header, rows))
     near_diagonal = check.integer("near_diagonal", near_diagonal, minimum=0)
     strong = check.number("strong", strong)
-    text, _summary = _native.merge_dots(lists, near_diagonal, strong)
+    text = _native.merge_dots(lists, near_diagonal, strong)
     pd = _pandas()
     # exact floats: pandas 3 parses them round-trip by default, pandas 2 when asked
     exact = {} if int(pd.__version__.split(".")[0]) >= 3 else {"float_precision": "round_trip"}

@@ -197,7 +197,7 @@ def merge_dots(
     lists: list[tuple[str, int, list[str], list[list[str]]]],
     near_diagonal_bp: int,
     strong_count: float,
-) -> tuple[str, str]: ...
+) -> str: ...
 
 _PileupGroup = tuple[
     str,

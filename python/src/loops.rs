@@ -271,13 +271,13 @@ pub(crate) fn pileup<'py>(
 type DotList = (String, u64, Vec<String>, Vec<Vec<String>>);
 
 /// `dots-merge` ([`merge_lists`]): the lists merged as Juicer's HiCCUPS merges its
-/// resolutions; the merged table as TSV text and its one-line summary.
+/// resolutions; the merged table as TSV text.
 #[pyfunction]
 pub(crate) fn merge_dots(
     lists: Vec<DotList>,
     near_diagonal_bp: u64,
     strong_count: f64,
-) -> PyResult<(String, String)> {
+) -> PyResult<String> {
     let lists = lists
         .into_iter()
         .map(|(name, resolution, header, rows)| {
@@ -291,5 +291,5 @@ pub(crate) fn merge_dots(
         strong_count,
     };
     let merged = merge_lists(&lists, &params).map_err(py_err)?;
-    Ok((merged.to_tsv(), merged.summary()))
+    Ok(merged.to_tsv())
 }

@@ -233,13 +233,10 @@ pub fn run(args: &PileupArgs) -> Result<()> {
     };
     let (table, detection) = read_features(&args.features, format)?;
     let mut notes = Warnings::new();
-    let n_features = match &table {
-        FeatureTable::Bed(table) => table.records.len(),
-        FeatureTable::Bedpe(table) => table.records.len(),
-    };
     notes.note(match &table {
-        FeatureTable::Bed(_) => format!(
-            "read {n_features} BED features from {}{} (BED: {})",
+        FeatureTable::Bed(bed) => format!(
+            "read {} BED features from {}{} (BED: {})",
+            bed.records.len(),
             args.features.display(),
             if args.local {
                 " (on the diagonal)"
@@ -248,8 +245,9 @@ pub fn run(args: &PileupArgs) -> Result<()> {
             },
             detection.reason
         ),
-        FeatureTable::Bedpe(_) => format!(
-            "read {n_features} BEDPE pairs from {} (BEDPE: {})",
+        FeatureTable::Bedpe(bedpe) => format!(
+            "read {} BEDPE pairs from {} (BEDPE: {})",
+            bedpe.records.len(),
             args.features.display(),
             detection.reason
         ),
