@@ -93,12 +93,12 @@ run_all() {
       --chroms 2 --bins 200
     run "$cm" convert "$x/blocks.cool" "$x/blocks.hic"
     run "$cm" score boundaries --truth "$x/truth.bed" "$x/truth.bed"
-    run "$cm" contacts data/protein/toxd/toxd.pdb --matrix -o "$x/toxd.dist.tsv"
-    run "$cm" score contacts --structure data/protein/1guuA/1guuA.pdb data/protein/1guuA/1guuA.contact.rr \
+    run "$cm" contacts data/protein/toxd/toxd.pdb.gz --matrix -o "$x/toxd.dist.tsv"
+    run "$cm" score contacts --structure data/protein/1guuA/1guuA.pdb.gz data/protein/1guuA/1guuA.contact.rr \
       --ranges all --top L/2,L -o "$x/1guu.score.tsv"
     run "$cm" plot map data/yeast.10kb.cool -r chrI -o "$x/yeast.svg"
     run "$cm" plot expected data/yeast.10kb.cool --fit -o "$x/yeast_ps.svg"
-    run "$cm" plot contacts --structure data/protein/1aapA/1aapA.pdb data/protein/1aapA/1aapA.rr \
+    run "$cm" plot contacts --structure data/protein/1aapA/1aapA.pdb.gz data/protein/1aapA/1aapA.rr.gz \
       -o "$x/1aap.svg"
     run "$cm" plot saddle "$x/cis.saddle.tsv" -o "$x/saddle.svg"
     # the code issue 27 moved into the library: BED readers, tables, writers, figures
@@ -117,9 +117,9 @@ run_all() {
       --equilibration 200 --sample-every 100 --types A10B10 --extrusion --ctcf 10+,30-,50 \
       --truth-compartments "$x/tc.bed" --truth-boundaries "$x/tb.bed" --truth-domains "$x/td.bed" \
       --stats "$x/stats.tsv" --conformations "$x/conf.tsv" --seed 1 --device cpu --monomers-per-bin 2
-    run "$cm" score contacts --structure data/protein/1guuA/1guuA.pdb data/protein/1guuA/1guuA.contact.rr \
+    run "$cm" score contacts --structure data/protein/1guuA/1guuA.pdb.gz data/protein/1guuA/1guuA.contact.rr \
       --json --curve "$x/1guu.curve.tsv"
-    run "$cm" score contacts --structure data/protein/1guuA/1guuA.pdb data/protein/1guuA/1guuA.contact.rr
+    run "$cm" score contacts --structure data/protein/1guuA/1guuA.pdb.gz data/protein/1guuA/1guuA.contact.rr
     run "$cm" score overlap data/protein/1guuA/1guuA.contact.rr data/protein/1guuA/1guuA.contact.rr
     run "$cm" score boundaries --truth "$x/topdom.bed" "$x/topdom.bed" --truth-domains "$x/armatus.bed" \
       --domains "$x/di.bed"
@@ -127,9 +127,9 @@ run_all() {
       --domains "$x/armatus.bed" --track "$x/ins.tsv:log2_insulation_score_50000" -o "$x/oe.svg"
     run "$cm" plot expected "$x/yexp.tsv" --per-region -o "$x/ps_table.svg"
     # moved later in issue 27: RR and overlap writers, block truth, the device choice
-    run "$cm" contacts data/protein/1aapA/1aapA.pdb -o "$x/1aap.contacts.rr"
-    run "$cm" contacts data/protein/toxd/toxd.pdb --min-sep 12 -o "$x/toxd.contacts.rr"
-    run "$cm" contacts data/protein/1a8o/1A8O.pdb -o "$x/1a8o.contacts.rr"
+    run "$cm" contacts data/protein/1aapA/1aapA.pdb.gz -o "$x/1aap.contacts.rr"
+    run "$cm" contacts data/protein/toxd/toxd.pdb.gz --min-sep 12 -o "$x/toxd.contacts.rr"
+    run "$cm" contacts data/protein/1a8o/1A8O.pdb.gz -o "$x/1a8o.contacts.rr"
     run "$cm" score overlap data/protein/1guuA/1guuA.contact.rr data/protein/1guuA/1guuA.contact.rr --tsv \
       --length 60
     run "$cm" simulate blocks -o "$x/blocks2.cool" --truth-domains "$x/truth_domains.bed" --seed 4 \

@@ -26,6 +26,26 @@ same_pixels() {
   fi
 }
 
+# From the aligner's BAM to a picture: simulated Hi-C reads aligned by bwa mem -SP5M
+# (scripts/pairs_fixture.py), through pairs (as pairtools), a multi-resolution cooler and a map.
+bam=data/pairs/sim.bam
+sizes=data/pairs/sim.chrom.sizes
+step "Pairs from a BAM, sorted and deduplicated in one pipe (as pairtools parse | sort | dedup)" \
+  bash -c "set -o pipefail; '$cm' pairs parse '$bam' -c '$sizes' --assembly sim --output-stats '$work/sim.parse.stats' \
+    | '$cm' pairs sort | '$cm' pairs dedup -o '$work/sim.nodups.pairs.gz' --output-dups '$work/sim.dups.pairs.gz' \
+      --output-stats '$work/sim.dedup.stats'"
+grep -E '^(total|total_mapped|total_dups|total_nodups|cis|trans|cis_20kb\+)\s' "$work/sim.dedup.stats"
+step "Read pairs binned at 1 kb (as cooler cload pairs)" \
+  "$cm" convert "$work/sim.nodups.pairs.gz" "$work/sim.1kb.cool" --bin-size 1000
+step "Zoom levels to 20 kb, each balanced (as cooler zoomify --balance)" \
+  "$cm" zoomify "$work/sim.1kb.cool" -r 1000,5000,10000,20000 --balance -o "$work/sim.mcool"
+# 1,065 pairs leave most 5 kb bins with fewer than 10 nonzero pixels, which ICE's default
+# --min-nnz masks (and the level does not converge): balance that level again with 3.
+step "The 5 kb level balanced again, masking bins with fewer than 3 nonzero pixels" \
+  "$cm" balance "$work/sim.mcool::/resolutions/5000" --store --force --min-nnz 3
+step "Picture: chr1 of the simulated genome at 5 kb (balanced)" \
+  "$cm" plot map "$work/sim.mcool::/resolutions/5000" -r chr1 -o "$figs/sim_pairs_map.png"
+
 mcool=data/cooler_test_file.mcool
 hic=data/hic_test_file.hic
 
@@ -165,20 +185,20 @@ step "Picture: P(s) of the two simulated maps, each with its fitted power law" \
   "$cm" plot expected "$work/blocks.cool" "$work/polymer.merged.cool" --raw --fit --labels "blocks (simulate blocks)","polymer (simulate polymer)" \
   -o "$figs/simulated_ps.png"
 step "Protein: true contacts of a structure (Cb-Cb < 8 A, Ca for Gly) as CASP RR" \
-  "$cm" contacts data/protein/1aapA/1aapA.pdb -o "$work/1aapA.true.rr"
+  "$cm" contacts data/protein/1aapA/1aapA.pdb.gz -o "$work/1aapA.true.rr"
 head -4 "$work/1aapA.true.rr"
 step "Protein: CCMpred and RR predictions scored against their structures (CASP long-range precision)" \
-  "$cm" score contacts --structure data/protein/toxd/toxd.pdb data/protein/toxd/toxd.mat \
+  "$cm" score contacts --structure data/protein/toxd/toxd.pdb.gz data/protein/toxd/toxd.mat.gz \
   --fasta data/protein/toxd/toxd.fasta --ranges long
-"$cm" score contacts --structure data/protein/1aapA/1aapA.pdb data/protein/1aapA/1aapA.rr --ranges long
+"$cm" score contacts --structure data/protein/1aapA/1aapA.pdb.gz data/protein/1aapA/1aapA.rr.gz --ranges long
 step "Picture: the toxd contact map, top-L CCMpred pairs coloured true / false positive, and the precision curve" \
-  "$cm" plot contacts --structure data/protein/toxd/toxd.pdb --fasta data/protein/toxd/toxd.fasta \
-  data/protein/toxd/toxd.mat -o "$figs/toxd_contacts.png"
+  "$cm" plot contacts --structure data/protein/toxd/toxd.pdb.gz --fasta data/protein/toxd/toxd.fasta \
+  data/protein/toxd/toxd.mat.gz -o "$figs/toxd_contacts.png"
 step "Protein: a structure numbered 151-220 placed on its sequence (register), its own contacts score 1" \
-  "$cm" contacts data/protein/1a8o/1A8O.cif --fasta data/protein/1a8o/1A8O.fasta -o "$work/1a8o.rr"
-"$cm" score contacts --structure data/protein/1a8o/1A8O.pdb "$work/1a8o.rr" --ranges long --top L/5,L 2>/dev/null
+  "$cm" contacts data/protein/1a8o/1A8O.cif.gz --fasta data/protein/1a8o/1A8O.fasta -o "$work/1a8o.rr"
+"$cm" score contacts --structure data/protein/1a8o/1A8O.pdb.gz "$work/1a8o.rr" --ranges long --top L/5,L 2>/dev/null
 step "Protein: two predictions compared without a structure (Jaccard of the top lists)" \
-  "$cm" score overlap data/protein/1atzA/1atzA.apc.mat data/protein/1atzA/1atzA.noapc.mat --ranges long
+  "$cm" score overlap data/protein/1atzA/1atzA.apc.mat.gz data/protein/1atzA/1atzA.noapc.mat.gz --ranges long
 step "An MD trajectory (data/md: adenylate kinase, 3 XTC frames of its open -> closed transition): residue contact frequencies as MDTraj's compute_contacts, closest heavy atoms < 4.5 A" \
   "$cm" contacts --trajectory data/md/adk.xtc --topology data/md/adk.pdb.gz --definition closest-heavy \
   --cutoff 4.5 -o "$work/adk.freq.tsv"

@@ -38,8 +38,8 @@ mv "$work/mpl_triangle.png" "$out/triangle_cooltools_notebook.png"
 
 # plot contacts: ConKit's contact-map figure (two predictions, as its --otherfile).
 p=data/protein/1atzA
-"$cm" plot contacts --structure "$p/1atzA.pdb" --fasta "$p/1atzA.fasta" "$p/1atzA.apc.mat" \
-  "$p/1atzA.noapc.mat" -o "$out/contacts_contactmap_1atzA.png"
-"$py" -W ignore scripts/figures/conkit_cmap.py --structure "$p/1atzA.pdb" --fasta "$p/1atzA.fasta" \
-  "$p/1atzA.apc.mat" --other "$p/1atzA.noapc.mat" -o "$out/contacts_conkit_1atzA.png" > /dev/null
+"$cm" plot contacts --structure "$p/1atzA.pdb.gz" --fasta "$p/1atzA.fasta" "$p/1atzA.apc.mat.gz" \
+  "$p/1atzA.noapc.mat.gz" -o "$out/contacts_contactmap_1atzA.png"
+"$py" -W ignore scripts/figures/conkit_cmap.py --structure "$p/1atzA.pdb.gz" --fasta "$p/1atzA.fasta" \
+  "$p/1atzA.apc.mat.gz" --other "$p/1atzA.noapc.mat.gz" -o "$out/contacts_conkit_1atzA.png" > /dev/null
 echo "peer comparison figures: $out/"

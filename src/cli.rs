@@ -17,6 +17,7 @@ pub mod matrix_output;
 pub mod merge;
 pub mod normalize;
 pub mod output;
+pub mod pairs;
 pub mod pileup;
 pub mod plot;
 pub mod polymer_map;
@@ -91,6 +92,10 @@ pub enum Command {
     Dots(dots::DotsArgs),
     /// Dot calls at 5, 10 and 25 kb merged into one list as Juicer's HiCCUPS merges them.
     DotsMerge(dots::DotsMergeArgs),
+    /// Read pairs from the aligner's BAM to deduplicated pairs, as pairtools: `pairs parse`
+    /// (SAM / BAM to pairs), `pairs sort`, `pairs dedup`, `pairs stats`, `pairs select`, `pairs
+    /// merge`; each reads `-` and writes standard output, for pipes.
+    Pairs(pairs::PairsArgs),
     /// Aggregate maps at features (loops, TADs, peaks) as coolpuppy, with coolpuppy's and Juicer
     /// APA's scores.
     Pileup(pileup::PileupArgs),
@@ -278,6 +283,7 @@ pub fn run(cli: Cli) -> Result<Status> {
         Command::Saddle(args) => saddle::run(&args),
         Command::Dots(args) => dots::run(&args),
         Command::DotsMerge(args) => dots::run_merge(&args),
+        Command::Pairs(args) => pairs::run(&args),
         Command::Pileup(args) => pileup::run(&args),
         Command::Hicrep(args) => hicrep::run(&args),
         Command::Sample(args) => sample::run(&args),

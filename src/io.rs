@@ -83,6 +83,7 @@ macro_rules! forward_reader_metadata {
 
 pub mod bed;
 pub mod matrices;
+pub mod pairs;
 pub mod plumbing;
 pub mod protein;
 #[cfg(test)]

@@ -332,6 +332,7 @@ pub mod loops;
 pub mod matrix;
 pub mod normalize;
 pub mod numeric;
+pub mod pairs;
 pub mod pileup;
 pub mod plot;
 pub mod random;

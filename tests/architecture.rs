@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 /// The library's rooms above the ground floor: the algorithms (and `export`, which writes files
 /// that carry computed results and so stands above both the formats and the algorithms). The
 /// ground floor imports none of them.
-const ALGORITHMS: [&str; 14] = [
+const ALGORITHMS: [&str; 15] = [
     "balance",
     "compare",
     "compartments",
@@ -21,6 +21,7 @@ const ALGORITHMS: [&str; 14] = [
     "export",
     "loops",
     "normalize",
+    "pairs",
     "pileup",
     "plot",
     "score",

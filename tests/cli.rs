@@ -37,6 +37,8 @@ mod merge;
 mod normalize;
 #[path = "cli/overwrite.rs"]
 mod overwrite;
+#[path = "cli/pairs.rs"]
+mod pairs;
 #[path = "cli/pileup.rs"]
 mod pileup;
 #[path = "cli/plot.rs"]

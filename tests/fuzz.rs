@@ -105,6 +105,21 @@ fn fuzz_coo() {
 }
 
 #[test]
+fn fuzz_bam() {
+    fuzz("bam");
+}
+
+#[test]
+fn fuzz_sam() {
+    fuzz("sam");
+}
+
+#[test]
+fn fuzz_4dn_pairs() {
+    fuzz("4dn-pairs");
+}
+
+#[test]
 fn fuzz_pairs() {
     fuzz("pairs");
 }

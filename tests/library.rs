@@ -972,11 +972,11 @@ fn prediction(file: &str, fasta: &str) -> Prediction {
 fn contact_scores_equal_the_published_numbers() {
     // data/protein/README.md: true contacts per range (short, medium, long, all)
     for (structure, counts) in [
-        ("toxd/toxd.pdb", [15, 43, 57, 115]),
-        ("1atzA/1atzA.pdb", [24, 27, 69, 120]),
-        ("1aapA/1aapA.pdb", [13, 44, 57, 114]),
-        ("1guuA/1guuA.pdb", [15, 17, 13, 45]),
-        ("1a8o/1A8O.cif", [16, 26, 35, 77]),
+        ("toxd/toxd.pdb.gz", [15, 43, 57, 115]),
+        ("1atzA/1atzA.pdb.gz", [24, 27, 69, 120]),
+        ("1aapA/1aapA.pdb.gz", [13, 44, 57, 114]),
+        ("1guuA/1guuA.pdb.gz", [15, 17, 13, 45]),
+        ("1a8o/1A8O.cif.gz", [16, 26, 35, 77]),
     ] {
         let truth = truth(structure);
         let ranges = [
@@ -990,37 +990,37 @@ fn contact_scores_equal_the_published_numbers() {
     // "Method P": long range, top L/10, L/5, L/2, L as (true positives, pairs scored)
     for (structure, file, fasta, expected) in [
         (
-            "toxd/toxd.pdb",
-            "toxd/toxd.mat",
+            "toxd/toxd.pdb.gz",
+            "toxd/toxd.mat.gz",
             "toxd/toxd.fasta",
             [(5, 5), (9, 11), (17, 29), (22, 59)],
         ),
         (
-            "1atzA/1atzA.pdb",
-            "1atzA/1atzA.apc.mat",
+            "1atzA/1atzA.pdb.gz",
+            "1atzA/1atzA.apc.mat.gz",
             "1atzA/1atzA.fasta",
             [(6, 7), (12, 15), (21, 37), (30, 75)],
         ),
         (
-            "1atzA/1atzA.pdb",
-            "1atzA/1atzA.noapc.mat",
+            "1atzA/1atzA.pdb.gz",
+            "1atzA/1atzA.noapc.mat.gz",
             "1atzA/1atzA.fasta",
             [(4, 7), (5, 15), (9, 37), (11, 75)],
         ),
         (
-            "1aapA/1aapA.pdb",
-            "1aapA/1aapA.rr",
+            "1aapA/1aapA.pdb.gz",
+            "1aapA/1aapA.rr.gz",
             "1aapA/1aapA.fasta",
             [(4, 5), (9, 11), (13, 28), (17, 56)],
         ),
         (
-            "1guuA/1guuA.pdb",
+            "1guuA/1guuA.pdb.gz",
             "1guuA/1guuA.contact.rr",
             "1guuA/1guuA.fasta",
             [(1, 1); 4],
         ),
         (
-            "1guuA/1guuA.pdb",
+            "1guuA/1guuA.pdb.gz",
             "1guuA/1guuA.npz",
             "1guuA/1guuA.fasta",
             [(5, 5), (10, 10), (13, 25), (13, 50)],
@@ -1046,8 +1046,8 @@ fn contact_scores_equal_the_published_numbers() {
         ..ScoreParams::default()
     };
     let score = score_contacts(
-        &truth("toxd/toxd.pdb"),
-        &prediction("toxd/toxd.mat", "toxd/toxd.fasta"),
+        &truth("toxd/toxd.pdb.gz"),
+        &prediction("toxd/toxd.mat.gz", "toxd/toxd.fasta"),
         &params,
     )
     .unwrap();
@@ -1104,8 +1104,8 @@ fn boundary_overlap_and_compartment_scores_equal_naive_ones() {
     }
 
     // overlap of two predictions' top lists, the lists ranked naively
-    let first = prediction("1atzA/1atzA.apc.mat", "1atzA/1atzA.fasta");
-    let second = prediction("1atzA/1atzA.noapc.mat", "1atzA/1atzA.fasta");
+    let first = prediction("1atzA/1atzA.apc.mat.gz", "1atzA/1atzA.fasta");
+    let second = prediction("1atzA/1atzA.noapc.mat.gz", "1atzA/1atzA.fasta");
     let naive_ranked = |p: &Prediction| -> Vec<(i32, i32)> {
         let mut best: Vec<((i32, i32), f64)> = Vec::new();
         for &(i, j, score) in &p.pairs {

@@ -7,6 +7,7 @@ the command line writes floats in full (shortest round trip), so it is compared 
 
 from __future__ import annotations
 
+import gzip
 import io
 import os
 import shutil
@@ -343,7 +344,8 @@ def test_errors_come_as_the_exception_class_of_their_kind(tmp_path):
     with pytest.raises(cm.FormatError, match="truncated.cool: not a readable HDF5 file"):
         cm.File(truncated)
     # a structure with a bad line (a letter in a coordinate): FormatError naming file and line
-    lines = (DATA / "protein" / "1aapA" / "1aapA.pdb").read_text().splitlines(keepends=True)
+    with gzip.open(DATA / "protein" / "1aapA" / "1aapA.pdb.gz", "rt") as pdb:
+        lines = pdb.read().splitlines(keepends=True)
     at = next(i for i, line in enumerate(lines) if line.startswith("ATOM"))
     lines[at] = lines[at][:30] + "   xx.xxx" + lines[at][39:]
     bad = tmp_path / "bad.pdb"

@@ -19,8 +19,8 @@ from helpers import DATA, YEAST
 TOPOLOGY = str(DATA / "md" / "cobrotoxin.pdb.gz")
 TRAJECTORY = str(DATA / "md" / "cobrotoxin.dcd")
 POLYCHROM = str(DATA / "polychrom" / "traj")
-TOXD = str(DATA / "protein" / "toxd" / "toxd.pdb")
-TOXD_MATRIX = str(DATA / "protein" / "toxd" / "toxd.mat")
+TOXD = str(DATA / "protein" / "toxd" / "toxd.pdb.gz")
+TOXD_MATRIX = str(DATA / "protein" / "toxd" / "toxd.mat.gz")
 MCOOL = str(DATA / "cooler_test_file.mcool")
 
 

@@ -51,4 +51,4 @@ def test_store_refuses_to_replace_or_to_write_an_open_file(tmp_path: Path) -> No
     assert not np.allclose(before, after, equal_nan=True)
     np.testing.assert_array_equal(after, weights)
     with pytest.raises(cm.ContactmapError, match=".cool / .mcool files only"):
-        cm.balance(str(Path(__file__).parents[2] / "data" / "protein" / "toxd" / "toxd.mat"), store=True)
+        cm.balance(str(Path(__file__).parents[2] / "data" / "protein" / "toxd" / "toxd.mat.gz"), store=True)

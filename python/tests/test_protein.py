@@ -25,11 +25,11 @@ def p(name: str) -> str:
 @pytest.mark.parametrize(
     "structure, counts",
     [
-        ("toxd/toxd.pdb", (15, 43, 57, 115)),
-        ("1atzA/1atzA.pdb", (24, 27, 69, 120)),
-        ("1aapA/1aapA.pdb", (13, 44, 57, 114)),
-        ("1a8o/1A8O.pdb", (16, 26, 35, 77)),
-        ("1a8o/1A8O.cif", (16, 26, 35, 77)),
+        ("toxd/toxd.pdb.gz", (15, 43, 57, 115)),
+        ("1atzA/1atzA.pdb.gz", (24, 27, 69, 120)),
+        ("1aapA/1aapA.pdb.gz", (13, 44, 57, 114)),
+        ("1a8o/1A8O.pdb.gz", (16, 26, 35, 77)),
+        ("1a8o/1A8O.cif.gz", (16, 26, 35, 77)),
     ],
 )
 def test_true_contacts_per_range_are_the_references(structure: str, counts: tuple) -> None:
@@ -48,9 +48,9 @@ def test_true_contacts_per_range_are_the_references(structure: str, counts: tupl
 
 
 def test_distances_equal_the_command_line() -> None:
-    s = cm.read_structure(p("toxd/toxd.pdb"))
+    s = cm.read_structure(p("toxd/toxd.pdb.gz"))
     out = subprocess.run(
-        [binary(), "contacts", p("toxd/toxd.pdb"), "--matrix"],
+        [binary(), "contacts", p("toxd/toxd.pdb.gz"), "--matrix"],
         check=True,
         capture_output=True,
     ).stdout
@@ -62,14 +62,14 @@ def test_distances_equal_the_command_line() -> None:
 def test_method_p_precisions_are_the_references() -> None:
     # CASP style: L = the FASTA's length, k = floor(L f), long range
     cases = {
-        ("toxd/toxd.pdb", "toxd/toxd.mat", "toxd/toxd.fasta"): [(5, 5), (9, 11), (17, 29), (22, 59)],
-        ("1atzA/1atzA.pdb", "1atzA/1atzA.apc.mat", "1atzA/1atzA.fasta"): [
+        ("toxd/toxd.pdb.gz", "toxd/toxd.mat.gz", "toxd/toxd.fasta"): [(5, 5), (9, 11), (17, 29), (22, 59)],
+        ("1atzA/1atzA.pdb.gz", "1atzA/1atzA.apc.mat.gz", "1atzA/1atzA.fasta"): [
             (6, 7),
             (12, 15),
             (21, 37),
             (30, 75),
         ],
-        ("1aapA/1aapA.pdb", "1aapA/1aapA.rr", None): [(4, 5), (9, 11), (13, 28), (17, 56)],
+        ("1aapA/1aapA.pdb.gz", "1aapA/1aapA.rr.gz", None): [(4, 5), (9, 11), (13, 28), (17, 56)],
     }
     for (structure, prediction, fasta), want in cases.items():
         scores = cm.score_contacts(
@@ -77,29 +77,29 @@ def test_method_p_precisions_are_the_references() -> None:
         )
         assert list(zip(scores["tp"], scores["n_scored"])) == want, prediction
     # how the chain was placed on the sequence, per prediction
-    assert "1-56->1-56" in scores.attrs["register"][p("1aapA/1aapA.rr")]
+    assert "1-56->1-56" in scores.attrs["register"][p("1aapA/1aapA.rr.gz")]
 
 
 def test_coneva_and_conkit_conventions() -> None:
     coneva = cm.score_contacts(
-        p("1aapA/1aapA.pdb"), p("1aapA/1aapA.rr"), ranges=["long"], length="observed",
+        p("1aapA/1aapA.pdb.gz"), p("1aapA/1aapA.rr.gz"), ranges=["long"], length="observed",
         rounding="half-up",
     )
     np.testing.assert_allclose(
         np.round(coneva["precision"].to_numpy() * 100, 2), [83.33, 81.82, 46.43, 30.36]
     )
     conkit = cm.score_contacts(
-        p("toxd/toxd.pdb"), p("toxd/toxd.mat"), fasta=p("toxd/toxd.fasta"), le=True, min_sep=5,
+        p("toxd/toxd.pdb.gz"), p("toxd/toxd.mat.gz"), fasta=p("toxd/toxd.fasta"), le=True, min_sep=5,
         top=["0.5L", "L", "1.5L"],
     )
     assert list(zip(conkit["tp"], conkit["n_scored"])) == [(24, 29), (35, 59), (38, 88)]
 
 
 def test_scores_equal_the_command_line() -> None:
-    args = [p("1atzA/1atzA.apc.mat"), p("1atzA/1atzA.noapc.mat")]
-    ours = cm.score_contacts(p("1atzA/1atzA.pdb"), args, fasta=p("1atzA/1atzA.fasta"))
+    args = [p("1atzA/1atzA.apc.mat.gz"), p("1atzA/1atzA.noapc.mat.gz")]
+    ours = cm.score_contacts(p("1atzA/1atzA.pdb.gz"), args, fasta=p("1atzA/1atzA.fasta"))
     out = subprocess.run(
-        [binary(), "score", "contacts", "--tsv", "--structure", p("1atzA/1atzA.pdb"),
+        [binary(), "score", "contacts", "--tsv", "--structure", p("1atzA/1atzA.pdb.gz"),
          "--fasta", p("1atzA/1atzA.fasta"), *args],
         check=True,
         capture_output=True,
@@ -117,11 +117,11 @@ def test_protein_errors_name_the_file() -> None:
     with pytest.raises(FileNotFoundError, match="missing.pdb"):
         cm.read_structure(p("missing.pdb"))
     with pytest.raises(cm.ContactmapError, match="atom 'cz'"):
-        cm.read_structure(p("toxd/toxd.pdb"), atom="cz")
+        cm.read_structure(p("toxd/toxd.pdb.gz"), atom="cz")
     with pytest.raises(cm.ContactmapError, match="chain"):
-        cm.read_structure(p("toxd/toxd.pdb"), chain="Q")
+        cm.read_structure(p("toxd/toxd.pdb.gz"), chain="Q")
     with pytest.raises(cm.ContactmapError, match="toxd.fasta"):
-        cm.score_contacts(p("toxd/toxd.pdb"), p("toxd/toxd.fasta"), format="rr")
+        cm.score_contacts(p("toxd/toxd.pdb.gz"), p("toxd/toxd.fasta"), format="rr")
 
 
 def _mdtraj_reference(name: str) -> tuple[int, int, dict]:

@@ -16,13 +16,18 @@ residue: its residue 1 (PCA) is not read from the PDB, and the match then counts
 positives in the top L instead of 34.
 
 Usage (with the venv that has conkit and matplotlib):
-  python scripts/figures/conkit_cmap.py --structure data/protein/toxd/toxd.pdb \
-      --fasta data/protein/toxd/toxd.fasta data/protein/toxd/toxd.mat -o /tmp/toxd.conkit.png
+  python scripts/figures/conkit_cmap.py --structure data/protein/toxd/toxd.pdb.gz \
+      --fasta data/protein/toxd/toxd.fasta data/protein/toxd/toxd.mat.gz -o /tmp/toxd.conkit.png
+Inputs may be gzip-compressed (`.gz`, as the fixtures of data/protein/ are): ConKit reads plain
+text, so they are decompressed into a temporary folder first.
 Prints the counts of true and false positives in the drawn list on standard output.
 """
 
 import argparse
+import gzip
 import os
+import shutil
+import tempfile
 
 import matplotlib
 
@@ -35,10 +40,21 @@ import conkit.plot.tools  # noqa: E402
 FORMATS = {".mat": "ccmpred", ".rr": "casprr", ".npz": "rosettanpz", ".psicov": "psicov"}
 
 
+def plain(path, folder):
+    """`path`, or for a `.gz` file its decompressed copy in `folder` (ConKit reads plain text)."""
+    if not path.endswith(".gz"):
+        return path
+    out = os.path.join(folder, os.path.basename(path)[: -len(".gz")])
+    with gzip.open(path, "rb") as src, open(out, "wb") as dst:
+        shutil.copyfileobj(src, dst)
+    return out
+
+
 def prediction_format(path, given):
     if given:
         return given
-    ext = os.path.splitext(path)[1].lower()
+    name = path[: -len(".gz")] if path.endswith(".gz") else path
+    ext = os.path.splitext(name)[1].lower()
     if ext not in FORMATS:
         raise SystemExit(f"cannot guess the ConKit format of {path}: give --format")
     return FORMATS[ext]
@@ -69,6 +85,16 @@ def main():
     parser.add_argument("-o", "--out", required=True, help="PNG to write")
     parser.add_argument("prediction")
     args = parser.parse_args()
+    with tempfile.TemporaryDirectory() as folder:
+        run(args, folder)
+
+
+def run(args, folder):
+    args.structure = plain(args.structure, folder)
+    args.fasta = plain(args.fasta, folder)
+    args.prediction = plain(args.prediction, folder)
+    if args.other:
+        args.other = plain(args.other, folder)
 
     sequence = conkit.io.read(args.fasta, "fasta")[0]
     n_contacts = int(sequence.seq_len * args.factor)

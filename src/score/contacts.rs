@@ -314,7 +314,7 @@ impl TrueContacts {
     /// ```
     /// use contactmap::io::structure::read_structure;
     /// use contactmap::score::contacts::{ContactDefinition, TrueContacts};
-    /// let structure = read_structure("data/protein/toxd/toxd.pdb")?;
+    /// let structure = read_structure("data/protein/toxd/toxd.pdb.gz")?;
     /// let truth = TrueContacts::from_chain(structure.chain(None)?, ContactDefinition::default())?;
     /// let (a, b, c) = (truth.numbers()[0], truth.numbers()[1], truth.numbers()[30]);
     /// let ensemble = truth.clone().with_frequencies([(a, c, 0.75), (b, c, 0.25)], 0.5)?;
@@ -764,10 +764,10 @@ pub fn list_length(size: ListSize, length: usize, rounding: Rounding, n_true: us
 /// use contactmap::io::structure::read_structure;
 /// use contactmap::score::contacts::{score_contacts, ContactDefinition, ScoreParams, TrueContacts};
 ///
-/// let structure = read_structure("data/protein/toxd/toxd.pdb")?;
+/// let structure = read_structure("data/protein/toxd/toxd.pdb.gz")?;
 /// let truth = TrueContacts::from_chain(structure.chain(None)?, ContactDefinition::default())?;
 /// let sequence = read_fasta("data/protein/toxd/toxd.fasta")?;
-/// let prediction = read_prediction("data/protein/toxd/toxd.mat", None)?.with_sequence(&sequence)?;
+/// let prediction = read_prediction("data/protein/toxd/toxd.mat.gz", None)?.with_sequence(&sequence)?;
 /// let score = score_contacts(&truth, &prediction, &ScoreParams::default())?;
 /// assert_eq!(score.length, 59);
 /// let found: Vec<(usize, usize)> =

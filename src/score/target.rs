@@ -355,7 +355,7 @@ impl EnsembleTruth {
 /// use contactmap::io::{predictions::load_prediction, structure::read_chain};
 /// use contactmap::score::target::{place_prediction, RegisterChoice};
 /// use std::path::Path;
-/// let (structure, rr) = (Path::new("data/protein/1aapA/1aapA.pdb"), Path::new("data/protein/1aapA/1aapA.rr"));
+/// let (structure, rr) = (Path::new("data/protein/1aapA/1aapA.pdb.gz"), Path::new("data/protein/1aapA/1aapA.rr.gz"));
 /// let chain = read_chain(structure, None)?;
 /// let prediction = load_prediction(rr, None, None)?;
 /// let placed = place_prediction(structure, &chain, &prediction, rr, RegisterChoice::Auto, &ContactDefinition::default())?;
@@ -531,7 +531,7 @@ pub fn curves_tsv(reports: &[PredictionScores]) -> String {
 /// use contactmap::io::{predictions::load_prediction, structure::read_chain};
 /// use contactmap::score::target::*;
 /// use std::path::Path;
-/// let (structure, rr) = (Path::new("data/protein/1aapA/1aapA.pdb"), Path::new("data/protein/1aapA/1aapA.rr"));
+/// let (structure, rr) = (Path::new("data/protein/1aapA/1aapA.pdb.gz"), Path::new("data/protein/1aapA/1aapA.rr.gz"));
 /// let chain = read_chain(structure, None)?;
 /// let prediction = load_prediction(rr, None, None)?;
 /// let definition = ContactDefinition::default();
@@ -545,7 +545,7 @@ pub fn curves_tsv(reports: &[PredictionScores]) -> String {
 ///     curve_size: None,
 /// };
 /// let report = score_prediction(rr, &prediction, &placed, &plan)?;
-/// let text = scores_text("1aapA.pdb", &chain.id, &definition.describe(), &plan, &[report]);
+/// let text = scores_text("1aapA.pdb.gz", &chain.id, &definition.describe(), &plan, &[report]);
 /// assert!(text.contains("precision") && text.contains("long"));
 /// # Ok::<(), contactmap::Error>(())
 /// ```
@@ -678,7 +678,7 @@ fn sequence_line(chain: &Chain) -> Option<(String, i32)> {
 /// use contactmap::io::structure::read_chain;
 /// use contactmap::score::target::{measure, true_contacts_rr};
 /// use std::path::Path;
-/// let path = Path::new("data/protein/1aapA/1aapA.pdb");
+/// let path = Path::new("data/protein/1aapA/1aapA.pdb.gz");
 /// let chain = read_chain(path, None)?;
 /// let truth = measure(path, &chain, &ContactDefinition::default())?;
 /// let (text, offset) = true_contacts_rr(&chain, &truth, None, 6, 8.0);
@@ -727,7 +727,7 @@ pub fn true_contacts_rr(
 /// use contactmap::io::structure::read_chain;
 /// use contactmap::score::target::{distance_matrix_tsv, measure};
 /// use std::path::Path;
-/// let path = Path::new("data/protein/toxd/toxd.pdb");
+/// let path = Path::new("data/protein/toxd/toxd.pdb.gz");
 /// let chain = read_chain(path, None)?;
 /// let truth = measure(path, &chain, &ContactDefinition::default())?;
 /// let text = String::from_utf8(distance_matrix_tsv(&truth)).unwrap();

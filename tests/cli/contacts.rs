@@ -7,6 +7,17 @@ fn protein(name: &str) -> String {
     data(&format!("protein/{name}"))
 }
 
+/// The text of a gzip-compressed fixture of `data/protein/`.
+fn protein_text(name: &str) -> String {
+    use std::io::Read as _;
+    let file = std::fs::File::open(protein(name)).unwrap();
+    let mut text = String::new();
+    flate2::read::MultiGzDecoder::new(file)
+        .read_to_string(&mut text)
+        .unwrap();
+    text
+}
+
 /// `score contacts --tsv` with `args`: rows as (prediction, range, list, tp, n_scored,
 /// precision).
 fn scores(args: &[&str]) -> Vec<(String, String, String, usize, usize, f64)> {
@@ -67,8 +78,8 @@ fn tsv_header() {
         "contacts",
         "--tsv",
         "--structure",
-        &protein("1aapA/1aapA.pdb"),
-        &protein("1aapA/1aapA.rr"),
+        &protein("1aapA/1aapA.pdb.gz"),
+        &protein("1aapA/1aapA.rr.gz"),
     ]);
     let table = parse_table(&text);
     assert_eq!(
@@ -97,8 +108,8 @@ fn method_p_long_range_precisions() {
     // 1aapA.rr: L from the RR sequence line.
     let rows = scores(&[
         "--structure",
-        &protein("1aapA/1aapA.pdb"),
-        &protein("1aapA/1aapA.rr"),
+        &protein("1aapA/1aapA.pdb.gz"),
+        &protein("1aapA/1aapA.rr.gz"),
         "--ranges",
         "long",
     ]);
@@ -113,8 +124,8 @@ fn method_p_long_range_precisions() {
     // toxd.mat (CCMpred matrix) with --fasta.
     let rows = scores(&[
         "--structure",
-        &protein("toxd/toxd.pdb"),
-        &protein("toxd/toxd.mat"),
+        &protein("toxd/toxd.pdb.gz"),
+        &protein("toxd/toxd.mat.gz"),
         "--fasta",
         &protein("toxd/toxd.fasta"),
         "--ranges",
@@ -129,11 +140,11 @@ fn method_p_long_range_precisions() {
 
 #[test]
 fn many_predictions_in_one_call() {
-    let apc = protein("1atzA/1atzA.apc.mat");
-    let noapc = protein("1atzA/1atzA.noapc.mat");
+    let apc = protein("1atzA/1atzA.apc.mat.gz");
+    let noapc = protein("1atzA/1atzA.noapc.mat.gz");
     let rows = scores(&[
         "--structure",
-        &protein("1atzA/1atzA.pdb"),
+        &protein("1atzA/1atzA.pdb.gz"),
         &apc,
         &noapc,
         "--fasta",
@@ -155,7 +166,7 @@ fn many_predictions_in_one_call() {
 fn npz_and_npy_predictions() {
     let rows = scores(&[
         "--structure",
-        &protein("1guuA/1guuA.pdb"),
+        &protein("1guuA/1guuA.pdb.gz"),
         &protein("1guuA/1guuA.npz"),
         "--fasta",
         &protein("1guuA/1guuA.fasta"),
@@ -168,7 +179,7 @@ fn npz_and_npy_predictions() {
     // DISTEVAL conventions: banker's rounding, separations >= 12 and >= 24, Top-L/5 and NC.
     let rows = scores(&[
         "--structure",
-        &protein("1guuA/1guuA.pdb"),
+        &protein("1guuA/1guuA.pdb.gz"),
         &protein("1guuA/1guuA.predicted.npy"),
         "--fasta",
         &protein("1guuA/1guuA.fasta"),
@@ -200,15 +211,15 @@ fn coneva_and_conkit_conventions() {
             .map(|p| (p * 10000.0).round() / 100.0)
             .collect()
     };
-    let (pdb, rr) = (protein("1aapA/1aapA.pdb"), protein("1aapA/1aapA.rr"));
+    let (pdb, rr) = (protein("1aapA/1aapA.pdb.gz"), protein("1aapA/1aapA.rr.gz"));
     assert_close(
         &coneva(&["--structure", &pdb, &rr]),
         &[83.33, 81.82, 46.43, 30.36],
         1e-9,
     );
     let (pdb, mat, fasta) = (
-        protein("toxd/toxd.pdb"),
-        protein("toxd/toxd.mat"),
+        protein("toxd/toxd.pdb.gz"),
+        protein("toxd/toxd.mat.gz"),
         protein("toxd/toxd.fasta"),
     );
     assert_close(
@@ -220,8 +231,8 @@ fn coneva_and_conkit_conventions() {
     // ConKit documentation: toxd, d <= 8, separation >= 5, top 29, 59, 88.
     let rows = scores(&[
         "--structure",
-        &protein("toxd/toxd.pdb"),
-        &protein("toxd/toxd.mat"),
+        &protein("toxd/toxd.pdb.gz"),
+        &protein("toxd/toxd.mat.gz"),
         "--fasta",
         &protein("toxd/toxd.fasta"),
         "--le",
@@ -240,8 +251,8 @@ fn table_and_json_outputs() {
         "score",
         "contacts",
         "--structure",
-        &protein("1aapA/1aapA.pdb"),
-        &protein("1aapA/1aapA.rr"),
+        &protein("1aapA/1aapA.pdb.gz"),
+        &protein("1aapA/1aapA.rr.gz"),
         "--ranges",
         "long",
     ];
@@ -259,8 +270,8 @@ fn table_and_json_outputs() {
 
 #[test]
 fn true_contacts_pdb_and_cif_identical() {
-    let pdb = run_ok(&["contacts", &protein("1a8o/1A8O.pdb")]);
-    let cif = run_ok(&["contacts", &protein("1a8o/1A8O.cif")]);
+    let pdb = run_ok(&["contacts", &protein("1a8o/1A8O.pdb.gz")]);
+    let cif = run_ok(&["contacts", &protein("1a8o/1A8O.cif.gz")]);
     assert_eq!(pdb, cif);
     // Sequence line, then 77 contacts with separation >= 6 (data/protein/README.md).
     let lines: Vec<&str> = pdb.lines().collect();
@@ -270,8 +281,8 @@ fn true_contacts_pdb_and_cif_identical() {
     );
     assert_eq!(lines.len(), 1 + 77);
     assert!(lines[1..].iter().all(|line| line.ends_with(" 0 8 1")));
-    let pdb_matrix = run_ok(&["contacts", "--matrix", &protein("1a8o/1A8O.pdb")]);
-    let cif_matrix = run_ok(&["contacts", "--matrix", &protein("1a8o/1A8O.cif")]);
+    let pdb_matrix = run_ok(&["contacts", "--matrix", &protein("1a8o/1A8O.pdb.gz")]);
+    let cif_matrix = run_ok(&["contacts", "--matrix", &protein("1a8o/1A8O.cif.gz")]);
     assert_eq!(pdb_matrix, cif_matrix);
     assert_eq!(pdb_matrix.lines().count(), 71);
 }
@@ -282,13 +293,13 @@ fn own_contacts_read_back_score_precision_one() {
     let out = dir.path().join("toxd.rr");
     run_ok(&[
         "contacts",
-        &protein("toxd/toxd.pdb"),
+        &protein("toxd/toxd.pdb.gz"),
         "-o",
         out.to_str().unwrap(),
     ]);
     let rows = scores(&[
         "--structure",
-        &protein("toxd/toxd.pdb"),
+        &protein("toxd/toxd.pdb.gz"),
         out.to_str().unwrap(),
         "--top",
         "NC",
@@ -300,7 +311,7 @@ fn own_contacts_read_back_score_precision_one() {
 #[test]
 fn bad_input_is_one_error_line() {
     let dir = tempfile::tempdir().unwrap();
-    let structure = protein("toxd/toxd.pdb");
+    let structure = protein("toxd/toxd.pdb.gz");
 
     let line = run_err(&["contacts", &structure, "--chain", "Z"]);
     assert!(line.contains("no protein chain 'Z'"), "{line}");
@@ -311,7 +322,7 @@ fn bad_input_is_one_error_line() {
         &structure,
         "--chain",
         "Z",
-        &protein("toxd/toxd.mat"),
+        &protein("toxd/toxd.mat.gz"),
     ]);
     assert!(line.contains("no protein chain 'Z'"), "{line}");
 
@@ -336,7 +347,7 @@ fn bad_input_is_one_error_line() {
         "contacts",
         "--structure",
         &structure,
-        &protein("toxd/toxd.mat"),
+        &protein("toxd/toxd.mat.gz"),
         "--fasta",
         &protein("1aapA/1aapA.fasta"),
     ]);
@@ -351,7 +362,7 @@ fn bad_input_is_one_error_line() {
             "contacts",
             "--structure",
             &structure,
-            &protein("toxd/toxd.mat"),
+            &protein("toxd/toxd.mat.gz"),
             option,
             value,
         ]);
@@ -368,7 +379,7 @@ fn register_offset_numbering() {
     let rr = dir.path().join("1a8o.rr");
     let output = crate::run(&[
         "contacts",
-        &protein("1a8o/1A8O.cif"),
+        &protein("1a8o/1A8O.cif.gz"),
         "--fasta",
         &fasta,
         "-o",
@@ -380,7 +391,7 @@ fn register_offset_numbering() {
     let text = std::fs::read_to_string(&rr).unwrap();
     assert!(text.starts_with("MDIRQGPKEP"));
     assert!(text.lines().nth(1).unwrap().starts_with("1 18 "), "{text}");
-    for structure in ["1a8o/1A8O.pdb", "1a8o/1A8O.cif"] {
+    for structure in ["1a8o/1A8O.pdb.gz", "1a8o/1A8O.cif.gz"] {
         let rows = scores(&[
             "--structure",
             &protein(structure),
@@ -414,7 +425,7 @@ fn register_alignment_of_a_gapped_renumbered_domain() {
     let truth = dir.path().join("truth.rr");
     let output = crate::run(&[
         "contacts",
-        &protein("1a8o/1A8O.pdb"),
+        &protein("1a8o/1A8O.pdb.gz"),
         "--fasta",
         &fasta,
         "--min-sep",
@@ -425,7 +436,7 @@ fn register_alignment_of_a_gapped_renumbered_domain() {
     assert!(output.status.success());
     assert!(String::from_utf8_lossy(&output.stderr).contains("positions + 137"));
     // The gapped structure: residues 170-173 removed, the rest renumbered from 1.
-    let pdb = std::fs::read_to_string(protein("1a8o/1A8O.pdb")).unwrap();
+    let pdb = protein_text("1a8o/1A8O.pdb.gz");
     let mut renumbered = String::new();
     let (mut last, mut index) = (String::new(), 0);
     for line in pdb.lines() {
@@ -510,8 +521,7 @@ fn every_list_format_reproduces_the_matrix() {
         .filter(|line| !line.starts_with('>'))
         .collect();
     let letters: Vec<char> = sequence.chars().collect();
-    let matrix: Vec<Vec<String>> = std::fs::read_to_string(protein("toxd/toxd.mat"))
-        .unwrap()
+    let matrix: Vec<Vec<String>> = protein_text("toxd/toxd.mat.gz")
         .lines()
         .filter(|line| !line.trim().is_empty() && !line.starts_with('#'))
         .map(|line| line.split_whitespace().map(String::from).collect())
@@ -547,7 +557,7 @@ fn every_list_format_reproduces_the_matrix() {
     ];
     let expected = [(5, 5), (9, 11), (17, 29), (22, 59)];
     for file in &files {
-        let mut args = vec!["--structure", &*protein("toxd/toxd.pdb")]
+        let mut args = vec!["--structure", &*protein("toxd/toxd.pdb.gz")]
             .into_iter()
             .map(String::from)
             .collect::<Vec<_>>();
@@ -574,8 +584,7 @@ fn overlap_of_two_predictions() {
     // APC and non-APC CCMpred matrices of 1atzA; the naive count is done here from the two
     // ranked lists read independently.
     let read = |name: &str| -> Vec<(usize, usize)> {
-        let rows: Vec<Vec<f64>> = std::fs::read_to_string(protein(name))
-            .unwrap()
+        let rows: Vec<Vec<f64>> = protein_text(name)
             .lines()
             .filter(|line| !line.starts_with('#'))
             .map(|line| {
@@ -593,12 +602,15 @@ fn overlap_of_two_predictions() {
         pairs.sort_by(|a, b| b.2.partial_cmp(&a.2).unwrap());
         pairs.into_iter().map(|(i, j, _)| (i, j)).collect()
     };
-    let (apc, noapc) = (read("1atzA/1atzA.apc.mat"), read("1atzA/1atzA.noapc.mat"));
+    let (apc, noapc) = (
+        read("1atzA/1atzA.apc.mat.gz"),
+        read("1atzA/1atzA.noapc.mat.gz"),
+    );
     let text = run_ok(&[
         "score",
         "overlap",
-        &protein("1atzA/1atzA.apc.mat"),
-        &protein("1atzA/1atzA.noapc.mat"),
+        &protein("1atzA/1atzA.apc.mat.gz"),
+        &protein("1atzA/1atzA.noapc.mat.gz"),
         "--ranges",
         "long",
         "--top",
@@ -617,8 +629,8 @@ fn overlap_of_two_predictions() {
     let line = run_err(&[
         "score",
         "overlap",
-        &protein("toxd/toxd.mat"),
-        &protein("1atzA/1atzA.apc.mat"),
+        &protein("toxd/toxd.mat.gz"),
+        &protein("1atzA/1atzA.apc.mat.gz"),
     ]);
     assert!(
         line.contains("not predictions for the same target"),
@@ -627,8 +639,8 @@ fn overlap_of_two_predictions() {
     let line = run_err(&[
         "score",
         "overlap",
-        &protein("toxd/toxd.mat"),
-        &protein("1aapA/1aapA.rr"),
+        &protein("toxd/toxd.mat.gz"),
+        &protein("1aapA/1aapA.rr.gz"),
     ]);
     assert!(line.contains("cover 59 and 56 residues"), "{line}");
 }
@@ -637,7 +649,7 @@ fn overlap_of_two_predictions() {
 fn non_finite_coordinates_and_huge_npy_shapes_are_one_error_line() {
     let dir = tempfile::tempdir().unwrap();
     // toxd.pdb with the CB of PRO 2 at x = nan (line 347): an error, not a missing contact.
-    let pdb = std::fs::read_to_string(protein("toxd/toxd.pdb")).unwrap();
+    let pdb = protein_text("toxd/toxd.pdb.gz");
     let original = "ATOM      9  CB  PRO A   2      12.617";
     assert!(pdb.contains(original));
     let nan = write(
@@ -669,7 +681,7 @@ fn non_finite_coordinates_and_huge_npy_shapes_are_one_error_line() {
         "score",
         "contacts",
         "--structure",
-        &protein("1guuA/1guuA.pdb"),
+        &protein("1guuA/1guuA.pdb.gz"),
         &path,
     ]);
     assert!(
@@ -684,7 +696,7 @@ fn non_finite_coordinates_and_huge_npy_shapes_are_one_error_line() {
 /// file as with its FASTA; a note says so; the RR scores precision 1 against the structure.
 #[test]
 fn a_chain_numbered_from_151_is_written_from_1() {
-    let out = crate::run(&["contacts", &protein("1a8o/1A8O.cif")]);
+    let out = crate::run(&["contacts", &protein("1a8o/1A8O.cif.gz")]);
     assert!(out.status.success());
     let text = String::from_utf8(out.stdout).unwrap();
     let stderr = String::from_utf8_lossy(&out.stderr);
@@ -696,7 +708,7 @@ fn a_chain_numbered_from_151_is_written_from_1() {
     assert!(stderr.contains("numbered from 151"), "{stderr}");
     let with_fasta = run_ok(&[
         "contacts",
-        &protein("1a8o/1A8O.cif"),
+        &protein("1a8o/1A8O.cif.gz"),
         "--fasta",
         &protein("1a8o/1A8O.fasta"),
     ]);
@@ -706,7 +718,7 @@ fn a_chain_numbered_from_151_is_written_from_1() {
     std::fs::write(&rr, &text).unwrap();
     let rows = scores(&[
         "--structure",
-        &protein("1a8o/1A8O.pdb"),
+        &protein("1a8o/1A8O.pdb.gz"),
         rr.to_str().unwrap(),
         "--top",
         "NC",

@@ -260,8 +260,8 @@ fn dcd_atoms(dcd: &[u8]) -> usize {
 fn a_one_frame_ensemble_scores_as_its_structure() {
     let dir = tempfile::tempdir().unwrap();
     let (structure, rr) = (
-        data("protein/1aapA/1aapA.pdb"),
-        data("protein/1aapA/1aapA.rr"),
+        data("protein/1aapA/1aapA.pdb.gz"),
+        data("protein/1aapA/1aapA.rr.gz"),
     );
     let table = dir.path().join("freq.tsv").to_string_lossy().into_owned();
     run_ok(&[
@@ -286,8 +286,13 @@ fn a_one_frame_ensemble_scores_as_its_structure() {
     }
     // residues numbered from 101, placed on the sequence (positions 1-56): the table's
     // residues follow the register
-    let shifted: String = std::fs::read_to_string(&structure)
-        .unwrap()
+    let mut text = String::new();
+    std::io::Read::read_to_string(
+        &mut flate2::read::MultiGzDecoder::new(std::fs::File::open(&structure).unwrap()),
+        &mut text,
+    )
+    .unwrap();
+    let shifted: String = text
         .lines()
         .map(|line| match line.get(..6) {
             Some("ATOM  " | "HETATM") => {
@@ -440,8 +445,8 @@ fn ensemble_truth_counts_mdtrajs_frames() {
 fn bad_frequency_tables_are_one_line_errors() {
     let dir = tempfile::tempdir().unwrap();
     let (structure, rr) = (
-        data("protein/1aapA/1aapA.pdb"),
-        data("protein/1aapA/1aapA.rr"),
+        data("protein/1aapA/1aapA.pdb.gz"),
+        data("protein/1aapA/1aapA.rr.gz"),
     );
     let header =
         "chain\tresidue1\tresidue2\tname1\tname2\tindex1\tindex2\tcontact_frames\tfrequency";
@@ -517,7 +522,7 @@ fn bad_frequency_tables_are_one_line_errors() {
 /// the PDB's convention names it, never an empty column; said on standard error.
 #[test]
 fn a_blank_chain_is_written_a() {
-    let pdb = data("protein/1aapA/1aapA.pdb");
+    let pdb = data("protein/1aapA/1aapA.pdb.gz");
     let out = run(&["contacts", "--trajectory", &pdb, "--topology", &pdb]);
     assert!(
         out.status.success(),

@@ -218,7 +218,7 @@ fn analyses_with_prefixes_refuse_an_output_that_is_their_track() {
 #[test]
 fn protein_commands_refuse_to_overwrite_their_input() {
     let dir = tempfile::tempdir().unwrap();
-    let pdb = copy("protein/1guuA/1guuA.pdb", dir.path(), "1guuA.pdb");
+    let pdb = copy("protein/1guuA/1guuA.pdb.gz", dir.path(), "1guuA.pdb.gz");
     let rr = copy("protein/1guuA/1guuA.contact.rr", dir.path(), "1guuA.rr");
     refused(
         &["contacts", text(&pdb), "-o", text(&pdb)],

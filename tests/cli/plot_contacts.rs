@@ -22,10 +22,10 @@ fn toxd_args(extra: &[&'static str]) -> Vec<String> {
         "plot".to_string(),
         "contacts".into(),
         "--structure".into(),
-        protein("toxd/toxd.pdb"),
+        protein("toxd/toxd.pdb.gz"),
         "--fasta".into(),
         protein("toxd/toxd.fasta"),
-        protein("toxd/toxd.mat"),
+        protein("toxd/toxd.mat.gz"),
     ]
     .to_vec();
     args.extend(extra.iter().map(|s| s.to_string()));
@@ -220,9 +220,9 @@ fn count(figure: &Figure, triangle: &str, class: &str) -> usize {
 
 #[test]
 fn markers_count_the_true_and_false_positives_of_score_contacts() {
-    let pdb = protein("toxd/toxd.pdb");
+    let pdb = protein("toxd/toxd.pdb.gz");
     let fasta = protein("toxd/toxd.fasta");
-    let mat = protein("toxd/toxd.mat");
+    let mat = protein("toxd/toxd.mat.gz");
     let truth = true_contacts(&[&pdb, "--fasta", &fasta]);
     for (min_sep, top, reference) in [
         // Long range, top L: "method P" of data/protein/README.md, 22 / 59.
@@ -287,7 +287,7 @@ fn markers_count_the_true_and_false_positives_of_score_contacts() {
 
 #[test]
 fn grey_cells_are_the_true_contacts_in_both_triangles() {
-    let pdb = protein("toxd/toxd.pdb");
+    let pdb = protein("toxd/toxd.pdb.gz");
     for (min_sep, expected) in [("6", 115), ("24", 57)] {
         let truth = true_contacts(&[&pdb, "--min-sep", min_sep]);
         // data/protein/README.md: 115 contacts at >= 6, 57 at >= 24.
@@ -335,7 +335,7 @@ fn png_pixels_show_the_marker_and_contact_colours() {
     assert!(n_tp > 0 && n_fp > 0);
     // A true contact not predicted: with one prediction, the lower triangle shows the grey
     // cells alone; a pair neither true nor predicted is white.
-    let pdb = protein("toxd/toxd.pdb");
+    let pdb = protein("toxd/toxd.pdb.gz");
     let truth = true_contacts(&[&pdb]);
     let &(i, j) = truth.iter().next().unwrap();
     let (x, y) = centre(j, i);
@@ -359,8 +359,8 @@ fn the_curve_is_the_score_contacts_curve() {
             "score",
             "contacts",
             "--structure",
-            &protein("toxd/toxd.pdb"),
-            &protein("toxd/toxd.mat"),
+            &protein("toxd/toxd.pdb.gz"),
+            &protein("toxd/toxd.mat.gz"),
             "--fasta",
             &protein("toxd/toxd.fasta"),
             "--min-sep",
@@ -406,7 +406,7 @@ fn a_second_prediction_goes_to_the_lower_triangle() {
     let dir = tempfile::tempdir().unwrap();
     let rr = dir.path().join("true.rr");
     let rr_text = rr.to_string_lossy().into_owned();
-    let pdb = protein("toxd/toxd.pdb");
+    let pdb = protein("toxd/toxd.pdb.gz");
     let fasta = protein("toxd/toxd.fasta");
     // The structure's own contacts as the second prediction: all true.
     run_ok(&["contacts", &pdb, "--fasta", &fasta, "-o", &rr_text]);
@@ -451,7 +451,7 @@ fn unobserved_pairs_are_dropped_or_drawn_open() {
         "plot",
         "contacts",
         "--structure",
-        &protein("toxd/toxd.pdb"),
+        &protein("toxd/toxd.pdb.gz"),
         "--fasta",
         &protein("toxd/toxd.fasta"),
         &rr_text,
@@ -478,9 +478,9 @@ fn unobserved_pairs_are_dropped_or_drawn_open() {
 #[test]
 fn bad_inputs_fail_with_one_line_and_no_file() {
     let dir = tempfile::tempdir().unwrap();
-    let pdb = protein("toxd/toxd.pdb");
+    let pdb = protein("toxd/toxd.pdb.gz");
     let fasta = protein("toxd/toxd.fasta");
-    let mat = protein("toxd/toxd.mat");
+    let mat = protein("toxd/toxd.mat.gz");
     let outside = dir.path().join("outside.rr");
     std::fs::write(&outside, "5 80 0 8 0.9\n").unwrap();
     let outside = outside.to_string_lossy().into_owned();

@@ -298,13 +298,13 @@ fn bad_trajectories_are_one_line_errors_without_output() {
     // a file of another kind: the header expected, the line's start shown, not all of it
     let line = run_err(&[
         "polymer-map",
-        &data("protein/toxd/toxd.mat"),
+        &data("protein/toxd/toxd.mat.gz"),
         "--contact-radius",
         "1.5",
         "-o",
         &out_s,
     ]);
-    assert!(line.contains("toxd.mat:1: expected the header 'replica sample chain bead x y z'"));
+    assert!(line.contains("toxd.mat.gz:1: expected the header 'replica sample chain bead x y z'"));
     // the line's first 60 characters and "...", whatever the path's length
     let shown = line.split("found '").nth(1).unwrap_or_default();
     assert!(shown.ends_with("...'"), "{line}");

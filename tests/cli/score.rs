@@ -207,8 +207,8 @@ fn predictions_without_a_sequence_are_checked_against_the_structure() {
         "score",
         "contacts",
         "--structure",
-        &protein("1a8o/1A8O.pdb"),
-        &protein("1atzA/1atzA.apc.mat"),
+        &protein("1a8o/1A8O.pdb.gz"),
+        &protein("1atzA/1atzA.apc.mat.gz"),
     ]);
     assert!(line.contains("numbered 151-220"), "{line}");
     assert!(line.contains("--fasta"), "{line}");
@@ -217,8 +217,8 @@ fn predictions_without_a_sequence_are_checked_against_the_structure() {
         "score",
         "contacts",
         "--structure",
-        &protein("toxd/toxd.pdb"),
-        &protein("1atzA/1atzA.apc.mat"),
+        &protein("toxd/toxd.pdb.gz"),
+        &protein("1atzA/1atzA.apc.mat.gz"),
     ]);
     assert!(out.status.success());
     let stderr = String::from_utf8_lossy(&out.stderr);
@@ -233,8 +233,8 @@ fn predictions_without_a_sequence_are_checked_against_the_structure() {
         "score",
         "contacts",
         "--structure",
-        &protein("toxd/toxd.pdb"),
-        &protein("toxd/toxd.mat"),
+        &protein("toxd/toxd.pdb.gz"),
+        &protein("toxd/toxd.mat.gz"),
     ]);
     assert!(out.status.success());
     assert!(

@@ -29,7 +29,7 @@ fn hdf5_timeout() -> String {
 }
 
 /// The formats, in the order of the summary table.
-pub const FORMATS: [&str; 17] = [
+pub const FORMATS: [&str; 20] = [
     "cool",
     "mcool",
     "hic",
@@ -47,6 +47,9 @@ pub const FORMATS: [&str; 17] = [
     "h5",
     "xtc",
     "dcd",
+    "bam",
+    "sam",
+    "4dn-pairs",
 ];
 
 /// A fixture to mutate and the commands that read a mutant of it.
@@ -204,13 +207,34 @@ fn gunzip_head(name: &str, max_lines: usize) -> Vec<u8> {
     text
 }
 
+/// The first `max_records` records of a BAM (with its header) as SAM text, by noodles.
+fn bam_as_sam(path: &str, max_records: usize) -> Vec<u8> {
+    use noodles::sam::alignment::io::Write as _;
+    let mut reader = noodles::bam::io::Reader::new(std::fs::File::open(path).expect("fixture"));
+    let header = reader.read_header().expect("BAM header");
+    let mut writer = noodles::sam::io::Writer::new(Vec::new());
+    writer.write_header(&header).expect("SAM in memory");
+    for record in reader.records().take(max_records) {
+        let record = record.expect("BAM record");
+        writer
+            .write_alignment_record(&header, &record)
+            .expect("SAM in memory");
+    }
+    writer.into_inner()
+}
+
 fn strings(args: &[&str]) -> Vec<String> {
     args.iter().map(|s| s.to_string()).collect()
 }
 
+/// A fixture's bytes as a seed, decompressed when the fixture is stored gzip-compressed (`.gz`).
 fn raw_seed(name: &str, file_name: &str, commands: Vec<Vec<String>>) -> Seed {
     Seed {
-        bytes: std::fs::read(data(name)).expect("fixture"),
+        bytes: if name.ends_with(".gz") {
+            gunzip_head(name, usize::MAX)
+        } else {
+            std::fs::read(data(name)).expect("fixture")
+        },
         origin: format!("data/{name}"),
         file_name: file_name.into(),
         commands,
@@ -515,17 +539,17 @@ pub fn format(name: &str, aux: &Path) -> Format {
             Kind::Text,
             vec![
                 raw_seed(
-                    "protein/toxd/toxd.pdb",
+                    "protein/toxd/toxd.pdb.gz",
                     "m.pdb",
-                    structure("toxd/toxd.fasta", Some("toxd/toxd.mat")),
+                    structure("toxd/toxd.fasta", Some("toxd/toxd.mat.gz")),
                 ),
                 raw_seed(
-                    "protein/1guuA/1guuA.pdb",
+                    "protein/1guuA/1guuA.pdb.gz",
                     "m.pdb",
                     structure("1guuA/1guuA.fasta", Some("1guuA/1guuA.contact.rr")),
                 ),
                 raw_seed(
-                    "protein/1a8o/1A8O.pdb",
+                    "protein/1a8o/1A8O.pdb.gz",
                     "m.pdb",
                     structure("1a8o/1A8O.fasta", None),
                 ),
@@ -535,7 +559,7 @@ pub fn format(name: &str, aux: &Path) -> Format {
         "mmcif" => (
             Kind::Text,
             vec![raw_seed(
-                "protein/1a8o/1A8O.cif",
+                "protein/1a8o/1A8O.cif.gz",
                 "m.cif",
                 structure("1a8o/1A8O.fasta", None),
             )],
@@ -544,16 +568,20 @@ pub fn format(name: &str, aux: &Path) -> Format {
         "rr" => (
             Kind::Text,
             vec![
-                raw_seed("protein/1aapA/1aapA.rr", "m.rr", score("1aapA/1aapA.pdb")),
+                raw_seed(
+                    "protein/1aapA/1aapA.rr.gz",
+                    "m.rr",
+                    score("1aapA/1aapA.pdb.gz"),
+                ),
                 raw_seed(
                     "protein/1guuA/1guuA.contact.rr",
                     "m.rr",
-                    score("1guuA/1guuA.pdb"),
+                    score("1guuA/1guuA.pdb.gz"),
                 ),
                 raw_seed(
                     "protein/1guuA/1guuA.distance.rr",
                     "m.rr",
-                    score("1guuA/1guuA.pdb"),
+                    score("1guuA/1guuA.pdb.gz"),
                 ),
             ],
             vec![],
@@ -561,11 +589,15 @@ pub fn format(name: &str, aux: &Path) -> Format {
         "matrix" => (
             Kind::Text,
             vec![
-                raw_seed("protein/toxd/toxd.mat", "m.mat", score("toxd/toxd.pdb")),
                 raw_seed(
-                    "protein/1atzA/1atzA.apc.mat",
+                    "protein/toxd/toxd.mat.gz",
                     "m.mat",
-                    score("1atzA/1atzA.pdb"),
+                    score("toxd/toxd.pdb.gz"),
+                ),
+                raw_seed(
+                    "protein/1atzA/1atzA.apc.mat.gz",
+                    "m.mat",
+                    score("1atzA/1atzA.pdb.gz"),
                 ),
             ],
             vec![],
@@ -575,7 +607,7 @@ pub fn format(name: &str, aux: &Path) -> Format {
             vec![raw_seed(
                 "protein/1guuA/1guuA.npz",
                 "m.npz",
-                score("1guuA/1guuA.pdb"),
+                score("1guuA/1guuA.pdb.gz"),
             )],
             vec![],
         ),
@@ -585,12 +617,12 @@ pub fn format(name: &str, aux: &Path) -> Format {
                 raw_seed(
                     "protein/1guuA/1guuA.predicted.npy",
                     "m.npy",
-                    score("1guuA/1guuA.pdb"),
+                    score("1guuA/1guuA.pdb.gz"),
                 ),
                 raw_seed(
                     "protein/1guuA/1guuA.true.npy",
                     "m.npy",
-                    score("1guuA/1guuA.pdb"),
+                    score("1guuA/1guuA.pdb.gz"),
                 ),
             ],
             vec![],
@@ -617,6 +649,101 @@ pub fn format(name: &str, aux: &Path) -> Format {
                         strings(&["polymer-stats", "{P}", "-o", "{O}"]),
                     ],
                 )],
+                vec![],
+            )
+        }
+        "bam" | "sam" => {
+            let sizes = data("pairs/sim.chrom.sizes");
+            let parse = |extra: &[&str]| {
+                let head = ["pairs", "parse", "{P}", "-c", &sizes];
+                strings(&[&head[..], extra, &["-o", "{O}.pairs.gz"]].concat())
+            };
+            let commands = vec![
+                parse(&[]),
+                parse(&["--walks-policy", "all", "--add-pair-index"]),
+                parse(&[
+                    "--add-columns",
+                    "mapq,cigar,mismatches,seq,dist_to_5",
+                    "--output-stats",
+                    "{O}.stats",
+                ]),
+            ];
+            // The BAM held inflated (its records mutated, then deflated again), or as SAM text.
+            let inflated = gunzip_head("pairs/sim.bam", usize::MAX);
+            if name == "bam" {
+                (
+                    Kind::Bgzf,
+                    vec![Seed {
+                        bytes: inflated,
+                        origin: "data/pairs/sim.bam (inflated; mutants deflated as BGZF)".into(),
+                        file_name: "m.bam".into(),
+                        commands,
+                    }],
+                    vec![sizes],
+                )
+            } else {
+                (
+                    Kind::Text,
+                    vec![Seed {
+                        bytes: bam_as_sam(&data("pairs/sim.bam"), 4000),
+                        origin: "data/pairs/sim.bam as SAM".into(),
+                        file_name: "m.sam".into(),
+                        commands,
+                    }],
+                    vec![sizes],
+                )
+            }
+        }
+        "4dn-pairs" => {
+            let sorted = [
+                vec!["pairs", "dedup", "{P}", "-o", "{O}.nodups.pairs.gz"],
+                vec![
+                    "pairs",
+                    "dedup",
+                    "{P}",
+                    "--output-stats",
+                    "{O}.stats",
+                    "--output-dups",
+                    "{O}.dups",
+                ],
+                vec!["pairs", "stats", "{P}", "-o", "{O}.stats"],
+                vec![
+                    "pairs",
+                    "sort",
+                    "{P}",
+                    "--memory",
+                    "16K",
+                    "-o",
+                    "{O}.sorted.pairs.gz",
+                ],
+                vec![
+                    "pairs",
+                    "select",
+                    "pair_type == \"UU\" and mapq1 >= 30",
+                    "{P}",
+                ],
+                vec!["pairs", "merge", "{P}", "{P}", "-o", "{O}.merged.pairs"],
+                vec!["convert", "{P}", "{O}.cool", "--bin-size", "10000"],
+            ];
+            (
+                Kind::Text,
+                vec![
+                    Seed {
+                        bytes: gunzip_head("pairs/reference/sim.5unique.sorted.pairs.gz", 1500),
+                        origin:
+                            "data/pairs/reference/sim.5unique.sorted.pairs.gz, first 1,500 lines"
+                                .into(),
+                        file_name: "m.pairs".into(),
+                        commands: sorted.iter().map(|c| strings(c)).collect(),
+                    },
+                    Seed {
+                        bytes: gunzip_head("pairs/reference/sim.5unique.full.pairs.gz", 1500),
+                        origin: "data/pairs/reference/sim.5unique.full.pairs.gz, first 1,500 lines"
+                            .into(),
+                        file_name: "m.pairs".into(),
+                        commands: sorted.iter().map(|c| strings(c)).collect(),
+                    },
+                ],
                 vec![],
             )
         }

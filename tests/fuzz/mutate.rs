@@ -35,6 +35,10 @@ pub enum Kind {
     Text,
     /// A zip archive of `.npy` members (`.npz`).
     Zip,
+    /// A BGZF file (BAM) held inflated: byte operators on its content, then deflated again as
+    /// BGZF blocks (with their checksums right, so that the mutations reach the records), now
+    /// and then cut short.
+    Bgzf,
 }
 
 /// The random generator of mutant number `index` of format `format` in a campaign seeded with
@@ -81,8 +85,19 @@ pub fn mutate(input: &[u8], kind: Kind, rng: &mut Xoshiro256PlusPlus) -> (Vec<u8
                     mutate_bytes(&mut data, rng, 4096)
                 }
             }
+            Kind::Bgzf => mutate_bytes(&mut data, rng, 256),
         };
         log.push(note);
+    }
+    if kind == Kind::Bgzf {
+        let mut writer = noodles::bgzf::io::Writer::new(Vec::new());
+        writer.write_all(&data).expect("BGZF in memory");
+        data = writer.finish().expect("BGZF in memory");
+        if rng.gen_bool(0.1) && data.len() > 1 {
+            let keep = rng.gen_range(0..data.len());
+            data.truncate(keep);
+            log.push(format!("BGZF, cut at {keep}"));
+        }
     }
     if kind == Kind::Text && rng.gen_bool(0.08) {
         let mut encoder = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());

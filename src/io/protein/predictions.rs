@@ -25,6 +25,8 @@
 //!
 //! [`detect_format`] recognises the format from the content (zip and NumPy magic bytes, then the
 //! shape of the first data lines of a text file); an explicit [`PredictionFormat`] overrides it.
+//! [`read_prediction`] reads files plain or gzip-compressed (`x.mat.gz`; gzip is recognised from
+//! its magic bytes, whatever the name), and detects the format on the decompressed bytes.
 //! An `.npz` is a zip of `.npy` files: it is opened with the `zip` crate (deflate through
 //! `flate2`, already a dependency); `.npy` headers are parsed here (little-endian `f2`, `f4`,
 //! `f8`, C order), which avoids a dependency for a twenty-line format.
@@ -225,7 +227,7 @@ pub fn detect_format(bytes: &[u8], path: &Path) -> Result<PredictionFormat> {
 ///
 /// ```
 /// use contactmap::io::predictions::load_prediction;
-/// let prediction = load_prediction("data/protein/1aapA/1aapA.rr", None, None)?;
+/// let prediction = load_prediction("data/protein/1aapA/1aapA.rr.gz", None, None)?;
 /// assert!(prediction.sequence.is_some_and(|s| s.starts_with("VREVCSEQ")));
 /// # Ok::<(), contactmap::Error>(())
 /// ```
@@ -247,7 +249,8 @@ pub fn load_prediction(
     Ok(prediction)
 }
 
-/// Read a prediction file; `format` overrides [`detect_format`].
+/// Read a prediction file, plain or gzip-compressed (detected from the content); `format`
+/// overrides [`detect_format`], which looks at the decompressed bytes.
 ///
 /// # Examples
 ///
@@ -255,7 +258,7 @@ pub fn load_prediction(
 ///
 /// ```
 /// use contactmap::io::predictions::read_prediction;
-/// let prediction = read_prediction("data/protein/1aapA/1aapA.rr", None)?;
+/// let prediction = read_prediction("data/protein/1aapA/1aapA.rr.gz", None)?;
 /// assert!(prediction.sequence.as_deref().unwrap().starts_with("VREVCSEQ"));
 /// assert_eq!(prediction.pairs[0], (14, 38, 41.427055));
 /// # Ok::<(), contactmap::Error>(())
@@ -265,7 +268,7 @@ pub fn read_prediction(
     format: Option<PredictionFormat>,
 ) -> Result<Prediction> {
     let path = path.as_ref();
-    let bytes = std::fs::read(path).map_err(|err| Error::io(path, err))?;
+    let bytes = read_bytes(path)?;
     let format = match format {
         Some(format) => format,
         None => detect_format(&bytes, path)?,
@@ -281,6 +284,20 @@ pub fn read_prediction(
         PredictionFormat::Evfold => parse_evfold(text()?, path),
         PredictionFormat::Gremlin => parse_gremlin(text()?, path),
     }
+}
+
+/// The bytes of `path`, decompressed when they are gzip (detected from the magic bytes, whatever
+/// the name: `x.mat.gz` reads as `x.mat` would).
+fn read_bytes(path: &Path) -> Result<Vec<u8>> {
+    let bytes = std::fs::read(path).map_err(|err| Error::io(path, err))?;
+    if !bytes.starts_with(&[0x1f, 0x8b]) {
+        return Ok(bytes);
+    }
+    let mut text = Vec::new();
+    flate2::read::MultiGzDecoder::new(bytes.as_slice())
+        .read_to_end(&mut text)
+        .map_err(|err| Error::io(path, err))?;
+    Ok(text)
 }
 
 fn parse_residue(field: &str, path: &Path, line: u64) -> Result<i32> {

@@ -215,7 +215,7 @@ impl Structure {
 /// # Examples
 ///
 /// ```
-/// let structure = contactmap::io::structure::read_structure("data/protein/1aapA/1aapA.pdb")?;
+/// let structure = contactmap::io::structure::read_structure("data/protein/1aapA/1aapA.pdb.gz")?;
 /// let chain = structure.chain(None)?; // the only chain (its id is blank in this file)
 /// assert!(chain.sequence().starts_with("VREVCSEQ"));
 /// # Ok::<(), contactmap::Error>(())
@@ -229,7 +229,7 @@ pub fn read_structure(path: impl AsRef<Path>) -> Result<Structure> {
 /// name the file).
 ///
 /// ```
-/// let chain = contactmap::io::structure::read_chain("data/protein/1aapA/1aapA.pdb", None)?;
+/// let chain = contactmap::io::structure::read_chain("data/protein/1aapA/1aapA.pdb.gz", None)?;
 /// assert!(chain.sequence().starts_with("VREVCSEQ"));
 /// # Ok::<(), contactmap::Error>(())
 /// ```
@@ -790,8 +790,8 @@ mod tests {
 
     #[test]
     fn pdb_and_mmcif_of_1a8o_agree() {
-        let pdb = read_structure(format!("{DATA}/1a8o/1A8O.pdb")).unwrap();
-        let cif = read_structure(format!("{DATA}/1a8o/1A8O.cif")).unwrap();
+        let pdb = read_structure(format!("{DATA}/1a8o/1A8O.pdb.gz")).unwrap();
+        let cif = read_structure(format!("{DATA}/1a8o/1A8O.cif.gz")).unwrap();
         assert_eq!(pdb.chains.len(), 1);
         assert_eq!(pdb, cif);
         let chain = pdb.chain(None).unwrap();
@@ -818,7 +818,7 @@ mod tests {
 
     #[test]
     fn toxd_drops_pca_waters_and_sulfate() {
-        let structure = read_structure(format!("{DATA}/toxd/toxd.pdb")).unwrap();
+        let structure = read_structure(format!("{DATA}/toxd/toxd.pdb.gz")).unwrap();
         assert_eq!(structure.chains.len(), 1);
         let chain = structure.chain(Some("A")).unwrap();
         let numbers: Vec<i32> = chain

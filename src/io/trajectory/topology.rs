@@ -65,7 +65,7 @@ pub struct Topology {
 /// Read the topology of a PDB or mmCIF file (optionally gzipped); see the module docs.
 ///
 /// ```
-/// let topology = contactmap::io::topology::read_topology("data/protein/1aapA/1aapA.pdb")?;
+/// let topology = contactmap::io::topology::read_topology("data/protein/1aapA/1aapA.pdb.gz")?;
 /// assert_eq!(topology.residues[0].name, "VAL");
 /// assert_eq!(topology.atoms[1].name, "CA");
 /// # Ok::<(), contactmap::Error>(())

@@ -35,12 +35,12 @@ fn true_contact_counts_per_range() {
         SeparationRange::ALL,
     ];
     for (structure, observed, expected) in [
-        ("toxd/toxd.pdb", 58, [15, 43, 57, 115]),
-        ("1atzA/1atzA.pdb", 75, [24, 27, 69, 120]),
-        ("1aapA/1aapA.pdb", 56, [13, 44, 57, 114]),
-        ("1guuA/1guuA.pdb", 50, [15, 17, 13, 45]),
-        ("1a8o/1A8O.pdb", 70, [16, 26, 35, 77]),
-        ("1a8o/1A8O.cif", 70, [16, 26, 35, 77]),
+        ("toxd/toxd.pdb.gz", 58, [15, 43, 57, 115]),
+        ("1atzA/1atzA.pdb.gz", 75, [24, 27, 69, 120]),
+        ("1aapA/1aapA.pdb.gz", 56, [13, 44, 57, 114]),
+        ("1guuA/1guuA.pdb.gz", 50, [15, 17, 13, 45]),
+        ("1a8o/1A8O.pdb.gz", 70, [16, 26, 35, 77]),
+        ("1a8o/1A8O.cif.gz", 70, [16, 26, 35, 77]),
     ] {
         for test in [DistanceTest::Less, DistanceTest::LessOrEqual] {
             let definition = ContactDefinition {
@@ -53,8 +53,8 @@ fn true_contact_counts_per_range() {
             assert_eq!(found, expected, "{structure} {test:?}");
         }
     }
-    let pdb = truth("1a8o/1A8O.pdb", ContactDefinition::default());
-    let cif = truth("1a8o/1A8O.cif", ContactDefinition::default());
+    let pdb = truth("1a8o/1A8O.pdb.gz", ContactDefinition::default());
+    let cif = truth("1a8o/1A8O.cif.gz", ContactDefinition::default());
     assert_eq!(
         pdb.contacts(SeparationRange::new(1, None)),
         cif.contacts(SeparationRange::new(1, None))
@@ -66,37 +66,37 @@ fn method_p_long_range_precision() {
     let params = ScoreParams::default();
     for (structure, file, fasta, expected) in [
         (
-            "toxd/toxd.pdb",
-            "toxd/toxd.mat",
+            "toxd/toxd.pdb.gz",
+            "toxd/toxd.mat.gz",
             "toxd/toxd.fasta",
             [(5, 5), (9, 11), (17, 29), (22, 59)],
         ),
         (
-            "1atzA/1atzA.pdb",
-            "1atzA/1atzA.apc.mat",
+            "1atzA/1atzA.pdb.gz",
+            "1atzA/1atzA.apc.mat.gz",
             "1atzA/1atzA.fasta",
             [(6, 7), (12, 15), (21, 37), (30, 75)],
         ),
         (
-            "1atzA/1atzA.pdb",
-            "1atzA/1atzA.noapc.mat",
+            "1atzA/1atzA.pdb.gz",
+            "1atzA/1atzA.noapc.mat.gz",
             "1atzA/1atzA.fasta",
             [(4, 7), (5, 15), (9, 37), (11, 75)],
         ),
         (
-            "1aapA/1aapA.pdb",
-            "1aapA/1aapA.rr",
+            "1aapA/1aapA.pdb.gz",
+            "1aapA/1aapA.rr.gz",
             "1aapA/1aapA.fasta",
             [(4, 5), (9, 11), (13, 28), (17, 56)],
         ),
         (
-            "1guuA/1guuA.pdb",
+            "1guuA/1guuA.pdb.gz",
             "1guuA/1guuA.contact.rr",
             "1guuA/1guuA.fasta",
             [(1, 1); 4],
         ),
         (
-            "1guuA/1guuA.pdb",
+            "1guuA/1guuA.pdb.gz",
             "1guuA/1guuA.npz",
             "1guuA/1guuA.fasta",
             [(5, 5), (10, 10), (13, 25), (13, 50)],
@@ -110,8 +110,8 @@ fn method_p_long_range_precision() {
 
 #[test]
 fn method_p_precision_values() {
-    let truth = truth("toxd/toxd.pdb", ContactDefinition::default());
-    let prediction = prediction("toxd/toxd.mat", "toxd/toxd.fasta");
+    let truth = truth("toxd/toxd.pdb.gz", ContactDefinition::default());
+    let prediction = prediction("toxd/toxd.mat.gz", "toxd/toxd.fasta");
     let score = score_contacts(&truth, &prediction, &ScoreParams::default()).unwrap();
     let precisions: Vec<f64> = score.lists.iter().map(|list| list.precision).collect();
     for (found, expected) in precisions.iter().zip([1.0, 0.818182, 0.586207, 0.372881]) {
@@ -128,8 +128,8 @@ fn method_p_precision_values() {
 /// list scores.
 #[test]
 fn xd_and_curve_against_naive() {
-    let truth = truth("toxd/toxd.pdb", ContactDefinition::default());
-    let prediction = prediction("toxd/toxd.mat", "toxd/toxd.fasta");
+    let truth = truth("toxd/toxd.pdb.gz", ContactDefinition::default());
+    let prediction = prediction("toxd/toxd.mat.gz", "toxd/toxd.fasta");
     let params = ScoreParams {
         range: SeparationRange::ALL,
         list_sizes: vec![ListSize::Fraction(0.2), ListSize::Fraction(1.0)],
@@ -202,8 +202,8 @@ fn xd_and_curve_against_naive() {
 #[test]
 fn conkit_documentation_toxd() {
     // Separation >= 5, all ranges, top int(59 * f) for f = 0.5, 1.0, 1.5.
-    let truth = truth("toxd/toxd.pdb", ContactDefinition::default());
-    let prediction = prediction("toxd/toxd.mat", "toxd/toxd.fasta");
+    let truth = truth("toxd/toxd.pdb.gz", ContactDefinition::default());
+    let prediction = prediction("toxd/toxd.mat.gz", "toxd/toxd.fasta");
     let params = ScoreParams {
         range: SeparationRange::new(5, None),
         list_sizes: vec![
@@ -227,15 +227,15 @@ fn coneva_conventions() {
     };
     for (structure, file, fasta, expected, percentages) in [
         (
-            "1aapA/1aapA.pdb",
-            "1aapA/1aapA.rr",
+            "1aapA/1aapA.pdb.gz",
+            "1aapA/1aapA.rr.gz",
             "1aapA/1aapA.fasta",
             [(5, 6), (9, 11), (13, 28), (17, 56)],
             [83.33, 81.82, 46.43, 30.36],
         ),
         (
-            "toxd/toxd.pdb",
-            "toxd/toxd.mat",
+            "toxd/toxd.pdb.gz",
+            "toxd/toxd.mat.gz",
             "toxd/toxd.fasta",
             [(6, 6), (10, 12), (17, 29), (22, 58)],
             [100.0, 83.33, 58.62, 37.93],
@@ -253,7 +253,7 @@ fn coneva_conventions() {
 #[test]
 fn disteval_conventions() {
     // Banker's rounding of 0.2 L, separations >= 12 and >= 24, Top-L/5 and Top-NC.
-    let truth = truth("1guuA/1guuA.pdb", ContactDefinition::default());
+    let truth = truth("1guuA/1guuA.pdb.gz", ContactDefinition::default());
     let list_sizes = vec![ListSize::Fraction(0.2), ListSize::TrueContacts];
     for (file, expected12, expected24) in [
         ("1guuA/1guuA.contact.rr", [(9, 9), (9, 9)], [(1, 1), (1, 1)]),
@@ -287,7 +287,7 @@ fn cb_distances_match_disteval_true_map() {
     // 1guuA.true.npy is DISTEVAL's float16 Cb (Ca for Gly) distance map of 1guuA.pdb.
     let bytes = std::fs::read(format!("{DATA}/1guuA/1guuA.true.npy")).unwrap();
     let map = crate::io::predictions::parse_npy(&bytes, std::path::Path::new("t")).unwrap();
-    let truth = truth("1guuA/1guuA.pdb", ContactDefinition::default());
+    let truth = truth("1guuA/1guuA.pdb.gz", ContactDefinition::default());
     assert_eq!(truth.numbers(), (1..=50).collect::<Vec<_>>());
     for i in 1..=50 {
         for j in i + 1..=50 {
@@ -304,7 +304,7 @@ fn cb_distances_match_disteval_true_map() {
 
 #[test]
 fn own_contacts_score_precision_one() {
-    let truth = truth("1atzA/1atzA.pdb", ContactDefinition::default());
+    let truth = truth("1atzA/1atzA.pdb.gz", ContactDefinition::default());
     let pairs = truth
         .contacts(SeparationRange::ALL)
         .into_iter()
@@ -349,7 +349,7 @@ fn normalization_rules() {
 #[test]
 fn unobserved_pairs_take_a_slot_when_kept() {
     // toxd: residue 1 (PCA) is unobserved.
-    let truth = truth("toxd/toxd.pdb", ContactDefinition::default());
+    let truth = truth("toxd/toxd.pdb.gz", ContactDefinition::default());
     assert_eq!(truth.is_contact(1, 40), None);
     let prediction = Prediction {
         pairs: vec![(1, 40, 2.0), (16, 40, 1.0)],
@@ -371,16 +371,16 @@ fn unobserved_pairs_take_a_slot_when_kept() {
 
 #[test]
 fn other_atoms_and_errors() {
-    let cb = truth("toxd/toxd.pdb", ContactDefinition::default());
+    let cb = truth("toxd/toxd.pdb.gz", ContactDefinition::default());
     let heavy = truth(
-        "toxd/toxd.pdb",
+        "toxd/toxd.pdb.gz",
         ContactDefinition {
             atom: ContactAtom::Heavy,
             ..ContactDefinition::default()
         },
     );
     let ca = truth(
-        "toxd/toxd.pdb",
+        "toxd/toxd.pdb.gz",
         ContactDefinition {
             atom: ContactAtom::Ca,
             ..ContactDefinition::default()
@@ -399,7 +399,7 @@ fn other_atoms_and_errors() {
     assert!(heavy.n_contacts(SeparationRange::ALL) > cb.n_contacts(SeparationRange::ALL));
     let no_sequence = Prediction::default();
     assert!(score_contacts(&cb, &no_sequence, &ScoreParams::default()).is_err());
-    let structure = read_structure(format!("{DATA}/toxd/toxd.pdb")).unwrap();
+    let structure = read_structure(format!("{DATA}/toxd/toxd.pdb.gz")).unwrap();
     let bad = ContactDefinition {
         cutoff_angstrom: f64::NAN,
         ..ContactDefinition::default()

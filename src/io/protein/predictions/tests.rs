@@ -2,16 +2,49 @@ use super::*;
 
 const DATA: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data/protein");
 
+/// The bytes of a fixture, decompressed when it is stored gzip-compressed.
 fn bytes(relative: &str) -> Vec<u8> {
-    std::fs::read(format!("{DATA}/{relative}")).unwrap()
+    read_bytes(Path::new(&format!("{DATA}/{relative}"))).unwrap()
+}
+
+#[test]
+fn gzip_predictions_read_as_their_plain_text() {
+    let dir = tempfile::tempdir().unwrap();
+    for (file, format) in [
+        ("toxd/toxd.mat.gz", PredictionFormat::Matrix),
+        ("1atzA/1atzA.apc.mat.gz", PredictionFormat::Matrix),
+        ("1aapA/1aapA.rr.gz", PredictionFormat::Rr),
+    ] {
+        let gzip = format!("{DATA}/{file}");
+        assert!(std::fs::read(&gzip).unwrap().starts_with(&[0x1f, 0x8b]));
+        let plain = dir
+            .path()
+            .join(file.rsplit('/').next().unwrap().trim_end_matches(".gz"));
+        std::fs::write(&plain, bytes(file)).unwrap();
+        let from_plain = read_prediction(&plain, None).unwrap();
+        let from_gzip = read_prediction(&gzip, None).unwrap();
+        assert!(!from_gzip.pairs.is_empty(), "{file}");
+        assert_eq!(from_gzip, from_plain, "{file}");
+        assert_eq!(read_prediction(&gzip, Some(format)).unwrap(), from_plain);
+        // whatever the name: gzip is recognised from the content
+        let renamed = dir.path().join("prediction");
+        std::fs::copy(&gzip, &renamed).unwrap();
+        assert_eq!(read_prediction(&renamed, None).unwrap(), from_plain);
+    }
+    // a truncated gzip file is an error naming the file, not a panic
+    let gzip = std::fs::read(format!("{DATA}/toxd/toxd.mat.gz")).unwrap();
+    let cut = dir.path().join("cut.mat.gz");
+    std::fs::write(&cut, &gzip[..gzip.len() / 2]).unwrap();
+    let err = read_prediction(&cut, None).unwrap_err();
+    assert!(err.to_string().contains("cut.mat.gz"), "{err}");
 }
 
 #[test]
 fn detects_every_fixture_format() {
     for (file, format) in [
-        ("toxd/toxd.mat", PredictionFormat::Matrix),
-        ("1atzA/1atzA.apc.mat", PredictionFormat::Matrix),
-        ("1aapA/1aapA.rr", PredictionFormat::Rr),
+        ("toxd/toxd.mat.gz", PredictionFormat::Matrix),
+        ("1atzA/1atzA.apc.mat.gz", PredictionFormat::Matrix),
+        ("1aapA/1aapA.rr.gz", PredictionFormat::Rr),
         ("1guuA/1guuA.contact.rr", PredictionFormat::Rr),
         ("1guuA/1guuA.npz", PredictionFormat::Npz),
         ("1guuA/1guuA.predicted.npy", PredictionFormat::Npy),
@@ -35,11 +68,11 @@ fn detects_every_fixture_format() {
 
 #[test]
 fn reads_matrices_skipping_comments() {
-    let toxd = read_prediction(format!("{DATA}/toxd/toxd.mat"), None).unwrap();
+    let toxd = read_prediction(format!("{DATA}/toxd/toxd.mat.gz"), None).unwrap();
     assert_eq!(toxd.pairs.len(), 59 * 58 / 2);
     assert_eq!(toxd.pairs[0].0, 1);
     assert_eq!(toxd.pairs.last().unwrap().1, 59);
-    let atz = read_prediction(format!("{DATA}/1atzA/1atzA.apc.mat"), None).unwrap();
+    let atz = read_prediction(format!("{DATA}/1atzA/1atzA.apc.mat.gz"), None).unwrap();
     assert_eq!(atz.pairs.len(), 75 * 74 / 2);
     let err = parse_matrix("1 2 3\n4 5 6\n", Path::new("m")).unwrap_err();
     assert!(err.to_string().contains("not square"), "{err}");
@@ -49,7 +82,7 @@ fn reads_matrices_skipping_comments() {
 
 #[test]
 fn reads_rr_with_and_without_header() {
-    let rr = read_prediction(format!("{DATA}/1aapA/1aapA.rr"), None).unwrap();
+    let rr = read_prediction(format!("{DATA}/1aapA/1aapA.rr.gz"), None).unwrap();
     assert_eq!(rr.sequence.as_deref().unwrap().len(), 56);
     assert_eq!(rr.pairs[0], (14, 38, 41.427055));
     let text = "PFRMAT RR\nTARGET T0001\nMODEL 1\nACDEF\nGHIKL\n1 7 0.9\n2 9 0 8 0.5\nEND\n3 4 1\n";

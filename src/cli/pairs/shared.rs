@@ -1,0 +1,25 @@
+//! What the pairs subcommands share: the command line for the @PG line, outputs opened with
+//! the header written, the check that no output is an input.
+
+use std::path::{Path, PathBuf};
+
+use contactmap::error::Result;
+use contactmap::io::pairs::{PairsHeader, PairsOutput};
+
+/// The command line, for the `@PG` line a pairs command adds to the header.
+pub(super) fn command_line() -> String {
+    std::env::args().collect::<Vec<_>>().join(" ")
+}
+
+/// Open an output (`None` or `-`: standard output) and write the header.
+pub(super) fn open_output(path: Option<&Path>, header: &PairsHeader) -> Result<PairsOutput> {
+    let mut output = PairsOutput::open(path)?;
+    output.write_all(header.to_text().as_bytes())?;
+    Ok(output)
+}
+
+/// The outputs of a command, refused when one is an input.
+pub(super) fn refuse_overwrites(inputs: &[&Path], outputs: &[Option<&PathBuf>]) -> Result<()> {
+    let outputs: Vec<Option<&Path>> = outputs.iter().map(|o| o.map(PathBuf::as_path)).collect();
+    contactmap::io::output::refuse_overwrites(inputs, &outputs)
+}

@@ -1,0 +1,648 @@
+//! The aligner's output that `contactmap pairs parse` reads: SAM or BAM (noodles), its records
+//! grouped by read name, as `bwa mem -SP5M` writes them.
+//!
+//! BAM is inflated on worker threads (noodles' multithreaded BGZF reader); the records of a
+//! batch of read groups are decoded into plain [`AlignmentRecord`]s on every core
+//! ([`RawBatch::decode`]). The input must be grouped by read name: a header that says
+//! `SO:coordinate` is refused, and so is a read name met again after its group ended (the mates
+//! of a coordinate-sorted or merged file arrive apart), with the command that groups it.
+
+use std::collections::{HashMap, VecDeque};
+use std::io::{BufRead, BufReader, Read};
+use std::path::Path;
+use std::sync::Arc;
+
+use noodles::sam::alignment::record::cigar::op::Kind;
+use noodles::sam::alignment::record::data::field::Tag;
+use noodles::{bam, bgzf, sam};
+
+use super::open::{is_bgzf, worker_count};
+use crate::error::{Error, Result};
+
+/// What the decoded records must carry beyond flags, position, MAPQ and CIGAR (the rest costs
+/// time and is only decoded when an output column needs it).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct RecordNeeds {
+    /// The read's bases and qualities (the `seq` and `mismatches` columns).
+    pub sequence: bool,
+    /// The `MD` tag (the `mismatches` column).
+    pub md: bool,
+    /// The record as a SAM line (the `sam1` / `sam2` columns).
+    pub sam_text: bool,
+}
+
+/// One CIGAR operation: its kind as BAM numbers it (`MIDNSHP=X` = 0..8) and its length.
+pub type CigarOp = (u8, u32);
+
+/// An alignment record as plain data.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct AlignmentRecord {
+    /// The SAM flags.
+    pub flags: u16,
+    /// The reference sequence (index into the header's `@SQ` lines).
+    pub reference_id: Option<usize>,
+    /// The 1-based leftmost position; 0 when there is none.
+    pub start: u64,
+    /// MAPQ; 255 when not available.
+    pub mapq: u8,
+    /// The CIGAR operations (empty for `*`).
+    pub cigar: Vec<CigarOp>,
+    /// Whether the record has an `SA` tag (other parts of a chimeric alignment).
+    pub has_supplementary_tag: bool,
+    /// The `MD` tag, when asked for and present.
+    pub md: Option<String>,
+    /// The bases as letters (when asked for).
+    pub sequence: Vec<u8>,
+    /// The base qualities, Phred (when asked for).
+    pub qualities: Vec<u8>,
+    /// The record as a SAM line (when asked for).
+    pub sam_text: Option<String>,
+}
+
+impl AlignmentRecord {
+    /// The CIGAR as text (`None` for `*`, as pysam's `cigarstring` gives it).
+    pub fn cigar_text(&self) -> Option<String> {
+        if self.cigar.is_empty() {
+            return None;
+        }
+        let mut text = String::new();
+        for &(op, len) in &self.cigar {
+            text.push_str(&len.to_string());
+            text.push(b"MIDNSHP=X"[op as usize] as char);
+        }
+        Some(text)
+    }
+
+    /// Whether it is the first read of its pair (flag 0x40).
+    pub fn is_read1(&self) -> bool {
+        self.flags & 0x40 != 0
+    }
+
+    /// The query position of its first aligned base (soft clips at the start skipped, hard clips
+    /// not counted), as pysam's `query_alignment_start`.
+    pub fn query_alignment_start(&self) -> u64 {
+        let mut start = 0u64;
+        for &(op, len) in &self.cigar {
+            match op {
+                4 => start += u64::from(len),
+                5 => {}
+                _ => break,
+            }
+        }
+        start
+    }
+}
+
+/// The records of one read name, in file order.
+#[derive(Clone, Debug, Default)]
+pub struct ReadGroup {
+    /// The read name.
+    pub name: Vec<u8>,
+    /// Its records.
+    pub records: Vec<AlignmentRecord>,
+}
+
+enum Raw {
+    Bam(bam::Record),
+    Sam(sam::Record),
+}
+
+impl Raw {
+    fn name(&self) -> &[u8] {
+        let name = match self {
+            Raw::Bam(r) => r.name(),
+            Raw::Sam(r) => r.name(),
+        };
+        name.map_or(&b"*"[..], |n| n)
+    }
+
+    fn flags(&self) -> u16 {
+        match self {
+            Raw::Bam(r) => u16::from(r.flags()),
+            Raw::Sam(r) => r.flags().map(u16::from).unwrap_or(0),
+        }
+    }
+}
+
+/// Records read from the input, grouped by name, not yet decoded.
+pub struct RawBatch {
+    records: Vec<Raw>,
+    /// For each group: its records' range and the 1-based number of its first record.
+    groups: Vec<(usize, usize, u64)>,
+    header: Arc<sam::Header>,
+    path: Arc<str>,
+    /// Lines before the first record (SAM), so that record numbers become line numbers.
+    header_lines: u64,
+    is_sam: bool,
+}
+
+impl RawBatch {
+    /// The number of read groups.
+    pub fn len(&self) -> usize {
+        self.groups.len()
+    }
+
+    /// Whether the batch has no group (the input has ended).
+    pub fn is_empty(&self) -> bool {
+        self.groups.is_empty()
+    }
+
+    /// Decode group `i` into plain records.
+    pub fn decode(&self, i: usize, needs: &RecordNeeds) -> Result<ReadGroup> {
+        let (start, end, first) = self.groups[i];
+        let mut group = ReadGroup {
+            name: self.records[start].name().to_vec(),
+            records: Vec::with_capacity(end - start),
+        };
+        for (k, raw) in self.records[start..end].iter().enumerate() {
+            let record = match raw {
+                Raw::Bam(r) => decode(r, &self.header, needs),
+                Raw::Sam(r) => decode(r, &self.header, needs),
+            }
+            .map_err(|e| self.record_error(first + k as u64, &e.to_string()))?;
+            group.records.push(record);
+        }
+        Ok(group)
+    }
+
+    fn record_error(&self, number: u64, message: &str) -> Error {
+        if self.is_sam {
+            Error::Parse {
+                path: (*self.path).into(),
+                line: self.header_lines + number,
+                message: format!("not a valid SAM record: {message}"),
+            }
+        } else {
+            Error::Format {
+                path: (*self.path).into(),
+                message: format!("BAM record {number}: {message}"),
+            }
+        }
+    }
+}
+
+fn decode<R: sam::alignment::Record>(
+    record: &R,
+    header: &sam::Header,
+    needs: &RecordNeeds,
+) -> std::io::Result<AlignmentRecord> {
+    let flags = u16::from(record.flags()?);
+    let reference_id = record.reference_sequence_id(header).transpose()?;
+    let start = record
+        .alignment_start()
+        .transpose()?
+        .map_or(0, |p| usize::from(p) as u64);
+    let mapq = record.mapping_quality().transpose()?.map_or(255, u8::from);
+    let mut cigar = Vec::new();
+    for op in record.cigar().iter() {
+        let op = op?;
+        let code = match op.kind() {
+            Kind::Match => 0,
+            Kind::Insertion => 1,
+            Kind::Deletion => 2,
+            Kind::Skip => 3,
+            Kind::SoftClip => 4,
+            Kind::HardClip => 5,
+            Kind::Pad => 6,
+            Kind::SequenceMatch => 7,
+            Kind::SequenceMismatch => 8,
+        };
+        cigar.push((code, op.len() as u32));
+    }
+    let data = record.data();
+    let has_supplementary_tag = data.get(&Tag::OTHER_ALIGNMENTS).transpose()?.is_some();
+    let md = if needs.md {
+        match data.get(&Tag::MISMATCHED_POSITIONS).transpose()? {
+            Some(sam::alignment::record::data::field::Value::String(s)) => {
+                Some(String::from_utf8_lossy(s).into_owned())
+            }
+            _ => None,
+        }
+    } else {
+        None
+    };
+    let (sequence, qualities) = if needs.sequence {
+        let sequence: Vec<u8> = record.sequence().iter().collect();
+        let qualities: Vec<u8> = record
+            .quality_scores()
+            .iter()
+            .collect::<std::io::Result<Vec<u8>>>()?;
+        (sequence, qualities)
+    } else {
+        (Vec::new(), Vec::new())
+    };
+    let sam_text = if needs.sam_text {
+        use noodles::sam::alignment::io::Write as _;
+        let mut writer = sam::io::Writer::new(Vec::new());
+        writer.write_alignment_record(header, record)?;
+        let mut text = String::from_utf8_lossy(&writer.into_inner()).into_owned();
+        while text.ends_with('\n') {
+            text.pop();
+        }
+        Some(text)
+    } else {
+        None
+    };
+    Ok(AlignmentRecord {
+        flags,
+        reference_id,
+        start,
+        mapq,
+        cigar,
+        has_supplementary_tag,
+        md,
+        sequence,
+        qualities,
+        sam_text,
+    })
+}
+
+type BamReader = bam::io::Reader<bgzf::io::MultithreadedReader<BufReader<Box<dyn Read + Send>>>>;
+
+enum Input {
+    Bam(Box<BamReader>),
+    Sam(sam::io::Reader<Box<dyn BufRead + Send>>),
+}
+
+/// How many incomplete read names (a group with one read's records only) are remembered to
+/// catch mates that arrive apart.
+const REMEMBERED_INCOMPLETE: usize = 100_000;
+
+/// Reads SAM or BAM, a batch of read groups at a time.
+pub struct AlignmentReader {
+    input: Input,
+    header: Arc<sam::Header>,
+    header_text: String,
+    path: Arc<str>,
+    header_lines: u64,
+    n_records: u64,
+    /// A record read that starts the next group (valid when `has_pending`).
+    pending: Raw,
+    has_pending: bool,
+    pending_number: u64,
+    incomplete: HashMap<Vec<u8>, u64>,
+    incomplete_order: VecDeque<Vec<u8>>,
+}
+
+impl AlignmentReader {
+    /// Open SAM or BAM (told apart by the first bytes; `-` for standard input) and read its
+    /// header. A coordinate-sorted input (`@HD ... SO:coordinate`) is refused.
+    pub fn open(path: &Path) -> Result<AlignmentReader> {
+        let name: Arc<str> = if path == Path::new("-") {
+            "<stdin>".into()
+        } else {
+            path.display().to_string().into()
+        };
+        let raw: Box<dyn Read + Send> = if path == Path::new("-") {
+            Box::new(std::io::stdin())
+        } else {
+            Box::new(std::fs::File::open(path).map_err(|e| Error::io(path, e))?)
+        };
+        let mut reader = BufReader::with_capacity(1 << 20, raw);
+        let start = reader.fill_buf().map_err(|e| Error::io(path, e))?.to_vec();
+        let format_error = |message: String| Error::Format {
+            path: (*name).into(),
+            message,
+        };
+        let (input, header, header_text, header_lines) = if is_bgzf(&start) {
+            let mut bam = bam::io::Reader::from(bgzf::io::MultithreadedReader::with_worker_count(
+                worker_count(),
+                reader,
+            ));
+            let header = bam.read_header().map_err(|e| {
+                format_error(format!("not a readable BAM header: {e} (is it BAM?)"))
+            })?;
+            let text = header_as_text(&header);
+            (Input::Bam(Box::new(bam)), header, text, 0)
+        } else if start.starts_with(b"CRAM") {
+            return Err(format_error(
+                "CRAM is not read here: convert it to BAM first (samtools view -b -T REF.fa)"
+                    .into(),
+            ));
+        } else if start.starts_with(&[0x1f, 0x8b]) {
+            return Err(format_error(
+                "gzip that is not BGZF: give SAM as plain text, or BAM".into(),
+            ));
+        } else {
+            let mut input: Box<dyn BufRead + Send> = Box::new(reader);
+            let mut text = String::new();
+            let mut n_lines = 0u64;
+            loop {
+                let buffer = input.fill_buf().map_err(|e| Error::io(path, e))?;
+                if buffer.first() != Some(&b'@') {
+                    break;
+                }
+                let mut line = Vec::new();
+                input
+                    .read_until(b'\n', &mut line)
+                    .map_err(|e| Error::io(path, e))?;
+                n_lines += 1;
+                let line = String::from_utf8(line).map_err(|_| Error::Parse {
+                    path: (*name).into(),
+                    line: n_lines,
+                    message: "a SAM header line that is not UTF-8 text".into(),
+                })?;
+                text.push_str(&line);
+            }
+            let header: sam::Header = text
+                .parse()
+                .map_err(|e| format_error(format!("not a valid SAM header: {e}")))?;
+            (
+                Input::Sam(sam::io::Reader::new(input)),
+                header,
+                text,
+                n_lines,
+            )
+        };
+        if header.reference_sequences().is_empty() {
+            return Err(format_error(
+                "the header has no @SQ lines: pairs need the reference's chromosomes (with \
+                 samtools view, pass -h to keep the header)"
+                    .into(),
+            ));
+        }
+        let coordinate_sorted = header_text
+            .lines()
+            .find(|l| l.starts_with("@HD"))
+            .is_some_and(|l| l.split('\t').any(|f| f == "SO:coordinate"));
+        if coordinate_sorted {
+            return Err(format_error(
+                "sorted by coordinate (@HD SO:coordinate): the records of each read must come \
+                 together; group them by name first (samtools collate -o grouped.bam IN.bam, or \
+                 samtools sort -n)"
+                    .into(),
+            ));
+        }
+        let input_kind_is_sam = matches!(input, Input::Sam(_));
+        Ok(AlignmentReader {
+            input,
+            header: Arc::new(header),
+            header_text,
+            path: name,
+            header_lines,
+            n_records: 0,
+            pending: match input_kind_is_sam {
+                true => Raw::Sam(sam::Record::default()),
+                false => Raw::Bam(bam::Record::default()),
+            },
+            has_pending: false,
+            pending_number: 0,
+            incomplete: HashMap::new(),
+            incomplete_order: VecDeque::new(),
+        })
+    }
+
+    /// The chromosomes of the `@SQ` lines, with their lengths, in order.
+    pub fn chromosomes(&self) -> Vec<(String, u64)> {
+        self.header
+            .reference_sequences()
+            .iter()
+            .map(|(name, map)| (name.to_string(), usize::from(map.length()) as u64))
+            .collect()
+    }
+
+    /// The header as SAM text lines (without line ends).
+    pub fn header_lines(&self) -> Vec<String> {
+        self.header_text.lines().map(str::to_string).collect()
+    }
+
+    /// The input's name, as errors give it.
+    pub fn path(&self) -> &str {
+        &self.path
+    }
+
+    /// The number of records read so far.
+    pub fn n_records(&self) -> u64 {
+        self.n_records
+    }
+
+    /// A blank record of this input's kind.
+    fn blank(&self) -> Raw {
+        match self.input {
+            Input::Bam(_) => Raw::Bam(bam::Record::default()),
+            Input::Sam(_) => Raw::Sam(sam::Record::default()),
+        }
+    }
+
+    /// Read the next record into `slot` (a record of this input's kind, its buffers reused);
+    /// `false` at the end of the input.
+    fn read_into(&mut self, slot: &mut Raw) -> Result<bool> {
+        let number = self.n_records + 1;
+        let result = match (&mut self.input, slot) {
+            (Input::Bam(reader), Raw::Bam(record)) => reader.read_record(record),
+            (Input::Sam(reader), Raw::Sam(record)) => reader.read_record(record),
+            _ => unreachable!("slots are made by blank()"),
+        };
+        let n = result.map_err(|e| match &self.input {
+            Input::Sam(_) => Error::Parse {
+                path: (*self.path).into(),
+                line: self.header_lines + number,
+                message: format!("not a valid SAM record: {e}"),
+            },
+            Input::Bam(_) => Error::Format {
+                path: (*self.path).into(),
+                message: format!("BAM record {number}: {e} (a truncated or corrupt file?)"),
+            },
+        })?;
+        if n > 0 {
+            self.n_records = number;
+        }
+        Ok(n > 0)
+    }
+
+    /// An empty batch for [`AlignmentReader::read_batch`] (batches are reused: their records'
+    /// buffers are kept from one batch to the next).
+    pub fn new_batch(&self) -> RawBatch {
+        RawBatch {
+            records: Vec::new(),
+            groups: Vec::new(),
+            header: self.header.clone(),
+            path: self.path.clone(),
+            header_lines: self.header_lines,
+            is_sam: matches!(self.input, Input::Sam(_)),
+        }
+    }
+
+    /// Read up to `max_groups` read groups into `batch` (fewer at the end; none once the input
+    /// has ended).
+    pub fn read_batch(&mut self, batch: &mut RawBatch, max_groups: usize) -> Result<()> {
+        batch.groups.clear();
+        let mut n = 0usize;
+        let mut ended = false;
+        while batch.groups.len() < max_groups && !ended {
+            if batch.records.len() <= n {
+                batch.records.push(self.blank());
+            }
+            let first_number = if self.has_pending {
+                std::mem::swap(&mut batch.records[n], &mut self.pending);
+                self.has_pending = false;
+                self.pending_number
+            } else if self.read_into(&mut batch.records[n])? {
+                self.n_records
+            } else {
+                break;
+            };
+            let start = n;
+            n += 1;
+            let flags = batch.records[start].flags();
+            let (mut has1, mut has2) = (flags & 0x40 != 0, flags & 0x40 == 0);
+            loop {
+                if batch.records.len() <= n {
+                    batch.records.push(self.blank());
+                }
+                let (head, tail) = batch.records.split_at_mut(n);
+                let slot = &mut tail[0];
+                if !self.read_into(slot)? {
+                    ended = true;
+                    break;
+                }
+                if slot.name() == head[start].name() {
+                    if slot.flags() & 0x40 != 0 {
+                        has1 = true;
+                    } else {
+                        has2 = true;
+                    }
+                    n += 1;
+                } else {
+                    std::mem::swap(slot, &mut self.pending);
+                    self.has_pending = true;
+                    self.pending_number = self.n_records;
+                    break;
+                }
+            }
+            let name = batch.records[start].name();
+            self.check_grouped(name, has1 && has2, first_number)?;
+            batch.groups.push((start, n, first_number));
+        }
+        Ok(())
+    }
+
+    /// A read name met again after its group ended is refused; names of groups with only one
+    /// read's records are remembered (the most recent ones) to catch it.
+    fn check_grouped(&mut self, name: &[u8], complete: bool, number: u64) -> Result<()> {
+        if let Some(&earlier) = self.incomplete.get(name) {
+            let place = match self.pending_place(number) {
+                Some(line) => format!("line {line}"),
+                None => format!("record {number}"),
+            };
+            return Err(Error::Format {
+                path: (*self.path).into(),
+                message: format!(
+                    "read '{}' at {place} was met before (record {earlier}) with other records \
+                     between: the input is not grouped by read name (mates arrive apart). Group \
+                     it first: samtools collate -o grouped.bam IN.bam (or samtools sort -n)",
+                    String::from_utf8_lossy(name)
+                ),
+            });
+        }
+        if !complete {
+            if self.incomplete_order.len() == REMEMBERED_INCOMPLETE
+                && let Some(oldest) = self.incomplete_order.pop_front()
+            {
+                self.incomplete.remove(&oldest);
+            }
+            self.incomplete.insert(name.to_vec(), number);
+            self.incomplete_order.push_back(name.to_vec());
+        }
+        Ok(())
+    }
+
+    fn pending_place(&self, number: u64) -> Option<u64> {
+        matches!(self.input, Input::Sam(_)).then_some(self.header_lines + number)
+    }
+}
+
+/// A header as SAM text (noodles' writer), for the `#samheader:` lines.
+fn header_as_text(header: &sam::Header) -> String {
+    let mut writer = sam::io::Writer::new(Vec::new());
+    // Writing to memory cannot fail.
+    let _ = writer.write_header(header);
+    String::from_utf8_lossy(&writer.into_inner()).into_owned()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const HEADER: &str = "@HD\tVN:1.6\tSO:unsorted\n@SQ\tSN:chr1\tLN:1000\n@SQ\tSN:chr2\tLN:800\n";
+
+    fn sam_file(body: &str) -> (tempfile::TempDir, std::path::PathBuf) {
+        let folder = tempfile::tempdir().unwrap();
+        let path = folder.path().join("in.sam");
+        std::fs::write(&path, format!("{HEADER}{body}")).unwrap();
+        (folder, path)
+    }
+
+    #[test]
+    fn records_are_grouped_by_name_and_decoded() {
+        let body = "r1\t65\tchr1\t100\t60\t10S40M\tchr2\t200\t0\t*\t*\tSA:Z:chr2,5,+,10M40S,60,0;\n\
+                    r1\t129\tchr2\t200\t3\t50M\tchr1\t100\t0\t*\t*\n\
+                    r2\t77\t*\t0\t0\t*\t*\t0\t0\t*\t*\n\
+                    r2\t141\t*\t0\t0\t*\t*\t0\t0\t*\t*\n";
+        let (_folder, path) = sam_file(body);
+        let mut reader = AlignmentReader::open(&path).unwrap();
+        assert_eq!(
+            reader.chromosomes(),
+            vec![("chr1".to_string(), 1000), ("chr2".to_string(), 800)]
+        );
+        let mut batch = reader.new_batch();
+        reader.read_batch(&mut batch, 10).unwrap();
+        assert_eq!(batch.len(), 2);
+        let group = batch.decode(0, &RecordNeeds::default()).unwrap();
+        assert_eq!(group.name, b"r1");
+        let first = &group.records[0];
+        assert_eq!(
+            (first.flags, first.reference_id, first.start, first.mapq),
+            (65, Some(0), 100, 60)
+        );
+        assert_eq!(first.cigar, vec![(4, 10), (0, 40)]);
+        assert_eq!(first.cigar_text().as_deref(), Some("10S40M"));
+        assert_eq!(first.query_alignment_start(), 10);
+        assert!(first.has_supplementary_tag);
+        assert!(!group.records[1].has_supplementary_tag);
+        let unmapped = batch.decode(1, &RecordNeeds::default()).unwrap();
+        assert_eq!(unmapped.records[0].cigar_text(), None);
+        assert_eq!(unmapped.records[0].reference_id, None);
+        reader.read_batch(&mut batch, 10).unwrap();
+        assert!(batch.is_empty());
+    }
+
+    #[test]
+    fn coordinate_sorted_input_is_refused_with_the_fix() {
+        let folder = tempfile::tempdir().unwrap();
+        let path = folder.path().join("sorted.sam");
+        std::fs::write(&path, "@HD\tVN:1.6\tSO:coordinate\n@SQ\tSN:chr1\tLN:10\n").unwrap();
+        let error = AlignmentReader::open(&path).err().unwrap().to_string();
+        assert!(
+            error.contains("SO:coordinate") && error.contains("samtools collate"),
+            "{error}"
+        );
+    }
+
+    #[test]
+    fn mates_arriving_apart_are_refused() {
+        let body = "r1\t65\tchr1\t100\t60\t50M\tchr2\t200\t0\t*\t*\n\
+                    r2\t65\tchr1\t150\t60\t50M\tchr2\t200\t0\t*\t*\n\
+                    r1\t129\tchr2\t200\t60\t50M\tchr1\t100\t0\t*\t*\n";
+        let (_folder, path) = sam_file(body);
+        let mut reader = AlignmentReader::open(&path).unwrap();
+        let mut batch = reader.new_batch();
+        let error = reader.read_batch(&mut batch, 10).err().unwrap().to_string();
+        assert!(
+            error.contains("read 'r1' at line 6") && error.contains("not grouped"),
+            "{error}"
+        );
+    }
+
+    #[test]
+    fn a_sam_line_with_too_few_fields_is_named_by_line() {
+        let (_folder, path) = sam_file("r1\t65\tchr1\n");
+        let mut reader = AlignmentReader::open(&path).unwrap();
+        let mut batch = reader.new_batch();
+        let result = reader
+            .read_batch(&mut batch, 10)
+            .and_then(|()| batch.decode(0, &RecordNeeds::default()).map(|_| ()));
+        let error = result.unwrap_err().to_string();
+        assert!(error.contains("in.sam:4:"), "{error}");
+    }
+}
