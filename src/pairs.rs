@@ -9,7 +9,11 @@
 
 pub mod alignment;
 pub mod dedup;
+pub mod pandas;
 pub mod parse;
 pub mod select;
 pub mod stats;
+pub mod stream;
+#[cfg(test)]
+mod tests;
 pub mod walks;

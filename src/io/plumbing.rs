@@ -10,4 +10,4 @@ pub mod tables;
 pub(crate) mod input;
 
 pub use atomic::{Temporary, WriteLock, is_special_file, same_file};
-pub use input::open_text;
+pub use input::{is_bgzf, open_text, worker_count};

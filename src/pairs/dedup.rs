@@ -18,7 +18,14 @@
 
 use std::collections::HashMap;
 
-use crate::io::pairs::{PairColumns, PairRecord, parse_position};
+use super::pandas;
+use super::stats::PairCounter;
+use crate::error::Result;
+use crate::io::pairs::sort::out_of_order;
+use crate::io::pairs::{
+    PairColumns, PairRecord, PairsReader, STANDARD_COLUMNS, SortKey, in_sorted_order,
+    parse_position,
+};
 
 /// How positions are compared (`--method`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -67,61 +74,17 @@ pub enum PairClass {
     Unique,
 }
 
-/// The column names pairtools reads with a fixed type; other columns' types pandas guesses per
-/// chunk.
-const TYPED_COLUMNS: [&str; 10] = [
-    "readID",
-    "chrom1",
-    "pos1",
-    "chrom2",
-    "pos2",
-    "strand1",
-    "strand2",
-    "pair_type",
-    "sam1",
-    "sam2",
-];
-
-/// The strings pandas reads as missing.
-const PANDAS_NA: [&[u8]; 19] = [
-    b"",
-    b"#N/A",
-    b"#N/A N/A",
-    b"#NA",
-    b"-1.#IND",
-    b"-1.#QNAN",
-    b"-NaN",
-    b"-nan",
-    b"1.#IND",
-    b"1.#QNAN",
-    b"<NA>",
-    b"N/A",
-    b"NA",
-    b"NULL",
-    b"NaN",
-    b"None",
-    b"n/a",
-    b"nan",
-    b"null",
-];
-
-fn is_pandas_na(value: &[u8]) -> bool {
-    // Most values (chromosomes, positions, strands, read names) are told apart by their first
-    // byte or their length before any comparison.
-    match value.first() {
-        None => true,
-        Some(b'#' | b'-' | b'1' | b'<' | b'N' | b'n') if value.len() <= 9 => {
-            PANDAS_NA.contains(&value)
-        }
-        _ => false,
-    }
+/// Whether pairtools reads column `name` with a fixed type (its standard columns and the SAM
+/// columns); other columns' types pandas guesses per chunk.
+fn has_fixed_type(name: &str) -> bool {
+    STANDARD_COLUMNS.contains(&name) || name == "sam1" || name == "sam2"
 }
 
 /// Marks duplicates chunk by chunk.
 pub struct Deduplicator {
     params: DedupParams,
     columns: PairColumns,
-    /// The columns pandas types per chunk (not [`TYPED_COLUMNS`]).
+    /// The columns pandas types per chunk (those without a fixed type).
     guessed: Vec<usize>,
     carry: Vec<PairRecord>,
 }
@@ -132,7 +95,7 @@ impl Deduplicator {
         let guessed = names
             .iter()
             .enumerate()
-            .filter(|(_, name)| !TYPED_COLUMNS.contains(&name.as_str()))
+            .filter(|(_, name)| !has_fixed_type(name))
             .map(|(i, _)| i)
             .collect();
         Deduplicator {
@@ -151,7 +114,7 @@ impl Deduplicator {
     /// Mark one chunk of records (at most `chunk_size`, in file order): each with its class, in
     /// pairtools' output order (pairs with an unmapped side first), duplicates typed `DD` when
     /// marking.
-    pub fn mark_chunk(&mut self, chunk: Vec<PairRecord>) -> Vec<(PairRecord, PairClass)> {
+    pub fn mark_chunk(&mut self, chunk: Vec<PairRecord>) -> Vec<Marked> {
         let n_carry = self.carry.len();
         let mut rows: Vec<PairRecord> = std::mem::take(&mut self.carry);
         rows.extend(chunk);
@@ -267,14 +230,14 @@ impl Deduplicator {
         let n_fields = marked.iter().map(|(r, _)| r.len()).max().unwrap_or(0);
         for column in 0..n_fields {
             let guessed = self.guessed.contains(&column);
-            let has_na = marked.iter().any(|(r, _)| is_pandas_na(r.field(column)));
+            let has_na = marked.iter().any(|(r, _)| pandas::is_na(r.field(column)));
             if !has_na {
                 continue;
             }
             let integers_with_na = guessed
                 && marked.iter().all(|(r, _)| {
                     let v = r.field(column);
-                    is_pandas_na(v) || is_integer(v)
+                    pandas::is_na(v) || is_integer(v)
                 })
                 && marked.iter().any(|(r, _)| is_integer(r.field(column)));
             for (record, _) in marked.iter_mut() {
@@ -282,7 +245,7 @@ impl Deduplicator {
                     continue;
                 }
                 let value = record.field(column);
-                if is_pandas_na(value) {
+                if pandas::is_na(value) {
                     if !value.is_empty() {
                         record.set_field(column, b"");
                     }
@@ -292,6 +255,65 @@ impl Deduplicator {
                     record.set_field(column, &float);
                 }
             }
+        }
+    }
+}
+
+/// A record and what it is.
+pub type Marked = (PairRecord, PairClass);
+
+/// Mark the duplicates of a sorted pairs file as `pairtools dedup` does, chunk by chunk:
+/// `on_chunk` is given each chunk's records with their classes, in pairtools' output order,
+/// and the number of records read so far; each record is counted in `counter` when given (as
+/// `dedup --output-stats`).
+///
+/// Records are checked as they are read: the fields the columns need, integer positions, and
+/// the order (`#sorted: chr1-chr2-pos1-pos2`); the first record out of order is an error naming
+/// its line.
+pub fn dedup_pairs(
+    reader: &mut PairsReader,
+    params: DedupParams,
+    mut counter: Option<&mut PairCounter>,
+    on_chunk: &mut dyn FnMut(&[Marked], u64) -> Result<()>,
+) -> Result<()> {
+    let columns = PairColumns::of(reader.header(), reader.path())?;
+    let mut dedup = Deduplicator::new(columns, &reader.header().columns(), params);
+    let mut chunk: Vec<PairRecord> = Vec::with_capacity(params.chunk_size);
+    // The last record of the previous chunk, to check the order across chunks.
+    let mut previous: Option<PairRecord> = None;
+    let mut record = PairRecord::default();
+    let mut n_records = 0u64;
+    loop {
+        let more = reader.read_record(&mut record)?;
+        if more {
+            columns.check(reader, &record)?;
+            if let Some(last) = chunk.last().or(previous.as_ref())
+                && !in_sorted_order(
+                    &SortKey::of(last, &columns),
+                    &SortKey::of(&record, &columns),
+                )
+            {
+                return Err(out_of_order(reader, &record));
+            }
+            chunk.push(std::mem::take(&mut record));
+        }
+        if chunk.len() == params.chunk_size || (!more && !chunk.is_empty()) {
+            n_records += chunk.len() as u64;
+            previous = chunk.last().cloned();
+            let marked = dedup.mark_chunk(std::mem::take(&mut chunk));
+            if let Some(counter) = counter.as_deref_mut() {
+                for (record, class) in &marked {
+                    counter
+                        .add_record(record, &columns, Some(*class == PairClass::Duplicate))
+                        .map_err(|message| reader.error(record.number(), message))?;
+                }
+                counter.end_chunk();
+            }
+            on_chunk(&marked, n_records)?;
+            crate::interrupt::check()?;
+        }
+        if !more {
+            return Ok(());
         }
     }
 }

@@ -7,11 +7,9 @@ use clap::Args;
 use super::shared::{command_line, open_output, refuse_overwrites};
 use crate::cli::progress::spinner;
 use contactmap::error::Result;
-use contactmap::io::pairs::sort::out_of_order;
-use contactmap::io::pairs::{
-    PairColumns, PairRecord, PairsOutput, SortKey, in_sorted_order, open_pairs,
-};
-use contactmap::pairs::dedup::{DedupMethod, DedupParams, Deduplicator, PairClass};
+use contactmap::io::output::Output;
+use contactmap::io::pairs::open_pairs;
+use contactmap::pairs::dedup::{DedupMethod, DedupParams, PairClass, dedup_pairs};
 use contactmap::pairs::stats::PairCounter;
 
 /// Arguments of `contactmap pairs dedup`.
@@ -70,7 +68,7 @@ pub struct DedupArgs {
 
 /// Which output each kind of pair goes to (indices into the opened outputs).
 struct Routes {
-    outputs: Vec<PairsOutput>,
+    outputs: Vec<Output>,
     unique: Option<usize>,
     duplicate: Option<usize>,
     unmapped: Option<usize>,
@@ -106,8 +104,6 @@ pub fn run(args: &DedupArgs) -> Result<()> {
         ..DedupParams::default()
     };
     let mut reader = open_pairs(&args.input)?;
-    let columns = PairColumns::of(reader.header(), reader.path())?;
-    let names = reader.header().columns();
     let mut header = reader.header().clone();
     header.push_program("contactmap_pairs_dedup", &command_line());
 
@@ -143,37 +139,14 @@ pub fn run(args: &DedupArgs) -> Result<()> {
 
     // pairtools dedup's statistics have no chromosome sizes (pairtools stats' have).
     let mut counter = args.output_stats.as_ref().map(|_| PairCounter::new());
-    let mut dedup = Deduplicator::new(columns, &names, params);
     let bar = spinner("pairs deduplicated");
-    let mut chunk: Vec<PairRecord> = Vec::with_capacity(params.chunk_size);
-    // The last record of the previous chunk, to check the order across chunks.
-    let mut previous: Option<PairRecord> = None;
     let mut buffers: Vec<Vec<u8>> = vec![Vec::new(); routes.outputs.len()];
-    let mut record = PairRecord::default();
-    loop {
-        let more = reader.read_record(&mut record)?;
-        if more {
-            columns.check(&reader, &record)?;
-            if let Some(last) = chunk.last().or(previous.as_ref())
-                && !in_sorted_order(
-                    &SortKey::of(last, &columns),
-                    &SortKey::of(&record, &columns),
-                )
-            {
-                return Err(out_of_order(&reader, &record));
-            }
-            chunk.push(std::mem::take(&mut record));
-        }
-        if chunk.len() == params.chunk_size || (!more && !chunk.is_empty()) {
-            let n_records = chunk.len() as u64;
-            previous = chunk.last().cloned();
-            let marked = dedup.mark_chunk(std::mem::take(&mut chunk));
-            for (record, class) in &marked {
-                if let Some(counter) = &mut counter {
-                    counter
-                        .add_record(record, &columns, Some(*class == PairClass::Duplicate))
-                        .map_err(|message| reader.error(record.number(), message))?;
-                }
+    dedup_pairs(
+        &mut reader,
+        params,
+        counter.as_mut(),
+        &mut |marked, n_records| {
+            for (record, class) in marked {
                 let route = match class {
                     PairClass::Unique => routes.unique,
                     PairClass::Duplicate => routes.duplicate,
@@ -184,23 +157,17 @@ pub fn run(args: &DedupArgs) -> Result<()> {
                     buffers[route].push(b'\n');
                 }
             }
-            if let Some(counter) = &mut counter {
-                counter.end_chunk();
-            }
             for (route, buffer) in buffers.iter_mut().enumerate() {
                 routes.outputs[route].write_all(buffer)?;
                 buffer.clear();
             }
-            bar.inc(n_records);
-            contactmap::interrupt::check()?;
-        }
-        if !more {
-            break;
-        }
-    }
+            bar.set_position(n_records);
+            Ok(())
+        },
+    )?;
     bar.finish_and_clear();
     if let (Some(path), Some(counter)) = (&args.output_stats, &counter) {
-        let mut stats = PairsOutput::open(Some(path))?;
+        let mut stats = Output::open_blocked(Some(path))?;
         stats.write_all(counter.to_text().as_bytes())?;
         stats.finish()?;
     }

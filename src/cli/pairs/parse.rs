@@ -3,16 +3,16 @@
 use std::path::PathBuf;
 
 use clap::Args;
-use rayon::prelude::*;
 
 use super::shared::{command_line, open_output, refuse_overwrites};
 use crate::cli::progress::spinner;
 use contactmap::error::{Error, Result};
-use contactmap::io::pairs::alignments::RawBatch;
-use contactmap::io::pairs::{AlignmentReader, PairsHeader, PairsOutput, parse_position};
+use contactmap::io::output::Output;
+use contactmap::io::pairs::{AlignmentReader, PairsHeader};
 use contactmap::io::text::read_chrom_sizes;
-use contactmap::pairs::parse::{ChromOrder, ParseParams, WalksPolicy, parse_read, write_pair};
+use contactmap::pairs::parse::{ChromOrder, ParseParams, WalksPolicy};
 use contactmap::pairs::stats::PairCounter;
+use contactmap::pairs::stream::parse_alignments;
 
 /// Arguments of `contactmap pairs parse`.
 #[derive(Debug, Args)]
@@ -114,95 +114,6 @@ pub struct ParseArgs {
     pub output_stats: Option<PathBuf>,
 }
 
-/// The pairs of a read group as text, and where each line is.
-#[derive(Default)]
-struct Parsed {
-    text: Vec<u8>,
-    lines: Vec<std::ops::Range<usize>>,
-}
-
-/// Count a written pair (its first eight fields) as pairtools parse counts it.
-fn count_pair(counter: &mut PairCounter, line: &[u8]) {
-    let mut fields = line.split(|&b| b == b'\t' || b == b'\n');
-    let mut next = || fields.next().unwrap_or(&[]);
-    let (_, chrom1, pos1, chrom2, pos2) = (next(), next(), next(), next(), next());
-    let (strand1, strand2, pair_type) = (next(), next(), next());
-    let position = |p: &[u8]| parse_position(p).unwrap_or(0);
-    // Strands come from our own classification: always + or -.
-    let _ = counter.add_pair(
-        chrom1,
-        position(pos1),
-        strand1,
-        chrom2,
-        position(pos2),
-        strand2,
-        pair_type,
-    );
-}
-
-/// Read groups decoded and classified per parallel batch.
-const BATCH_GROUPS: usize = 1 << 14;
-
-/// Read groups classified by one task of a batch.
-const GROUPS_PER_TASK: usize = 512;
-
-/// Batches being read or classified at once.
-const BATCHES_IN_FLIGHT: usize = 3;
-
-/// Classify the batches the reader thread sends until it sends an empty one, writing the pairs
-/// in order; each batch is sent back to be refilled. Returning drops both channel ends, which
-/// stops the reader.
-fn classify_batches(
-    full: std::sync::mpsc::Receiver<Result<RawBatch>>,
-    empty: std::sync::mpsc::SyncSender<RawBatch>,
-    order: &ChromOrder,
-    params: &ParseParams,
-    output: &mut PairsOutput,
-    counter: &mut Option<PairCounter>,
-    bar: &indicatif::ProgressBar,
-) -> Result<()> {
-    let needs = params.needs();
-    while let Ok(batch) = full.recv() {
-        let batch = batch?;
-        if batch.is_empty() {
-            break;
-        }
-        // Groups classified in runs of GROUPS_PER_TASK, each run's pairs in one buffer.
-        let n_tasks = batch.len().div_ceil(GROUPS_PER_TASK);
-        let chunks: Vec<Result<Parsed>> = (0..n_tasks)
-            .into_par_iter()
-            .map(|task| {
-                let mut parsed = Parsed::default();
-                let end = ((task + 1) * GROUPS_PER_TASK).min(batch.len());
-                for i in task * GROUPS_PER_TASK..end {
-                    let group = batch.decode(i, &needs)?;
-                    for pair in parse_read(&group, order, params) {
-                        let start = parsed.text.len();
-                        write_pair(&pair, &group, order, params, &mut parsed.text);
-                        parsed.lines.push(start..parsed.text.len());
-                    }
-                }
-                Ok(parsed)
-            })
-            .collect();
-        for chunk in chunks {
-            let chunk = chunk?;
-            if let Some(counter) = counter.as_mut() {
-                for line in &chunk.lines {
-                    count_pair(counter, &chunk.text[line.clone()]);
-                }
-            }
-            output.write_all(&chunk.text)?;
-        }
-        bar.inc(batch.len() as u64);
-        contactmap::interrupt::check()?;
-        if empty.send(batch).is_err() {
-            break;
-        }
-    }
-    Ok(())
-}
-
 /// Run `contactmap pairs parse`.
 pub fn run(args: &ParseArgs) -> Result<()> {
     refuse_overwrites(
@@ -238,7 +149,7 @@ pub fn run(args: &ParseArgs) -> Result<()> {
         .into_iter()
         .map(|c| (c.name, c.length_bp))
         .collect();
-    let mut reader = AlignmentReader::open(&args.input)?;
+    let reader = AlignmentReader::open(&args.input)?;
     let order = ChromOrder::new(
         &reader.chromosomes(),
         &sizes,
@@ -256,38 +167,17 @@ pub fn run(args: &ParseArgs) -> Result<()> {
     let mut output = open_output(args.output.as_deref(), &header)?;
     let bar = spinner("read pairs parsed");
     let mut counter = args.output_stats.as_ref().map(|_| PairCounter::new());
-    // A thread reads batches (BAM inflated by noodles' workers) while this one classifies the
-    // previous batch on every core; batches go back to the reader to be refilled.
-    let (full_tx, full_rx) = std::sync::mpsc::sync_channel::<Result<RawBatch>>(1);
-    let (empty_tx, empty_rx) = std::sync::mpsc::sync_channel::<RawBatch>(BATCHES_IN_FLIGHT);
-    for _ in 0..BATCHES_IN_FLIGHT {
-        empty_tx
-            .send(reader.new_batch())
-            .expect("the channel has room for every batch");
-    }
-    std::thread::scope(|scope| {
-        scope.spawn(move || {
-            while let Ok(mut batch) = empty_rx.recv() {
-                let result = reader.read_batch(&mut batch, BATCH_GROUPS);
-                let stop = result.is_err() || batch.is_empty();
-                if full_tx.send(result.map(|()| batch)).is_err() || stop {
-                    break;
-                }
-            }
-        });
-        classify_batches(
-            full_rx,
-            empty_tx,
-            &order,
-            &params,
-            &mut output,
-            &mut counter,
-            &bar,
-        )
-    })?;
+    parse_alignments(
+        reader,
+        &order,
+        &params,
+        counter.as_mut(),
+        &mut |bytes| output.write_all(bytes),
+        &mut |n| bar.set_position(n),
+    )?;
     bar.finish_and_clear();
     if let (Some(path), Some(counter)) = (&args.output_stats, &counter) {
-        let mut stats = PairsOutput::open(Some(path))?;
+        let mut stats = Output::open_blocked(Some(path))?;
         stats.write_all(counter.to_text().as_bytes())?;
         stats.finish()?;
     }

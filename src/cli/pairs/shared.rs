@@ -4,7 +4,8 @@
 use std::path::{Path, PathBuf};
 
 use contactmap::error::Result;
-use contactmap::io::pairs::{PairsHeader, PairsOutput};
+use contactmap::io::output::Output;
+use contactmap::io::pairs::PairsHeader;
 
 /// The command line, for the `@PG` line a pairs command adds to the header.
 pub(super) fn command_line() -> String {
@@ -12,8 +13,8 @@ pub(super) fn command_line() -> String {
 }
 
 /// Open an output (`None` or `-`: standard output) and write the header.
-pub(super) fn open_output(path: Option<&Path>, header: &PairsHeader) -> Result<PairsOutput> {
-    let mut output = PairsOutput::open(path)?;
+pub(super) fn open_output(path: Option<&Path>, header: &PairsHeader) -> Result<Output> {
+    let mut output = Output::open_blocked(path)?;
     output.write_all(header.to_text().as_bytes())?;
     Ok(output)
 }

@@ -8,7 +8,8 @@ use clap::Args;
 use super::shared::refuse_overwrites;
 use crate::cli::progress::spinner;
 use contactmap::error::{Error, Result};
-use contactmap::io::pairs::{PairColumns, PairRecord, PairsOutput, open_input, open_pairs};
+use contactmap::io::output::Output;
+use contactmap::io::pairs::{PairColumns, PairRecord, open_pairs};
 use contactmap::pairs::stats::{PairCounter, STATS_CHUNK_RECORDS};
 
 /// Arguments of `contactmap pairs stats`.
@@ -51,7 +52,7 @@ pub fn run(args: &StatsArgs) -> Result<()> {
         let mut total: Option<PairCounter> = None;
         for path in &args.inputs {
             let mut text = String::new();
-            std::io::Read::read_to_string(&mut open_input(path)?, &mut text)
+            std::io::Read::read_to_string(&mut contactmap::io::open_text(path)?, &mut text)
                 .map_err(|e| Error::io(path, e))?;
             let counter = PairCounter::from_text(&text, &path.display().to_string())?;
             match &mut total {
@@ -86,7 +87,7 @@ pub fn run(args: &StatsArgs) -> Result<()> {
         counter.set_chromsizes(reader.header().chromsizes(reader.path())?);
         counter
     };
-    let mut output = PairsOutput::open(args.output.as_deref())?;
+    let mut output = Output::open_blocked(args.output.as_deref())?;
     output.write_all(counter.to_text().as_bytes())?;
     output.finish()
 }

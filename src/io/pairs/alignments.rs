@@ -16,8 +16,9 @@ use noodles::sam::alignment::record::cigar::op::Kind;
 use noodles::sam::alignment::record::data::field::Tag;
 use noodles::{bam, bgzf, sam};
 
-use super::open::{is_bgzf, worker_count};
+use super::header::read_marked_lines;
 use crate::error::{Error, Result};
+use crate::io::plumbing::input::{is_bgzf, worker_count};
 
 /// What the decoded records must carry beyond flags, position, MAPQ and CIGAR (the rest costs
 /// time and is only decoded when an output column needs it).
@@ -325,25 +326,9 @@ impl AlignmentReader {
             ));
         } else {
             let mut input: Box<dyn BufRead + Send> = Box::new(reader);
-            let mut text = String::new();
-            let mut n_lines = 0u64;
-            loop {
-                let buffer = input.fill_buf().map_err(|e| Error::io(path, e))?;
-                if buffer.first() != Some(&b'@') {
-                    break;
-                }
-                let mut line = Vec::new();
-                input
-                    .read_until(b'\n', &mut line)
-                    .map_err(|e| Error::io(path, e))?;
-                n_lines += 1;
-                let line = String::from_utf8(line).map_err(|_| Error::Parse {
-                    path: (*name).into(),
-                    line: n_lines,
-                    message: "a SAM header line that is not UTF-8 text".into(),
-                })?;
-                text.push_str(&line);
-            }
+            let lines = read_marked_lines(&mut input, b'@', &name)?;
+            let n_lines = lines.len() as u64;
+            let text: String = lines.iter().map(|l| format!("{l}\n")).collect();
             let header: sam::Header = text
                 .parse()
                 .map_err(|e| format_error(format!("not a valid SAM header: {e}")))?;

@@ -68,28 +68,8 @@ impl PairsHeader {
     /// Read the header lines (those starting with `#`) from the start of `input`, leaving it
     /// at the first record. `path` names the input in errors.
     pub fn read(input: &mut dyn BufRead, path: &str) -> Result<(PairsHeader, u64)> {
-        let mut lines = Vec::new();
-        let mut n_lines = 0u64;
-        loop {
-            let buffer = input.fill_buf().map_err(|e| Error::io(path, e))?;
-            if buffer.first() != Some(&b'#') {
-                break;
-            }
-            let mut line = Vec::new();
-            input
-                .read_until(b'\n', &mut line)
-                .map_err(|e| Error::io(path, e))?;
-            n_lines += 1;
-            while matches!(line.last(), Some(b'\n' | b'\r')) {
-                line.pop();
-            }
-            let line = String::from_utf8(line).map_err(|_| Error::Parse {
-                path: path.into(),
-                line: n_lines,
-                message: "a header line that is not UTF-8 text".into(),
-            })?;
-            lines.push(line);
-        }
+        let lines = read_marked_lines(input, b'#', path)?;
+        let n_lines = lines.len() as u64;
         Ok((PairsHeader { lines }, n_lines))
     }
 
@@ -220,6 +200,32 @@ impl PairsHeader {
             .or_else(|| self.lines.iter().position(|l| l.starts_with("#columns")))
             .unwrap_or(self.lines.len());
         self.lines.insert(at, format!("#samheader: {line}"));
+    }
+}
+
+/// The lines at the start of `input` that start with `marker` (a pairs header's `#`, a SAM
+/// header's `@`), without their line ends, leaving `input` at the first other line. `path` names
+/// the input in errors.
+pub fn read_marked_lines(input: &mut dyn BufRead, marker: u8, path: &str) -> Result<Vec<String>> {
+    let mut lines = Vec::new();
+    loop {
+        let buffer = input.fill_buf().map_err(|e| Error::io(path, e))?;
+        if buffer.first() != Some(&marker) {
+            return Ok(lines);
+        }
+        let mut line = Vec::new();
+        input
+            .read_until(b'\n', &mut line)
+            .map_err(|e| Error::io(path, e))?;
+        while matches!(line.last(), Some(b'\n' | b'\r')) {
+            line.pop();
+        }
+        let line = String::from_utf8(line).map_err(|_| Error::Parse {
+            path: path.into(),
+            line: lines.len() as u64 + 1,
+            message: "a header line that is not UTF-8 text".into(),
+        })?;
+        lines.push(line);
     }
 }
 

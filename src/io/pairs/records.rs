@@ -204,13 +204,13 @@ pub struct PairColumns {
 
 impl PairColumns {
     /// Find the columns in the header's `#columns:` line (pairtools' standard columns when the
-    /// header has none). `path` names the file in the error for a missing column.
-    pub fn of(header: &PairsHeader, path: &str) -> Result<PairColumns> {
+    /// header has none). `source` names the file in the error for a missing column.
+    pub fn of(header: &PairsHeader, source: &str) -> Result<PairColumns> {
         let names = header.columns();
         let find = |name: &str| names.iter().position(|c| c == name);
         let need = |name: &str| {
             find(name).ok_or_else(|| Error::Format {
-                path: path.into(),
+                path: source.into(),
                 message: format!(
                     "the header's '#columns:' line has no '{name}' column (it names: {})",
                     names.join(" ")

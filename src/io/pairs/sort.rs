@@ -474,9 +474,9 @@ mod tests {
         text
     }
 
-    /// The naive order: a stable sort of the lines by the five keys.
-    fn naive_sort(text: &str) -> Vec<String> {
-        let mut lines: Vec<&str> = text.lines().filter(|l| !l.starts_with('#')).collect();
+    /// The naive order: the lines sorted by the five keys, stably (`sort --stable`), or with
+    /// the whole line as a last key (`sort` without `--stable`, as `sort --merge` merges).
+    fn naive_order(lines: &mut [String], whole_line_last: bool) {
         lines.sort_by_key(|l| {
             let f: Vec<&str> = l.split('\t').collect();
             (
@@ -485,9 +485,24 @@ mod tests {
                 f[2].parse::<u64>().unwrap(),
                 f[4].parse::<u64>().unwrap(),
                 f[7].to_string(),
+                if whole_line_last {
+                    l.clone()
+                } else {
+                    String::new()
+                },
             )
         });
-        lines.into_iter().map(str::to_string).collect()
+    }
+
+    /// The records of a pairs text in the naive stable order.
+    fn naive_sort(text: &str) -> Vec<String> {
+        let mut lines: Vec<String> = text
+            .lines()
+            .filter(|l| !l.starts_with('#'))
+            .map(str::to_string)
+            .collect();
+        naive_order(&mut lines, false);
+        lines
     }
 
     fn sorted(text: &str, memory_bytes: u64) -> (Vec<String>, SortSummary) {
@@ -540,19 +555,7 @@ mod tests {
     fn merging_sorted_files_equals_sorting_their_union() {
         // `sort` without --stable: the five keys, then the whole line. Inputs sorted that way
         // (as pairtools sort's files are, but for ties) merge into their union sorted that way.
-        let full_order = |lines: &mut Vec<String>| {
-            lines.sort_by_key(|l| {
-                let f: Vec<&str> = l.split('\t').collect();
-                (
-                    f[1].as_bytes().to_vec(),
-                    f[3].as_bytes().to_vec(),
-                    f[2].parse::<u64>().unwrap(),
-                    f[4].parse::<u64>().unwrap(),
-                    f[7].to_string(),
-                    l.clone(),
-                )
-            })
-        };
+        let full_order = |lines: &mut Vec<String>| naive_order(lines, true);
         let mut a: Vec<String> = random_pairs(3000, 1)
             .lines()
             .skip(2)

@@ -36,6 +36,11 @@ enum Target {
         writer: Box<BufWriter<GzEncoder<File>>>,
         tmp: Option<Temporary>,
     },
+    /// BGZF, deflated on worker threads.
+    Bgzf {
+        writer: Box<noodles::bgzf::io::MultithreadedWriter<File>>,
+        tmp: Option<Temporary>,
+    },
 }
 
 const BUFFER_BYTES: usize = 1 << 20;
@@ -43,6 +48,16 @@ const BUFFER_BYTES: usize = 1 << 20;
 impl Output {
     /// Open `path` (`-` or `None` for stdout; a `.gz` suffix compresses).
     pub fn open(path: Option<&Path>) -> Result<Output> {
+        Output::open_as(path, false)
+    }
+
+    /// Open `path` as [`Output::open`] does, but a `.gz` file is BGZF (block gzip, deflated on
+    /// worker threads): any gzip reader reads it, and tabix / pairix can index it (pairs).
+    pub fn open_blocked(path: Option<&Path>) -> Result<Output> {
+        Output::open_as(path, true)
+    }
+
+    fn open_as(path: Option<&Path>, blocked: bool) -> Result<Output> {
         let Some(path) = path.filter(|p| !is_stdout(Some(p))) else {
             return Ok(Output {
                 target: Some(Target::Stdout(BufWriter::with_capacity(
@@ -63,7 +78,16 @@ impl Output {
             (file, Some(tmp))
         };
         let label = path.display().to_string();
-        let target = if path.extension().is_some_and(|e| e == "gz") {
+        let gz = path.extension().is_some_and(|e| e == "gz");
+        let target = if gz && blocked {
+            Target::Bgzf {
+                writer: Box::new(noodles::bgzf::io::MultithreadedWriter::with_worker_count(
+                    crate::io::plumbing::input::worker_count(),
+                    file,
+                )),
+                tmp,
+            }
+        } else if gz {
             Target::Gzip {
                 writer: Box::new(BufWriter::with_capacity(
                     BUFFER_BYTES,
@@ -89,6 +113,7 @@ impl Output {
             Some(Target::Stdout(w)) => w.write_all(bytes),
             Some(Target::File { writer, .. }) => writer.write_all(bytes),
             Some(Target::Gzip { writer, .. }) => writer.write_all(bytes),
+            Some(Target::Bgzf { writer, .. }) => writer.write_all(bytes),
             None => Ok(()),
         };
         result.map_err(|e| Error::io(&self.label, e))
@@ -126,6 +151,14 @@ impl Output {
             Target::Gzip { writer, tmp } => {
                 let encoder = writer.into_inner().map_err(|e| io(e.into_error()))?;
                 drop(encoder.finish().map_err(io)?);
+                match tmp {
+                    Some(tmp) => tmp.persist(),
+                    None => Ok(()),
+                }
+            }
+            Target::Bgzf { mut writer, tmp } => {
+                // Joins the workers and writes the end-of-file block.
+                drop(writer.finish().map_err(io)?);
                 match tmp {
                     Some(tmp) => tmp.persist(),
                     None => Ok(()),

@@ -11,7 +11,7 @@ use crate::error::{Error, Result};
 /// The conformations of a table, read one at a time.
 pub struct TableConformations {
     path: PathBuf,
-    lines: std::io::Lines<Box<dyn BufRead>>,
+    lines: std::io::Lines<Box<dyn BufRead + Send>>,
     line_no: u64,
     /// The first row of the next conformation, already read: its key and position.
     pending: Option<Row>,

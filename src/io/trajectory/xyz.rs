@@ -10,7 +10,7 @@ use crate::error::{Error, Result};
 /// The frames of an XYZ file, read one at a time.
 pub struct XyzFrames {
     path: PathBuf,
-    lines: std::io::Lines<Box<dyn BufRead>>,
+    lines: std::io::Lines<Box<dyn BufRead + Send>>,
     line_no: u64,
     frame: usize,
 }

@@ -1,21 +1,7 @@
-use std::io::Read;
-
 use super::*;
 use crate::io::pairs::PairsReader;
 
-/// pairtools 1.1.2's outputs on the simulated BAM (`data/pairs/README.md`).
-const REFERENCE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data/pairs/reference");
-
-/// A file of `data/pairs/reference/` (gzip), as text.
-fn reference(name: &str) -> String {
-    let path = format!("{REFERENCE}/{name}");
-    let bytes = std::fs::read(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
-    let mut text = String::new();
-    flate2::read::MultiGzDecoder::new(&bytes[..])
-        .read_to_string(&mut text)
-        .unwrap_or_else(|e| panic!("{path}: {e}"));
-    text
-}
+use crate::pairs::tests::reference;
 
 /// The records of pairs text (its lines after the header).
 fn body(text: &str) -> Vec<&str> {

@@ -33,29 +33,16 @@ pub(crate) const CIS_KEYS: [&str; 6] = [
     "cis_40kb+",
 ];
 
-/// Values pandas' `read_table` reads as missing (its default `na_values`): a pair type among
-/// them is left out of `pair_types/`, as `value_counts` leaves it out.
-pub(crate) const PANDAS_NA_VALUES: [&[u8]; 19] = [
-    b"",
-    b"#N/A",
-    b"#N/A N/A",
-    b"#NA",
-    b"-1.#IND",
-    b"-1.#QNAN",
-    b"-NaN",
-    b"-nan",
-    b"1.#IND",
-    b"1.#QNAN",
-    b"<NA>",
-    b"N/A",
-    b"NA",
-    b"NULL",
-    b"NaN",
-    b"None",
-    b"n/a",
-    b"nan",
-    b"null",
-];
+/// One pair's fields as the counts read them.
+struct Pair<'a> {
+    chrom1: &'a [u8],
+    pos1: u64,
+    strand1: &'a [u8],
+    chrom2: &'a [u8],
+    pos2: u64,
+    strand2: &'a [u8],
+    duplicate: bool,
+}
 
 /// Counts by key, keys in the order they were first added (a Python dict of counts).
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
@@ -305,40 +292,17 @@ impl PairCounter {
         strand2: &[u8],
         pair_type: &[u8],
     ) -> std::result::Result<(), String> {
-        let mapped1 = chrom1 != UNMAPPED;
-        let mapped2 = chrom2 != UNMAPPED;
-        let duplicate = pair_type == b"DD";
-        let cis = mapped1 && mapped2 && !duplicate && chrom1 == chrom2;
-        let strands = if cis {
-            Some(Self::strand_index(strand1, strand2)?)
-        } else {
-            None
+        let pair = Pair {
+            chrom1,
+            pos1,
+            strand1,
+            chrom2,
+            pos2,
+            strand2,
+            duplicate: pair_type == b"DD",
         };
-        self.total += 1;
+        self.count(&pair, false)?;
         self.pair_types.add(pair_type, 1);
-        match (mapped1, mapped2) {
-            (false, false) => self.total_unmapped += 1,
-            (true, true) => {
-                self.total_mapped += 1;
-                if duplicate {
-                    self.total_dups += 1;
-                } else {
-                    self.total_nodups += 1;
-                    chrom_pair_key(&mut self.key, chrom1, chrom2);
-                    let key = std::mem::take(&mut self.key);
-                    self.chrom_freq.add(&key, 1);
-                    self.key = key;
-                    match strands {
-                        Some(strands) => {
-                            self.cis += 1;
-                            self.add_separation(pos1, pos2, strands);
-                        }
-                        None => self.trans += 1,
-                    }
-                }
-            }
-            _ => self.total_single_sided_mapped += 1,
-        }
         Ok(())
     }
 
@@ -359,8 +323,6 @@ impl PairCounter {
             return Err("the pairs have no 'pair_type' column, which stats count".into());
         };
         let pair_type = record.field(pair_type_column);
-        let chrom1 = record.field(columns.chrom1);
-        let chrom2 = record.field(columns.chrom2);
         let position = |column: usize| {
             parse_position(record.field(column)).ok_or_else(|| {
                 format!(
@@ -369,36 +331,55 @@ impl PairCounter {
                 )
             })
         };
-        let (pos1, pos2) = (position(columns.pos1)?, position(columns.pos2)?);
-        let mapped1 = chrom1 != UNMAPPED;
-        let mapped2 = chrom2 != UNMAPPED;
-        let duplicate = duplicate.unwrap_or(pair_type == b"DD");
-        let cis = mapped1 && mapped2 && !duplicate && chrom1 == chrom2;
+        let pair = Pair {
+            chrom1: record.field(columns.chrom1),
+            pos1: position(columns.pos1)?,
+            strand1: record.field(columns.strand1),
+            chrom2: record.field(columns.chrom2),
+            pos2: position(columns.pos2)?,
+            strand2: record.field(columns.strand2),
+            duplicate: duplicate.unwrap_or(pair_type == b"DD"),
+        };
+        self.count(&pair, true)?;
+        self.chunk.n_records += 1;
+        // pandas' value_counts leaves out a missing pair type.
+        if !crate::pairs::pandas::is_na(pair_type) {
+            self.chunk.pair_types.add(pair_type, 1);
+        }
+        Ok(())
+    }
+
+    /// The counts both ways of adding share: totals, duplicates, cis / trans, distances and
+    /// chromosome pairs (into the open chunk's tally with `in_chunk`, else directly).
+    fn count(&mut self, pair: &Pair<'_>, in_chunk: bool) -> std::result::Result<(), String> {
+        let mapped1 = pair.chrom1 != UNMAPPED;
+        let mapped2 = pair.chrom2 != UNMAPPED;
+        let cis = mapped1 && mapped2 && !pair.duplicate && pair.chrom1 == pair.chrom2;
         let strands = if cis {
-            let (strand1, strand2) = (record.field(columns.strand1), record.field(columns.strand2));
-            Some(Self::strand_index(strand1, strand2)?)
+            Some(Self::strand_index(pair.strand1, pair.strand2)?)
         } else {
             None
         };
         self.total += 1;
-        self.chunk.n_records += 1;
-        if !PANDAS_NA_VALUES.contains(&pair_type) {
-            self.chunk.pair_types.add(pair_type, 1);
-        }
         match (mapped1, mapped2) {
             (false, false) => self.total_unmapped += 1,
             (true, true) => {
                 self.total_mapped += 1;
-                if duplicate {
+                if pair.duplicate {
                     self.total_dups += 1;
                 } else {
                     self.total_nodups += 1;
-                    chrom_pair_key(&mut self.key, chrom1, chrom2);
-                    self.chunk.chrom_freq.add(&self.key, 1);
+                    chrom_pair_key(&mut self.key, pair.chrom1, pair.chrom2);
+                    let tally = if in_chunk {
+                        &mut self.chunk.chrom_freq
+                    } else {
+                        &mut self.chrom_freq
+                    };
+                    tally.add(&self.key, 1);
                     match strands {
                         Some(strands) => {
                             self.cis += 1;
-                            self.add_separation(pos1, pos2, strands);
+                            self.add_separation(pair.pos1, pair.pos2, strands);
                         }
                         None => self.trans += 1,
                     }

@@ -1,23 +1,10 @@
 use std::collections::BTreeMap;
-use std::io::Read;
 
 use super::*;
 use crate::io::pairs::PairsReader;
 use crate::io::pairs::{PairColumns, PairRecord, parse_position};
 
-/// pairtools 1.1.2's outputs on the simulated BAM (`data/pairs/README.md`).
-const REFERENCE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data/pairs/reference");
-
-/// A file of `data/pairs/reference/` (gzip), as text.
-fn reference(name: &str) -> String {
-    let path = format!("{REFERENCE}/{name}");
-    let bytes = std::fs::read(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
-    let mut text = String::new();
-    flate2::read::MultiGzDecoder::new(&bytes[..])
-        .read_to_string(&mut text)
-        .unwrap_or_else(|e| panic!("{path}: {e}"));
-    text
-}
+use crate::pairs::tests::reference;
 
 /// What `pairtools dedup --mark-dups` counted for `sim.dedup.stats`: its nodups, dups (pair
 /// type `DD`) and unmapped outputs one after the other, under the nodups header. `pairtools
