@@ -22,7 +22,7 @@
 use super::alignment::{Alignment, AlignmentSettings, CigarText};
 use super::walks::complex_walk;
 use crate::error::{Error, Result};
-use crate::io::pairs::{AlignmentRecord, ReadGroup};
+use crate::io::pairs::ReadGroup;
 
 /// How walks that no single ligation explains are reported (`--walks-policy`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -286,7 +286,7 @@ impl ParsedPair {
 /// Sort a side's alignments from the read's 5' end and fill uncovered stretches longer than
 /// `max_gap` with null alignments (pairtools' `normalize_alignment_list`, including its
 /// iteration over the list's first length while inserting).
-fn normalize(mut algns: Vec<Alignment>, side: u8, max_gap: i64) -> Vec<Alignment> {
+fn normalize(algns: &mut Vec<Alignment>, side: u8, max_gap: i64) {
     if algns.is_empty() {
         algns.push(Alignment::empty());
     }
@@ -318,7 +318,6 @@ fn normalize(mut algns: Vec<Alignment>, side: u8, max_gap: i64) -> Vec<Alignment
         a.algn_idx = Some(i);
         a.same_side_algn_count = Some(count);
     }
-    algns
 }
 
 /// Rescue a walk that is one ligation read through on one side (pairtools' `rescue_walk`):
@@ -374,76 +373,126 @@ fn rescue_walk(
     }
 }
 
+/// Buffers reused from one read group to the next (a task parses many groups).
+#[derive(Default)]
+pub struct ParseScratch {
+    order: Vec<(bool, u64, usize)>,
+    algns1: Vec<Alignment>,
+    algns2: Vec<Alignment>,
+    raw: Vec<RawPair>,
+}
+
+/// A pair before flipping: its sides and its index along the walk.
+type RawPair = (Alignment, Alignment, (usize, &'static str));
+
 /// The pairs of one read group (pairtools' `parse_read`, then the flip of
 /// `streaming_classify`).
 pub fn parse_read(group: &ReadGroup, order: &ChromOrder, params: &ParseParams) -> Vec<ParsedPair> {
+    let mut pairs = Vec::new();
+    parse_read_into(
+        group,
+        order,
+        params,
+        &mut ParseScratch::default(),
+        &mut pairs,
+    );
+    pairs
+}
+
+/// [`parse_read`] into `pairs` (cleared first), with buffers reused through `scratch`.
+pub fn parse_read_into(
+    group: &ReadGroup,
+    order: &ChromOrder,
+    params: &ParseParams,
+    scratch: &mut ParseScratch,
+    pairs: &mut Vec<ParsedPair>,
+) {
+    pairs.clear();
     let settings = params.alignment_settings();
     // pairtools sorts the records by (is read 2, query alignment start), then each side by
     // distance to the 5' end (stable).
-    let mut indices: Vec<usize> = (0..group.records.len()).collect();
     let records = &group.records;
-    indices.sort_by_key(|&i| (!records[i].is_read1(), records[i].query_alignment_start()));
-    let (side1, side2): (Vec<usize>, Vec<usize>) =
-        indices.into_iter().partition(|&i| records[i].is_read1());
-    let raw_pairs = classify(records, &side1, &side2, &settings, params);
+    scratch.order.clear();
+    scratch.order.extend(
+        records
+            .iter()
+            .enumerate()
+            .map(|(i, r)| (!r.is_read1(), r.query_alignment_start(), i)),
+    );
+    scratch
+        .order
+        .sort_by_key(|&(is_read2, start, _)| (is_read2, start));
+    scratch.algns1.clear();
+    scratch.algns2.clear();
+    for &(is_read2, _, i) in &scratch.order {
+        let side = if is_read2 {
+            &mut scratch.algns2
+        } else {
+            &mut scratch.algns1
+        };
+        side.push(Alignment::of(&records[i], i, &settings));
+    }
+    classify(
+        &mut scratch.algns1,
+        &mut scratch.algns2,
+        params,
+        &mut scratch.raw,
+    );
     let mut sams_swapped = false;
-    raw_pairs
-        .into_iter()
-        .map(|(mut a, mut b, index)| {
-            let pick = |x: &Alignment| if params.report_3_end { x.pos3 } else { x.pos5 };
-            a.pos = pick(&a);
-            b.pos = pick(&b);
-            if !params.no_flip && !in_pair_order(&a, &b, order) {
-                std::mem::swap(&mut a, &mut b);
-                sams_swapped = !sams_swapped;
-            }
-            ParsedPair {
-                side1: a,
-                side2: b,
-                index,
-                sams_swapped,
-            }
-        })
-        .collect()
+    for (mut a, mut b, index) in scratch.raw.drain(..) {
+        let pick = |x: &Alignment| if params.report_3_end { x.pos3 } else { x.pos5 };
+        a.pos = pick(&a);
+        b.pos = pick(&b);
+        if !params.no_flip && !in_pair_order(&a, &b, order) {
+            std::mem::swap(&mut a, &mut b);
+            sams_swapped = !sams_swapped;
+        }
+        pairs.push(ParsedPair {
+            side1: a,
+            side2: b,
+            index,
+            sams_swapped,
+        });
+    }
 }
 
+/// The pairs of a read's two sides' alignments (each in pairtools' order) into `out`.
 fn classify(
-    records: &[AlignmentRecord],
-    side1: &[usize],
-    side2: &[usize],
-    settings: &AlignmentSettings,
+    algns1: &mut Vec<Alignment>,
+    algns2: &mut Vec<Alignment>,
     params: &ParseParams,
-) -> Vec<(Alignment, Alignment, (usize, &'static str))> {
+    out: &mut Vec<RawPair>,
+) {
+    out.clear();
     let is_empty = if params.walks_policy == WalksPolicy::All {
-        (side1.is_empty() && side2.len() < 2) || (side2.is_empty() && side1.len() < 2)
+        (algns1.is_empty() && algns2.len() < 2) || (algns2.is_empty() && algns1.len() < 2)
     } else {
-        side1.is_empty() || side2.is_empty()
+        algns1.is_empty() || algns2.is_empty()
     };
     if is_empty {
         let mut a = Alignment::empty();
         a.kind = b'X';
         let b = a.clone();
-        return vec![(a, b, (1, "R1-2"))];
+        out.push((a, b, (1, "R1-2")));
+        return;
     }
-    let alignments = |side: &[usize]| -> Vec<Alignment> {
-        side.iter()
-            .map(|&i| Alignment::of(&records[i], i, settings))
-            .collect()
-    };
     let gap = params.max_inter_align_gap;
-    let mut algns1 = normalize(alignments(side1), 1, gap);
-    let mut algns2 = normalize(alignments(side2), 2, gap);
+    normalize(algns1, 1, gap);
+    normalize(algns2, 2, gap);
     let is_chimeric1 = algns1.len() > 1;
     let is_chimeric2 = algns2.len() > 1;
     if !is_chimeric1 && !is_chimeric2 {
-        return vec![(algns1[0].clone(), algns2[0].clone(), (1, "R1-2"))];
+        out.push((algns1[0].clone(), algns2[0].clone(), (1, "R1-2")));
+        return;
     }
     if params.walks_policy == WalksPolicy::All {
-        return complex_walk(&algns1, &algns2, params.max_molecule_size, 3);
+        out.extend(complex_walk(algns1, algns2, params.max_molecule_size, 3));
+        return;
     }
-    if let Some(linear_side) = rescue_walk(&mut algns1, &mut algns2, params.max_molecule_size) {
+    if let Some(linear_side) = rescue_walk(algns1, algns2, params.max_molecule_size) {
         let index = (1, if linear_side == 1 { "R1" } else { "R2" });
-        return vec![(algns1[0].clone(), algns2[0].clone(), index)];
+        out.push((algns1[0].clone(), algns2[0].clone(), index));
+        return;
     }
     let first_unique = |algns: &[Alignment]| {
         algns
@@ -469,15 +518,15 @@ fn classify(
             (a, b)
         }
         WalksPolicy::FiveAny => (algns1[0].clone(), algns2[0].clone()),
-        WalksPolicy::FiveUnique => (first_unique(&algns1), first_unique(&algns2)),
+        WalksPolicy::FiveUnique => (first_unique(algns1), first_unique(algns2)),
         WalksPolicy::ThreeAny => (
             algns1[algns1.len() - 1].clone(),
             algns2[algns2.len() - 1].clone(),
         ),
-        WalksPolicy::ThreeUnique => (last_unique(&algns1), last_unique(&algns2)),
+        WalksPolicy::ThreeUnique => (last_unique(algns1), last_unique(algns2)),
         WalksPolicy::All => unreachable!("handled above"),
     };
-    vec![(a, b, (1, "R1-2"))]
+    out.push((a, b, (1, "R1-2")));
 }
 
 /// pairtools' `check_pair_order`: by mapping first, then, with both sides on a chromosome, by

@@ -4,11 +4,13 @@
 
 use rayon::prelude::*;
 
-use super::parse::{ChromOrder, ParseParams, ParsedPair, parse_read, write_pair};
+use super::parse::{
+    ChromOrder, ParseParams, ParseScratch, ParsedPair, parse_read_into, write_pair,
+};
 use super::stats::PairCounter;
 use crate::error::Result;
-use crate::io::pairs::AlignmentReader;
 use crate::io::pairs::alignments::RawBatch;
+use crate::io::pairs::{AlignmentReader, ReadGroup};
 
 /// Read groups read and classified per batch.
 const BATCH_GROUPS: usize = 1 << 14;
@@ -86,13 +88,17 @@ pub fn parse_alignments(
                 .into_par_iter()
                 .map(|task| {
                     let mut parsed = Parsed::default();
+                    let mut group = ReadGroup::default();
+                    let mut scratch = ParseScratch::default();
+                    let mut pairs = Vec::new();
                     let end = ((task + 1) * GROUPS_PER_TASK).min(batch.len());
                     for i in task * GROUPS_PER_TASK..end {
-                        let group = batch.decode(i, &needs)?;
-                        for pair in parse_read(&group, order, params) {
-                            write_pair(&pair, &group, order, params, &mut parsed.text);
+                        batch.decode_into(i, &needs, &mut group)?;
+                        parse_read_into(&group, order, params, &mut scratch, &mut pairs);
+                        for pair in &pairs {
+                            write_pair(pair, &group, order, params, &mut parsed.text);
                             if count {
-                                parsed.counted.push(Counted::of(&pair));
+                                parsed.counted.push(Counted::of(pair));
                             }
                         }
                     }

@@ -19,6 +19,7 @@ use rayon::prelude::*;
 use super::order::{SortKey, in_sorted_order};
 use super::records::{PairColumns, PairRecord, PairsReader, parse_position};
 use crate::error::{Error, Result};
+use crate::io::plumbing::hash::FastMap;
 
 /// How [`sort_pairs`] may use memory and disk.
 #[derive(Clone, Debug)]
@@ -52,24 +53,68 @@ pub struct SortSummary {
 const MAX_RUNS_MERGED: usize = 128;
 const RUN_BUFFER_BYTES: usize = 256 << 10;
 
-/// One record of a chunk: where its line is and its key's fields.
+/// One record of a chunk: where its line is and its key (chromosomes and pair type as
+/// numbers given in order of first appearance, see [`Names`]).
 #[derive(Clone, Copy)]
 struct Entry {
     start: u64,
     len: u32,
-    chrom1: (u32, u32),
-    chrom2: (u32, u32),
-    pair_type: (u32, u32),
+    chrom1: u32,
+    chrom2: u32,
+    pair_type: u32,
     pos1: u64,
     pos2: u64,
 }
 
 const ENTRY_BYTES: u64 = std::mem::size_of::<Entry>() as u64;
 
+/// The distinct chromosome names and pair types of a chunk, numbered as they first appear.
+/// Before sorting, each number is given the rank of its name among them all as bytes, so that
+/// comparing two records compares integers, not names (a few dozen distinct names among
+/// millions of records).
+#[derive(Default)]
+struct Names {
+    ids: FastMap<Vec<u8>, u32>,
+    names: Vec<Vec<u8>>,
+    /// Bytes held, about.
+    bytes: u64,
+}
+
+impl Names {
+    fn id(&mut self, name: &[u8]) -> u32 {
+        if let Some(&id) = self.ids.get(name) {
+            return id;
+        }
+        let id = self.names.len() as u32;
+        self.ids.insert(name.to_vec(), id);
+        self.names.push(name.to_vec());
+        self.bytes += 2 * name.len() as u64 + 64;
+        id
+    }
+
+    /// Each number's rank among the names in byte order.
+    fn ranks(&self) -> Vec<u32> {
+        let mut order: Vec<usize> = (0..self.names.len()).collect();
+        order.sort_by(|&a, &b| self.names[a].cmp(&self.names[b]));
+        let mut ranks = vec![0u32; order.len()];
+        for (rank, &id) in order.iter().enumerate() {
+            ranks[id] = rank as u32;
+        }
+        ranks
+    }
+
+    fn clear(&mut self) {
+        self.ids.clear();
+        self.names.clear();
+        self.bytes = 0;
+    }
+}
+
 #[derive(Default)]
 struct Chunk {
     bytes: Vec<u8>,
     entries: Vec<Entry>,
+    names: Names,
 }
 
 impl Chunk {
@@ -77,17 +122,13 @@ impl Chunk {
         let start = self.bytes.len() as u64;
         let line = record.line();
         self.bytes.extend_from_slice(line);
-        let span = |i: usize| {
-            let field = record.field(i);
-            let offset = field.as_ptr() as usize - line.as_ptr() as usize;
-            (offset as u32, field.len() as u32)
-        };
+        let pair_type = columns.pair_type.map_or(&[][..], |i| record.field(i));
         self.entries.push(Entry {
             start,
             len: line.len() as u32,
-            chrom1: span(columns.chrom1),
-            chrom2: span(columns.chrom2),
-            pair_type: columns.pair_type.map_or((0, 0), span),
+            chrom1: self.names.id(record.field(columns.chrom1)),
+            chrom2: self.names.id(record.field(columns.chrom2)),
+            pair_type: self.names.id(pair_type),
             pos1: parse_position(record.field(columns.pos1)).unwrap_or(0),
             pos2: parse_position(record.field(columns.pos2)).unwrap_or(0),
         });
@@ -95,28 +136,20 @@ impl Chunk {
 
     /// Bytes held, counting the sort's scratch copy of the entries.
     fn footprint(&self) -> u64 {
-        self.bytes.len() as u64 + 2 * ENTRY_BYTES * self.entries.len() as u64
-    }
-
-    fn key(&self, entry: &Entry) -> SortKey<'_> {
-        let field = |(offset, len): (u32, u32)| {
-            let at = entry.start as usize + offset as usize;
-            &self.bytes[at..at + len as usize]
-        };
-        SortKey {
-            chrom1: field(entry.chrom1),
-            chrom2: field(entry.chrom2),
-            pos1: entry.pos1,
-            pos2: entry.pos2,
-            pair_type: field(entry.pair_type),
-        }
+        self.bytes.len() as u64 + 2 * ENTRY_BYTES * self.entries.len() as u64 + self.names.bytes
     }
 
     fn sort(&mut self) {
-        let mut entries = std::mem::take(&mut self.entries);
+        let ranks = self.names.ranks();
+        // The numbers become ranks: the entries are sorted, written and cleared after this.
+        self.entries.par_iter_mut().for_each(|e| {
+            e.chrom1 = ranks[e.chrom1 as usize];
+            e.chrom2 = ranks[e.chrom2 as usize];
+            e.pair_type = ranks[e.pair_type as usize];
+        });
         // Stable: equal keys keep their input order.
-        entries.par_sort_by(|a, b| self.key(a).cmp(&self.key(b)));
-        self.entries = entries;
+        self.entries
+            .par_sort_by_key(|e| (e.chrom1, e.chrom2, e.pos1, e.pos2, e.pair_type));
     }
 
     fn write(&self, out: &mut dyn FnMut(&[u8]) -> Result<()>) -> Result<()> {
@@ -139,6 +172,7 @@ impl Chunk {
     fn clear(&mut self) {
         self.bytes.clear();
         self.entries.clear();
+        self.names.clear();
     }
 }
 

@@ -3,6 +3,8 @@
 use std::borrow::Cow;
 use std::collections::HashMap;
 
+use crate::io::plumbing::hash::FastMap;
+
 use crate::error::{Error, Result};
 use crate::io::pairs::{PairColumns, PairRecord, parse_position};
 
@@ -45,19 +47,29 @@ struct Pair<'a> {
 }
 
 /// Counts by key, keys in the order they were first added (a Python dict of counts).
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Debug, Default)]
 pub(crate) struct Tally {
     pub(crate) keys: Vec<Vec<u8>>,
     pub(crate) counts: Vec<u64>,
-    pub(crate) index: HashMap<Vec<u8>, usize>,
+    pub(crate) index: FastMap<Vec<u8>, usize>,
+    /// The key added last (records come in runs of the same pair type and chromosomes).
+    last: usize,
 }
 
 impl Tally {
     /// Add `n` to `key`'s count (a new key goes last).
     pub(crate) fn add(&mut self, key: &[u8], n: u64) {
+        if self.keys.get(self.last).is_some_and(|last| last == key) {
+            self.counts[self.last] += n;
+            return;
+        }
         match self.index.get(key) {
-            Some(&i) => self.counts[i] += n,
+            Some(&i) => {
+                self.counts[i] += n;
+                self.last = i;
+            }
             None => {
+                self.last = self.keys.len();
                 self.index.insert(key.to_vec(), self.keys.len());
                 self.keys.push(key.to_vec());
                 self.counts.push(n);

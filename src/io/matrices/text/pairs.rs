@@ -1,9 +1,6 @@
 //! Read pairs, binned as `cooler cload pairs` bins them.
 
-use std::collections::HashMap;
-
 use rayon::prelude::*;
-use std::hash::{BuildHasherDefault, Hasher};
 use std::path::Path;
 
 use super::bins::{bin_table_for, read_chrom_sizes};
@@ -11,42 +8,13 @@ use super::lines::{Fields, LineReader, pairs_columns, parse_u64, show};
 use super::options::OpenOptions;
 use crate::error::{Error, Result};
 use crate::genome::{BinTable, Chrom};
+use crate::io::plumbing::hash::FastMap;
 use crate::matrix::{ContactMatrix, CountType, MatrixBuilder};
-
-/// A fast hasher for pixel keys and chromosome names (splitmix64 finaliser; the inputs are not
-/// adversarial).
-#[derive(Default)]
-struct FastHasher(u64);
-
-impl Hasher for FastHasher {
-    fn finish(&self) -> u64 {
-        self.0
-    }
-
-    fn write(&mut self, bytes: &[u8]) {
-        let mut chunks = bytes.chunks_exact(8);
-        for chunk in &mut chunks {
-            let mut word = [0u8; 8];
-            word.copy_from_slice(chunk);
-            self.write_u64(self.0 ^ u64::from_le_bytes(word));
-        }
-        let mut word = [0u8; 8];
-        word[..chunks.remainder().len()].copy_from_slice(chunks.remainder());
-        self.write_u64(self.0 ^ u64::from_le_bytes(word) ^ (bytes.len() as u64) << 56);
-    }
-
-    fn write_u64(&mut self, value: u64) {
-        let mut z = value.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        self.0 = z ^ (z >> 31);
-    }
-}
 
 /// Assigns pairs to bins.
 struct PairBinner {
     bins: BinTable,
-    chrom_ids: HashMap<Vec<u8>, usize, BuildHasherDefault<FastHasher>>,
+    chrom_ids: FastMap<Vec<u8>, usize>,
     /// First bin of each chromosome.
     offsets: Vec<u64>,
     lengths: Vec<u64>,
