@@ -203,6 +203,15 @@ fn decode_bam(
 ) -> std::io::Result<()> {
     out.flags = u16::from(record.flags());
     out.reference_id = record.reference_sequence_id().transpose()?;
+    let n_references = header.reference_sequences().len();
+    if let Some(id) = out.reference_id
+        && id >= n_references
+    {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            format!("reference sequence {id}, but the header has {n_references} @SQ lines"),
+        ));
+    }
     out.start = record
         .alignment_start()
         .transpose()?
@@ -748,6 +757,47 @@ mod tests {
         let error = reader.read_batch(&mut batch, 10).err().unwrap().to_string();
         assert!(
             error.contains("read 'r1' at line 6") && error.contains("not grouped"),
+            "{error}"
+        );
+    }
+
+    #[test]
+    fn a_bam_record_on_a_chromosome_the_header_lacks_is_an_error() {
+        use noodles::sam::alignment::RecordBuf;
+        use noodles::sam::alignment::io::Write as _;
+        use noodles::sam::alignment::record::Flags;
+        let header: sam::Header = HEADER.parse().unwrap();
+        let record = |reference: usize| {
+            RecordBuf::builder()
+                .set_name("r1")
+                .set_flags(Flags::SEGMENTED | Flags::FIRST_SEGMENT)
+                .set_reference_sequence_id(reference)
+                .build()
+        };
+        let folder = tempfile::tempdir().unwrap();
+        let path = folder.path().join("in.bam");
+        let mut writer = bam::io::Writer::new(std::fs::File::create(&path).unwrap());
+        writer.write_header(&header).unwrap();
+        // The file's header has two @SQ lines: 0 and 1 are fine, 2 is not (a damaged record,
+        // written here against a header with a third line).
+        let wider: sam::Header = format!("{HEADER}@SQ\tSN:chr3\tLN:500\n").parse().unwrap();
+        for reference in [1, 2] {
+            writer
+                .write_alignment_record(&wider, &record(reference))
+                .unwrap();
+        }
+        writer.try_finish().unwrap();
+        drop(writer);
+        let mut reader = AlignmentReader::open(&path).unwrap();
+        let mut batch = reader.new_batch();
+        reader.read_batch(&mut batch, 10).unwrap();
+        assert_eq!(batch.len(), 1, "both records are named r1");
+        let error = batch
+            .decode(0, &RecordNeeds::default())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            error.contains("BAM record 2") && error.contains("2 @SQ lines"),
             "{error}"
         );
     }

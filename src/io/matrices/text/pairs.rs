@@ -162,7 +162,13 @@ pub(super) fn read_pairs(lines: &mut LineReader, options: &OpenOptions) -> Resul
                 .filter(|f| !f.is_empty());
             match (fields.next(), fields.next().and_then(parse_u64)) {
                 (Some(name), Some(length)) if length > 0 => {
-                    header_chroms.push(Chrom::new(String::from_utf8_lossy(name), length))
+                    let name = String::from_utf8_lossy(name);
+                    if header_chroms.iter().any(|c| c.name == name) {
+                        return Err(lines.error(format!(
+                            "chromosome '{name}' has a second '#chromsize:' line"
+                        )));
+                    }
+                    header_chroms.push(Chrom::new(name, length))
                 }
                 _ => {
                     return Err(lines
@@ -580,6 +586,15 @@ mod tests {
         // The format is sniffed from the header when the name says nothing.
         let matrix = read_str(&dir, pairs, &options).unwrap();
         assert_eq!(matrix.sum(), 1.0);
+        // A chromosome listed twice is named with its line.
+        let twice = "#chromsize: chr1 100\n#chromsize: chr2 50\n#chromsize: chr1 100\n\
+                     #columns: readID chr1 pos1 chr2 pos2\nr1\tchr1\t25\tchr1\t95\n";
+        let (line, message) = parse_error(read_str(&dir, twice, &options));
+        assert_eq!(line, 3);
+        assert!(
+            message.contains("'chr1' has a second '#chromsize:'"),
+            "{message}"
+        );
     }
 
     #[test]
