@@ -222,3 +222,17 @@ fn known_mcool_invalid_utf8_attribute() {
 fn known_hic_empty_block_grid() {
     replay("hic-small", 1, &[1499]);
 }
+
+#[test]
+// F-BAM-1: fixed (docs/reliability.md): a BAM record whose reference id is past the header's
+// @SQ lines made `pairs parse` panic (index out of bounds in the pair order).
+fn known_bam_reference_past_the_header() {
+    replay("bam", 53, &[69]);
+}
+
+#[test]
+// F-PAIRS-1: fixed (docs/reliability.md): a chromosome with two `#chromsize:` lines stopped
+// `convert` with a message that named no file.
+fn known_pairs_chromsize_twice() {
+    replay("4dn-pairs", 53, &[10, 125]);
+}
