@@ -4,7 +4,7 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
-use super::shared::{command_line, open_output, refuse_overwrites};
+use super::shared::{command_line, open_output, refuse_overwrites, write_stats};
 use crate::cli::progress::spinner;
 use contactmap::error::Result;
 use contactmap::io::output::Output;
@@ -167,9 +167,7 @@ pub fn run(args: &DedupArgs) -> Result<()> {
     )?;
     bar.finish_and_clear();
     if let (Some(path), Some(counter)) = (&args.output_stats, &counter) {
-        let mut stats = Output::open_blocked(Some(path))?;
-        stats.write_all(counter.to_text().as_bytes())?;
-        stats.finish()?;
+        write_stats(Some(path), counter)?;
     }
     for output in routes.outputs {
         output.finish()?;

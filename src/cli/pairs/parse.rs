@@ -4,10 +4,9 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use super::shared::{command_line, open_output, refuse_overwrites};
+use super::shared::{command_line, open_output, refuse_overwrites, write_stats};
 use crate::cli::progress::spinner;
 use contactmap::error::{Error, Result};
-use contactmap::io::output::Output;
 use contactmap::io::pairs::{AlignmentReader, PairsHeader};
 use contactmap::io::text::read_chrom_sizes;
 use contactmap::pairs::parse::{ChromOrder, ParseParams, WalksPolicy};
@@ -177,9 +176,7 @@ pub fn run(args: &ParseArgs) -> Result<()> {
     )?;
     bar.finish_and_clear();
     if let (Some(path), Some(counter)) = (&args.output_stats, &counter) {
-        let mut stats = Output::open_blocked(Some(path))?;
-        stats.write_all(counter.to_text().as_bytes())?;
-        stats.finish()?;
+        write_stats(Some(path), counter)?;
     }
     output.finish()
 }

@@ -1,11 +1,12 @@
 //! What the pairs subcommands share: the command line for the @PG line, outputs opened with
-//! the header written, the check that no output is an input.
+//! the header written, statistics files, the check that no output is an input.
 
 use std::path::{Path, PathBuf};
 
 use contactmap::error::Result;
 use contactmap::io::output::Output;
 use contactmap::io::pairs::PairsHeader;
+use contactmap::pairs::stats::PairCounter;
 
 /// The command line, for the `@PG` line a pairs command adds to the header.
 pub(super) fn command_line() -> String {
@@ -23,4 +24,11 @@ pub(super) fn open_output(path: Option<&Path>, header: &PairsHeader) -> Result<O
 pub(super) fn refuse_overwrites(inputs: &[&Path], outputs: &[Option<&PathBuf>]) -> Result<()> {
     let outputs: Vec<Option<&Path>> = outputs.iter().map(|o| o.map(PathBuf::as_path)).collect();
     contactmap::io::output::refuse_overwrites(inputs, &outputs)
+}
+
+/// Write pairtools' statistics file (`None` or `-`: standard output; `.gz`: BGZF).
+pub(super) fn write_stats(path: Option<&Path>, counter: &PairCounter) -> Result<()> {
+    let mut output = Output::open_blocked(path)?;
+    output.write_all(counter.to_text().as_bytes())?;
+    output.finish()
 }

@@ -5,10 +5,9 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use super::shared::refuse_overwrites;
+use super::shared::{refuse_overwrites, write_stats};
 use crate::cli::progress::spinner;
 use contactmap::error::{Error, Result};
-use contactmap::io::output::Output;
 use contactmap::io::pairs::{PairColumns, PairRecord, open_pairs};
 use contactmap::pairs::stats::{PairCounter, STATS_CHUNK_RECORDS};
 
@@ -87,7 +86,5 @@ pub fn run(args: &StatsArgs) -> Result<()> {
         counter.set_chromsizes(reader.header().chromsizes(reader.path())?);
         counter
     };
-    let mut output = Output::open_blocked(args.output.as_deref())?;
-    output.write_all(counter.to_text().as_bytes())?;
-    output.finish()
+    write_stats(args.output.as_deref(), &counter)
 }

@@ -4,6 +4,7 @@
 use std::collections::HashSet;
 
 use crate::io::pairs::PairRecord;
+use crate::pairs::parse::EXTRA_COLUMNS;
 
 /// How a column's fields are read.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -16,22 +17,9 @@ pub enum ColumnType {
     Text,
 }
 
-/// The extra columns pairtools reads as integers (its `DTYPES_EXTRA_COLUMNS`), without their
-/// side suffix.
-pub(crate) const INTEGER_EXTRA_COLUMNS: [&str; 12] = [
-    "mapq",
-    "pos5",
-    "pos3",
-    "read_len",
-    "matched_bp",
-    "algn_ref_span",
-    "algn_read_span",
-    "dist_to_5",
-    "dist_to_3",
-    "read_side",
-    "algn_idx",
-    "same_side_algn_count",
-];
+/// The extra columns pairtools reads as text; the others of [`EXTRA_COLUMNS`] it reads as
+/// integers (its `DTYPES_EXTRA_COLUMNS`).
+const TEXT_EXTRA_COLUMNS: [&str; 3] = ["cigar", "seq", "mismatches"];
 
 /// How a column is read by default: `pos1`, `pos2` and the integer extra columns with suffix
 /// `1` or `2` as integers, everything else as text.
@@ -40,7 +28,9 @@ pub fn default_column_type(name: &str) -> ColumnType {
         return ColumnType::Integer;
     }
     match name.strip_suffix(['1', '2']) {
-        Some(base) if INTEGER_EXTRA_COLUMNS.contains(&base) => ColumnType::Integer,
+        Some(base) if EXTRA_COLUMNS.contains(&base) && !TEXT_EXTRA_COLUMNS.contains(&base) => {
+            ColumnType::Integer
+        }
         _ => ColumnType::Text,
     }
 }
