@@ -189,6 +189,44 @@ fn dedup_equals_pairtools_outputs_and_statistics() {
     ]);
     same_rows(&sum_dups, "sim.sum.dups.pairs.gz");
     assert_eq!(body(&sum_stats), body(&reference("sim.sum.dedup.stats.gz")));
+    // The compression level changes the bytes, never the rows; libdeflate's levels are 0-12.
+    let sizes: Vec<u64> = ["1", "12"]
+        .iter()
+        .map(|level| {
+            let out = path(&format!("level{level}.pairs.gz"));
+            run_ok(&[
+                "pairs",
+                "dedup",
+                &sorted,
+                "--compress-level",
+                level,
+                "-o",
+                &out,
+            ]);
+            same_rows(&out, "sim.nodups.pairs.gz");
+            std::fs::metadata(&out).unwrap().len()
+        })
+        .collect();
+    assert!(
+        sizes[0] > sizes[1],
+        "level 1 {} B, level 12 {} B",
+        sizes[0],
+        sizes[1]
+    );
+    let out = dir.path().join("level13.pairs.gz");
+    let line = refused(
+        &[
+            "pairs",
+            "dedup",
+            &sorted,
+            "--compress-level",
+            "13",
+            "-o",
+            &out.to_string_lossy(),
+        ],
+        &out,
+    );
+    assert!(line.contains("--compress-level"), "{line}");
 }
 
 #[test]

@@ -4,7 +4,7 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
-use super::shared::{command_line, open_output, refuse_overwrites, write_stats};
+use super::shared::{Compression, command_line, open_output, refuse_overwrites, write_stats};
 use crate::cli::progress::spinner;
 use contactmap::error::Result;
 use contactmap::io::output::Output;
@@ -43,6 +43,8 @@ pub struct DedupArgs {
     /// Output of the kept pairs (`.gz`: BGZF); standard output when not given.
     #[arg(short, long, value_name = "FILE")]
     pub output: Option<PathBuf>,
+    #[command(flatten)]
+    pub compression: Compression,
     /// Output of the duplicates.
     #[arg(long, value_name = "FILE")]
     pub output_dups: Option<PathBuf>,
@@ -110,7 +112,11 @@ pub fn run(args: &DedupArgs) -> Result<()> {
     // Outputs: the kept pairs always (standard output by default); the others when asked,
     // sharing a stream where a path is given twice.
     let mut routes = Routes {
-        outputs: vec![open_output(args.output.as_deref(), &header)?],
+        outputs: vec![open_output(
+            args.output.as_deref(),
+            &header,
+            args.compression,
+        )?],
         unique: Some(0),
         duplicate: None,
         unmapped: None,
@@ -120,7 +126,9 @@ pub fn run(args: &DedupArgs) -> Result<()> {
         routes.duplicate = Some(if same(Some(dups), main) || dups == Path::new("-") {
             0
         } else {
-            routes.outputs.push(open_output(Some(dups), &header)?);
+            routes
+                .outputs
+                .push(open_output(Some(dups), &header, args.compression)?);
             routes.outputs.len() - 1
         });
     }
@@ -131,7 +139,9 @@ pub fn run(args: &DedupArgs) -> Result<()> {
             } else if same(Some(unmapped), args.output_dups.as_deref()) {
                 routes.duplicate.expect("set above")
             } else {
-                routes.outputs.push(open_output(Some(unmapped), &header)?);
+                routes
+                    .outputs
+                    .push(open_output(Some(unmapped), &header, args.compression)?);
                 routes.outputs.len() - 1
             },
         );

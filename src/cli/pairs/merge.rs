@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use super::shared::{command_line, open_output, refuse_overwrites};
+use super::shared::{Compression, command_line, open_output, refuse_overwrites};
 use contactmap::error::{Error, Result};
 use contactmap::io::pairs::{PairsReader, open_pairs};
 
@@ -27,6 +27,8 @@ pub struct MergeArgs {
     /// Output (`.gz`: BGZF); standard output when not given.
     #[arg(short, long, value_name = "FILE")]
     pub output: Option<PathBuf>,
+    #[command(flatten)]
+    pub compression: Compression,
 }
 
 /// Run `contactmap pairs merge`.
@@ -63,7 +65,7 @@ pub fn run(args: &MergeArgs) -> Result<()> {
     let mut header = first.header().clone();
     header.push_program("contactmap_pairs_merge", &command_line());
     header.mark_sorted();
-    let mut output = open_output(args.output.as_deref(), &header)?;
+    let mut output = open_output(args.output.as_deref(), &header, args.compression)?;
     contactmap::io::pairs::merge_sorted(&mut readers, &mut |bytes| output.write_all(bytes))?;
     output.finish()
 }

@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use super::shared::{command_line, open_output, refuse_overwrites, write_stats};
+use super::shared::{Compression, command_line, open_output, refuse_overwrites, write_stats};
 use crate::cli::progress::spinner;
 use contactmap::error::{Error, Result};
 use contactmap::io::pairs::{AlignmentReader, PairsHeader};
@@ -62,6 +62,8 @@ pub struct ParseArgs {
     /// Output pairs (`.gz`: BGZF); standard output when not given.
     #[arg(short, long, value_name = "FILE")]
     pub output: Option<PathBuf>,
+    #[command(flatten)]
+    pub compression: Compression,
     /// Genome assembly for the header (e.g. hg38).
     #[arg(long)]
     pub assembly: Option<String>,
@@ -163,7 +165,7 @@ pub fn run(args: &ParseArgs) -> Result<()> {
     );
     header.insert_sam_header(&reader.header_lines());
     header.push_program("contactmap_pairs_parse", &command_line());
-    let mut output = open_output(args.output.as_deref(), &header)?;
+    let mut output = open_output(args.output.as_deref(), &header, args.compression)?;
     let bar = spinner("read pairs parsed");
     let mut counter = args.output_stats.as_ref().map(|_| PairCounter::new());
     parse_alignments(

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use super::shared::{command_line, open_output, refuse_overwrites};
+use super::shared::{Compression, command_line, open_output, refuse_overwrites};
 use contactmap::error::{Error, Result};
 use contactmap::io::pairs::{PairColumns, PairRecord, open_pairs};
 use contactmap::pairs::select::{ColumnType, Selection};
@@ -44,6 +44,8 @@ pub struct SelectArgs {
     /// Output of the selected pairs (`.gz`: BGZF); standard output when not given.
     #[arg(short, long, value_name = "FILE")]
     pub output: Option<PathBuf>,
+    #[command(flatten)]
+    pub compression: Compression,
     /// Output of the pairs not selected.
     #[arg(long, value_name = "FILE")]
     pub output_rest: Option<PathBuf>,
@@ -81,9 +83,9 @@ pub fn run(args: &SelectArgs) -> Result<()> {
         .map_err(|e| Error::Argument(format!("{}: {e}", reader.path())))?;
     let mut header = reader.header().clone();
     header.push_program("contactmap_pairs_select", &command_line());
-    let mut output = open_output(args.output.as_deref(), &header)?;
+    let mut output = open_output(args.output.as_deref(), &header, args.compression)?;
     let mut rest = match &args.output_rest {
-        Some(path) => Some(open_output(Some(path), &header)?),
+        Some(path) => Some(open_output(Some(path), &header, args.compression)?),
         None => None,
     };
     let mut record = PairRecord::default();

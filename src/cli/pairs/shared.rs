@@ -3,8 +3,10 @@
 
 use std::path::{Path, PathBuf};
 
+use clap::Args;
+
 use contactmap::error::Result;
-use contactmap::io::output::Output;
+use contactmap::io::output::{BGZF_LEVEL, Output};
 use contactmap::io::pairs::PairsHeader;
 use contactmap::pairs::stats::PairCounter;
 
@@ -13,9 +15,26 @@ pub(super) fn command_line() -> String {
     std::env::args().collect::<Vec<_>>().join(" ")
 }
 
+/// How `.gz` outputs are compressed (the pairs commands that write pairs share it).
+#[derive(Clone, Copy, Debug, Args)]
+pub struct Compression {
+    /// BGZF compression level of `.gz` outputs, libdeflate's 0 (stored) to 12 (smallest); 6 is
+    /// bgzip's (and so pairtools') default. Not used for standard output.
+    #[arg(long, value_name = "N", default_value_t = PAIRS_LEVEL,
+          value_parser = clap::value_parser!(u8).range(0..=12))]
+    pub compress_level: u8,
+}
+
+/// The default level of `--compress-level`.
+const PAIRS_LEVEL: u8 = BGZF_LEVEL;
+
 /// Open an output (`None` or `-`: standard output) and write the header.
-pub(super) fn open_output(path: Option<&Path>, header: &PairsHeader) -> Result<Output> {
-    let mut output = Output::open_blocked(path)?;
+pub(super) fn open_output(
+    path: Option<&Path>,
+    header: &PairsHeader,
+    compression: Compression,
+) -> Result<Output> {
+    let mut output = Output::open_blocked(path, compression.compress_level)?;
     output.write_all(header.to_text().as_bytes())?;
     Ok(output)
 }
@@ -28,7 +47,7 @@ pub(super) fn refuse_overwrites(inputs: &[&Path], outputs: &[Option<&PathBuf>]) 
 
 /// Write pairtools' statistics file (`None` or `-`: standard output; `.gz`: BGZF).
 pub(super) fn write_stats(path: Option<&Path>, counter: &PairCounter) -> Result<()> {
-    let mut output = Output::open_blocked(path)?;
+    let mut output = Output::open_blocked(path, BGZF_LEVEL)?;
     output.write_all(counter.to_text().as_bytes())?;
     output.finish()
 }

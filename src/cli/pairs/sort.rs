@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use super::shared::{command_line, open_output, refuse_overwrites};
+use super::shared::{Compression, command_line, open_output, refuse_overwrites};
 use crate::cli::progress::spinner;
 use contactmap::error::{Error, Result};
 use contactmap::io::pairs::{SortOptions, open_pairs, sort_pairs};
@@ -33,6 +33,8 @@ pub struct SortArgs {
     /// Output (`.gz`: BGZF); standard output when not given.
     #[arg(short, long, value_name = "FILE")]
     pub output: Option<PathBuf>,
+    #[command(flatten)]
+    pub compression: Compression,
     /// Memory for records before they go to disk (K, M, G suffixes).
     #[arg(long, default_value = "2G", value_name = "SIZE")]
     pub memory: String,
@@ -57,7 +59,7 @@ pub fn run(args: &SortArgs) -> Result<()> {
     let mut header = reader.header().clone();
     header.push_program("contactmap_pairs_sort", &command_line());
     header.mark_sorted();
-    let mut output = open_output(args.output.as_deref(), &header)?;
+    let mut output = open_output(args.output.as_deref(), &header, args.compression)?;
     let bar = spinner("pairs read");
     let options = SortOptions {
         memory_bytes,

@@ -32,7 +32,7 @@ mod tests {
     fn gz_outputs_are_bgzf_that_gzip_and_we_read_back() {
         let folder = tempfile::tempdir().unwrap();
         let path = folder.path().join("out.pairs.gz");
-        let mut output = Output::open_blocked(Some(&path)).unwrap();
+        let mut output = Output::open_blocked(Some(&path), crate::io::output::BGZF_LEVEL).unwrap();
         output.write_all(b"#columns: a b\nx\ty\n").unwrap();
         output.finish().unwrap();
         let bytes = std::fs::read(&path).unwrap();
@@ -58,7 +58,7 @@ mod tests {
     fn an_output_dropped_before_finish_leaves_nothing() {
         let folder = tempfile::tempdir().unwrap();
         let path = folder.path().join("out.pairs");
-        let mut output = Output::open_blocked(Some(&path)).unwrap();
+        let mut output = Output::open_blocked(Some(&path), crate::io::output::BGZF_LEVEL).unwrap();
         output.write_all(b"half").unwrap();
         drop(output);
         assert_eq!(std::fs::read_dir(folder.path()).unwrap().count(), 0);

@@ -45,19 +45,23 @@ enum Target {
 
 const BUFFER_BYTES: usize = 1 << 20;
 
+/// The BGZF compression level of bgzip (and so of pairtools' outputs): zlib's default, 6.
+pub const BGZF_LEVEL: u8 = 6;
+
 impl Output {
     /// Open `path` (`-` or `None` for stdout; a `.gz` suffix compresses).
     pub fn open(path: Option<&Path>) -> Result<Output> {
-        Output::open_as(path, false)
+        Output::open_as(path, None)
     }
 
     /// Open `path` as [`Output::open`] does, but a `.gz` file is BGZF (block gzip, deflated on
-    /// worker threads): any gzip reader reads it, and tabix / pairix can index it (pairs).
-    pub fn open_blocked(path: Option<&Path>) -> Result<Output> {
-        Output::open_as(path, true)
+    /// worker threads by libdeflate at `level`, 0 to 12; [`BGZF_LEVEL`] is bgzip's): any gzip
+    /// reader reads it, and tabix / pairix can index it (pairs).
+    pub fn open_blocked(path: Option<&Path>, level: u8) -> Result<Output> {
+        Output::open_as(path, Some(level))
     }
 
-    fn open_as(path: Option<&Path>, blocked: bool) -> Result<Output> {
+    fn open_as(path: Option<&Path>, blocked: Option<u8>) -> Result<Output> {
         let Some(path) = path.filter(|p| !is_stdout(Some(p))) else {
             return Ok(Output {
                 target: Some(Target::Stdout(BufWriter::with_capacity(
@@ -79,12 +83,20 @@ impl Output {
         };
         let label = path.display().to_string();
         let gz = path.extension().is_some_and(|e| e == "gz");
-        let target = if gz && blocked {
+        let target = if let Some(level) = blocked.filter(|_| gz) {
+            let level =
+                noodles::bgzf::io::writer::CompressionLevel::new(level).ok_or_else(|| {
+                    Error::Invalid(format!(
+                        "compression level {level} is not one of libdeflate's (0 to 12)"
+                    ))
+                })?;
             Target::Bgzf {
-                writer: Box::new(noodles::bgzf::io::MultithreadedWriter::with_worker_count(
-                    crate::io::plumbing::input::worker_count(),
-                    file,
-                )),
+                writer: Box::new(
+                    noodles::bgzf::io::multithreaded_writer::Builder::default()
+                        .set_worker_count(crate::io::plumbing::input::worker_count())
+                        .set_compression_level(level)
+                        .build_from_writer(file),
+                ),
                 tmp,
             }
         } else if gz {
