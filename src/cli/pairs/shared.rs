@@ -19,14 +19,12 @@ pub(super) fn command_line() -> String {
 #[derive(Clone, Copy, Debug, Args)]
 pub struct Compression {
     /// BGZF compression level of `.gz` outputs, libdeflate's 0 (stored) to 12 (smallest); 6 is
-    /// bgzip's (and so pairtools') default. Not used for standard output.
-    #[arg(long, value_name = "N", default_value_t = PAIRS_LEVEL,
+    /// bgzip's (and so pairtools') default. Other outputs (plain files, standard output) are
+    /// not compressed.
+    #[arg(long, value_name = "N", default_value_t = BGZF_LEVEL,
           value_parser = clap::value_parser!(u8).range(0..=12))]
     pub compress_level: u8,
 }
-
-/// The default level of `--compress-level`.
-const PAIRS_LEVEL: u8 = BGZF_LEVEL;
 
 /// Open an output (`None` or `-`: standard output) and write the header.
 pub(super) fn open_output(
