@@ -117,11 +117,8 @@ struct Chunk {
     bytes: Vec<u8>,
     entries: Vec<Entry>,
     names: Names,
-    /// The largest position, to know whether the keys pack into 128 bits.
-    max_position: u64,
-    /// The entries' indices in sorted order, when the sort went through packed keys (empty
-    /// when the entries themselves were sorted).
-    order: Vec<u32>,
+    /// The entries' indices in sorted order (set by [`Chunk::sort`]).
+    order: Vec<usize>,
 }
 
 impl Chunk {
@@ -139,63 +136,54 @@ impl Chunk {
             pos1: parse_position(record.field(columns.pos1)).unwrap_or(0),
             pos2: parse_position(record.field(columns.pos2)).unwrap_or(0),
         });
-        let last = self.entries.last().expect("just pushed");
-        self.max_position = self.max_position.max(last.pos1).max(last.pos2);
     }
 
-    /// Bytes held, counting the sort's scratch copy of the entries.
+    /// Bytes held, counting an entry's size again for the sort's keys and order (32 bytes a
+    /// record packed, 16 through the merge sort).
     fn footprint(&self) -> u64 {
         self.bytes.len() as u64 + 2 * ENTRY_BYTES * self.entries.len() as u64 + self.names.bytes
     }
 
     fn sort(&mut self) {
         let ranks = self.names.ranks();
-        // The numbers become ranks: the entries are sorted, written and cleared after this.
+        // The numbers become ranks: the chunk is sorted, written and cleared after this.
         self.entries.par_iter_mut().for_each(|e| {
             e.chrom1 = ranks[e.chrom1 as usize];
             e.chrom2 = ranks[e.chrom2 as usize];
             e.pair_type = ranks[e.pair_type as usize];
         });
-        self.order.clear();
-        if ranks.len() <= 1 << 16
-            && self.max_position < 1 << 40
-            && u32::try_from(self.entries.len()).is_ok()
-        {
+        let fits = |e: &Entry| e.pos1 < 1 << 40 && e.pos2 < 1 << 40;
+        self.order = if ranks.len() <= 1 << 16 && self.entries.par_iter().all(fits) {
             // The five keys packed into two words (16 + 16 + 40 + 40 + 16 bits) with the
             // entry's index last: every key is distinct, so an unstable sort gives the order
-            // a stable one would, comparing three integers and moving 24 bytes instead of five
-            // fields and 40 bytes.
-            let mut keyed: Vec<([u64; 2], u32)> = self
+            // a stable one would, comparing three integers and moving 24 bytes.
+            let mut keyed: Vec<([u64; 2], usize)> = self
                 .entries
                 .par_iter()
                 .enumerate()
                 .map(|(i, e)| {
                     let high = u64::from(e.chrom1) << 48 | u64::from(e.chrom2) << 32 | e.pos1 >> 8;
                     let low = (e.pos1 & 0xff) << 56 | e.pos2 << 16 | u64::from(e.pair_type);
-                    ([high, low], i as u32)
+                    ([high, low], i)
                 })
                 .collect();
             keyed.par_sort_unstable();
-            self.order = keyed.into_iter().map(|(_, i)| i).collect();
+            keyed.into_iter().map(|(_, i)| i).collect()
         } else {
             // Stable: equal keys keep their input order.
-            self.entries
-                .par_sort_by_key(|e| (e.chrom1, e.chrom2, e.pos1, e.pos2, e.pair_type));
-        }
-    }
-
-    /// The entries in sorted order (after [`Chunk::sort`]).
-    fn sorted(&self) -> Box<dyn Iterator<Item = &Entry> + '_> {
-        if self.order.is_empty() {
-            Box::new(self.entries.iter())
-        } else {
-            Box::new(self.order.iter().map(|&i| &self.entries[i as usize]))
-        }
+            let entries = &self.entries;
+            let mut order: Vec<usize> = (0..entries.len()).collect();
+            order.par_sort_by_key(|&i| {
+                let e = &entries[i];
+                (e.chrom1, e.chrom2, e.pos1, e.pos2, e.pair_type)
+            });
+            order
+        };
     }
 
     fn write(&self, out: &mut dyn FnMut(&[u8]) -> Result<()>) -> Result<()> {
         let mut buffer = Vec::with_capacity(RUN_BUFFER_BYTES + 4096);
-        for entry in self.sorted() {
+        for entry in self.order.iter().map(|&i| &self.entries[i]) {
             let start = entry.start as usize;
             buffer.extend_from_slice(&self.bytes[start..start + entry.len as usize]);
             buffer.push(b'\n');
@@ -214,8 +202,9 @@ impl Chunk {
         self.bytes.clear();
         self.entries.clear();
         self.names.clear();
-        self.order.clear();
-        self.max_position = 0;
+        // Freed, not kept: it holds the sort keys' allocation (collected in place), which the
+        // next chunk's sort would otherwise find beside its own.
+        self.order = Vec::new();
     }
 }
 
