@@ -35,7 +35,7 @@ impl PairRecord {
     /// Read the next line of `input` into this record (line number 0); `false` at the end.
     pub fn read_line(&mut self, input: &mut dyn BufRead) -> std::io::Result<bool> {
         self.line.clear();
-        if !read_line(input, &mut self.line)? {
+        if input.read_until(b'\n', &mut self.line)? == 0 {
             return Ok(false);
         }
         while matches!(self.line.last(), Some(b'\n' | b'\r')) {
@@ -141,9 +141,11 @@ impl PairsReader {
     pub fn read_record(&mut self, record: &mut PairRecord) -> Result<bool> {
         loop {
             self.buffer.clear();
-            if !read_line(&mut *self.input, &mut self.buffer)
-                .map_err(|e| Error::io(&self.path, e))?
-            {
+            let n = self
+                .input
+                .read_until(b'\n', &mut self.buffer)
+                .map_err(|e| Error::io(&self.path, e))?;
+            if n == 0 {
                 return Ok(false);
             }
             self.line_number += 1;
@@ -173,35 +175,6 @@ impl PairsReader {
             path: self.path.clone().into(),
             line,
             message: message.into(),
-        }
-    }
-}
-
-/// Append the next line of `input` (with its line end, when it has one) to `line`; `false` at
-/// the end of the input. `read_until` with a SIMD search for the line end.
-fn read_line(input: &mut dyn BufRead, line: &mut Vec<u8>) -> std::io::Result<bool> {
-    let mut any = false;
-    loop {
-        let available = match input.fill_buf() {
-            Ok(bytes) => bytes,
-            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
-            Err(e) => return Err(e),
-        };
-        if available.is_empty() {
-            return Ok(any);
-        }
-        any = true;
-        match memchr::memchr(b'\n', available) {
-            Some(i) => {
-                line.extend_from_slice(&available[..=i]);
-                input.consume(i + 1);
-                return Ok(true);
-            }
-            None => {
-                let n = available.len();
-                line.extend_from_slice(available);
-                input.consume(n);
-            }
         }
     }
 }
