@@ -3,10 +3,9 @@
 use std::borrow::Cow;
 use std::collections::HashMap;
 
-use crate::io::plumbing::hash::FastMap;
-
 use crate::error::{Error, Result};
 use crate::io::pairs::{PairColumns, PairRecord, parse_position};
+use crate::io::plumbing::hash::FastMap;
 
 /// The records of one data frame of `pairtools stats` (its `pd.read_table(chunksize=...)`):
 /// call [`PairCounter::end_chunk`] after each this many records to list pair types and
