@@ -24,7 +24,6 @@ use crate::io::pairs::{
     PairColumns, PairRecord, PairsReader, STANDARD_COLUMNS, SortKey, in_sorted_order,
     parse_position,
 };
-use crate::io::plumbing::hash::FastMap;
 
 /// How positions are compared (`--method`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -110,9 +109,9 @@ impl Deduplicator {
         &self.params
     }
 
-    /// Mark one chunk of records (at most `chunk_size`, in file order): each with its class, in
-    /// pairtools' output order (pairs with an unmapped side first), duplicates typed `DD` when
-    /// marking.
+    /// Mark one chunk of records (at most `chunk_size`, in file order, the file sorted as
+    /// [`dedup_pairs`] checks it, chunks in turn): each with its class, in pairtools' output
+    /// order (pairs with an unmapped side first), duplicates typed `DD` when marking.
     pub fn mark_chunk(&mut self, chunk: Vec<PairRecord>) -> Vec<Marked> {
         let n_carry = self.carry.len();
         let mut rows: Vec<PairRecord> = std::mem::take(&mut self.carry);
@@ -165,23 +164,19 @@ impl Deduplicator {
 
     /// Which mapped rows are duplicates: connected components of the "within the mismatch"
     /// relation among rows of the same chromosomes and strands, all but the first row of each.
+    ///
+    /// The mapped rows are in sorted order (the carried rows first, then the chunk's), so rows
+    /// of the same chromosomes come together with `pos1` rising: each row looks back over its
+    /// run only as far as `pos1` is within the mismatch.
     fn find_duplicates(&self, rows: &[PairRecord], unmapped: &[bool]) -> Vec<bool> {
         let c = self.columns;
         let r = self.params.max_mismatch;
-        let mut groups: FastMap<[&[u8]; 4], Vec<usize>> = FastMap::default();
-        for (i, row) in rows.iter().enumerate() {
-            if unmapped[i] {
-                continue;
-            }
-            let key = [
-                row.field(c.chrom1),
-                row.field(c.chrom2),
-                row.field(c.strand1),
-                row.field(c.strand2),
-            ];
-            groups.entry(key).or_default().push(i);
-        }
+        let mapped: Vec<usize> = (0..rows.len()).filter(|&i| !unmapped[i]).collect();
         let position = |i: usize, column: usize| parse_position(rows[i].field(column)).unwrap_or(0);
+        let positions: Vec<(u64, u64)> = mapped
+            .iter()
+            .map(|&i| (position(i, c.pos1), position(i, c.pos2)))
+            .collect();
         let mut parent: Vec<usize> = (0..rows.len()).collect();
         fn find(parent: &mut [usize], mut i: usize) -> usize {
             while parent[i] != i {
@@ -190,31 +185,32 @@ impl Deduplicator {
             }
             i
         }
-        for members in groups.values() {
-            // Rows of a group ordered by pos1 (the file is sorted); look back within the mismatch.
-            let mut by_pos1: Vec<(u64, u64, usize)> = members
-                .iter()
-                .map(|&i| (position(i, c.pos1), position(i, c.pos2), i))
-                .collect();
-            by_pos1.sort_unstable();
-            for j in 0..by_pos1.len() {
-                let (p1, p2, rj) = by_pos1[j];
-                for &(q1, q2, ri) in by_pos1[..j].iter().rev() {
-                    if p1 - q1 > r {
-                        break;
-                    }
-                    let d2 = p2.abs_diff(q2);
-                    let close = match self.params.method {
-                        DedupMethod::Max => d2 <= r,
-                        DedupMethod::Sum => (p1 - q1) + d2 <= r,
-                    };
-                    if close {
-                        let (a, b) = (find(&mut parent, rj), find(&mut parent, ri));
-                        if a != b {
-                            // The root is the earlier row, the one kept.
-                            let (keep, join) = if a < b { (a, b) } else { (b, a) };
-                            parent[join] = keep;
-                        }
+        let same =
+            |i: usize, j: usize, column: usize| rows[i].field(column) == rows[j].field(column);
+        let mut run_start = 0;
+        for (j, &rj) in mapped.iter().enumerate() {
+            if j > 0 && !(same(rj, mapped[j - 1], c.chrom1) && same(rj, mapped[j - 1], c.chrom2)) {
+                run_start = j;
+            }
+            let (p1, p2) = positions[j];
+            for k in (run_start..j).rev() {
+                let (q1, q2) = positions[k];
+                debug_assert!(q1 <= p1, "rows sorted by pos1 within their chromosomes");
+                if p1.saturating_sub(q1) > r {
+                    break;
+                }
+                let ri = mapped[k];
+                let d2 = p2.abs_diff(q2);
+                let close = match self.params.method {
+                    DedupMethod::Max => d2 <= r,
+                    DedupMethod::Sum => (p1 - q1) + d2 <= r,
+                };
+                if close && same(rj, ri, c.strand1) && same(rj, ri, c.strand2) {
+                    let (a, b) = (find(&mut parent, rj), find(&mut parent, ri));
+                    if a != b {
+                        // The root is the earlier row, the one kept.
+                        let (keep, join) = if a < b { (a, b) } else { (b, a) };
+                        parent[join] = keep;
                     }
                 }
             }
@@ -499,7 +495,7 @@ mod tests {
         let mut dedup = Deduplicator::new(c, &names, DedupParams::default());
         let first = dedup.mark_chunk(vec![line(0, 100), line(1, 500)]);
         assert!(first.iter().all(|(_, k)| *k == PairClass::Unique));
-        let second = dedup.mark_chunk(vec![line(2, 101), line(3, 900)]);
+        let second = dedup.mark_chunk(vec![line(2, 502), line(3, 900)]);
         let classes: Vec<PairClass> = second.iter().map(|(_, k)| *k).collect();
         assert_eq!(classes, [PairClass::Duplicate, PairClass::Unique]);
     }

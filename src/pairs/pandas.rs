@@ -27,10 +27,13 @@ pub const NA_VALUES: [&[u8]; 19] = [
 /// Whether pandas reads `value` as missing.
 pub fn is_na(value: &[u8]) -> bool {
     // Most values (chromosomes, positions, strands, read names) are told apart by their first
-    // byte or their length before any comparison.
-    match value.first() {
-        None => true,
-        Some(b'#' | b'-' | b'1' | b'<' | b'N' | b'n') if value.len() <= 9 => {
+    // bytes or their length before any comparison. Strands (`-`) and positions (`1...`) are common: the missing values that start with `-`
+    // are at least four bytes long, those that start with `1` go on with `.`.
+    match value {
+        [] => true,
+        [b'-', _, _, _, ..] | [b'1', b'.', ..] | [b'#' | b'<' | b'N' | b'n', ..]
+            if value.len() <= 9 =>
+        {
             NA_VALUES.contains(&value)
         }
         _ => false,
@@ -55,8 +58,24 @@ mod tests {
             b"NAN",
             b"nul",
             b"None ",
+            b"-",
+            b"-1",
+            b"-NA",
+            b"1.5",
+            b"12",
+            b"1.#INF",
         ] {
             assert_eq!(is_na(value), NA_VALUES.contains(&value), "{value:?}");
+        }
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn the_fast_test_agrees_with_the_list_on_any_short_value(
+            value in proptest::collection::vec(
+                proptest::sample::select(b"#-1.<>/NAIDQnaulo \t".to_vec()), 0..10)
+        ) {
+            proptest::prop_assert_eq!(is_na(&value), NA_VALUES.contains(&value.as_slice()));
         }
     }
 }

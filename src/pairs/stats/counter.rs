@@ -45,6 +45,9 @@ struct Pair<'a> {
     duplicate: bool,
 }
 
+/// Up to how many keys a [`Tally`] looks its keys up one by one.
+const FEW_KEYS: usize = 16;
+
 /// Counts by key, keys in the order they were first added (a Python dict of counts).
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Tally {
@@ -62,8 +65,15 @@ impl Tally {
             self.counts[self.last] += n;
             return;
         }
-        match self.index.get(key) {
-            Some(&i) => {
+        // A few keys (pair types, the chromosome pairs of a small genome) are found faster by
+        // looking at each than by hashing.
+        let found = if self.keys.len() <= FEW_KEYS {
+            self.keys.iter().position(|k| k == key)
+        } else {
+            self.index.get(key).copied()
+        };
+        match found {
+            Some(i) => {
                 self.counts[i] += n;
                 self.last = i;
             }
