@@ -14,10 +14,11 @@ use std::sync::Arc;
 
 use noodles::sam::alignment::record::cigar::op::Kind;
 use noodles::sam::alignment::record::data::field::Tag;
-use noodles::{bam, bgzf, sam};
+use noodles::{bam, sam};
 
 use super::header::read_marked_lines;
 use crate::error::{Error, Result};
+use crate::io::plumbing::bgzf_blocks::{BlockStream, PieceReader};
 use crate::io::plumbing::input::{is_bgzf, worker_count};
 
 /// What the decoded records must carry beyond flags, position, MAPQ and CIGAR (the rest costs
@@ -103,31 +104,64 @@ pub struct ReadGroup {
     pub records: Vec<AlignmentRecord>,
 }
 
-enum Raw {
-    Bam(bam::Record),
-    Sam(sam::Record),
+/// A SAM record read (BAM records stay where they were inflated: [`Span`]).
+type Raw = sam::Record;
+
+/// Where a BAM record's bytes are: a piece of inflated blocks held by the batch, or the batch's
+/// own buffer (a record across two pieces, or carried from the previous batch).
+#[derive(Clone, Copy, Debug)]
+struct Span {
+    buffer: u32,
+    start: u32,
+    end: u32,
 }
 
-impl Raw {
-    fn name(&self) -> &[u8] {
-        let name = match self {
-            Raw::Bam(r) => r.name(),
-            Raw::Sam(r) => r.name(),
-        };
-        name.map_or(&b"*"[..], |n| n)
-    }
+/// [`Span::buffer`] of the batch's own buffer.
+const OWN: u32 = u32::MAX;
 
-    fn flags(&self) -> u16 {
-        match self {
-            Raw::Bam(r) => u16::from(r.flags()),
-            Raw::Sam(r) => r.flags().map(u16::from).unwrap_or(0),
-        }
+/// A BAM record's name (without its NUL) and flags, from its bytes (checked by
+/// [`check_bam_record`]).
+fn bam_name(record: &[u8]) -> &[u8] {
+    let len = usize::from(record[8]);
+    let name = &record[32..32 + len];
+    name.strip_suffix(b"\0").unwrap_or(name)
+}
+
+fn bam_flags(record: &[u8]) -> u16 {
+    u16::from_le_bytes([record[14], record[15]])
+}
+
+/// The record's fixed fields and lengths are consistent with its size (what noodles' reader
+/// checks before it hands a record out).
+fn check_bam_record(record: &[u8]) -> std::io::Result<()> {
+    let cut = || {
+        std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            "the record is shorter than its fields' lengths",
+        )
+    };
+    if record.len() < 32 {
+        return Err(cut());
+    }
+    let name = usize::from(record[8]);
+    let cigar = usize::from(u16::from_le_bytes([record[12], record[13]]));
+    let bases = u32::from_le_bytes([record[16], record[17], record[18], record[19]]) as usize;
+    let end = 32 + name + 4 * cigar + bases.div_ceil(2) + bases;
+    if record.len() < end {
+        Err(cut())
+    } else {
+        Ok(())
     }
 }
 
 /// Records read from the input, grouped by name, not yet decoded.
 pub struct RawBatch {
+    /// SAM records.
     records: Vec<Raw>,
+    /// BAM records, in the pieces below or in `own`.
+    spans: Vec<Span>,
+    pieces: Vec<Arc<Vec<u8>>>,
+    own: Vec<u8>,
     /// For each group: its records' range and the 1-based number of its first record.
     groups: Vec<(usize, usize, u64)>,
     header: Arc<sam::Header>,
@@ -159,22 +193,37 @@ impl RawBatch {
     pub fn decode_into(&self, i: usize, needs: &RecordNeeds, group: &mut ReadGroup) -> Result<()> {
         let (start, end, first) = self.groups[i];
         group.name.clear();
-        group.name.extend_from_slice(self.records[start].name());
+        if self.is_sam {
+            group.name.extend_from_slice(sam_name(&self.records[start]));
+        } else {
+            group
+                .name
+                .extend_from_slice(bam_name(self.bytes(self.spans[start])));
+        }
         let n = end - start;
         group.records.truncate(n);
         group.records.resize_with(n, AlignmentRecord::default);
-        for (k, (raw, record)) in self.records[start..end]
-            .iter()
-            .zip(group.records.iter_mut())
-            .enumerate()
-        {
-            match raw {
-                Raw::Bam(r) => decode_bam(r, &self.header, needs, record),
-                Raw::Sam(r) => decode(r, &self.header, needs, record),
+        for (k, (index, record)) in (start..end).zip(group.records.iter_mut()).enumerate() {
+            if self.is_sam {
+                decode(&self.records[index], &self.header, needs, record)
+            } else {
+                // Checked when read: at least 32 bytes, its fields within it.
+                let raw = bam::RecordRef::new(self.bytes(self.spans[index]))
+                    .expect("records are checked as they are read");
+                decode_bam(&raw, &self.header, needs, record)
             }
             .map_err(|e| self.record_error(first + k as u64, &e.to_string()))?;
         }
         Ok(())
+    }
+
+    /// A BAM record's bytes.
+    fn bytes(&self, span: Span) -> &[u8] {
+        let buffer = match span.buffer {
+            OWN => &self.own[..],
+            i => &self.pieces[i as usize][..],
+        };
+        &buffer[span.start as usize..span.end as usize]
     }
 
     fn record_error(&self, number: u64, message: &str) -> Error {
@@ -196,7 +245,7 @@ impl RawBatch {
 /// A BAM record's fields through noodles' BAM types (no boxed trait objects: this runs for
 /// every record); what only some columns need goes through [`decode_extras`].
 fn decode_bam(
-    record: &bam::Record,
+    record: &bam::RecordRef<'_>,
     header: &sam::Header,
     needs: &RecordNeeds,
     out: &mut AlignmentRecord,
@@ -352,10 +401,115 @@ fn decode_extras<R: sam::alignment::Record>(
     Ok(())
 }
 
-type BamReader = bam::io::Reader<bgzf::io::MultithreadedReader<BufReader<Box<dyn Read + Send>>>>;
+/// A SAM record's name.
+fn sam_name(record: &sam::Record) -> &[u8] {
+    record.name().map_or(&b"*"[..], |n| n)
+}
+
+fn sam_flags(record: &sam::Record) -> u16 {
+    record.flags().map(u16::from).unwrap_or(0)
+}
+
+/// BAM's records as they come out of the inflated pieces.
+struct BamInput {
+    stream: BlockStream,
+    /// The piece being read, and where.
+    piece: Arc<Vec<u8>>,
+    at: usize,
+    /// The first record of the next group (read at the end of a batch).
+    pending: Vec<u8>,
+}
+
+impl BamInput {
+    /// Whether bytes are left (the next piece taken when this one is read).
+    fn fill(&mut self) -> std::io::Result<bool> {
+        while self.at == self.piece.len() {
+            match self.stream.next_piece() {
+                None => return Ok(false),
+                Some(piece) => {
+                    let read = std::mem::replace(&mut self.piece, Arc::new(piece?.data));
+                    if let Ok(buffer) = Arc::try_unwrap(read) {
+                        self.stream.give_back(buffer);
+                    }
+                    self.at = 0;
+                }
+            }
+        }
+        Ok(true)
+    }
+
+    /// Append the next `n` bytes (across pieces) to `out`: `false` when the input ends first.
+    fn copy_into(&mut self, mut n: usize, out: &mut Vec<u8>) -> std::io::Result<bool> {
+        while n > 0 {
+            if !self.fill()? {
+                return Ok(false);
+            }
+            let take = n.min(self.piece.len() - self.at);
+            out.extend_from_slice(&self.piece[self.at..self.at + take]);
+            self.at += take;
+            n -= take;
+        }
+        Ok(true)
+    }
+
+    /// The next record, where it lies for `batch`; `None` at the end of the input.
+    fn next_record(&mut self, batch: &mut RawBatch) -> std::io::Result<Option<Span>> {
+        let ends_inside = || {
+            std::io::Error::new(
+                std::io::ErrorKind::UnexpectedEof,
+                "the file ends inside the record",
+            )
+        };
+        if !self.fill()? {
+            return Ok(None);
+        }
+        let size = if let Some(bytes) = self.piece.get(self.at..self.at + 4) {
+            self.at += 4;
+            u32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]]) as usize
+        } else {
+            let mut bytes = Vec::with_capacity(4);
+            if !self.copy_into(4, &mut bytes)? {
+                return Err(ends_inside());
+            }
+            u32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]]) as usize
+        };
+        let span = if self.at + size <= self.piece.len() {
+            if batch
+                .pieces
+                .last()
+                .is_none_or(|p| !Arc::ptr_eq(p, &self.piece))
+            {
+                batch.pieces.push(Arc::clone(&self.piece));
+            }
+            let span = Span {
+                buffer: (batch.pieces.len() - 1) as u32,
+                start: self.at as u32,
+                end: (self.at + size) as u32,
+            };
+            self.at += size;
+            span
+        } else {
+            let start = batch.own.len();
+            if !self.copy_into(size, &mut batch.own)? {
+                return Err(ends_inside());
+            }
+            own_span(start, batch.own.len())
+        };
+        check_bam_record(batch.bytes(span))?;
+        Ok(Some(span))
+    }
+}
+
+fn own_span(start: usize, end: usize) -> Span {
+    Span {
+        buffer: OWN,
+        start: start as u32,
+        end: end as u32,
+    }
+}
 
 enum Input {
-    Bam(Box<BamReader>),
+    Bam(Box<BamInput>),
     Sam(sam::io::Reader<Box<dyn BufRead + Send>>),
 }
 
@@ -371,7 +525,8 @@ pub struct AlignmentReader {
     path: Arc<str>,
     header_lines: u64,
     n_records: u64,
-    /// A record read that starts the next group (valid when `has_pending`).
+    /// A SAM record read that starts the next group (valid when `has_pending`; BAM keeps its
+    /// own).
     pending: Raw,
     has_pending: bool,
     pending_number: u64,
@@ -400,15 +555,20 @@ impl AlignmentReader {
             message,
         };
         let (input, header, header_text, header_lines) = if is_bgzf(&start) {
-            let mut bam = bam::io::Reader::from(bgzf::io::MultithreadedReader::with_worker_count(
-                worker_count(),
-                reader,
-            ));
+            let stream = BlockStream::new(Box::new(reader), worker_count().get());
+            let mut bam = bam::io::Reader::from(PieceReader::new(stream));
             let header = bam.read_header().map_err(|e| {
                 format_error(format!("not a readable BAM header: {e} (is it BAM?)"))
             })?;
             let text = header_as_text(&header);
-            (Input::Bam(Box::new(bam)), header, text, 0)
+            let (stream, rest) = bam.into_inner().into_parts();
+            let input = BamInput {
+                stream,
+                piece: Arc::new(rest),
+                at: 0,
+                pending: Vec::new(),
+            };
+            (Input::Bam(Box::new(input)), header, text, 0)
         } else if start.starts_with(b"CRAM") {
             return Err(format_error(
                 "CRAM is not read here: convert it to BAM first (samtools view -b -T REF.fa)"
@@ -452,7 +612,6 @@ impl AlignmentReader {
                     .into(),
             ));
         }
-        let input_kind_is_sam = matches!(input, Input::Sam(_));
         Ok(AlignmentReader {
             input,
             header: Arc::new(header),
@@ -460,10 +619,7 @@ impl AlignmentReader {
             path: name,
             header_lines,
             n_records: 0,
-            pending: match input_kind_is_sam {
-                true => Raw::Sam(sam::Record::default()),
-                false => Raw::Bam(bam::Record::default()),
-            },
+            pending: Raw::default(),
             has_pending: false,
             pending_number: 0,
             incomplete: HashMap::new(),
@@ -495,24 +651,9 @@ impl AlignmentReader {
         self.n_records
     }
 
-    /// A blank record of this input's kind.
-    fn blank(&self) -> Raw {
-        match self.input {
-            Input::Bam(_) => Raw::Bam(bam::Record::default()),
-            Input::Sam(_) => Raw::Sam(sam::Record::default()),
-        }
-    }
-
-    /// Read the next record into `slot` (a record of this input's kind, its buffers reused);
-    /// `false` at the end of the input.
-    fn read_into(&mut self, slot: &mut Raw) -> Result<bool> {
-        let number = self.n_records + 1;
-        let result = match (&mut self.input, slot) {
-            (Input::Bam(reader), Raw::Bam(record)) => reader.read_record(record),
-            (Input::Sam(reader), Raw::Sam(record)) => reader.read_record(record),
-            _ => unreachable!("slots are made by blank()"),
-        };
-        let n = result.map_err(|e| match &self.input {
+    /// The error for a record that cannot be read.
+    fn read_error(&self, number: u64, e: &dyn std::fmt::Display) -> Error {
+        match &self.input {
             Input::Sam(_) => Error::Parse {
                 path: (*self.path).into(),
                 line: self.header_lines + number,
@@ -522,11 +663,38 @@ impl AlignmentReader {
                 path: (*self.path).into(),
                 message: format!("BAM record {number}: {e} (a truncated or corrupt file?)"),
             },
-        })?;
+        }
+    }
+
+    /// Read the next SAM record into `slot` (its buffers reused); `false` at the end of the
+    /// input.
+    fn read_sam(&mut self, slot: &mut Raw) -> Result<bool> {
+        let number = self.n_records + 1;
+        let Input::Sam(reader) = &mut self.input else {
+            unreachable!("SAM records are read from SAM")
+        };
+        let n = reader
+            .read_record(slot)
+            .map_err(|e| self.read_error(number, &e))?;
         if n > 0 {
             self.n_records = number;
         }
         Ok(n > 0)
+    }
+
+    /// Read the next BAM record for `batch`; `None` at the end of the input.
+    fn read_bam(&mut self, batch: &mut RawBatch) -> Result<Option<Span>> {
+        let number = self.n_records + 1;
+        let Input::Bam(input) = &mut self.input else {
+            unreachable!("BAM records are read from BAM")
+        };
+        let span = input
+            .next_record(batch)
+            .map_err(|e| self.read_error(number, &e))?;
+        if span.is_some() {
+            self.n_records = number;
+        }
+        Ok(span)
     }
 
     /// An empty batch for [`AlignmentReader::read_batch`] (batches are reused: their records'
@@ -534,6 +702,9 @@ impl AlignmentReader {
     pub fn new_batch(&self) -> RawBatch {
         RawBatch {
             records: Vec::new(),
+            spans: Vec::new(),
+            pieces: Vec::new(),
+            own: Vec::new(),
             groups: Vec::new(),
             header: self.header.clone(),
             path: self.path.clone(),
@@ -546,37 +717,101 @@ impl AlignmentReader {
     /// has ended).
     pub fn read_batch(&mut self, batch: &mut RawBatch, max_groups: usize) -> Result<()> {
         batch.groups.clear();
+        batch.spans.clear();
+        for piece in batch.pieces.drain(..) {
+            if let (Ok(buffer), Input::Bam(input)) = (Arc::try_unwrap(piece), &self.input) {
+                input.stream.give_back(buffer);
+            }
+        }
+        batch.own.clear();
+        match self.input {
+            Input::Bam(_) => self.read_bam_batch(batch, max_groups),
+            Input::Sam(_) => self.read_sam_batch(batch, max_groups),
+        }
+    }
+
+    fn read_bam_batch(&mut self, batch: &mut RawBatch, max_groups: usize) -> Result<()> {
+        let mut ended = false;
+        while batch.groups.len() < max_groups && !ended {
+            let (first, first_number) = if self.has_pending {
+                self.has_pending = false;
+                let Input::Bam(input) = &self.input else {
+                    unreachable!("BAM records are read from BAM")
+                };
+                let start = batch.own.len();
+                batch.own.extend_from_slice(&input.pending);
+                (own_span(start, batch.own.len()), self.pending_number)
+            } else if let Some(span) = self.read_bam(batch)? {
+                (span, self.n_records)
+            } else {
+                break;
+            };
+            let start = batch.spans.len();
+            batch.spans.push(first);
+            let flags = bam_flags(batch.bytes(first));
+            let (mut has1, mut has2) = (flags & 0x40 != 0, flags & 0x40 == 0);
+            loop {
+                let Some(span) = self.read_bam(batch)? else {
+                    ended = true;
+                    break;
+                };
+                let record = batch.bytes(span);
+                if bam_name(record) == bam_name(batch.bytes(first)) {
+                    if bam_flags(record) & 0x40 != 0 {
+                        has1 = true;
+                    } else {
+                        has2 = true;
+                    }
+                    batch.spans.push(span);
+                } else {
+                    if let Input::Bam(input) = &mut self.input {
+                        input.pending.clear();
+                        input.pending.extend_from_slice(record);
+                    }
+                    self.has_pending = true;
+                    self.pending_number = self.n_records;
+                    break;
+                }
+            }
+            let name = bam_name(batch.bytes(first));
+            self.check_grouped(name, has1 && has2, first_number)?;
+            batch.groups.push((start, batch.spans.len(), first_number));
+        }
+        Ok(())
+    }
+
+    fn read_sam_batch(&mut self, batch: &mut RawBatch, max_groups: usize) -> Result<()> {
         let mut n = 0usize;
         let mut ended = false;
         while batch.groups.len() < max_groups && !ended {
             if batch.records.len() <= n {
-                batch.records.push(self.blank());
+                batch.records.push(Raw::default());
             }
             let first_number = if self.has_pending {
                 std::mem::swap(&mut batch.records[n], &mut self.pending);
                 self.has_pending = false;
                 self.pending_number
-            } else if self.read_into(&mut batch.records[n])? {
+            } else if self.read_sam(&mut batch.records[n])? {
                 self.n_records
             } else {
                 break;
             };
             let start = n;
             n += 1;
-            let flags = batch.records[start].flags();
+            let flags = sam_flags(&batch.records[start]);
             let (mut has1, mut has2) = (flags & 0x40 != 0, flags & 0x40 == 0);
             loop {
                 if batch.records.len() <= n {
-                    batch.records.push(self.blank());
+                    batch.records.push(Raw::default());
                 }
                 let (head, tail) = batch.records.split_at_mut(n);
                 let slot = &mut tail[0];
-                if !self.read_into(slot)? {
+                if !self.read_sam(slot)? {
                     ended = true;
                     break;
                 }
-                if slot.name() == head[start].name() {
-                    if slot.flags() & 0x40 != 0 {
+                if sam_name(slot) == sam_name(&head[start]) {
+                    if sam_flags(slot) & 0x40 != 0 {
                         has1 = true;
                     } else {
                         has2 = true;
@@ -589,7 +824,7 @@ impl AlignmentReader {
                     break;
                 }
             }
-            let name = batch.records[start].name();
+            let name = sam_name(&batch.records[start]);
             self.check_grouped(name, has1 && has2, first_number)?;
             batch.groups.push((start, n, first_number));
         }
@@ -689,6 +924,81 @@ mod tests {
         }
         let unknown = [b'X', b'Y', b'q', 0];
         assert!(has_bam_tag(&unknown, *b"NM").is_err());
+    }
+
+    /// A record's name, flags, chromosome, start, MAPQ, CIGAR and whether it has an SA tag.
+    type Fields = (Vec<u8>, u16, Option<usize>, u64, u8, Vec<CigarOp>, bool);
+
+    /// Every record of `path` through the reader's groups.
+    fn records_of(path: &std::path::Path) -> Vec<Fields> {
+        let mut reader = AlignmentReader::open(path).unwrap();
+        let mut batch = reader.new_batch();
+        let mut out = Vec::new();
+        loop {
+            reader.read_batch(&mut batch, 7).unwrap();
+            if batch.is_empty() {
+                return out;
+            }
+            for i in 0..batch.len() {
+                let group = batch.decode(i, &RecordNeeds::default()).unwrap();
+                for r in group.records {
+                    let fields = (r.flags, r.reference_id, r.start, r.mapq, r.cigar);
+                    out.push((
+                        group.name.clone(),
+                        fields.0,
+                        fields.1,
+                        fields.2,
+                        fields.3,
+                        fields.4,
+                        r.has_supplementary_tag,
+                    ));
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn records_across_blocks_and_pieces_are_read_as_noodles_reads_them() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("data/pairs/sim.bam");
+        // The reference: noodles' own reader, record by record.
+        let mut reader = bam::io::reader::Builder.build_from_path(&path).unwrap();
+        let header = reader.read_header().unwrap();
+        let mut expected = Vec::new();
+        for record in reader.records() {
+            let record = record.unwrap();
+            let mut cigar = Vec::new();
+            set_cigar(record.cigar().iter(), &mut cigar).unwrap();
+            expected.push((
+                record.name().map(|n| n.to_vec()).unwrap(),
+                u16::from(record.flags()),
+                record.reference_sequence_id().transpose().unwrap(),
+                record
+                    .alignment_start()
+                    .transpose()
+                    .unwrap()
+                    .map_or(0, |p| usize::from(p) as u64),
+                record.mapping_quality().map_or(255, u8::from),
+                cigar,
+                record.data().get(&Tag::OTHER_ALIGNMENTS).is_some(),
+            ));
+        }
+        assert!(!header.reference_sequences().is_empty() && expected.len() > 3000);
+        assert_eq!(records_of(&path), expected);
+        // The same BAM in blocks of 997 bytes: records (and the header) cut across blocks and
+        // across the pieces they are inflated in.
+        let mut bytes = Vec::new();
+        flate2::read::MultiGzDecoder::new(std::fs::File::open(&path).unwrap())
+            .read_to_end(&mut bytes)
+            .unwrap();
+        let mut writer = noodles::bgzf::io::Writer::new(Vec::new());
+        for part in bytes.chunks(997) {
+            std::io::Write::write_all(&mut writer, part).unwrap();
+            std::io::Write::flush(&mut writer).unwrap();
+        }
+        let folder = tempfile::tempdir().unwrap();
+        let rechunked = folder.path().join("rechunked.bam");
+        std::fs::write(&rechunked, writer.finish().unwrap()).unwrap();
+        assert_eq!(records_of(&rechunked), expected);
     }
 
     const HEADER: &str = "@HD\tVN:1.6\tSO:unsorted\n@SQ\tSN:chr1\tLN:1000\n@SQ\tSN:chr2\tLN:800\n";

@@ -87,7 +87,7 @@ mod tests {
                 }
                 h.write_u64(value);
             }
-            if bytes.len() % 8 == 0 {
+            if bytes.len().is_multiple_of(8) {
                 h.write_u64(h.0 ^ (bytes.len() as u64) << 56);
             }
             h.finish()
