@@ -1,9 +1,11 @@
 //! The aligner's output that `contactmap pairs parse` reads: SAM or BAM (noodles), its records
 //! grouped by read name, as `bwa mem -SP5M` writes them.
 //!
-//! BAM is inflated on worker threads (noodles' multithreaded BGZF reader); the records of a
-//! batch of read groups are decoded into plain [`AlignmentRecord`]s on every core
-//! ([`RawBatch::decode`]). The input must be grouped by read name: a header that says
+//! BAM is inflated on worker threads in pieces of whole blocks
+//! ([`crate::io::plumbing::bgzf_blocks`]) and its records stay where they were inflated (a
+//! record across two pieces is copied); the header and each record's fields are read through
+//! noodles. The records of a batch of read groups are decoded into plain [`AlignmentRecord`]s
+//! on every core ([`RawBatch::decode`]). The input must be grouped by read name: a header that says
 //! `SO:coordinate` is refused, and so is a read name met again after its group ended (the mates
 //! of a coordinate-sorted or merged file arrive apart), with the command that groups it.
 
