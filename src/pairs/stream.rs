@@ -1,6 +1,6 @@
-//! `pairs parse` over a whole input: batches of read groups read by one thread (BAM inflated by
-//! noodles' workers) while the previous batch is classified on every core, the pairs written in
-//! input order and counted for the statistics.
+//! `pairs parse` over a whole input: batches of read groups read by one thread (BAM inflated on
+//! worker threads of its own) while the previous batch is classified on every core, the pairs
+//! written in input order and counted for the statistics.
 
 use rayon::prelude::*;
 
