@@ -196,14 +196,14 @@ impl Deduplicator {
             for k in (run_start..j).rev() {
                 let (q1, q2) = positions[k];
                 debug_assert!(q1 <= p1, "rows sorted by pos1 within their chromosomes");
-                if p1.saturating_sub(q1) > r {
+                let (d1, d2) = (p1.saturating_sub(q1), p2.abs_diff(q2));
+                if d1 > r {
                     break;
                 }
                 let ri = mapped[k];
-                let d2 = p2.abs_diff(q2);
                 let close = match self.params.method {
                     DedupMethod::Max => d2 <= r,
-                    DedupMethod::Sum => (p1 - q1) + d2 <= r,
+                    DedupMethod::Sum => d1 + d2 <= r,
                 };
                 if close && same(rj, ri, c.strand1) && same(rj, ri, c.strand2) {
                     let (a, b) = (find(&mut parent, rj), find(&mut parent, ri));

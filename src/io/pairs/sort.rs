@@ -4,8 +4,8 @@
 //! [`sort_pairs`] reads records into a chunk until the memory cap is reached, sorts the chunk on
 //! every core (the keys packed into two integers with each record's index, so that an unstable
 //! parallel sort gives the stable order; a stable parallel merge sort of the keys themselves
-//! where they do not fit: over 65,536 names or a position past 2^40), and, when the input is larger than one chunk,
-//! writes it as a run to the temporary folder (deflated at the fastest level). The runs are then
+//! where they do not fit: over 65,536 names or a position past 2^40), and, when the input is
+//! larger than one chunk, writes it as a run to the temporary folder (deflated at the fastest level). The runs are then
 //! merged, ties going to the earlier run, so the whole sort is stable as `sort --stable` is.
 //! Run files are unlinked as soon as they are created and read back through their open handle:
 //! the system removes them when the command ends, whether it succeeds, fails or is killed.

@@ -18,20 +18,26 @@ const BLOCKS_PER_PIECE: usize = 4;
 /// The largest block BGZF allows (BSIZE is 16 bits).
 const MAX_BLOCK: usize = 1 << 16;
 
-/// Inflated pieces in order, with their offset in the input.
+/// A piece of the inflated input.
 pub struct Piece {
     /// The inflated bytes of the piece's blocks, one after another.
     pub data: Vec<u8>,
-    /// The offset of the piece's first block in the compressed input.
-    pub offset: u64,
+}
+
+/// One block of a job.
+struct Block {
+    /// Its deflate data's range in the job's `compressed`.
+    deflated: std::ops::Range<usize>,
+    crc: u32,
+    inflated_len: u32,
+    /// Where the block starts in the input (for errors).
+    offset: u64,
 }
 
 /// A job: the compressed blocks of one piece and where to send the inflated piece.
 struct Job {
     compressed: Vec<u8>,
-    /// Each block's range in `compressed`: the deflate data, then its CRC32 and length.
-    blocks: Vec<(usize, usize, u32, u32)>,
-    offset: u64,
+    blocks: Vec<Block>,
     done: SyncSender<io::Result<Piece>>,
 }
 
@@ -120,34 +126,33 @@ fn inflate(
     job: &Job,
     mut data: Vec<u8>,
 ) -> io::Result<Piece> {
-    let total: usize = job.blocks.iter().map(|b| b.3 as usize).sum();
+    let total: usize = job.blocks.iter().map(|b| b.inflated_len as usize).sum();
     // Only bytes beyond the buffer's length are zeroed; the rest is overwritten.
     data.resize(total, 0);
     let mut at = 0;
-    let mut offset = job.offset;
-    for &(start, end, crc, size) in &job.blocks {
-        let out = &mut data[at..at + size as usize];
+    for block in &job.blocks {
+        let len = block.inflated_len as usize;
+        let out = &mut data[at..at + len];
         let corrupt = |what: &str| {
             io::Error::new(
                 io::ErrorKind::InvalidData,
-                format!("the BGZF block at byte {offset} is corrupt ({what})"),
+                format!(
+                    "the BGZF block at byte {} is corrupt ({what})",
+                    block.offset
+                ),
             )
         };
-        match inflater.deflate_decompress(&job.compressed[start..end], out) {
-            Ok(n) if n == size as usize => {}
+        match inflater.deflate_decompress(&job.compressed[block.deflated.clone()], out) {
+            Ok(n) if n == len => {}
             Ok(_) => return Err(corrupt("its length is not the one its trailer gives")),
             Err(_) => return Err(corrupt("its deflate data do not inflate")),
         }
-        if libdeflater::crc32(out) != crc {
+        if libdeflater::crc32(out) != block.crc {
             return Err(corrupt("its CRC32 does not match"));
         }
-        at += size as usize;
-        offset += (end - start) as u64;
+        at += len;
     }
-    Ok(Piece {
-        data,
-        offset: job.offset,
-    })
+    Ok(Piece { data })
 }
 
 /// Read `input` block by block, sending each piece's blocks to the workers and the place its
@@ -159,45 +164,34 @@ fn split_blocks(
 ) {
     let mut offset = 0u64;
     loop {
-        let (done_tx, done_rx) = sync_channel(1);
+        let (done, piece) = sync_channel(1);
         let mut job = Job {
             compressed: Vec::with_capacity(BLOCKS_PER_PIECE * MAX_BLOCK / 2),
             blocks: Vec::with_capacity(BLOCKS_PER_PIECE),
-            offset,
-            done: done_tx,
+            done,
         };
-        let mut failed = None;
-        while job.blocks.len() < BLOCKS_PER_PIECE {
+        // The input's end, or the error that ends it.
+        let mut end = None;
+        while job.blocks.len() < BLOCKS_PER_PIECE && end.is_none() {
             match read_block(&mut input, &mut job, offset) {
                 Ok(Some(size)) => offset += size as u64,
-                Ok(None) => break,
-                Err(e) => {
-                    failed = Some(e);
-                    break;
-                }
+                Ok(None) => end = Some(Ok(())),
+                Err(e) => end = Some(Err(e)),
             }
         }
-        let at_end = job.blocks.is_empty() && failed.is_none();
-        if at_end {
+        // The blocks before a bad one are inflated first, so that their records are read.
+        if !job.blocks.is_empty() && (order.send(piece).is_err() || jobs.send(job).is_err()) {
             return;
         }
-        if let Some(e) = failed {
-            // The blocks before the bad one are inflated first, so that their records are read.
-            if !job.blocks.is_empty() {
-                let (tx, rx) = sync_channel(1);
-                let done = std::mem::replace(&mut job.done, tx);
-                if order.send(rx).is_err() || jobs.send(job).is_err() {
-                    return;
-                }
+        match end {
+            None => {}
+            Some(Ok(())) => return,
+            Some(Err(e)) => {
+                let (done, piece) = sync_channel(1);
                 let _ = done.send(Err(e));
-            } else {
-                let _ = job.done.send(Err(e));
+                let _ = order.send(piece);
+                return;
             }
-            let _ = order.send(done_rx);
-            return;
-        }
-        if order.send(done_rx).is_err() || jobs.send(job).is_err() {
-            return;
         }
     }
 }
@@ -244,8 +238,12 @@ fn read_block(input: &mut dyn Read, job: &mut Job, offset: u64) -> io::Result<Op
             "the BGZF block at byte {offset} claims {isize} inflated bytes, over BGZF's 65,536"
         )));
     }
-    let end = job.compressed.len() - 8;
-    job.blocks.push((start, end, crc, isize));
+    job.blocks.push(Block {
+        deflated: start..job.compressed.len() - 8,
+        crc,
+        inflated_len: isize,
+        offset,
+    });
     Ok(Some(size))
 }
 
@@ -363,6 +361,8 @@ mod tests {
         corrupt[second + 18 + 30] ^= 0x55;
         let error = all(corrupt, 2).unwrap_err().to_string();
         assert!(error.contains("corrupt"), "{error}");
+        // Named by where the second block starts, inside the first piece.
+        assert!(error.contains(&format!("at byte {second} ")), "{error}");
         let mut not_bgzf = data;
         not_bgzf[0] = b'x';
         let error = all(not_bgzf, 1).unwrap_err().to_string();
