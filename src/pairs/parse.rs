@@ -312,10 +312,11 @@ fn normalize(algns: &mut Vec<Alignment>, side: u8, max_gap: i64) {
             }
         }
     }
-    let count = algns.len();
+    // A read's alignments number far fewer than 2^32 (each takes memory).
+    let count = u32::try_from(algns.len()).unwrap_or(u32::MAX);
     for (i, a) in algns.iter_mut().enumerate() {
         a.read_side = Some(side);
-        a.algn_idx = Some(i);
+        a.algn_idx = Some(u32::try_from(i).unwrap_or(u32::MAX));
         a.same_side_algn_count = Some(count);
     }
 }
@@ -430,7 +431,7 @@ pub fn parse_read_into(
         } else {
             &mut scratch.algns1
         };
-        side.push(Alignment::of(&records[i], i, &settings));
+        side.push(Alignment::of(&records[i], &settings));
     }
     classify(
         &mut scratch.algns1,
@@ -644,13 +645,13 @@ fn write_sams(
 /// An extra column's value for one side, as pairtools writes it (`str()` of the value; empty
 /// where the alignment has none).
 fn extra_column(a: &Alignment, column: &str) -> String {
-    let optional = |value: Option<usize>| value.map_or(String::new(), |v| v.to_string());
+    let optional = |value: Option<u32>| value.map_or(String::new(), |v| v.to_string());
     match column {
         "mapq" => a.mapq.to_string(),
         "pos5" => a.pos5.to_string(),
         "pos3" => a.pos3.to_string(),
-        "cigar" => match &a.cigar {
-            CigarText::Text(text) => text.clone(),
+        "cigar" => match a.cigar {
+            CigarText::Text => a.cigar_text().to_string(),
             CigarText::Absent => "None".into(),
             CigarText::Star => "*".into(),
         },
@@ -660,13 +661,13 @@ fn extra_column(a: &Alignment, column: &str) -> String {
         "algn_read_span" => a.geometry.algn_read_span.to_string(),
         "dist_to_5" => a.dist_to_5.to_string(),
         "dist_to_3" => a.dist_to_3.to_string(),
-        "seq" => match &a.sequence {
-            Some(Some(seq)) => seq.clone(),
+        "seq" => match a.sequence() {
+            Some(Some(seq)) => seq.to_string(),
             Some(None) => "None".into(),
             None => String::new(),
         },
-        "mismatches" => a.mismatches.clone(),
-        "read_side" => optional(a.read_side.map(usize::from)),
+        "mismatches" => a.mismatches().to_string(),
+        "read_side" => optional(a.read_side.map(u32::from)),
         "algn_idx" => optional(a.algn_idx),
         "same_side_algn_count" => optional(a.same_side_algn_count),
         _ => String::new(),
