@@ -72,7 +72,7 @@ impl Counted {
 /// each pair is counted in `counter` (as `pairtools parse --output-stats` counts it) when given;
 /// `progress` is told the number of read groups done after each batch. Batches are classified
 /// on as many threads as rayon's pool has (the cores, or `RAYON_NUM_THREADS`), at least
-/// [`MIN_CLASSIFIERS`].
+/// eight.
 pub fn parse_alignments(
     reader: AlignmentReader,
     order: &ChromOrder,
