@@ -308,6 +308,44 @@ mod tests {
     }
 
     #[test]
+    fn a_failing_writer_stops_the_reader_and_the_workers() {
+        // As `pairs parse | head` does: the writer fails after a few batches, and every thread
+        // must stop (the scope joins them) with the writer's error.
+        let reader = AlignmentReader::open(Path::new(BAM)).unwrap();
+        let sizes: Vec<(String, u64)> = read_chrom_sizes(Path::new(SIZES))
+            .unwrap()
+            .into_iter()
+            .map(|c| (c.name, c.length_bp))
+            .collect();
+        let order = ChromOrder::new(&reader.chromosomes(), &sizes, false, SIZES).unwrap();
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(3)
+            .build()
+            .unwrap();
+        let mut calls = 0;
+        let result = pool.install(|| {
+            parse_in_batches(
+                reader,
+                &order,
+                &ParseParams::default(),
+                None,
+                &mut |_| {
+                    calls += 1;
+                    if calls == 3 {
+                        Err(Error::Invalid("the reader went away".into()))
+                    } else {
+                        Ok(())
+                    }
+                },
+                &mut |_| {},
+                1,
+            )
+        });
+        assert!(matches!(result, Err(Error::Invalid(m)) if m == "the reader went away"));
+        assert_eq!(calls, 3);
+    }
+
+    #[test]
     fn a_cut_input_is_an_error_after_the_pairs_before_the_cut() {
         let bytes = std::fs::read(BAM).unwrap();
         let dir = tempfile::tempdir().unwrap();
