@@ -563,9 +563,8 @@ impl AlignmentReader {
             message,
         };
         let (input, header, header_text, header_lines) = if is_bgzf(&start) {
-            // Inflating is about half of parse's work: half the cores inflate, and all of them
-            // classify (one inflater on two cores made the 10 M-pair pipe 0.5 s faster than
-            // two, whose threads crowded out the classification).
+            // Inflating is about half of parse's work: half the cores inflate, at least
+            // MIN_INFLATERS threads (one inflater on two cores was the critical path).
             let workers = (worker_count().get() / 2).max(MIN_INFLATERS);
             let stream = BlockStream::new(Box::new(reader), workers);
             let mut bam = bam::io::Reader::from(PieceReader::new(stream));
