@@ -339,6 +339,7 @@ pub mod random;
 pub mod score;
 pub mod sim;
 pub mod tads;
+pub mod tiles;
 pub mod validate;
 
 pub use error::{Error, Result};

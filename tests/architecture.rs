@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 /// The library's rooms above the ground floor: the algorithms (and `export`, which writes files
 /// that carry computed results and so stands above both the formats and the algorithms). The
 /// ground floor imports none of them.
-const ALGORITHMS: [&str; 15] = [
+const ALGORITHMS: [&str; 16] = [
     "balance",
     "compare",
     "compartments",
@@ -27,6 +27,7 @@ const ALGORITHMS: [&str; 15] = [
     "score",
     "sim",
     "tads",
+    "tiles",
     "validate",
 ];
 
