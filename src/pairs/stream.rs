@@ -255,9 +255,14 @@ mod tests {
     const BAM: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data/pairs/sim.bam");
     const SIZES: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data/pairs/sim.chrom.sizes");
 
-    /// Parse `bam` with the defaults on `threads` workers in batches of `batch_groups`: the
-    /// lines written, and the result.
-    fn parse(bam: &Path, threads: usize, batch_groups: usize) -> (String, Result<()>) {
+    /// Parse `bam` with the defaults on `threads` workers in batches of `batch_groups`, the
+    /// lines handed to `write`.
+    fn parse_with(
+        bam: &Path,
+        threads: usize,
+        batch_groups: usize,
+        write: &mut (dyn FnMut(&[u8]) -> Result<()> + Send),
+    ) -> Result<()> {
         let reader = AlignmentReader::open(bam).unwrap();
         let sizes: Vec<(String, u64)> = read_chrom_sizes(Path::new(SIZES))
             .unwrap()
@@ -270,20 +275,25 @@ mod tests {
             .num_threads(threads)
             .build()
             .unwrap();
-        let mut text = Vec::new();
-        let result = pool.install(|| {
+        pool.install(|| {
             parse_in_batches(
                 reader,
                 &order,
                 &params,
                 None,
-                &mut |bytes| {
-                    text.extend_from_slice(bytes);
-                    Ok(())
-                },
+                write,
                 &mut |_| {},
                 batch_groups,
             )
+        })
+    }
+
+    /// [`parse_with`] into a string: the lines written, and the result.
+    fn parse(bam: &Path, threads: usize, batch_groups: usize) -> (String, Result<()>) {
+        let mut text = Vec::new();
+        let result = parse_with(bam, threads, batch_groups, &mut |bytes| {
+            text.extend_from_slice(bytes);
+            Ok(())
         });
         (String::from_utf8(text).unwrap(), result)
     }
@@ -311,35 +321,14 @@ mod tests {
     fn a_failing_writer_stops_the_reader_and_the_workers() {
         // As `pairs parse | head` does: the writer fails after a few batches, and every thread
         // must stop (the scope joins them) with the writer's error.
-        let reader = AlignmentReader::open(Path::new(BAM)).unwrap();
-        let sizes: Vec<(String, u64)> = read_chrom_sizes(Path::new(SIZES))
-            .unwrap()
-            .into_iter()
-            .map(|c| (c.name, c.length_bp))
-            .collect();
-        let order = ChromOrder::new(&reader.chromosomes(), &sizes, false, SIZES).unwrap();
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(3)
-            .build()
-            .unwrap();
         let mut calls = 0;
-        let result = pool.install(|| {
-            parse_in_batches(
-                reader,
-                &order,
-                &ParseParams::default(),
-                None,
-                &mut |_| {
-                    calls += 1;
-                    if calls == 3 {
-                        Err(Error::Invalid("the reader went away".into()))
-                    } else {
-                        Ok(())
-                    }
-                },
-                &mut |_| {},
-                1,
-            )
+        let result = parse_with(Path::new(BAM), 3, 1, &mut |_| {
+            calls += 1;
+            if calls == 3 {
+                Err(Error::Invalid("the reader went away".into()))
+            } else {
+                Ok(())
+            }
         });
         assert!(matches!(result, Err(Error::Invalid(m)) if m == "the reader went away"));
         assert_eq!(calls, 3);
