@@ -12,6 +12,8 @@ use std::io::{self, Read};
 use std::sync::mpsc::{Receiver, SyncSender, sync_channel};
 use std::sync::{Arc, Mutex};
 
+use super::input::is_bgzf;
+
 /// Blocks inflated per piece (about a megabyte of BAM records).
 const BLOCKS_PER_PIECE: usize = 4;
 
@@ -207,7 +209,7 @@ fn read_block(input: &mut dyn Read, job: &mut Job, offset: u64) -> io::Result<Op
     if n < header.len() {
         return Err(bad(format!("the BGZF block at byte {offset} is cut short")));
     }
-    if header[..4] != [0x1f, 0x8b, 0x08, 0x04] || header[12..16] != [b'B', b'C', 2, 0] {
+    if !is_bgzf(&header) {
         return Err(bad(format!(
             "the data at byte {offset} is not a BGZF block header"
         )));
