@@ -6,26 +6,154 @@ Run with a Python that has clodius 0.22.2 (it needs Python >= 3.12):
     /tmp/clodius_venv/bin/pip install clodius==0.22.2
     /tmp/clodius_venv/bin/python scripts/tiles_references.py
 
-Writes data/tiles/<map>.tileset_info.json: `clodius.tiles.cooler.tileset_info` of each map,
-its `transforms` sorted by value (clodius lists them in Python's set order, which varies).
+Writes, for each map:
+- data/tiles/<map>.tileset_info.json: `clodius.tiles.cooler.tileset_info` of the map, its
+  `transforms` sorted by value (clodius lists them in Python's set order, which varies);
+- data/tiles/<map>.tiles.json: for every zoom level, every transform the level stores (and
+  `default`), the tiles along the diagonal, the ones beside it on either side, trans tiles and
+  one past the genome's end, each asked of `clodius.tiles.cooler.tiles` alone: the decoded
+  array's dtype, CRC-32 of its bytes (as decoded from base64), NaN count, min / max, or null
+  when clodius gives no tile.
+
+It also writes data/tiles/square.mcool (seed 20261130), a map made here for what the maps in
+data/ lack: square storage (both triangles stored), real-valued counts, masked (NaN-weight) bins
+in every level, counts beyond float16's range in one corner (so those tiles are float32),
+chromosome lengths that are not multiples of the resolution, a divisive `KR` column.
 """
 
+import base64
 import json
 import os
+import warnings
+import zlib
 
 import clodius
 import clodius.tiles.cooler as hgc
+import cooler
+import numpy as np
+import pandas as pd
 
-MAPS = ["cooler_test_file.mcool", "toy.symm.upper.2.mcool"]
+MAPS = ["cooler_test_file.mcool", "toy.symm.upper.2.mcool", "square.mcool"]
+TRANSFORMS = ["weight", "KR", "VC", "VC_SQRT"]
 
 root = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "data")
 out = os.path.join(root, "tiles")
-os.makedirs(out, exist_ok=True)
-assert clodius.__version__ == "0.22.2", clodius.__version__
-for name in MAPS:
-    info = dict(hgc.tileset_info(os.path.join(root, name)))
-    info["transforms"] = sorted(info["transforms"], key=lambda t: t["value"])
-    with open(os.path.join(out, name + ".tileset_info.json"), "w") as f:
-        json.dump(info, f, indent=1, sort_keys=True)
-        f.write("\n")
-    print(name, "->", os.path.join("data/tiles", name + ".tileset_info.json"))
+
+
+def make_square(path):
+    """Three chromosomes, resolutions 1, 2 and 4 kb, both triangles stored.
+
+    At 1 and 2 kb the bins before 512 kb are never masked, so the tiles there have no NaN and
+    the choice of float16 rests on their values alone: at 1 kb tile (0, 0) peaks at 65490 and
+    tile (1, 1) at 65480 (clodius compares them with float16's largest value after rounding
+    them to float16: 65490 rounds to 65504, which is not below it, so that tile is float32;
+    65480 rounds to 65472, so that one is float16); at 2 kb the first bins' counts are beyond
+    float16's range.
+    """
+    rng = np.random.default_rng(20261130)
+    chromsizes = pd.Series({"chrA": 600_500, "chrB": 99_999, "chrC": 60_001})
+    if os.path.exists(path):
+        os.remove(path)
+    for res in (1000, 2000, 4000):
+        bins = cooler.binnify(chromsizes, res)
+        n = len(bins)
+        i, j = np.triu_indices(n)
+        keep = rng.random(len(i)) < np.exp(-np.abs(i - j) / 4.0)
+        i, j = i[keep], j[keep]
+        count = np.round(rng.gamma(2.0, 5.0, len(i)) * 100.0 / (1 + np.abs(i - j)), 3)
+        weight = rng.uniform(0.5, 1.5, n)
+        kr = rng.uniform(0.5, 1.5, n)
+        first = np.asarray(bins["start"] < 512_000) & np.asarray(bins["chrom"] == "chrA")
+        weight[(rng.random(n) < 0.05) & ~(first & (res < 4000))] = np.nan
+        kr[rng.random(n) < 0.05] = np.nan
+        if res == 1000:
+            for b, peak in ((3, 65490.0), (300, 65480.0)):
+                count[(i == b) & (j == b)] = peak / weight[b] ** 2
+        elif res == 2000:
+            count[(i < 8) & (j < 8)] *= 1e4  # beyond float16 (max 65504)
+        both = np.concatenate([i, j[i != j]]), np.concatenate([j, i[i != j]])
+        values = np.concatenate([count, count[i != j]])
+        order = np.lexsort((both[1], both[0]))
+        pixels = pd.DataFrame(
+            {"bin1_id": both[0][order], "bin2_id": both[1][order], "count": values[order]}
+        )
+        bins = bins.assign(weight=weight, KR=kr)
+        cooler.create_cooler(
+            f"{path}::/resolutions/{res}",
+            bins,
+            pixels,
+            dtypes={"count": np.float64},
+            symmetric_upper=False,
+            triucheck=False,
+            mode="a",
+        )
+
+
+def decode(tile):
+    raw = base64.b64decode(tile["dense"])
+    array = np.frombuffer(raw, dtype=tile["dtype"])
+    return {
+        "dtype": tile["dtype"],
+        "crc32": zlib.crc32(raw),
+        "n_nan": int(np.isnan(array).sum()),
+        "min_value": wire(tile["min_value"]),
+        "max_value": wire(tile["max_value"]),
+    }
+
+
+def wire(value):
+    """min_value / max_value as the server sends them: clodius writes "NaN" for a tile of NaN
+    alone and a bare Infinity (not JSON; a browser's JSON.parse refuses it) for a tile holding
+    an infinite value (a zero in a divisive column); contactmap writes "Infinity" then."""
+    if isinstance(value, float) and np.isinf(value):
+        return "Infinity" if value > 0 else "-Infinity"
+    return value
+
+
+def tile_ids(info, zoom, transforms):
+    """The tiles asked of each level: diagonal, beside it, trans, past the end."""
+    resolution = sorted(info["resolutions"], reverse=True)[zoom]
+    length = info["max_pos"][0]
+    n = -(-length // (resolution * 256))
+    positions = set()
+    for x in range(n):
+        positions |= {(x, x), (x, x + 1), (x + 1, x)}
+    # the first chromosome against the last (a trans tile where there are several)
+    last_start = length - info["chromsizes"][-1][1]
+    positions.add((0, last_start // (resolution * 256)))
+    positions.add((n, n))
+    ids = []
+    for t in ["default"] + transforms:
+        for x, y in sorted(positions):
+            base = f"a.{zoom}.{x}.{y}"
+            ids.append(base if t == "default" else f"{base}.{t}")
+    return ids
+
+
+def main():
+    # numpy's overflow warnings where clodius casts (its float16 test, infinities to float32)
+    warnings.simplefilter("ignore", RuntimeWarning)
+    warnings.simplefilter("ignore", UserWarning)
+    assert clodius.__version__ == "0.22.2", clodius.__version__
+    os.makedirs(out, exist_ok=True)
+    make_square(os.path.join(out, "square.mcool"))
+    for name in MAPS:
+        path = os.path.join(out if name == "square.mcool" else root, name)
+        info = dict(hgc.tileset_info(path))
+        info["transforms"] = sorted(info["transforms"], key=lambda t: t["value"])
+        with open(os.path.join(out, name + ".tileset_info.json"), "w") as f:
+            json.dump(info, f, indent=1, sort_keys=True)
+            f.write("\n")
+        answers = {}
+        for zoom, resolution in enumerate(sorted(info["resolutions"], reverse=True)):
+            columns = cooler.Cooler(f"{path}::/resolutions/{resolution}").bins().columns
+            for tile_id in tile_ids(info, zoom, [t for t in TRANSFORMS if t in columns]):
+                tiles = hgc.tiles(path, [tile_id])
+                answers[tile_id[2:]] = decode(tiles[0][1]) if tiles else None
+        with open(os.path.join(out, name + ".tiles.json"), "w") as f:
+            json.dump(answers, f, indent=0, sort_keys=True)
+            f.write("\n")
+        print(name, len(answers), "tiles")
+
+
+main()

@@ -1,6 +1,7 @@
 //! The room's answers against clodius 0.22.2's on the maps in data/
 //! (`scripts/tiles_references.py` wrote them to data/tiles/).
 
+use base64::Engine;
 use serde_json::Value;
 
 use super::*;
@@ -8,31 +9,52 @@ use crate::io::cool::{CoolReader, HdfContent, inspect};
 
 const DATA: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data");
 
-/// clodius' `tileset_info` of `name`, as the reference script wrote it.
-fn reference(name: &str) -> Value {
-    let path = format!("{DATA}/tiles/{name}.tileset_info.json");
+/// The maps clodius answered for, by path under data/.
+const MAPS: [&str; 3] = [
+    "cooler_test_file.mcool",
+    "toy.symm.upper.2.mcool",
+    "tiles/square.mcool",
+];
+
+fn reference(name: &str, what: &str) -> Value {
+    let file = name.rsplit('/').next().unwrap();
+    let path = format!("{DATA}/tiles/{file}.{what}.json");
     let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
     serde_json::from_str(&text).unwrap()
 }
 
+fn tileset(name: &str) -> Tileset {
+    let path = format!("{DATA}/{name}");
+    let HdfContent::Multires(resolutions) = inspect(&path).unwrap() else {
+        panic!("{name} is a multi-resolution file");
+    };
+    let levels = resolutions
+        .iter()
+        .map(|&r| {
+            let reader = CoolReader::open(&format!("{path}::/resolutions/{r}")).unwrap();
+            (r, Box::new(reader) as Box<dyn MatrixReader>)
+        })
+        .collect();
+    Tileset::new(levels).unwrap()
+}
+
 #[test]
 fn tileset_info_of_an_mcool_equals_clodius() {
-    for name in ["cooler_test_file.mcool", "toy.symm.upper.2.mcool"] {
-        let path = format!("{DATA}/{name}");
-        let HdfContent::Multires(resolutions) = inspect(&path).unwrap() else {
-            panic!("{name} is a multi-resolution file");
-        };
-        let readers: Vec<CoolReader> = resolutions
-            .iter()
-            .map(|r| CoolReader::open(&format!("{path}::/resolutions/{r}")).unwrap())
-            .collect();
-        let levels: Vec<Level> = resolutions
-            .iter()
-            .zip(&readers)
-            .map(|(&resolution, reader)| Level { resolution, reader })
-            .collect();
-        assert_eq!(tileset_info(&levels), reference(name), "{name}");
+    for name in MAPS {
+        let mut info = tileset(name).info();
+        // the reference lists the transforms by value (clodius' own order is Python's set order)
+        let mut transforms = info["transforms"].as_array().unwrap().clone();
+        transforms.sort_by_key(|t| t["value"].as_str().unwrap().to_string());
+        info["transforms"] = Value::Array(transforms);
+        assert_eq!(info, reference(name, "tileset_info"), "{name}");
     }
+    assert_eq!(
+        tileset("tiles/square.mcool").info()["transforms"]
+            .as_array()
+            .unwrap()
+            .len(),
+        2
+    );
     // Not an empty answer by default: cooler_test_file.mcool stores weight, KR, SCALE, VC and VC_SQRT
     // at 100 kb and none at 1 Mb, and clodius offers only what every resolution has.
     let path = format!("{DATA}/cooler_test_file.mcool");
@@ -43,4 +65,89 @@ fn tileset_info_of_an_mcool_equals_clodius() {
     };
     assert_eq!(names(100_000), ["KR", "SCALE", "VC", "VC_SQRT", "weight"]);
     assert!(names(1_000_000).is_empty());
+}
+
+/// What the reference keeps of a tile: dtype, CRC-32 of the decoded bytes, NaN count, min / max.
+fn digest(tile: &Value) -> Value {
+    let bytes = base64::engine::general_purpose::STANDARD
+        .decode(tile["dense"].as_str().unwrap())
+        .unwrap();
+    let n_nan = match tile["dtype"].as_str().unwrap() {
+        "float16" => bytes
+            .chunks(2)
+            .filter(|b| half::f16::from_le_bytes([b[0], b[1]]).is_nan())
+            .count(),
+        _ => bytes
+            .chunks(4)
+            .filter(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]).is_nan())
+            .count(),
+    };
+    serde_json::json!({
+        "dtype": tile["dtype"],
+        "crc32": crc32fast::hash(&bytes),
+        "n_nan": n_nan,
+        "min_value": tile["min_value"],
+        "max_value": tile["max_value"],
+    })
+}
+
+/// `min_value` / `max_value` as the float32 they are (serde_json's parser may miss the last bit
+/// of a 17-digit decimal).
+fn single(digest: &Value) -> Value {
+    let mut digest = digest.clone();
+    for key in ["min_value", "max_value"] {
+        if let Some(v) = digest[key].as_f64() {
+            digest[key] = serde_json::json!(v as f32);
+        }
+    }
+    digest
+}
+
+/// Every tile clodius was asked for (the diagonal at every zoom level, the tiles beside it,
+/// trans tiles, past the end; each transform a level stores and `default`): the same bytes
+/// (dtype, NaN positions, values), the same min / max, the same absent tiles.
+#[test]
+fn tiles_equal_clodius_bit_for_bit() {
+    for name in MAPS {
+        let tiles = tileset(name);
+        let Value::Object(expected) = reference(name, "tiles") else {
+            panic!("{name}: the reference is a map of tiles");
+        };
+        let mut float16 = 0;
+        for (id, want) in &expected {
+            let parts: Vec<&str> = id.split('.').collect();
+            let [z, x, y] = [0, 1, 2].map(|i| parts[i].parse::<u64>().unwrap());
+            let transform = parts.get(3).copied().unwrap_or("default");
+            let got = tiles
+                .tile(z as usize, x, y, transform)
+                .unwrap_or_else(|e| panic!("{name} {id}: {e}"))
+                .map(|values| digest(&dense_json(&values)));
+            let want = if want.is_null() {
+                Value::Null
+            } else {
+                single(want)
+            };
+            assert_eq!(
+                got.map_or(Value::Null, |t| single(&t)),
+                want,
+                "{name} tile {id}"
+            );
+            float16 += usize::from(want["dtype"] == "float16");
+        }
+        assert!(expected.len() >= 20 && float16 > 0, "{name}: {float16}");
+    }
+}
+
+#[test]
+fn a_transform_the_map_lacks_is_an_error_and_another_name_gives_counts() {
+    let tiles = tileset("cooler_test_file.mcool");
+    // zoom 0 is 1 Mb, which stores no weights
+    let err = tiles.tile(0, 0, 0, "KR").unwrap_err().to_string();
+    assert!(err.contains("no 'KR' column at 1000000 bp"), "{err}");
+    let raw = tiles.tile(1, 0, 0, "no-such").unwrap().unwrap();
+    let default_without_weight = tiles.tile(0, 0, 0, "default").unwrap().unwrap();
+    assert!(raw.iter().all(|v| !v.is_nan()));
+    assert!(default_without_weight.iter().any(|&v| v > 0.0));
+    assert_eq!(tiles.tile(2, 0, 0, "default").unwrap(), None);
+    assert!(tiles.tile(1, u64::MAX / 2, 0, "default").is_err());
 }
