@@ -27,6 +27,7 @@ pub mod protein;
 pub mod saddle;
 pub mod sample;
 pub mod score;
+pub mod serve;
 pub mod shell;
 pub mod simulate;
 pub mod status;
@@ -134,6 +135,9 @@ pub enum Command {
     /// `plot hicrep` (SCCs as a clustered heatmap), `plot polymer-stats` (P(s), R^2(s) of 3D
     /// conformations); `plot map --compare` draws two samples.
     Plot(plot::PlotArgs),
+    /// A HiGlass tile server for .mcool / .cool / .hic maps (higlass-server's API, tiles as
+    /// clodius computes them) with the viewer page: `serve a.mcool`, then open the URL it prints.
+    Serve(serve::ServeArgs),
     /// Shell completion script (bash, zsh, fish) on standard output.
     Completions(shell::CompletionsArgs),
     /// Man pages, one per command, into a folder (`make man`).
@@ -296,6 +300,7 @@ pub fn run(cli: Cli) -> Result<Status> {
         Command::Contacts(args) => contacts::run(&args),
         Command::Validate(args) => return validate::run(&args),
         Command::Plot(args) => plot::run(&args),
+        Command::Serve(args) => serve::run(&args),
         Command::Completions(args) => shell::run_completions(&args, command()),
         Command::Man(args) => shell::run_man(&args, command()),
     }

@@ -59,6 +59,8 @@ mod saddle;
 mod safety;
 #[path = "cli/score.rs"]
 mod score;
+#[path = "cli/serve.rs"]
+mod serve;
 #[path = "cli/shell.rs"]
 mod shell;
 #[path = "cli/simulate.rs"]

@@ -1,0 +1,151 @@
+//! The files `serve` was given, opened once at start: each with a readable, stable UID made
+//! from its file name. Nothing a request says reaches the filesystem: a request names a UID,
+//! and only UIDs listed here answer.
+
+use std::path::{Path, PathBuf};
+
+use contactmap::error::{Error, Result};
+use contactmap::io::{
+    FileKind, MatrixReader, OpenOptions, detect_kind, list_resolutions, open_matrix,
+};
+use contactmap::tiles::Tileset;
+
+/// One file served.
+pub struct Entry {
+    /// The UID the API names it by (from the file name).
+    pub uid: String,
+    /// The file's name, shown in the viewer.
+    pub name: String,
+    /// The path given at start.
+    pub path: PathBuf,
+    /// higlass-server's `filetype` (`cooler`, `hic`).
+    pub filetype: &'static str,
+    /// higlass-server's `datatype` (`matrix`).
+    pub datatype: &'static str,
+    /// The assembly the file names, else the UID (HiGlass pairs tracks by coordinate system).
+    pub coord_system: String,
+    /// The map's tiles.
+    pub tileset: Tileset,
+}
+
+/// The files served, in the order given.
+pub struct Registry {
+    pub entries: Vec<Entry>,
+}
+
+impl Registry {
+    /// Open `paths` (each .mcool, .cool or .hic). Every file must open: a file that does not is an
+    /// error naming it, and the server does not start.
+    pub fn open(paths: &[PathBuf]) -> Result<Registry> {
+        let mut entries: Vec<Entry> = Vec::with_capacity(paths.len());
+        for path in paths {
+            let entry = open_entry(path)?;
+            let uid = unique(&entry.uid, &entries);
+            entries.push(Entry { uid, ..entry });
+        }
+        Ok(Registry { entries })
+    }
+
+    /// The entry named `uid`.
+    pub fn get(&self, uid: &str) -> Option<&Entry> {
+        self.entries.iter().find(|e| e.uid == uid)
+    }
+}
+
+/// The UID of a file: its name up to the first dot, every character but letters, digits, `-`
+/// and `_` made `_` (`GM12878.hg19.mcool` -> `GM12878`).
+pub fn uid_of(path: &Path) -> String {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let stem = name.split('.').next().unwrap_or_default();
+    let uid: String = stem
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    if uid.is_empty() { "map".into() } else { uid }
+}
+
+/// `uid`, or `uid-2`, `uid-3` ... when an earlier file took it.
+fn unique(uid: &str, entries: &[Entry]) -> String {
+    let taken = |candidate: &str| entries.iter().any(|e| e.uid == candidate);
+    if !taken(uid) {
+        return uid.to_string();
+    }
+    (2..)
+        .map(|k| format!("{uid}-{k}"))
+        .find(|c| !taken(c))
+        .expect("an unused suffix")
+}
+
+fn open_entry(path: &Path) -> Result<Entry> {
+    let text = path.to_string_lossy().into_owned();
+    if text.contains("::") {
+        return Err(Error::Argument(format!(
+            "{text}: serve takes whole files (an .mcool or .hic serves all its resolutions)"
+        )));
+    }
+    let filetype = match detect_kind(&text)? {
+        FileKind::Hdf5 => "cooler",
+        FileKind::Hic => "hic",
+        FileKind::Text => {
+            return Err(Error::Argument(format!(
+                "{text}: not a .cool, .mcool or .hic file (serve shows contact maps; convert a \
+                 text table with `contactmap convert` first)"
+            )));
+        }
+    };
+    let resolutions = list_resolutions(&text)?;
+    let mut levels: Vec<(u64, Box<dyn MatrixReader>)> = Vec::new();
+    if resolutions.is_empty() {
+        let reader = open_matrix(&text, &OpenOptions::default())?;
+        let Some(resolution) = reader.bins().resolution() else {
+            return Err(Error::Argument(format!(
+                "{text}: its bins are not of one size, which HiGlass tiles cannot show"
+            )));
+        };
+        levels.push((resolution, reader));
+    } else {
+        for resolution in resolutions {
+            let options = OpenOptions {
+                resolution: Some(resolution),
+                ..OpenOptions::default()
+            };
+            levels.push((resolution, open_matrix(&text, &options)?));
+        }
+    }
+    let uid = uid_of(path);
+    let coord_system = levels[0].1.info().assembly().unwrap_or_else(|| uid.clone());
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| text.clone());
+    Ok(Entry {
+        uid,
+        name,
+        path: path.to_path_buf(),
+        filetype,
+        datatype: "matrix",
+        coord_system,
+        tileset: Tileset::new(levels)?,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn uids_are_the_file_names_first_word() {
+        assert_eq!(uid_of(Path::new("/data/GM12878.hg19.mcool")), "GM12878");
+        assert_eq!(uid_of(Path::new("a b+c.cool")), "a_b_c");
+        assert_eq!(uid_of(Path::new(".hidden.cool")), "map");
+    }
+}
