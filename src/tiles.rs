@@ -11,18 +11,13 @@
 mod dense;
 mod format;
 
-use std::collections::HashMap;
-use std::sync::{Arc, Mutex};
-
 use serde_json::{Value, json};
 
 use crate::error::{Error, Result};
 use crate::io::MatrixReader;
 
+pub use dense::TILE_SIZE;
 pub use format::dense_json;
-
-/// Bins along a tile's side.
-pub const TILE_SIZE: usize = 256;
 
 /// The normalisations HiGlass offers, by the bin-table column that holds each, with the name
 /// clodius shows (`transform_descriptions`).
@@ -172,9 +167,6 @@ impl Tileset {
         names
     }
 }
-
-/// Weight columns read once per level.
-type ColumnCache = Mutex<HashMap<String, Arc<Vec<f64>>>>;
 
 #[cfg(test)]
 mod tests;

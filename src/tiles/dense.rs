@@ -7,11 +7,17 @@
 //! order, and so does this. A column is NaN when a bin placed in it has a NaN weight, and so is
 //! every column from the genome's end on.
 
-use std::sync::Arc;
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex};
 
-use super::{ColumnCache, TILE_SIZE};
 use crate::error::{Error, Result};
 use crate::io::MatrixReader;
+
+/// Bins along a tile's side.
+pub const TILE_SIZE: usize = 256;
+
+/// Weight columns read once per level.
+type ColumnCache = Mutex<HashMap<String, Arc<Vec<f64>>>>;
 
 /// One resolution of a tileset.
 pub(super) struct Level {
