@@ -15,7 +15,7 @@ BIN := target/release/contactmap
 # is compiled once for all of them (and `maturin develop` / `make wheel` reuse it).
 TESTED := --workspace --exclude contactmap-benches
 
-.PHONY: all build demo test test-venvs lint man check-peers bench clean python wheel
+.PHONY: all build web demo test test-venvs lint man check-peers bench clean python wheel
 
 all: build
 
@@ -25,8 +25,13 @@ all: build
 build:
 	$(CARGO) build --release $(TESTED)
 
+## make web: the viewer page of `contactmap serve` (web/: HiGlass, React and pixi.js bundled by
+## vite) into web/dist, with the machine's npm from the committed lockfile; without npm it says so
+web:
+	scripts/build_web.sh
+
 ## make demo: build, then run the pipeline on the real example data shipped in data/
-demo: build
+demo: build web
 	CONTACTMAP=$(BIN) scripts/demo.sh
 
 ## make test: formatting, lints, docs and the whole test suite (what CI runs), then the Snakemake
@@ -36,7 +41,8 @@ demo: build
 # maturin tells it): maturin's own build resolved the build scripts' dependencies apart from the
 # tests' (no dev-dependencies) and compiled hdf5 and contactmap again (3.5 min on a fresh clone).
 # The Python environments of the workflows' and the package's tests are installed while clippy
-# compiles (pip mostly downloads and unpacks: a minute of a fresh clone's make test).
+# compiles (pip mostly downloads and unpacks: a minute of a fresh clone's make test), and so is
+# the viewer page (npm ci, vite build) that the browser test, last, opens in headless Chromium.
 test: export PYO3_BUILD_EXTENSION_MODULE := 1
 test:
 	$(MAKE) --no-print-directory -j2 lint test-venvs
@@ -46,6 +52,7 @@ test:
 	RUSTDOCFLAGS="-D warnings" $(CARGO) doc --workspace --no-deps --quiet
 	scripts/test_workflows.sh target/debug/contactmap
 	scripts/test_python.sh target/debug/contactmap --module target/debug/lib_native.so
+	scripts/test_browser.sh target/debug/contactmap
 
 ## make python: the Python package (python/) built with optimisations into .venv-python, tested
 python: build
@@ -63,6 +70,7 @@ man: build
 test-venvs:
 	scripts/test_workflows.sh --prepare
 	scripts/test_python.sh --prepare
+	scripts/build_web.sh --if-stale
 
 lint:
 	$(CARGO) fmt --all -- --check
