@@ -28,6 +28,18 @@ const TRANSFORMS: [(&str, &str); 4] = [
     ("VC_SQRT", "VC_SQRT"),
 ];
 
+/// Which normalisations a tileset offers, and how it applies them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Norms {
+    /// A cooler's, as clodius: `weight` (ICE, multiplicative) and the divisive KR, VC and
+    /// VC_SQRT that hic2cool stores, where every resolution has them; `default` is `weight`
+    /// where the map has it.
+    Cooler,
+    /// A `.hic`'s norm vectors (KR, VC, VC_SQRT, SCALE, ...), divisive as Juicer stores them,
+    /// each offered where every resolution has it; `default` is the counts.
+    Hic,
+}
+
 /// A multi-resolution contact map (an `.mcool`'s or a `.hic`'s resolutions, or one `.cool`) to
 /// cut into tiles. Zoom level 0 is the coarsest resolution.
 ///
@@ -38,12 +50,13 @@ pub struct Tileset {
     levels: Vec<dense::Level>,
     /// The level clodius takes the genome and the storage mode from (the first it lists).
     first: usize,
+    norms: Norms,
 }
 
 impl Tileset {
     /// The tileset of `levels`: each resolution in base pairs with the map's reader at it. The
     /// levels must share one genome and have bins of their resolution.
-    pub fn new(levels: Vec<(u64, Box<dyn MatrixReader>)>) -> Result<Tileset> {
+    pub fn new(levels: Vec<(u64, Box<dyn MatrixReader>)>, norms: Norms) -> Result<Tileset> {
         if levels.is_empty() {
             return Err(Error::Argument(
                 "a tileset needs at least one resolution".into(),
@@ -69,7 +82,11 @@ impl Tileset {
         let first = (0..levels.len())
             .min_by_key(|&i| levels[i].resolution.to_string())
             .unwrap_or(0);
-        Ok(Tileset { levels, first })
+        Ok(Tileset {
+            levels,
+            first,
+            norms,
+        })
     }
 
     /// The resolutions, coarsest first (zoom level 0 first).
@@ -96,11 +113,19 @@ impl Tileset {
             .iter()
             .map(|l| l.reader.weight_names())
             .collect();
-        let transforms: Vec<Value> = TRANSFORMS
-            .iter()
-            .filter(|(column, _)| names.iter().all(|n| n.iter().any(|w| w == column)))
-            .map(|(column, name)| json!({"name": name, "value": column}))
-            .collect();
+        let everywhere = |column: &str| names.iter().all(|n| n.iter().any(|w| w == column));
+        let transforms: Vec<Value> = match self.norms {
+            Norms::Cooler => TRANSFORMS
+                .iter()
+                .filter(|(column, _)| everywhere(column))
+                .map(|(column, name)| json!({"name": name, "value": column}))
+                .collect(),
+            Norms::Hic => names[0]
+                .iter()
+                .filter(|column| everywhere(column))
+                .map(|column| json!({"name": column, "value": column}))
+                .collect(),
+        };
         let first = &self.levels[self.first];
         let chroms = first.reader.bins().chroms();
         let mut info = json!({
@@ -117,9 +142,10 @@ impl Tileset {
     }
 
     /// The tile at zoom level `zoom`, column `x` (the first bin's axis) and row `y`, under
-    /// `transform` (`default`, `weight`, `KR`, `VC`, `VC_SQRT`; another name gives the raw
-    /// counts, as clodius does): 256 x 256 values, row-major, a row per bin of the second axis.
-    /// `None` past the last zoom level.
+    /// `transform`: 256 x 256 values, row-major, a row per bin of the second axis; `None` past
+    /// the last zoom level. A cooler's transforms are `default`, `weight`, `KR`, `VC`, `VC_SQRT`
+    /// (another name gives the raw counts, as clodius does); a `.hic`'s, `default` (the counts)
+    /// and its norms' names (another name is an error).
     ///
     /// As clodius computes it: the pixels stored in the rectangle (one triangle of a
     /// symmetric-upper map), each placed by its bins' start on the concatenated genome; `default`
@@ -135,11 +161,12 @@ impl Tileset {
 
     /// What `transform` does to the counts at `level`.
     fn balance(&self, level: &dense::Level, transform: &str) -> Result<Option<dense::Balance>> {
-        let (column, divide) = match transform {
-            "default" if level.has_column("weight") => ("weight", false),
-            "weight" => ("weight", false),
-            "KR" | "VC" | "VC_SQRT" => (transform, true),
-            _ => return Ok(None),
+        let (column, divide) = match (self.norms, transform) {
+            (Norms::Cooler, "default") if level.has_column("weight") => ("weight", false),
+            (Norms::Cooler, "weight") => ("weight", false),
+            (Norms::Cooler, "KR" | "VC" | "VC_SQRT") => (transform, true),
+            (Norms::Hic, "default") | (Norms::Cooler, _) => return Ok(None),
+            (Norms::Hic, _) => (transform, true),
         };
         if !level.has_column(column) {
             return Err(Error::Argument(format!(

@@ -35,7 +35,7 @@ fn tileset(name: &str) -> Tileset {
             (r, Box::new(reader) as Box<dyn MatrixReader>)
         })
         .collect();
-    Tileset::new(levels).unwrap()
+    Tileset::new(levels, Norms::Cooler).unwrap()
 }
 
 #[test]
@@ -136,6 +136,51 @@ fn tiles_equal_clodius_bit_for_bit() {
         }
         assert!(expected.len() >= 20 && float16 > 0, "{name}: {float16}");
     }
+}
+
+/// A `.hic` is tiled as the cooler of the same pixels: hic_test_file.hic holds
+/// cooler_test_file.mcool's 100 kb counts (hic2cool made the .mcool from it); its norm vectors are
+/// divisive, as the .mcool's KR / VC columns (which hic2cool copied) are.
+#[test]
+fn a_hic_tiles_as_the_cooler_of_its_pixels() {
+    use crate::io::{OpenOptions, open_matrix};
+    let hic = open_matrix(
+        &format!("{DATA}/hic_test_file.hic"),
+        &OpenOptions::default(),
+    )
+    .unwrap();
+    let names = hic.weight_names();
+    let hic = Tileset::new(vec![(100_000, hic)], Norms::Hic).unwrap();
+    let cool = tileset("cooler_test_file.mcool");
+    let info = hic.info();
+    let offered: Vec<&str> = info["transforms"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|t| t["value"].as_str().unwrap())
+        .collect();
+    assert_eq!(
+        offered,
+        names.iter().map(String::as_str).collect::<Vec<_>>()
+    );
+    assert!(!offered.is_empty());
+    let mut nonzero = 0;
+    for (x, y) in [(0, 0), (1, 1), (0, 1), (2, 4), (5, 5)] {
+        let a = hic.tile(0, x, y, "default").unwrap().unwrap();
+        let b = cool.tile(1, x, y, "counts").unwrap().unwrap();
+        assert_eq!(a, b, "tile {x} {y}");
+        nonzero += a.iter().filter(|&&v| v > 0.0).count();
+        // a norm divides, and masks what the vector leaves NaN
+        let normed = hic.tile(0, x, y, offered[0]).unwrap().unwrap();
+        assert!(
+            normed
+                .iter()
+                .zip(&a)
+                .all(|(n, c)| n.is_nan() || (*c == 0.0) == (*n == 0.0))
+        );
+    }
+    assert!(nonzero > 10_000);
+    assert!(hic.tile(0, 0, 0, "weight").is_err());
 }
 
 #[test]

@@ -8,7 +8,7 @@ use contactmap::error::{Error, Result};
 use contactmap::io::{
     FileKind, MatrixReader, OpenOptions, detect_kind, list_resolutions, open_matrix,
 };
-use contactmap::tiles::Tileset;
+use contactmap::tiles::{Norms, Tileset};
 
 /// One file served.
 pub struct Entry {
@@ -121,6 +121,11 @@ fn open_entry(path: &Path) -> Result<Entry> {
             levels.push((resolution, open_matrix(&text, &options)?));
         }
     }
+    let norms = if filetype == "hic" {
+        Norms::Hic
+    } else {
+        Norms::Cooler
+    };
     let uid = uid_of(path);
     let coord_system = levels[0].1.info().assembly().unwrap_or_else(|| uid.clone());
     let name = path
@@ -134,7 +139,7 @@ fn open_entry(path: &Path) -> Result<Entry> {
         filetype,
         datatype: "matrix",
         coord_system,
-        tileset: Tileset::new(levels)?,
+        tileset: Tileset::new(levels, norms)?,
     })
 }
 
