@@ -28,6 +28,7 @@ import warnings
 import zlib
 
 import clodius
+import clodius.tiles.bedfile as hgb
 import clodius.tiles.cooler as hgc
 import cooler
 import numpy as np
@@ -87,6 +88,46 @@ def make_square(path):
             triucheck=False,
             mode="a",
         )
+
+
+def make_bed(path, chromsizes):
+    """600 intervals on cooler_test_file's genome (dm6), six BED columns (a real-valued score),
+    seed 20261130; a few wider than a chromosome's tenth, so coarse tiles hold many."""
+    rng = np.random.default_rng(20261130)
+    names, lengths = zip(*chromsizes)
+    with open(path, "w") as f:
+        for k in range(600):
+            c = int(rng.integers(len(names)))
+            width = int(rng.choice([20_000, 200_000, 2_000_000]))
+            start = int(rng.integers(0, max(1, lengths[c] - width)))
+            end = min(lengths[c], start + width)
+            score = round(float(rng.uniform(0, 10)), 3)
+            f.write(f"{names[c]}\t{start}\t{end}\tfeature{k}\t{score}\t{'+-'[k % 2]}\n")
+
+
+def bed_references(path, chromsizes):
+    """clodius' bedfile tileset_info and, for every zoom level, the first, a middle and the
+    last tile that hold at most 1,024 records (clodius samples larger ones at random): each
+    tile's record uids, and each record once (xStart, xEnd, chrOffset, fields; not `importance`,
+    random in clodius)."""
+    series = pd.Series({name: length for name, length in chromsizes})
+    info = hgb.tileset_info(path, series)
+    records, tiles = {}, {}
+    for z in range(info["max_zoom"] + 1):
+        for x in sorted({0, 2**z // 3, 2**z - 1}):
+            ((_, answer),) = hgb.tiles(path, [f"a.{z}.{x}"], series, None)
+            if len(answer) > 1024:
+                continue
+            tiles[f"{z}.{x}"] = sorted(int(r["uid"]) for r in answer)
+            for r in answer:
+                records[int(r["uid"])] = {
+                    "xStart": int(r["xStart"]),
+                    "xEnd": int(r["xEnd"]),
+                    "chrOffset": int(r["chrOffset"]),
+                    "fields": [v.item() if hasattr(v, "item") else v for v in r["fields"]],
+                }
+    answers = {"records": records, "tiles": tiles}
+    return info, answers
 
 
 def decode(tile):
@@ -154,6 +195,15 @@ def main():
             json.dump(answers, f, indent=0, sort_keys=True)
             f.write("\n")
         print(name, len(answers), "tiles")
+    chromsizes = hgc.tileset_info(os.path.join(root, MAPS[0]))["chromsizes"]
+    bed = os.path.join(out, "domains.bed")
+    make_bed(bed, chromsizes)
+    info, answers = bed_references(bed, chromsizes)
+    for what, value in (("tileset_info", info), ("tiles", answers)):
+        with open(os.path.join(out, f"domains.bed.{what}.json"), "w") as f:
+            json.dump(value, f, sort_keys=True)
+            f.write("\n")
+    print("domains.bed", len(answers["tiles"]), "tiles")
 
 
 main()

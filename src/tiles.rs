@@ -10,6 +10,7 @@
 
 mod dense;
 mod format;
+mod intervals;
 
 use serde_json::{Value, json};
 
@@ -18,6 +19,7 @@ use crate::io::MatrixReader;
 
 pub use dense::TILE_SIZE;
 pub use format::dense_json;
+pub use intervals::{Intervals, MAX_PER_TILE};
 
 /// The normalisations HiGlass offers, by the bin-table column that holds each, with the name
 /// clodius shows (`transform_descriptions`).

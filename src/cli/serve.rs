@@ -37,7 +37,7 @@ Examples:
   contactmap serve wt.mcool ko.mcool --port 9000      # two maps side by side, zoom locked
   contactmap serve sample.mcool --bind 0.0.0.0        # reachable from other machines")]
 pub struct ServeArgs {
-    /// The maps to serve: .mcool, .cool, .hic.
+    /// The maps to serve (.mcool, .cool, .hic) and BED tracks over them (.bed, .bed.gz).
     #[arg(required = true, value_name = "FILE")]
     pub files: Vec<PathBuf>,
     /// The port (0: any free port, printed at start).
@@ -96,11 +96,10 @@ pub fn run(args: &ServeArgs) -> Result<()> {
     }
     for entry in &registry.entries {
         eprintln!(
-            "contactmap serve: {} <- {} ({}, {} resolution(s))",
+            "contactmap serve: {} <- {} ({})",
             entry.uid,
             entry.path.display(),
-            entry.filetype,
-            entry.tileset.resolutions().len()
+            entry.describe()
         );
     }
     if web.dir.is_none() {

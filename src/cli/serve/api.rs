@@ -13,7 +13,7 @@ use std::sync::{Arc, Mutex};
 
 use serde_json::{Value, json};
 
-use super::registry::{Entry, Registry};
+use super::registry::{Data, Entry, Registry};
 use contactmap::tiles::dense_json;
 
 /// The longest query answered (bytes).
@@ -47,22 +47,27 @@ impl Reply {
     }
 }
 
-/// A tile a request names: `UID.z.x.y` with an optional `.transform`.
+/// A tile a request names: `UID.z.x.y` (a map's) or `UID.z.x` (a 1D track's), with an optional
+/// `.transform`.
 #[derive(Debug, PartialEq, Eq)]
 pub struct TileId<'a> {
     pub uid: &'a str,
     pub zoom: usize,
     pub x: u64,
-    pub y: u64,
+    pub y: Option<u64>,
     pub transform: Option<&'a str>,
 }
 
 /// Parse a tile id, or say what is wrong with it.
 pub fn parse_tile_id(id: &str) -> Result<TileId<'_>, String> {
     let parts: Vec<&str> = id.split('.').collect();
-    if !(4..=5).contains(&parts.len()) {
+    let numeric = |t: &&str| !t.is_empty() && t.bytes().all(|b| b.is_ascii_digit());
+    // UID, z, x, then y when it is a number, then the transform
+    let has_y = parts.get(3).is_some_and(numeric);
+    let n_max = if has_y { 5 } else { 4 };
+    if parts.len() < 3 || parts.len() > n_max {
         return Err(format!(
-            "tile id '{}': expected UID.z.x.y or UID.z.x.y.transform",
+            "tile id '{}': expected UID.z.x.y[.transform] (a map) or UID.z.x (a track)",
             shown(id)
         ));
     }
@@ -71,8 +76,7 @@ pub fn parse_tile_id(id: &str) -> Result<TileId<'_>, String> {
         return Err(format!("tile id '{}': not a tileset UID", shown(id)));
     }
     let number = |text: &str, what: &str| {
-        let digits =
-            !text.is_empty() && text.len() <= 19 && text.bytes().all(|b| b.is_ascii_digit());
+        let digits = numeric(&text) && text.len() <= 19;
         digits
             .then(|| text.parse::<u64>().ok())
             .flatten()
@@ -92,8 +96,12 @@ pub fn parse_tile_id(id: &str) -> Result<TileId<'_>, String> {
         ));
     }
     let x = number(parts[2], "x")?;
-    let y = number(parts[3], "y")?;
-    let transform = match parts.get(4) {
+    let y = if has_y {
+        Some(number(parts[3], "y")?)
+    } else {
+        None
+    };
+    let transform = match parts.get(if has_y { 4 } else { 3 }) {
         Some(t) if is_name(t, 32) => Some(*t),
         Some(t) => {
             return Err(format!(
@@ -296,7 +304,7 @@ impl Api {
         for &uid in uids {
             let info = match self.registry.get(uid) {
                 Some(entry) => {
-                    let mut info = entry.tileset.info();
+                    let mut info = entry.info();
                     info["name"] = json!(entry.name);
                     info["coordSystem"] = json!(entry.coord_system);
                     info["coordSystem2"] = json!("");
@@ -348,21 +356,36 @@ impl Api {
         }
     }
 
-    /// One tile's JSON, from the cache or computed; `None` past the last zoom level.
+    /// One tile's JSON, from the cache or computed; `None` past a map's last zoom level.
     fn tile_text(&self, entry: &Entry, tile: &TileId) -> Option<Arc<str>> {
         let transform = tile.transform.unwrap_or("default");
-        let key = format!(
-            "{}.{}.{}.{}.{transform}",
-            entry.uid, tile.zoom, tile.x, tile.y
-        );
+        let y = tile.y.map_or(String::new(), |y| format!(".{y}"));
+        let key = format!("{}.{}.{}{y}.{transform}", entry.uid, tile.zoom, tile.x);
         if let Some(text) = self.cache.get(&key) {
             return Some(text);
         }
-        let text: Arc<str> = match entry.tileset.tile(tile.zoom, tile.x, tile.y, transform) {
-            Ok(None) => return None,
-            Ok(Some(values)) => dense_json(&values).to_string().into(),
-            // not kept: a read that failed may succeed later
-            Err(error) => return Some(json!({ "error": error.to_string() }).to_string().into()),
+        let error = |message: String| Some(json!({ "error": message }).to_string().into());
+        let text: Arc<str> = match (&entry.data, tile.y) {
+            (Data::Map(tileset), Some(y)) => match tileset.tile(tile.zoom, tile.x, y, transform) {
+                Ok(None) => return None,
+                Ok(Some(values)) => dense_json(&values).to_string().into(),
+                // not kept: a read that failed may succeed later
+                Err(error) => {
+                    return Some(json!({ "error": error.to_string() }).to_string().into());
+                }
+            },
+            (Data::Intervals(intervals), None) => {
+                intervals.tile(tile.zoom as u32, tile.x).to_string().into()
+            }
+            (Data::Map(_), None) => {
+                return error(format!("{} is a map: its tiles are UID.z.x.y", entry.uid));
+            }
+            (Data::Intervals(_), Some(_)) => {
+                return error(format!(
+                    "{} is a 1D track: its tiles are UID.z.x",
+                    entry.uid
+                ));
+            }
         };
         self.cache.put(key, text.clone());
         Some(text)
@@ -377,7 +400,7 @@ impl Api {
         let Some(entry) = self.registry.get(uid) else {
             return Reply::error(400, &format!("No such tileset with uid: {}", shown(uid)));
         };
-        let chromsizes = entry.tileset.info()["chromsizes"].clone();
+        let chromsizes = entry.info()["chromsizes"].clone();
         let pairs = chromsizes.as_array().cloned().unwrap_or_default();
         match types {
             [] | ["tsv"] => {

@@ -19,8 +19,12 @@ fn data(name: &str) -> PathBuf {
 fn api() -> &'static Api {
     static API: OnceLock<Api> = OnceLock::new();
     API.get_or_init(|| Api {
-        registry: Registry::open(&[data("cooler_test_file.mcool"), data("tiles/square.mcool")])
-            .unwrap(),
+        registry: Registry::open(&[
+            data("tiles/domains.bed"),
+            data("cooler_test_file.mcool"),
+            data("tiles/square.mcool"),
+        ])
+        .unwrap(),
         cache: TileCache::new(1 << 20),
     })
 }
@@ -112,15 +116,60 @@ fn tileset_info_through_the_api_is_clodius_with_the_name() {
     assert_eq!(info["nope"]["error"], "No such tileset with uid: nope");
 }
 
+/// A BED track through the API: clodius' records in each tile (`UID.z.x`), its tileset_info.
+#[test]
+fn bed_tiles_through_the_api_equal_clodius() {
+    let expected = reference("domains.bed", "tiles");
+    let ids: Vec<&String> = expected["tiles"].as_object().unwrap().keys().collect();
+    let query: Vec<String> = ids.iter().map(|id| format!("d=domains.{id}")).collect();
+    let (status, tiles) = get("/api/v1/tiles/", &query.join("&"));
+    assert_eq!(status, 200);
+    for id in ids {
+        let uids: Vec<&Value> = tiles[format!("domains.{id}")]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|r| &r["uid"])
+            .collect();
+        let want: Vec<&Value> = expected["tiles"][id].as_array().unwrap().iter().collect();
+        assert_eq!(uids, want, "{id}");
+    }
+    let (_, info) = get("/api/v1/tileset_info/", "d=domains");
+    assert_eq!(
+        info["domains"]["max_width"],
+        reference("domains.bed", "tileset_info")["max_width"]
+    );
+    let (_, wrong) = get("/api/v1/tiles/", "d=domains.1.0.0&d=square.1.0");
+    assert!(
+        wrong["domains.1.0.0"]["error"]
+            .as_str()
+            .unwrap()
+            .contains("1D track")
+    );
+    assert!(
+        wrong["square.1.0"]["error"]
+            .as_str()
+            .unwrap()
+            .contains("is a map")
+    );
+}
+
 #[test]
 fn the_list_and_chrom_sizes() {
     let (status, list) = get("/api/v1/tilesets/", "limit=100&dt=matrix");
+    assert_eq!(get("/api/v1/tilesets/", "").1["count"], 3);
     assert_eq!(status, 200);
     assert_eq!(list["count"], 2);
     assert_eq!(list["results"][0]["uuid"], "cooler_test_file");
     assert_eq!(list["results"][0]["coordSystem"], "dm6");
     assert_eq!(list["results"][1]["datatype"], "matrix");
     assert_eq!(get("/api/v1/tilesets/", "dt=vector").1["count"], 0);
+    // the BED track, after the maps, on its map's genome
+    let (_, tracks) = get("/api/v1/tilesets/", "dt=bedlike");
+    assert_eq!(tracks["count"], 1);
+    assert_eq!(tracks["results"][0]["uuid"], "domains");
+    assert_eq!(tracks["results"][0]["filetype"], "bedfile");
+    assert_eq!(tracks["results"][0]["coordSystem"], "dm6");
     assert_eq!(get("/api/v1/tilesets/", "ac=squ").1["count"], 1);
     let reply = api().respond("/api/v1/chrom-sizes/", "id=square");
     assert_eq!(
@@ -137,7 +186,6 @@ fn malformed_requests_are_400_with_a_json_error() {
     let long = format!("d={}", "a".repeat(MAX_QUERY_BYTES));
     let cases = [
         ("/api/v1/tiles/", "".to_string()),
-        ("/api/v1/tiles/", "d=square.2.0".to_string()),
         ("/api/v1/tiles/", "d=square.2.0.0.KR.x".to_string()),
         ("/api/v1/tiles/", "d=square.x.0.0".to_string()),
         ("/api/v1/tiles/", "d=square.2.%2B1.0".to_string()),
@@ -216,15 +264,19 @@ fn tile_ids_parse_as_higlass_writes_them() {
             uid: "GM12878",
             zoom: 3,
             x: 5,
-            y: 7,
+            y: Some(7),
             transform: Some("KR")
         })
     );
     assert_eq!(parse_tile_id("a-b_c.0.0.0").unwrap().transform, None);
+    let track = parse_tile_id("domains.3.5").unwrap();
+    assert_eq!((track.x, track.y, track.transform), (5, None, None));
+    assert_eq!(parse_tile_id("v.3.5.mean").unwrap().transform, Some("mean"));
     for bad in [
         "",
         "a",
-        "a.1.2",
+        "a.1",
+        "a.1.2.KR.x",
         "a.1.2.3.4.5",
         ".1.2.3",
         "a.1.2.3.",
@@ -243,7 +295,7 @@ proptest! {
     #[test]
     fn any_request_is_answered_with_json(
         endpoint in prop::sample::select(vec!["tiles/", "tileset_info/", "tilesets/", "chrom-sizes/", "x/"]),
-        query in "[a-z=&%.0-9A-F_/+-]{0,80}|d=(square|cooler_test_file|x)\\.[0-9]{1,3}\\.[0-9]{1,3}\\.[0-9]{1,3}(\\.(KR|weight|VC|x))?",
+        query in "[a-z=&%.0-9A-F_/+-]{0,80}|d=(square|cooler_test_file|domains|x)(\\.[0-9]{1,3}){2,3}(\\.(KR|weight|VC|x))?",
         raw in proptest::collection::vec(any::<u8>(), 0..64),
     ) {
         let path = format!("/api/v1/{endpoint}");
