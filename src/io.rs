@@ -91,11 +91,11 @@ mod tests;
 pub mod trajectory;
 
 pub use matrices::{
-    CheckedCounts, FileKind, InMemory, Inspect, LoadedPixels, MatrixInfo, MatrixReader,
+    CheckedCounts, FileKind, InMemory, Inspect, Levels, LoadedPixels, MatrixInfo, MatrixReader,
     OpenOptions, QueryPixels, StreamedPixels, cool, default_memory_budget, detect_kind, hic,
     hicexplorer, info, list_resolutions, load_matrix, load_pixels, load_pixels_for_balancing,
-    merged, open_matrix, parse_memory_size, parse_resolution_group, query_dense, query_dense_into,
-    query_pixels, read_ahead, read_ahead_by, split_uri, text, uri_at_resolution,
+    merged, open_levels, open_matrix, parse_memory_size, parse_resolution_group, query_dense,
+    query_dense_into, query_pixels, read_ahead, read_ahead_by, split_uri, text, uri_at_resolution,
 };
 pub use plumbing::{
     Temporary, WriteLock, atomic, hdf5_guard, is_special_file, open_text, output, same_file, tables,

@@ -10,15 +10,17 @@
 
 mod dense;
 mod format;
+mod id;
 mod intervals;
 
 use serde_json::{Value, json};
 
 use crate::error::{Error, Result};
-use crate::io::MatrixReader;
+use crate::io::{FileKind, MatrixReader};
 
 pub use dense::TILE_SIZE;
-pub use format::dense_json;
+pub use format::{dense_json, dense_json_text};
+pub use id::{TileId, shown};
 pub use intervals::{Intervals, MAX_PER_TILE};
 
 /// The normalisations HiGlass offers, by the bin-table column that holds each, with the name
@@ -40,6 +42,17 @@ pub enum Norms {
     /// A `.hic`'s norm vectors (KR, VC, VC_SQRT, SCALE, ...), divisive as Juicer stores them,
     /// each offered where every resolution has it; `default` is the counts.
     Hic,
+}
+
+impl Norms {
+    /// The normalisations of a file of `kind`: a `.hic`'s norm vectors, else a cooler's columns.
+    pub fn of(kind: FileKind) -> Norms {
+        if kind == FileKind::Hic {
+            Norms::Hic
+        } else {
+            Norms::Cooler
+        }
+    }
 }
 
 /// A multi-resolution contact map (an `.mcool`'s or a `.hic`'s resolutions, or one `.cool`) to

@@ -19,7 +19,7 @@ pub(crate) mod uri;
 
 pub use adapters::{CheckedCounts, Inspect};
 pub use kind::{FileKind, detect_kind};
-pub use open::{list_resolutions, open_matrix, uri_at_resolution};
+pub use open::{Levels, list_resolutions, open_levels, open_matrix, uri_at_resolution};
 pub use pixels::{
     LoadedPixels, StreamedPixels, default_memory_budget, load_matrix, load_pixels,
     load_pixels_for_balancing, parse_memory_size,

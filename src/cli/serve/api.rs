@@ -14,7 +14,7 @@ use std::sync::{Arc, Mutex};
 use serde_json::{Value, json};
 
 use super::registry::{Data, Entry, Registry};
-use contactmap::tiles::dense_json;
+use contactmap::tiles::{TileId, dense_json_text, shown};
 
 /// The longest query answered (bytes).
 pub const MAX_QUERY_BYTES: usize = 16 * 1024;
@@ -45,101 +45,6 @@ impl Reply {
             body: json!({ "error": message }).to_string().into_bytes(),
         }
     }
-}
-
-/// A tile a request names: `UID.z.x.y` (a map's) or `UID.z.x` (a 1D track's), with an optional
-/// `.transform`.
-#[derive(Debug, PartialEq, Eq)]
-pub struct TileId<'a> {
-    pub uid: &'a str,
-    pub zoom: usize,
-    pub x: u64,
-    pub y: Option<u64>,
-    pub transform: Option<&'a str>,
-}
-
-/// Parse a tile id, or say what is wrong with it.
-pub fn parse_tile_id(id: &str) -> Result<TileId<'_>, String> {
-    let parts: Vec<&str> = id.split('.').collect();
-    let numeric = |t: &&str| !t.is_empty() && t.bytes().all(|b| b.is_ascii_digit());
-    // UID, z, x, then y when it is a number, then the transform
-    let has_y = parts.get(3).is_some_and(numeric);
-    let n_max = if has_y { 5 } else { 4 };
-    if parts.len() < 3 || parts.len() > n_max {
-        return Err(format!(
-            "tile id '{}': expected UID.z.x.y[.transform] (a map) or UID.z.x (a track)",
-            shown(id)
-        ));
-    }
-    let uid = parts[0];
-    if !is_name(uid, 128) {
-        return Err(format!("tile id '{}': not a tileset UID", shown(id)));
-    }
-    let number = |text: &str, what: &str| {
-        let digits = numeric(&text) && text.len() <= 19;
-        digits
-            .then(|| text.parse::<u64>().ok())
-            .flatten()
-            .ok_or_else(|| {
-                format!(
-                    "tile id '{}': {what} '{}' is not a number",
-                    shown(id),
-                    shown(text)
-                )
-            })
-    };
-    let zoom = number(parts[1], "zoom level")?;
-    if zoom > 64 {
-        return Err(format!(
-            "tile id '{}': zoom level {zoom} is beyond 64",
-            shown(id)
-        ));
-    }
-    let x = number(parts[2], "x")?;
-    let y = if has_y {
-        Some(number(parts[3], "y")?)
-    } else {
-        None
-    };
-    let transform = match parts.get(if has_y { 4 } else { 3 }) {
-        Some(t) if is_name(t, 32) => Some(*t),
-        Some(t) => {
-            return Err(format!(
-                "tile id '{}': '{}' is not a transform",
-                shown(id),
-                shown(t)
-            ));
-        }
-        None => None,
-    };
-    Ok(TileId {
-        uid,
-        zoom: zoom as usize,
-        x,
-        y,
-        transform,
-    })
-}
-
-/// Letters, digits, `-` and `_`, 1 to `max` of them.
-fn is_name(text: &str, max: usize) -> bool {
-    (1..=max).contains(&text.len())
-        && text
-            .bytes()
-            .all(|b| b.is_ascii_alphanumeric() || b == b'-' || b == b'_')
-}
-
-/// A request's text as an error message shows it: at most 64 characters, controls escaped.
-fn shown(text: &str) -> String {
-    let mut out: String = text
-        .chars()
-        .take(64)
-        .flat_map(char::escape_default)
-        .collect();
-    if text.chars().count() > 64 {
-        out.push_str("...");
-    }
-    out
 }
 
 /// A query's decoded `key=value` pairs.
@@ -325,7 +230,7 @@ impl Api {
         }
         let mut parsed = Vec::with_capacity(ids.len());
         for &id in ids {
-            match parse_tile_id(id) {
+            match TileId::parse(id) {
                 Ok(tile) => parsed.push((id, tile)),
                 Err(message) => return Reply::error(400, &message),
             }
@@ -368,7 +273,7 @@ impl Api {
         let text: Arc<str> = match (&entry.data, tile.y) {
             (Data::Map(tileset), Some(y)) => match tileset.tile(tile.zoom, tile.x, y, transform) {
                 Ok(None) => return None,
-                Ok(Some(values)) => dense_json(&values).to_string().into(),
+                Ok(Some(values)) => dense_json_text(&values).into(),
                 // not kept: a read that failed may succeed later
                 Err(error) => {
                     return Some(json!({ "error": error.to_string() }).to_string().into());

@@ -9,9 +9,7 @@ use serde_json::Value;
 use contactmap::error::{Error, Result};
 use contactmap::genome::Chrom;
 use contactmap::io::bed::read_bed_table;
-use contactmap::io::{
-    FileKind, MatrixReader, OpenOptions, detect_kind, list_resolutions, open_matrix,
-};
+use contactmap::io::{FileKind, detect_kind, open_levels};
 use contactmap::tiles::{Intervals, Norms, Tileset};
 
 /// One file served.
@@ -188,30 +186,8 @@ fn open_map(path: &Path) -> Result<Entry> {
             )));
         }
     };
-    let resolutions = list_resolutions(&text)?;
-    let mut levels: Vec<(u64, Box<dyn MatrixReader>)> = Vec::new();
-    if resolutions.is_empty() {
-        let reader = open_matrix(&text, &OpenOptions::default())?;
-        let Some(resolution) = reader.bins().resolution() else {
-            return Err(Error::Argument(format!(
-                "{text}: its bins are not of one size, which HiGlass tiles cannot show"
-            )));
-        };
-        levels.push((resolution, reader));
-    } else {
-        for resolution in resolutions {
-            let options = OpenOptions {
-                resolution: Some(resolution),
-                ..OpenOptions::default()
-            };
-            levels.push((resolution, open_matrix(&text, &options)?));
-        }
-    }
-    let norms = if filetype == "hic" {
-        Norms::Hic
-    } else {
-        Norms::Cooler
-    };
+    let (kind, levels) = open_levels(&text)?;
+    let norms = Norms::of(kind);
     let uid = uid_of(path);
     let coord_system = levels[0].1.info().assembly().unwrap_or_else(|| uid.clone());
     Ok(Entry {

@@ -207,6 +207,50 @@ pub fn list_resolutions(path: &str) -> Result<Vec<u64>> {
     }
 }
 
+/// A multi-resolution map's levels: each bin size with its reader.
+pub type Levels = Vec<(u64, Box<dyn MatrixReader>)>;
+
+/// Every resolution of the map at `path`, coarse or fine as the file lists them: an `.mcool`'s
+/// or a `.hic`'s levels, or a single-resolution map's one (its bins must be of one size). Each
+/// level with its bin size and its reader; with the file's kind. What a multi-resolution viewer
+/// (`serve`, Python's `tiles`) opens.
+///
+/// ```
+/// use contactmap::io::{FileKind, open_levels};
+///
+/// let (kind, levels) = open_levels("data/cooler_test_file.mcool")?;
+/// assert_eq!(kind, FileKind::Hdf5);
+/// let resolutions: Vec<u64> = levels.iter().map(|(r, _)| *r).collect();
+/// assert_eq!(resolutions, [100000, 1000000]);
+/// assert_eq!(open_levels("data/yeast.10kb.cool")?.1[0].0, 10000);
+/// assert!(open_levels("data/cooler_variable_bins_test_file.cool").is_err());
+/// # Ok::<(), contactmap::Error>(())
+/// ```
+pub fn open_levels(path: &str) -> Result<(FileKind, Levels)> {
+    let kind = detect_kind(path)?;
+    let resolutions = list_resolutions(path)?;
+    if resolutions.is_empty() {
+        let reader = open_matrix(path, &OpenOptions::default())?;
+        let Some(resolution) = reader.bins().resolution() else {
+            return Err(Error::Argument(format!(
+                "{path}: its bins are not of one size (a multi-resolution view needs fixed bins)"
+            )));
+        };
+        return Ok((kind, vec![(resolution, reader)]));
+    }
+    let levels = resolutions
+        .into_iter()
+        .map(|resolution| {
+            let options = OpenOptions {
+                resolution: Some(resolution),
+                ..OpenOptions::default()
+            };
+            Ok((resolution, open_matrix(path, &options)?))
+        })
+        .collect::<Result<Vec<_>>>()?;
+    Ok((kind, levels))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -259,7 +259,7 @@ fn the_cache_keeps_the_most_recently_used_within_its_size() {
 #[test]
 fn tile_ids_parse_as_higlass_writes_them() {
     assert_eq!(
-        parse_tile_id("GM12878.3.5.7.KR"),
+        TileId::parse("GM12878.3.5.7.KR"),
         Ok(TileId {
             uid: "GM12878",
             zoom: 3,
@@ -268,10 +268,10 @@ fn tile_ids_parse_as_higlass_writes_them() {
             transform: Some("KR")
         })
     );
-    assert_eq!(parse_tile_id("a-b_c.0.0.0").unwrap().transform, None);
-    let track = parse_tile_id("domains.3.5").unwrap();
+    assert_eq!(TileId::parse("a-b_c.0.0.0").unwrap().transform, None);
+    let track = TileId::parse("domains.3.5").unwrap();
     assert_eq!((track.x, track.y, track.transform), (5, None, None));
-    assert_eq!(parse_tile_id("v.3.5.mean").unwrap().transform, Some("mean"));
+    assert_eq!(TileId::parse("v.3.5.mean").unwrap().transform, Some("mean"));
     for bad in [
         "",
         "a",
@@ -283,7 +283,7 @@ fn tile_ids_parse_as_higlass_writes_them() {
         "a.-1.2.3",
         "a.1. 2.3",
     ] {
-        assert!(parse_tile_id(bad).is_err(), "{bad:?}");
+        assert!(TileId::parse(bad).is_err(), "{bad:?}");
     }
 }
 
@@ -306,7 +306,7 @@ proptest! {
             if reply.content_type == "application/json" {
                 prop_assert!(serde_json::from_slice::<Value>(&reply.body).is_ok());
             }
-            let _ = parse_tile_id(q);
+            let _ = TileId::parse(q);
         }
     }
 }
