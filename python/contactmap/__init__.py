@@ -32,6 +32,7 @@ from ._simulate import (
     simulate_polymer,
 )
 from ._tables import balance, directionality, expected_cis, expected_trans, insulation
+from ._tiles import Tileset, tiles
 from ._writers import convert, create_cooler, merge, zoomify
 
 __all__ = [
@@ -44,6 +45,7 @@ __all__ = [
     "PolymerStats",
     "Simulation",
     "Structure",
+    "Tileset",
     "balance",
     "contact_frequencies",
     "convert",
@@ -66,6 +68,7 @@ __all__ = [
     "saddle_strength",
     "score_contacts",
     "simulate_polymer",
+    "tiles",
     "zoomify",
 ]
 

@@ -9,6 +9,7 @@ __all__ = [
     "ContactmapError",
     "FormatError",
     "NativeFile",
+    "NativeTileset",
     "balance",
     "balance_store",
     "contact_frequencies",
@@ -45,6 +46,12 @@ class FormatError(ContactmapError):
 
 _Region = tuple[str, int, int, str | None]
 _Column = tuple[str, npt.NDArray[Any]]
+
+@final
+class NativeTileset:
+    def __new__(cls, path: str) -> NativeTileset: ...
+    def tileset_info(self) -> str: ...
+    def tiles(self, tile_ids: list[str]) -> str: ...
 
 @final
 class NativeFile:

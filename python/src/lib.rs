@@ -8,7 +8,8 @@
 //! module per part of the API: `file` (opening and fetching), `tables` (expected,
 //! insulation, directionality, balance), `compartments` (eigenvectors and saddles), `loops`
 //! (dots and pileups), `writers` (convert, zoomify, merge, create_cooler), `protein`
-//! (structures and contact scores), `simulate` (the polymer simulator).
+//! (structures and contact scores), `simulate` (the polymer simulator), `tiles` (HiGlass
+//! tiles).
 
 mod compartments;
 mod convert;
@@ -17,6 +18,7 @@ mod loops;
 mod protein;
 mod simulate;
 mod tables;
+mod tiles;
 mod writers;
 
 use convert::{ContactmapError, FormatError};
@@ -28,6 +30,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("ContactmapError", m.py().get_type::<ContactmapError>())?;
     m.add("FormatError", m.py().get_type::<FormatError>())?;
     m.add_class::<file::NativeFile>()?;
+    m.add_class::<tiles::NativeTileset>()?;
     m.add_function(wrap_pyfunction!(file::resolutions, m)?)?;
     m.add_function(wrap_pyfunction!(tables::expected_cis, m)?)?;
     m.add_function(wrap_pyfunction!(tables::expected_trans, m)?)?;
