@@ -203,5 +203,18 @@ step "An MD trajectory (data/md: adenylate kinase, 3 XTC frames of its open -> c
   "$cm" contacts --trajectory data/md/adk.xtc --topology data/md/adk.pdb.gz --definition closest-heavy \
   --cutoff 4.5 -o "$work/adk.freq.tsv"
 awk -F'\t' 'NR > 1 && $8 > 0 && $8 < 3' "$work/adk.freq.tsv" | wc -l | sed 's/^/   pairs in contact in some frames only (the transition): /'
+printf '\n\033[1m== %s\033[0m\n$ %s\n' "The viewer: contactmap serve (HiGlass' API and page) on the dm6 map with its TAD domains; a tile asked for over HTTP" \
+  "$cm serve $mcool $work/domains.bed --port 0"
+"$cm" serve "$mcool" "$work/domains.bed" --port 0 2> "$work/serve.log" &
+serve_pid=$!
+for _ in $(seq 50); do grep -q 'http://' "$work/serve.log" && break; sleep 0.1; done
+url=$(grep -o 'http://[0-9.:]*/' "$work/serve.log" | head -1)
+cat "$work/serve.log"
+if [ -n "$url" ] && command -v curl >/dev/null; then
+  curl -s "${url}api/v1/tilesets/" | head -c 300; echo
+  curl -s "${url}api/v1/tiles/?d=cooler_test_file.1.0.0" | head -c 120; echo ' ...'
+fi
+kill -INT "$serve_pid"; wait "$serve_pid" || true
+echo "   to look: $cm serve $mcool $work/domains.bed   (then open http://127.0.0.1:8989/)"
 printf '\nDemo finished. Pictures: %s/\n' "$figs"
 ls "$figs"
