@@ -39,6 +39,20 @@ function uidOf(prefix, i) {
   return `${prefix}${i}`;
 }
 
+/** How each 1D datatype is drawn on top and on the left: track types, thickness, options. */
+const ONE_D = {
+  vector: {
+    types: ['horizontal-line', 'vertical-line'],
+    size: 40,
+    options: { lineStrokeColor: '#1f4e9c' },
+  },
+  bedlike: {
+    types: ['bedlike', 'vertical-bedlike'],
+    size: 24,
+    options: { fillColor: '#2a7d2e', fillOpacity: 0.6 },
+  },
+};
+
 /** The 1D and overlay tracks of one map's view. */
 function extraTracks(tilesets, viewIndex) {
   const top = [];
@@ -47,49 +61,30 @@ function extraTracks(tilesets, viewIndex) {
   tilesets.forEach((ts, i) => {
     const common = { server: API, tilesetUid: ts.uuid };
     const name = ts.name || ts.uuid;
-    switch (ts.datatype) {
-      case 'vector':
-        top.push({
-          ...common,
-          uid: uidOf(`v${viewIndex}-top-line`, i),
-          type: 'horizontal-line',
-          height: 40,
-          options: { name, labelPosition: 'topLeft', lineStrokeColor: '#1f4e9c' },
-        });
-        left.push({
-          ...common,
-          uid: uidOf(`v${viewIndex}-left-line`, i),
-          type: 'vertical-line',
-          width: 40,
-          options: { name, labelPosition: 'hidden', lineStrokeColor: '#1f4e9c' },
-        });
-        break;
-      case 'bedlike':
-        top.push({
-          ...common,
-          uid: uidOf(`v${viewIndex}-top-bed`, i),
-          type: 'bedlike',
-          height: 24,
-          options: { name, labelPosition: 'hidden', fillColor: '#2a7d2e', fillOpacity: 0.6 },
-        });
-        left.push({
-          ...common,
-          uid: uidOf(`v${viewIndex}-left-bed`, i),
-          type: 'vertical-bedlike',
-          width: 24,
-          options: { name, labelPosition: 'hidden', fillColor: '#2a7d2e', fillOpacity: 0.6 },
-        });
-        break;
-      case '2d-rectangle-domains':
-        center.push({
-          ...common,
-          uid: uidOf(`v${viewIndex}-rect`, i),
-          type: '2d-rectangle-domains',
-          options: { name, rectangleDomainStrokeColor: '#1b3fd1', rectangleDomainOpacity: 0.8 },
-        });
-        break;
-      default:
-        break;
+    const oneD = ONE_D[ts.datatype];
+    if (oneD) {
+      const [topType, leftType] = oneD.types;
+      top.push({
+        ...common,
+        uid: uidOf(`v${viewIndex}-top-${ts.datatype}`, i),
+        type: topType,
+        height: oneD.size,
+        options: { name, labelPosition: ts.datatype === 'vector' ? 'topLeft' : 'hidden', ...oneD.options },
+      });
+      left.push({
+        ...common,
+        uid: uidOf(`v${viewIndex}-left-${ts.datatype}`, i),
+        type: leftType,
+        width: oneD.size,
+        options: { name, labelPosition: 'hidden', ...oneD.options },
+      });
+    } else if (ts.datatype === '2d-rectangle-domains') {
+      center.push({
+        ...common,
+        uid: uidOf(`v${viewIndex}-rect`, i),
+        type: '2d-rectangle-domains',
+        options: { name, rectangleDomainStrokeColor: '#1b3fd1', rectangleDomainOpacity: 0.8 },
+      });
     }
   });
   return { top, left, center };

@@ -101,6 +101,18 @@ fn content_type(name: &str) -> &'static str {
     }
 }
 
+/// The CORS headers on every answer: any page may read it, with range requests (juicebox.js,
+/// hic-straw ask for a .hic's bytes by range).
+const CORS: [(header::HeaderName, &str); 4] = [
+    (header::ACCESS_CONTROL_ALLOW_ORIGIN, "*"),
+    (header::ACCESS_CONTROL_ALLOW_HEADERS, "Range, Content-Type"),
+    (header::ACCESS_CONTROL_ALLOW_METHODS, "GET, HEAD, OPTIONS"),
+    (
+        header::ACCESS_CONTROL_EXPOSE_HEADERS,
+        "Content-Length, Content-Range, Accept-Ranges",
+    ),
+];
+
 /// Every request: the API under `/api/v1/`, served .hic files under `/files/`, the page else.
 pub async fn handle(State(shared): State<Arc<Shared>>, request: Request) -> Response {
     let method = request.method().clone();
@@ -143,23 +155,11 @@ pub async fn handle(State(shared): State<Arc<Shared>>, request: Request) -> Resp
             None => reply(Reply::error(404, "not found")),
         }
     };
-    let headers = response.headers_mut();
-    headers.insert(
-        header::ACCESS_CONTROL_ALLOW_ORIGIN,
-        HeaderValue::from_static("*"),
-    );
-    headers.insert(
-        header::ACCESS_CONTROL_ALLOW_HEADERS,
-        HeaderValue::from_static("Range, Content-Type"),
-    );
-    headers.insert(
-        header::ACCESS_CONTROL_ALLOW_METHODS,
-        HeaderValue::from_static("GET, HEAD, OPTIONS"),
-    );
-    headers.insert(
-        header::ACCESS_CONTROL_EXPOSE_HEADERS,
-        HeaderValue::from_static("Content-Length, Content-Range, Accept-Ranges"),
-    );
+    for (name, value) in CORS {
+        response
+            .headers_mut()
+            .insert(name, HeaderValue::from_static(value));
+    }
     if method == Method::HEAD {
         *response.body_mut() = Body::empty();
     }
