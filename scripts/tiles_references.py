@@ -29,6 +29,7 @@ import zlib
 
 import clodius
 import clodius.tiles.bedfile as hgb
+import clodius.tiles.bigwig as hgbw
 import clodius.tiles.cooler as hgc
 import cooler
 import numpy as np
@@ -130,6 +131,62 @@ def bed_references(path, chromsizes):
     return info, answers
 
 
+def make_bedgraph(path, chromsizes):
+    """A bedGraph on cooler_test_file's genome (seed 20261130): per chromosome, intervals of 1 to
+    40 kb with gaps between some, values of mixed sign and scale (a chromosome's values near
+    70,000 in one stretch, beyond float16's range), chrM left without data."""
+    rng = np.random.default_rng(20261130)
+    with open(path, "w") as f:
+        for name, length in chromsizes:
+            if name == "chrM":
+                continue
+            pos = int(rng.integers(0, 5000))
+            while pos < length:
+                width = int(rng.integers(1000, 40_000))
+                end = min(length, pos + width)
+                value = float(rng.normal(0, 2))
+                if name == "chr4":
+                    value = 70_000 + value
+                f.write(f"{name}\t{pos}\t{end}\t{value:.6g}\n")
+                pos = end + (int(rng.integers(0, 20_000)) if rng.random() < 0.3 else 0)
+
+
+def bedgraph_references(path, chromsizes):
+    """clodius' bigwig tiles of a bigWig holding the bedGraph (pyBigWig, no zoom levels, so that
+    pybigtools summarises the intervals themselves): tileset_info with the map's chromosomes,
+    and for every zoom level the first, a middle and the last tile and the one holding chr4's
+    start, in each aggregation mode."""
+    import pyBigWig
+
+    bw_path = path + ".bw"
+    bw = pyBigWig.open(bw_path, "w")
+    bw.addHeader([(n, int(l)) for n, l in chromsizes], maxZooms=0)
+    rows = [line.split("\t") for line in open(path)]
+    bw.addEntries(
+        [r[0] for r in rows],
+        [int(r[1]) for r in rows],
+        ends=[int(r[2]) for r in rows],
+        values=[float(r[3]) for r in rows],
+    )
+    bw.close()
+    info = hgbw.tileset_info(bw_path, chromsizes)
+    chr4 = sum(l for n, l in chromsizes[: [n for n, _ in chromsizes].index("chr4")])
+    answers = {}
+    for z in range(info["max_zoom"] + 1):
+        span = info["max_width"] // 2**z
+        for x in sorted({0, 2**z // 3, 2**z - 1, chr4 // span}):
+            for mode in ("mean", "min", "max", "sum"):
+                tile_id = f"a.{z}.{x}" if mode == "mean" else f"a.{z}.{x}.{mode}"
+                ((_, tile),) = hgbw.tiles(bw_path, [tile_id], chromsizes=chromsizes)
+                digest = decode(tile)
+                digest["length"] = len(base64.b64decode(tile["dense"])) // (
+                    2 if tile["dtype"] == "float16" else 4
+                )
+                answers[tile_id[2:]] = digest
+    os.remove(bw_path)
+    return info, answers
+
+
 def decode(tile):
     raw = base64.b64decode(tile["dense"])
     array = np.frombuffer(raw, dtype=tile["dtype"])
@@ -204,6 +261,14 @@ def main():
             json.dump(value, f, sort_keys=True)
             f.write("\n")
     print("domains.bed", len(answers["tiles"]), "tiles")
+    bedgraph = os.path.join(out, "track.bedgraph")
+    make_bedgraph(bedgraph, chromsizes)
+    info, answers = bedgraph_references(bedgraph, chromsizes)
+    for what, value in (("tileset_info", info), ("tiles", answers)):
+        with open(os.path.join(out, f"track.bedgraph.{what}.json"), "w") as f:
+            json.dump(value, f, indent=0, sort_keys=True)
+            f.write("\n")
+    print("track.bedgraph", len(answers), "tiles")
 
 
 main()

@@ -12,6 +12,7 @@ mod dense;
 mod format;
 mod id;
 mod intervals;
+mod vector;
 
 use serde_json::{Value, json};
 
@@ -19,9 +20,10 @@ use crate::error::{Error, Result};
 use crate::io::{FileKind, MatrixReader};
 
 pub use dense::TILE_SIZE;
-pub use format::{dense_json, dense_json_text};
+pub use format::{Sample, dense_json, dense_json_text};
 pub use id::{TileId, shown};
 pub use intervals::{Intervals, MAX_PER_TILE};
+pub use vector::{Aggregation, VECTOR_TILE_SIZE, Vector};
 
 /// The normalisations HiGlass offers, by the bin-table column that holds each, with the name
 /// clodius shows (`transform_descriptions`).

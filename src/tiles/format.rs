@@ -27,7 +27,7 @@ use serde_json::{Value, json};
 /// assert_eq!(masked["min_value"], 2.0);
 /// assert_eq!(dense_json(&[f32::NAN])["max_value"], "NaN");
 /// ```
-pub fn dense_json(values: &[f32]) -> Value {
+pub fn dense_json<T: Sample>(values: &[T]) -> Value {
     let tile = Encoded::of(values);
     json!({
         "min_value": tile.min_value,
@@ -49,7 +49,7 @@ pub fn dense_json(values: &[f32]) -> Value {
 /// assert_eq!(serde_json::from_str::<serde_json::Value>(&text)?, dense_json(&values));
 /// # Ok::<(), serde_json::Error>(())
 /// ```
-pub fn dense_json_text(values: &[f32]) -> String {
+pub fn dense_json_text<T: Sample>(values: &[T]) -> String {
     let tile = Encoded::of(values);
     let mut text = String::with_capacity(tile.dense.len() + 128);
     text.push_str("{\"min_value\":");
@@ -77,9 +77,10 @@ struct Encoded {
 const PIECE: usize = 768;
 
 impl Encoded {
-    fn of(values: &[f32]) -> Encoded {
-        let (mut min, mut max, mut has_nan) = (f32::INFINITY, f32::NEG_INFINITY, false);
-        for &v in values {
+    fn of<T: Sample>(values: &[T]) -> Encoded {
+        let (mut min, mut max, mut has_nan) = (f64::INFINITY, f64::NEG_INFINITY, false);
+        for v in values {
+            let v = v.wide();
             if v.is_nan() {
                 has_nan = true;
             } else {
@@ -89,9 +90,9 @@ impl Encoded {
         }
         let any = min <= max;
         let (min, max) = (any.then_some(min), any.then_some(max));
-        let in_f16 = |v: Option<f32>| {
+        let in_f16 = |v: Option<f64>| {
             v.is_some_and(|v| {
-                let rounded = f16::from_f32(v);
+                let rounded = f16::from_f64(v);
                 rounded > f16::MIN && rounded < f16::MAX
             })
         };
@@ -102,9 +103,9 @@ impl Encoded {
         for piece in values.chunks(PIECE) {
             bytes.clear();
             if half {
-                bytes.extend(piece.iter().flat_map(|&v| f16::from_f32(v).to_le_bytes()));
+                bytes.extend(piece.iter().flat_map(|v| v.half().to_le_bytes()));
             } else {
-                bytes.extend(piece.iter().flat_map(|v| v.to_le_bytes()));
+                bytes.extend(piece.iter().flat_map(|v| v.single().to_le_bytes()));
             }
             STANDARD.encode_string(&bytes, &mut dense);
         }
@@ -117,12 +118,47 @@ impl Encoded {
     }
 }
 
+/// A tile's values: float32 (a map's tiles, as clodius fills them) or float64 (a vector track's,
+/// as clodius' bigWig tiles are), each cast to float16 or float32 directly, as numpy's `astype`.
+pub trait Sample: Copy {
+    /// As float64 (exact).
+    fn wide(self) -> f64;
+    /// Rounded to float32.
+    fn single(self) -> f32;
+    /// Rounded to float16 (from the value itself, not through float32).
+    fn half(self) -> f16;
+}
+
+impl Sample for f32 {
+    fn wide(self) -> f64 {
+        self as f64
+    }
+    fn single(self) -> f32 {
+        self
+    }
+    fn half(self) -> f16 {
+        f16::from_f32(self)
+    }
+}
+
+impl Sample for f64 {
+    fn wide(self) -> f64 {
+        self
+    }
+    fn single(self) -> f32 {
+        self as f32
+    }
+    fn half(self) -> f16 {
+        f16::from_f64(self)
+    }
+}
+
 /// A tile's smallest or largest value as the server sends it.
-fn wire(value: Option<f32>) -> Value {
+fn wire(value: Option<f64>) -> Value {
     match value {
         None => json!("NaN"),
-        Some(v) if v == f32::INFINITY => json!("Infinity"),
-        Some(v) if v == f32::NEG_INFINITY => json!("-Infinity"),
-        Some(v) => json!(v as f64),
+        Some(v) if v == f64::INFINITY => json!("Infinity"),
+        Some(v) if v == f64::NEG_INFINITY => json!("-Infinity"),
+        Some(v) => json!(v),
     }
 }

@@ -228,7 +228,23 @@ fn serve_refuses_what_it_cannot_serve_and_warns_off_loopback() {
         &format!("{}::/resolutions/100000", data("cooler_test_file.mcool")),
     ]);
     assert!(err.contains("whole files"), "{err}");
-    let server = Server::start(&[&data("yeast.10kb.cool"), "--bind", "0.0.0.0"]);
+    // a table's track names its column, or takes the one contactmap's tables lead with
+    let dir = tempfile::tempdir().unwrap();
+    let table = crate::write(
+        dir.path(),
+        "ins.tsv",
+        "chrom\tstart\tend\tother\nchrII\t0\t10000\t1.5\n",
+    );
+    let err = crate::run_err(&["serve", &data("yeast.10kb.cool"), &table]);
+    assert!(
+        err.contains("no column to show by default") && err.contains("ins.tsv::COLUMN"),
+        "{err}"
+    );
+    let column = format!("{table}::other");
+    let server = Server::start(&[&data("yeast.10kb.cool"), &column, "--bind", "0.0.0.0"]);
+    let (status, tiles) = server.json("/api/v1/tiles/?d=ins.0.0");
+    assert_eq!(status, 200);
+    assert_eq!(tiles["ins.0.0"]["dtype"], "float32");
     assert!(
         server
             .stderr

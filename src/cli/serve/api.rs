@@ -14,7 +14,7 @@ use std::sync::{Arc, Mutex};
 use serde_json::{Value, json};
 
 use super::registry::{Data, Entry, Registry};
-use contactmap::tiles::{TileId, dense_json_text, shown};
+use contactmap::tiles::{Aggregation, TileId, dense_json_text, shown};
 
 /// The longest query answered (bytes).
 pub const MAX_QUERY_BYTES: usize = 16 * 1024;
@@ -282,10 +282,19 @@ impl Api {
             (Data::Intervals(intervals), None) => {
                 intervals.tile(tile.zoom as u32, tile.x).to_string().into()
             }
+            (Data::Vector(vector), None) => {
+                let tile = Aggregation::parse(tile.transform)
+                    .and_then(|mode| vector.tile(tile.zoom as u32, tile.x, mode));
+                match tile {
+                    Ok(None) => return None,
+                    Ok(Some(values)) => dense_json_text(&values).into(),
+                    Err(e) => return error(e.to_string()),
+                }
+            }
             (Data::Map(_), None) => {
                 return error(format!("{} is a map: its tiles are UID.z.x.y", entry.uid));
             }
-            (Data::Intervals(_), Some(_)) => {
+            (Data::Intervals(_) | Data::Vector(_), Some(_)) => {
                 return error(format!(
                     "{} is a 1D track: its tiles are UID.z.x",
                     entry.uid

@@ -10,7 +10,7 @@ use contactmap::error::{Error, Result};
 use contactmap::genome::Chrom;
 use contactmap::io::bed::read_bed_table;
 use contactmap::io::{FileKind, detect_kind, open_levels};
-use contactmap::tiles::{Intervals, Norms, Tileset};
+use contactmap::tiles::{Intervals, Norms, Tileset, Vector};
 
 /// One file served.
 pub struct Entry {
@@ -37,6 +37,8 @@ pub enum Data {
     Map(Tileset),
     /// A BED file's intervals: 1D interval tiles.
     Intervals(Intervals),
+    /// A bedGraph or a table's column: 1D vector tiles.
+    Vector(Vector),
 }
 
 impl Entry {
@@ -45,6 +47,7 @@ impl Entry {
         match &self.data {
             Data::Map(tileset) => tileset.info(),
             Data::Intervals(intervals) => intervals.info(),
+            Data::Vector(vector) => vector.info(),
         }
     }
 
@@ -57,6 +60,7 @@ impl Entry {
                 tileset.resolutions().len()
             ),
             Data::Intervals(_) => "BED intervals".into(),
+            Data::Vector(_) => "a 1D track".into(),
         }
     }
 }
@@ -67,19 +71,25 @@ pub struct Registry {
 }
 
 impl Registry {
-    /// Open `paths`: maps (.mcool, .cool, .hic) and BED files (.bed, .bed.gz), each BED on the
-    /// genome of the first map that has all its chromosomes. Every file must open: a file that
+    /// Open `paths`: maps (.mcool, .cool, .hic), BED files (.bed) and 1D tracks (.bedgraph, or
+    /// a table's column, `table.tsv::COLUMN`; each may be gzip'd), each track on the genome of the
+    /// first map that has all its chromosomes. Every file must open: a file that
     /// does not is an error naming it, and the server does not start.
     pub fn open(paths: &[PathBuf]) -> Result<Registry> {
         let mut entries: Vec<Entry> = Vec::with_capacity(paths.len());
-        let (beds, maps): (Vec<&PathBuf>, Vec<&PathBuf>) = paths.iter().partition(|p| is_bed(p));
+        let (tracks, maps): (Vec<&PathBuf>, Vec<&PathBuf>) = paths
+            .iter()
+            .partition(|p| is_bed(p) || vector_column(p).is_some());
         for path in maps {
             let entry = open_map(path)?;
             let uid = unique(&entry.uid, &entries);
             entries.push(Entry { uid, ..entry });
         }
-        for path in beds {
-            let entry = open_bed(path, &entries)?;
+        for path in tracks {
+            let entry = match vector_column(path) {
+                Some(column) => open_vector(path, column, &entries)?,
+                None => open_bed(path, &entries)?,
+            };
             let uid = unique(&entry.uid, &entries);
             entries.push(Entry { uid, ..entry });
         }
@@ -131,27 +141,37 @@ fn is_bed(path: &Path) -> bool {
     name.ends_with(".bed") || name.ends_with(".bed.gz")
 }
 
-/// A BED file on the genome of the first map served that has every chromosome it names.
-fn open_bed(path: &Path, maps: &[Entry]) -> Result<Entry> {
-    let text = path.to_string_lossy().into_owned();
-    let table = read_bed_table(path)?;
+/// The genome (chromosomes, coordinate system) of the first map served that has every chromosome
+/// in `names`.
+fn genome_for<'a>(
+    names: impl Iterator<Item = &'a str> + Clone,
+    maps: &[Entry],
+    text: &str,
+) -> Result<(Vec<Chrom>, String)> {
     let genome = maps.iter().find_map(|entry| {
         let Data::Map(tileset) = &entry.data else {
             return None;
         };
         let chroms: Vec<Chrom> = tileset.reader(0)?.bins().chroms().to_vec();
-        let all = table
-            .records
-            .iter()
-            .all(|r| chroms.iter().any(|c| c.name == r.chrom));
+        let all = names
+            .clone()
+            .all(|name| chroms.iter().any(|c| c.name == name));
         all.then_some((chroms, entry.coord_system.clone()))
     });
-    let Some((chroms, coord_system)) = genome else {
-        return Err(Error::Argument(format!(
-            "{text}: no map served has all its chromosomes (serve a BED file with its map: \
+    genome.ok_or_else(|| {
+        Error::Argument(format!(
+            "{text}: no map served has all its chromosomes (serve a track with its map: \
              contactmap serve map.mcool domains.bed)"
-        )));
-    };
+        ))
+    })
+}
+
+/// A BED file on the genome of the first map served that has every chromosome it names.
+fn open_bed(path: &Path, maps: &[Entry]) -> Result<Entry> {
+    let text = path.to_string_lossy().into_owned();
+    let table = read_bed_table(path)?;
+    let (chroms, coord_system) =
+        genome_for(table.records.iter().map(|r| r.chrom.as_str()), maps, &text)?;
     Ok(Entry {
         uid: uid_of(path),
         name: file_name(path),
@@ -160,6 +180,99 @@ fn open_bed(path: &Path, maps: &[Entry]) -> Result<Entry> {
         datatype: "bedlike",
         coord_system,
         data: Data::Intervals(Intervals::new(&chroms, &table.fields, &text)?),
+    })
+}
+
+/// Where a 1D track's values are: `Some(None)` for a bedGraph (the 4th column), `Some(Some(name))`
+/// for a table's column (`table.tsv::name`, or the first of the columns contactmap's tables lead
+/// with), `None` for anything else.
+fn vector_column(path: &Path) -> Option<Option<String>> {
+    let text = path.to_string_lossy();
+    let (file, column) = match text.rsplit_once("::") {
+        Some((file, column)) => (file.to_ascii_lowercase(), Some(column.to_string())),
+        None => (text.to_ascii_lowercase(), None),
+    };
+    let file = file.strip_suffix(".gz").unwrap_or(&file);
+    if [".bedgraph", ".bg"].iter().any(|e| file.ends_with(e)) && column.is_none() {
+        return Some(None);
+    }
+    if file.ends_with(".tsv") {
+        return Some(Some(column.unwrap_or_default()));
+    }
+    None
+}
+
+/// The columns a table's track defaults to, by prefix: insulation, eigenvectors, coverage.
+const DEFAULT_COLUMNS: [&str; 3] = ["log2_insulation_score_", "E1", "cov_cis_raw"];
+
+/// A bedGraph, or a table's column, on the genome of the first map served that has all its
+/// chromosomes.
+fn open_vector(path: &Path, column: Option<String>, maps: &[Entry]) -> Result<Entry> {
+    let spec = path.to_string_lossy().into_owned();
+    let file = PathBuf::from(spec.rsplit_once("::").map_or(spec.as_str(), |(f, _)| f));
+    let table = read_bed_table(&file)?;
+    let index = match &column {
+        None => 3,
+        Some(name) => {
+            let header = table.header.as_ref().ok_or_else(|| {
+                Error::Argument(format!("{}: a table needs a header line", file.display()))
+            })?;
+            let found = if name.is_empty() {
+                header
+                    .iter()
+                    .position(|h| DEFAULT_COLUMNS.iter().any(|p| h.starts_with(p)))
+            } else {
+                header.iter().position(|h| h == name)
+            };
+            found.ok_or_else(|| {
+                Error::Argument(format!(
+                    "{}: no column {} (the table has: {}); name one as {}::COLUMN",
+                    file.display(),
+                    if name.is_empty() {
+                        "to show by default".to_string()
+                    } else {
+                        format!("'{name}'")
+                    },
+                    header.join(", "),
+                    file.display()
+                ))
+            })?
+        }
+    };
+    let mut records = Vec::with_capacity(table.records.len());
+    for (k, (record, fields)) in table.records.iter().zip(&table.fields).enumerate() {
+        let text = fields.get(index).map(String::as_str).unwrap_or("");
+        let value = match text {
+            "" | "nan" | "NaN" | "NA" | "." => f64::NAN,
+            _ => text.parse::<f64>().map_err(|_| {
+                Error::Data(format!(
+                    "{}: record {}: '{text}' is not a number",
+                    file.display(),
+                    k + 1
+                ))
+            })?,
+        };
+        records.push((record.chrom.clone(), record.start, record.end, value));
+    }
+    let (chroms, coord_system) =
+        genome_for(table.records.iter().map(|r| r.chrom.as_str()), maps, &spec)?;
+    let name = match &column {
+        Some(c) if !c.is_empty() => format!("{} {c}", file_name(&file)),
+        Some(_) => format!(
+            "{} {}",
+            file_name(&file),
+            table.header.as_ref().map_or("", |h| h[index].as_str())
+        ),
+        None => file_name(&file),
+    };
+    Ok(Entry {
+        uid: uid_of(&file),
+        name,
+        path: file.clone(),
+        filetype: "bigwig",
+        datatype: "vector",
+        coord_system,
+        data: Data::Vector(Vector::new(&chroms, &records, &spec)?),
     })
 }
 

@@ -21,6 +21,7 @@ fn api() -> &'static Api {
     API.get_or_init(|| Api {
         registry: Registry::open(&[
             data("tiles/domains.bed"),
+            data("tiles/track.bedgraph"),
             data("cooler_test_file.mcool"),
             data("tiles/square.mcool"),
         ])
@@ -154,16 +155,53 @@ fn bed_tiles_through_the_api_equal_clodius() {
     );
 }
 
+/// A bedGraph track through the API (`UID.z.x[.mode]`): clodius' bigWig tiles of it.
+#[test]
+fn vector_tiles_through_the_api_equal_clodius() {
+    let Value::Object(expected) = reference("track.bedgraph", "tiles") else {
+        panic!()
+    };
+    let ids: Vec<&String> = expected.keys().take(60).collect();
+    let query: Vec<String> = ids.iter().map(|id| format!("d=track.{id}")).collect();
+    let (status, tiles) = get("/api/v1/tiles/", &query.join("&"));
+    assert_eq!(status, 200);
+    for id in ids {
+        let (dtype, crc, n_nan) = digest(&tiles[format!("track.{id}")]);
+        let want = &expected[id];
+        assert_eq!(
+            (dtype.as_str(), crc as u64, n_nan as u64),
+            (
+                want["dtype"].as_str().unwrap(),
+                want["crc32"].as_u64().unwrap(),
+                want["n_nan"].as_u64().unwrap()
+            ),
+            "{id}"
+        );
+    }
+    let (_, list) = get("/api/v1/tilesets/", "dt=vector");
+    assert_eq!(list["results"][0]["uuid"], "track");
+    assert_eq!(list["results"][0]["filetype"], "bigwig");
+    let (_, info) = get("/api/v1/tileset_info/", "d=track");
+    assert_eq!(info["track"]["tile_size"], 1024);
+    let (_, bad) = get("/api/v1/tiles/", "d=track.0.0.std");
+    assert!(
+        bad["track.0.0.std"]["error"]
+            .as_str()
+            .unwrap()
+            .contains("mean, min, max and sum")
+    );
+}
+
 #[test]
 fn the_list_and_chrom_sizes() {
     let (status, list) = get("/api/v1/tilesets/", "limit=100&dt=matrix");
-    assert_eq!(get("/api/v1/tilesets/", "").1["count"], 3);
+    assert_eq!(get("/api/v1/tilesets/", "").1["count"], 4);
     assert_eq!(status, 200);
     assert_eq!(list["count"], 2);
     assert_eq!(list["results"][0]["uuid"], "cooler_test_file");
     assert_eq!(list["results"][0]["coordSystem"], "dm6");
     assert_eq!(list["results"][1]["datatype"], "matrix");
-    assert_eq!(get("/api/v1/tilesets/", "dt=vector").1["count"], 0);
+    assert_eq!(get("/api/v1/tilesets/", "dt=vector").1["count"], 1);
     // the BED track, after the maps, on its map's genome
     let (_, tracks) = get("/api/v1/tilesets/", "dt=bedlike");
     assert_eq!(tracks["count"], 1);
