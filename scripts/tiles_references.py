@@ -9,7 +9,7 @@ Run with a Python that has clodius 0.22.2 (it needs Python >= 3.12):
 Writes, for each map:
 - data/tiles/<map>.tileset_info.json: `clodius.tiles.cooler.tileset_info` of the map, its
   `transforms` sorted by value (clodius lists them in Python's set order, which varies);
-- data/tiles/<map>.tiles.json: for every zoom level, every transform the level stores (and
+- data/tiles/<map>.tiles.json.gz: for every zoom level, every transform the level stores (and
   `default`), the tiles along the diagonal, the ones beside it on either side, trans tiles and
   one past the genome's end, each asked of `clodius.tiles.cooler.tiles` alone: the decoded
   array's dtype, CRC-32 of its bytes (as decoded from base64), NaN count, min / max, or null
@@ -22,6 +22,7 @@ chromosome lengths that are not multiples of the resolution, a divisive `KR` col
 """
 
 import base64
+import gzip
 import json
 import os
 import warnings
@@ -43,7 +44,7 @@ out = os.path.join(root, "tiles")
 
 
 def make_square(path):
-    """Three chromosomes, resolutions 1, 2 and 4 kb, both triangles stored.
+    """Three chromosomes, resolutions 1 and 2 kb, both triangles stored.
 
     At 1 and 2 kb the bins before 512 kb are never masked, so the tiles there have no NaN and
     the choice of float16 rests on their values alone: at 1 kb tile (0, 0) peaks at 65490 and
@@ -53,20 +54,20 @@ def make_square(path):
     float16's range.
     """
     rng = np.random.default_rng(20261130)
-    chromsizes = pd.Series({"chrA": 600_500, "chrB": 99_999, "chrC": 60_001})
+    chromsizes = pd.Series({"chrA": 520_500, "chrB": 29_999, "chrC": 20_001})
     if os.path.exists(path):
         os.remove(path)
-    for res in (1000, 2000, 4000):
+    for res in (1000, 2000):
         bins = cooler.binnify(chromsizes, res)
         n = len(bins)
         i, j = np.triu_indices(n)
-        keep = rng.random(len(i)) < np.exp(-np.abs(i - j) / 4.0)
+        keep = rng.random(len(i)) < np.exp(-np.abs(i - j) / 3.0)
         i, j = i[keep], j[keep]
-        count = np.round(rng.gamma(2.0, 5.0, len(i)) * 100.0 / (1 + np.abs(i - j)), 3)
+        count = np.round(rng.gamma(2.0, 5.0, len(i)) * 100.0 / (1 + np.abs(i - j)), 1)
         weight = rng.uniform(0.5, 1.5, n)
         kr = rng.uniform(0.5, 1.5, n)
         first = np.asarray(bins["start"] < 512_000) & np.asarray(bins["chrom"] == "chrA")
-        weight[(rng.random(n) < 0.05) & ~(first & (res < 4000))] = np.nan
+        weight[(rng.random(n) < 0.05) & ~first] = np.nan
         kr[rng.random(n) < 0.05] = np.nan
         if res == 1000:
             for b, peak in ((3, 65490.0), (300, 65480.0)):
@@ -96,7 +97,7 @@ def make_bed(path, chromsizes):
     seed 20261130; a few wider than a chromosome's tenth, so coarse tiles hold many."""
     rng = np.random.default_rng(20261130)
     names, lengths = zip(*chromsizes)
-    with open(path, "w") as f:
+    with gzip.open(path, "wt") as f:
         for k in range(600):
             c = int(rng.integers(len(names)))
             width = int(rng.choice([20_000, 200_000, 2_000_000]))
@@ -136,13 +137,13 @@ def make_bedgraph(path, chromsizes):
     40 kb with gaps between some, values of mixed sign and scale (a chromosome's values near
     70,000 in one stretch, beyond float16's range), chrM left without data."""
     rng = np.random.default_rng(20261130)
-    with open(path, "w") as f:
+    with gzip.open(path, "wt") as f:
         for name, length in chromsizes:
             if name == "chrM":
                 continue
             pos = int(rng.integers(0, 5000))
             while pos < length:
-                width = int(rng.integers(1000, 40_000))
+                width = int(rng.integers(2000, 80_000))
                 end = min(length, pos + width)
                 value = float(rng.normal(0, 2))
                 if name == "chr4":
@@ -158,10 +159,10 @@ def bedgraph_references(path, chromsizes):
     start, in each aggregation mode."""
     import pyBigWig
 
-    bw_path = path + ".bw"
+    bw_path = path.removesuffix(".gz") + ".bw"
     bw = pyBigWig.open(bw_path, "w")
     bw.addHeader([(n, int(l)) for n, l in chromsizes], maxZooms=0)
-    rows = [line.split("\t") for line in open(path)]
+    rows = [line.split("\t") for line in gzip.open(path, "rt")]
     bw.addEntries(
         [r[0] for r in rows],
         [int(r[1]) for r in rows],
@@ -228,6 +229,18 @@ def tile_ids(info, zoom, transforms):
     return ids
 
 
+def write_json(path, value):
+    """JSON, sorted keys; gzip'd (without a time stamp, so a rerun writes the same bytes) when
+    the name ends in .gz."""
+    text = json.dumps(value, sort_keys=True) + "\n"
+    if path.endswith(".gz"):
+        with open(path, "wb") as f:
+            f.write(gzip.compress(text.encode(), mtime=0))
+    else:
+        with open(path, "w") as f:
+            f.write(text)
+
+
 def main():
     # numpy's overflow warnings where clodius casts (its float16 test, infinities to float32)
     warnings.simplefilter("ignore", RuntimeWarning)
@@ -248,26 +261,20 @@ def main():
             for tile_id in tile_ids(info, zoom, [t for t in TRANSFORMS if t in columns]):
                 tiles = hgc.tiles(path, [tile_id])
                 answers[tile_id[2:]] = decode(tiles[0][1]) if tiles else None
-        with open(os.path.join(out, name + ".tiles.json"), "w") as f:
-            json.dump(answers, f, indent=0, sort_keys=True)
-            f.write("\n")
+        write_json(os.path.join(out, name + ".tiles.json.gz"), answers)
         print(name, len(answers), "tiles")
     chromsizes = hgc.tileset_info(os.path.join(root, MAPS[0]))["chromsizes"]
-    bed = os.path.join(out, "domains.bed")
+    bed = os.path.join(out, "domains.bed.gz")
     make_bed(bed, chromsizes)
     info, answers = bed_references(bed, chromsizes)
-    for what, value in (("tileset_info", info), ("tiles", answers)):
-        with open(os.path.join(out, f"domains.bed.{what}.json"), "w") as f:
-            json.dump(value, f, sort_keys=True)
-            f.write("\n")
+    write_json(os.path.join(out, "domains.bed.tileset_info.json"), info)
+    write_json(os.path.join(out, "domains.bed.tiles.json.gz"), answers)
     print("domains.bed", len(answers["tiles"]), "tiles")
-    bedgraph = os.path.join(out, "track.bedgraph")
+    bedgraph = os.path.join(out, "track.bedgraph.gz")
     make_bedgraph(bedgraph, chromsizes)
     info, answers = bedgraph_references(bedgraph, chromsizes)
-    for what, value in (("tileset_info", info), ("tiles", answers)):
-        with open(os.path.join(out, f"track.bedgraph.{what}.json"), "w") as f:
-            json.dump(value, f, indent=0, sort_keys=True)
-            f.write("\n")
+    write_json(os.path.join(out, "track.bedgraph.tileset_info.json"), info)
+    write_json(os.path.join(out, "track.bedgraph.tiles.json.gz"), answers)
     print("track.bedgraph", len(answers), "tiles")
 
 

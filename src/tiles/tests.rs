@@ -19,8 +19,19 @@ const MAPS: [&str; 3] = [
 fn reference(name: &str, what: &str) -> Value {
     let file = name.rsplit('/').next().unwrap();
     let path = format!("{DATA}/tiles/{file}.{what}.json");
-    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
-    serde_json::from_str(&text).unwrap()
+    serde_json::from_str(&read_text(&path)).unwrap()
+}
+
+/// A reference file's text, from `path` or `path.gz`.
+fn read_text(path: &str) -> String {
+    if let Ok(text) = std::fs::read_to_string(path) {
+        return text;
+    }
+    let gz = format!("{path}.gz");
+    let file = std::fs::File::open(&gz).unwrap_or_else(|e| panic!("{path}(.gz): {e}"));
+    let mut text = String::new();
+    std::io::Read::read_to_string(&mut flate2::read::GzDecoder::new(file), &mut text).unwrap();
+    text
 }
 
 fn tileset(name: &str) -> Tileset {
@@ -202,7 +213,7 @@ fn a_transform_the_map_lacks_is_an_error_and_another_name_gives_counts() {
 /// chrOffset and typed fields; the same tileset_info.
 #[test]
 fn bed_intervals_equal_clodius() {
-    let path = format!("{DATA}/tiles/domains.bed");
+    let path = format!("{DATA}/tiles/domains.bed.gz");
     let table = crate::io::bed::read_bed_table(std::path::Path::new(&path)).unwrap();
     let cool = tileset("cooler_test_file.mcool");
     let chroms = cool.reader(0).unwrap().bins().chroms().to_vec();
@@ -297,7 +308,7 @@ fn crowded_interval_tiles_keep_the_most_important() {
 /// (clodius' joins give 1,025 values to some tiles).
 #[test]
 fn vector_tiles_equal_clodius_bigwig_tiles() {
-    let path = format!("{DATA}/tiles/track.bedgraph");
+    let path = format!("{DATA}/tiles/track.bedgraph.gz");
     let table = crate::io::bed::read_bed_table(std::path::Path::new(&path)).unwrap();
     let records: Vec<(String, u64, u64, f64)> = table
         .fields

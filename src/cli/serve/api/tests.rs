@@ -20,8 +20,8 @@ fn api() -> &'static Api {
     static API: OnceLock<Api> = OnceLock::new();
     API.get_or_init(|| Api {
         registry: Registry::open(&[
-            data("tiles/domains.bed"),
-            data("tiles/track.bedgraph"),
+            data("tiles/domains.bed.gz"),
+            data("tiles/track.bedgraph.gz"),
             data("cooler_test_file.mcool"),
             data("tiles/square.mcool"),
         ])
@@ -38,7 +38,13 @@ fn get(path: &str, query: &str) -> (u16, Value) {
 }
 
 fn reference(file: &str, what: &str) -> Value {
-    let text = std::fs::read_to_string(data(&format!("tiles/{file}.{what}.json"))).unwrap();
+    let path = data(&format!("tiles/{file}.{what}.json"));
+    let text = std::fs::read_to_string(&path).unwrap_or_else(|_| {
+        let gz = std::fs::File::open(path.with_extension("json.gz")).unwrap();
+        let mut text = String::new();
+        std::io::Read::read_to_string(&mut flate2::read::GzDecoder::new(gz), &mut text).unwrap();
+        text
+    });
     serde_json::from_str(&text).unwrap()
 }
 
@@ -212,10 +218,10 @@ fn the_list_and_chrom_sizes() {
     let reply = api().respond("/api/v1/chrom-sizes/", "id=square");
     assert_eq!(
         String::from_utf8(reply.body).unwrap(),
-        "chrA\t600500\nchrB\t99999\nchrC\t60001\n"
+        "chrA\t520500\nchrB\t29999\nchrC\t20001\n"
     );
     let (_, json) = get("/api/v1/chrom-sizes/", "id=square&type=json");
-    assert_eq!(json["chrB"]["size"], 99999);
+    assert_eq!(json["chrB"]["size"], 29999);
 }
 
 #[test]
@@ -258,11 +264,11 @@ fn malformed_requests_are_400_with_a_json_error() {
 fn tiles_past_the_last_zoom_level_are_left_out_and_missing_columns_are_errors() {
     let (status, tiles) = get(
         "/api/v1/tiles/",
-        "d=square.3.0.0&d=cooler_test_file.0.0.0.KR&d=other.0.0.0&d=square.2.0.0&d=square.2.0.0",
+        "d=square.2.0.0&d=cooler_test_file.0.0.0.KR&d=other.0.0.0&d=square.1.0.0&d=square.1.0.0",
     );
     assert_eq!(status, 200);
     let tiles = tiles.as_object().unwrap();
-    assert!(!tiles.contains_key("square.3.0.0"));
+    assert!(!tiles.contains_key("square.2.0.0"));
     assert!(
         tiles["cooler_test_file.0.0.0.KR"]["error"]
             .as_str()
