@@ -23,6 +23,7 @@ chromosome lengths that are not multiples of the resolution, a divisive `KR` col
 
 import base64
 import gzip
+import io
 import json
 import os
 import warnings
@@ -30,6 +31,7 @@ import zlib
 
 import clodius
 import clodius.tiles.bedfile as hgb
+import clodius.tiles.bedpe as hgbp
 import clodius.tiles.bigwig as hgbw
 import clodius.tiles.cooler as hgc
 import cooler
@@ -93,12 +95,12 @@ def make_square(path):
 
 
 def make_bed(path, chromsizes):
-    """600 intervals on cooler_test_file's genome (dm6), six BED columns (a real-valued score),
+    """400 intervals on cooler_test_file's genome (dm6), six BED columns (a real-valued score),
     seed 20261130; a few wider than a chromosome's tenth, so coarse tiles hold many."""
     rng = np.random.default_rng(20261130)
     names, lengths = zip(*chromsizes)
-    with gzip.open(path, "wt") as f:
-        for k in range(600):
+    with gz_text(path) as f:
+        for k in range(400):
             c = int(rng.integers(len(names)))
             width = int(rng.choice([20_000, 200_000, 2_000_000]))
             start = int(rng.integers(0, max(1, lengths[c] - width)))
@@ -137,7 +139,7 @@ def make_bedgraph(path, chromsizes):
     40 kb with gaps between some, values of mixed sign and scale (a chromosome's values near
     70,000 in one stretch, beyond float16's range), chrM left without data."""
     rng = np.random.default_rng(20261130)
-    with gzip.open(path, "wt") as f:
+    with gz_text(path) as f:
         for name, length in chromsizes:
             if name == "chrM":
                 continue
@@ -188,6 +190,45 @@ def bedgraph_references(path, chromsizes):
     return info, answers
 
 
+def make_bedpe(path, chromsizes):
+    """150 anchor pairs (dots) on cooler_test_file's genome, seed 20261130: mostly cis within
+    2 Mb, some trans; a header line; a score column."""
+    rng = np.random.default_rng(20261130)
+    names, lengths = zip(*chromsizes)
+    with gz_text(path) as f:
+        f.write("chrom1\tstart1\tend1\tchrom2\tstart2\tend2\tscore\n")
+        for k in range(150):
+            a = int(rng.integers(len(names) - 1))
+            b = a if rng.random() < 0.8 else int(rng.integers(len(names) - 1))
+            s1 = int(rng.integers(0, lengths[a] - 10_000))
+            s2 = min(lengths[b] - 10_000, s1 + int(rng.integers(20_000, 2_000_000))) if a == b \
+                else int(rng.integers(0, lengths[b] - 10_000))
+            score = round(float(rng.uniform(0, 1)), 4)
+            f.write(f"{names[a]}\t{s1}\t{s1 + 10_000}\t{names[b]}\t{s2}\t{s2 + 10_000}\t{score}\n")
+
+
+def bedpe_references(path, chromsizes):
+    """clodius' bedpe tileset_info and, for every zoom level, 2D tiles on the diagonal (first,
+    middle, last) and beside it, and 1D tiles (first, middle, last) that hold at most 512 records
+    (clodius samples larger ones at random): each tile's record uids, each record once."""
+    series = pd.Series({name: length for name, length in chromsizes})
+    info = hgbp.tileset_info(path, series)
+    records, tiles = {}, {}
+    for z in range(info["max_zoom"] + 1):
+        for x in sorted({0, 2**z // 3, 2**z - 1}):
+            ids = [f"{z}.{x}.{x}", f"{z}.{x}"] + ([f"{z}.{x}.{x + 1}"] if x + 1 < 2**z else [])
+            for tile_id in ids:
+                ((_, answer),) = hgbp.tiles(path, [f"a.{tile_id}"], series)
+                if len(answer) > 512:
+                    continue
+                tiles[tile_id] = sorted(int(r["uid"]) for r in answer)
+                for r in answer:
+                    records[int(r["uid"])] = {
+                        k: int(r[k]) for k in ("xStart", "xEnd", "yStart", "yEnd", "xChrOffset", "yChrOffset")
+                    } | {"fields": [v.item() if hasattr(v, "item") else v for v in r["fields"]]}
+    return info, {"records": records, "tiles": tiles}
+
+
 def decode(tile):
     raw = base64.b64decode(tile["dense"])
     array = np.frombuffer(raw, dtype=tile["dtype"])
@@ -227,6 +268,11 @@ def tile_ids(info, zoom, transforms):
             base = f"a.{zoom}.{x}.{y}"
             ids.append(base if t == "default" else f"{base}.{t}")
     return ids
+
+
+def gz_text(path):
+    """A gzip'd text file written without a time stamp (a rerun writes the same bytes)."""
+    return io.TextIOWrapper(gzip.GzipFile(path, "wb", mtime=0), encoding="utf-8")
 
 
 def write_json(path, value):
@@ -270,6 +316,12 @@ def main():
     write_json(os.path.join(out, "domains.bed.tileset_info.json"), info)
     write_json(os.path.join(out, "domains.bed.tiles.json.gz"), answers)
     print("domains.bed", len(answers["tiles"]), "tiles")
+    bedpe = os.path.join(out, "dots.bedpe.gz")
+    make_bedpe(bedpe, chromsizes)
+    info, answers = bedpe_references(bedpe, chromsizes)
+    write_json(os.path.join(out, "dots.bedpe.tileset_info.json"), info)
+    write_json(os.path.join(out, "dots.bedpe.tiles.json.gz"), answers)
+    print("dots.bedpe", len(answers["tiles"]), "tiles")
     bedgraph = os.path.join(out, "track.bedgraph.gz")
     make_bedgraph(bedgraph, chromsizes)
     info, answers = bedgraph_references(bedgraph, chromsizes)

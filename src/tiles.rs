@@ -12,6 +12,7 @@ mod dense;
 mod format;
 mod id;
 mod intervals;
+mod rectangles;
 mod vector;
 
 use serde_json::{Value, json};
@@ -23,6 +24,7 @@ pub use dense::TILE_SIZE;
 pub use format::{Sample, dense_json, dense_json_text};
 pub use id::{TileId, shown};
 pub use intervals::{Intervals, MAX_PER_TILE};
+pub use rectangles::{MAX_RECTANGLES_PER_TILE, Rectangles};
 pub use vector::{Aggregation, VECTOR_TILE_SIZE, Vector};
 
 /// The normalisations HiGlass offers, by the bin-table column that holds each, with the name

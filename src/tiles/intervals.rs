@@ -44,10 +44,7 @@ impl Intervals {
             offsets.insert(chrom.name.as_str(), length);
             length += chrom.length_bp;
         }
-        let n_columns = records.iter().map(Vec::len).max().unwrap_or(0);
-        let kinds: Vec<Kind> = (0..n_columns)
-            .map(|c| Kind::of(records.iter().filter_map(|r| r.get(c).map(String::as_str))))
-            .collect();
+        let kinds = kinds(records);
         let mut rows = Vec::with_capacity(records.len());
         for (ix, record) in records.iter().enumerate() {
             let field = |k: usize| record.get(k).map(String::as_str).unwrap_or("");
@@ -90,10 +87,9 @@ impl Intervals {
     /// `max_zoom` its base-2 logarithm rounded down, `min_pos` `[0]`, `max_pos` the length,
     /// `chromsizes`.
     pub fn info(&self) -> Value {
-        let max_zoom = ((self.length as f64).ln() / 2f64.ln()) as u64;
         json!({
             "max_width": self.length,
-            "max_zoom": max_zoom,
+            "max_zoom": max_zoom(self.length),
             "chromsizes": self.chroms.iter().map(|(n, l)| json!([n, l])).collect::<Vec<_>>(),
             "min_pos": [0],
             "max_pos": [self.length],
@@ -103,11 +99,7 @@ impl Intervals {
     /// Tile `x` of zoom level `zoom`: the records in it, each `{uid, xStart, xEnd, chrOffset,
     /// importance, fields}` (`uid`: the record's row, from 0), in file order.
     pub fn tile(&self, zoom: u32, x: u64) -> Value {
-        let width = |k: u64| {
-            let scaled = k as u128 * self.length as u128;
-            scaled as f64 / 2f64.powi(zoom.min(1023) as i32)
-        };
-        let (start, end) = (width(x), width(x + 1));
+        let (start, end) = tile_span(self.length, zoom, x);
         let mut hits: Vec<usize> = (0..self.rows.len())
             .filter(|&i| self.rows[i].x_end as f64 >= start && self.rows[i].x_start as f64 <= end)
             .collect();
@@ -134,9 +126,29 @@ impl Intervals {
     }
 }
 
+/// Where tile `x` of zoom level `zoom` starts and ends on a genome of `length` bp, as clodius
+/// computes it (`x * max_width / 2**z` in float64).
+pub(super) fn tile_span(length: u64, zoom: u32, x: u64) -> (f64, f64) {
+    let at = |k: u64| (k as u128 * length as u128) as f64 / 2f64.powi(zoom.min(1023) as i32);
+    (at(x), at(x + 1))
+}
+
+/// Each column's kind, from all its values.
+pub(super) fn kinds(records: &[Vec<String>]) -> Vec<Kind> {
+    let n_columns = records.iter().map(Vec::len).max().unwrap_or(0);
+    (0..n_columns)
+        .map(|c| Kind::of(records.iter().filter_map(|r| r.get(c).map(String::as_str))))
+        .collect()
+}
+
+/// The `max_zoom` clodius gives a genome of `length` bp: its base-2 logarithm, rounded down.
+pub(super) fn max_zoom(length: u64) -> u64 {
+    ((length as f64).ln() / 2f64.ln()) as u64
+}
+
 /// How a column's values are sent.
 #[derive(Clone, Copy)]
-enum Kind {
+pub(super) enum Kind {
     Integer,
     Real,
     Text,
@@ -156,7 +168,7 @@ impl Kind {
         }
     }
 
-    fn value(self, text: &str) -> Value {
+    pub(super) fn value(self, text: &str) -> Value {
         match self {
             Kind::Integer => text
                 .parse::<i64>()
@@ -170,7 +182,7 @@ impl Kind {
 }
 
 /// A record's fixed importance in [0, 1): a mix of its row number (splitmix64).
-fn importance(row: u64) -> f64 {
+pub(super) fn importance(row: u64) -> f64 {
     let mut z = row.wrapping_add(0x9E37_79B9_7F4A_7C15);
     z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
     z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);

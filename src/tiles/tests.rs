@@ -346,3 +346,55 @@ fn vector_tiles_equal_clodius_bigwig_tiles() {
     assert!(track.tile(99, 0, Aggregation::Mean).unwrap().is_none());
     assert!(Aggregation::parse(Some("std")).is_err());
 }
+
+/// A BEDPE file's tiles against clodius' `bedpe` tiles: the same records in each 2D tile (the
+/// diagonal's first, middle and last, and beside it) and 1D tile, with clodius' positions,
+/// offsets and typed fields; the same tileset_info (its header line included).
+#[test]
+fn bedpe_rectangles_equal_clodius() {
+    let path = format!("{DATA}/tiles/dots.bedpe.gz");
+    let table = crate::io::bed::read_bedpe_table(std::path::Path::new(&path)).unwrap();
+    let fields: Vec<Vec<String>> = table
+        .records
+        .iter()
+        .map(|r| {
+            let (a, b) = (&r.first, &r.second);
+            let mut f = vec![
+                a.chrom.clone(),
+                a.start.to_string(),
+                a.end.to_string(),
+                b.chrom.clone(),
+                b.start.to_string(),
+                b.end.to_string(),
+            ];
+            f.extend(r.rest.iter().cloned());
+            f
+        })
+        .collect();
+    let cool = tileset("cooler_test_file.mcool");
+    let chroms = cool.reader(0).unwrap().bins().chroms().to_vec();
+    let dots = Rectangles::new(&chroms, &fields, table.header.as_deref(), &path).unwrap();
+    assert_eq!(dots.info(), reference("dots.bedpe", "tileset_info"));
+    let expected = reference("dots.bedpe", "tiles");
+    let mut compared = 0;
+    for (id, uids) in expected["tiles"].as_object().unwrap() {
+        let parts: Vec<u64> = id.split('.').map(|p| p.parse().unwrap()).collect();
+        let tile = dots.tile(parts[0] as u32, parts[1], parts.get(2).copied());
+        let got: Vec<&Value> = tile.as_array().unwrap().iter().map(|r| &r["uid"]).collect();
+        let want: Vec<&Value> = uids.as_array().unwrap().iter().collect();
+        assert_eq!(got, want, "tile {id}");
+        for record in tile.as_array().unwrap() {
+            let mut record = record.clone();
+            let object = record.as_object_mut().unwrap();
+            assert!((0.0..1.0).contains(&object.remove("importance").unwrap().as_f64().unwrap()));
+            let uid = object.remove("uid").unwrap();
+            assert_eq!(
+                record,
+                expected["records"][uid.to_string()],
+                "tile {id} record {uid}"
+            );
+            compared += 1;
+        }
+    }
+    assert!(compared > 500, "{compared}");
+}

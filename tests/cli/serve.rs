@@ -222,7 +222,7 @@ fn serve_refuses_what_it_cannot_serve_and_warns_off_loopback() {
     ]);
     assert!(err.contains("/nonexistent"), "{err}");
     let err = crate::run_err(&["serve", &data("hg19.GM12878-MboI.matrix.2000kb.bg2.gz")]);
-    assert!(err.contains("not a .cool, .mcool, .hic or .bed"), "{err}");
+    assert!(err.contains("not a .cool, .mcool, .hic, .bed"), "{err}");
     let err = crate::run_err(&[
         "serve",
         &format!("{}::/resolutions/100000", data("cooler_test_file.mcool")),

@@ -294,6 +294,10 @@ impl Api {
             (Data::Map(_), None) => {
                 return error(format!("{} is a map: its tiles are UID.z.x.y", entry.uid));
             }
+            (Data::Rectangles(rectangles), y) => rectangles
+                .tile(tile.zoom as u32, tile.x, y)
+                .to_string()
+                .into(),
             (Data::Intervals(_) | Data::Vector(_), Some(_)) => {
                 return error(format!(
                     "{} is a 1D track: its tiles are UID.z.x",

@@ -8,9 +8,9 @@ use serde_json::Value;
 
 use contactmap::error::{Error, Result};
 use contactmap::genome::Chrom;
-use contactmap::io::bed::read_bed_table;
+use contactmap::io::bed::{read_bed_table, read_bedpe_table};
 use contactmap::io::{FileKind, detect_kind, open_levels};
-use contactmap::tiles::{Intervals, Norms, Tileset, Vector};
+use contactmap::tiles::{Intervals, Norms, Rectangles, Tileset, Vector};
 
 /// One file served.
 pub struct Entry {
@@ -39,6 +39,8 @@ pub enum Data {
     Intervals(Intervals),
     /// A bedGraph or a table's column: 1D vector tiles.
     Vector(Vector),
+    /// A BEDPE file's anchor pairs: 2D (and 1D) rectangle tiles.
+    Rectangles(Rectangles),
 }
 
 impl Entry {
@@ -48,6 +50,7 @@ impl Entry {
             Data::Map(tileset) => tileset.info(),
             Data::Intervals(intervals) => intervals.info(),
             Data::Vector(vector) => vector.info(),
+            Data::Rectangles(rectangles) => rectangles.info(),
         }
     }
 
@@ -61,6 +64,7 @@ impl Entry {
             ),
             Data::Intervals(_) => "BED intervals".into(),
             Data::Vector(_) => "a 1D track".into(),
+            Data::Rectangles(_) => "BEDPE rectangles".into(),
         }
     }
 }
@@ -79,7 +83,7 @@ impl Registry {
         let mut entries: Vec<Entry> = Vec::with_capacity(paths.len());
         let (tracks, maps): (Vec<&PathBuf>, Vec<&PathBuf>) = paths
             .iter()
-            .partition(|p| is_bed(p) || vector_column(p).is_some());
+            .partition(|p| is_bed(p) || is_bedpe(p) || vector_column(p).is_some());
         for path in maps {
             let entry = open_map(path)?;
             let uid = unique(&entry.uid, &entries);
@@ -88,6 +92,7 @@ impl Registry {
         for path in tracks {
             let entry = match vector_column(path) {
                 Some(column) => open_vector(path, column, &entries)?,
+                None if is_bedpe(path) => open_bedpe(path, &entries)?,
                 None => open_bed(path, &entries)?,
             };
             let uid = unique(&entry.uid, &entries);
@@ -163,6 +168,50 @@ fn genome_for<'a>(
             "{text}: no map served has all its chromosomes (serve a track with its map: \
              contactmap serve map.mcool domains.bed)"
         ))
+    })
+}
+
+/// A BEDPE file, by its name (`.bedpe`, `.bedpe.gz`).
+fn is_bedpe(path: &Path) -> bool {
+    let name = path.to_string_lossy().to_ascii_lowercase();
+    name.ends_with(".bedpe") || name.ends_with(".bedpe.gz")
+}
+
+/// A BEDPE file on the genome of the first map served that has every chromosome it names.
+fn open_bedpe(path: &Path, maps: &[Entry]) -> Result<Entry> {
+    let text = path.to_string_lossy().into_owned();
+    let table = read_bedpe_table(path)?;
+    let names = table
+        .records
+        .iter()
+        .flat_map(|r| [r.first.chrom.as_str(), r.second.chrom.as_str()]);
+    let (chroms, coord_system) = genome_for(names, maps, &text)?;
+    let fields: Vec<Vec<String>> = table
+        .records
+        .iter()
+        .map(|r| {
+            let (a, b) = (&r.first, &r.second);
+            let mut fields = vec![
+                a.chrom.clone(),
+                a.start.to_string(),
+                a.end.to_string(),
+                b.chrom.clone(),
+                b.start.to_string(),
+                b.end.to_string(),
+            ];
+            fields.extend(r.rest.iter().cloned());
+            fields
+        })
+        .collect();
+    let data = Rectangles::new(&chroms, &fields, table.header.as_deref(), &text)?;
+    Ok(Entry {
+        uid: uid_of(path),
+        name: file_name(path),
+        path: path.to_path_buf(),
+        filetype: "bedpe",
+        datatype: "2d-rectangle-domains",
+        coord_system,
+        data: Data::Rectangles(data),
     })
 }
 
@@ -294,8 +343,8 @@ fn open_map(path: &Path) -> Result<Entry> {
         FileKind::Hic => "hic",
         FileKind::Text => {
             return Err(Error::Argument(format!(
-                "{text}: not a .cool, .mcool, .hic or .bed file (serve shows contact maps and \
-                 BED tracks; convert a text table with `contactmap convert` first)"
+                "{text}: not a .cool, .mcool, .hic, .bed, .bedpe or .bedgraph file (serve shows contact maps and their \
+                 tracks; convert a text table with `contactmap convert` first)"
             )));
         }
     };

@@ -22,6 +22,7 @@ fn api() -> &'static Api {
         registry: Registry::open(&[
             data("tiles/domains.bed.gz"),
             data("tiles/track.bedgraph.gz"),
+            data("tiles/dots.bedpe.gz"),
             data("cooler_test_file.mcool"),
             data("tiles/square.mcool"),
         ])
@@ -198,10 +199,38 @@ fn vector_tiles_through_the_api_equal_clodius() {
     );
 }
 
+/// A BEDPE track through the API: clodius' records in its 2D (`UID.z.x.y`) and 1D tiles.
+#[test]
+fn bedpe_tiles_through_the_api_equal_clodius() {
+    let expected = reference("dots.bedpe", "tiles");
+    let ids: Vec<&String> = expected["tiles"]
+        .as_object()
+        .unwrap()
+        .keys()
+        .take(100)
+        .collect();
+    let query: Vec<String> = ids.iter().map(|id| format!("d=dots.{id}")).collect();
+    let (status, tiles) = get("/api/v1/tiles/", &query.join("&"));
+    assert_eq!(status, 200);
+    for id in ids {
+        let uids: Vec<&Value> = tiles[format!("dots.{id}")]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|r| &r["uid"])
+            .collect();
+        let want: Vec<&Value> = expected["tiles"][id].as_array().unwrap().iter().collect();
+        assert_eq!(uids, want, "{id}");
+    }
+    let (_, list) = get("/api/v1/tilesets/", "dt=2d-rectangle-domains");
+    assert_eq!(list["results"][0]["uuid"], "dots");
+    assert_eq!(list["results"][0]["coordSystem"], "dm6");
+}
+
 #[test]
 fn the_list_and_chrom_sizes() {
     let (status, list) = get("/api/v1/tilesets/", "limit=100&dt=matrix");
-    assert_eq!(get("/api/v1/tilesets/", "").1["count"], 4);
+    assert_eq!(get("/api/v1/tilesets/", "").1["count"], 5);
     assert_eq!(status, 200);
     assert_eq!(list["count"], 2);
     assert_eq!(list["results"][0]["uuid"], "cooler_test_file");
