@@ -99,5 +99,24 @@ serve data/tiles/square.mcool "$work/replicate.mcool" \
 browse 2
 stop
 
+# Run 3: juicebox.js' reader (hic-straw, node) opens a served .hic by URL (range requests, CORS)
+# and reads chr2L's records as contactmap dump reads them.
+if [ -d web/node_modules/hic-straw ]; then
+  serve data/hic_test_file.hic || fail "serve data/hic_test_file.hic: $(cat "$work/serve.log")"
+  want=$("$cm" dump data/hic_test_file.hic -r chr2L | awk '{s += $NF; n++} END {printf "records %d sum %d", n, s}')
+  got=$(timeout 120 node web/test/straw.mjs "${url}files/hic_test_file.hic" chr2L 100000 | tee "$work/straw.log" | sed -n 's/^straw: \(records .*\)$/\1/p')
+  cat "$work/straw.log"
+  if [ -n "$got" ] && [ "$got" = "$want" ]; then
+    echo "ok     hic-straw read the served .hic by URL: $got, as contactmap dump"
+    passed=$((passed + 1))
+  else
+    echo "FAIL   hic-straw on the served .hic: '$got', contactmap dump: '$want'"
+    failed=$((failed + 1))
+  fi
+  stop
+else
+  echo "hic-straw check skipped: web/node_modules has no hic-straw (cd web && npm ci)"
+fi
+
 echo "browser: $passed passed, $failed failed"
 [ "$failed" = 0 ]
