@@ -310,24 +310,17 @@ def main():
         write_json(os.path.join(out, name + ".tiles.json.gz"), answers)
         print(name, len(answers), "tiles")
     chromsizes = hgc.tileset_info(os.path.join(root, MAPS[0]))["chromsizes"]
-    bed = os.path.join(out, "domains.bed.gz")
-    make_bed(bed, chromsizes)
-    info, answers = bed_references(bed, chromsizes)
-    write_json(os.path.join(out, "domains.bed.tileset_info.json"), info)
-    write_json(os.path.join(out, "domains.bed.tiles.json.gz"), answers)
-    print("domains.bed", len(answers["tiles"]), "tiles")
-    bedpe = os.path.join(out, "dots.bedpe.gz")
-    make_bedpe(bedpe, chromsizes)
-    info, answers = bedpe_references(bedpe, chromsizes)
-    write_json(os.path.join(out, "dots.bedpe.tileset_info.json"), info)
-    write_json(os.path.join(out, "dots.bedpe.tiles.json.gz"), answers)
-    print("dots.bedpe", len(answers["tiles"]), "tiles")
-    bedgraph = os.path.join(out, "track.bedgraph.gz")
-    make_bedgraph(bedgraph, chromsizes)
-    info, answers = bedgraph_references(bedgraph, chromsizes)
-    write_json(os.path.join(out, "track.bedgraph.tileset_info.json"), info)
-    write_json(os.path.join(out, "track.bedgraph.tiles.json.gz"), answers)
-    print("track.bedgraph", len(answers), "tiles")
-
+    tracks = [
+        ("domains.bed", make_bed, bed_references),
+        ("dots.bedpe", make_bedpe, bedpe_references),
+        ("track.bedgraph", make_bedgraph, bedgraph_references),
+    ]
+    for name, make, references in tracks:
+        path = os.path.join(out, name + ".gz")
+        make(path, chromsizes)
+        info, answers = references(path, chromsizes)
+        write_json(os.path.join(out, name + ".tileset_info.json"), info)
+        write_json(os.path.join(out, name + ".tiles.json.gz"), answers)
+        print(name, len(answers.get("tiles", answers)), "tiles")
 
 main()

@@ -246,6 +246,21 @@ pub struct BedpeRecord {
 }
 
 impl BedpeRecord {
+    /// The record's fields as text: the six coordinates, then the other columns as they were.
+    pub fn fields(&self) -> Vec<String> {
+        let (a, b) = (&self.first, &self.second);
+        let mut fields = vec![
+            a.chrom.clone(),
+            a.start.to_string(),
+            a.end.to_string(),
+            b.chrom.clone(),
+            b.start.to_string(),
+            b.end.to_string(),
+        ];
+        fields.extend(self.rest.iter().cloned());
+        fields
+    }
+
     /// The record as a tab-separated line (without its newline): the six coordinates, then the
     /// other columns as they were.
     pub fn tsv_line(&self) -> String {

@@ -9,6 +9,8 @@
 //! draws a new one on every request, so features flicker as a viewer pans), and a tile with more
 //! than 1,024 records keeps the 1,024 most important (clodius keeps a random sample).
 
+use std::collections::HashMap;
+
 use serde_json::{Value, json};
 
 use crate::error::{Error, Result};
@@ -38,47 +40,26 @@ impl Intervals {
     /// value is a number as numbers, as clodius' table reader types them; others as text.
     /// `source` names the file in errors (with the record's line, 1-based among records).
     pub fn new(chroms: &[Chrom], records: &[Vec<String>], source: &str) -> Result<Intervals> {
-        let mut offsets = std::collections::HashMap::new();
-        let mut length = 0u64;
-        for chrom in chroms {
-            offsets.insert(chrom.name.as_str(), length);
-            length += chrom.length_bp;
-        }
+        let genome = Genome::new(chroms, source);
         let kinds = kinds(records);
         let mut rows = Vec::with_capacity(records.len());
         for (ix, record) in records.iter().enumerate() {
-            let field = |k: usize| record.get(k).map(String::as_str).unwrap_or("");
-            let bad = |what: String| Error::Data(format!("{source}: record {}: {what}", ix + 1));
-            let &chr_offset = offsets.get(field(0)).ok_or_else(|| {
-                bad(format!(
-                    "chromosome '{}' is not among the map's chromosomes",
-                    field(0)
-                ))
-            })?;
-            let position = |k: usize| {
-                field(k)
-                    .parse::<u64>()
-                    .map_err(|_| bad(format!("'{}' is not a position", field(k))))
-            };
-            let (start, end) = (position(1)?, position(2)?);
+            let chr_offset = genome.offset(record, 0, ix)?;
+            let (start, end) = (
+                genome.position(record, 1, ix)?,
+                genome.position(record, 2, ix)?,
+            );
             rows.push(Row {
                 x_start: chr_offset + start,
                 x_end: chr_offset + end,
                 chr_offset,
                 importance: importance(ix as u64),
-                fields: record
-                    .iter()
-                    .zip(&kinds)
-                    .map(|(text, kind)| kind.value(text))
-                    .collect(),
+                fields: typed(record, &kinds),
             });
         }
         Ok(Intervals {
-            chroms: chroms
-                .iter()
-                .map(|c| (c.name.clone(), c.length_bp))
-                .collect(),
-            length,
+            chroms: genome.chroms(),
+            length: genome.length,
             rows,
         })
     }
@@ -87,13 +68,10 @@ impl Intervals {
     /// `max_zoom` its base-2 logarithm rounded down, `min_pos` `[0]`, `max_pos` the length,
     /// `chromsizes`.
     pub fn info(&self) -> Value {
-        json!({
-            "max_width": self.length,
-            "max_zoom": max_zoom(self.length),
-            "chromsizes": self.chroms.iter().map(|(n, l)| json!([n, l])).collect::<Vec<_>>(),
-            "min_pos": [0],
-            "max_pos": [self.length],
-        })
+        let mut info = extent(&self.chroms, self.length);
+        info["min_pos"] = json!([0]);
+        info["max_pos"] = json!([self.length]);
+        info
     }
 
     /// Tile `x` of zoom level `zoom`: the records in it, each `{uid, xStart, xEnd, chrOffset,
@@ -103,11 +81,7 @@ impl Intervals {
         let mut hits: Vec<usize> = (0..self.rows.len())
             .filter(|&i| self.rows[i].x_end as f64 >= start && self.rows[i].x_start as f64 <= end)
             .collect();
-        if hits.len() > MAX_PER_TILE {
-            hits.sort_by(|&a, &b| self.rows[b].importance.total_cmp(&self.rows[a].importance));
-            hits.truncate(MAX_PER_TILE);
-            hits.sort_unstable();
-        }
+        keep_most_important(&mut hits, |i| self.rows[i].importance, MAX_PER_TILE);
         Value::Array(
             hits.into_iter()
                 .map(|i| {
@@ -126,6 +100,72 @@ impl Intervals {
     }
 }
 
+/// The concatenated genome records are placed on, and what a record's placement can get wrong.
+pub(super) struct Genome<'a> {
+    chroms: &'a [Chrom],
+    offsets: HashMap<&'a str, u64>,
+    /// The genome's length.
+    pub length: u64,
+    source: &'a str,
+}
+
+impl<'a> Genome<'a> {
+    /// The genome of `chroms`; `source` names the records' file in errors.
+    pub fn new(chroms: &'a [Chrom], source: &'a str) -> Genome<'a> {
+        let mut offsets = HashMap::new();
+        let mut length = 0u64;
+        for chrom in chroms {
+            offsets.insert(chrom.name.as_str(), length);
+            length += chrom.length_bp;
+        }
+        Genome {
+            chroms,
+            offsets,
+            length,
+            source,
+        }
+    }
+
+    /// `[name, length]` of each chromosome.
+    pub fn chroms(&self) -> Vec<(String, u64)> {
+        self.chroms
+            .iter()
+            .map(|c| (c.name.clone(), c.length_bp))
+            .collect()
+    }
+
+    fn error(&self, ix: usize, what: String) -> Error {
+        Error::Data(format!("{}: record {}: {what}", self.source, ix + 1))
+    }
+
+    /// The offset of the chromosome named in field `k` of record `ix`.
+    pub fn offset(&self, record: &[String], k: usize, ix: usize) -> Result<u64> {
+        let name = record.get(k).map(String::as_str).unwrap_or("");
+        self.offsets.get(name).copied().ok_or_else(|| {
+            self.error(
+                ix,
+                format!("chromosome '{name}' is not among the map's chromosomes"),
+            )
+        })
+    }
+
+    /// The position in field `k` of record `ix`.
+    pub fn position(&self, record: &[String], k: usize, ix: usize) -> Result<u64> {
+        let text = record.get(k).map(String::as_str).unwrap_or("");
+        text.parse::<u64>()
+            .map_err(|_| self.error(ix, format!("'{text}' is not a position")))
+    }
+}
+
+/// A record's fields, each as its column's kind makes it.
+pub(super) fn typed(record: &[String], kinds: &[Kind]) -> Vec<Value> {
+    record
+        .iter()
+        .zip(kinds)
+        .map(|(text, kind)| kind.value(text))
+        .collect()
+}
+
 /// Where tile `x` of zoom level `zoom` starts and ends on a genome of `length` bp, as clodius
 /// computes it (`x * max_width / 2**z` in float64).
 pub(super) fn tile_span(length: u64, zoom: u32, x: u64) -> (f64, f64) {
@@ -141,9 +181,27 @@ pub(super) fn kinds(records: &[Vec<String>]) -> Vec<Kind> {
         .collect()
 }
 
-/// The `max_zoom` clodius gives a genome of `length` bp: its base-2 logarithm, rounded down.
-pub(super) fn max_zoom(length: u64) -> u64 {
-    ((length as f64).ln() / 2f64.ln()) as u64
+/// Of a crowded tile's records (`hits`, by row), the `max` most important, in file order.
+pub(super) fn keep_most_important(
+    hits: &mut Vec<usize>,
+    importance: impl Fn(usize) -> f64,
+    max: usize,
+) {
+    if hits.len() > max {
+        hits.sort_by(|&a, &b| importance(b).total_cmp(&importance(a)));
+        hits.truncate(max);
+        hits.sort_unstable();
+    }
+}
+
+/// What clodius' interval tilesets say of their genome: `max_width` its length, `max_zoom` the
+/// length's base-2 logarithm rounded down, `chromsizes`.
+pub(super) fn extent(chroms: &[(String, u64)], length: u64) -> Value {
+    json!({
+        "max_width": length,
+        "max_zoom": ((length as f64).ln() / 2f64.ln()) as u64,
+        "chromsizes": chroms.iter().map(|(n, l)| json!([n, l])).collect::<Vec<_>>(),
+    })
 }
 
 /// How a column's values are sent.

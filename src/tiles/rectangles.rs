@@ -10,8 +10,8 @@
 
 use serde_json::{Value, json};
 
-use super::intervals::{importance, kinds, max_zoom, tile_span};
-use crate::error::{Error, Result};
+use super::intervals::{Genome, extent, importance, keep_most_important, kinds, tile_span, typed};
+use crate::error::Result;
 use crate::genome::Chrom;
 
 /// The most records in one tile.
@@ -43,49 +43,23 @@ impl Rectangles {
         header: Option<&[String]>,
         source: &str,
     ) -> Result<Rectangles> {
-        let mut offsets = std::collections::HashMap::new();
-        let mut length = 0u64;
-        for chrom in chroms {
-            offsets.insert(chrom.name.as_str(), length);
-            length += chrom.length_bp;
-        }
+        let genome = Genome::new(chroms, source);
         let kinds = kinds(records);
         let mut rows = Vec::with_capacity(records.len());
         for (ix, record) in records.iter().enumerate() {
-            let field = |k: usize| record.get(k).map(String::as_str).unwrap_or("");
-            let bad = |what: String| Error::Data(format!("{source}: record {}: {what}", ix + 1));
-            let offset = |k: usize| {
-                offsets.get(field(k)).copied().ok_or_else(|| {
-                    bad(format!(
-                        "chromosome '{}' is not among the map's chromosomes",
-                        field(k)
-                    ))
-                })
-            };
-            let position = |k: usize| {
-                field(k)
-                    .parse::<u64>()
-                    .map_err(|_| bad(format!("'{}' is not a position", field(k))))
-            };
-            let (ox, oy) = (offset(0)?, offset(3)?);
+            let (ox, oy) = (genome.offset(record, 0, ix)?, genome.offset(record, 3, ix)?);
+            let at = |k: usize| genome.position(record, k, ix);
             rows.push(Rectangle {
-                x: (ox + position(1)?, ox + position(2)?),
-                y: (oy + position(4)?, oy + position(5)?),
+                x: (ox + at(1)?, ox + at(2)?),
+                y: (oy + at(4)?, oy + at(5)?),
                 offsets: (ox, oy),
                 importance: importance(ix as u64),
-                fields: record
-                    .iter()
-                    .zip(&kinds)
-                    .map(|(text, kind)| kind.value(text))
-                    .collect(),
+                fields: typed(record, &kinds),
             });
         }
         Ok(Rectangles {
-            chroms: chroms
-                .iter()
-                .map(|c| (c.name.clone(), c.length_bp))
-                .collect(),
-            length,
+            chroms: genome.chroms(),
+            length: genome.length,
             header: header.map(|h| h.join("\t")).unwrap_or_default(),
             rows,
         })
@@ -93,14 +67,11 @@ impl Rectangles {
 
     /// `tileset_info` as clodius' `bedpe.tileset_info`.
     pub fn info(&self) -> Value {
-        json!({
-            "max_width": self.length,
-            "max_zoom": max_zoom(self.length),
-            "chromsizes": self.chroms.iter().map(|(n, l)| json!([n, l])).collect::<Vec<_>>(),
-            "min_pos": [0, 0],
-            "max_pos": [self.length, self.length],
-            "header": self.header,
-        })
+        let mut info = extent(&self.chroms, self.length);
+        info["min_pos"] = json!([0, 0]);
+        info["max_pos"] = json!([self.length, self.length]);
+        info["header"] = json!(self.header);
+        info
     }
 
     /// Tile `(x, y)` of zoom level `zoom` (a 1D tile when `y` is `None`): the records in it,
@@ -120,11 +91,11 @@ impl Rectangles {
                 }
             })
             .collect();
-        if hits.len() > MAX_RECTANGLES_PER_TILE {
-            hits.sort_by(|&a, &b| self.rows[b].importance.total_cmp(&self.rows[a].importance));
-            hits.truncate(MAX_RECTANGLES_PER_TILE);
-            hits.sort_unstable();
-        }
+        keep_most_important(
+            &mut hits,
+            |i| self.rows[i].importance,
+            MAX_RECTANGLES_PER_TILE,
+        );
         Value::Array(
             hits.into_iter()
                 .map(|i| {

@@ -354,23 +354,7 @@ fn vector_tiles_equal_clodius_bigwig_tiles() {
 fn bedpe_rectangles_equal_clodius() {
     let path = format!("{DATA}/tiles/dots.bedpe.gz");
     let table = crate::io::bed::read_bedpe_table(std::path::Path::new(&path)).unwrap();
-    let fields: Vec<Vec<String>> = table
-        .records
-        .iter()
-        .map(|r| {
-            let (a, b) = (&r.first, &r.second);
-            let mut f = vec![
-                a.chrom.clone(),
-                a.start.to_string(),
-                a.end.to_string(),
-                b.chrom.clone(),
-                b.start.to_string(),
-                b.end.to_string(),
-            ];
-            f.extend(r.rest.iter().cloned());
-            f
-        })
-        .collect();
+    let fields: Vec<Vec<String>> = table.records.iter().map(|r| r.fields()).collect();
     let cool = tileset("cooler_test_file.mcool");
     let chroms = cool.reader(0).unwrap().bins().chroms().to_vec();
     let dots = Rectangles::new(&chroms, &fields, table.header.as_deref(), &path).unwrap();

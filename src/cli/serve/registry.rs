@@ -186,23 +186,7 @@ fn open_bedpe(path: &Path, maps: &[Entry]) -> Result<Entry> {
         .iter()
         .flat_map(|r| [r.first.chrom.as_str(), r.second.chrom.as_str()]);
     let (chroms, coord_system) = genome_for(names, maps, &text)?;
-    let fields: Vec<Vec<String>> = table
-        .records
-        .iter()
-        .map(|r| {
-            let (a, b) = (&r.first, &r.second);
-            let mut fields = vec![
-                a.chrom.clone(),
-                a.start.to_string(),
-                a.end.to_string(),
-                b.chrom.clone(),
-                b.start.to_string(),
-                b.end.to_string(),
-            ];
-            fields.extend(r.rest.iter().cloned());
-            fields
-        })
-        .collect();
+    let fields: Vec<Vec<String>> = table.records.iter().map(|r| r.fields()).collect();
     let data = Rectangles::new(&chroms, &fields, table.header.as_deref(), &text)?;
     Ok(Entry {
         uid: uid_of(path),

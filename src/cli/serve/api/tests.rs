@@ -124,6 +124,12 @@ fn tileset_info_through_the_api_is_clodius_with_the_name() {
     assert_eq!(info["nope"]["error"], "No such tileset with uid: nope");
 }
 
+/// The uids of an interval tile's records, and those the reference lists for it.
+fn uids<'a>(tile: &'a Value, reference: &'a Value) -> (Vec<&'a Value>, Vec<&'a Value>) {
+    let got = tile.as_array().unwrap().iter().map(|r| &r["uid"]).collect();
+    (got, reference.as_array().unwrap().iter().collect())
+}
+
 /// A BED track through the API: clodius' records in each tile (`UID.z.x`), its tileset_info.
 #[test]
 fn bed_tiles_through_the_api_equal_clodius() {
@@ -133,14 +139,8 @@ fn bed_tiles_through_the_api_equal_clodius() {
     let (status, tiles) = get("/api/v1/tiles/", &query.join("&"));
     assert_eq!(status, 200);
     for id in ids {
-        let uids: Vec<&Value> = tiles[format!("domains.{id}")]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|r| &r["uid"])
-            .collect();
-        let want: Vec<&Value> = expected["tiles"][id].as_array().unwrap().iter().collect();
-        assert_eq!(uids, want, "{id}");
+        let (got, want) = uids(&tiles[format!("domains.{id}")], &expected["tiles"][id]);
+        assert_eq!(got, want, "{id}");
     }
     let (_, info) = get("/api/v1/tileset_info/", "d=domains");
     assert_eq!(
@@ -213,14 +213,8 @@ fn bedpe_tiles_through_the_api_equal_clodius() {
     let (status, tiles) = get("/api/v1/tiles/", &query.join("&"));
     assert_eq!(status, 200);
     for id in ids {
-        let uids: Vec<&Value> = tiles[format!("dots.{id}")]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|r| &r["uid"])
-            .collect();
-        let want: Vec<&Value> = expected["tiles"][id].as_array().unwrap().iter().collect();
-        assert_eq!(uids, want, "{id}");
+        let (got, want) = uids(&tiles[format!("dots.{id}")], &expected["tiles"][id]);
+        assert_eq!(got, want, "{id}");
     }
     let (_, list) = get("/api/v1/tilesets/", "dt=2d-rectangle-domains");
     assert_eq!(list["results"][0]["uuid"], "dots");
