@@ -20,8 +20,10 @@ use contactmap::io::parse_memory_size;
 #[derive(Debug, Args)]
 #[command(after_long_help = "\
 Serves each map given (.mcool: all its resolutions; .hic: all its resolutions and norms; .cool:
-its one resolution) under a UID made from its file name (GM12878.hg19.mcool -> GM12878), with
-higlass-server's API, so that the HiGlass front end works unchanged:
+its one resolution) under a UID made from its file name (GM12878.hg19.mcool -> GM12878), and
+tracks over it: BED (domains), BEDPE (dots), bedGraph, or a table's column (table.tsv::COLUMN,
+by default the insulation / E1 / coverage column contactmap writes), with higlass-server's API,
+so that the HiGlass front end works unchanged:
   /api/v1/tilesets/              the list (uuid, name, datatype, filetype, coordSystem)
   /api/v1/tileset_info/?d=UID    resolutions, transforms, chromosomes (as clodius)
   /api/v1/tiles/?d=UID.z.x.y[.transform]   256 x 256 tiles, base64 float16 / float32 (as clodius)
@@ -34,9 +36,10 @@ Only the files named here are served: no request reaches the filesystem, and not
 The server listens on loopback (127.0.0.1) unless --bind says otherwise. Ctrl-C stops it.
 
 Examples:
-  contactmap serve sample.mcool                       # then open http://127.0.0.1:8989/
-  contactmap serve wt.mcool ko.mcool --port 9000      # two maps side by side, zoom locked
-  contactmap serve sample.mcool --bind 0.0.0.0        # reachable from other machines")]
+  contactmap serve sample.mcool          # then open http://127.0.0.1:8989/
+  contactmap serve wt.mcool ko.mcool     # side by side, zoom locked
+  contactmap serve s.mcool tads.bed dots.bedpe ins.tsv --port 9000
+  contactmap serve s.mcool --bind 0.0.0.0   # reachable from other machines")]
 pub struct ServeArgs {
     /// The maps to serve (.mcool, .cool, .hic) and BED tracks over them (.bed, .bed.gz).
     #[arg(required = true, value_name = "FILE")]
