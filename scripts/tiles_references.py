@@ -63,7 +63,7 @@ def make_square(path):
         bins = cooler.binnify(chromsizes, res)
         n = len(bins)
         i, j = np.triu_indices(n)
-        keep = rng.random(len(i)) < np.exp(-np.abs(i - j) / 3.0)
+        keep = rng.random(len(i)) < np.exp(-np.abs(i - j) / 2.0)
         i, j = i[keep], j[keep]
         count = np.round(rng.gamma(2.0, 5.0, len(i)) * 100.0 / (1 + np.abs(i - j)), 1)
         weight = rng.uniform(0.5, 1.5, n)
@@ -91,16 +91,18 @@ def make_square(path):
             symmetric_upper=False,
             triucheck=False,
             mode="a",
+            # small chunks, compressed hard: the file stays small (data/ is kept under 10 MB)
+            h5opts={"compression": "gzip", "compression_opts": 9, "shuffle": True},
         )
 
 
 def make_bed(path, chromsizes):
-    """400 intervals on cooler_test_file's genome (dm6), six BED columns (a real-valued score),
+    """250 intervals on cooler_test_file's genome (dm6), six BED columns (a real-valued score),
     seed 20261130; a few wider than a chromosome's tenth, so coarse tiles hold many."""
     rng = np.random.default_rng(20261130)
     names, lengths = zip(*chromsizes)
     with gz_text(path) as f:
-        for k in range(400):
+        for k in range(250):
             c = int(rng.integers(len(names)))
             width = int(rng.choice([20_000, 200_000, 2_000_000]))
             start = int(rng.integers(0, max(1, lengths[c] - width)))
@@ -145,7 +147,7 @@ def make_bedgraph(path, chromsizes):
                 continue
             pos = int(rng.integers(0, 5000))
             while pos < length:
-                width = int(rng.integers(2000, 80_000))
+                width = int(rng.integers(10_000, 200_000))
                 end = min(length, pos + width)
                 value = float(rng.normal(0, 2))
                 if name == "chr4":
