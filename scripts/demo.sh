@@ -211,8 +211,12 @@ for _ in $(seq 50); do grep -q 'http://' "$work/serve.log" && break; sleep 0.1; 
 url=$(grep -o 'http://[0-9.:]*/' "$work/serve.log" | head -1)
 cat "$work/serve.log"
 if [ -n "$url" ] && command -v curl >/dev/null; then
-  curl -s "${url}api/v1/tilesets/" | head -c 300; echo
-  curl -s "${url}api/v1/tiles/?d=cooler_test_file.1.0.0" | head -c 120; echo ' ...'
+  # whole answers first, then their starts: `curl | head -c` fails under pipefail when head
+  # closes the pipe before curl has written everything (curl's exit 23)
+  tilesets=$(curl -sf "${url}api/v1/tilesets/")
+  tile=$(curl -sf "${url}api/v1/tiles/?d=cooler_test_file.1.0.0")
+  echo "${tilesets:0:300} ..."
+  echo "${tile:0:120} ..."
 fi
 kill -INT "$serve_pid"; wait "$serve_pid" || true
 echo "   to look: $cm serve $mcool $work/domains.bed   (then open http://127.0.0.1:8989/)"
