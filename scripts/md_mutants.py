@@ -14,10 +14,12 @@ and MDTraj's message. The coordinates of an `ok` mutant are not compared (a flip
 coordinate is a valid file); the test asks that every mutant MDTraj refuses is refused, at that
 frame or an earlier one.
 
-usage: python scripts/md_mutants.py OUT.tsv data/md/adk.xtc data/md/cobrotoxin.dcd [N=400]
+usage: python scripts/md_mutants.py OUT.tsv[.gz] data/md/adk.xtc data/md/cobrotoxin.dcd [N=400]
 (needs mdtraj: pip install mdtraj; MDTraj's C readers print on standard output, hence OUT)
 """
 
+import gzip
+import io
 import os
 import sys
 import tempfile
@@ -75,7 +77,11 @@ def frames_read(path, opener):
 
 
 def main():
-    out = open(sys.argv[1], "w")
+    # OUT.tsv.gz is written gzip-compressed (mtime 0, so reruns give the same bytes)
+    if sys.argv[1].endswith(".gz"):
+        out = io.TextIOWrapper(gzip.GzipFile(sys.argv[1], "wb", mtime=0))
+    else:
+        out = open(sys.argv[1], "w")
     paths = [p for p in sys.argv[2:] if not p.isdigit()]
     count = int(next((p for p in sys.argv[2:] if p.isdigit()), "400"))
     print("file\tindex\tkind\toffset\tlength\tverdict\tframes\tmessage", file=out)

@@ -321,6 +321,7 @@ pub mod balance;
 pub mod compare;
 pub mod compartments;
 pub mod conformations;
+pub mod diff;
 pub mod error;
 pub mod expected;
 pub mod export;

@@ -1,7 +1,7 @@
 //! The XTC and DCD readers against MDTraj on corrupted copies of the fixtures: every mutant that
 //! MDTraj refuses is refused, at the frame where MDTraj stopped or before it, and a mutant that
 //! is read is read to MDTraj's number of frames. The mutants and MDTraj's verdicts come from
-//! `scripts/md_mutants.py` (`data/reference/mdtraj/mutants.tsv`); the mutants are drawn again
+//! `scripts/md_mutants.py` (`data/reference/mdtraj/mutants.tsv.gz`); the mutants are drawn again
 //! here with the same generator.
 
 use super::stream::open_trajectories;
@@ -56,7 +56,9 @@ fn frame_named(message: &str) -> Option<usize> {
 
 #[test]
 fn every_mutant_mdtraj_refuses_is_refused_at_its_frame() {
-    let table = std::fs::read_to_string("data/reference/mdtraj/mutants.tsv").unwrap();
+    let mut table = String::new();
+    let file = std::fs::File::open("data/reference/mdtraj/mutants.tsv.gz").unwrap();
+    std::io::Read::read_to_string(&mut flate2::read::GzDecoder::new(file), &mut table).unwrap();
     let dir = tempfile::tempdir().unwrap();
     let (mut refused, mut stricter, mut rows) = (0, 0, 0);
     let mut failures = Vec::new();
