@@ -149,8 +149,11 @@ impl Default for Params {
 /// The fitted model: per-sample size factors, per-feature dispersions and coefficients.
 #[derive(Debug, Clone)]
 pub struct Fit {
-    /// Size factors per sample.
+    /// Size factors per sample (`NaN` with [`Normalization::Factors`]).
     pub size_factors: Vec<f64>,
+    /// The factor of each feature and sample its means are scaled by: the size factors, or the
+    /// normalisation factors given.
+    pub factors: Array2<f64>,
     /// Mean normalised count per feature (DESeq2's `baseMean`).
     pub base_mean: Vec<f64>,
     /// Rough moments dispersions (the gene-wise fit's start).
@@ -183,9 +186,31 @@ pub struct Fit {
     pub non_zero: Vec<bool>,
 }
 
+/// How samples (and features) are made comparable.
+#[derive(Debug, Clone, Copy)]
+pub enum Normalization<'a> {
+    /// Size factors by the median of ratios (DESeq2's default).
+    SizeFactors,
+    /// A factor per feature and sample (DESeq2's `normalizationFactors`), in place of size
+    /// factors: each feature's expected count in each sample up to a constant per feature
+    /// (`diff loops` gives the expected count of each loop's neighbourhood at its distance, so
+    /// that depth and a change of P(s) are not called changes of loops).
+    Factors(ArrayView2<'a, f64>),
+}
+
 /// Fits the model to `counts` (one row per feature, one column per sample, in the design's
-/// order; non-negative integers).
+/// order; non-negative integers), with size factors ([`fit`]).
 pub fn fit(counts: ArrayView2<f64>, design: &Design, params: &Params) -> Result<Fit> {
+    fit_normalized(counts, design, params, Normalization::SizeFactors)
+}
+
+/// Fits the model to `counts` with the given [`Normalization`].
+pub fn fit_normalized(
+    counts: ArrayView2<f64>,
+    design: &Design,
+    params: &Params,
+    normalization: Normalization,
+) -> Result<Fit> {
     let (n_features, n_samples) = counts.dim();
     if n_samples != design.n_samples() {
         return Err(Error::Argument(format!(
@@ -207,10 +232,36 @@ pub fn fit(counts: ArrayView2<f64>, design: &Design, params: &Params) -> Result<
     let x = &design.matrix;
     let min_disp = params.min_disp;
     let max_disp = params.max_disp.max(n_samples as f64);
-    let size_factors = size_factors::median_of_ratios(counts)
-        .unwrap_or_else(|| size_factors::positive_counts(counts));
+    let (size_factors, factors) = match normalization {
+        Normalization::SizeFactors => {
+            let size_factors = size_factors::median_of_ratios(counts)
+                .unwrap_or_else(|| size_factors::positive_counts(counts));
+            let factors = Array2::from_shape_fn((n_features, n_samples), |(_, j)| size_factors[j]);
+            (size_factors, factors)
+        }
+        Normalization::Factors(given) => {
+            if given.dim() != counts.dim() {
+                return Err(Error::Argument(format!(
+                    "normalisation factors for {:?} features x samples, counts for {:?}",
+                    given.dim(),
+                    counts.dim()
+                )));
+            }
+            if let Some(((feature, sample), value)) = given
+                .indexed_iter()
+                .find(|(_, v)| !(v.is_finite() && **v > 0.0))
+            {
+                return Err(Error::Data(format!(
+                    "feature {}, sample {}: normalisation factor {value} is not positive",
+                    feature + 1,
+                    sample + 1
+                )));
+            }
+            (vec![f64::NAN; n_samples], given.to_owned())
+        }
+    };
     let normed = Array2::from_shape_fn((n_features, n_samples), |(g, j)| {
-        counts[[g, j]] / size_factors[j]
+        counts[[g, j]] / factors[[g, j]]
     });
     let base_mean: Vec<f64> = normed
         .rows()
@@ -234,12 +285,12 @@ pub fn fit(counts: ArrayView2<f64>, design: &Design, params: &Params) -> Result<
         .par_iter()
         .map(|&g| {
             let y = count_row(g);
-            let start =
-                dispersion::moments(&row(&normed, g), &size_factors, x, p, (min_disp, max_disp));
+            let offsets = row(&factors, g);
+            let start = dispersion::moments(&row(&normed, g), &offsets, x, p, (min_disp, max_disp));
             let fitted = dispersion::least_squares_fit(x, p, &row(&normed, g));
             let mu: Vec<f64> = fitted
                 .iter()
-                .zip(&size_factors)
+                .zip(&offsets)
                 .map(|(f, s)| (s * f).max(params.min_mu))
                 .collect();
             let problem = nb::DispersionProblem {
@@ -310,7 +361,7 @@ pub fn fit(counts: ArrayView2<f64>, design: &Design, params: &Params) -> Result<
             let y = count_row(g);
             let fitted = glm::irls(
                 &y,
-                &size_factors,
+                &row(&factors, g),
                 x,
                 p,
                 dispersions[g],
@@ -338,6 +389,7 @@ pub fn fit(counts: ArrayView2<f64>, design: &Design, params: &Params) -> Result<
     }
     Ok(Fit {
         size_factors,
+        factors,
         base_mean,
         moments_dispersions,
         genewise_dispersions,
@@ -398,7 +450,7 @@ pub fn results(
             let eta = linalg::times(&design.matrix, p, &beta);
             let mu: Vec<f64> = eta
                 .iter()
-                .zip(&fit.size_factors)
+                .zip(fit.factors.row(g))
                 .map(|(e, s)| e.exp() * s)
                 .collect();
             test::wald(&design.matrix, fit.dispersions[g], &beta, &mu, contrast)

@@ -168,3 +168,51 @@ fn bad_designs_are_refused_with_the_reason() {
         "feature 1, sample 3: count 3.5 is not a non-negative integer"
     );
 }
+
+#[test]
+fn normalisation_factors_equal_to_the_size_factors_change_nothing() {
+    let case = case("three_by_three");
+    let by_size = fit(case.counts.view(), &case.design, &Params::default()).unwrap();
+    let factors = by_size.factors.clone();
+    let given = fit_normalized(
+        case.counts.view(),
+        &case.design,
+        &Params::default(),
+        Normalization::Factors(factors.view()),
+    )
+    .unwrap();
+    assert_eq!(given.dispersions, by_size.dispersions);
+    assert_eq!(given.coefficients, by_size.coefficients);
+    assert!(given.size_factors.iter().all(|s| s.is_nan()));
+    let mut wrong = factors.clone();
+    wrong[[4, 2]] = 0.0;
+    let error = fit_normalized(
+        case.counts.view(),
+        &case.design,
+        &Params::default(),
+        Normalization::Factors(wrong.view()),
+    )
+    .unwrap_err();
+    assert_eq!(
+        error.to_string(),
+        "feature 5, sample 3: normalisation factor 0 is not positive"
+    );
+}
+
+/// A feature whose expected count doubles in condition B (its offsets there twice as large)
+/// has the same fit less ln 2 on the condition's coefficient: the offset absorbs it.
+#[test]
+fn an_offset_moves_the_fold_change_by_its_log() {
+    let counts = [31.0, 40.0, 22.0, 90.0, 71.0, 84.0];
+    let design = Design::conditions(&[0, 0, 0, 1, 1, 1], &["A", "B"]).unwrap();
+    let offsets = [0.9, 1.2, 0.8, 1.1, 0.95, 1.05];
+    let doubled: Vec<f64> = offsets
+        .iter()
+        .enumerate()
+        .map(|(j, s)| if j >= 3 { 2.0 * s } else { *s })
+        .collect();
+    let fit_with = |o: &[f64]| glm::irls(&counts, o, &design.matrix, 2, 0.05, 0.5, 1e-14);
+    let (plain, shifted) = (fit_with(&offsets), fit_with(&doubled));
+    assert!((plain.beta[0] - shifted.beta[0]).abs() < 1e-7);
+    assert!((plain.beta[1] - shifted.beta[1] - std::f64::consts::LN_2).abs() < 1e-7);
+}
