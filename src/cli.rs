@@ -7,6 +7,7 @@ pub mod compartments;
 pub mod contacts;
 pub mod convert;
 pub mod coverage;
+pub mod diff;
 pub mod dots;
 pub mod dump;
 pub mod expected;
@@ -100,6 +101,9 @@ pub enum Command {
     /// Aggregate maps at features (loops, TADs, peaks) as coolpuppy, with coolpuppy's and Juicer
     /// APA's scores.
     Pileup(pileup::PileupArgs),
+    /// What changed between two conditions with replicates: `diff loops` (each loop's counts,
+    /// DESeq2's model with the expected at its distance, q-values).
+    Diff(diff::DiffArgs),
     /// HiCRep's stratum-adjusted correlation (SCC) of replicates or samples, per chromosome and
     /// genome-wide, as hicrep 0.2.6 (h trained as hicreppy with --h auto).
     Hicrep(hicrep::HicrepArgs),
@@ -289,6 +293,7 @@ pub fn run(cli: Cli) -> Result<Status> {
         Command::DotsMerge(args) => dots::run_merge(&args),
         Command::Pairs(args) => pairs::run(&args),
         Command::Pileup(args) => pileup::run(&args),
+        Command::Diff(args) => diff::run(&args),
         Command::Hicrep(args) => hicrep::run(&args),
         Command::Sample(args) => sample::run(&args),
         Command::Coverage(args) => coverage::run(&args),

@@ -12,11 +12,12 @@ use std::path::{Path, PathBuf};
 /// The library's rooms above the ground floor: the algorithms (and `export`, which writes files
 /// that carry computed results and so stands above both the formats and the algorithms). The
 /// ground floor imports none of them.
-const ALGORITHMS: [&str; 16] = [
+const ALGORITHMS: [&str; 17] = [
     "balance",
     "compare",
     "compartments",
     "conformations",
+    "diff",
     "expected",
     "export",
     "loops",

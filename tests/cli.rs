@@ -13,6 +13,8 @@ mod contacts;
 mod convert;
 #[path = "cli/cool.rs"]
 mod cool;
+#[path = "cli/diff.rs"]
+mod diff;
 #[path = "cli/dots.rs"]
 mod dots;
 #[path = "cli/dump.rs"]
