@@ -4,7 +4,6 @@
 //! loops), tested as [`super::fit_normalized`] and [`super::results`] do.
 
 use ndarray::Array2;
-use rayon::prelude::*;
 
 use super::model::{Design, Normalization, Params, Results, fit_normalized, results};
 use crate::error::{Error, Result};
@@ -63,8 +62,10 @@ pub fn loop_counts(
     loops: &[LoopSite],
     half_width: usize,
 ) -> Result<LoopCounts> {
+    // one map after another: each pass is parallel inside (the expected), and HDF5 reads hold
+    // a process-wide lock that rayon tasks waiting on one another must not be caught behind
     let columns: Vec<(Vec<f64>, Vec<f64>)> = readers
-        .par_iter()
+        .iter()
         .map(|reader| one_map(*reader, loops, half_width))
         .collect::<Result<_>>()?;
     let shape = (loops.len(), readers.len());
