@@ -20,6 +20,7 @@
 //!
 //! Each feature is fitted on its own, in parallel; results do not depend on the thread count.
 
+pub mod calls;
 mod dispersion;
 mod glm;
 mod linalg;

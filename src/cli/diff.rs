@@ -8,10 +8,13 @@ use clap::{Args, Subcommand};
 use crate::cli::args::InputArgs;
 use crate::cli::input::open_for_analysis;
 use crate::cli::output::{refuse_overwrites, uri_file, write_text_file};
+use contactmap::diff::calls::{condition_dots, union};
+use contactmap::diff::loops::LoopSite;
 use contactmap::diff::loops::{LoopParams, check_same_bins, compare_loops, loops_bedpe, sites_of};
 use contactmap::error::{Error, Result};
+use contactmap::genome::BinTable;
 use contactmap::io::MatrixReader;
-use contactmap::io::bed::read_bedpe;
+use contactmap::io::bed::{BedRecord, BedpeRecord, read_bedpe};
 
 /// Arguments of `contactmap diff`.
 #[derive(Debug, Args)]
@@ -34,7 +37,10 @@ pub enum DiffCommand {
 #[derive(Debug, Args)]
 #[command(after_long_help = "\
 Each loop (a BEDPE record of --loops; a header line is skipped) is placed at the bins of its
-anchors' midpoints. Its count in each replicate is the sum of the raw counts of its pixel and
+anchors' midpoints. Without --loops, each condition's replicates are summed, balanced (ICE,
+cooler's defaults) and their dots called as `contactmap dots` calls them (the kernels cooltools
+recommends for the bin size); the dots of both conditions are pooled, a dot of B within 20 kb
+of one of A on both anchors counted once. Its count in each replicate is the sum of the raw counts of its pixel and
 the --half-width pixels around it (3 x 3 by default); its expected count is the sum of the
 map's cis expected at the same pixels' distances (count.avg per chromosome, smoothed as
 cooltools' count.avg.smoothed, so that a loop that changes hardly moves its own expected). A
@@ -73,9 +79,10 @@ pub struct DiffLoopsArgs {
     /// Condition B's maps, one per replicate.
     #[arg(long = "b", value_name = "MAP", num_args = 1.., required = true)]
     pub second: Vec<String>,
-    /// The loops to test (BEDPE: the union of both conditions' calls, e.g. `dots-merge`).
+    /// The loops to test (BEDPE). Without it, dots are called on each condition's summed
+    /// replicates and the two conditions' dots pooled.
     #[arg(long, value_name = "BEDPE")]
-    pub loops: PathBuf,
+    pub loops: Option<PathBuf>,
     /// Output prefix: writes PREFIX.loops.bedpe.
     #[arg(short, long, value_name = "PREFIX")]
     pub out: PathBuf,
@@ -112,7 +119,7 @@ fn run_loops(args: &DiffLoopsArgs) -> Result<()> {
         .iter()
         .chain(&args.second)
         .map(|uri| uri_file(uri))
-        .chain([args.loops.as_path()])
+        .chain(args.loops.as_deref())
         .chain(args.input.files())
         .collect();
     refuse_overwrites(&inputs, &[Some(output.as_path())])?;
@@ -126,15 +133,44 @@ fn run_loops(args: &DiffLoopsArgs) -> Result<()> {
     let second_refs: Vec<&dyn MatrixReader> = second.iter().map(|r| r.as_ref()).collect();
     let every: Vec<&dyn MatrixReader> = first_refs.iter().chain(&second_refs).copied().collect();
     check_same_bins(&every)?;
-    let records = read_bedpe(&args.loops)?;
-    if records.is_empty() {
-        return Err(Error::Data(format!(
-            "{}: no loop in this file",
-            args.loops.display()
-        )));
-    }
-    let bins = first[0].bins();
-    let sites = sites_of(bins, &records, &args.loops.display().to_string())?;
+    let (records, sites, source) = match &args.loops {
+        Some(path) => {
+            let records = read_bedpe(path)?;
+            if records.is_empty() {
+                return Err(Error::Data(format!(
+                    "{}: no loop in this file",
+                    path.display()
+                )));
+            }
+            let source = path.display().to_string();
+            let sites = sites_of(first[0].bins(), &records, &source)?;
+            (records, sites, source)
+        }
+        None => {
+            let radius_bp = contactmap::loops::DotsParams::default()
+                .clustering_radius_bp
+                .unwrap_or(20_000.0);
+            let resolution = first[0].bins().resolution().unwrap_or(1) as f64;
+            let a = condition_dots(&first_refs, None)?;
+            let b = condition_dots(&second_refs, None)?;
+            let sites = union(&a, &b, (radius_bp / resolution).ceil() as usize);
+            eprintln!(
+                "diff loops: dots called on the summed replicates: {} in A, {} in B, {} pooled \
+                 (within {radius_bp} bp on both anchors counted once)",
+                a.len(),
+                b.len(),
+                sites.len()
+            );
+            if sites.is_empty() {
+                return Err(Error::Data(
+                    "no dots were called in either condition: give the loops with --loops"
+                        .to_string(),
+                ));
+            }
+            let records = site_records(first[0].bins(), &sites);
+            (records, sites, "the dots called".to_string())
+        }
+    };
     let params = LoopParams {
         half_width: args.half_width,
         alpha: args.alpha,
@@ -160,7 +196,7 @@ fn run_loops(args: &DiffLoopsArgs) -> Result<()> {
         "diff loops: {} loops of {}, {} + {} maps, {}x{} pixels each: {} changed at q < {} ({up} \
          up, {down} down in B), {untested} without a p-value; wrote {}",
         sites.len(),
-        args.loops.display(),
+        source,
         first.len(),
         second.len(),
         2 * args.half_width + 1,
@@ -170,4 +206,24 @@ fn run_loops(args: &DiffLoopsArgs) -> Result<()> {
         output.display()
     );
     Ok(())
+}
+
+/// BEDPE records of called loops: each anchor its bin.
+fn site_records(bins: &BinTable, sites: &[LoopSite]) -> Vec<BedpeRecord> {
+    sites
+        .iter()
+        .enumerate()
+        .map(|(k, site)| {
+            let anchor = |bin_id: usize| {
+                let bin = bins.bin(bin_id);
+                BedRecord::new(bins.chroms()[bin.chrom_id].name.clone(), bin.start, bin.end)
+            };
+            BedpeRecord {
+                first: anchor(site.bin1),
+                second: anchor(site.bin2),
+                rest: Vec::new(),
+                line: k as u64 + 1,
+            }
+        })
+        .collect()
 }

@@ -189,3 +189,66 @@ fn diff_loops_refuses_bad_input_with_one_line_and_no_output() {
     assert!(message.contains("two chromosomes"), "{message}");
     assert!(!std::path::Path::new(&output).exists(), "no output left");
 }
+
+/// Without --loops: the loops tested are the dots `merge`, `balance --store` and `dots` find on
+/// each condition's summed replicates (the same dots, by another road), pooled: every dot of A,
+/// and every dot of B within 20 kb of a loop tested.
+#[test]
+fn diff_loops_without_loops_tests_the_dots_of_each_condition() {
+    let dir = tempfile::tempdir().unwrap();
+    let maps = replicates(dir.path(), false);
+    let mut args = vec![
+        "diff", "loops", "--a", &maps[0], &maps[1], "--b", &maps[2], &maps[3],
+    ];
+    let prefix = dir.path().join("called").display().to_string();
+    args.extend(["-o", &prefix]);
+    run_ok(&args);
+    let tested: Vec<(u64, u64)> = std::fs::read_to_string(format!("{prefix}.loops.bedpe"))
+        .unwrap()
+        .lines()
+        .skip(1)
+        .map(|l| {
+            let f: Vec<&str> = l.split('\t').collect();
+            (f[1].parse().unwrap(), f[4].parse().unwrap())
+        })
+        .collect();
+    let dots = |pair: &[String], name: &str| -> Vec<(u64, u64)> {
+        let merged = dir
+            .path()
+            .join(format!("{name}.cool"))
+            .display()
+            .to_string();
+        run_ok(&["merge", &pair[0], &pair[1], "-o", &merged]);
+        run_ok(&["balance", &merged, "--store"]);
+        let table = dir
+            .path()
+            .join(format!("{name}.dots.tsv"))
+            .display()
+            .to_string();
+        run_ok(&["dots", &merged, "-o", &table]);
+        std::fs::read_to_string(&table)
+            .unwrap()
+            .lines()
+            .skip(1)
+            .map(|l| {
+                let f: Vec<&str> = l.split('\t').collect();
+                (f[1].parse().unwrap(), f[4].parse().unwrap())
+            })
+            .collect()
+    };
+    let (a, b) = (dots(&maps[..2], "a"), dots(&maps[2..], "b"));
+    assert!(!a.is_empty() && !b.is_empty());
+    for dot in &a {
+        assert!(tested.contains(dot), "A's dot {dot:?} is tested");
+    }
+    for dot in &b {
+        let near = tested
+            .iter()
+            .any(|t| t.0.abs_diff(dot.0) <= 20_000 && t.1.abs_diff(dot.1) <= 20_000);
+        assert!(
+            near,
+            "B's dot {dot:?} is tested or within 20 kb of a loop tested"
+        );
+    }
+    assert!(tested.len() <= a.len() + b.len() && tested.len() >= a.len());
+}

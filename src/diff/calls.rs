@@ -1,0 +1,109 @@
+//! The loops `diff loops` tests when none are given: each condition's replicates summed, balanced
+//! (ICE, cooler's defaults), dots called on the sum as `contactmap dots` calls them (cooltools'
+//! HiCCUPS-style caller, the kernels cooltools recommends for the bin size), and the two
+//! conditions' dots pooled, a dot of B within `radius` of one of A on both anchors counted once.
+
+use super::loops::LoopSite;
+use crate::balance::{BalanceParams, balance};
+use crate::error::{Error, Result};
+use crate::expected::expected_to_divide_by;
+use crate::genome::view::View;
+use crate::io::merged::MergedReader;
+use crate::io::{MatrixReader, default_memory_budget, load_pixels_for_balancing};
+use crate::loops::{DotsParams, call_dots};
+
+/// The dots of one condition: its replicates summed, balanced, called (`params`: the caller's
+/// settings, [`DotsParams::for_resolution`] when `None`). Returns the dots' pixels.
+pub fn condition_dots(
+    replicates: &[&dyn MatrixReader],
+    params: Option<&DotsParams>,
+) -> Result<Vec<LoopSite>> {
+    let merged = MergedReader::new(replicates.to_vec())?;
+    let bins = merged.bins();
+    let resolution = bins.resolution().ok_or_else(|| {
+        Error::Data(format!(
+            "{}: calling loops needs bins of one size; give the loops with --loops",
+            replicates[0].source()
+        ))
+    })?;
+    let params = match params {
+        Some(params) => params.clone(),
+        None => DotsParams::for_resolution(resolution)?,
+    };
+    // the summed pixels in memory when they fit (balancing passes over them many times)
+    let pixels = load_pixels_for_balancing(&merged, default_memory_budget())?;
+    let balanced = balance(&pixels, &BalanceParams::default())?;
+    let view = View::chromosomes(bins);
+    let expected = expected_to_divide_by(
+        &pixels,
+        Some(&balanced.weights),
+        &view,
+        None,
+        "balanced.avg",
+        false,
+    )?;
+    let calls = call_dots(&merged, &balanced.weights, &view, &expected, &params)?;
+    Ok(calls
+        .dots
+        .unwrap_or_default()
+        .iter()
+        .map(|dot| LoopSite {
+            bin1: dot.pixel.bin1,
+            bin2: dot.pixel.bin2,
+        })
+        .collect())
+}
+
+/// The union of two conditions' dots: every dot of `first`, then each dot of `second` that lies
+/// farther than `radius_bins` on either anchor from every dot of `first`; sorted by position.
+pub fn union(first: &[LoopSite], second: &[LoopSite], radius_bins: usize) -> Vec<LoopSite> {
+    let mut sorted_first = first.to_vec();
+    sorted_first.sort_by_key(|s| (s.bin1, s.bin2));
+    let mut out = sorted_first.clone();
+    for site in second {
+        let from = sorted_first.partition_point(|s| s.bin1 + radius_bins < site.bin1);
+        let near = sorted_first[from..]
+            .iter()
+            .take_while(|s| s.bin1 <= site.bin1 + radius_bins)
+            .any(|s| s.bin2.abs_diff(site.bin2) <= radius_bins);
+        if !near {
+            out.push(*site);
+        }
+    }
+    out.sort_by_key(|s| (s.bin1, s.bin2));
+    out.dedup();
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The union against its definition, checked pair by pair (a naive all-pairs version).
+    #[test]
+    fn union_keeps_each_loop_once_within_the_radius() {
+        let site = |bin1, bin2| LoopSite { bin1, bin2 };
+        let first = [site(10, 50), site(100, 140), site(30, 90)];
+        let second = [
+            site(11, 52),
+            site(12, 53),
+            site(100, 150),
+            site(200, 260),
+            site(31, 89),
+        ];
+        let got = union(&first, &second, 2);
+        let mut want: Vec<LoopSite> = first.to_vec();
+        for s in second {
+            if !first
+                .iter()
+                .any(|f| f.bin1.abs_diff(s.bin1) <= 2 && f.bin2.abs_diff(s.bin2) <= 2)
+            {
+                want.push(s);
+            }
+        }
+        want.sort_by_key(|s| (s.bin1, s.bin2));
+        assert_eq!(got, want);
+        // (11, 52) and (31, 89) are A's loops; (12, 53) is 3 bins from (10, 50)
+        assert_eq!(got.len(), 6);
+    }
+}
