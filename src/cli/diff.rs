@@ -8,6 +8,7 @@ use clap::{Args, Subcommand};
 use crate::cli::args::InputArgs;
 use crate::cli::input::open_for_analysis;
 use crate::cli::output::{refuse_overwrites, uri_file, write_text_file};
+use crate::cli::warnings::Warnings;
 use contactmap::diff::calls::{condition_dots, union};
 use contactmap::diff::loops::LoopSite;
 use contactmap::diff::loops::{LoopParams, check_same_bins, compare_loops, loops_bedpe, sites_of};
@@ -133,6 +134,7 @@ fn run_loops(args: &DiffLoopsArgs) -> Result<()> {
     let second_refs: Vec<&dyn MatrixReader> = second.iter().map(|r| r.as_ref()).collect();
     let every: Vec<&dyn MatrixReader> = first_refs.iter().chain(&second_refs).copied().collect();
     check_same_bins(&every)?;
+    let mut notes = Warnings::new();
     let (records, sites, source) = match &args.loops {
         Some(path) => {
             let records = read_bedpe(path)?;
@@ -151,16 +153,27 @@ fn run_loops(args: &DiffLoopsArgs) -> Result<()> {
                 .clustering_radius_bp
                 .unwrap_or(20_000.0);
             let resolution = first[0].bins().resolution().unwrap_or(1) as f64;
-            let a = condition_dots(&first_refs, None)?;
-            let b = condition_dots(&second_refs, None)?;
-            let sites = union(&a, &b, (radius_bp / resolution).ceil() as usize);
-            eprintln!(
+            let mut called = Vec::new();
+            for (name, replicates) in [("A", &first_refs), ("B", &second_refs)] {
+                let dots = condition_dots(replicates, None)?;
+                if !dots.converged {
+                    notes.push(format!(
+                        "diff loops: ICE did not converge on {name}'s summed replicates ({} \
+                         iterations); its dots are called with the last weights",
+                        dots.n_iterations
+                    ));
+                }
+                called.push(dots.sites);
+            }
+            let (a, b) = (&called[0], &called[1]);
+            let sites = union(a, b, (radius_bp / resolution).ceil() as usize);
+            notes.note(format!(
                 "diff loops: dots called on the summed replicates: {} in A, {} in B, {} pooled \
                  (within {radius_bp} bp on both anchors counted once)",
                 a.len(),
                 b.len(),
                 sites.len()
-            );
+            ));
             if sites.is_empty() {
                 return Err(Error::Data(
                     "no dots were called in either condition: give the loops with --loops"
@@ -192,7 +205,7 @@ fn run_loops(args: &DiffLoopsArgs) -> Result<()> {
         .iter()
         .filter(|p| p.is_nan())
         .count();
-    eprintln!(
+    notes.note(format!(
         "diff loops: {} loops of {}, {} + {} maps, {}x{} pixels each: {} changed at q < {} ({up} \
          up, {down} down in B), {untested} without a p-value; wrote {}",
         sites.len(),
@@ -204,7 +217,8 @@ fn run_loops(args: &DiffLoopsArgs) -> Result<()> {
         up + down,
         args.alpha,
         output.display()
-    );
+    ));
+    notes.print();
     Ok(())
 }
 

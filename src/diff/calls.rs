@@ -12,12 +12,24 @@ use crate::io::merged::MergedReader;
 use crate::io::{MatrixReader, default_memory_budget, load_pixels_for_balancing};
 use crate::loops::{DotsParams, call_dots};
 
+/// One condition's dots.
+#[derive(Debug, Clone)]
+pub struct ConditionDots {
+    /// The dots' pixels.
+    pub sites: Vec<LoopSite>,
+    /// Whether ICE converged on the summed replicates (the dots are called with its last
+    /// weights either way; a caller should say so when it did not).
+    pub converged: bool,
+    /// ICE's iterations.
+    pub n_iterations: usize,
+}
+
 /// The dots of one condition: its replicates summed, balanced, called (`params`: the caller's
-/// settings, [`DotsParams::for_resolution`] when `None`). Returns the dots' pixels.
+/// settings, [`DotsParams::for_resolution`] when `None`).
 pub fn condition_dots(
     replicates: &[&dyn MatrixReader],
     params: Option<&DotsParams>,
-) -> Result<Vec<LoopSite>> {
+) -> Result<ConditionDots> {
     let merged = MergedReader::new(replicates.to_vec())?;
     let bins = merged.bins();
     let resolution = bins.resolution().ok_or_else(|| {
@@ -43,7 +55,7 @@ pub fn condition_dots(
         false,
     )?;
     let calls = call_dots(&merged, &balanced.weights, &view, &expected, &params)?;
-    Ok(calls
+    let sites = calls
         .dots
         .unwrap_or_default()
         .iter()
@@ -51,7 +63,12 @@ pub fn condition_dots(
             bin1: dot.pixel.bin1,
             bin2: dot.pixel.bin2,
         })
-        .collect())
+        .collect();
+    Ok(ConditionDots {
+        sites,
+        converged: balanced.converged,
+        n_iterations: balanced.n_iterations,
+    })
 }
 
 /// The union of two conditions' dots: every dot of `first`, then each dot of `second` that lies
