@@ -9,13 +9,11 @@ use crate::cli::args::InputArgs;
 use crate::cli::input::open_for_analysis;
 use crate::cli::output::{refuse_overwrites, uri_file, write_text_file};
 use crate::cli::warnings::Warnings;
-use contactmap::diff::calls::{condition_dots, union};
-use contactmap::diff::loops::LoopSite;
+use contactmap::diff::calls::called_loops;
 use contactmap::diff::loops::{LoopParams, check_same_bins, compare_loops, loops_bedpe, sites_of};
 use contactmap::error::{Error, Result};
-use contactmap::genome::BinTable;
 use contactmap::io::MatrixReader;
-use contactmap::io::bed::{BedRecord, BedpeRecord, read_bedpe};
+use contactmap::io::bed::read_bedpe;
 
 /// Arguments of `contactmap diff`.
 #[derive(Debug, Args)]
@@ -138,50 +136,27 @@ fn run_loops(args: &DiffLoopsArgs) -> Result<()> {
     let (records, sites, source) = match &args.loops {
         Some(path) => {
             let records = read_bedpe(path)?;
-            if records.is_empty() {
-                return Err(Error::Data(format!(
-                    "{}: no loop in this file",
-                    path.display()
-                )));
-            }
             let source = path.display().to_string();
             let sites = sites_of(first[0].bins(), &records, &source)?;
             (records, sites, source)
         }
         None => {
-            let radius_bp = contactmap::loops::DotsParams::default()
-                .clustering_radius_bp
-                .unwrap_or(20_000.0);
-            let resolution = first[0].bins().resolution().unwrap_or(1) as f64;
-            let mut called = Vec::new();
-            for (name, replicates) in [("A", &first_refs), ("B", &second_refs)] {
-                let dots = condition_dots(replicates, None)?;
-                if !dots.converged {
-                    notes.push(format!(
-                        "diff loops: ICE did not converge on {name}'s summed replicates ({} \
-                         iterations); its dots are called with the last weights",
-                        dots.n_iterations
-                    ));
-                }
-                called.push(dots.sites);
-            }
-            let (a, b) = (&called[0], &called[1]);
-            let sites = union(a, b, (radius_bp / resolution).ceil() as usize);
-            notes.note(format!(
-                "diff loops: dots called on the summed replicates: {} in A, {} in B, {} pooled \
-                 (within {radius_bp} bp on both anchors counted once)",
-                a.len(),
-                b.len(),
-                sites.len()
-            ));
-            if sites.is_empty() {
-                return Err(Error::Data(
-                    "no dots were called in either condition: give the loops with --loops"
-                        .to_string(),
+            let called = called_loops(&first_refs, &second_refs)?;
+            for (name, n_iterations) in &called.unconverged {
+                notes.push(format!(
+                    "diff loops: ICE did not converge on {name}'s summed replicates \
+                     ({n_iterations} iterations); its dots are called with the last weights"
                 ));
             }
-            let records = site_records(first[0].bins(), &sites);
-            (records, sites, "the dots called".to_string())
+            notes.note(format!(
+                "diff loops: dots called on the summed replicates: {} in A, {} in B, {} pooled \
+                 (within {} bp on both anchors counted once)",
+                called.n_first,
+                called.n_second,
+                called.sites.len(),
+                called.radius_bp
+            ));
+            (called.records, called.sites, "the dots called".to_string())
         }
     };
     let params = LoopParams {
@@ -220,24 +195,4 @@ fn run_loops(args: &DiffLoopsArgs) -> Result<()> {
     ));
     notes.print();
     Ok(())
-}
-
-/// BEDPE records of called loops: each anchor its bin.
-fn site_records(bins: &BinTable, sites: &[LoopSite]) -> Vec<BedpeRecord> {
-    sites
-        .iter()
-        .enumerate()
-        .map(|(k, site)| {
-            let anchor = |bin_id: usize| {
-                let bin = bins.bin(bin_id);
-                BedRecord::new(bins.chroms()[bin.chrom_id].name.clone(), bin.start, bin.end)
-            };
-            BedpeRecord {
-                first: anchor(site.bin1),
-                second: anchor(site.bin2),
-                rest: Vec::new(),
-                line: k as u64 + 1,
-            }
-        })
-        .collect()
 }

@@ -8,6 +8,7 @@ use crate::balance::{BalanceParams, balance};
 use crate::error::{Error, Result};
 use crate::expected::expected_to_divide_by;
 use crate::genome::view::View;
+use crate::io::bed::{BedRecord, BedpeRecord};
 use crate::io::merged::MergedReader;
 use crate::io::{MatrixReader, default_memory_budget, load_pixels_for_balancing};
 use crate::loops::{DotsParams, call_dots};
@@ -68,6 +69,80 @@ pub fn condition_dots(
         sites,
         converged: balanced.converged,
         n_iterations: balanced.n_iterations,
+    })
+}
+
+/// The loops called in two conditions, pooled ([`called_loops`]).
+#[derive(Debug, Clone)]
+pub struct CalledLoops {
+    /// The loops, sorted by position.
+    pub sites: Vec<LoopSite>,
+    /// The same loops as BEDPE records (each anchor its bin).
+    pub records: Vec<BedpeRecord>,
+    /// Dots of the first condition, and of the second.
+    pub n_first: usize,
+    /// Dots of the second condition.
+    pub n_second: usize,
+    /// The pooling radius (the dots' clustering radius).
+    pub radius_bp: f64,
+    /// The conditions (`A`, `B`) whose ICE did not converge, with its iterations.
+    pub unconverged: Vec<(&'static str, usize)>,
+}
+
+/// The loops `diff loops` tests when none are given: [`condition_dots`] of each condition,
+/// pooled by [`union`] within the dots' clustering radius (20 kb). No dot in either condition
+/// is an error.
+pub fn called_loops(
+    first: &[&dyn MatrixReader],
+    second: &[&dyn MatrixReader],
+) -> Result<CalledLoops> {
+    let radius_bp = DotsParams::default()
+        .clustering_radius_bp
+        .unwrap_or(20_000.0);
+    let bins = first[0].bins();
+    let resolution = bins.resolution().unwrap_or(1) as f64;
+    let mut unconverged = Vec::new();
+    let mut called = Vec::new();
+    for (name, replicates) in [("A", first), ("B", second)] {
+        let dots = condition_dots(replicates, None)?;
+        if !dots.converged {
+            unconverged.push((name, dots.n_iterations));
+        }
+        called.push(dots.sites);
+    }
+    let sites = union(
+        &called[0],
+        &called[1],
+        (radius_bp / resolution).ceil() as usize,
+    );
+    if sites.is_empty() {
+        return Err(Error::Data(
+            "no dots were called in either condition: give the loops with --loops".to_string(),
+        ));
+    }
+    let records = sites
+        .iter()
+        .enumerate()
+        .map(|(k, site)| {
+            let anchor = |bin_id: usize| {
+                let bin = bins.bin(bin_id);
+                BedRecord::new(bins.chroms()[bin.chrom_id].name.clone(), bin.start, bin.end)
+            };
+            BedpeRecord {
+                first: anchor(site.bin1),
+                second: anchor(site.bin2),
+                rest: Vec::new(),
+                line: k as u64 + 1,
+            }
+        })
+        .collect();
+    Ok(CalledLoops {
+        sites,
+        records,
+        n_first: called[0].len(),
+        n_second: called[1].len(),
+        radius_bp,
+        unconverged,
     })
 }
 

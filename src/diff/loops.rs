@@ -307,6 +307,9 @@ pub fn sites_of(
     records: &[crate::io::bed::BedpeRecord],
     source: &str,
 ) -> Result<Vec<LoopSite>> {
+    if records.is_empty() {
+        return Err(Error::Data(format!("{source}: no loop in this file")));
+    }
     records
         .iter()
         .enumerate()
