@@ -19,6 +19,7 @@ base pairs; weights are multiplicative (cooler's convention).
 from __future__ import annotations
 
 from ._compartments import digitize, eigs_cis, eigs_trans, saddle, saddle_strength
+from ._diff import diff_loops
 from ._file import File, MultiResFile, PixelSelector
 from ._loops import dots, merge_dots, pileup
 from ._native import ContactmapError, FormatError
@@ -50,6 +51,7 @@ __all__ = [
     "contact_frequencies",
     "convert",
     "create_cooler",
+    "diff_loops",
     "digitize",
     "directionality",
     "dots",

@@ -15,6 +15,7 @@ __all__ = [
     "contact_frequencies",
     "convert",
     "create_cooler",
+    "diff_loops",
     "digitize",
     "directionality",
     "dots",
@@ -185,6 +186,14 @@ def balance_store(
     uri: str, name: str, overwrite: bool, store_unconverged: bool, options: _BalanceOptions
 ) -> tuple[npt.NDArray[np.float64], dict[str, Any]]: ...
 def resolutions(path: str) -> list[int]: ...
+def diff_loops(
+    first: list[str],
+    second: list[str],
+    loops: str | None = None,
+    half_width: int = 1,
+    alpha: float = 0.05,
+    cooks_filter: bool = True,
+) -> list[tuple[str, Any]]: ...
 def dots(
     file: NativeFile,
     view: list[_Region] | None,

@@ -13,6 +13,7 @@
 
 mod compartments;
 mod convert;
+mod diff;
 mod file;
 mod loops;
 mod protein;
@@ -32,6 +33,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<file::NativeFile>()?;
     m.add_class::<tiles::NativeTileset>()?;
     m.add_function(wrap_pyfunction!(file::resolutions, m)?)?;
+    m.add_function(wrap_pyfunction!(diff::diff_loops, m)?)?;
     m.add_function(wrap_pyfunction!(tables::expected_cis, m)?)?;
     m.add_function(wrap_pyfunction!(tables::expected_trans, m)?)?;
     m.add_function(wrap_pyfunction!(tables::insulation, m)?)?;
