@@ -57,11 +57,7 @@ pub(crate) fn diff_loops<'py>(
         Ok(PyList::new(py, values)?.into_any())
     };
     let r = &comparison.results;
-    let half: Vec<f64> = r
-        .lfc_se
-        .iter()
-        .map(|se| 1.959_963_984_540_054 * se)
-        .collect();
+    let (low, high): (Vec<f64>, Vec<f64>) = (0..n).map(|l| comparison.interval(l)).unzip();
     let mut columns: Vec<NamedColumn<'py>> = vec![
         (
             "chrom1".into(),
@@ -92,22 +88,8 @@ pub(crate) fn diff_loops<'py>(
             "log2FoldChange".into(),
             vec1(py, r.log2_fold_change.clone()).into_any(),
         ),
-        (
-            "lfc_low".into(),
-            vec1(
-                py,
-                (0..n).map(|l| r.log2_fold_change[l] - half[l]).collect(),
-            )
-            .into_any(),
-        ),
-        (
-            "lfc_high".into(),
-            vec1(
-                py,
-                (0..n).map(|l| r.log2_fold_change[l] + half[l]).collect(),
-            )
-            .into_any(),
-        ),
+        ("lfc_low".into(), vec1(py, low).into_any()),
+        ("lfc_high".into(), vec1(py, high).into_any()),
         ("lfcSE".into(), vec1(py, r.lfc_se.clone()).into_any()),
         ("pvalue".into(), vec1(py, r.p_value.clone()).into_any()),
         ("qvalue".into(), vec1(py, r.q_value.clone()).into_any()),
@@ -128,10 +110,7 @@ pub(crate) fn diff_loops<'py>(
             )?,
         ),
     ];
-    let names = (1..=first.len())
-        .map(|k| format!("A{k}"))
-        .chain((1..=second.len()).map(|k| format!("B{k}")));
-    for (s, name) in names.enumerate() {
+    for (s, name) in comparison.sample_names().into_iter().enumerate() {
         let counts = comparison
             .counts
             .observed

@@ -166,11 +166,7 @@ fn run_loops(args: &DiffLoopsArgs) -> Result<()> {
         ..LoopParams::default()
     };
     let comparison = compare_loops(&first_refs, &second_refs, &sites, &params)?;
-    let names: Vec<String> = (1..=first.len())
-        .map(|k| format!("A{k}"))
-        .chain((1..=second.len()).map(|k| format!("B{k}")))
-        .collect();
-    write_text_file(&output, loops_bedpe(&records, &comparison, &names))?;
+    write_text_file(&output, loops_bedpe(&records, &comparison))?;
     let directions: Vec<&str> = (0..sites.len()).map(|l| comparison.direction(l)).collect();
     let up = directions.iter().filter(|d| **d == "up").count();
     let down = directions.iter().filter(|d| **d == "down").count();

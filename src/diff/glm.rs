@@ -2,6 +2,7 @@
 //! `irls_solver`): log link, per-sample offsets (size factors), a ridge of 1e-6 on every
 //! coefficient; and Cook's distances of its samples.
 
+use super::dispersion::trim_mean;
 use super::linalg::{
     cholesky, cholesky_inverse, cholesky_solve, times, transpose_times, weighted_gram,
 };
@@ -26,6 +27,15 @@ pub struct GlmFit {
     pub converged: bool,
 }
 
+/// The means `sᵢ exp(xᵢβ)` of the design's rows (`n_coefficients` each) with offsets `sᵢ`.
+pub fn means(design: &[f64], n_coefficients: usize, beta: &[f64], offsets: &[f64]) -> Vec<f64> {
+    times(design, n_coefficients, beta)
+        .iter()
+        .zip(offsets)
+        .map(|(eta, s)| s * eta.exp())
+        .collect()
+}
+
 /// The fit by iteratively reweighted least squares: from the least-squares fit of
 /// `log(count/s + 0.1)`, until the deviance changes by less than `beta_tol` relative; means are
 /// kept at `min_mu` or above while fitting. When a coefficient leaves `[-30, 30]` or 250
@@ -41,11 +51,10 @@ pub fn irls(
     beta_tol: f64,
 ) -> GlmFit {
     let p = n_coefficients;
-    let means = |beta: &[f64]| -> Vec<f64> {
-        times(design, p, beta)
-            .iter()
-            .zip(size_factors)
-            .map(|(eta, s)| (s * eta.exp()).max(min_mu))
+    let clamped_means = |beta: &[f64]| -> Vec<f64> {
+        means(design, p, beta, size_factors)
+            .into_iter()
+            .map(|m| m.max(min_mu))
             .collect()
     };
     let start: Vec<f64> = counts
@@ -57,7 +66,7 @@ pub fn irls(
     let l = cholesky(&gram, p).expect("the design has full rank");
     let beta_init = cholesky_solve(&l, p, &transpose_times(design, p, &start));
     let mut beta = beta_init.clone();
-    let mut mu = means(&beta);
+    let mut mu = clamped_means(&beta);
     let (mut deviance, mut ratio) = (1000.0, 1.0);
     let mut converged = true;
     let mut iteration = 0;
@@ -77,13 +86,13 @@ pub fn irls(
             Some(next) if next.iter().all(|b| b.abs() <= MAX_BETA) && iteration < 250 => next,
             _ => {
                 beta = bounded_newton(counts, size_factors, design, p, disp, &beta_init);
-                mu = means(&beta);
+                mu = clamped_means(&beta);
                 converged = false;
                 break;
             }
         };
         beta = next;
-        mu = means(&beta);
+        mu = clamped_means(&beta);
         let old = deviance;
         deviance = -2.0 * nb_nll(counts, &mu, disp);
         ratio = (deviance - old).abs() / (deviance.abs() + 0.1);
@@ -96,11 +105,7 @@ pub fn irls(
         .zip(&w)
         .map(|(row, weight)| weight * super::linalg::bilinear(row, &inverse, row))
         .collect();
-    let mu = times(design, p, &beta)
-        .iter()
-        .zip(size_factors)
-        .map(|(eta, s)| s * eta.exp())
-        .collect();
+    let mu = means(design, p, &beta, size_factors);
     GlmFit {
         beta,
         mu,
@@ -121,21 +126,13 @@ fn bounded_newton(
 ) -> Vec<f64> {
     let r = 1.0 / disp;
     let objective = |beta: &[f64]| -> f64 {
-        let mu: Vec<f64> = times(design, p, beta)
-            .iter()
-            .zip(size_factors)
-            .map(|(eta, s)| s * eta.exp())
-            .collect();
+        let mu = means(design, p, beta, size_factors);
         nb_nll(counts, &mu, disp) + 0.5 * RIDGE * beta.iter().map(|b| b * b).sum::<f64>()
     };
     let mut beta: Vec<f64> = start.iter().map(|b| b.clamp(-MAX_BETA, MAX_BETA)).collect();
     let mut value = objective(&beta);
     for _ in 0..500 {
-        let mu: Vec<f64> = times(design, p, &beta)
-            .iter()
-            .zip(size_factors)
-            .map(|(eta, s)| s * eta.exp())
-            .collect();
+        let mu = means(design, p, &beta, size_factors);
         let residual: Vec<f64> = mu
             .iter()
             .zip(counts)
@@ -178,16 +175,6 @@ fn bounded_newton(
     beta
 }
 
-/// scipy's trimmed mean along samples: sorts, drops `⌊n·trim⌋` from each end.
-fn trimmed_mean(values: &[f64], trim: f64) -> f64 {
-    let mut sorted = values.to_vec();
-    sorted.sort_unstable_by(f64::total_cmp);
-    let n = sorted.len();
-    let drop = (n as f64 * trim).floor() as usize;
-    let kept = &sorted[drop..n - drop];
-    kept.iter().sum::<f64>() / kept.len() as f64
-}
-
 /// The trim and the scale DESeq2 uses for a cell of `n` replicates (`trimmed_cell_variance`).
 fn trim_for(n: usize) -> (f64, f64) {
     let n = n as f64;
@@ -215,9 +202,9 @@ pub fn robust_dispersion(normed: &[f64], groups: &[usize]) -> f64 {
         }
     }
     let variance = if seen.is_empty() {
-        let centre = trimmed_mean(normed, 0.125);
+        let centre = trim_mean(normed, 0.125);
         let squared: Vec<f64> = normed.iter().map(|y| (y - centre).powi(2)).collect();
-        1.51 * trimmed_mean(&squared, 0.125)
+        1.51 * trim_mean(&squared, 0.125)
     } else {
         seen.iter()
             .map(|&g| {
@@ -226,9 +213,9 @@ pub fn robust_dispersion(normed: &[f64], groups: &[usize]) -> f64 {
                     .map(|i| normed[i])
                     .collect();
                 let (trim, scale) = trim_for(cell.len());
-                let centre = trimmed_mean(&cell, trim);
+                let centre = trim_mean(&cell, trim);
                 let squared: Vec<f64> = cell.iter().map(|y| (y - centre).powi(2)).collect();
-                scale * trimmed_mean(&squared, trim)
+                scale * trim_mean(&squared, trim)
             })
             .fold(f64::NEG_INFINITY, f64::max)
     };

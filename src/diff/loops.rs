@@ -175,9 +175,34 @@ pub struct LoopComparison {
     pub condition_means: Array2<f64>,
     /// The q-value cut that `direction` uses.
     pub alpha: f64,
+    /// Replicates of the first condition (the first columns of the counts).
+    pub n_first: usize,
 }
 
+/// The normal quantile of a two-sided 95% interval.
+const Z_95: f64 = 1.959_963_984_540_054;
+
 impl LoopComparison {
+    /// The 95% interval of loop `l`'s log2 fold change: ±1.96 standard errors.
+    pub fn interval(&self, l: usize) -> (f64, f64) {
+        let (lfc, se) = (self.results.log2_fold_change[l], self.results.lfc_se[l]);
+        (lfc - Z_95 * se, lfc + Z_95 * se)
+    }
+
+    /// The samples' names, in the counts' column order: `A1`, `A2`, ..., `B1`, ...
+    pub fn sample_names(&self) -> Vec<String> {
+        let n_samples = self.counts.observed.ncols();
+        (0..n_samples)
+            .map(|s| {
+                if s < self.n_first {
+                    format!("A{}", s + 1)
+                } else {
+                    format!("B{}", s + 1 - self.n_first)
+                }
+            })
+            .collect()
+    }
+
     /// `up` (higher in the second condition), `down`, or `-` (not changed at the q-value cut,
     /// or not tested).
     pub fn direction(&self, l: usize) -> &'static str {
@@ -254,6 +279,7 @@ pub fn compare_loops(
         results,
         condition_means,
         alpha: params.alpha,
+        n_first: first.len(),
     })
 }
 
@@ -271,26 +297,16 @@ fn describe(bins: &crate::genome::BinTable, site: LoopSite) -> String {
 pub fn check_same_bins(readers: &[&dyn MatrixReader]) -> Result<()> {
     let reference = readers[0];
     for reader in &readers[1..] {
-        let (a, b) = (reference.bins(), reader.bins());
-        if a == b {
+        let Some(why) = reference.bins().difference(reader.bins()) else {
             continue;
-        }
-        let why = if a.chroms() != b.chroms() {
-            "other chromosomes".to_string()
-        } else if a.resolution() != b.resolution() {
-            format!(
-                "another bin size ({} bp, {} has {} bp)",
-                b.resolution()
-                    .map_or("variable".to_string(), |r| r.to_string()),
-                reference.source(),
-                a.resolution()
-                    .map_or("variable".to_string(), |r| r.to_string())
-            )
+        };
+        let what = if reference.bins().chroms() != reader.bins().chroms() {
+            "chromosomes"
         } else {
-            "other bins".to_string()
+            "bins"
         };
         return Err(Error::Data(format!(
-            "{}: {why} than {}; the maps compared must share their bins",
+            "{}: other {what} than {} ({why}); the maps compared must share their bins",
             reader.source(),
             reference.source()
         )));
@@ -346,18 +362,14 @@ pub fn sites_of(
 /// The comparison as BEDPE with a header line: each loop's anchors as given, `baseMean`,
 /// `log2FoldChange` with its 95% interval (`lfc_low`, `lfc_high`: ±1.96 standard errors),
 /// `lfcSE`, `pvalue`, `qvalue`, the mean normalised counts of each condition, `direction`,
-/// then each sample's count (headed by `sample_names`).
-pub fn loops_bedpe(
-    records: &[crate::io::bed::BedpeRecord],
-    comparison: &LoopComparison,
-    sample_names: &[String],
-) -> String {
+/// then each sample's count (headed `count_A1` ...).
+pub fn loops_bedpe(records: &[crate::io::bed::BedpeRecord], comparison: &LoopComparison) -> String {
     let mut out = String::from(
         "chrom1\tstart1\tend1\tchrom2\tstart2\tend2\tbaseMean\tlog2FoldChange\tlfc_low\tlfc_high\tlfcSE\tpvalue\tqvalue\tmean_A\tmean_B\tdirection",
     );
-    for name in sample_names {
+    for name in comparison.sample_names() {
         out.push_str("\tcount_");
-        out.push_str(name);
+        out.push_str(&name);
     }
     out.push('\n');
     let r = &comparison.results;
@@ -370,13 +382,12 @@ pub fn loops_bedpe(
     };
     for (l, record) in records.iter().enumerate() {
         let (a, b) = (&record.first, &record.second);
-        let lfc = r.log2_fold_change[l];
-        let half = 1.959_963_984_540_054 * r.lfc_se[l];
+        let (low, high) = comparison.interval(l);
         let fields = [
             number(r.base_mean[l]),
-            number(lfc),
-            number(lfc - half),
-            number(lfc + half),
+            number(r.log2_fold_change[l]),
+            number(low),
+            number(high),
             number(r.lfc_se[l]),
             number(r.p_value[l]),
             number(r.q_value[l]),

@@ -6,7 +6,7 @@ use rayon::prelude::*;
 use statrs::distribution::{ContinuousCDF, FisherSnedecor};
 
 use super::dispersion::{self, Trend};
-use super::{glm, linalg, nb, size_factors, test};
+use super::{glm, nb, size_factors, test};
 use crate::error::{Error, Result};
 
 /// Which condition each sample belongs to, as a design matrix with an intercept (the first
@@ -419,12 +419,7 @@ pub fn results(
                 return (f64::NAN, f64::NAN, f64::NAN);
             }
             let beta = fit.coefficients.row(g).to_vec();
-            let eta = linalg::times(&design.matrix, p, &beta);
-            let mu: Vec<f64> = eta
-                .iter()
-                .zip(fit.factors.row(g))
-                .map(|(e, s)| e.exp() * s)
-                .collect();
+            let mu = glm::means(&design.matrix, p, &beta, &fit.factors.row(g).to_vec());
             test::wald(&design.matrix, fit.dispersions[g], &beta, &mu, contrast)
         })
         .collect();

@@ -183,6 +183,19 @@ fn diff_loops_refuses_bad_input_with_one_line_and_no_output() {
     assert!(!std::path::Path::new(&output).exists(), "no output left");
 }
 
+/// The two anchors' starts (columns 2 and 5) of each line of a table with a header line.
+fn anchor_starts(path: &str) -> Vec<(u64, u64)> {
+    std::fs::read_to_string(path)
+        .unwrap()
+        .lines()
+        .skip(1)
+        .map(|l| {
+            let f: Vec<&str> = l.split('\t').collect();
+            (f[1].parse().unwrap(), f[4].parse().unwrap())
+        })
+        .collect()
+}
+
 /// Without --loops: the loops tested are the dots `merge`, `balance --store` and `dots` find on
 /// each condition's summed replicates (the same dots, by another road), pooled: every dot of A,
 /// and every dot of B within 20 kb of a loop tested.
@@ -196,15 +209,7 @@ fn diff_loops_without_loops_tests_the_dots_of_each_condition() {
     let prefix = dir.path().join("called").display().to_string();
     args.extend(["-o", &prefix]);
     run_ok(&args);
-    let tested: Vec<(u64, u64)> = std::fs::read_to_string(format!("{prefix}.loops.bedpe"))
-        .unwrap()
-        .lines()
-        .skip(1)
-        .map(|l| {
-            let f: Vec<&str> = l.split('\t').collect();
-            (f[1].parse().unwrap(), f[4].parse().unwrap())
-        })
-        .collect();
+    let tested = anchor_starts(&format!("{prefix}.loops.bedpe"));
     let dots = |pair: &[String], name: &str| -> Vec<(u64, u64)> {
         let merged = dir
             .path()
@@ -219,15 +224,7 @@ fn diff_loops_without_loops_tests_the_dots_of_each_condition() {
             .display()
             .to_string();
         run_ok(&["dots", &merged, "-o", &table]);
-        std::fs::read_to_string(&table)
-            .unwrap()
-            .lines()
-            .skip(1)
-            .map(|l| {
-                let f: Vec<&str> = l.split('\t').collect();
-                (f[1].parse().unwrap(), f[4].parse().unwrap())
-            })
-            .collect()
+        anchor_starts(&table)
     };
     let (a, b) = (dots(&maps[..2], "a"), dots(&maps[2..], "b"));
     assert!(!a.is_empty() && !b.is_empty());
