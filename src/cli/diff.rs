@@ -10,7 +10,7 @@ use crate::cli::input::open_for_analysis;
 use crate::cli::output::{refuse_overwrites, uri_file, write_text_file};
 use crate::cli::warnings::Warnings;
 use contactmap::diff::calls::called_loops;
-use contactmap::diff::loops::{LoopParams, check_same_bins, compare_loops, loops_bedpe, sites_of};
+use contactmap::diff::loops::{LoopParams, compare_loops, loops_bedpe, sites_of};
 use contactmap::error::{Error, Result};
 use contactmap::io::MatrixReader;
 use contactmap::io::bed::read_bedpe;
@@ -130,8 +130,6 @@ fn run_loops(args: &DiffLoopsArgs) -> Result<()> {
     let (first, second) = (open(&args.first)?, open(&args.second)?);
     let first_refs: Vec<&dyn MatrixReader> = first.iter().map(|r| r.as_ref()).collect();
     let second_refs: Vec<&dyn MatrixReader> = second.iter().map(|r| r.as_ref()).collect();
-    let every: Vec<&dyn MatrixReader> = first_refs.iter().chain(&second_refs).copied().collect();
-    check_same_bins(&every)?;
     let mut notes = Warnings::new();
     let (records, sites, source) = match &args.loops {
         Some(path) => {

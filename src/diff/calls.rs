@@ -3,7 +3,7 @@
 //! HiCCUPS-style caller, the kernels cooltools recommends for the bin size), and the two
 //! conditions' dots pooled, a dot of B within `radius` of one of A on both anchors counted once.
 
-use super::loops::LoopSite;
+use super::loops::{LoopSite, check_same_bins};
 use crate::balance::{BalanceParams, balance};
 use crate::error::{Error, Result};
 use crate::expected::expected_to_divide_by;
@@ -90,12 +90,14 @@ pub struct CalledLoops {
 }
 
 /// The loops `diff loops` tests when none are given: [`condition_dots`] of each condition,
-/// pooled by [`union`] within the dots' clustering radius (20 kb). No dot in either condition
-/// is an error.
+/// pooled by [`union`] within the dots' clustering radius (20 kb). Maps on other bins (checked
+/// first, before the calling) and no dot in either condition are errors.
 pub fn called_loops(
     first: &[&dyn MatrixReader],
     second: &[&dyn MatrixReader],
 ) -> Result<CalledLoops> {
+    let every: Vec<&dyn MatrixReader> = first.iter().chain(second).copied().collect();
+    check_same_bins(&every)?;
     let radius_bp = DotsParams::default()
         .clustering_radius_bp
         .unwrap_or(20_000.0);
