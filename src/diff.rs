@@ -20,19 +20,26 @@
 //!
 //! Each feature is fitted on its own, in parallel; results do not depend on the thread count.
 
+pub mod boundaries;
 pub mod calls;
+pub mod compartments;
 mod dispersion;
 mod glm;
 mod linalg;
 pub mod loops;
+pub mod maps;
 mod model;
+pub mod moderated;
 mod nb;
+pub mod regions;
 mod size_factors;
+mod special;
+mod tables;
 mod test;
 
 pub use dispersion::Trend;
 pub use model::{Design, Fit, Normalization, Params, Results, fit, fit_normalized, results};
-pub use nb::trigamma;
+pub use special::{tetragamma, trigamma, trigamma_inverse};
 pub use test::benjamini_hochberg;
 
 #[cfg(test)]

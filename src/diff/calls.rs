@@ -3,7 +3,8 @@
 //! HiCCUPS-style caller, the kernels cooltools recommends for the bin size), and the two
 //! conditions' dots pooled, a dot of B within `radius` of one of A on both anchors counted once.
 
-use super::loops::{LoopSite, check_same_bins};
+use super::loops::LoopSite;
+use super::maps::check_same_bins;
 use crate::balance::{BalanceParams, balance};
 use crate::error::{Error, Result};
 use crate::expected::expected_to_divide_by;

@@ -5,7 +5,7 @@
 //! mode under that prior.
 
 use super::linalg::{cholesky, cholesky_solve, times, transpose_times, weighted_gram};
-use super::nb::trigamma;
+use super::special::trigamma;
 use crate::numeric::median;
 
 /// The least-squares fit of `y` on the design (`n_coefficients` per row): the fitted values.

@@ -5,7 +5,9 @@
 
 use ndarray::Array2;
 
+use super::maps::check_same_bins;
 use super::model::{Design, Normalization, Params, Results, fit_normalized, results};
+use super::tables::number;
 use crate::error::{Error, Result};
 use crate::expected::cis_curves;
 use crate::expected::smooth::log_smooth;
@@ -293,27 +295,6 @@ fn describe(bins: &crate::genome::BinTable, site: LoopSite) -> String {
     )
 }
 
-/// Maps compared must share their bins: the first one that does not is named.
-pub fn check_same_bins(readers: &[&dyn MatrixReader]) -> Result<()> {
-    let reference = readers[0];
-    for reader in &readers[1..] {
-        let Some(why) = reference.bins().difference(reader.bins()) else {
-            continue;
-        };
-        let what = if reference.bins().chroms() != reader.bins().chroms() {
-            "chromosomes"
-        } else {
-            "bins"
-        };
-        return Err(Error::Data(format!(
-            "{}: other {what} than {} ({why}); the maps compared must share their bins",
-            reader.source(),
-            reference.source()
-        )));
-    }
-    Ok(())
-}
-
 /// The loops of BEDPE `records` on `bins`: each at the bins of its anchors' midpoints (as
 /// `score loops` places them), upstream first. A loop between two chromosomes, on a chromosome
 /// the map does not have, or past its chromosome's end is refused: `source` and the record's
@@ -373,13 +354,6 @@ pub fn loops_bedpe(records: &[crate::io::bed::BedpeRecord], comparison: &LoopCom
     }
     out.push('\n');
     let r = &comparison.results;
-    let number = |v: f64| {
-        if v.is_nan() {
-            "nan".to_string()
-        } else {
-            format!("{v:.6e}")
-        }
-    };
     for (l, record) in records.iter().enumerate() {
         let (a, b) = (&record.first, &record.second);
         let (low, high) = comparison.interval(l);

@@ -224,42 +224,9 @@ pub fn brent_root(f: impl Fn(f64) -> f64, a: f64, b: f64) -> f64 {
     b
 }
 
-/// The trigamma function `ψ₁(x)` for `x > 0`: the recurrence `ψ₁(x) = ψ₁(x+1) + 1/x²` up to
-/// `x >= 20`, then its asymptotic series.
-pub fn trigamma(x: f64) -> f64 {
-    let (mut x, mut sum) = (x, 0.0);
-    while x < 20.0 {
-        sum += 1.0 / (x * x);
-        x += 1.0;
-    }
-    let inverse = 1.0 / x;
-    let i2 = inverse * inverse;
-    // 1/x + 1/(2x²) + Σ B₂ₖ / x^(2k+1)
-    let series = inverse
-        * (1.0
-            + inverse / 2.0
-            + i2 * (1.0 / 6.0
-                + i2 * (-1.0 / 30.0 + i2 * (1.0 / 42.0 + i2 * (-1.0 / 30.0 + i2 * 5.0 / 66.0)))));
-    sum + series
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::f64::consts::PI;
-
-    #[test]
-    fn trigamma_equals_its_closed_forms() {
-        for (x, want) in [
-            (1.0, PI * PI / 6.0),
-            (0.5, PI * PI / 2.0),
-            (1.5, PI * PI / 2.0 - 4.0),
-            (2.0, PI * PI / 6.0 - 1.0),
-            (4.0, PI * PI / 6.0 - 1.0 - 0.25 - 1.0 / 9.0),
-        ] {
-            assert!((trigamma(x) - want).abs() < 1e-14 * want, "{x}");
-        }
-    }
 
     /// The slope is the loss's derivative: central differences agree (an independent check of
     /// the algebra and of the Cox-Reid and prior terms).
