@@ -19,7 +19,7 @@ base pairs; weights are multiplicative (cooler's convention).
 from __future__ import annotations
 
 from ._compartments import digitize, eigs_cis, eigs_trans, saddle, saddle_strength
-from ._diff import diff_loops
+from ._diff import diff_boundaries, diff_compartments, diff_loops, diff_regions
 from ._file import File, MultiResFile, PixelSelector
 from ._loops import dots, merge_dots, pileup
 from ._native import ContactmapError, FormatError
@@ -51,7 +51,10 @@ __all__ = [
     "contact_frequencies",
     "convert",
     "create_cooler",
+    "diff_boundaries",
+    "diff_compartments",
     "diff_loops",
+    "diff_regions",
     "digitize",
     "directionality",
     "dots",

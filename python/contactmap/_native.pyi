@@ -15,7 +15,10 @@ __all__ = [
     "contact_frequencies",
     "convert",
     "create_cooler",
+    "diff_boundaries",
+    "diff_compartments",
     "diff_loops",
+    "diff_regions",
     "digitize",
     "directionality",
     "dots",
@@ -194,6 +197,38 @@ def diff_loops(
     alpha: float = 0.05,
     cooks_filter: bool = True,
 ) -> list[tuple[str, Any]]: ...
+def diff_boundaries(
+    first: list[str],
+    second: list[str],
+    window_bp: int | None = None,
+    threshold: str = "li",
+    ignore_diags: int = 2,
+    match_bins: int = 2,
+    alpha: float = 0.05,
+    weight_name: str = "weight",
+) -> str: ...
+def diff_compartments(
+    first: list[str],
+    second: list[str],
+    track: list[float] | None = None,
+    ignore_diags: int = 2,
+    clip_percentile: float = 99.9,
+    alpha: float = 0.05,
+    weight_name: str = "weight",
+) -> tuple[str, str]: ...
+def diff_regions(
+    reference: str,
+    query: str,
+    pairs: str | None = None,
+    window_bp: int | None = None,
+    step_bp: int | None = None,
+    raw: bool = False,
+    weight_name: str = "weight",
+    min_bins: int = 20,
+    mappability_cutoff: float = 0.1,
+    relative_window: float = 1.0,
+    absolute_window: int | None = None,
+) -> str: ...
 def dots(
     file: NativeFile,
     view: list[_Region] | None,

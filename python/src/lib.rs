@@ -34,6 +34,9 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<tiles::NativeTileset>()?;
     m.add_function(wrap_pyfunction!(file::resolutions, m)?)?;
     m.add_function(wrap_pyfunction!(diff::diff_loops, m)?)?;
+    m.add_function(wrap_pyfunction!(diff::diff_boundaries, m)?)?;
+    m.add_function(wrap_pyfunction!(diff::diff_compartments, m)?)?;
+    m.add_function(wrap_pyfunction!(diff::diff_regions, m)?)?;
     m.add_function(wrap_pyfunction!(tables::expected_cis, m)?)?;
     m.add_function(wrap_pyfunction!(tables::expected_trans, m)?)?;
     m.add_function(wrap_pyfunction!(tables::insulation, m)?)?;

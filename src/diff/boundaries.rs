@@ -16,7 +16,7 @@ use ndarray::Array2;
 
 use super::maps::{check_conditions, check_same_bins};
 use super::moderated::{ModeratedT, moderated_t};
-use super::tables::number;
+use super::tables::{condition_mean, number, sample_names};
 use super::test::benjamini_hochberg;
 use crate::error::{Error, Result};
 use crate::genome::{BinTable, View};
@@ -411,14 +411,9 @@ pub fn compare_boundaries(
 /// (`depth_A1` ...).
 pub fn boundaries_tsv(bins: &BinTable, comparison: &BoundaryComparison) -> String {
     let n = comparison.depth.ncols();
-    let names: Vec<String> = (0..n)
-        .map(|s| {
-            if s < comparison.n_first {
-                format!("depth_A{}", s + 1)
-            } else {
-                format!("depth_B{}", s + 1 - comparison.n_first)
-            }
-        })
+    let names: Vec<String> = sample_names(n, comparison.n_first)
+        .iter()
+        .map(|name| format!("depth_{name}"))
         .collect();
     let mut out = format!(
         "chrom\tstart\tend\tstart_A\tstart_B\tstrength_A\tstrength_B\tdepth_A\tdepth_B\tdifference\tse\tt\tdf\tpvalue\tqvalue\tshift_pvalue\tshift_qvalue\tstatus\t{}\n",
@@ -429,7 +424,6 @@ pub fn boundaries_tsv(bins: &BinTable, comparison: &BoundaryComparison) -> Strin
     for (site, &bin) in comparison.bins.iter().enumerate() {
         let b = bins.bin(bin);
         let row = comparison.depth.row(site);
-        let mean = |part: ndarray::ArrayView1<f64>| part.sum() / part.len() as f64;
         let (shift_p, shift_q) = comparison.shift[site].unwrap_or((f64::NAN, f64::NAN));
         let fields = [
             bins.chroms()[b.chrom_id].name.clone(),
@@ -439,8 +433,8 @@ pub fn boundaries_tsv(bins: &BinTable, comparison: &BoundaryComparison) -> Strin
             start(comparison.called_bins[site].1),
             number(comparison.strength[site].0),
             number(comparison.strength[site].1),
-            number(mean(row.slice(ndarray::s![..comparison.n_first]))),
-            number(mean(row.slice(ndarray::s![comparison.n_first..]))),
+            number(condition_mean(row, comparison.n_first, 0)),
+            number(condition_mean(row, comparison.n_first, 1)),
             number(test.difference[site]),
             number(test.standard_error(site)),
             number(test.t[site]),

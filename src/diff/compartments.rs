@@ -11,7 +11,7 @@ use ndarray::Array2;
 
 use super::maps::{check_conditions, check_same_bins};
 use super::moderated::{ModeratedT, moderated_t};
-use super::tables::number;
+use super::tables::{condition_mean, number, sample_names};
 use super::test::benjamini_hochberg;
 use crate::compartments::cis::CisEigParams;
 use crate::compartments::eigs::{Phasing, eigs_cis};
@@ -88,13 +88,7 @@ pub struct CompartmentComparison {
 impl CompartmentComparison {
     /// The mean E1 of A (`condition` 0) or B (1) at `row`.
     pub fn mean(&self, row: usize, condition: usize) -> f64 {
-        let values = self.e1.row(row);
-        let part = if condition == 0 {
-            values.slice(ndarray::s![..self.n_first])
-        } else {
-            values.slice(ndarray::s![self.n_first..])
-        };
-        part.sum() / part.len() as f64
+        condition_mean(self.e1.row(row), self.n_first, condition)
     }
 
     /// Runs of consecutive rows of one region with the same switch: `(first row, last row + 1,
@@ -210,14 +204,9 @@ pub fn compare_compartments(
 /// (B minus A), `se t df pvalue qvalue switch`, then each replicate's E1 (`E1_A1` ...).
 pub fn compartments_tsv(bins: &BinTable, comparison: &CompartmentComparison) -> String {
     let n = comparison.e1.ncols();
-    let names: Vec<String> = (0..n)
-        .map(|s| {
-            if s < comparison.n_first {
-                format!("E1_A{}", s + 1)
-            } else {
-                format!("E1_B{}", s + 1 - comparison.n_first)
-            }
-        })
+    let names: Vec<String> = sample_names(n, comparison.n_first)
+        .iter()
+        .map(|name| format!("E1_{name}"))
         .collect();
     let mut out = format!(
         "chrom\tstart\tend\tE1_A\tE1_B\tdifference\tse\tt\tdf\tpvalue\tqvalue\tswitch\t{}\n",

@@ -7,7 +7,7 @@ use ndarray::Array2;
 
 use super::maps::check_same_bins;
 use super::model::{Design, Normalization, Params, Results, fit_normalized, results};
-use super::tables::number;
+use super::tables::{number, sample_names};
 use crate::error::{Error, Result};
 use crate::expected::cis_curves;
 use crate::expected::smooth::log_smooth;
@@ -193,16 +193,7 @@ impl LoopComparison {
 
     /// The samples' names, in the counts' column order: `A1`, `A2`, ..., `B1`, ...
     pub fn sample_names(&self) -> Vec<String> {
-        let n_samples = self.counts.observed.ncols();
-        (0..n_samples)
-            .map(|s| {
-                if s < self.n_first {
-                    format!("A{}", s + 1)
-                } else {
-                    format!("B{}", s + 1 - self.n_first)
-                }
-            })
-            .collect()
+        sample_names(self.counts.observed.ncols(), self.n_first)
     }
 
     /// `up` (higher in the second condition), `down`, or `-` (not changed at the q-value cut,
