@@ -102,7 +102,9 @@ pub enum Command {
     /// APA's scores.
     Pileup(pileup::PileupArgs),
     /// What changed between two conditions with replicates: `diff loops` (each loop's counts,
-    /// DESeq2's model with the expected at its distance, q-values).
+    /// DESeq2's model with the expected at its distance, q-values), `diff boundaries`
+    /// (insulation valleys, limma's moderated t: gained, lost, shifted), `diff compartments`
+    /// (E1 per bin: A->B, B->A switches), `diff regions` (CHESS's structural similarity).
     Diff(diff::DiffArgs),
     /// HiCRep's stratum-adjusted correlation (SCC) of replicates or samples, per chromosome and
     /// genome-wide, as hicrep 0.2.6 (h trained as hicreppy with --h auto).
@@ -137,7 +139,8 @@ pub enum Command {
     /// domains, loops and tracks), `plot expected` (P(s) and power laws), `plot saddle` (saddle
     /// plots), `plot contacts` (protein contact maps), `plot pileup` (pileups, as plotpup),
     /// `plot hicrep` (SCCs as a clustered heatmap), `plot polymer-stats` (P(s), R^2(s) of 3D
-    /// conformations); `plot map --compare` draws two samples.
+    /// conformations), `plot diff` (MA and volcano plots of `diff` tables); `plot map
+    /// --compare` draws two samples.
     Plot(plot::PlotArgs),
     /// A HiGlass tile server for .mcool / .cool / .hic maps (higlass-server's API, tiles as
     /// clodius computes them) with the viewer page: `serve a.mcool`, then open the URL it prints.

@@ -13,6 +13,7 @@
 pub mod axes;
 pub mod colormap;
 pub mod curves;
+pub mod diff;
 pub mod heatmap;
 pub mod map;
 pub mod map_job;

@@ -8,6 +8,7 @@
 //! title) are in `figure`.
 
 mod contacts;
+mod diff;
 mod expected;
 mod figure;
 mod hicrep;
@@ -54,6 +55,9 @@ pub enum PlotCommand {
     /// The tables of `contactmap polymer-stats`: P(s), <R^2(s)> and <Rg^2(s)> on log-log axes
     /// with their local slopes, several ensembles overlaid; or Rg^2 over the conformations.
     PolymerStats(Box<polymer::PolymerStatsPlotArgs>),
+    /// The MA or volcano plot of a `contactmap diff` table (loops, boundaries, compartments):
+    /// each feature's change against its level or its p-value, coloured by its call.
+    Diff(Box<diff::DiffPlotArgs>),
 }
 
 /// Run `contactmap plot`.
@@ -66,5 +70,6 @@ pub fn run(args: &PlotArgs) -> Result<()> {
         PlotCommand::Pileup(args) => pileup::run(args),
         PlotCommand::Hicrep(args) => hicrep::run(args),
         PlotCommand::PolymerStats(args) => polymer::run(args),
+        PlotCommand::Diff(args) => diff::run(args),
     }
 }

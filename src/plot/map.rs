@@ -155,16 +155,20 @@ pub struct Overlays {
     pub boundaries: Vec<(u64, u64)>,
     /// Loops: `(start1, end1, start2, end2)` anchors in bp (row anchor, column anchor).
     pub loops: Vec<[u64; 4]>,
+    /// Each loop's outline colour (empty: all in the domains' colour).
+    pub loop_colours: Vec<Rgb>,
 }
 
 impl Overlays {
-    /// The features of `domains`, `boundaries` (BED records) and `loops` (BEDPE) that fall on
-    /// the drawn spans: an interval on either span; a loop with one anchor on the rows' span and
-    /// the other on the columns' (given row anchor first).
+    /// The features of `domains`, `boundaries` (BED records) and `loops` (BEDPE, each with its
+    /// colour in `loop_colours` when that is not empty) that fall on the drawn spans: an
+    /// interval on either span; a loop with one anchor on the rows' span and the other on the
+    /// columns' (given row anchor first).
     pub fn on_spans(
         domains: &[BedRecord],
         boundaries: &[BedRecord],
         loops: &[BedpeRecord],
+        loop_colours: &[Rgb],
         rows: &GenomicSpan,
         cols: &GenomicSpan,
     ) -> Overlays {
@@ -177,18 +181,26 @@ impl Overlays {
                 .collect()
         };
         let mut drawn = Vec::new();
-        for record in loops {
+        let mut colours = Vec::new();
+        for (k, record) in loops.iter().enumerate() {
             let (a, b) = (&record.first, &record.second);
-            if on(rows, a) && on(cols, b) {
-                drawn.push([a.start, a.end, b.start, b.end]);
+            let kept = if on(rows, a) && on(cols, b) {
+                Some([a.start, a.end, b.start, b.end])
             } else if on(rows, b) && on(cols, a) {
-                drawn.push([b.start, b.end, a.start, a.end]);
+                Some([b.start, b.end, a.start, a.end])
+            } else {
+                None
+            };
+            if let Some(anchors) = kept {
+                drawn.push(anchors);
+                colours.extend(loop_colours.get(k).copied());
             }
         }
         Overlays {
             domains: intervals(domains),
             boundaries: intervals(boundaries),
             loops: drawn,
+            loop_colours: colours,
         }
     }
 }
@@ -595,7 +607,14 @@ fn draw_overlays(svg: &mut Svg, theme: &Theme, map: &Axes, figure: &MapFigure<'_
     // Loops are points on the map, a few bins wide: however small their bins on screen, each is
     // marked by an outline of full width and a visible size (issue 51: 10 kb loops in a 7 Mb
     // view were hairlines).
-    let looped = Stroke::solid(DOMAIN_COLOUR, sizes.outline.max(theme.px(1.5)));
+    let loop_stroke = |k: usize| {
+        let colour = overlays
+            .loop_colours
+            .get(k)
+            .copied()
+            .unwrap_or(DOMAIN_COLOUR);
+        Stroke::solid(colour, sizes.outline.max(theme.px(1.5)))
+    };
     let same_chrom = figure.rows == figure.cols
         || (figure.rows.chrom == figure.cols.chrom && figure.view == MapView::Square);
     let px = |bp: u64| map.px(bp as f64);
@@ -627,7 +646,8 @@ fn draw_overlays(svg: &mut Svg, theme: &Theme, map: &Axes, figure: &MapFigure<'_
                 }
             }
             let least = theme.px(if bin_px >= theme.px(4.0) { 6.0 } else { 9.0 });
-            for &[s1, e1, s2, e2] in &overlays.loops {
+            for (k, &[s1, e1, s2, e2]) in overlays.loops.iter().enumerate() {
+                let looped = loop_stroke(k);
                 let mut square = |rows: (u64, u64), cols: (u64, u64)| {
                     let (x0, x1) = (px(cols.0), px(cols.1));
                     let (y0, y1) = (map.py(rows.0 as f64), map.py(rows.1 as f64));
@@ -662,7 +682,8 @@ fn draw_overlays(svg: &mut Svg, theme: &Theme, map: &Axes, figure: &MapFigure<'_
                 let x = px((start + end) / 2);
                 svg.line(x, base - sizes.gap, x, base - sizes.gap - height, boundary);
             }
-            for &[s1, e1, s2, e2] in &overlays.loops {
+            for (k, &[s1, e1, s2, e2]) in overlays.loops.iter().enumerate() {
+                let looped = loop_stroke(k);
                 let (m1, m2) = ((s1 + e1) as f64 / 2.0, (s2 + e2) as f64 / 2.0);
                 let (x, y) = (map.px((m1 + m2) / 2.0), up((m2 - m1).abs()));
                 let r = theme.px(if bin_px >= theme.px(4.0) { 4.0 } else { 5.0 });

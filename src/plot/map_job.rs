@@ -120,6 +120,8 @@ pub struct MapDecorations {
     pub boundaries: Vec<BedRecord>,
     /// Loops (BEDPE): squares around each.
     pub loops: Vec<BedpeRecord>,
+    /// Each loop's colour (empty: all in the outline colour).
+    pub loop_colours: Vec<Rgb>,
     /// Track panels: the table's path (named in messages), its column and its rows.
     pub tracks: Vec<(PathBuf, String, Vec<TrackRow>)>,
 }
@@ -203,6 +205,7 @@ pub fn map_figure(
         &decorations.domains,
         &decorations.boundaries,
         &decorations.loops,
+        &decorations.loop_colours,
         &row_span,
         &col_span,
     );

@@ -475,3 +475,56 @@ fn diff_compartments_of_replicates_of_one_map_switch_nothing() {
         "a header, no segment"
     );
 }
+
+/// `plot diff` draws the calls of a `diff loops` table (MA and volcano) and of a boundaries
+/// table; `plot map --loops` colours a diff loops table by direction; another table is refused.
+#[test]
+fn plot_diff_and_plot_map_draw_the_calls() {
+    let dir = tempfile::tempdir().unwrap();
+    let maps = replicates(dir.path(), true);
+    let prefix = dir.path().join("planted").display().to_string();
+    let table = diff_loops(&maps, &prefix, &[]);
+    let direction = table[0].iter().position(|h| h == "direction").unwrap();
+    let n_up = table[1..].iter().filter(|r| r[direction] == "up").count();
+    assert_eq!(n_up, 1);
+    let loops = format!("{prefix}.loops.bedpe");
+    let svg = dir.path().join("ma.svg").display().to_string();
+    run_ok(&["plot", "diff", &loops, "-o", &svg]);
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(text.contains("up in B (1)"), "the legend counts the calls");
+    assert!(text.contains("not changed (7)"));
+    assert!(text.contains("baseMean") || text.contains("mean of normalised counts"));
+    let png = dir.path().join("volcano.png").display().to_string();
+    run_ok(&["plot", "diff", &loops, "--volcano", "-o", &png]);
+    assert!(std::fs::read(&png).unwrap().starts_with(b"\x89PNG"));
+
+    let map = dir.path().join("map.svg").display().to_string();
+    run_ok(&[
+        "plot",
+        "map",
+        &maps[0],
+        "-r",
+        "chr1:0-500000",
+        "--raw",
+        "--compare",
+        &maps[2],
+        "--loops",
+        &loops,
+        "-o",
+        &map,
+    ]);
+    let text = std::fs::read_to_string(&map).unwrap();
+    assert!(text.contains("#d62728"), "the loop up in B in red");
+    assert!(text.contains("#969696"), "the others in grey");
+
+    let other = write(
+        dir.path(),
+        "other.tsv",
+        "chrom\tstart\tend\tvalue\nchr1\t0\t5000\t1\n",
+    );
+    let message = run_err(&["plot", "diff", &other, "-o", &png]);
+    assert!(
+        message.contains("not a table of contactmap diff"),
+        "{message}"
+    );
+}

@@ -18,6 +18,26 @@ use contactmap::plot::map_job::{
     Comparison, ExpectedTable, MapDecorations, MapRequest, MapSource, map_figure,
 };
 
+/// The colours of the loops of a `contactmap diff loops` table (a header with `chrom1` first
+/// and a `direction` column): red up in B, blue down, grey unchanged; empty for another BEDPE.
+fn diff_loop_colours(path: &Path) -> Result<Vec<Rgb>> {
+    let text = path.display().to_string();
+    if !Table::starts_with_column(&text, "chrom1")? {
+        return Ok(Vec::new());
+    }
+    let table = Table::read(&text)?;
+    let Ok(direction) = table.column("direction") else {
+        return Ok(Vec::new());
+    };
+    Ok((0..table.len())
+        .map(|row| match table.text(row, direction) {
+            "up" => Rgb(214, 39, 40),
+            "down" => Rgb(31, 119, 180),
+            _ => Rgb(150, 150, 150),
+        })
+        .collect())
+}
+
 /// Arguments of `contactmap plot map`.
 #[derive(Debug, Args)]
 #[command(after_long_help = "\
@@ -41,7 +61,8 @@ lowest colour.
 between the two bins up to --depth (default: a quarter of the region). Overlays: --domains BED
 (outlined squares, or triangles), --boundaries BED (marks across the diagonal at each
 boundary's middle), --loops BEDPE (squares around each loop, both triangles when the anchors
-are on one chromosome). --track FILE:COLUMN draws a line panel under the map (several stack):
+are on one chromosome; the table of `contactmap diff loops` colours them by direction: red up
+in B, blue down, grey unchanged). --track FILE:COLUMN draws a line panel under the map (several stack):
 FILE is a per-bin table starting `chrom start end` (a cooltools or `contactmap tads` insulation
 table, a directionality table, an eigenvector table, a bedGraph), COLUMN a header name or a
 1-based column number, and its rows over the region must be the map's bins.
@@ -61,6 +82,8 @@ Examples:
   contactmap plot map in.cool -r chr1 --region2 chr2 --raw --cmap viridis \\
       -o trans.png
   contactmap plot map wt.cool -r chr2:10M-15M --compare ko.cool -o split.png
+  contactmap plot map wt.cool -r chr2:10M-15M --compare ko.cool \\
+      --loops wt_vs_ko.loops.bedpe -o diff_loops.png
   contactmap plot map wt.cool -r chr2:10M-15M --compare ko.cool --ratio \\
       --compare-mode expected -o log2ratio.png")]
 pub struct MapArgs {
@@ -260,6 +283,10 @@ pub fn run(args: &MapArgs) -> Result<()> {
         boundaries: bed(&args.boundaries)?,
         loops: match &args.loops {
             Some(path) => read_bedpe(path)?,
+            None => Vec::new(),
+        },
+        loop_colours: match &args.loops {
+            Some(path) => diff_loop_colours(path)?,
             None => Vec::new(),
         },
         tracks: args
