@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 
 use crate::cli::args::InputArgs;
-use crate::cli::input::{mask_unweighted, open_balanced, track_argument};
+use crate::cli::input::{open_balanced, phasing_track};
 use crate::cli::output::{Output, column_file, refuse_overwrites, uri_file, write_text_file};
 use crate::cli::progress::Progress;
 use contactmap::compartments::cis::{CisEigParams, RegionEigs};
@@ -154,14 +154,12 @@ pub fn run(args: &CompartmentsArgs) -> Result<()> {
         args.view.as_deref(),
     )?;
     let bins = reader.bins();
-    let phasing = match (&args.phasing_track, &args.fasta) {
-        (Some(track), _) => Some(track_argument(track, "--phasing-track", bins, &weights)?.0),
-        (None, Some(fasta)) => Some(mask_unweighted(
-            contactmap::io::fasta::gc_content(fasta, bins)?,
-            &weights,
-        )),
-        (None, None) => None,
-    };
+    let phasing = phasing_track(
+        args.phasing_track.as_deref(),
+        args.fasta.as_deref(),
+        bins,
+        &weights,
+    )?;
     let sort = args.sort_metric.map(SortMetric::from);
     let ignore_diags = match args.ignore_diags {
         Some(n) => n,

@@ -6,9 +6,7 @@ use std::path::{Path, PathBuf};
 use clap::{Args, Subcommand};
 
 use crate::cli::args::InputArgs;
-use crate::cli::input::{
-    bp_option, mask_unweighted, open_balanced, open_for_analysis, read_weights, track_argument,
-};
+use crate::cli::input::{bp_option, open_balanced, open_for_analysis, phasing_track, read_weights};
 use crate::cli::output::{column_file, refuse_overwrites, uri_file, write_text_file};
 use crate::cli::warnings::Warnings;
 use contactmap::compartments::cis::CisEigParams;
@@ -518,14 +516,12 @@ fn run_compartments(args: &DiffCompartmentsArgs) -> Result<()> {
         args.view.as_deref(),
     )?;
     let bins = readers[0].bins();
-    let track = match (&args.phasing_track, &args.fasta) {
-        (Some(track), _) => Some(track_argument(track, "--phasing-track", bins, &weights[0])?.0),
-        (None, Some(fasta)) => Some(mask_unweighted(
-            contactmap::io::fasta::gc_content(fasta, bins)?,
-            &weights[0],
-        )),
-        (None, None) => None,
-    };
+    let track = phasing_track(
+        args.phasing_track.as_deref(),
+        args.fasta.as_deref(),
+        bins,
+        &weights[0],
+    )?;
     let refs: Vec<&dyn MatrixReader> = readers.iter().map(|r| r.as_ref()).collect();
     let weight_refs: Vec<&[f64]> = weights.iter().map(|w| w.as_slice()).collect();
     let comparison = compare_compartments(

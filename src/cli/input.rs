@@ -111,6 +111,24 @@ pub fn track_argument(
     Ok((mask_unweighted(track, weights), column.to_string()))
 }
 
+/// The phasing track of `--phasing-track FILE:COLUMN` or `--fasta` (the bins' GC content), on
+/// `bins`, NaN where `weights` are; `None` when neither is given.
+pub fn phasing_track(
+    track: Option<&str>,
+    fasta: Option<&Path>,
+    bins: &BinTable,
+    weights: &[f64],
+) -> Result<Option<Vec<f64>>> {
+    Ok(match (track, fasta) {
+        (Some(track), _) => Some(track_argument(track, "--phasing-track", bins, weights)?.0),
+        (None, Some(fasta)) => Some(mask_unweighted(
+            contactmap::io::fasta::gc_content(fasta, bins)?,
+            weights,
+        )),
+        (None, None) => None,
+    })
+}
+
 /// Split a `FILE:COLUMN` option value (`option` names it in the error); without a `:COLUMN`,
 /// `default` when given (a `:` inside the file's path, as in `dir:x/file`, is not a column).
 pub fn file_column<'a>(
