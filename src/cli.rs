@@ -103,7 +103,7 @@ pub enum Command {
     Pileup(pileup::PileupArgs),
     /// What changed between two conditions with replicates: `diff loops` (each loop's counts,
     /// DESeq2's model with the expected at its distance, q-values), `diff boundaries`
-    /// (insulation valleys, limma's moderated t: gained, lost, shifted), `diff compartments`
+    /// (contacts across against the flanks: gained, lost, shifted), `diff compartments`
     /// (E1 per bin: A->B, B->A switches), `diff regions` (CHESS's structural similarity).
     Diff(diff::DiffArgs),
     /// HiCRep's stratum-adjusted correlation (SCC) of replicates or samples, per chromosome and

@@ -31,6 +31,7 @@ pub mod maps;
 mod model;
 pub mod moderated;
 mod nb;
+pub mod offsets;
 pub mod regions;
 mod size_factors;
 mod special;

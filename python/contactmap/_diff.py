@@ -61,11 +61,11 @@ def diff_boundaries(
     """Boundaries gained, lost, shifted, stronger or weaker between conditions A (``a``: a
     balanced map per replicate, paths, ``contactmap.File`` or ``cooler.Cooler``) and B (``b``),
     as ``contactmap diff boundaries``: each replicate's insulation (``window`` bp, default 10
-    bins), boundaries on each condition's mean score, each valley's depth tested with limma's
-    moderated t. Returns the columns of ``PREFIX.boundaries.tsv``: ``chrom start end start_A
-    start_B strength_A strength_B depth_A depth_B difference se t df pvalue qvalue shift_pvalue
-    shift_qvalue status depth_A1 ...`` (``start_A`` / ``start_B``: ``.`` where a condition has no
-    call).
+    bins), boundaries on each condition's mean score, the contacts across each tested against
+    its flanks with DESeq2's model. Returns the columns of ``PREFIX.boundaries.tsv``: ``chrom
+    start end start_A start_B strength_A strength_B depth_A depth_B baseMean log2FoldChange
+    lfcSE pvalue qvalue shift_pvalue shift_qvalue status count_A1 ... expected_A1 ...``
+    (``start_A`` / ``start_B``: ``.`` where a condition has no call).
     """
     first = [_uri_of(m, "a") for m in a]
     second = [_uri_of(m, "b") for m in b]

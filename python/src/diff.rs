@@ -195,6 +195,7 @@ pub(crate) fn diff_boundaries(
             },
             match_bins,
             alpha,
+            ..BoundaryParams::new(window_bp)
         };
         let weight_refs: Vec<&[f64]> = weights.iter().map(|w| w.as_slice()).collect();
         let view = View::chromosomes(bins);

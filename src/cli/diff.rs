@@ -45,8 +45,8 @@ pub enum DiffCommand {
     /// normalisation; log2 fold change with its 95% interval, p-value, q-value.
     Loops(DiffLoopsArgs),
     /// Boundaries gained, lost, shifted, stronger or weaker: each replicate's insulation,
-    /// boundaries called on each condition's mean, the valley of each tested with limma's
-    /// moderated t (the difference with its replicate variance); q-values.
+    /// boundaries called on each condition's mean, the contacts across each tested against its
+    /// flanks (DESeq2's model, as diff loops); q-values.
     Boundaries(DiffBoundariesArgs),
     /// Compartment switches A->B and B->A: each replicate's E1, the difference of the
     /// conditions' means per bin tested with limma's moderated t; q-values, switched segments.
@@ -198,15 +198,14 @@ boundaries are the minima of its replicates' mean score, their prominence at or 
 A boundary of B within --match-bins bins of one of A is the same boundary (closest pairs
 first); the others stand alone.
 
-At each boundary, each replicate's valley depth is the mean log2 insulation score of its flanks
-(2 to --window bins before and after the call(s)) minus its lowest score from one bin before
-the call(s) to one bin after: a contrast within each track, so the median normalising the
-score (which moves when boundaries change elsewhere) does not move it. The depths are compared between the conditions with
-limma's moderated t-test (lmFit ~ condition, eBayes: each boundary's variance shrunk towards
-that of all boundaries; docs/diff.md): difference B - A, its standard error, t, degrees of
-freedom, p-value, Benjamini-Hochberg q-value. A boundary called in both at different bins is
-also tested for a shift: per replicate, the score at A's bin minus the score at B's bin,
-compared between conditions the same way (its own q-values).
+At each boundary, each replicate's raw contacts across it (the diamond count at the call) are
+tested against its flanks (the mean diamond count 2 to --window bins on either side, as its
+expected), as diff loops tests loops against their expected: DESeq2's negative-binomial model,
+the flanks as normalisation factors, log2 fold change B over A (negative: fewer contacts across
+relative to the flanks in B, a deeper boundary), Wald p-value, Benjamini-Hochberg q-value
+(docs/diff.md says why counts and not a t-test of insulation scores). A boundary called in both
+at different bins is also tested at A's bin and at B's bin (two more features of the model): it
+has shifted when B is weaker at A's bin and stronger at B's, both significant.
 
 Status at q < --alpha: gained (called in B only, deeper in B), lost (called in A only,
 shallower in B), shifted (called in both at different bins, the shift significant), stronger /
@@ -215,8 +214,9 @@ weaker (deeper / shallower in B otherwise), - (no significant change).
 Output PREFIX.boundaries.tsv, tab-separated with a header, one line per boundary in genome
 order: chrom start end (the boundary's bin: A's call, else B's), start_A start_B (each
 condition's call, . where none), strength_A strength_B (prominence on the mean score),
-depth_A depth_B (mean depth), difference se t df pvalue qvalue shift_pvalue shift_qvalue
-status, then depth_A1 ... depth_B<m> (each replicate's depth).
+depth_A depth_B (mean valley depth: the flanks' mean log2 score minus the valley's lowest),
+baseMean log2FoldChange lfcSE pvalue qvalue, shift_pvalue shift_qvalue, status, then count_A1
+... count_B<m> (contacts across) and expected_A1 ... (the flanks').
 
 Maps must be balanced (--weight-name) and on the same bins; bad input stops the run with one
 line and exit status 2 before any output is written.
@@ -604,6 +604,7 @@ fn run_boundaries(args: &DiffBoundariesArgs) -> Result<()> {
         },
         match_bins: args.match_bins,
         alpha: args.alpha,
+        ..BoundaryParams::new(window_bp)
     };
     let refs: Vec<&dyn MatrixReader> = readers.iter().map(|r| r.as_ref()).collect();
     let weight_refs: Vec<&[f64]> = weights.iter().map(|w| w.as_slice()).collect();

@@ -6,7 +6,8 @@
 use ndarray::Array2;
 
 use super::maps::check_same_bins;
-use super::model::{Design, Normalization, Params, Results, fit_normalized, results};
+use super::model::{Params, Results};
+use super::offsets::{condition_means, test_against_expected};
 use super::tables::{number, sample_names};
 use crate::error::{Error, Result};
 use crate::expected::cis_curves;
@@ -226,14 +227,9 @@ pub fn compare_loops(
     }
     let readers: Vec<&dyn MatrixReader> = first.iter().chain(second).copied().collect();
     check_same_bins(&readers)?;
-    let conditions: Vec<usize> = (0..readers.len())
-        .map(|s| usize::from(s >= first.len()))
-        .collect();
-    let design = Design::conditions(&conditions, &["A", "B"])?;
     let counts = loop_counts(&readers, loops, params.half_width)?;
     let bins = readers[0].bins();
-    let mut factors = counts.expected.clone();
-    for (l, mut row) in factors.rows_mut().into_iter().enumerate() {
+    for (l, row) in counts.expected.rows().into_iter().enumerate() {
         if let Some(s) = row.iter().position(|e| e.is_nan() || *e <= 0.0) {
             let site = loops[l];
             return Err(Error::Data(format!(
@@ -243,30 +239,15 @@ pub fn compare_loops(
                 readers[s].source()
             )));
         }
-        let log_mean = row.iter().map(|e| e.ln()).sum::<f64>() / row.len() as f64;
-        row.mapv_inplace(|e| e / log_mean.exp());
     }
-    let fit = fit_normalized(
+    let (results, factors) = test_against_expected(
         counts.observed.view(),
-        &design,
+        counts.expected.view(),
+        first.len(),
         &params.model,
-        Normalization::Factors(factors.view()),
-    )?;
-    let results = results(
-        counts.observed.view(),
-        &fit,
-        &design,
-        &design.contrast(1),
         params.cooks_filter,
-    );
-    let condition_means = Array2::from_shape_fn((loops.len(), 2), |(l, c)| {
-        let samples: Vec<usize> = (0..readers.len()).filter(|&s| conditions[s] == c).collect();
-        samples
-            .iter()
-            .map(|&s| counts.observed[[l, s]] / factors[[l, s]])
-            .sum::<f64>()
-            / samples.len() as f64
-    });
+    )?;
+    let condition_means = condition_means(counts.observed.view(), factors.view(), first.len());
     Ok(LoopComparison {
         counts,
         results,

@@ -16,7 +16,8 @@ use contactmap::plot::diff::{DiffClass, DiffFigure, DiffPoint, diff_figure};
 #[command(after_long_help = "\
 The table is the output of `contactmap diff`, recognised by its columns:
   loops (PREFIX.loops.bedpe)        MA: log2FoldChange against baseMean (log scale)
-  boundaries (PREFIX.boundaries.tsv) MA: difference of depth against the mean depth
+  boundaries (PREFIX.boundaries.tsv) MA: log2FoldChange of the contacts across against
+                                     baseMean (log scale; negative: deeper in B)
   compartments (PREFIX.compartments.tsv) MA: difference of E1 against the mean E1
 --volcano draws -log10(pvalue) against the change instead. Each feature is a dot coloured by
 its call: red higher in B (loop up; boundary gained or stronger; bin B->A), blue lower in B
@@ -72,11 +73,11 @@ const LAYOUTS: [Layout; 3] = [
         names: ["up in B", "down in B", "other", "not changed"],
     },
     Layout {
-        level: &["depth_A", "depth_B"],
-        level_label: "mean valley depth",
-        level_scale: Scale::Linear,
-        change: "difference",
-        change_label: "depth difference (B - A)",
+        level: &["baseMean"],
+        level_label: "mean of normalised contacts across",
+        level_scale: Scale::Log,
+        change: "log2FoldChange",
+        change_label: "log2 fold change of contacts across (B / A)",
         call: "status",
         up: &["gained", "stronger"],
         down: &["lost", "weaker"],
@@ -115,7 +116,7 @@ pub fn run(args: &DiffPlotArgs) -> Result<()> {
         .ok_or_else(|| {
             Error::Data(format!(
                 "{path}: not a table of contactmap diff loops, boundaries or compartments (expected \
-                 columns baseMean log2FoldChange direction, depth_A depth_B difference status, or \
+                 columns baseMean log2FoldChange with direction or status, or \
                  E1_A E1_B difference switch, with pvalue)"
             ))
         })?;
