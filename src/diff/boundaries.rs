@@ -444,25 +444,33 @@ pub fn compare_boundaries(
         .collect();
     let pick =
         |m: &Array2<f64>| Array2::from_shape_fn((tested.len(), n), |(k, s)| m[[tested[k], s]]);
-    let (results, _) = test_against_expected(
-        pick(&observed).view(),
-        pick(&expected).view(),
-        n_first,
-        &params.model,
-        params.cooks_filter,
-    )?;
-    let spread = |values: &[f64]| {
-        let mut out = vec![f64::NAN; n_features];
-        for (k, &f) in tested.iter().enumerate() {
-            out[f] = values[k];
-        }
-        out
+    let untested = || vec![f64::NAN; n_features];
+    let (base_mean, log2_fold_change, lfc_se, p_value, q_value) = if tested.is_empty() {
+        // no boundary (a map too sparse to call one), or none with contacts on its flanks
+        (untested(), untested(), untested(), untested(), untested())
+    } else {
+        let (results, _) = test_against_expected(
+            pick(&observed).view(),
+            pick(&expected).view(),
+            n_first,
+            &params.model,
+            params.cooks_filter,
+        )?;
+        let spread = |values: &[f64]| {
+            let mut out = untested();
+            for (k, &f) in tested.iter().enumerate() {
+                out[f] = values[k];
+            }
+            out
+        };
+        (
+            spread(&results.base_mean),
+            spread(&results.log2_fold_change),
+            spread(&results.lfc_se),
+            spread(&results.p_value),
+            spread(&results.q_value),
+        )
     };
-    let base_mean = spread(&results.base_mean);
-    let log2_fold_change = spread(&results.log2_fold_change);
-    let lfc_se = spread(&results.lfc_se);
-    let p_value = spread(&results.p_value);
-    let q_value = spread(&results.q_value);
     // shifted: fewer contacts across A's bin relative to its flanks in A than in B (B weaker
     // there), and more across B's bin in A (B stronger there); both significant
     let shift: Vec<Option<(f64, f64)>> = shift_features
@@ -657,6 +665,14 @@ mod tests {
             "{:?}",
             null.status
         );
+    }
+
+    /// Maps too sparse to call a boundary: an empty comparison, not an error.
+    #[test]
+    fn no_boundary_is_an_empty_comparison() {
+        let empty: Vec<InMemory> = (1..=4).map(|s| replicate(200, 30, s, |_, _| 0.0)).collect();
+        let comparison = compare(&empty[..2], &empty[2..]);
+        assert!(comparison.bins.is_empty() && comparison.status.is_empty());
     }
 
     #[test]
