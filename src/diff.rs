@@ -19,6 +19,12 @@
 //! with every count zero get no fit (`NaN`).
 //!
 //! Each feature is fitted on its own, in parallel; results do not depend on the thread count.
+//!
+//! The comparisons built on it: [`loops`] (each loop's counts against the expected at its
+//! distance, [`offsets`]; the loops called by [`calls`] when none are given), [`boundaries`]
+//! (the contacts across each boundary against its flanks), [`compartments`] (E1 per bin, tested
+//! with limma's moderated t, [`moderated`], equal to limma's), [`regions`] (CHESS's structural
+//! similarity, equal to chess-hic 0.3.8). [`maps`] checks what they read.
 
 pub mod boundaries;
 pub mod calls;
