@@ -107,7 +107,13 @@ pub fn called_loops(
     let mut unconverged = Vec::new();
     let mut called = Vec::new();
     for (name, replicates) in [("A", first), ("B", second)] {
-        let dots = condition_dots(replicates, None)?;
+        let dots = condition_dots(replicates, None).map_err(|e| match e {
+            Error::Data(message) => Error::Data(format!(
+                "the dots of condition {name} (its replicates summed): {message}; give the loops \
+                 with --loops"
+            )),
+            other => other,
+        })?;
         if !dots.converged {
             unconverged.push((name, dots.n_iterations));
         }
