@@ -200,7 +200,16 @@ fn diff_loops_refuses_bad_input_with_one_line_and_no_output() {
     }
     // maps too sparse for dots: the condition is named, --loops suggested
     let sparse = dir.path().join("sparse.cool").display().to_string();
-    run_ok(&["sample", &map, "--fraction", "0.002", "--seed", "1", "-o", &sparse]);
+    run_ok(&[
+        "sample",
+        &map,
+        "--fraction",
+        "0.002",
+        "--seed",
+        "1",
+        "-o",
+        &sparse,
+    ]);
     let message = run_err(&[
         "diff", "loops", "--a", &sparse, &sparse, "--b", &map, &map, "-o", &prefix,
     ]);
