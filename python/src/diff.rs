@@ -52,7 +52,7 @@ pub(crate) fn diff_loops<'py>(
                 (records, sites)
             }
             None => {
-                let called = called_loops(&a, &b)?;
+                let called = called_loops(&a, &b, None)?;
                 (called.records, called.sites)
             }
         };

@@ -282,9 +282,9 @@ impl ConditionArgs {
 Each loop (a BEDPE record of --loops; a header line is skipped) is placed at the bins of its
 anchors' midpoints. Without --loops, each condition's replicates are summed, balanced (ICE,
 cooler's defaults) and their dots called as `contactmap dots` calls them (the kernels cooltools
-recommends for the bin size); the dots of both conditions are pooled, a dot of B within 20 kb
-of one of A on both anchors counted once. Its count in each replicate is the sum of the raw counts of its pixel and
-the --half-width pixels around it (3 x 3 by default); its expected count is the sum of the
+recommends for the bin size, or --w / --p); the dots of both conditions are pooled, a dot of B
+within 20 kb of one of A on both anchors counted once. Its count in each replicate is the sum
+of the raw counts of its pixel and the --half-width pixels around it (3 x 3 by default); its expected count is the sum of the
 map's cis expected at the same pixels' distances (count.avg per chromosome, smoothed as
 cooltools' count.avg.smoothed, so that a loop that changes hardly moves its own expected). A
 loop's normalisation factor in a replicate is its expected count over the geometric mean of its
@@ -325,6 +325,13 @@ pub struct DiffLoopsArgs {
     /// Output prefix: writes PREFIX.loops.bedpe.
     #[arg(short, long, value_name = "PREFIX")]
     pub out: PathBuf,
+    /// Without --loops: the dots' kernel outer half-width (bins; default: cooltools' for bins
+    /// of 4-28 kb, as `contactmap dots`).
+    #[arg(long, requires = "p", conflicts_with = "loops")]
+    pub w: Option<usize>,
+    /// Without --loops: the dots' kernel inner half-width (bins).
+    #[arg(long, requires = "w", conflicts_with = "loops")]
+    pub p: Option<usize>,
     /// Pixels each side of a loop's pixel counted with it.
     #[arg(long, default_value_t = 1)]
     pub half_width: usize,
@@ -670,7 +677,8 @@ fn run_loops(args: &DiffLoopsArgs) -> Result<()> {
             (records, sites, source)
         }
         None => {
-            let called = called_loops(&first_refs, &second_refs)?;
+            let kernels = args.w.zip(args.p);
+            let called = called_loops(&first_refs, &second_refs, kernels)?;
             for (name, n_iterations) in &called.unconverged {
                 notes.push(format!(
                     "diff loops: ICE did not converge on {name}'s summed replicates \

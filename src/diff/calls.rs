@@ -4,7 +4,7 @@
 //! conditions' dots pooled, a dot of B within `radius` of one of A on both anchors counted once.
 
 use super::loops::LoopSite;
-use super::maps::check_same_bins;
+use super::maps::{check_conditions, check_same_bins};
 use crate::balance::{BalanceParams, balance};
 use crate::error::{Error, Result};
 use crate::expected::expected_to_divide_by;
@@ -90,15 +90,44 @@ pub struct CalledLoops {
     pub unconverged: Vec<(&'static str, usize)>,
 }
 
-/// The loops `diff loops` tests when none are given: [`condition_dots`] of each condition,
-/// pooled by [`union`] within the dots' clustering radius (20 kb). Maps on other bins (checked
-/// first, before the calling) and no dot in either condition are errors.
+/// The loops `diff loops` tests when none are given: [`condition_dots`] of each condition (with
+/// the kernels' half-widths `kernels = (w, p)` where given, else cooltools' recommended ones for
+/// the bin size), pooled by [`union`] within the dots' clustering radius (20 kb). Maps on other
+/// bins (checked first, before the calling) and no dot in either condition are errors.
 pub fn called_loops(
     first: &[&dyn MatrixReader],
     second: &[&dyn MatrixReader],
+    kernels: Option<(usize, usize)>,
 ) -> Result<CalledLoops> {
+    check_conditions(first.len() + second.len(), first.len())?;
     let every: Vec<&dyn MatrixReader> = first.iter().chain(second).copied().collect();
     check_same_bins(&every)?;
+    let params = match kernels {
+        Some((w, p)) => {
+            let params = DotsParams {
+                w,
+                p,
+                ..DotsParams::default()
+            };
+            params.check()?;
+            params
+        }
+        None => match first[0].bins().resolution() {
+            Some(resolution) => DotsParams::for_resolution(resolution).map_err(|_| {
+                Error::Argument(format!(
+                    "calling the dots of {resolution} bp bins needs kernels: cooltools recommends \
+                     them for bins of 4-28 kb only; give --w and --p (HiCCUPS: 7 and 4 at 5 kb, 5 \
+                     and 2 at 10 kb, 3 and 1 at 25 kb) or the loops with --loops"
+                ))
+            })?,
+            None => {
+                return Err(Error::Data(format!(
+                    "{}: calling loops needs bins of one size; give the loops with --loops",
+                    first[0].source()
+                )));
+            }
+        },
+    };
     let radius_bp = DotsParams::default()
         .clustering_radius_bp
         .unwrap_or(20_000.0);
@@ -107,7 +136,7 @@ pub fn called_loops(
     let mut unconverged = Vec::new();
     let mut called = Vec::new();
     for (name, replicates) in [("A", first), ("B", second)] {
-        let dots = condition_dots(replicates, None).map_err(|e| match e {
+        let dots = condition_dots(replicates, Some(&params)).map_err(|e| match e {
             Error::Data(message) => Error::Data(format!(
                 "the dots of condition {name} (its replicates summed): {message}; give the loops \
                  with --loops"

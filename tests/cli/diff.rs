@@ -544,3 +544,30 @@ fn plot_diff_and_plot_map_draw_the_calls() {
         "{message}"
     );
 }
+
+/// Bins outside 4-28 kb have no recommended kernels: without --loops, --w / --p are needed (the
+/// error says so), and with them the dots are called and tested.
+#[test]
+fn diff_loops_takes_the_kernels_for_other_bin_sizes() {
+    let dir = tempfile::tempdir().unwrap();
+    let map = format!("{}::/resolutions/100000", data("cooler_test_file.mcool"));
+    let prefix = dir.path().join("k").display().to_string();
+    let message = run_err(&[
+        "diff", "loops", "--a", &map, &map, "--b", &map, &map, "-o", &prefix,
+    ]);
+    assert!(
+        message.contains("4-28 kb") && message.contains("--loops"),
+        "{message}"
+    );
+    run_ok(&[
+        "diff", "loops", "--a", &map, &map, "--b", &map, &map, "--w", "3", "--p", "1", "-o",
+        &prefix,
+    ]);
+    let table = rows(&format!("{prefix}.loops.bedpe"));
+    let direction = table[0].iter().position(|h| h == "direction").unwrap();
+    assert!(table.len() > 1, "dots were called");
+    assert!(
+        table[1..].iter().all(|r| r[direction] == "-"),
+        "one map against itself"
+    );
+}
