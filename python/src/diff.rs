@@ -2,7 +2,9 @@
 //! `diff regions`. The tables of the last three come back as the command line writes them.
 
 use contactmap::compartments::cis::CisEigParams;
-use contactmap::diff::boundaries::{boundaries_tsv, compare_boundaries, BoundaryParams};
+use contactmap::diff::boundaries::{
+    boundaries_tsv, compare_boundaries, default_window_bp, BoundaryParams,
+};
 use contactmap::diff::calls::called_loops;
 use contactmap::diff::compartments::{
     compare_compartments, compartments_tsv, switches_bed, CompartmentParams,
@@ -15,7 +17,7 @@ use contactmap::diff::regions::{
 use contactmap::genome::View;
 use contactmap::io::bed::read_bedpe;
 use contactmap::io::{self, MatrixReader, OpenOptions};
-use contactmap::tads::insulation::{InsulationParams, DEFAULT_WINDOW_BINS};
+use contactmap::tads::insulation::InsulationParams;
 use contactmap::tads::threshold::Threshold;
 use pyo3::prelude::*;
 use pyo3::types::PyList;
@@ -178,14 +180,7 @@ pub(crate) fn diff_boundaries(
         let bins = refs[0].bins();
         let window_bp = match window_bp {
             Some(w) => w,
-            None => {
-                let resolution = bins.resolution().ok_or_else(|| {
-                    contactmap::error::Error::Argument(
-                        "diff boundaries needs fixed-size bins".into(),
-                    )
-                })?;
-                DEFAULT_WINDOW_BINS as u64 * resolution
-            }
+            None => default_window_bp(bins)?,
         };
         let params = BoundaryParams {
             insulation: InsulationParams {

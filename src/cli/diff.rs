@@ -11,7 +11,7 @@ use crate::cli::output::{column_file, refuse_overwrites, uri_file, write_text_fi
 use crate::cli::warnings::Warnings;
 use contactmap::compartments::cis::CisEigParams;
 use contactmap::diff::boundaries::{
-    BoundaryParams, BoundaryStatus, boundaries_tsv, compare_boundaries,
+    BoundaryParams, BoundaryStatus, boundaries_tsv, compare_boundaries, default_window_bp,
 };
 use contactmap::diff::calls::called_loops;
 use contactmap::diff::compartments::{
@@ -26,7 +26,7 @@ use contactmap::error::{Error, Result};
 use contactmap::genome::View;
 use contactmap::io::MatrixReader;
 use contactmap::io::bed::read_bedpe;
-use contactmap::tads::insulation::{DEFAULT_WINDOW_BINS, InsulationParams, window_bins};
+use contactmap::tads::insulation::{InsulationParams, window_bins};
 use contactmap::tads::threshold::Threshold;
 
 /// Arguments of `contactmap diff`.
@@ -589,11 +589,6 @@ fn run_boundaries(args: &DiffBoundariesArgs) -> Result<()> {
         args.view.as_deref(),
     )?;
     let bins = readers[0].bins();
-    let resolution = bins.resolution().ok_or_else(|| {
-        Error::Argument(
-            "diff boundaries needs fixed-size bins (windows are counted in bins)".into(),
-        )
-    })?;
     let window_bp = match &args.window {
         Some(text) => {
             let value = bp_option("--window", text)?;
@@ -601,7 +596,7 @@ fn run_boundaries(args: &DiffBoundariesArgs) -> Result<()> {
                 .map_err(|e| Error::Argument(format!("--window {text}: {e}")))?;
             value
         }
-        None => DEFAULT_WINDOW_BINS as u64 * resolution,
+        None => default_window_bp(bins)?,
     };
     let params = BoundaryParams {
         insulation: InsulationParams {

@@ -48,6 +48,25 @@ pub struct BoundaryParams {
     pub model: Params,
 }
 
+/// The insulation window `diff boundaries` takes when none is given: 10 bins (as `contactmap
+/// tads`); bins of several sizes are an error.
+pub fn default_window_bp(bins: &BinTable) -> Result<u64> {
+    let resolution = bins.resolution().ok_or_else(|| {
+        Error::Argument(
+            "diff boundaries needs fixed-size bins (windows are counted in bins)".into(),
+        )
+    })?;
+    Ok(crate::tads::insulation::DEFAULT_WINDOW_BINS as u64 * resolution)
+}
+
+/// The rows a boundary spans: from its first call to its last (one row when called once or at
+/// one bin).
+fn span((a, b): (Option<usize>, Option<usize>)) -> (usize, usize) {
+    let first = a.or(b).unwrap_or(0);
+    let second = b.or(a).unwrap_or(0);
+    (first.min(second), first.max(second))
+}
+
 impl BoundaryParams {
     /// The defaults with this insulation window (bp).
     pub fn new(window_bp: u64) -> Self {
@@ -349,11 +368,7 @@ pub fn match_boundaries(
             .filter(|b| !used_second.contains(*b))
             .map(|&b| (None, Some(b))),
     );
-    let key = |site: &(Option<usize>, Option<usize>)| {
-        let (a, b) = *site;
-        (a.or(b).min(b.or(a)), a.or(b).max(b.or(a)))
-    };
-    sites.sort_by_key(key);
+    sites.sort_by_key(|site| span(*site));
     sites
 }
 
@@ -407,10 +422,7 @@ pub fn compare_boundaries(
     let mut features: Vec<(usize, usize)> = Vec::with_capacity(n_sites);
     let mut shift_features: Vec<Option<(usize, usize)>> = vec![None; n_sites];
     for (site, &(a, b)) in rows.iter().enumerate() {
-        let (lo, hi) = (
-            a.or(b).min(b.or(a)).unwrap_or(0),
-            a.or(b).max(b.or(a)).unwrap_or(0),
-        );
+        let (lo, hi) = span((a, b));
         for s in 0..n {
             depth[[site, s]] = valley_depth(&scores, s, lo, hi);
         }

@@ -5,7 +5,7 @@
 
 use ndarray::Array2;
 
-use super::maps::check_same_bins;
+use super::maps::{check_conditions, check_same_bins};
 use super::model::{Params, Results};
 use super::offsets::{condition_means, test_against_expected};
 use super::tables::{number, sample_names};
@@ -220,11 +220,7 @@ pub fn compare_loops(
     loops: &[LoopSite],
     params: &LoopParams,
 ) -> Result<LoopComparison> {
-    if first.is_empty() || second.is_empty() {
-        return Err(Error::Argument(
-            "each condition needs at least one map".to_string(),
-        ));
-    }
+    check_conditions(first.len() + second.len(), first.len())?;
     let readers: Vec<&dyn MatrixReader> = first.iter().chain(second).copied().collect();
     check_same_bins(&readers)?;
     let counts = loop_counts(&readers, loops, params.half_width)?;
