@@ -71,6 +71,7 @@
 //! The ICE filters also apply to VC, KR and SCALE when set; [`BalanceParams::juicer`] gives Juicer's
 //! parameters (no filter at all, the diagonal included).
 
+mod compact;
 mod coverage;
 mod ice;
 mod kr;

@@ -1,5 +1,6 @@
 //! ICE, as cooler balances: iterative correction of the marginals to their mean.
 
+use super::compact::CompactRows;
 use super::params::{BalanceParams, Scope};
 use super::passes::{Layout, marginals, scope_filter};
 use super::result::{BalanceResult, GroupStats};
@@ -45,6 +46,10 @@ pub(super) fn ice<S: PixelSource>(
             .collect()
     });
     let filter = scope_filter(params, layout);
+    // pixels held in memory: iterate over a compact copy of the accepted ones
+    let compact = source
+        .in_memory()
+        .map(|all| CompactRows::new(all, n, filter));
     let groups = layout.groups();
     let mut stats: Vec<GroupStats> = groups
         .iter()
@@ -66,7 +71,10 @@ pub(super) fn ice<S: PixelSource>(
         for (range, _) in groups.iter().zip(&active).filter(|&(_, &a)| !a) {
             vector[range.clone()].iter_mut().for_each(|v| *v = 0.0);
         }
-        let marg = marginals(source, n, filter, &vector, false)?;
+        let marg = match &compact {
+            Some(rows) => rows.marginals(&vector),
+            None => marginals(source, n, filter, &vector, false)?,
+        };
         for (g, range) in groups.iter().enumerate() {
             if !active[g] {
                 continue;

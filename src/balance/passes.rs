@@ -94,6 +94,15 @@ impl PixelFilter<'_> {
             Keep::Trans => (lo.max(chrom_end), usize::MAX),
         }
     }
+
+    /// The positions of the accepted columns among a row's sorted `columns` (row `bin1`).
+    #[inline]
+    pub(super) fn accepted(&self, bin1: usize, columns: &[u32]) -> std::ops::Range<usize> {
+        let (lo, hi) = self.columns(bin1);
+        let first = columns.partition_point(|&j| (j as usize) < lo);
+        let last = columns.partition_point(|&j| (j as usize) < hi);
+        first..last.max(first)
+    }
 }
 
 /// Per-bin sums accumulated over one slice of pixels: a dense window starting at the slice's first
@@ -149,6 +158,72 @@ impl BinSums {
                 self.make_full();
             }
         }
+    }
+
+    /// Add `vi * vector[j] * count` (or `vi * vector[j]` for each nonzero count with `BINARIZE`)
+    /// to every column `j` of one row `i` (its columns sorted, none before `i`), and return the
+    /// row's sum without its diagonal pixel. The hot loop of balancing: the columns inside the
+    /// dense window go through four independent partial sums, so that the row's sum does not
+    /// wait on one addition per pixel.
+    #[inline]
+    pub(super) fn add_row<const BINARIZE: bool, C: Copy + Into<f64>>(
+        &mut self,
+        i: usize,
+        vi: f64,
+        bin2: &[u32],
+        count: &[C],
+        vector: &[f64],
+    ) -> f64 {
+        let value = |j: usize, c: C| {
+            let c: f64 = c.into();
+            let c = if BINARIZE {
+                f64::from(u8::from(c != 0.0))
+            } else {
+                c
+            };
+            vi * vector[j] * c
+        };
+        let mut skip = 0;
+        if bin2.first().is_some_and(|&j| j as usize == i) {
+            self.add(i, value(i, count[0]));
+            skip = 1;
+        }
+        let (bin2, count) = (&bin2[skip..], &count[skip..]);
+        // columns inside the dense window (all of them but the far ones at the row's end)
+        let window_end = self.start + self.dense.len();
+        // (most rows lie inside it whole: the binary search, which reads ahead out of order,
+        // only when the row's last column does not)
+        let inside = if bin2.last().is_none_or(|&j| (j as usize) < window_end) {
+            bin2.len()
+        } else {
+            bin2.partition_point(|&j| (j as usize) < window_end)
+        };
+        let dense = &mut self.dense[..];
+        let start = self.start;
+        let mut sums = [0.0f64; 4];
+        let mut chunks = bin2[..inside]
+            .chunks_exact(4)
+            .zip(count[..inside].chunks_exact(4));
+        for (js, cs) in &mut chunks {
+            for lane in 0..4 {
+                let j = js[lane] as usize;
+                let v = value(j, cs[lane]);
+                sums[lane] += v;
+                dense[j - start] += v;
+            }
+        }
+        let done = inside - inside % 4;
+        for (&j, &c) in bin2[done..inside].iter().zip(&count[done..inside]) {
+            let v = value(j as usize, c);
+            sums[0] += v;
+            dense[j as usize - start] += v;
+        }
+        for (&j, &c) in bin2[inside..].iter().zip(&count[inside..]) {
+            let v = value(j as usize, c);
+            sums[1] += v;
+            self.add(j as usize, v);
+        }
+        (sums[0] + sums[1]) + (sums[2] + sums[3])
     }
 
     /// Turn into a dense genome-wide vector.
@@ -212,37 +287,27 @@ pub(super) fn marginals<S: PixelSource>(
             if acc.is_unset() {
                 acc = BinSums::for_slice(&slice, n_bins);
             }
-            // Pixels come row by row: the row's weight, accepted columns and sum stay in registers.
-            let mut row = usize::MAX;
-            let (mut lo, mut hi) = (0, 0);
-            let (mut vi, mut row_sum) = (0.0, 0.0);
-            for ((&b1, &b2), &count) in slice.bin1.iter().zip(slice.bin2).zip(slice.count) {
-                let (i, j) = (b1 as usize, b2 as usize);
-                if i != row {
-                    if row != usize::MAX {
-                        acc.add(row, row_sum);
-                    }
-                    row = i;
-                    row_sum = 0.0;
-                    vi = vector[i];
-                    (lo, hi) = if vi == 0.0 { (0, 0) } else { filter.columns(i) };
+            let mut k = 0;
+            while k < slice.len() {
+                let i = slice.bin1[k] as usize;
+                // the row's pixels (sorted by bin2): k..end
+                let end = slice.bin1[k..]
+                    .iter()
+                    .position(|&b| b as usize != i)
+                    .map_or(slice.len(), |n| k + n);
+                let vi = vector[i];
+                if vi != 0.0 {
+                    let accepted = filter.accepted(i, &slice.bin2[k..end]);
+                    let (first, last) = (k + accepted.start, k + accepted.end);
+                    let (bin2, count) = (&slice.bin2[first..last], &slice.count[first..last]);
+                    let row_sum = if binarize {
+                        acc.add_row::<true, f64>(i, vi, bin2, count, vector)
+                    } else {
+                        acc.add_row::<false, f64>(i, vi, bin2, count, vector)
+                    };
+                    acc.add(i, row_sum);
                 }
-                if j < lo || j >= hi {
-                    continue;
-                }
-                let c = if binarize {
-                    f64::from(u8::from(count != 0.0))
-                } else {
-                    count
-                };
-                let v = vi * vector[j] * c;
-                if i != j {
-                    row_sum += v;
-                }
-                acc.add(j, v);
-            }
-            if row != usize::MAX {
-                acc.add(row, row_sum);
+                k = end;
             }
             acc
         },

@@ -464,3 +464,77 @@ fn partial_sums_do_not_depend_on_how_pixels_are_sliced() {
     assert_eq!(full[4005], 4.0);
     assert_eq!(full.iter().sum::<f64>(), 15.0);
 }
+
+/// The same pixels, streamed as a file is (no in-memory copy offered to the balancers).
+struct Streaming<'a>(&'a Pixels);
+
+impl crate::matrix::PixelSource for Streaming<'_> {
+    fn bins(&self) -> &BinTable {
+        self.0.bins()
+    }
+
+    fn count_type(&self) -> CountType {
+        self.0.count_type()
+    }
+
+    fn pass<T, I, F, R>(&self, init: I, fold: F, reduce: R) -> crate::error::Result<T>
+    where
+        T: Send,
+        I: Fn() -> T + Sync,
+        F: Fn(T, crate::matrix::PixelSlice<'_>) -> T + Sync,
+        R: Fn(T, T) -> T + Sync,
+    {
+        self.0.pass(init, fold, reduce)
+    }
+}
+
+#[test]
+fn ice_on_the_compact_copy_equals_ice_on_streamed_pixels() {
+    // 6,000 bins on three chromosomes: a band of 40 diagonals, and far pixels (beyond the
+    // sums' dense windows, and trans) on every 7th row; integer counts (kept in 4 bytes) and
+    // fractional ones (kept in 8)
+    let bins = bins_for(&[2500, 2000, 1500]);
+    let n = bins.n_bins();
+    for fractional in [false, true] {
+        let mut block = PixelBlock::default();
+        let mut state = 12345u64;
+        let mut next = move || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 33) as f64 / (1u64 << 31) as f64
+        };
+        for i in 0..n {
+            let mut columns: Vec<usize> = (i..(i + 40).min(n)).collect();
+            if i % 7 == 0 {
+                columns.extend(
+                    [i + 4500, i + 5200, i + 5900]
+                        .into_iter()
+                        .filter(|&j| j < n),
+                );
+            }
+            for j in columns {
+                let base = 300.0 / (1.0 + (j - i) as f64) * (0.5 + next());
+                let count = if fractional { base } else { base.floor() };
+                if count > 0.0 {
+                    block.push(i as u64, j as u64, count);
+                }
+            }
+        }
+        let mut pixels =
+            Pixels::with_capacity(bins.clone(), CountType::Float, block.len()).unwrap();
+        pixels.extend(&block).unwrap();
+        assert!(pixels.len() > 2 * (1 << 16));
+        for scope in [Scope::GenomeWide, Scope::Cis, Scope::Trans] {
+            let params = BalanceParams {
+                scope,
+                max_iters: 50,
+                ..BalanceParams::default()
+            };
+            let compact = balance(&pixels, &params).unwrap();
+            let streamed = balance(&Streaming(&pixels), &params).unwrap();
+            assert_eq!(compact.n_iterations, streamed.n_iterations);
+            assert_close(&compact.weights, &streamed.weights, 1e-12);
+        }
+    }
+}

@@ -27,10 +27,12 @@ pub struct ConditionDots {
 }
 
 /// The dots of one condition: its replicates summed, balanced, called (`params`: the caller's
-/// settings, [`DotsParams::for_resolution`] when `None`).
+/// settings, [`DotsParams::for_resolution`] when `None`). The summed pixels are held in memory
+/// when they take at most `memory_budget` bytes (16 a pixel), else read again on every pass.
 pub fn condition_dots(
     replicates: &[&dyn MatrixReader],
     params: Option<&DotsParams>,
+    memory_budget: u64,
 ) -> Result<ConditionDots> {
     let merged = MergedReader::new(replicates.to_vec())?;
     let bins = merged.bins();
@@ -45,7 +47,7 @@ pub fn condition_dots(
         None => DotsParams::for_resolution(resolution)?,
     };
     // the summed pixels in memory when they fit (balancing passes over them many times)
-    let pixels = load_pixels_for_balancing(&merged, default_memory_budget())?;
+    let pixels = load_pixels_for_balancing(&merged, memory_budget)?;
     let balanced = balance(&pixels, &BalanceParams::default())?;
     let view = View::chromosomes(bins);
     let expected = expected_to_divide_by(
@@ -56,7 +58,9 @@ pub fn condition_dots(
         "balanced.avg",
         false,
     )?;
-    let calls = call_dots(&merged, &balanced.weights, &view, &expected, &params)?;
+    // the dots read the summed pixels from memory, not the replicates again
+    let summed = pixels.reader(&merged);
+    let calls = call_dots(&*summed, &balanced.weights, &view, &expected, &params)?;
     let sites = calls
         .dots
         .unwrap_or_default()
@@ -133,21 +137,30 @@ pub fn called_loops(
         .unwrap_or(20_000.0);
     let bins = first[0].bins();
     let resolution = bins.resolution().unwrap_or(1) as f64;
-    let mut unconverged = Vec::new();
-    let mut called = Vec::new();
-    for (name, replicates) in [("A", first), ("B", second)] {
-        let dots = condition_dots(replicates, Some(&params)).map_err(|e| match e {
+    // the two conditions side by side (each on its own thread, each half the memory budget):
+    // reading and the serial parts of one fill the cores the other leaves idle
+    let budget = default_memory_budget() / 2;
+    let dots_of = |name: &str, replicates: &[&dyn MatrixReader]| {
+        condition_dots(replicates, Some(&params), budget).map_err(|e| match e {
             Error::Data(message) => Error::Data(format!(
                 "the dots of condition {name} (its replicates summed): {message}; give the loops \
                  with --loops"
             )),
             other => other,
-        })?;
-        if !dots.converged {
-            unconverged.push((name, dots.n_iterations));
-        }
-        called.push(dots.sites);
-    }
+        })
+    };
+    let (dots_a, dots_b) = std::thread::scope(|scope| {
+        let a = scope.spawn(|| dots_of("A", first));
+        let b = dots_of("B", second);
+        (a.join().expect("condition A's thread panicked"), b)
+    });
+    let (dots_a, dots_b) = (dots_a?, dots_b?);
+    let unconverged = [("A", &dots_a), ("B", &dots_b)]
+        .into_iter()
+        .filter(|(_, dots)| !dots.converged)
+        .map(|(name, dots)| (name, dots.n_iterations))
+        .collect();
+    let called = [dots_a.sites, dots_b.sites];
     let sites = union(
         &called[0],
         &called[1],

@@ -100,6 +100,12 @@ pub trait PixelSource {
         I: Fn() -> T + Sync,
         F: Fn(T, PixelSlice<'_>) -> T + Sync,
         R: Fn(T, T) -> T + Sync;
+
+    /// Every pixel as one slice when the source holds them in memory (`None` when it streams
+    /// them): algorithms that pass over the pixels many times may build their own layout from it.
+    fn in_memory(&self) -> Option<PixelSlice<'_>> {
+        None
+    }
 }
 
 /// The pixels of a matrix held in memory: sorted `(bin1, bin2)` upper triangle, 16 bytes a pixel.
@@ -228,6 +234,10 @@ impl PixelSource for Pixels {
         R: Fn(T, T) -> T + Sync,
     {
         Ok(self.as_slice().fold(&init, &fold, &reduce))
+    }
+
+    fn in_memory(&self) -> Option<PixelSlice<'_>> {
+        Some(self.as_slice())
     }
 }
 

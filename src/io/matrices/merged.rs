@@ -3,8 +3,6 @@
 
 use std::ops::Range;
 
-use rayon::prelude::*;
-
 use crate::error::{Error, Result};
 use crate::genome::BinTable;
 use crate::io::matrices::reader::{MatrixInfo, MatrixReader};
@@ -50,18 +48,39 @@ impl<'a> MergedReader<'a> {
     }
 }
 
-/// Sum the pixels of `parts` (each sorted by `(bin1, bin2)`) into one sorted list.
-fn sum_sorted(parts: Vec<Vec<(u64, u64, f64)>>) -> Vec<(u64, u64, f64)> {
-    let mut all: Vec<(u64, u64, f64)> = parts.into_iter().flatten().collect();
-    all.par_sort_by_key(|&(i, j, _)| (i, j));
-    let mut out: Vec<(u64, u64, f64)> = Vec::with_capacity(all.len());
-    for (i, j, c) in all {
-        match out.last_mut() {
-            Some(last) if last.0 == i && last.1 == j => last.2 += c,
-            _ => out.push((i, j, c)),
+/// Sum two pixel lists sorted by `(bin1, bin2)` into one sorted list (a linear merge).
+fn merge_two(a: &PixelBlock, b: &PixelBlock) -> PixelBlock {
+    let mut out = PixelBlock::with_capacity(a.len() + b.len());
+    let (mut x, mut y) = (0, 0);
+    while x < a.len() && y < b.len() {
+        let (ka, kb) = ((a.bin1[x], a.bin2[x]), (b.bin1[y], b.bin2[y]));
+        if ka < kb {
+            out.push(ka.0, ka.1, a.count[x]);
+            x += 1;
+        } else if kb < ka {
+            out.push(kb.0, kb.1, b.count[y]);
+            y += 1;
+        } else {
+            out.push(ka.0, ka.1, a.count[x] + b.count[y]);
+            x += 1;
+            y += 1;
         }
     }
+    for k in x..a.len() {
+        out.push(a.bin1[k], a.bin2[k], a.count[k]);
+    }
+    for k in y..b.len() {
+        out.push(b.bin1[k], b.bin2[k], b.count[k]);
+    }
     out
+}
+
+/// Sum the pixels of `parts` (each sorted by `(bin1, bin2)`) into one sorted list, the parts
+/// added in their order (so that float sums do not depend on the threads).
+fn sum_sorted(parts: Vec<PixelBlock>) -> PixelBlock {
+    let mut parts = parts.into_iter();
+    let first = parts.next().unwrap_or_default();
+    parts.fold(first, |sum, part| merge_two(&sum, &part))
 }
 
 impl MatrixReader for MergedReader<'_> {
@@ -115,32 +134,43 @@ impl MatrixReader for MergedReader<'_> {
         let mut start = rows.start;
         while start < rows.end {
             let end = (start + band).min(rows.end);
-            let mut parts = Vec::with_capacity(self.readers.len());
-            for reader in &self.readers {
-                let mut part = Vec::new();
+            // the inputs read side by side, each on its own thread (not rayon's: a reader may
+            // hold a lock while it waits on rayon's pool)
+            let read = |reader: &&dyn MatrixReader| -> Result<PixelBlock> {
+                let mut part = PixelBlock::default();
                 reader.read_pixels(start..end, cols.clone(), &mut |block| {
-                    part.extend(
-                        block
-                            .bin1
-                            .iter()
-                            .zip(&block.bin2)
-                            .zip(&block.count)
-                            .map(|((&i, &j), &c)| (i, j, c)),
-                    );
+                    part.bin1.extend_from_slice(&block.bin1);
+                    part.bin2.extend_from_slice(&block.bin2);
+                    part.count.extend_from_slice(&block.count);
                     Ok(())
                 })?;
-                parts.push(part);
-            }
-            let gathered: usize = parts.iter().map(Vec::len).sum();
+                Ok(part)
+            };
+            let parts: Vec<PixelBlock> = std::thread::scope(|scope| {
+                let handles: Vec<_> = self
+                    .readers
+                    .iter()
+                    .map(|reader| scope.spawn(move || read(reader)))
+                    .collect();
+                handles
+                    .into_iter()
+                    .map(|handle| handle.join().expect("a reading thread panicked"))
+                    .collect::<Result<_>>()
+            })?;
+            let gathered: usize = parts.iter().map(PixelBlock::len).sum();
             let summed = sum_sorted(parts);
-            for chunk in summed.chunks(BLOCK_PIXELS) {
-                let mut block = PixelBlock::with_capacity(chunk.len());
-                for &(i, j, c) in chunk {
-                    block.bin1.push(i);
-                    block.bin2.push(j);
-                    block.count.push(c);
+            if summed.len() <= BLOCK_PIXELS {
+                sink(&summed)?;
+            } else {
+                for first in (0..summed.len()).step_by(BLOCK_PIXELS) {
+                    let last = (first + BLOCK_PIXELS).min(summed.len());
+                    let block = PixelBlock {
+                        bin1: summed.bin1[first..last].to_vec(),
+                        bin2: summed.bin2[first..last].to_vec(),
+                        count: summed.count[first..last].to_vec(),
+                    };
+                    sink(&block)?;
                 }
-                sink(&block)?;
             }
             // Aim the next band at BAND_PIXELS gathered pixels.
             let per_row = gathered as f64 / (end - start) as f64;
@@ -161,17 +191,26 @@ mod tests {
 
     #[test]
     fn equal_pixels_are_summed_in_order() {
-        let a = vec![(0, 0, 1.0), (0, 3, 2.0), (2, 2, 5.0)];
-        let b = vec![(0, 1, 1.0), (0, 3, 4.0), (1, 1, 1.0)];
+        let block = |pixels: &[(u64, u64, f64)]| {
+            let mut block = PixelBlock::default();
+            for &(i, j, c) in pixels {
+                block.push(i, j, c);
+            }
+            block
+        };
+        let a = block(&[(0, 0, 1.0), (0, 3, 2.0), (2, 2, 5.0)]);
+        let b = block(&[(0, 1, 1.0), (0, 3, 4.0), (1, 1, 1.0)]);
+        let c = block(&[(1, 1, 2.0), (3, 4, 1.0)]);
         assert_eq!(
-            sum_sorted(vec![a, b]),
-            vec![
+            sum_sorted(vec![a, b, c]),
+            block(&[
                 (0, 0, 1.0),
                 (0, 1, 1.0),
                 (0, 3, 6.0),
-                (1, 1, 1.0),
-                (2, 2, 5.0)
-            ]
+                (1, 1, 3.0),
+                (2, 2, 5.0),
+                (3, 4, 1.0)
+            ])
         );
     }
 }

@@ -4,7 +4,7 @@
 use crate::error::{Error, Result};
 use crate::genome::BinTable;
 use crate::matrix::pixels::{BYTES_PER_PIXEL, PixelSlice, PixelSource, Pixels};
-use crate::matrix::{ContactMatrix, CountType};
+use crate::matrix::{ContactMatrix, CountType, PixelBlock};
 
 use super::reader::MatrixReader;
 
@@ -162,6 +162,105 @@ pub fn load_pixels_for_balancing(
     Ok(LoadedPixels::Memory(pixels))
 }
 
+impl LoadedPixels<'_> {
+    /// `reader`'s pixels served from this copy when it holds them in memory (the same pixels,
+    /// without reading and decoding the file again; everything else asked of `reader`), or
+    /// `reader` itself when its pixels are streamed or were folded from both triangles.
+    /// `reader` must be the one these pixels were loaded from.
+    pub fn reader<'s>(&'s self, reader: &'s dyn MatrixReader) -> Box<dyn MatrixReader + 's> {
+        match self {
+            LoadedPixels::Memory(pixels) if !reader.stores_both_triangles() => {
+                Box::new(MemoryReader { reader, pixels })
+            }
+            _ => Box::new(Forward { reader }),
+        }
+    }
+}
+
+/// A reader whose pixels come from memory ([`LoadedPixels::reader`]).
+struct MemoryReader<'s> {
+    reader: &'s dyn MatrixReader,
+    pixels: &'s Pixels,
+}
+
+/// Pixels per block a [`MemoryReader`] hands to its sink.
+const MEMORY_BLOCK_PIXELS: usize = 1 << 16;
+
+impl MatrixReader for MemoryReader<'_> {
+    forward_reader_metadata!(reader);
+
+    fn read_pixels(
+        &self,
+        rows: std::ops::Range<usize>,
+        cols: std::ops::Range<usize>,
+        sink: &mut dyn FnMut(&PixelBlock) -> Result<()>,
+    ) -> Result<()> {
+        let all = self.pixels.as_slice();
+        let first = all.bin1.partition_point(|&b| (b as usize) < rows.start);
+        let last = all.bin1.partition_point(|&b| (b as usize) < rows.end);
+        let mut block = PixelBlock::with_capacity(MEMORY_BLOCK_PIXELS);
+        let mut k = first;
+        while k < last {
+            let row = all.bin1[k];
+            let end = all.bin1[k..last]
+                .iter()
+                .position(|&b| b != row)
+                .map_or(last, |n| k + n);
+            let columns = &all.bin2[k..end];
+            let from = k + columns.partition_point(|&j| (j as usize) < cols.start);
+            let to = k + columns.partition_point(|&j| (j as usize) < cols.end);
+            for p in from..to {
+                block.push(u64::from(row), u64::from(all.bin2[p]), all.count[p]);
+            }
+            if block.len() >= MEMORY_BLOCK_PIXELS {
+                sink(&block)?;
+                block.clear();
+            }
+            k = end;
+        }
+        if !block.is_empty() {
+            sink(&block)?;
+        }
+        Ok(())
+    }
+
+    fn read_stored_pixels(
+        &self,
+        rows: std::ops::Range<usize>,
+        cols: std::ops::Range<usize>,
+        sink: &mut dyn FnMut(&PixelBlock) -> Result<()>,
+    ) -> Result<()> {
+        self.read_pixels(rows, cols, sink)
+    }
+}
+
+/// `reader` as it is ([`LoadedPixels::reader`] when the pixels are not in memory).
+struct Forward<'s> {
+    reader: &'s dyn MatrixReader,
+}
+
+impl MatrixReader for Forward<'_> {
+    forward_reader_metadata!(reader);
+
+    fn read_pixels(
+        &self,
+        rows: std::ops::Range<usize>,
+        cols: std::ops::Range<usize>,
+        sink: &mut dyn FnMut(&PixelBlock) -> Result<()>,
+    ) -> Result<()> {
+        self.reader.read_pixels(rows, cols, sink)
+    }
+
+    fn read_stored_pixels(
+        &self,
+        rows: std::ops::Range<usize>,
+        cols: std::ops::Range<usize>,
+        sink: &mut dyn FnMut(&PixelBlock) -> Result<()>,
+    ) -> Result<()> {
+        self.reader.read_stored_pixels(rows, cols, sink)
+    }
+}
+
 impl PixelSource for LoadedPixels<'_> {
     fn bins(&self) -> &BinTable {
         match self {
@@ -187,6 +286,13 @@ impl PixelSource for LoadedPixels<'_> {
         match self {
             LoadedPixels::Memory(p) => p.pass(init, fold, reduce),
             LoadedPixels::Streamed(s) => s.pass(init, fold, reduce),
+        }
+    }
+
+    fn in_memory(&self) -> Option<PixelSlice<'_>> {
+        match self {
+            LoadedPixels::Memory(p) => p.in_memory(),
+            LoadedPixels::Streamed(_) => None,
         }
     }
 }
