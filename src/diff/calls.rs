@@ -249,4 +249,20 @@ mod tests {
         // (11, 52) and (31, 89) are A's loops; (12, 53) is 3 bins from (10, 50)
         assert_eq!(got.len(), 6);
     }
+
+    /// The summed replicates held in memory (a compact copy for ICE, the dots read from memory)
+    /// or streamed from the files on every pass (a budget of 0): the same dots.
+    #[test]
+    fn dots_are_the_same_from_memory_and_streamed() {
+        use crate::io::{OpenOptions, open_matrix};
+        let path = "data/sim_extrusion.5kb.cool";
+        let first = open_matrix(path, &OpenOptions::default()).unwrap();
+        let second = open_matrix(path, &OpenOptions::default()).unwrap();
+        let replicates: Vec<&dyn MatrixReader> = vec![&*first, &*second];
+        let in_memory = condition_dots(&replicates, None, u64::MAX).unwrap();
+        let streamed = condition_dots(&replicates, None, 0).unwrap();
+        assert!(!in_memory.sites.is_empty());
+        assert_eq!(in_memory.sites, streamed.sites);
+        assert_eq!(in_memory.n_iterations, streamed.n_iterations);
+    }
 }

@@ -341,6 +341,31 @@ mod tests {
         assert!(null.switch.iter().all(|s| *s == Switch::None));
     }
 
+    /// A bin masked in one replicate (no E1 there) is tested on the others, and its condition's
+    /// mean is theirs: the switch is still called.
+    #[test]
+    fn a_bin_masked_in_one_replicate_can_still_switch() {
+        let track: Vec<f64> = (0..200)
+            .map(|b: usize| if (b / 20).is_multiple_of(2) { 1.0 } else { 0.0 })
+            .collect();
+        let maps: Vec<InMemory> = (1..=2)
+            .map(|s| replicate(200, 200, s, checkerboard(false)))
+            .chain((3..=4).map(|s| replicate(200, 200, s, checkerboard(true))))
+            .collect();
+        let readers: Vec<&dyn MatrixReader> = maps.iter().map(|r| r as &dyn MatrixReader).collect();
+        let ones = vec![1.0; 200];
+        let mut masked = ones.clone();
+        masked[70] = f64::NAN;
+        let weights = vec![&ones[..], &ones[..], &masked[..], &ones[..]];
+        let view = View::chromosomes(readers[0].bins());
+        let params = CompartmentParams::default();
+        let comparison =
+            compare_compartments(&readers, &weights, 2, &view, Some(&track), &params).unwrap();
+        assert!(comparison.e1[[70, 2]].is_nan() && !comparison.e1[[70, 3]].is_nan());
+        assert_eq!(comparison.mean(70, 1), comparison.e1[[70, 3]]);
+        assert_eq!(comparison.switch[70], Switch::BToA);
+    }
+
     /// Without a track each replicate's sign is arbitrary: a replicate whose E1 came out the
     /// other way is turned to agree with the first.
     #[test]

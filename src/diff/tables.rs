@@ -24,7 +24,8 @@ pub fn sample_names(n_samples: usize, n_first: usize) -> Vec<String> {
 }
 
 /// The mean of `values` (one sample per entry) over condition A (`condition` 0: the first
-/// `n_first`) or B (1: the rest).
+/// `n_first`) or B (1: the rest): over its samples with a value (`NaN` ones left out, as the
+/// tests leave them out of the feature), `NaN` when none has one.
 pub fn condition_mean(
     values: ndarray::ArrayView1<'_, f64>,
     n_first: usize,
@@ -35,5 +36,9 @@ pub fn condition_mean(
     } else {
         values.slice(ndarray::s![n_first..])
     };
-    part.sum() / part.len() as f64
+    let (sum, n) = part
+        .iter()
+        .filter(|v| !v.is_nan())
+        .fold((0.0, 0usize), |(sum, n), v| (sum + v, n + 1));
+    if n == 0 { f64::NAN } else { sum / n as f64 }
 }
