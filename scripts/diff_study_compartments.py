@@ -65,17 +65,23 @@ DIR/sims/, DIR/maps/, DIR/e1/, DIR/diff/ (caches: a rerun reuses every file whos
 match).
 """
 import argparse
-import json
+import importlib.util
 import math
 import os
 import random
-import shlex
-import shutil
-import subprocess
-import sys
 import time
 
-BEAD_BP = 5000
+HERE = os.path.dirname(os.path.abspath(__file__))
+spec = importlib.util.spec_from_file_location("diff_study", os.path.join(HERE, "diff_study.py"))
+ds = importlib.util.module_from_spec(spec)
+spec.loader.exec_module(ds)
+
+# diff_study's helpers, shared as they are (run and log write to diff_study's LOG, set in main)
+log, run, cached, mark = ds.log, ds.run, ds.cached, ds.mark
+contacts_sum, depth_map, read_table = ds.contacts_sum, ds.depth_map, ds.read_table
+prf, clopper_pearson, fmt = ds.prf, ds.clopper_pearson, ds.fmt
+
+BEAD_BP = ds.BEAD_BP
 
 SCALES = {
     # blocks of the A pattern (type, beads), blocks flipped in B, attraction (kT), density,
@@ -92,34 +98,6 @@ SCALES = {
                  true_per=2),
 }
 
-LOG = None
-
-
-def log(msg):
-    print(msg, flush=True)
-    if LOG:
-        LOG.write(msg + "\n")
-        LOG.flush()
-
-
-def run(cmd, stdout=None, may_fail=False):
-    """Run a command (printed first); stop the study with its stderr when it fails (with
-    may_fail, return None instead)."""
-    log("$ " + " ".join(shlex.quote(str(c)) for c in cmd))
-    t0 = time.time()
-    p = subprocess.run([str(c) for c in cmd], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                       text=True)
-    if p.returncode != 0 and may_fail:
-        log("  failed: " + p.stderr.strip())
-        return None
-    if p.returncode != 0:
-        sys.stderr.write(p.stderr)
-        raise SystemExit(f"command failed (exit {p.returncode}): {' '.join(map(str, cmd))}")
-    for line in p.stderr.splitlines():
-        if "warning" in line.lower() and "sampled before they relaxed" not in line:
-            log("  " + line)
-    return p.stdout, p.stderr, time.time() - t0
-
 
 # ---------------------------------------------------------------- design
 
@@ -134,19 +112,6 @@ def pattern(blocks, flip=()):
 
 
 # ---------------------------------------------------------------- caching helpers
-
-def cached(path, params):
-    meta = path + ".params.json"
-    if os.path.exists(path) and os.path.exists(meta):
-        with open(meta) as f:
-            return json.load(f) == params
-    return False
-
-
-def mark(path, params):
-    with open(path + ".params.json", "w") as f:
-        json.dump(params, f, sort_keys=True)
-
 
 def simulate(cm, out, types, seed, sc, chain, device):
     cool = os.path.join(out, "sims", f"s{seed}.cool")
@@ -169,42 +134,6 @@ def simulate(cm, out, types, seed, sc, chain, device):
     os.replace(tmp, cool)
     mark(cool, params)
     return cool, truth, dt
-
-
-def contacts_sum(cm, cool):
-    stdout, _, _ = run([cm, "info", cool])
-    for line in stdout.splitlines():
-        f = line.split()
-        if f and f[0] == "sum":
-            return float(f[1])
-    return float("nan")
-
-
-def depth_map(cm, out, sim_cool, seed, depth_index, fraction):
-    """Thinned (or copied) and balanced map of one ensemble at one depth."""
-    dst = os.path.join(out, "maps", f"s{seed}.d{fraction:g}.cool")
-    sample_seed = seed * 100 + depth_index + 1
-    params = dict(src=os.path.basename(sim_cool), src_mtime=os.path.getmtime(sim_cool),
-                  fraction=fraction, sample_seed=sample_seed)
-    if cached(dst, params):
-        return dst, 0.0
-    t0 = time.time()
-    tmp = dst + ".tmp.cool"
-    for p in (tmp, dst, dst + ".params.json"):
-        if os.path.exists(p):
-            os.remove(p)
-    if fraction >= 1:
-        shutil.copyfile(sim_cool, tmp)
-    else:
-        run(["nice", "-n", "19", cm, "sample", sim_cool, "--fraction", fraction,
-             "--seed", sample_seed, "-o", tmp])
-    _, err, _ = run(["nice", "-n", "19", cm, "balance", tmp, "--store", "--force",
-                     "--store-unconverged"])
-    if "converged=false" in err:
-        log(f"  note: ICE did not converge on {dst} (weights stored anyway)")
-    os.replace(tmp, dst)
-    mark(dst, params)
-    return dst, time.time() - t0
 
 
 def e1_check(cm, out, cool, truth):
@@ -267,12 +196,6 @@ def switch_truth(ta, tb, edge):
 
 # ---------------------------------------------------------------- scoring
 
-def read_table(path):
-    with open(path) as f:
-        header = f.readline().rstrip("\n").split("\t")
-        return [dict(zip(header, line.rstrip("\n").split("\t"))) for line in f if line.strip()]
-
-
 def score_switches(rows, truth, use_ambiguous):
     """Calls against the switch truth: (calls, true, false, excluded, found, truth switches).
     With use_ambiguous, calls on ambiguous bins are left out and ambiguous switched bins are not
@@ -296,53 +219,11 @@ def score_switches(rows, truth, use_ambiguous):
     return n_calls, n_true, n_false, n_excl, len(found), n_truth
 
 
-def prf(n_calls, n_true, n_false, found, n_truth):
-    scored = n_true + n_false
-    precision = n_true / scored if scored else float("nan")
-    recall = found / n_truth if n_truth else float("nan")
-    if n_truth == 0:
-        f1 = float("nan")
-    elif precision != precision or precision + recall == 0:
-        f1 = 0.0
-    else:
-        f1 = 2 * precision * recall / (precision + recall)
-    fdp = n_false / scored if scored else 0.0
-    return precision, recall, f1, fdp
-
-
 # ---------------------------------------------------------------- statistics
-
-def binom_cdf(k, n, p):
-    return sum(math.comb(n, i) * p ** i * (1 - p) ** (n - i) for i in range(k + 1))
-
-
-def clopper_pearson(k, n, level=0.95):
-    a = (1 - level) / 2
-
-    def solve(f):
-        lo, hi = 0.0, 1.0
-        for _ in range(60):
-            mid = (lo + hi) / 2
-            if f(mid):
-                lo = mid
-            else:
-                hi = mid
-        return (lo + hi) / 2
-
-    low = 0.0 if k == 0 else solve(lambda p: 1 - binom_cdf(k - 1, n, p) < a)
-    high = 1.0 if k == n else solve(lambda p: binom_cdf(k, n, p) > a)
-    return low, high
-
 
 def distinct_splits(n, reps):
     """Unordered pairs of disjoint sets of `reps` ensembles drawn from n."""
     return math.comb(n, reps) * math.comb(n - reps, reps) // 2
-
-
-def fmt(x, d=3):
-    if isinstance(x, float):
-        return "nan" if x != x else f"{x:.{d}f}"
-    return str(x)
 
 
 # ---------------------------------------------------------------- main
@@ -369,8 +250,7 @@ def main():
     out = os.path.abspath(args.out)
     for d in ("sims", "maps", "e1", "diff"):
         os.makedirs(os.path.join(out, d), exist_ok=True)
-    global LOG
-    LOG = open(os.path.join(out, "commands.log"), "a")
+    ds.LOG = open(os.path.join(out, "commands.log"), "a")
     log(f"# diff_study_compartments.py --scale {args.scale} --seed {args.seed} "
         f"({time.strftime('%Y-%m-%d %H:%M:%S')})")
     t_start = time.time()

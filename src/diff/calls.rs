@@ -59,8 +59,12 @@ pub fn condition_dots(
         false,
     )?;
     // the dots read the summed pixels from memory, not the replicates again
-    let summed = pixels.reader(&merged);
-    let calls = call_dots(&*summed, &balanced.weights, &view, &expected, &params)?;
+    let from_memory = pixels.reader(&merged);
+    let summed: &dyn MatrixReader = match &from_memory {
+        Some(reader) => reader,
+        None => &merged,
+    };
+    let calls = call_dots(summed, &balanced.weights, &view, &expected, &params)?;
     let sites = calls
         .dots
         .unwrap_or_default()

@@ -164,15 +164,15 @@ pub fn load_pixels_for_balancing(
 
 impl LoadedPixels<'_> {
     /// `reader`'s pixels served from this copy when it holds them in memory (the same pixels,
-    /// without reading and decoding the file again; everything else asked of `reader`), or
-    /// `reader` itself when its pixels are streamed or were folded from both triangles.
+    /// without reading and decoding the file again; everything else asked of `reader`); `None`
+    /// when its pixels are streamed or were folded from both triangles (read `reader` then).
     /// `reader` must be the one these pixels were loaded from.
-    pub fn reader<'s>(&'s self, reader: &'s dyn MatrixReader) -> Box<dyn MatrixReader + 's> {
+    pub fn reader<'s>(&'s self, reader: &'s dyn MatrixReader) -> Option<impl MatrixReader + 's> {
         match self {
             LoadedPixels::Memory(pixels) if !reader.stores_both_triangles() => {
-                Box::new(MemoryReader { reader, pixels })
+                Some(MemoryReader { reader, pixels })
             }
-            _ => Box::new(Forward { reader }),
+            _ => None,
         }
     }
 }
@@ -231,33 +231,6 @@ impl MatrixReader for MemoryReader<'_> {
         sink: &mut dyn FnMut(&PixelBlock) -> Result<()>,
     ) -> Result<()> {
         self.read_pixels(rows, cols, sink)
-    }
-}
-
-/// `reader` as it is ([`LoadedPixels::reader`] when the pixels are not in memory).
-struct Forward<'s> {
-    reader: &'s dyn MatrixReader,
-}
-
-impl MatrixReader for Forward<'_> {
-    forward_reader_metadata!(reader);
-
-    fn read_pixels(
-        &self,
-        rows: std::ops::Range<usize>,
-        cols: std::ops::Range<usize>,
-        sink: &mut dyn FnMut(&PixelBlock) -> Result<()>,
-    ) -> Result<()> {
-        self.reader.read_pixels(rows, cols, sink)
-    }
-
-    fn read_stored_pixels(
-        &self,
-        rows: std::ops::Range<usize>,
-        cols: std::ops::Range<usize>,
-        sink: &mut dyn FnMut(&PixelBlock) -> Result<()>,
-    ) -> Result<()> {
-        self.reader.read_stored_pixels(rows, cols, sink)
     }
 }
 
