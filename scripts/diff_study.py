@@ -45,6 +45,22 @@ direction, false when unchanged or changed the other way.
 Without --loops (`diff loops` calls dots itself; kind `loops_called`) a call is placed on the
 truth pair whose two anchors are both within --tolerance bins (the nearest), then scored as above;
 a call near no truth pair is false.
+Second scoring of `loops_called` (reported beside the strict one above, which is unchanged; columns
+freq_* of study.tsv, section "loops_called, second scoring" of summary.md): a call near no truth
+pair is judged by the true change of contact frequency at its pixel instead of counted false.
+Each full-depth simulated ensemble's pixels (`contactmap dump`) are divided by its total
+contacts; a condition's frequency at a call is the sum over the call's 3x3 neighbourhood, averaged
+over that condition's *held-out* ensembles (A's ensembles other than the comparison's A
+replicates, B's other than its B replicates; all of a condition's ensembles, flagged
+freq_held_out=no, when none is left). With the pseudo-count p = 0.005 x k, k the neighbourhood
+frequency per unit of loop fraction (sum of neighbourhood frequencies / sum of fractions over
+the truth pairs and conditions with f >= 0.1: the truth's own 0.005 in frequency units), and the
+fold g = (F_B + p) / (F_A + p) taken in the call's direction (g for up, 1 / g for down):
+  g >= 2      a real contact change, not a loop: left out of precision (freq_change_calls)
+  g < 1.5     false (also any change the other way)
+  otherwise   ambiguous: left out (freq_ambiguous_calls)
+Calls placed on a truth pair are scored as in the strict scoring; recall is unchanged; calls of
+null comparisons stay false (A against A' has no true change). Per call: loops_called_freq.tsv.
 Boundaries: the truth difference is the removed junctions (lost in B). A boundary call (status
 lost, gained, shifted, stronger or weaker at q < alpha) is true when it lies within --tolerance
 bins of an element of a removed junction and its status is lost, weaker or shifted; any other
@@ -63,7 +79,8 @@ Every call of a null comparison is false. The observed FDR is the mean over comp
 false-discovery proportion (false calls / calls, 0 without calls), which for null comparisons is
 the fraction of comparisons with any call; the pooled false calls / calls is given too.
 
-Outputs: DIR/study.tsv (one row per comparison and kind), DIR/summary.md (tables), DIR/sims/,
+Outputs: DIR/study.tsv (one row per comparison and kind), DIR/summary.md (tables),
+DIR/loops_called_freq.tsv (the second scoring's calls near no truth pair), DIR/sims/,
 DIR/maps/, DIR/diff/ (caches: a rerun reuses every file whose parameters match).
 """
 import argparse
@@ -268,6 +285,28 @@ def read_table(path):
         return [dict(zip(header, line.rstrip("\n").split("\t"))) for line in f if line.strip()]
 
 
+def call_pixel(r):
+    """A loop call's (sign, chrom, bin1, bin2): sign +1 for up in B."""
+    sign = 1 if r["direction"] == "up" else -1
+    i = (int(r["start1"]) + int(r["end1"])) // 2 // BEAD_BP
+    j = (int(r["start2"]) + int(r["end2"])) // 2 // BEAD_BP
+    return sign, r["chrom1"], i, j
+
+
+def nearest_truth(truth, chrom, i, j, tolerance):
+    """The truth pair with both anchors within tolerance bins of (i, j), the nearest (a changed
+    one on ties); None when there is none."""
+    best = None
+    for k in truth:
+        if k[0] != chrom:
+            continue
+        d = max(abs(k[1] - i), abs(k[2] - j))
+        if d <= tolerance and (best is None or d < best[0]
+                               or (d == best[0] and truth[k][0] == "changed")):
+            best = (d, k)
+    return best[1] if best else None
+
+
 def score_loops(rows, truth, tolerance, matched_nearest):
     """Calls (direction up/down) against the loop truth: (calls, true, false, excluded, found)."""
     changed = {k for k, v in truth.items() if v[0] == "changed"}
@@ -277,21 +316,8 @@ def score_loops(rows, truth, tolerance, matched_nearest):
         if r["direction"] not in ("up", "down"):
             continue
         n_calls += 1
-        sign = 1 if r["direction"] == "up" else -1
-        chrom = r["chrom1"]
-        i = (int(r["start1"]) + int(r["end1"])) // 2 // BEAD_BP
-        j = (int(r["start2"]) + int(r["end2"])) // 2 // BEAD_BP
-        key = (chrom, i, j)
-        if matched_nearest:
-            best = None
-            for k in truth:
-                if k[0] != chrom:
-                    continue
-                d = max(abs(k[1] - i), abs(k[2] - j))
-                if d <= tolerance and (best is None or d < best[0]
-                                       or (d == best[0] and truth[k][0] == "changed")):
-                    best = (d, k)
-            key = best[1] if best else None
+        sign, chrom, i, j = call_pixel(r)
+        key = nearest_truth(truth, chrom, i, j, tolerance) if matched_nearest else (chrom, i, j)
         t = truth.get(key)
         if t is None or t[0] == "unchanged":
             n_false += 1
@@ -303,6 +329,79 @@ def score_loops(rows, truth, tolerance, matched_nearest):
         else:
             n_false += 1
     return n_calls, n_true, n_false, n_excl, len(found), len(changed)
+
+
+def read_frequencies(cm, cool):
+    """One ensemble's contact frequencies: (chrom, bin1, bin2) -> count / total contacts."""
+    stdout, _, _ = run(["nice", "-n", "19", cm, "dump", "--join", cool])
+    counts, total = {}, 0.0
+    for line in stdout.splitlines():
+        c = line.split("\t")
+        if len(c) < 7 or c[0] != c[3]:
+            continue
+        n = float(c[6])
+        total += n
+        counts[(c[0], int(c[1]) // BEAD_BP, int(c[4]) // BEAD_BP)] = n
+    return {k: v / total for k, v in counts.items()} if total else counts
+
+
+def neighbourhood(freq, chrom, i, j):
+    """Sum of an ensemble's frequencies over the 3x3 pixels around (i, j)."""
+    total = 0.0
+    for di in (-1, 0, 1):
+        for dj in (-1, 0, 1):
+            u, v = i + di, j + dj
+            total += freq.get((chrom, min(u, v), max(u, v)), 0.0)
+    return total
+
+
+def condition_frequency(freqs, seeds, chrom, i, j):
+    return sum(neighbourhood(freqs[s], chrom, i, j) for s in seeds) / len(seeds)
+
+
+def score_loops_change(rows, truth, tolerance, freqs, held_a, held_b, pseudo):
+    """Second scoring of loops_called: as score_loops with matched_nearest, but a call near no
+    truth pair is judged by the held-out change of contact frequency at its pixel (3x3
+    neighbourhood; seeds held_a and held_b): real change (>= 2-fold in the call's direction,
+    left out), false (< 1.5-fold, or the other way) or ambiguous (left out). Returns the counts
+    (calls, true, false, excluded by the truth's ambiguous pairs, real change, ambiguous change,
+    found, truth size) and one record per call near no truth pair."""
+    changed = {k for k, v in truth.items() if v[0] == "changed"}
+    n_calls = n_true = n_false = n_excl = n_change = n_amb = 0
+    found, records = set(), []
+    for r in rows:
+        if r["direction"] not in ("up", "down"):
+            continue
+        n_calls += 1
+        sign, chrom, i, j = call_pixel(r)
+        key = nearest_truth(truth, chrom, i, j, tolerance)
+        t = truth.get(key)
+        if t is None:
+            fa = condition_frequency(freqs, held_a, chrom, i, j)
+            fb = condition_frequency(freqs, held_b, chrom, i, j)
+            g = (fb + pseudo) / (fa + pseudo)
+            g = g if sign > 0 else 1 / g
+            if g >= 2:
+                cls = "change"
+                n_change += 1
+            elif g < 1.5:
+                cls = "false"
+                n_false += 1
+            else:
+                cls = "ambiguous"
+                n_amb += 1
+            records.append(dict(chrom=chrom, bin1=i, bin2=j, direction=r["direction"],
+                                F_A=fa, F_B=fb, fold=g, cls=cls))
+        elif t[0] == "unchanged":
+            n_false += 1
+        elif t[0] == "ambiguous":
+            n_excl += 1
+        elif t[1] == sign:
+            n_true += 1
+            found.add(key)
+        else:
+            n_false += 1
+    return (n_calls, n_true, n_false, n_excl, n_change, n_amb, len(found), len(changed)), records
 
 
 def score_boundaries(rows, removed_junctions, tolerance):
@@ -432,17 +531,40 @@ def main():
     truth = loop_truth(fa, fb)
     union = sorted(k for k in truth if max(truth[k][2], truth[k][3]) >= 0.02)
     union_path = os.path.join(out, "union.loops.bedpe")
-    with open(union_path, "w") as f:
-        f.write("chrom1\tstart1\tend1\tchrom2\tstart2\tend2\tclass\tfraction_A\tfraction_B\n")
-        for k in union:
-            cls, _, a, b = truth[k]
-            f.write(f"{k[0]}\t{k[1] * BEAD_BP}\t{(k[1] + 1) * BEAD_BP}\t{k[0]}\t{k[2] * BEAD_BP}"
-                    f"\t{(k[2] + 1) * BEAD_BP}\t{cls}\t{a:.4f}\t{b:.4f}\n")
+    text = "chrom1\tstart1\tend1\tchrom2\tstart2\tend2\tclass\tfraction_A\tfraction_B\n"
+    for k in union:
+        cls, _, a, b = truth[k]
+        text += (f"{k[0]}\t{k[1] * BEAD_BP}\t{(k[1] + 1) * BEAD_BP}\t{k[0]}\t{k[2] * BEAD_BP}"
+                 f"\t{(k[2] + 1) * BEAD_BP}\t{cls}\t{a:.4f}\t{b:.4f}\n")
+    old_text = None
+    if os.path.exists(union_path):
+        with open(union_path) as f:
+            old_text = f.read()
+    if text != old_text:  # rewritten only when it changes: its mtime keys the loops diffs' cache
+        with open(union_path, "w") as f:
+            f.write(text)
     n_changed_union = sum(1 for k in union if truth[k][0] == "changed")
     n_changed_all = sum(1 for v in truth.values() if v[0] == "changed")
     log(f"# truth: {len(union)} loops tested (f_max >= 0.02), {n_changed_union} changed "
         f"({n_changed_all} changed among all {len(truth)} truth pairs), "
         f"{sum(1 for k in union if truth[k][0] == 'ambiguous')} ambiguous")
+
+    # second scoring of loops_called: each full-depth ensemble's contact frequencies, and the
+    # truth's pseudo-count 0.005 (in loop fraction) in neighbourhood-frequency units
+    freqs, pseudo, k_freq = {}, float("nan"), float("nan")
+    if not args.no_called:
+        for s in seeds_a + seeds_b:
+            freqs[s] = read_frequencies(cm, sims[s][1])
+        num = den = 0.0
+        for key, (_, _, a, b) in truth.items():
+            for f, seeds in ((a, seeds_a), (b, seeds_b)):
+                if f >= 0.1:
+                    num += condition_frequency(freqs, seeds, *key)
+                    den += f
+        k_freq = num / den
+        pseudo = 0.005 * k_freq
+        log(f"# contact frequencies: a 3x3 neighbourhood holds {k_freq:.3g} of an ensemble's "
+            f"contacts per unit of loop fraction; pseudo-count {pseudo:.3g}")
 
     # depths
     maps, contacts, t_maps = {}, {}, 0.0
@@ -478,7 +600,7 @@ def main():
     if len(seeds_a) < 6:
         raise SystemExit("need at least 6 A ensembles for 3 + 3 null comparisons")
 
-    rows, t_diff = [], 0.0
+    rows, t_diff, freq_records = [], 0.0, []
     kinds = ["loops", "boundaries"] + ([] if args.no_called else ["loops_called"])
     removed_bins = junctions
     for ci, (ctype, reps, frac, a, b) in enumerate(comps):
@@ -529,15 +651,52 @@ def main():
                              true_calls=n_t, false_calls=n_f, excluded_calls=n_x,
                              n_truth=n_truth, found=found, precision=p, recall=r, F1=f1,
                              FDP=fdp))
+            if kind == "loops_called":  # the second scoring (contact change)
+                row = rows[-1]
+                if ctype == "null":  # A against A': no true change, every call stays false
+                    row.update(freq_false_calls=n_calls, freq_change_calls=0,
+                               freq_ambiguous_calls=0, freq_moved_change=0,
+                               freq_moved_ambiguous=0, freq_precision=p, freq_F1=f1,
+                               freq_FDP=fdp, freq_held_out="-")
+                    continue
+                held_a = [s for s in seeds_a if s not in a]
+                held_b = [s for s in seeds_b if s not in b]
+                held = "yes" if held_a and held_b else "no"
+                counts, recs = score_loops_change(table, truth, args.tolerance, freqs,
+                                                  held_a or seeds_a, held_b or seeds_b, pseudo)
+                c_calls, c_t, c_f, c_x, c_chg, c_amb, c_found, c_truth = counts
+                assert (c_calls, c_t, c_found, c_truth) == (n_calls, n_t, found, n_truth)
+                assert c_f + c_chg + c_amb == n_f and c_x == n_x
+                cp, _, cf1, cfdp = prf(c_calls, c_t, c_f, c_found, c_truth)
+                row.update(freq_false_calls=c_f, freq_change_calls=c_chg,
+                           freq_ambiguous_calls=c_amb, freq_moved_change=c_chg,
+                           freq_moved_ambiguous=c_amb, freq_precision=cp, freq_F1=cf1,
+                           freq_FDP=cfdp, freq_held_out=held)
+                for rec in recs:
+                    freq_records.append(dict(comparison=name, replicates=reps, depth=frac,
+                                             held_out=held, **rec))
 
     cols = ["kind", "comparison", "replicates", "depth", "contacts", "a", "b", "n_tested",
             "n_calls", "true_calls", "false_calls", "excluded_calls", "n_truth", "found",
             "precision", "recall", "F1", "FDP"]
+    # the second scoring's columns, after study.tsv's own (readers look columns up by name);
+    # "-" on rows of the other kinds
+    freq_cols = ["freq_false_calls", "freq_change_calls", "freq_ambiguous_calls",
+                 "freq_precision", "freq_F1", "freq_FDP", "freq_held_out"] if freqs else []
     with open(os.path.join(out, "study.tsv"), "w") as f:
-        f.write("\t".join(cols) + "\n")
+        f.write("\t".join(cols + freq_cols) + "\n")
         for r in rows:
-            f.write("\t".join(fmt(r[c], 4) if isinstance(r[c], float) and c != "depth"
-                              else str(r[c]) for c in cols) + "\n")
+            f.write("\t".join(fmt(r.get(c, "-"), 4) if isinstance(r.get(c), float)
+                              and c != "depth" else str(r.get(c, "-"))
+                              for c in cols + freq_cols) + "\n")
+    if freqs:
+        rcols = ["comparison", "replicates", "depth", "held_out", "chrom", "bin1", "bin2",
+                 "direction", "F_A", "F_B", "fold", "cls"]
+        with open(os.path.join(out, "loops_called_freq.tsv"), "w") as f:
+            f.write("\t".join(rcols) + "\n")
+            for rec in freq_records:
+                f.write("\t".join(f"{rec[c]:.4g}" if c in ("F_A", "F_B", "fold")
+                                  else str(rec[c]) for c in rcols) + "\n")
 
     # summary
     elapsed = time.time() - t_start
@@ -602,6 +761,66 @@ def main():
         calls, t, fl, found, ntr, p, rc, f1, fdr = agg(sel)
         md += [f"| all | | | {len(sel)} | {calls} | {t} | {fl} | {found} / {ntr} | {fmt(p)} | "
                f"{fmt(rc)} | **{fmt(f1)}** | {fmt(fdr)} |", ""]
+
+    if freqs:
+        sel_all = [r for r in rows if r["kind"] == "loops_called"]
+        sel_true = [r for r in sel_all if r["comparison"] == "true"]
+        moved_c = sum(r["freq_moved_change"] for r in sel_true)
+        moved_a = sum(r["freq_moved_ambiguous"] for r in sel_true)
+        stay = sum(r["freq_false_calls"] for r in sel_true)
+        not_held = sum(1 for r in sel_true if r["freq_held_out"] != "yes")
+        md += ["### loops_called, second scoring: calls near no truth pair judged by the true "
+               "contact change", "",
+               "The strict table above counts a call near no truth pair (no pair with both "
+               f"anchors within {args.tolerance} bins) as false. Here such a call is judged by "
+               "the change of contact frequency at its pixel: each full-depth ensemble's "
+               "contacts divided by its total, summed over the call's 3x3 neighbourhood, "
+               "averaged over the condition's held-out ensembles (A's other than the "
+               "comparison's A replicates, B's other than its B replicates"
+               + (f"; {not_held} comparisons had none left for a condition and used all of "
+                  "its ensembles" if not_held else "; every comparison had some left")
+               + f"). Fold g = (F_B + p) / (F_A + p) in the call's direction, p = 0.005 x "
+               f"{k_freq:.3g} = {pseudo:.3g} (the truth's pseudo-count 0.005 in loop "
+               f"fraction, times the neighbourhood frequency per unit of loop fraction over the "
+               f"truth pairs held in >= 10% of samples): g >= 2 a real contact change, not a "
+               f"loop (left out); g < 1.5 or the other way false; in between ambiguous (left "
+               f"out). Calls on truth pairs are scored as above; recall is unchanged; calls of "
+               f"null comparisons stay false. Of the {sum(r['false_calls'] for r in sel_true)} "
+               f"strict false calls of the true comparisons, {moved_c} move to real change, "
+               f"{moved_a} to ambiguous, {stay} stay false. Per call: `loops_called_freq.tsv`.",
+               "",
+               "| replicates | depth | contacts / replicate | comparisons | calls | true | false "
+               "| real change | ambiguous change | found / truth | precision | recall | F1 "
+               "| observed FDR |", "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+
+        def agg_freq(sel):
+            calls = sum(r["n_calls"] for r in sel)
+            t = sum(r["true_calls"] for r in sel)
+            fl = sum(r["freq_false_calls"] for r in sel)
+            chg = sum(r["freq_change_calls"] for r in sel)
+            amb = sum(r["freq_ambiguous_calls"] for r in sel)
+            found = sum(r["found"] for r in sel)
+            ntr = sum(r["n_truth"] for r in sel)
+            p, rc, f1, _ = prf(calls, t, fl, found, ntr)
+            fdr = sum(r["freq_FDP"] for r in sel) / len(sel) if sel else float("nan")
+            return (f"{calls} | {t} | {fl} | {chg} | {amb} | {found} / {ntr} | {fmt(p)} | "
+                    f"{fmt(rc)} | **{fmt(f1)}** | {fmt(fdr)} |")
+        for reps in (2, 3):
+            for frac in sc["depths"]:
+                sel = [r for r in sel_true if r["replicates"] == reps and r["depth"] == frac]
+                if sel:
+                    md.append(f"| {reps} | {frac:g} | {contacts[frac]:,.0f} | {len(sel)} | "
+                              + agg_freq(sel))
+        md.append(f"| all | | | {len(sel_true)} | " + agg_freq(sel_true))
+        nn = sum(1 for r in sel_all if r["comparison"] == "null")
+        calls = sum(r["n_calls"] - r["excluded_calls"] - r["freq_change_calls"]
+                    - r["freq_ambiguous_calls"] for r in sel_all)
+        fl = sum(r["freq_false_calls"] for r in sel_all)
+        md += ["", f"Over all {len(sel_all)} comparisons ({nn} null + {len(sel_all) - nn} "
+               f"true): mean FDP **{fmt(sum(r['freq_FDP'] for r in sel_all) / len(sel_all))}** "
+               f"(strict: {fmt(sum(r['FDP'] for r in sel_all) / len(sel_all))}); pooled false / "
+               f"scored calls {fl} / {calls} = {fmt(fl / calls if calls else float('nan'))}.",
+               ""]
 
     md += ["## Null comparisons (A against A' with other seeds)", "",
            "Every call is false; the observed FDR (mean false-discovery proportion) is the "
