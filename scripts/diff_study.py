@@ -171,6 +171,31 @@ def ctcf_list(loops, removed=()):
 
 # ---------------------------------------------------------------- caching helpers
 
+def comparison_name(kind, reps, depth, a, b):
+    """The name of a comparison's outputs (DIR/diff/NAME.*): kind (true / null), replicates,
+    depth and the two conditions' ensemble seeds."""
+    return f"{kind}.r{reps}.d{depth:g}.{'-'.join(map(str, a))}_vs_{'-'.join(map(str, b))}"
+
+
+def study_rows(path):
+    """DIR/study.tsv with its counts as int and its rates as float (for the peer scripts)."""
+    rows = []
+    for r in read_table(path):
+        for k in ("replicates", "contacts", "n_tested", "n_calls", "true_calls", "false_calls",
+                  "excluded_calls", "n_truth", "found"):
+            r[k] = int(r[k])
+        for k in ("depth", "precision", "recall", "F1", "FDP"):
+            r[k] = float(r[k])
+        rows.append(r)
+    return rows
+
+
+def study_row_name(r):
+    """comparison_name of a study_rows row."""
+    return comparison_name(r["comparison"], r["replicates"], r["depth"], r["a"].split(","),
+                           r["b"].split(","))
+
+
 def cached(path, params):
     meta = path + ".params.json"
     if os.path.exists(path) and os.path.exists(meta):
@@ -604,7 +629,7 @@ def main():
     kinds = ["loops", "boundaries"] + ([] if args.no_called else ["loops_called"])
     removed_bins = junctions
     for ci, (ctype, reps, frac, a, b) in enumerate(comps):
-        name = f"{ctype}.r{reps}.d{frac:g}.{'-'.join(map(str, a))}_vs_{'-'.join(map(str, b))}"
+        name = comparison_name(ctype, reps, frac, a, b)
         amaps = [maps[(s, frac)] for s in a]
         bmaps = [maps[(s, frac)] for s in b]
         mt = [os.path.getmtime(p) for p in amaps + bmaps]

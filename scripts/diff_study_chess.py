@@ -93,29 +93,7 @@ def run(cmd):
     return p, time.time() - t0
 
 
-def cached(path, params):
-    meta = path + ".params.json"
-    if os.path.exists(path) and os.path.exists(meta):
-        with open(meta) as f:
-            return json.load(f) == params
-    return False
 
-
-def study_rows(path):
-    rows = []
-    for r in ds.read_table(path):
-        for k in ("replicates", "contacts", "n_tested", "n_calls", "true_calls", "false_calls",
-                  "excluded_calls", "n_truth", "found"):
-            r[k] = int(r[k])
-        for k in ("depth", "precision", "recall", "F1", "FDP"):
-            r[k] = float(r[k])
-        rows.append(r)
-    return rows
-
-
-def comp_name(r):
-    return (f"{r['comparison']}.r{r['replicates']}.d{r['depth']:g}."
-            f"{r['a'].replace(',', '-')}_vs_{r['b'].replace(',', '-')}")
 
 
 def merged_map(cm, nice, out, seeds, depth, study):
@@ -125,7 +103,7 @@ def merged_map(cm, nice, out, seeds, depth, study):
     params = dict(maps=maps, mtimes=[os.path.getmtime(p) for p in maps],
                   binary_mtime=os.path.getmtime(cm))
     conv_path = dst + ".converged"
-    if cached(dst, params) and os.path.exists(conv_path):
+    if ds.cached(dst, params) and os.path.exists(conv_path):
         with open(conv_path) as f:
             return dst, f.read().strip() == "true", 0.0
     t0 = time.time()
@@ -155,7 +133,7 @@ def regions(cm, nice, out, name, amap, bmap, window, step):
                   mtimes=[os.path.getmtime(amap), os.path.getmtime(bmap)],
                   binary_mtime=os.path.getmtime(cm))
     dt = 0.0
-    if not cached(result, params):
+    if not ds.cached(result, params):
         _, dt = run([*nice, *cmd])
         with open(result + ".params.json", "w") as f:
             json.dump(params, f, sort_keys=True)
@@ -279,17 +257,17 @@ def main():
     log(f"# truth: {len(truth)} pairs, {n_changed} changed, {n_amb} ambiguous in the tested union; "
         f"removed junctions {junctions}")
 
-    srows = study_rows(os.path.join(study, "study.tsv"))
+    srows = ds.study_rows(os.path.join(study, "study.tsv"))
     # the study's own outputs rescored here must give study.tsv's numbers
     n_checked = 0
     for r in srows:
         if r["kind"] not in ("loops_called", "boundaries"):
             continue
         if r["kind"] == "boundaries":
-            path = os.path.join(study, "diff", comp_name(r) + ".boundaries.boundaries.tsv")
+            path = os.path.join(study, "diff", ds.study_row_name(r) + ".boundaries.boundaries.tsv")
             got = ds.score_boundaries(ds.read_table(path), junctions, args.tolerance)
         else:
-            path = os.path.join(study, "diff", comp_name(r) + ".loops_called.loops.bedpe")
+            path = os.path.join(study, "diff", ds.study_row_name(r) + ".loops_called.loops.bedpe")
             got = ds.score_loops(ds.read_table(path), truth, args.tolerance, True)
         n_calls, n_t, n_f, n_x, found, n_truth = got
         if r["comparison"] == "null":
@@ -297,7 +275,7 @@ def main():
         want = (r["n_calls"], r["true_calls"], r["false_calls"], r["excluded_calls"], r["found"],
                 r["n_truth"])
         if (n_calls, n_t, n_f, n_x, found, n_truth) != want:
-            raise SystemExit(f"truth differs from the study's: {comp_name(r)} {r['kind']} "
+            raise SystemExit(f"truth differs from the study's: {ds.study_row_name(r)} {r['kind']} "
                              f"rescored {got}, study.tsv {want}")
         n_checked += 1
     log(f"# truth check: the study's {n_checked} loops_called and boundaries outputs rescore to "
@@ -318,7 +296,7 @@ def main():
     nan_windows = {}
     z_sn = []  # (comparison row, [(z, SN, class)]) for the threshold table
     for ci, r in enumerate(comps):
-        name = comp_name(r)
+        name = ds.study_row_name(r)
         a, b = r["a"].split(","), r["b"].split(",")
         amap, conv_a, dt_a = merged_map(cm, nice, out, a, r["depth"], study)
         bmap, conv_b, dt_b = merged_map(cm, nice, out, b, r["depth"], study)

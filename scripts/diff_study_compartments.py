@@ -346,7 +346,7 @@ def main():
 
     rows, t_diff, failed = [], 0.0, 0
     for ctype, reps, frac, a, b in comps:
-        name = f"{ctype}.r{reps}.d{frac:g}.{'-'.join(map(str, a))}_vs_{'-'.join(map(str, b))}"
+        name = ds.comparison_name(ctype, reps, frac, a, b)
         amaps = [maps[(s, frac)] for s in a]
         bmaps = [maps[(s, frac)] for s in b]
         mt = [os.path.getmtime(p) for p in amaps + bmaps]

@@ -103,21 +103,6 @@ def mustache_calls(prefix):
     return rows
 
 
-def study_rows(path):
-    rows = []
-    for r in ds.read_table(path):
-        for k in ("replicates", "contacts", "n_tested", "n_calls", "true_calls", "false_calls",
-                  "excluded_calls", "n_truth", "found"):
-            r[k] = int(r[k])
-        for k in ("depth", "precision", "recall", "F1", "FDP"):
-            r[k] = float(r[k])
-        rows.append(r)
-    return rows
-
-
-def comp_name(r):
-    return (f"{r['comparison']}.r{r['replicates']}.d{r['depth']:g}."
-            f"{r['a'].replace(',', '-')}_vs_{r['b'].replace(',', '-')}")
 
 
 def score(rows, truth, tolerance, ctype):
@@ -186,19 +171,19 @@ def main():
     n_changed = sum(1 for v in truth.values() if v[0] == "changed")
     log(f"# truth: {len(truth)} pairs, {n_changed} changed")
 
-    study = study_rows(os.path.join(out, "study.tsv"))
+    study = ds.study_rows(os.path.join(out, "study.tsv"))
     cm_rows = [r for r in study if r["kind"] == "loops_called"]
     if not cm_rows:
         raise SystemExit("no loops_called rows in study.tsv (was it run with --no-called?)")
 
     # the study's own calls rescored here must give study.tsv's numbers
     for r in cm_rows:
-        path = os.path.join(out, "diff", comp_name(r) + ".loops_called.loops.bedpe")
+        path = os.path.join(out, "diff", ds.study_row_name(r) + ".loops_called.loops.bedpe")
         got = score(ds.read_table(path), truth, args.tolerance, r["comparison"])
         want = (r["n_calls"], r["true_calls"], r["false_calls"], r["excluded_calls"], r["found"],
                 r["n_truth"])
         if got != want:
-            raise SystemExit(f"truth differs from the study's: {comp_name(r)} rescored {got}, "
+            raise SystemExit(f"truth differs from the study's: {ds.study_row_name(r)} rescored {got}, "
                              f"study.tsv {want}")
     log(f"# truth check: the study's {len(cm_rows)} loops_called outputs rescore to study.tsv")
 
@@ -209,7 +194,7 @@ def main():
     rows = []
     n_run = 0
     for ci, r in enumerate(cm_rows):
-        name = comp_name(r)
+        name = ds.study_row_name(r)
         d = os.path.join(out, "mustache", name)
         os.makedirs(d, exist_ok=True)
         frac = r["depth"]
