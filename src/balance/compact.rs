@@ -37,19 +37,12 @@ impl CompactRows {
         let mut row_ptr = vec![0usize; n_bins + 1];
         let mut cols = Vec::with_capacity(all.len());
         let mut wide = Vec::with_capacity(all.len());
-        let mut k = 0;
-        while k < all.len() {
-            let i = all.bin1[k] as usize;
-            let end = all.bin1[k..]
-                .iter()
-                .position(|&b| b as usize != i)
-                .map_or(all.len(), |n| k + n);
-            let accepted = filter.accepted(i, &all.bin2[k..end]);
-            let (first, last) = (k + accepted.start, k + accepted.end);
+        for (i, run) in all.rows() {
+            let accepted = filter.accepted(i, &all.bin2[run.clone()]);
+            let (first, last) = (run.start + accepted.start, run.start + accepted.end);
             cols.extend_from_slice(&all.bin2[first..last]);
             wide.extend_from_slice(&all.count[first..last]);
             row_ptr[i + 1] = last - first;
-            k = end;
         }
         for i in 0..n_bins {
             row_ptr[i + 1] += row_ptr[i];

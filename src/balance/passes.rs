@@ -287,18 +287,11 @@ pub(super) fn marginals<S: PixelSource>(
             if acc.is_unset() {
                 acc = BinSums::for_slice(&slice, n_bins);
             }
-            let mut k = 0;
-            while k < slice.len() {
-                let i = slice.bin1[k] as usize;
-                // the row's pixels (sorted by bin2): k..end
-                let end = slice.bin1[k..]
-                    .iter()
-                    .position(|&b| b as usize != i)
-                    .map_or(slice.len(), |n| k + n);
+            for (i, run) in slice.rows() {
                 let vi = vector[i];
                 if vi != 0.0 {
-                    let accepted = filter.accepted(i, &slice.bin2[k..end]);
-                    let (first, last) = (k + accepted.start, k + accepted.end);
+                    let accepted = filter.accepted(i, &slice.bin2[run.clone()]);
+                    let (first, last) = (run.start + accepted.start, run.start + accepted.end);
                     let (bin2, count) = (&slice.bin2[first..last], &slice.count[first..last]);
                     let row_sum = if binarize {
                         acc.add_row::<true, f64>(i, vi, bin2, count, vector)
@@ -307,7 +300,6 @@ pub(super) fn marginals<S: PixelSource>(
                     };
                     acc.add(i, row_sum);
                 }
-                k = end;
             }
             acc
         },

@@ -45,6 +45,23 @@ impl<'a> PixelSlice<'a> {
         (0..c.len()).map(move |k| (b1[k] as usize, b2[k] as usize, c[k]))
     }
 
+    /// Each row's run of pixels, in order: `(row, positions)` (pixels are sorted by
+    /// `(bin1, bin2)`, so a row's pixels are contiguous and sorted by column).
+    pub fn rows(&self) -> impl Iterator<Item = (usize, std::ops::Range<usize>)> + 'a + use<'a> {
+        let bin1 = self.bin1;
+        let mut k = 0;
+        std::iter::from_fn(move || {
+            let &row = bin1.get(k)?;
+            let end = bin1[k..]
+                .iter()
+                .position(|&b| b != row)
+                .map_or(bin1.len(), |n| k + n);
+            let run = k..end;
+            k = end;
+            Some((row as usize, run))
+        })
+    }
+
     fn split(self, at: usize) -> (PixelSlice<'a>, PixelSlice<'a>) {
         let (b1a, b1b) = self.bin1.split_at(at);
         let (b2a, b2b) = self.bin2.split_at(at);

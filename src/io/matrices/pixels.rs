@@ -199,24 +199,22 @@ impl MatrixReader for MemoryReader<'_> {
         let first = all.bin1.partition_point(|&b| (b as usize) < rows.start);
         let last = all.bin1.partition_point(|&b| (b as usize) < rows.end);
         let mut block = PixelBlock::with_capacity(MEMORY_BLOCK_PIXELS);
-        let mut k = first;
-        while k < last {
-            let row = all.bin1[k];
-            let end = all.bin1[k..last]
-                .iter()
-                .position(|&b| b != row)
-                .map_or(last, |n| k + n);
-            let columns = &all.bin2[k..end];
-            let from = k + columns.partition_point(|&j| (j as usize) < cols.start);
-            let to = k + columns.partition_point(|&j| (j as usize) < cols.end);
+        let wanted = PixelSlice {
+            bin1: &all.bin1[first..last],
+            bin2: &all.bin2[first..last],
+            count: &all.count[first..last],
+        };
+        for (row, run) in wanted.rows() {
+            let columns = &wanted.bin2[run.clone()];
+            let from = run.start + columns.partition_point(|&j| (j as usize) < cols.start);
+            let to = run.start + columns.partition_point(|&j| (j as usize) < cols.end);
             for p in from..to {
-                block.push(u64::from(row), u64::from(all.bin2[p]), all.count[p]);
+                block.push(row as u64, u64::from(wanted.bin2[p]), wanted.count[p]);
             }
             if block.len() >= MEMORY_BLOCK_PIXELS {
                 sink(&block)?;
                 block.clear();
             }
-            k = end;
         }
         if !block.is_empty() {
             sink(&block)?;
