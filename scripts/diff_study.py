@@ -509,7 +509,9 @@ def main():
     ap.add_argument("--seed", type=int, default=1, help="design, seeds and null splits")
     ap.add_argument("--device", default="cpu", choices=["cpu", "auto", "gpu"],
                     help="simulate polymer --device (cached ensembles record it)")
-    ap.add_argument("--window", type=int, default=50000, help="diff boundaries --window (bp)")
+    ap.add_argument("--window", type=int, default=100000,
+                    help="diff boundaries --window (bp); 100 kb = 20 bins, about half a loop "
+                         "domain of the design (20-40 beads): docs/diff.md compares 25-200 kb")
     ap.add_argument("--tolerance", type=int, default=2, help="bins for matching calls to truth")
     ap.add_argument("--alpha", type=float, default=0.05)
     ap.add_argument("--match-bins", type=int,

@@ -233,7 +233,9 @@ pub struct DiffBoundariesArgs {
     /// Output prefix: writes PREFIX.boundaries.tsv.
     #[arg(short, long, value_name = "PREFIX")]
     pub out: PathBuf,
-    /// Insulation window in bp (a multiple of the bin size; default 10 bins).
+    /// Insulation window in bp (a multiple of the bin size; default 10 bins). Take about half
+    /// the size of the domains compared: a narrower window sees only the contacts near the
+    /// diagonal, which a lost boundary hardly changes (docs/diff.md, Known truth).
     #[arg(long)]
     pub window: Option<String>,
     /// Boundary cutoff on the strength: li, otsu or a number.
