@@ -6,7 +6,7 @@ use crate::genome::BinTable;
 use crate::matrix::pixels::{BYTES_PER_PIXEL, PixelSlice, PixelSource, Pixels};
 use crate::matrix::{ContactMatrix, CountType, PixelBlock};
 
-use super::reader::MatrixReader;
+use super::reader::{MatrixReader, sink_rows};
 
 /// Read every pixel of `reader` into a [`ContactMatrix`] (with all its weight columns).
 ///
@@ -183,9 +183,6 @@ struct MemoryReader<'s> {
     pixels: &'s Pixels,
 }
 
-/// Pixels per block a [`MemoryReader`] hands to its sink.
-const MEMORY_BLOCK_PIXELS: usize = 1 << 16;
-
 impl MatrixReader for MemoryReader<'_> {
     forward_reader_metadata!(reader);
 
@@ -198,28 +195,18 @@ impl MatrixReader for MemoryReader<'_> {
         let all = self.pixels.as_slice();
         let first = all.bin1.partition_point(|&b| (b as usize) < rows.start);
         let last = all.bin1.partition_point(|&b| (b as usize) < rows.end);
-        let mut block = PixelBlock::with_capacity(MEMORY_BLOCK_PIXELS);
         let wanted = PixelSlice {
             bin1: &all.bin1[first..last],
             bin2: &all.bin2[first..last],
             count: &all.count[first..last],
         };
-        for (row, run) in wanted.rows() {
+        let rows = wanted.rows().map(|(row, run)| {
             let columns = &wanted.bin2[run.clone()];
             let from = run.start + columns.partition_point(|&j| (j as usize) < cols.start);
             let to = run.start + columns.partition_point(|&j| (j as usize) < cols.end);
-            for p in from..to {
-                block.push(row as u64, u64::from(wanted.bin2[p]), wanted.count[p]);
-            }
-            if block.len() >= MEMORY_BLOCK_PIXELS {
-                sink(&block)?;
-                block.clear();
-            }
-        }
-        if !block.is_empty() {
-            sink(&block)?;
-        }
-        Ok(())
+            (row, &wanted.bin2[from..to], &wanted.count[from..to])
+        });
+        sink_rows(rows, sink)
     }
 
     fn read_stored_pixels(

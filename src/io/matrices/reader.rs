@@ -242,6 +242,28 @@ impl InMemory {
 /// Pixels handed to a sink per block by in-memory sources.
 const MEMORY_BLOCK_PIXELS: usize = 1 << 16;
 
+/// Hand the rows of an in-memory source to `sink`: each row its bin, its columns and counts (in
+/// order), gathered in blocks of at least [`MEMORY_BLOCK_PIXELS`] pixels (a row never split).
+pub(crate) fn sink_rows<'a>(
+    rows: impl Iterator<Item = (usize, &'a [u32], &'a [f64])>,
+    sink: &mut dyn FnMut(&PixelBlock) -> Result<()>,
+) -> Result<()> {
+    let mut block = PixelBlock::with_capacity(MEMORY_BLOCK_PIXELS);
+    for (bin1, bin2s, counts) in rows {
+        for (&bin2, &count) in bin2s.iter().zip(counts) {
+            block.push(bin1 as u64, u64::from(bin2), count);
+        }
+        if block.len() >= MEMORY_BLOCK_PIXELS {
+            sink(&block)?;
+            block.clear();
+        }
+    }
+    if !block.is_empty() {
+        sink(&block)?;
+    }
+    Ok(())
+}
+
 impl MatrixReader for InMemory {
     fn source(&self) -> &str {
         &self.source
@@ -283,21 +305,11 @@ impl MatrixReader for InMemory {
         cols: Range<usize>,
         sink: &mut dyn FnMut(&PixelBlock) -> Result<()>,
     ) -> Result<()> {
-        let mut block = PixelBlock::with_capacity(MEMORY_BLOCK_PIXELS);
-        for bin1 in rows {
+        let rows = rows.map(|bin1| {
             let (bin2s, counts) = self.matrix.row_window(bin1, &cols);
-            for (&bin2, &count) in bin2s.iter().zip(counts) {
-                block.push(bin1 as u64, bin2 as u64, count);
-            }
-            if block.len() >= MEMORY_BLOCK_PIXELS {
-                sink(&block)?;
-                block.clear();
-            }
-        }
-        if !block.is_empty() {
-            sink(&block)?;
-        }
-        Ok(())
+            (bin1, bin2s, counts)
+        });
+        sink_rows(rows, sink)
     }
 
     fn totals(&self) -> Result<(u64, f64)> {
