@@ -332,28 +332,31 @@ def nearest_truth(truth, chrom, i, j, tolerance):
     return best[1] if best else None
 
 
+def truth_class(t, sign):
+    """A loop call of direction sign against its truth pair t (None: the call is near none):
+    true (changed that way), false (unchanged, changed the other way, or no pair) or excluded
+    (an ambiguous pair)."""
+    if t is None or t[0] == "unchanged":
+        return "false"
+    if t[0] == "ambiguous":
+        return "excluded"
+    return "true" if t[1] == sign else "false"
+
+
 def score_loops(rows, truth, tolerance, matched_nearest):
     """Calls (direction up/down) against the loop truth: (calls, true, false, excluded, found)."""
     changed = {k for k, v in truth.items() if v[0] == "changed"}
-    n_calls = n_true = n_false = n_excl = 0
+    n = dict(true=0, false=0, excluded=0)
     found = set()
-    for r in rows:
-        if r["direction"] not in ("up", "down"):
-            continue
-        n_calls += 1
+    calls = [r for r in rows if r["direction"] in ("up", "down")]
+    for r in calls:
         sign, chrom, i, j = call_pixel(r)
         key = nearest_truth(truth, chrom, i, j, tolerance) if matched_nearest else (chrom, i, j)
-        t = truth.get(key)
-        if t is None or t[0] == "unchanged":
-            n_false += 1
-        elif t[0] == "ambiguous":
-            n_excl += 1
-        elif t[1] == sign:
-            n_true += 1
+        cls = truth_class(truth.get(key), sign)
+        n[cls] += 1
+        if cls == "true":
             found.add(key)
-        else:
-            n_false += 1
-    return n_calls, n_true, n_false, n_excl, len(found), len(changed)
+    return len(calls), n["true"], n["false"], n["excluded"], len(found), len(changed)
 
 
 def read_frequencies(cm, cool):
@@ -392,41 +395,28 @@ def score_loops_change(rows, truth, tolerance, freqs, held_a, held_b, pseudo):
     (calls, true, false, excluded by the truth's ambiguous pairs, real change, ambiguous change,
     found, truth size) and one record per call near no truth pair."""
     changed = {k for k, v in truth.items() if v[0] == "changed"}
-    n_calls = n_true = n_false = n_excl = n_change = n_amb = 0
+    n = dict(true=0, false=0, excluded=0, change=0, ambiguous=0)
     found, records = set(), []
-    for r in rows:
-        if r["direction"] not in ("up", "down"):
-            continue
-        n_calls += 1
+    calls = [r for r in rows if r["direction"] in ("up", "down")]
+    for r in calls:
         sign, chrom, i, j = call_pixel(r)
         key = nearest_truth(truth, chrom, i, j, tolerance)
         t = truth.get(key)
-        if t is None:
+        if t is not None:
+            cls = truth_class(t, sign)
+            if cls == "true":
+                found.add(key)
+        else:
             fa = condition_frequency(freqs, held_a, chrom, i, j)
             fb = condition_frequency(freqs, held_b, chrom, i, j)
             g = (fb + pseudo) / (fa + pseudo)
             g = g if sign > 0 else 1 / g
-            if g >= 2:
-                cls = "change"
-                n_change += 1
-            elif g < 1.5:
-                cls = "false"
-                n_false += 1
-            else:
-                cls = "ambiguous"
-                n_amb += 1
+            cls = "change" if g >= 2 else "false" if g < 1.5 else "ambiguous"
             records.append(dict(chrom=chrom, bin1=i, bin2=j, direction=r["direction"],
                                 F_A=fa, F_B=fb, fold=g, cls=cls))
-        elif t[0] == "unchanged":
-            n_false += 1
-        elif t[0] == "ambiguous":
-            n_excl += 1
-        elif t[1] == sign:
-            n_true += 1
-            found.add(key)
-        else:
-            n_false += 1
-    return (n_calls, n_true, n_false, n_excl, n_change, n_amb, len(found), len(changed)), records
+        n[cls] += 1
+    return ((len(calls), n["true"], n["false"], n["excluded"], n["change"], n["ambiguous"],
+             len(found), len(changed)), records)
 
 
 def score_boundaries(rows, removed_junctions, tolerance):
@@ -496,6 +486,124 @@ def fmt(x, d=3):
     return str(x)
 
 
+def study_arguments(ap):
+    """--study, --scale and --seed: the diff_study.py run a peer script reads."""
+    ap.add_argument("--study", default="/tmp/ds/full", help="the diff_study.py --out directory")
+    ap.add_argument("--scale", choices=sorted(SCALES), default="full",
+                    help="diff_study.py --scale of that run")
+    ap.add_argument("--seed", type=int, default=1, help="diff_study.py --seed of that run")
+
+
+def write_tsv(path, rows, cols):
+    """One row per dict: floats with 4 decimals (depth as it is), "-" where a row lacks a
+    column."""
+    with open(path, "w") as f:
+        f.write("\t".join(cols) + "\n")
+        for r in rows:
+            f.write("\t".join(fmt(r.get(c, "-"), 4) if isinstance(r.get(c), float)
+                              and c != "depth" else str(r.get(c, "-")) for c in cols) + "\n")
+
+
+def pooled(sel, true="true_calls", false="false_calls", found="found", n_truth="n_truth",
+           fdp="FDP"):
+    """Rows of study.tsv pooled: calls, true, false, found, truth, precision, recall, F1 and the
+    mean FDP over the rows (the column names of another scoring where given)."""
+    calls = sum(r["n_calls"] for r in sel)
+    t = sum(r[true] for r in sel)
+    fl = sum(r[false] for r in sel)
+    fo = sum(r[found] for r in sel)
+    ntr = sum(r[n_truth] for r in sel)
+    p, rc, f1, _ = prf(calls, t, fl, fo, ntr)
+    fdr = sum(r[fdp] for r in sel) / len(sel) if sel else float("nan")
+    return calls, t, fl, fo, ntr, p, rc, f1, fdr
+
+
+def true_table_rows(sel, depths, contacts):
+    """The markdown rows of a true-comparisons table (replicates, depth, contacts, comparisons,
+    calls, true, false, found / truth, precision, recall, F1, FDR): one per cell of `sel`, then
+    all of them pooled, then a blank line."""
+    md = []
+    for reps in (2, 3):
+        for frac in depths:
+            cell = [r for r in sel if r["replicates"] == reps and r["depth"] == frac]
+            if not cell:
+                continue
+            calls, t, fl, found, ntr, p, rc, f1, fdr = pooled(cell)
+            md.append(f"| {reps} | {frac:g} | {contacts[frac]:,.0f} | {len(cell)} | {calls} | "
+                      f"{t} | {fl} | {found} / {ntr} | {fmt(p)} | {fmt(rc)} | **{fmt(f1)}** "
+                      f"| {fmt(fdr)} |")
+    calls, t, fl, found, ntr, p, rc, f1, fdr = pooled(sel)
+    return md + [f"| all | | | {len(sel)} | {calls} | {t} | {fl} | {found} / {ntr} | {fmt(p)} | "
+                 f"{fmt(rc)} | **{fmt(f1)}** | {fmt(fdr)} |", ""]
+
+
+# ---------------------------------------------------------------- ensembles and comparisons
+
+def ensemble_seeds(seed, sc):
+    """A's ensemble seeds 10000 x seed + 1001.., B's + 2001.. (sc's n_a and n_b of them)."""
+    base = 10000 * seed
+    return ([base + 1001 + i for i in range(sc["n_a"])],
+            [base + 2001 + i for i in range(sc["n_b"])])
+
+
+def draw_comparisons(seeds_a, seeds_b, sc, seed):
+    """(kind, replicates, depth, A seeds, B seeds) for 2 and 3 replicates at every depth.
+    `true`: A's and B's ensembles in consecutive disjoint sets (sc's true_per at most); `null`:
+    disjoint sets of A's ensembles drawn at random (sc's null_per, no split twice in a cell)."""
+    if len(seeds_a) < 6:
+        raise SystemExit("need at least 6 A ensembles for 3 + 3 null comparisons")
+    comps = []
+    crng = random.Random(seed * 7919 + 17)
+    for reps in (2, 3):
+        for frac in sc["depths"]:
+            n_true = min(sc["true_per"], len(seeds_a) // reps, len(seeds_b) // reps)
+            for c in range(n_true):
+                comps.append(("true", reps, frac, seeds_a[c * reps:(c + 1) * reps],
+                              seeds_b[c * reps:(c + 1) * reps]))
+            seen = set()
+            for c in range(sc["null_per"]):
+                for _ in range(1000):
+                    pick = crng.sample(seeds_a, 2 * reps)
+                    a, b = sorted(pick[:reps]), sorted(pick[reps:])
+                    key = tuple(sorted((tuple(a), tuple(b))))
+                    if key not in seen:
+                        break
+                seen.add(key)
+                comps.append(("null", reps, frac, a, b))
+    return comps
+
+
+def simulate_ensembles(seeds_a, seeds_b, simulate_one):
+    """{seed: (condition, cool, truth)} and the seconds of the simulations run (cached ones
+    not counted); simulate_one(condition, seed) -> (cool, truth, seconds)."""
+    sims, t_sim = {}, []
+    for cond, seeds in (("A", seeds_a), ("B", seeds_b)):
+        for s in seeds:
+            cool, truth, dt = simulate_one(cond, s)
+            sims[s] = (cond, cool, truth)
+            if dt:
+                t_sim.append(dt)
+    if t_sim:
+        log(f"# {len(t_sim)} simulations, {sum(t_sim):.0f} s ({sum(t_sim) / len(t_sim):.1f} s each)")
+    return sims, t_sim
+
+
+def depth_maps(cm, out, sims, seeds, depths):
+    """Every ensemble thinned to every depth and balanced: {(seed, depth): path}, the mean
+    contacts per replicate at each depth, and the seconds spent."""
+    maps, contacts, t_maps = {}, {}, 0.0
+    for di, frac in enumerate(depths):
+        sums = []
+        for s in seeds:
+            path, dt = depth_map(cm, out, sims[s][1], s, di, frac)
+            t_maps += dt
+            maps[(s, frac)] = path
+            sums.append(contacts_sum(cm, path))
+        contacts[frac] = sum(sums) / len(sums)
+        log(f"# depth {frac:g}: {contacts[frac]:.0f} contacts per replicate on average")
+    return maps, contacts, t_maps
+
+
 # ---------------------------------------------------------------- main
 
 def main():
@@ -540,19 +648,11 @@ def main():
     log(f"# A --ctcf {ctcf_a}")
     log(f"# B --ctcf {ctcf_b}")
 
-    # simulations
-    base = 10000 * args.seed
-    seeds_a = [base + 1001 + i for i in range(sc["n_a"])]
-    seeds_b = [base + 2001 + i for i in range(sc["n_b"])]
-    sims, t_sim = {}, []
-    for cond, seeds, ctcf in (("A", seeds_a, ctcf_a), ("B", seeds_b, ctcf_b)):
-        for s in seeds:
-            cool, truth, dt = simulate(cm, out, ctcf, s, sc, args.device)
-            sims[s] = (cond, cool, truth)
-            if dt:
-                t_sim.append(dt)
-    if t_sim:
-        log(f"# {len(t_sim)} simulations, {sum(t_sim):.0f} s ({sum(t_sim) / len(t_sim):.1f} s each)")
+    seeds_a, seeds_b = ensemble_seeds(args.seed, sc)
+    comps = draw_comparisons(seeds_a, seeds_b, sc, args.seed)
+    ctcf = dict(A=ctcf_a, B=ctcf_b)
+    sims, t_sim = simulate_ensembles(
+        seeds_a, seeds_b, lambda cond, s: simulate(cm, out, ctcf[cond], s, sc, args.device))
     fa = read_truth_loops([sims[s][2] for s in seeds_a])
     fb = read_truth_loops([sims[s][2] for s in seeds_b])
     truth = loop_truth(fa, fb)
@@ -593,39 +693,7 @@ def main():
         log(f"# contact frequencies: a 3x3 neighbourhood holds {k_freq:.3g} of an ensemble's "
             f"contacts per unit of loop fraction; pseudo-count {pseudo:.3g}")
 
-    # depths
-    maps, contacts, t_maps = {}, {}, 0.0
-    for di, frac in enumerate(sc["depths"]):
-        sums = []
-        for s in seeds_a + seeds_b:
-            path, dt = depth_map(cm, out, sims[s][1], s, di, frac)
-            t_maps += dt
-            maps[(s, frac)] = path
-            sums.append(contacts_sum(cm, path))
-        contacts[frac] = sum(sums) / len(sums)
-        log(f"# depth {frac:g}: {contacts[frac]:.0f} contacts per replicate on average")
-
-    # comparisons
-    comps = []
-    crng = random.Random(args.seed * 7919 + 17)
-    for reps in (2, 3):
-        for frac in sc["depths"]:
-            n_true = min(sc["true_per"], len(seeds_a) // reps, len(seeds_b) // reps)
-            for c in range(n_true):
-                comps.append(("true", reps, frac, seeds_a[c * reps:(c + 1) * reps],
-                              seeds_b[c * reps:(c + 1) * reps]))
-            seen = set()
-            for c in range(sc["null_per"]):
-                for _ in range(1000):
-                    pick = crng.sample(seeds_a, 2 * reps)
-                    a, b = sorted(pick[:reps]), sorted(pick[reps:])
-                    key = tuple(sorted((tuple(a), tuple(b))))
-                    if key not in seen:
-                        break
-                seen.add(key)
-                comps.append(("null", reps, frac, a, b))
-    if len(seeds_a) < 6:
-        raise SystemExit("need at least 6 A ensembles for 3 + 3 null comparisons")
+    maps, contacts, t_maps = depth_maps(cm, out, sims, seeds_a + seeds_b, sc["depths"])
 
     rows, t_diff, freq_records = [], 0.0, []
     kinds = ["loops", "boundaries"] + ([] if args.no_called else ["loops_called"])
@@ -710,12 +778,7 @@ def main():
     # "-" on rows of the other kinds
     freq_cols = ["freq_false_calls", "freq_change_calls", "freq_ambiguous_calls",
                  "freq_precision", "freq_F1", "freq_FDP", "freq_held_out"] if freqs else []
-    with open(os.path.join(out, "study.tsv"), "w") as f:
-        f.write("\t".join(cols + freq_cols) + "\n")
-        for r in rows:
-            f.write("\t".join(fmt(r.get(c, "-"), 4) if isinstance(r.get(c), float)
-                              and c != "depth" else str(r.get(c, "-"))
-                              for c in cols + freq_cols) + "\n")
+    write_tsv(os.path.join(out, "study.tsv"), rows, cols + freq_cols)
     if freqs:
         rcols = ["comparison", "replicates", "depth", "held_out", "chrom", "bin1", "bin2",
                  "direction", "F_A", "F_B", "fold", "cls"]
@@ -755,16 +818,6 @@ def main():
           "- Null comparisons draw disjoint A sets from the same ensembles, and every depth thins "
           "the same ensembles: they share replicates, so they are not independent trials.", ""]
 
-    def agg(sel):
-        calls = sum(r["n_calls"] for r in sel)
-        t = sum(r["true_calls"] for r in sel)
-        fl = sum(r["false_calls"] for r in sel)
-        found = sum(r["found"] for r in sel)
-        ntr = sum(r["n_truth"] for r in sel)
-        p, rc, f1, _ = prf(calls, t, fl, found, ntr)
-        fdr = sum(r["FDP"] for r in sel) / len(sel) if sel else float("nan")
-        return calls, t, fl, found, ntr, p, rc, f1, fdr
-
     md += ["## Comparisons with true differences (A against B)", "",
            "Pooled over the comparisons of each cell: precision = true / (true + false) calls, "
            "recall = truth differences found / truth differences, F1 of the two; FDR = mean over "
@@ -774,20 +827,8 @@ def main():
                "| replicates | depth | contacts / replicate | comparisons | calls | true | false "
                "| found / truth | precision | recall | F1 | observed FDR |",
                "|---|---|---|---|---|---|---|---|---|---|---|---|"]
-        for reps in (2, 3):
-            for frac in sc["depths"]:
-                sel = [r for r in rows if r["kind"] == kind and r["comparison"] == "true"
-                       and r["replicates"] == reps and r["depth"] == frac]
-                if not sel:
-                    continue
-                calls, t, fl, found, ntr, p, rc, f1, fdr = agg(sel)
-                md.append(f"| {reps} | {frac:g} | {contacts[frac]:,.0f} | {len(sel)} | {calls} | "
-                          f"{t} | {fl} | {found} / {ntr} | {fmt(p)} | {fmt(rc)} | **{fmt(f1)}** "
-                          f"| {fmt(fdr)} |")
-        sel = [r for r in rows if r["kind"] == kind and r["comparison"] == "true"]
-        calls, t, fl, found, ntr, p, rc, f1, fdr = agg(sel)
-        md += [f"| all | | | {len(sel)} | {calls} | {t} | {fl} | {found} / {ntr} | {fmt(p)} | "
-               f"{fmt(rc)} | **{fmt(f1)}** | {fmt(fdr)} |", ""]
+        md += true_table_rows([r for r in rows if r["kind"] == kind and r["comparison"] == "true"],
+                              sc["depths"], contacts)
 
     if freqs:
         sel_all = [r for r in rows if r["kind"] == "loops_called"]
@@ -821,15 +862,10 @@ def main():
                "| observed FDR |", "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
 
         def agg_freq(sel):
-            calls = sum(r["n_calls"] for r in sel)
-            t = sum(r["true_calls"] for r in sel)
-            fl = sum(r["freq_false_calls"] for r in sel)
+            calls, t, fl, found, ntr, p, rc, f1, fdr = pooled(sel, false="freq_false_calls",
+                                                              fdp="freq_FDP")
             chg = sum(r["freq_change_calls"] for r in sel)
             amb = sum(r["freq_ambiguous_calls"] for r in sel)
-            found = sum(r["found"] for r in sel)
-            ntr = sum(r["n_truth"] for r in sel)
-            p, rc, f1, _ = prf(calls, t, fl, found, ntr)
-            fdr = sum(r["freq_FDP"] for r in sel) / len(sel) if sel else float("nan")
             return (f"{calls} | {t} | {fl} | {chg} | {amb} | {found} / {ntr} | {fmt(p)} | "
                     f"{fmt(rc)} | **{fmt(f1)}** | {fmt(fdr)} |")
         for reps in (2, 3):

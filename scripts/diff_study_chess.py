@@ -56,13 +56,9 @@ caches: a rerun reuses every file whose inputs and command are unchanged.
 """
 import argparse
 import importlib.util
-import json
 import math
 import os
 import random
-import shlex
-import subprocess
-import sys
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -71,26 +67,7 @@ ds = importlib.util.module_from_spec(spec)
 spec.loader.exec_module(ds)
 
 BEAD_BP = ds.BEAD_BP
-LOG = None
-
-
-def log(msg):
-    print(msg, flush=True)
-    if LOG:
-        LOG.write(msg + "\n")
-        LOG.flush()
-
-
-def run(cmd):
-    """Run a command (printed first); stop with its stderr when it fails."""
-    log("$ " + " ".join(shlex.quote(str(c)) for c in cmd))
-    t0 = time.time()
-    p = subprocess.run([str(c) for c in cmd], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                       text=True)
-    if p.returncode != 0:
-        sys.stderr.write(p.stderr)
-        raise SystemExit(f"command failed (exit {p.returncode}): {' '.join(map(str, cmd))}")
-    return p, time.time() - t0
+log, run = ds.log, ds.run
 
 
 
@@ -112,13 +89,12 @@ def merged_map(cm, nice, out, seeds, depth, study):
         if os.path.exists(p):
             os.remove(p)
     run([*nice, cm, "merge", *maps, "-o", tmp])
-    p, _ = run([*nice, cm, "balance", tmp, "--store", "--force", "--store-unconverged"])
-    converged = "converged=false" not in p.stderr
+    _, err, _ = run([*nice, cm, "balance", tmp, "--store", "--force", "--store-unconverged"])
+    converged = "converged=false" not in err
     if not converged:
         log(f"  note: ICE did not converge on {dst} (weights stored anyway)")
     os.replace(tmp, dst)
-    with open(dst + ".params.json", "w") as f:
-        json.dump(params, f, sort_keys=True)
+    ds.mark(dst, params)
     with open(conv_path, "w") as f:
         f.write("true\n" if converged else "false\n")
     return dst, converged, time.time() - t0
@@ -134,9 +110,8 @@ def regions(cm, nice, out, name, amap, bmap, window, step):
                   binary_mtime=os.path.getmtime(cm))
     dt = 0.0
     if not ds.cached(result, params):
-        _, dt = run([*nice, *cmd])
-        with open(result + ".params.json", "w") as f:
-            json.dump(params, f, sort_keys=True)
+        _, _, dt = run([*nice, *cmd])
+        ds.mark(result, params)
     return ds.read_table(result), dt
 
 
@@ -197,24 +172,13 @@ def score_windows(called, classes, ctype):
     return n_calls, n_t, n_f, n_x, n_t, n_truth
 
 
-def agg(sel):
-    calls = sum(r["n_calls"] for r in sel)
-    t = sum(r["true_calls"] for r in sel)
-    fl = sum(r["false_calls"] for r in sel)
-    found = sum(r["found"] for r in sel)
-    ntr = sum(r["n_truth"] for r in sel)
-    p, rc, f1, _ = ds.prf(calls, t, fl, found, ntr)
-    fdr = sum(r["FDP"] for r in sel) / len(sel) if sel else float("nan")
-    return calls, t, fl, found, ntr, p, rc, f1, fdr
+agg = ds.pooled
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--study", default="/tmp/ds/full", help="the diff_study.py --out directory")
-    ap.add_argument("--scale", choices=sorted(ds.SCALES), default="full",
-                    help="diff_study.py --scale of that run")
-    ap.add_argument("--seed", type=int, default=1, help="diff_study.py --seed of that run")
+    ds.study_arguments(ap)
     ap.add_argument("--binary", default=os.path.join(os.path.dirname(HERE),
                                                      "target/release/contactmap"),
                     help="contactmap for merge / balance / diff regions")
@@ -233,8 +197,7 @@ def main():
     nice = ["nice", "-n", str(args.nice)]
     for d in ("maps", "regions"):
         os.makedirs(os.path.join(out, d), exist_ok=True)
-    global LOG
-    LOG = open(os.path.join(out, "commands.log"), "a")
+    ds.LOG = open(os.path.join(out, "commands.log"), "a")
     log(f"# diff_study_chess.py --study {study} --scale {args.scale} --seed {args.seed} "
         f"--window {args.window} --step {args.step} --z {args.z:g} --sn {args.sn:g} "
         f"({time.strftime('%Y-%m-%d %H:%M:%S')})")
@@ -343,11 +306,7 @@ def main():
     cols = ["kind", "comparison", "replicates", "depth", "contacts", "a", "b", "n_tested",
             "n_calls", "true_calls", "false_calls", "excluded_calls", "n_truth", "found",
             "precision", "recall", "F1", "FDP"]
-    with open(os.path.join(out, "chess.tsv"), "w") as f:
-        f.write("\t".join(cols) + "\n")
-        for r in rows:
-            f.write("\t".join(ds.fmt(r[c], 4) if isinstance(r[c], float) and c != "depth"
-                              else str(r[c]) for c in cols) + "\n")
+    ds.write_tsv(os.path.join(out, "chess.tsv"), rows, cols)
     windows, classes = classes0
     with open(os.path.join(out, "windows.tsv"), "w") as f:
         f.write("chrom\tstart\tend\ttruth\n")
@@ -419,20 +378,8 @@ def main():
                "| replicates | depth | contacts / replicate | comparisons | called windows | true "
                "| false | found / different | precision | recall | F1 | observed FDR |",
                "|---|---|---|---|---|---|---|---|---|---|---|---|"]
-        for reps in (2, 3):
-            for frac in depths:
-                sel = [r for r in rows if r["kind"] == m and r["comparison"] == "true"
-                       and r["replicates"] == reps and r["depth"] == frac]
-                if not sel:
-                    continue
-                calls, t, fl, found, ntr, p, rc, f1, fdr = agg(sel)
-                md.append(f"| {reps} | {frac:g} | {contacts[frac]:,} | {len(sel)} | {calls} | "
-                          f"{t} | {fl} | {found} / {ntr} | {fmt(p)} | {fmt(rc)} | **{fmt(f1)}** "
-                          f"| {fmt(fdr)} |")
-        sel = [r for r in rows if r["kind"] == m and r["comparison"] == "true"]
-        calls, t, fl, found, ntr, p, rc, f1, fdr = agg(sel)
-        md += [f"| all | | | {len(sel)} | {calls} | {t} | {fl} | {found} / {ntr} | {fmt(p)} | "
-               f"{fmt(rc)} | **{fmt(f1)}** | {fmt(fdr)} |", ""]
+        md += ds.true_table_rows([r for r in rows if r["kind"] == m and r["comparison"] == "true"],
+                                 depths, contacts)
 
     md += ["### Side by side: F1 (2 / 3 replicates)", "",
            "| depth (contacts / replicate) | " + " | ".join(labels[m] for m in methods) + " |",

@@ -68,7 +68,6 @@ import argparse
 import importlib.util
 import math
 import os
-import random
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -78,7 +77,7 @@ spec.loader.exec_module(ds)
 
 # diff_study's helpers, shared as they are (run and log write to diff_study's LOG, set in main)
 log, run, cached, mark = ds.log, ds.run, ds.cached, ds.mark
-contacts_sum, depth_map, read_table = ds.contacts_sum, ds.depth_map, ds.read_table
+read_table = ds.read_table
 prf, clopper_pearson, fmt = ds.prf, ds.clopper_pearson, ds.fmt
 
 BEAD_BP = ds.BEAD_BP
@@ -263,21 +262,11 @@ def main():
     log(f"# design: {chain} beads; A --types {types_a}; B --types {types_b}; flipped blocks "
         + ", ".join(f"beads {s}-{e} ({t}->{'B' if t == 'A' else 'A'})" for s, e, t in flipped))
 
-    # simulations
-    base = 10000 * args.seed
-    seeds_a = [base + 1001 + i for i in range(sc["n_a"])]
-    seeds_b = [base + 2001 + i for i in range(sc["n_b"])]
-    if len(seeds_a) < 6:
-        raise SystemExit("need at least 6 A ensembles for 3 + 3 null comparisons")
-    sims, t_sim = {}, []
-    for cond, seeds, types in (("A", seeds_a, types_a), ("B", seeds_b, types_b)):
-        for s in seeds:
-            cool, truth, dt = simulate(cm, out, types, s, sc, chain, args.device)
-            sims[s] = (cond, cool, truth)
-            if dt:
-                t_sim.append(dt)
-    if t_sim:
-        log(f"# {len(t_sim)} simulations, {sum(t_sim):.0f} s ({sum(t_sim) / len(t_sim):.1f} s each)")
+    seeds_a, seeds_b = ds.ensemble_seeds(args.seed, sc)
+    comps = ds.draw_comparisons(seeds_a, seeds_b, sc, args.seed)
+    types = dict(A=types_a, B=types_b)
+    sims, t_sim = ds.simulate_ensembles(
+        seeds_a, seeds_b, lambda cond, s: simulate(cm, out, types[cond], s, sc, chain, args.device))
     truth_a_path, truth_b_path = sims[seeds_a[0]][2], sims[seeds_b[0]][2]
     ta, tb = read_truth(truth_a_path), read_truth(truth_b_path)
     for s in seeds_a + seeds_b:
@@ -294,17 +283,7 @@ def main():
         f"{sum(1 for s, _ in truth.values() if s == 'B->A')} B->A); {n_amb} ambiguous within "
         f"{args.edge} bins of a flipped edge, leaving {n_sw_core} switched bins to find")
 
-    # depths
-    maps, contacts, t_maps = {}, {}, 0.0
-    for di, frac in enumerate(sc["depths"]):
-        sums = []
-        for s in seeds_a + seeds_b:
-            path, dt = depth_map(cm, out, sims[s][1], s, di, frac)
-            t_maps += dt
-            maps[(s, frac)] = path
-            sums.append(contacts_sum(cm, path))
-        contacts[frac] = sum(sums) / len(sums)
-        log(f"# depth {frac:g}: {contacts[frac]:.0f} contacts per replicate on average")
+    maps, contacts, t_maps = ds.depth_maps(cm, out, sims, seeds_a + seeds_b, sc["depths"])
 
     # E1 of each map against its own truth
     e1 = {}
@@ -323,26 +302,6 @@ def main():
         acc, r, _ = e1[(s, full)]
         log(f"# E1 check, ensemble {s} ({sims[s][0]}), depth {full:g}: sign accuracy "
             f"{fmt(acc)}, Pearson r {fmt(r)}")
-
-    # comparisons
-    comps = []
-    crng = random.Random(args.seed * 7919 + 17)
-    for reps in (2, 3):
-        for frac in sc["depths"]:
-            n_true = min(sc["true_per"], len(seeds_a) // reps, len(seeds_b) // reps)
-            for c in range(n_true):
-                comps.append(("true", reps, frac, seeds_a[c * reps:(c + 1) * reps],
-                              seeds_b[c * reps:(c + 1) * reps]))
-            seen = set()
-            for c in range(sc["null_per"]):
-                for _ in range(1000):
-                    pick = crng.sample(seeds_a, 2 * reps)
-                    a, b = sorted(pick[:reps]), sorted(pick[reps:])
-                    key = tuple(sorted((tuple(a), tuple(b))))
-                    if key not in seen:
-                        break
-                seen.add(key)
-                comps.append(("null", reps, frac, a, b))
 
     rows, t_diff, failed = [], 0.0, 0
     for ctype, reps, frac, a, b in comps:
@@ -409,11 +368,7 @@ def main():
             "excluded_calls", "n_truth", "found", "precision", "recall", "F1", "FDP",
             "true_strict", "false_strict", "found_strict", "n_truth_strict", "F1_strict",
             "FDP_strict"]
-    with open(os.path.join(out, "study.tsv"), "w") as f:
-        f.write("\t".join(cols) + "\n")
-        for r in rows:
-            f.write("\t".join(fmt(r[c], 4) if isinstance(r[c], float) and c != "depth"
-                              else str(r[c]) for c in cols) + "\n")
+    ds.write_tsv(os.path.join(out, "study.tsv"), rows, cols)
 
     # summary
     elapsed = time.time() - t_start
@@ -470,15 +425,10 @@ def main():
     md.append("")
 
     def agg(sel, strict=False):
-        sfx = "_strict" if strict else ""
-        calls = sum(r["n_calls"] for r in sel)
-        t = sum(r["true" + ("_strict" if strict else "_calls")] for r in sel)
-        fl = sum(r["false" + ("_strict" if strict else "_calls")] for r in sel)
-        found = sum(r["found" + sfx] for r in sel)
-        ntr = sum(r["n_truth" + sfx] for r in sel)
-        p, rc, f1, _ = prf(calls, t, fl, found, ntr)
-        fdr = sum(r["FDP" + sfx] for r in sel) / len(sel) if sel else float("nan")
-        return calls, t, fl, found, ntr, p, rc, f1, fdr
+        if strict:
+            return ds.pooled(sel, true="true_strict", false="false_strict", found="found_strict",
+                             n_truth="n_truth_strict", fdp="FDP_strict")
+        return ds.pooled(sel)
 
     md += ["## F1 against depth (comparisons with true differences, pooled per cell)", "",
            "| replicates | " + " | ".join(f"{d:g} ({contacts[d]:,.0f})" for d in sc["depths"])

@@ -58,14 +58,7 @@ ds = importlib.util.module_from_spec(spec)
 spec.loader.exec_module(ds)
 
 RES = 5000
-LOG = None
-
-
-def log(msg):
-    print(msg, flush=True)
-    if LOG:
-        LOG.write(msg + "\n")
-        LOG.flush()
+log = ds.log
 
 
 def run(cmd, **kw):
@@ -120,24 +113,13 @@ def calls_set(path):
     return out
 
 
-def agg(sel):
-    calls = sum(r["n_calls"] for r in sel)
-    t = sum(r["true_calls"] for r in sel)
-    fl = sum(r["false_calls"] for r in sel)
-    found = sum(r["found"] for r in sel)
-    ntr = sum(r["n_truth"] for r in sel)
-    p, rc, f1, _ = ds.prf(calls, t, fl, found, ntr)
-    fdr = sum(r["FDP"] for r in sel) / len(sel) if sel else float("nan")
-    return calls, t, fl, found, ntr, p, rc, f1, fdr
+agg = ds.pooled
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--study", default="/tmp/ds/full", help="the diff_study.py --out directory")
-    ap.add_argument("--scale", choices=sorted(ds.SCALES), default="full",
-                    help="diff_study.py --scale of that run")
-    ap.add_argument("--seed", type=int, default=1, help="diff_study.py --seed of that run")
+    ds.study_arguments(ap)
     ap.add_argument("--tolerance", type=int, default=2, help="bins for matching calls to truth")
     ap.add_argument("--binary", default="/tmp/ds/cm_rel", help="contactmap for merge / balance")
     ap.add_argument("--timing-binary",
@@ -153,8 +135,7 @@ def main():
     wrapper = os.path.join(HERE, "run_diff_mustache.sh")
     nice = ["nice", "-n", str(args.nice)]
     os.makedirs(os.path.join(out, "mustache"), exist_ok=True)
-    global LOG
-    LOG = open(os.path.join(out, "mustache", "commands.log"), "a")
+    ds.LOG = open(os.path.join(out, "mustache", "commands.log"), "a")
     log(f"# diff_study_mustache.py --study {out} --scale {args.scale} --seed {args.seed} "
         f"({time.strftime('%Y-%m-%d %H:%M:%S')})")
     t_start = time.time()
@@ -305,11 +286,7 @@ def main():
             "n_calls", "true_calls", "false_calls", "excluded_calls", "n_truth", "found",
             "precision", "recall", "F1", "FDP", "wall_seconds", "merge_balance_seconds",
             "contactmap_seconds"]
-    with open(os.path.join(out, "mustache.tsv"), "w") as f:
-        f.write("\t".join(cols) + "\n")
-        for r in rows:
-            f.write("\t".join(ds.fmt(r[c], 4) if isinstance(r[c], float) and c != "depth"
-                              else str(r[c]) for c in cols) + "\n")
+    ds.write_tsv(os.path.join(out, "mustache.tsv"), rows, cols)
 
     # ------------------------------------------------------------ summary
     depths = sorted({r["depth"] for r in rows})
@@ -344,20 +321,8 @@ def main():
                "| replicates | depth | contacts / replicate | comparisons | calls | true | false "
                "| found / truth | precision | recall | F1 | observed FDR |",
                "|---|---|---|---|---|---|---|---|---|---|---|---|"]
-        for reps in (2, 3):
-            for frac in depths:
-                sel = [r for r in sel_rows if r["comparison"] == "true"
-                       and r["replicates"] == reps and r["depth"] == frac]
-                if not sel:
-                    continue
-                calls, t, fl, found, ntr, p, rc, f1, fdr = agg(sel)
-                md.append(f"| {reps} | {frac:g} | {contacts[frac]:,} | {len(sel)} | {calls} | "
-                          f"{t} | {fl} | {found} / {ntr} | {fmt(p)} | {fmt(rc)} | **{fmt(f1)}** "
-                          f"| {fmt(fdr)} |")
-        sel = [r for r in sel_rows if r["comparison"] == "true"]
-        calls, t, fl, found, ntr, p, rc, f1, fdr = agg(sel)
-        md += [f"| all | | | {len(sel)} | {calls} | {t} | {fl} | {found} / {ntr} | {fmt(p)} | "
-               f"{fmt(rc)} | **{fmt(f1)}** | {fmt(fdr)} |", ""]
+        md += ds.true_table_rows([r for r in sel_rows if r["comparison"] == "true"], depths,
+                                 contacts)
 
     md += ["### Side by side (precision / recall / F1)", "",
            "| replicates | depth | contactmap | diff_mustache |", "|---|---|---|---|"]
